@@ -1,0 +1,54 @@
+"""Small attrs validators shared by the frozen records: finiteness, sign, shape."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+
+def finite(instance: Any, attribute: Any, value: Any) -> None:
+    """Reject NaN and infinite numbers, naming the field."""
+    if not np.all(np.isfinite(np.asarray(value, dtype=float))):
+        raise ValueError(
+            f"{type(instance).__name__}.{attribute.name} must be finite, got {value!r}"
+        )
+
+
+def positive(instance: Any, attribute: Any, value: Any) -> None:
+    """Require every entry to be finite and > 0."""
+    finite(instance, attribute, value)
+    if not np.all(np.asarray(value, dtype=float) > 0):
+        raise ValueError(f"{type(instance).__name__}.{attribute.name} must be > 0, got {value!r}")
+
+
+def non_negative(instance: Any, attribute: Any, value: Any) -> None:
+    """Require every entry to be finite and >= 0."""
+    finite(instance, attribute, value)
+    if not np.all(np.asarray(value, dtype=float) >= 0):
+        raise ValueError(f"{type(instance).__name__}.{attribute.name} must be >= 0, got {value!r}")
+
+
+def shape(*dims: int | None):
+    """Validator requiring an array of the given shape (None matches any length)."""
+
+    def check(instance: Any, attribute: Any, value: Any) -> None:
+        arr = np.asarray(value)
+        ok = arr.ndim == len(dims) and all(
+            d is None or d == n for d, n in zip(dims, arr.shape, strict=False)
+        )
+        if not ok:
+            want = "(" + ", ".join("n" if d is None else str(d) for d in dims) + ")"
+            raise ValueError(
+                f"{type(instance).__name__}.{attribute.name} must have shape {want}, "
+                f"got {arr.shape}"
+            )
+
+    return check
+
+
+def float_array(value: Any) -> np.ndarray:
+    """Converter to a read-only float array, so frozen records stay frozen."""
+    arr = np.array(value, dtype=float)
+    arr.setflags(write=False)
+    return arr

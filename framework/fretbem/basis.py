@@ -1,0 +1,200 @@
+"""The abstract basis family, the refinement request, and the shared geometry layer.
+
+A family (a plugin) discretises one boundary segment: it splits the segment's parameter
+range into elements, supplies reference shape functions on each element (local coordinate
+in [-1, 1]), the global numbering of the segment's coefficients, the geometry coefficients
+(control points or nodes) and its natural collocation parameters. Everything else
+(points, normals, Jacobians, the E matrix, corner handling) is done once here.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from typing import ClassVar
+
+import attrs
+import numpy as np
+
+from ._validators import float_array, shape
+from .geometry.nurbs import NurbsCurve
+
+#: collocation parameters at a segment end are moved this fraction of the end element inward
+END_SHIFT = 1.0 / 6.0
+
+
+def _check_toward(instance, attribute, value) -> None:
+    if value is None:
+        return
+    lo, hi = value
+    if not (0.0 <= lo <= hi <= 1.0):
+        raise ValueError(f"Refinement.toward must be an interval 0 <= s0 <= s1 <= 1, got {value!r}")
+
+
+@attrs.frozen
+class Refinement:
+    """How finely one segment is discretised.
+
+    Attributes
+    ----------
+    elements : int
+        Number of elements (knot spans) on the segment.
+    degree : int or None
+        Requested degree (p-refinement); None keeps the family's default.
+    toward : (float, float) or None
+        Normalised parameter interval (a point if both ends are equal) where elements are
+        smallest; None for uniform elements.
+    ratio : float
+        Size of the largest element over the smallest (>= 1) when graded.
+    """
+
+    elements: int = attrs.field(default=4, converter=int, validator=attrs.validators.ge(1))
+    degree: int | None = attrs.field(default=None)
+    toward: tuple[float, float] | None = attrs.field(
+        default=None, converter=attrs.converters.optional(tuple), validator=_check_toward
+    )
+    ratio: float = attrs.field(default=1.0, converter=float, validator=attrs.validators.ge(1.0))
+
+    @classmethod
+    def uniform(cls, elements: int, degree: int | None = None) -> Refinement:
+        return cls(elements=elements, degree=degree)
+
+    @classmethod
+    def graded(cls, elements: int, toward, ratio: float, degree: int | None = None) -> Refinement:
+        """Elements smallest at ``toward`` (a point s or an interval (s0, s1) in [0, 1])."""
+        toward = (float(toward), float(toward)) if np.isscalar(toward) else tuple(toward)
+        return cls(elements=elements, degree=degree, toward=toward, ratio=ratio)
+
+    def breakpoints(self) -> np.ndarray:
+        """Element boundaries in the normalised parameter [0, 1].
+
+        Element density falls linearly with distance from ``toward``, from 1 to 1 / ratio,
+        and the breakpoints equidistribute it.
+        """
+        if self.toward is None or self.ratio == 1.0:
+            return np.linspace(0.0, 1.0, self.elements + 1)
+        s = np.linspace(0.0, 1.0, 4001)
+        lo, hi = self.toward
+        dist = np.maximum(np.maximum(lo - s, s - hi), 0.0)
+        far = max(dist.max(), 1e-300)
+        density = 1.0 / (1.0 + (self.ratio - 1.0) * dist / far)
+        cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (density[1:] + density[:-1]))])
+        levels = np.linspace(0.0, cumulative[-1], self.elements + 1)
+        out = np.interp(levels, cumulative, s)
+        out[0], out[-1] = 0.0, 1.0
+        return out
+
+
+@attrs.frozen(eq=False)
+class Basis(ABC):
+    """One boundary segment discretised by a basis family.
+
+    A family subclasses this, sets ``name``, ``description`` and ``interpolatory``, and
+    implements :meth:`discretise` and :meth:`shape_functions`.
+
+    Attributes
+    ----------
+    curve : NurbsCurve
+        The segment's exact geometry (parameter in [0, 1]).
+    degree : int
+    element_bounds : ndarray, shape (n_elements, 2)
+        Parameter interval of each element on ``curve``.
+    connectivity : ndarray of int, shape (n_elements, n_local)
+        Segment-level index of each element's local functions.
+    geometry_coefficients : ndarray, shape (n_functions, 2)
+        Control points (isogeometric) or nodes (isoparametric): x = sum phi_a X_a.
+    natural_collocation : ndarray, shape (n_functions,)
+        The family's collocation parameters (Greville abscissae, nodes), before the
+        segment ends are moved inward.
+    """
+
+    name: ClassVar[str] = ""
+    description: ClassVar[str] = ""
+    interpolatory: ClassVar[bool] = False
+
+    curve: NurbsCurve
+    degree: int
+    element_bounds: np.ndarray = attrs.field(converter=float_array, validator=shape(None, 2))
+    connectivity: np.ndarray = attrs.field(converter=lambda a: np.asarray(a, dtype=np.intp))
+    geometry_coefficients: np.ndarray = attrs.field(converter=float_array, validator=shape(None, 2))
+    natural_collocation: np.ndarray = attrs.field(converter=float_array, validator=shape(None))
+
+    # -- what a family provides -------------------------------------------------------------
+    @classmethod
+    @abstractmethod
+    def discretise(cls, curve: NurbsCurve, refinement: Refinement) -> Basis:
+        """Discretise ``curve`` (parameter [0, 1]) at ``refinement``."""
+
+    @abstractmethod
+    def shape_functions(
+        self, elements: np.ndarray, local: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Values and d/d(local) of each element's local functions, shape (m, n_local) each.
+
+        ``elements`` and ``local`` are equal-length 1-D arrays; local coordinates in [-1, 1].
+        """
+
+    # -- shared layer ---------------------------------------------------------------------
+    @property
+    def n_elements(self) -> int:
+        return len(self.element_bounds)
+
+    @property
+    def n_functions(self) -> int:
+        return len(self.geometry_coefficients)
+
+    @property
+    def n_local(self) -> int:
+        return self.connectivity.shape[1]
+
+    def to_local(self, params: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Element index and local coordinate of curve parameters."""
+        params = np.asarray(params, float)
+        elements = np.searchsorted(self.element_bounds[:, 0], params, side="right") - 1
+        elements = np.clip(elements, 0, self.n_elements - 1)
+        lo, hi = self.element_bounds[elements].T
+        return elements, np.clip(2.0 * (params - lo) / (hi - lo) - 1.0, -1.0, 1.0)
+
+    def to_parameter(self, elements: np.ndarray, local: np.ndarray) -> np.ndarray:
+        lo, hi = self.element_bounds[elements].T
+        return lo + (np.asarray(local) + 1.0) * 0.5 * (hi - lo)
+
+    def geometry(self, elements: np.ndarray, local: np.ndarray):
+        """Points, tangents d x / d(local), Jacobians and unit outward normals, from the basis."""
+        values, derivatives = self.shape_functions(elements, local)
+        coefficients = self.geometry_coefficients[self.connectivity[elements]]
+        points = np.einsum("ma,mak->mk", values, coefficients)
+        tangents = np.einsum("ma,mak->mk", derivatives, coefficients)
+        jacobians = np.linalg.norm(tangents, axis=-1)
+        normals = np.stack([tangents[:, 1], -tangents[:, 0]], axis=-1) / jacobians[:, None]
+        return points, tangents, jacobians, normals
+
+    @property
+    def collocation_parameters(self) -> np.ndarray:
+        """Natural collocation parameters with the segment's end points moved into the segment.
+
+        Moving the end points off the corner gives every collocation point a smooth boundary
+        (c = I/2) and lets the traction jump between segments (docs/theory.md, corners).
+        """
+        params = np.array(self.natural_collocation, dtype=float)
+        first = self.element_bounds[0]
+        last = self.element_bounds[-1]
+        tol = 1e-12
+        params[params <= first[0] + tol] = first[0] + END_SHIFT * (first[1] - first[0])
+        params[params >= last[1] - tol] = last[1] - END_SHIFT * (last[1] - last[0])
+        return params
+
+    def collocation(self) -> tuple[np.ndarray, np.ndarray]:
+        """Element and local coordinate of every collocation point."""
+        return self.to_local(self.collocation_parameters)
+
+    def evaluation_matrix(self, params: np.ndarray) -> np.ndarray:
+        """Matrix mapping this segment's coefficients to values at curve ``params``."""
+        elements, local = self.to_local(params)
+        values, _ = self.shape_functions(elements, local)
+        matrix = np.zeros((len(elements), self.n_functions))
+        np.add.at(matrix, (np.arange(len(elements))[:, None], self.connectivity[elements]), values)
+        return matrix
+
+    def collocation_matrix(self) -> np.ndarray:
+        """The E matrix of the paper (eq. 5-6): coefficients to values at collocation points."""
+        return self.evaluation_matrix(self.collocation_parameters)

@@ -1,0 +1,88 @@
+"""Boundary conditions per tagged segment: displacement, traction, rigid loading block.
+
+A component given as a number is uniform; a callable receives points (m, 2) and returns
+(m,) values. ``None`` leaves the component to another condition (a segment component that
+no condition names is traction free).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Union
+
+import attrs
+import numpy as np
+
+from ._validators import finite
+
+Component = Union[float, Callable[[np.ndarray], np.ndarray], None]  # noqa: UP007
+
+
+def _component(instance, attribute, value) -> None:
+    if value is None or callable(value):
+        return
+    finite(instance, attribute, value)
+
+
+def evaluate(component: Component, points: np.ndarray) -> np.ndarray:
+    """Values of a component at ``points``, checked finite."""
+    if callable(component):
+        values = np.broadcast_to(np.asarray(component(points), float), (len(points),))
+    else:
+        values = np.full(len(points), float(component))
+    if not np.all(np.isfinite(values)):
+        raise ValueError("a boundary condition function returned NaN or infinite values")
+    return values
+
+
+@attrs.frozen
+class Displacement:
+    """Prescribed displacement; both components fixed at zero by default.
+
+    Attributes
+    ----------
+    tag : str
+    x, y : float, callable or None
+    """
+
+    tag: str
+    x: Component = attrs.field(default=0.0, validator=_component)
+    y: Component = attrs.field(default=0.0, validator=_component)
+
+
+@attrs.frozen
+class Traction:
+    """Prescribed traction (force per length on the surface); zero by default.
+
+    Attributes
+    ----------
+    tag : str
+    x, y : float, callable or None
+    """
+
+    tag: str
+    x: Component = attrs.field(default=0.0, validator=_component)
+    y: Component = attrs.field(default=0.0, validator=_component)
+
+
+@attrs.frozen
+class LoadingBlock:
+    """The segment moves as one rigid, non-rotating block with a prescribed resultant force.
+
+    Its displacement (dx, dy) is unknown; the tractions on it add up to ``force``. This is
+    how the reference scene loads the pad without fixing a node.
+
+    Attributes
+    ----------
+    tag : str
+    force : (float, float)
+        Resultant force (Fx, Fy) per unit thickness applied to the body through the block.
+    """
+
+    tag: str
+    force: tuple[float, float] = attrs.field(
+        default=(0.0, 0.0), converter=lambda f: tuple(float(v) for v in f), validator=finite
+    )
+
+
+Condition = Union[Displacement, Traction, LoadingBlock]  # noqa: UP007

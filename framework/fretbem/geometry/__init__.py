@@ -1,0 +1,1 @@
+"""Geometry: exact NURBS curves and closed boundaries of tagged segments."""

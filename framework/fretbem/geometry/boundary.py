@@ -1,0 +1,144 @@
+"""Closed boundaries made of tagged NURBS segments, checked closed, simple and CCW."""
+
+from __future__ import annotations
+
+import attrs
+import numpy as np
+
+from .nurbs import NurbsCurve
+
+
+class BoundaryError(ValueError):
+    """A boundary that does not enclose a region properly (open, crossing or clockwise)."""
+
+
+@attrs.frozen(eq=False)
+class Segment:
+    """One tagged piece of a boundary.
+
+    Attributes
+    ----------
+    tag : str
+        Name that boundary conditions and contact pairs refer to ("contact", "top", ...).
+        Several segments may share a tag.
+    curve : NurbsCurve
+        Exact geometry, reparametrised onto [0, 1].
+    """
+
+    tag: str = attrs.field(validator=attrs.validators.instance_of(str))
+    curve: NurbsCurve = attrs.field(
+        converter=lambda c: c.reparametrised((0.0, 1.0)),
+        validator=attrs.validators.instance_of(NurbsCurve),
+    )
+
+
+def _samples(curve: NurbsCurve, count: int) -> np.ndarray:
+    return curve.points(np.linspace(0.0, 1.0, count))
+
+
+def _crossings(polylines: list[np.ndarray]) -> tuple[int, int] | None:
+    """First pair of non-adjacent segments whose sample polylines properly intersect."""
+    edges, owner = [], []
+    for k, line in enumerate(polylines):
+        edges.append(np.stack([line[:-1], line[1:]], axis=1))
+        owner.append(np.full(len(line) - 1, k))
+    edges, owner = np.concatenate(edges), np.concatenate(owner)
+    a, b = edges[:, 0], edges[:, 1]
+    d = b - a
+
+    def orient(p, q, r):
+        return (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (
+            r[..., 0] - p[..., 0]
+        )
+
+    n = len(edges)
+    i, j = np.triu_indices(n, k=2)
+    keep = ~((i == 0) & (j == n - 1))  # first and last edges share the closing vertex
+    i, j = i[keep], j[keep]
+    o1 = orient(a[i], b[i], a[j])
+    o2 = orient(a[i], b[i], b[j])
+    o3 = orient(a[j], b[j], a[i])
+    o4 = orient(a[j], b[j], b[i])
+    scale = np.max(np.linalg.norm(d, axis=1)) ** 2 * 1e-12
+    hit = (o1 * o2 < -scale) & (o3 * o4 < -scale)
+    if not np.any(hit):
+        return None
+    k = int(np.argmax(hit))
+    return int(owner[i[k]]), int(owner[j[k]])
+
+
+@attrs.frozen(eq=False)
+class Boundary:
+    """A closed, simple, counter-clockwise chain of segments (outward normals on the right).
+
+    Attributes
+    ----------
+    segments : tuple of Segment
+        In order of travel; each ends where the next starts.
+    """
+
+    segments: tuple[Segment, ...] = attrs.field(converter=tuple)
+
+    def __attrs_post_init__(self) -> None:
+        if not self.segments:
+            raise BoundaryError("a boundary needs at least one segment")
+        ends = [(s.curve.points([0.0])[0], s.curve.points([1.0])[0]) for s in self.segments]
+        extent = np.concatenate([s.curve.control_points for s in self.segments])
+        size = max(np.ptp(extent, axis=0).max(), 1e-300)
+        for k, seg in enumerate(self.segments):
+            nxt = self.segments[(k + 1) % len(self.segments)]
+            gap = np.linalg.norm(ends[k][1] - ends[(k + 1) % len(ends)][0])
+            if gap > 1e-9 * size:
+                raise BoundaryError(
+                    f"boundary is not closed: segment {k} ({seg.tag!r}) ends at {ends[k][1]} but "
+                    f"the next segment ({nxt.tag!r}) starts at {ends[(k + 1) % len(ends)][0]} "
+                    f"(gap {gap:.3g}); list the segments in order of travel, end to start"
+                )
+        polylines = [_samples(s.curve, 64) for s in self.segments]
+        crossing = _crossings(polylines)
+        if crossing is not None:
+            i, j = crossing
+            raise BoundaryError(
+                f"boundary crosses itself: segments {i} ({self.segments[i].tag!r}) and {j} "
+                f"({self.segments[j].tag!r}) intersect; a body's boundary must be a simple curve"
+            )
+        closed = np.concatenate([p[:-1] for p in polylines])
+        x, y = closed[:, 0], closed[:, 1]
+        area = 0.5 * np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)
+        if area <= 0:
+            raise BoundaryError(
+                "boundary runs clockwise (signed area "
+                f"{area:.4g}); list the segments counter-clockwise so normals point outward, e.g. "
+                "with Boundary.reversed()"
+            )
+
+    @property
+    def tags(self) -> tuple[str, ...]:
+        """Tag of every segment, in order."""
+        return tuple(s.tag for s in self.segments)
+
+    def indices(self, tag: str) -> list[int]:
+        """Indices of the segments carrying ``tag``; an unknown tag is an error listing the tags."""
+        found = [k for k, s in enumerate(self.segments) if s.tag == tag]
+        if not found:
+            raise KeyError(
+                f"no boundary segment is tagged {tag!r}; the tags are {sorted(set(self.tags))}"
+            )
+        return found
+
+    def reversed(self) -> Boundary:
+        """The same boundary traversed the other way."""
+        return Boundary(tuple(Segment(s.tag, s.curve.reversed()) for s in self.segments[::-1]))
+
+    @classmethod
+    def polygon(cls, vertices, tags) -> Boundary:
+        """Straight-sided boundary through ``vertices`` (closed automatically), one tag per side."""
+        vertices = np.asarray(vertices, float)
+        if len(tags) != len(vertices):
+            raise ValueError(f"polygon has {len(vertices)} sides but {len(tags)} tags")
+        return cls(
+            tuple(
+                Segment(tag, NurbsCurve.line(vertices[k], vertices[(k + 1) % len(vertices)]))
+                for k, tag in enumerate(tags)
+            )
+        )

@@ -1,0 +1,242 @@
+"""Exact NURBS curves: evaluation, normals, knot insertion and degree elevation."""
+
+from __future__ import annotations
+
+import math
+
+import attrs
+import numpy as np
+from scipy.interpolate import BSpline
+
+from .._validators import finite, float_array, shape
+from . import knots as kv
+
+
+def _scatter_local(matrix, first: np.ndarray, width: int) -> np.ndarray:
+    """Entries of a sparse (m x n) matrix as (m, width) blocks starting at column ``first``."""
+    coo = matrix.tocoo()
+    local = coo.col - first[coo.row]
+    keep = (local >= 0) & (local < width)
+    out = np.zeros((matrix.shape[0], width))
+    out[coo.row[keep], local[keep]] = coo.data[keep]
+    return out
+
+
+def bspline_basis(
+    knots: np.ndarray, degree: int, xi: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The p + 1 non-zero B-spline functions at each ``xi`` and their first derivatives.
+
+    Returns ``(values, derivatives, first)``: arrays of shape (m, p + 1) holding the functions
+    ``first[k] .. first[k] + p`` at ``xi[k]``. Values come from
+    ``scipy.interpolate.BSpline.design_matrix``; derivatives from the degree p - 1 design
+    matrix and the difference formula of the NURBS Book, eq. 2.7. Right-continuous at knots.
+    """
+    knots = np.asarray(knots, dtype=float)
+    xi = np.clip(np.atleast_1d(np.asarray(xi, dtype=float)), knots[0], knots[-1])
+    n = knots.size - degree - 1
+    span = np.clip(np.searchsorted(knots, xi, side="right") - 1, degree, n - 1)
+    first = span - degree
+    values = _scatter_local(BSpline.design_matrix(xi, knots, degree), first, degree + 1)
+    # N_{j, p-1} for j = first .. first + p, from the degree p - 1 matrix on knots[1:-1],
+    # whose column c holds N_{c+1, p-1}
+    lower = _scatter_local(
+        BSpline.design_matrix(xi, knots[1:-1], degree - 1), first - 1, degree + 2
+    )
+    j = first[:, None] + np.arange(degree + 2)  # global index of N_{j, p-1}
+    gap = knots[np.minimum(j + degree, knots.size - 1)] - knots[np.minimum(j, knots.size - 1)]
+    factor = np.divide(degree, gap, out=np.zeros_like(gap), where=gap > 0)
+    scaled = lower * factor
+    derivatives = scaled[:, :-1] - scaled[:, 1:]
+    return values, derivatives, first
+
+
+def rational_basis(
+    knots: np.ndarray, degree: int, weights: np.ndarray, xi: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Local NURBS functions R (paper eq. 4) and dR/dxi, as ``bspline_basis`` returns them."""
+    values, derivatives, first = bspline_basis(knots, degree, xi)
+    w = weights[first[:, None] + np.arange(degree + 1)]
+    weighted, dweighted = values * w, derivatives * w
+    total = weighted.sum(axis=1, keepdims=True)
+    dtotal = dweighted.sum(axis=1, keepdims=True)
+    return weighted / total, (dweighted * total - weighted * dtotal) / total**2, first
+
+
+@attrs.frozen(eq=False)
+class NurbsCurve:
+    """A planar NURBS curve on an open knot vector.
+
+    Attributes
+    ----------
+    degree : int
+        Polynomial degree p >= 1.
+    knots : ndarray, shape (n + p + 1,)
+        Open (clamped) non-decreasing knot vector.
+    control_points : ndarray, shape (n, 2)
+    weights : ndarray, shape (n,)
+        Strictly positive weights (all ones for a B-spline).
+    """
+
+    degree: int = attrs.field(converter=int)
+    knots: np.ndarray = attrs.field(converter=float_array, validator=finite)
+    control_points: np.ndarray = attrs.field(
+        converter=float_array, validator=[shape(None, 2), finite]
+    )
+    weights: np.ndarray = attrs.field(converter=float_array, validator=[shape(None), finite])
+
+    def __attrs_post_init__(self) -> None:
+        kv.check(self.knots, self.degree, len(self.control_points))
+        if self.weights.shape != (len(self.control_points),):
+            raise ValueError(
+                f"NurbsCurve needs one weight per control point: {len(self.control_points)} "
+                f"control points but {self.weights.size} weights"
+            )
+        if np.any(self.weights <= 0):
+            i = int(np.argmax(self.weights <= 0))
+            raise ValueError(
+                f"NURBS weight {i} is {self.weights[i]}; weights must be > 0 (a zero or negative "
+                "weight puts the curve through infinity); use positive weights"
+            )
+
+    # -- constructors -----------------------------------------------------------------------
+    @classmethod
+    def line(cls, start, end, *, degree: int = 1) -> NurbsCurve:
+        """Straight segment from ``start`` to ``end`` (equally spaced control points)."""
+        start, end = np.asarray(start, float), np.asarray(end, float)
+        s = np.linspace(0.0, 1.0, degree + 1)[:, None]
+        return cls(
+            degree, kv.open_uniform(degree, 1), start + s * (end - start), np.ones(degree + 1)
+        )
+
+    @classmethod
+    def arc(cls, center, radius: float, start_angle: float, end_angle: float) -> NurbsCurve:
+        """Exact circular arc as a rational quadratic, split into pieces of at most 90 degrees.
+
+        Angles in radians; the arc runs counter-clockwise if ``end_angle > start_angle``.
+        """
+        if not (radius > 0 and math.isfinite(radius)):
+            raise ValueError(f"arc radius must be finite and > 0, got {radius!r}")
+        sweep = end_angle - start_angle
+        if sweep == 0 or abs(sweep) > 2 * math.pi:
+            raise ValueError(f"arc sweep must be in (0, 2 pi] in magnitude, got {sweep!r}")
+        pieces = max(1, math.ceil(abs(sweep) / (math.pi / 2) - 1e-12))
+        half = sweep / pieces / 2
+        center = np.asarray(center, float)
+        points, weights = [], []
+        for i in range(pieces):
+            a0 = start_angle + 2 * i * half
+            mid = a0 + half
+            if i == 0:
+                points.append(center + radius * np.array([math.cos(a0), math.sin(a0)]))
+                weights.append(1.0)
+            points.append(
+                center + radius / math.cos(half) * np.array([math.cos(mid), math.sin(mid)])
+            )
+            weights.append(math.cos(half))
+            a1 = a0 + 2 * half
+            points.append(center + radius * np.array([math.cos(a1), math.sin(a1)]))
+            weights.append(1.0)
+        inner = np.repeat(np.arange(1, pieces) / pieces, 2)
+        knots = np.concatenate([[0, 0, 0], inner, [1, 1, 1]])
+        return cls(2, knots, np.array(points), np.array(weights))
+
+    # -- evaluation -------------------------------------------------------------------------
+    @property
+    def domain(self) -> tuple[float, float]:
+        """Parameter interval of the curve."""
+        return float(self.knots[0]), float(self.knots[-1])
+
+    @property
+    def n_control_points(self) -> int:
+        return len(self.control_points)
+
+    def _homogeneous(self) -> np.ndarray:
+        return np.column_stack([self.control_points * self.weights[:, None], self.weights])
+
+    def points(self, xi) -> np.ndarray:
+        """Curve points C(xi), shape (m, 2)."""
+        hom = BSpline(self.knots, self._homogeneous(), self.degree)(np.asarray(xi, float))
+        return hom[..., :2] / hom[..., 2:]
+
+    def derivatives(self, xi) -> np.ndarray:
+        """First derivatives dC/dxi, shape (m, 2) (quotient rule on homogeneous coordinates)."""
+        spline = BSpline(self.knots, self._homogeneous(), self.degree)
+        xi = np.asarray(xi, float)
+        hom, dhom = spline(xi), spline(xi, nu=1)
+        point = hom[..., :2] / hom[..., 2:]
+        return (dhom[..., :2] - dhom[..., 2:] * point) / hom[..., 2:]
+
+    def jacobians(self, xi) -> np.ndarray:
+        """|dC/dxi|: arc length per unit parameter."""
+        return np.linalg.norm(self.derivatives(xi), axis=-1)
+
+    def normals(self, xi) -> np.ndarray:
+        """Unit normals to the right of the direction of travel (outward on a CCW boundary)."""
+        d = self.derivatives(xi)
+        return np.stack([d[..., 1], -d[..., 0]], axis=-1) / np.linalg.norm(d, axis=-1)[..., None]
+
+    def basis_functions(self, xi) -> tuple[np.ndarray, np.ndarray]:
+        """Rational basis R_i(xi) and dR_i/dxi as dense (m, n) arrays (paper eq. 4)."""
+        values, derivatives, first = rational_basis(self.knots, self.degree, self.weights, xi)
+        rows = np.arange(len(first))[:, None]
+        cols = first[:, None] + np.arange(self.degree + 1)
+        dense = np.zeros((2, len(first), self.n_control_points))
+        dense[0][rows, cols] = values
+        dense[1][rows, cols] = derivatives
+        return dense[0], dense[1]
+
+    # -- refinement -------------------------------------------------------------------------
+    def refine(self, new_knots: np.ndarray, new_degree: int | None = None):
+        """The same curve in a finer spline space, and the matrix T with Pw_new = T @ Pw_old.
+
+        The new space (``new_knots``, ``new_degree``) must contain the old one; then the
+        homogeneous control points are found exactly (up to round-off) by interpolating at
+        the new Greville abscissae, which covers knot insertion and degree elevation alike.
+        """
+        degree = self.degree if new_degree is None else int(new_degree)
+        new_knots = np.asarray(new_knots, float)
+        kv.check(new_knots, degree, new_knots.size - degree - 1)
+        sites = kv.greville(new_knots, degree)
+        new_matrix = BSpline.design_matrix(sites, new_knots, degree).toarray()
+        old_matrix = BSpline.design_matrix(sites, self.knots, self.degree).toarray()
+        transform = np.linalg.solve(new_matrix, old_matrix)
+        transform[np.abs(transform) < 1e-14] = 0.0
+        hom = transform @ self._homogeneous()
+        refined = NurbsCurve(degree, new_knots, hom[:, :2] / hom[:, 2:], hom[:, 2])
+        mismatch = np.max(np.abs(refined.points(sites) - self.points(sites)))
+        size = np.ptp(self.control_points, axis=0).max()
+        if mismatch > 1e-9 * max(size, 1.0):
+            raise ValueError(
+                "the requested knots/degree do not contain the curve's spline space (knots may "
+                "only be added and multiplicities only raised); refinement would change the curve"
+            )
+        return refined, transform
+
+    def insert_knots(self, values) -> tuple[NurbsCurve, np.ndarray]:
+        """h-refinement: insert knot ``values`` (curve unchanged); returns (curve, T)."""
+        values = np.atleast_1d(np.asarray(values, float))
+        lo, hi = self.domain
+        if np.any((values <= lo) | (values >= hi)):
+            raise ValueError(f"inserted knots must lie strictly inside the domain ({lo}, {hi})")
+        return self.refine(kv.insert(self.knots, values))
+
+    def elevate_degree(self, times: int = 1) -> tuple[NurbsCurve, np.ndarray]:
+        """p-refinement: raise the degree ``times`` times (curve unchanged); returns (curve, T)."""
+        knots = self.knots
+        for _ in range(times):
+            knots = kv.elevate(knots)
+        return self.refine(knots, self.degree + times)
+
+    def reparametrised(self, domain: tuple[float, float] = (0.0, 1.0)) -> NurbsCurve:
+        """The same curve with its knots mapped linearly onto ``domain``."""
+        lo, hi = self.domain
+        knots = domain[0] + (self.knots - lo) * (domain[1] - domain[0]) / (hi - lo)
+        return attrs.evolve(self, knots=knots)
+
+    def reversed(self) -> NurbsCurve:
+        """The same curve traversed the other way (normals flip)."""
+        lo, hi = self.domain
+        return NurbsCurve(
+            self.degree, (lo + hi) - self.knots[::-1], self.control_points[::-1], self.weights[::-1]
+        )

@@ -1,0 +1,46 @@
+"""Kelvin fundamental solutions of 2D elastostatics (plane strain form), vectorised.
+
+``source`` is the collocation point, ``field`` the integration point, ``normal`` the unit
+outward normal at the field point; all broadcast over leading axes and end in a 2-vector
+axis. Results end in (2, 2) axes indexed [i, j]: response in direction i to a unit point
+load in direction j. ``nu`` is the plane-strain Poisson ratio (use nu / (1 + nu) for plane
+stress). See docs/theory.md for the formulas.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+IDENTITY = np.eye(2)
+
+
+def _offsets(source: np.ndarray, field: np.ndarray):
+    r = field - source
+    dist = np.linalg.norm(r, axis=-1)
+    return r / dist[..., None], dist
+
+
+def displacement(source, field, *, shear_modulus: float, nu: float) -> np.ndarray:
+    """U_ij: displacement kernel, C [(3 - 4 nu) ln(1/r) delta_ij + r_i r_j]."""
+    unit, dist = _offsets(source, field)
+    scale = 1.0 / (8.0 * np.pi * shear_modulus * (1.0 - nu))
+    log_term = (-(3.0 - 4.0 * nu) * np.log(dist))[..., None, None] * IDENTITY
+    return scale * (log_term + unit[..., :, None] * unit[..., None, :])
+
+
+def displacement_parts(source, field, *, shear_modulus: float, nu: float):
+    """U split as (coefficient of ln(1/r) delta_ij, smooth remainder r_i r_j): for log rules."""
+    unit, _ = _offsets(source, field)
+    scale = 1.0 / (8.0 * np.pi * shear_modulus * (1.0 - nu))
+    return scale * (3.0 - 4.0 * nu), scale * unit[..., :, None] * unit[..., None, :]
+
+
+def traction(source, field, normal, *, nu: float) -> np.ndarray:
+    """T_ij: traction kernel on the surface with outward ``normal`` at ``field``."""
+    unit, dist = _offsets(source, field)
+    dr_dn = np.sum(unit * normal, axis=-1)
+    scale = -1.0 / (4.0 * np.pi * (1.0 - nu) * dist)
+    outer = unit[..., :, None] * unit[..., None, :]
+    normal_part = dr_dn[..., None, None] * ((1.0 - 2.0 * nu) * IDENTITY + 2.0 * outer)
+    skew = unit[..., :, None] * normal[..., None, :] - normal[..., :, None] * unit[..., None, :]
+    return scale[..., None, None] * (normal_part - (1.0 - 2.0 * nu) * skew)

@@ -1,0 +1,43 @@
+"""Isotropic linear elastic material, plane strain by default."""
+
+from __future__ import annotations
+
+import attrs
+
+from ._validators import positive
+
+
+def _poisson(instance, attribute, value) -> None:
+    if not (-1.0 < value < 0.5):
+        raise ValueError(
+            f"Poisson's ratio nu must lie in (-1, 0.5) for a stable isotropic material, got "
+            f"{value!r}"
+        )
+
+
+@attrs.frozen
+class Material:
+    """Young's modulus and Poisson's ratio of a homogeneous body.
+
+    Attributes
+    ----------
+    E : float
+        Young's modulus (> 0), MPa in the project's units.
+    nu : float
+        Poisson's ratio in (-1, 0.5).
+    plane_stress : bool
+        Plane stress instead of the default plane strain.
+    """
+
+    E: float = attrs.field(converter=float, validator=positive)
+    nu: float = attrs.field(converter=float, validator=_poisson)
+    plane_stress: bool = False
+
+    @property
+    def shear_modulus(self) -> float:
+        return self.E / (2.0 * (1.0 + self.nu))
+
+    @property
+    def kernel_nu(self) -> float:
+        """Poisson's ratio to use in the plane-strain kernels (nu / (1 + nu) in plane stress)."""
+        return self.nu / (1.0 + self.nu) if self.plane_stress else self.nu

@@ -1,0 +1,78 @@
+"""NURBS basis: the geometry's own functions, Greville collocation, h- and p-refinement."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from fretbem.basis import Basis, Refinement
+from fretbem.geometry import knots as kv
+from fretbem.geometry.nurbs import NurbsCurve, rational_basis
+
+
+def _merge_breakpoints(existing: np.ndarray, requested: np.ndarray) -> np.ndarray:
+    """Requested element boundaries plus the curve's own interior knots, each kept once.
+
+    A requested breakpoint closer than a third of its spacing to an existing knot snaps onto
+    it, so no sliver elements appear where the curve already has a knot.
+    """
+    merged = requested.copy()
+    spacing = np.diff(requested).min() if requested.size > 1 else 1.0
+    for knot in existing[1:-1]:
+        nearest = int(np.argmin(np.abs(merged - knot)))
+        if abs(merged[nearest] - knot) < spacing / 3 and 0 < nearest < merged.size - 1:
+            merged[nearest] = knot
+        else:
+            merged = np.sort(np.append(merged, knot))
+    return np.unique(merged)
+
+
+class NurbsBasis(Basis):
+    """Isogeometric (IGABEM) family: exact geometry, collocation at Greville abscissae."""
+
+    name = "nurbs"
+    description = "NURBS of the CAD geometry itself (IGABEM), Greville collocation, h/p refinement"
+    interpolatory = False
+    #: straight lines (degree 1) are elevated so every segment carries quadratic unknowns
+    default_degree = 2
+
+    @classmethod
+    def discretise(cls, curve: NurbsCurve, refinement: Refinement) -> NurbsBasis:
+        default = max(curve.degree, cls.default_degree)
+        degree = default if refinement.degree is None else int(refinement.degree)
+        if degree < curve.degree:
+            raise ValueError(
+                f"the nurbs family cannot lower a segment's degree ({curve.degree}) to {degree}: "
+                f"the exact geometry needs degree >= {curve.degree}; ask for degree >= "
+                f"{curve.degree}"
+            )
+        if degree > curve.degree:
+            curve, _ = curve.elevate_degree(degree - curve.degree)
+        existing = kv.breakpoints(curve.knots)
+        wanted = _merge_breakpoints(existing, refinement.breakpoints())
+        new = np.setdiff1d(wanted, existing)
+        if new.size:
+            curve, _ = curve.insert_knots(new)
+        bounds = kv.breakpoints(curve.knots)
+        element_bounds = np.column_stack([bounds[:-1], bounds[1:]])
+        spans = np.searchsorted(curve.knots, element_bounds[:, 0], side="right") - 1
+        connectivity = spans[:, None] - degree + np.arange(degree + 1)
+        return cls(
+            curve=curve,
+            degree=degree,
+            element_bounds=element_bounds,
+            connectivity=connectivity,
+            geometry_coefficients=curve.control_points,
+            natural_collocation=kv.greville(curve.knots, degree),
+        )
+
+    def shape_functions(self, elements, local):
+        elements = np.asarray(elements, dtype=np.intp)
+        lo, hi = self.element_bounds[elements].T
+        xi = lo + (np.asarray(local, float) + 1.0) * 0.5 * (hi - lo)
+        # stay inside the element's half-open span so scipy picks this element's functions
+        end = self.curve.knots[-1]
+        xi = np.where(hi < end, np.minimum(xi, hi - 1e-13 * (hi - lo)), xi)
+        values, derivatives, _ = rational_basis(
+            self.curve.knots, self.degree, self.curve.weights, xi
+        )
+        return values, derivatives * (0.5 * (hi - lo))[:, None]
