@@ -22,12 +22,25 @@ from .geometry.nurbs import NurbsCurve
 END_SHIFT = 1.0 / 6.0
 
 
-def _check_toward(instance, attribute, value) -> None:
+def _as_intervals(value) -> tuple[tuple[float, float], ...] | None:
+    """A point s, or a sequence whose items are points s or intervals (s0, s1)."""
     if value is None:
-        return
-    lo, hi = value
-    if not (0.0 <= lo <= hi <= 1.0):
-        raise ValueError(f"Refinement.toward must be an interval 0 <= s0 <= s1 <= 1, got {value!r}")
+        return None
+    if np.isscalar(value):
+        return ((float(value), float(value)),)
+    out = []
+    for item in value:
+        lo, hi = (item, item) if np.isscalar(item) else item
+        out.append((float(lo), float(hi)))
+    return tuple(out)
+
+
+def _check_toward(instance, attribute, value) -> None:
+    for lo, hi in value or ():
+        if not (0.0 <= lo <= hi <= 1.0):
+            raise ValueError(
+                f"Refinement.toward needs points or intervals 0 <= s0 <= s1 <= 1, got {value!r}"
+            )
 
 
 @attrs.frozen
@@ -40,17 +53,18 @@ class Refinement:
         Number of elements (knot spans) on the segment.
     degree : int or None
         Requested degree (p-refinement); None keeps the family's default.
-    toward : (float, float) or None
-        Normalised parameter interval (a point if both ends are equal) where elements are
-        smallest; None for uniform elements.
+    toward : tuple of (float, float) or None
+        Normalised parameter intervals (a point if both ends are equal) where elements are
+        smallest; given as a point s or a sequence of points s and intervals (s0, s1), e.g.
+        ``(0.0, 1.0)`` for both ends, ``[(0.4, 0.6)]`` for an interval. None for uniform.
     ratio : float
         Size of the largest element over the smallest (>= 1) when graded.
     """
 
     elements: int = attrs.field(default=4, converter=int, validator=attrs.validators.ge(1))
     degree: int | None = attrs.field(default=None)
-    toward: tuple[float, float] | None = attrs.field(
-        default=None, converter=attrs.converters.optional(tuple), validator=_check_toward
+    toward: tuple[tuple[float, float], ...] | None = attrs.field(
+        default=None, converter=_as_intervals, validator=_check_toward
     )
     ratio: float = attrs.field(default=1.0, converter=float, validator=attrs.validators.ge(1.0))
 
@@ -60,8 +74,7 @@ class Refinement:
 
     @classmethod
     def graded(cls, elements: int, toward, ratio: float, degree: int | None = None) -> Refinement:
-        """Elements smallest at ``toward`` (a point s or an interval (s0, s1) in [0, 1])."""
-        toward = (float(toward), float(toward)) if np.isscalar(toward) else tuple(toward)
+        """Elements smallest at ``toward`` (points s or intervals (s0, s1) in [0, 1])."""
         return cls(elements=elements, degree=degree, toward=toward, ratio=ratio)
 
     def breakpoints(self) -> np.ndarray:
@@ -73,8 +86,9 @@ class Refinement:
         if self.toward is None or self.ratio == 1.0:
             return np.linspace(0.0, 1.0, self.elements + 1)
         s = np.linspace(0.0, 1.0, 4001)
-        lo, hi = self.toward
-        dist = np.maximum(np.maximum(lo - s, s - hi), 0.0)
+        dist = np.min(
+            [np.maximum(np.maximum(lo - s, s - hi), 0.0) for lo, hi in self.toward], axis=0
+        )
         far = max(dist.max(), 1e-300)
         density = 1.0 / (1.0 + (self.ratio - 1.0) * dist / far)
         cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (density[1:] + density[:-1]))])

@@ -295,7 +295,8 @@ class Assembler:
             safe = np.where(live, length, 1.0)
             # Gauss points: H integrand bounded after subtraction; G smooth part
             t = safe[:, None] * u_gauss
-            local = center[:, None] + side * t
+            # a side of zero length (point at the element end) gets harmless points, weight 0
+            local = np.where(live[:, None], center[:, None] + side * t, 0.0)
             points, normals, jw, values = _pairs_quadrature(
                 basis, elements, local, safe[:, None] * w_gauss * live[:, None]
             )
@@ -309,7 +310,9 @@ class Assembler:
             log_factor = -np.log(dist / t) - np.log(safe)[:, None]
             kernel = smooth + (log_coef * log_factor)[..., None, None] * np.eye(2)
             g = np.einsum("pqij,pq,pqa->piaj", kernel, jw, values)
-            log_local = center[:, None] + side * safe[:, None] * log_rule.points
+            log_local = np.where(
+                live[:, None], center[:, None] + side * safe[:, None] * log_rule.points, 0.0
+            )
             _, _, jw_log, values_log = _pairs_quadrature(
                 basis, elements, log_local, safe[:, None] * log_rule.weights * live[:, None]
             )

@@ -1,0 +1,229 @@
+"""Per-step results of a contact simulation, their errors against theory, and their files."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from pathlib import Path
+
+import attrs
+import numpy as np
+
+from .contact import STATE_NAMES
+
+
+def _contact_degree(pair) -> int:
+    return int(pair.lower.segments[pair.lower.boundary.indices(pair.lower_tag)[0]].degree)
+
+
+def _l2(values: np.ndarray, x: np.ndarray) -> float:
+    """Root mean square over the zone, trapezoidal in x."""
+    width = x[-1] - x[0]
+    return float(np.sqrt(np.trapezoid(values**2, x) / width)) if width > 0 else math.nan
+
+
+@attrs.frozen(eq=False)
+class StepResult:
+    """Everything reported for one load step.
+
+    Attributes
+    ----------
+    name : str
+    normal, tangential : float
+        P and Q at the end of the step.
+    x, pressure, shear : ndarray
+        Pair positions (lower body, x coordinate) and the tractions there.
+    normal_displacement, tangential_displacement : ndarray
+        Relative displacements (upper minus lower) in the pair frame.
+    states : ndarray of int
+        0 separated, 1 stick, 2 slip.
+    iterations : int
+    residuals : tuple of float
+    seconds : float
+    unknowns : ndarray
+        Raw pair unknowns (p, q, block displacements), for post-processing.
+    resultant : (float, float)
+        Integrals of p and q over the contact segment (from the traction field).
+    errors : dict or None
+        e_p, e_q (max and L2), normalised by p0 and f p0; None without a reference.
+    """
+
+    name: str
+    normal: float
+    tangential: float
+    x: np.ndarray
+    pressure: np.ndarray
+    shear: np.ndarray
+    normal_displacement: np.ndarray
+    tangential_displacement: np.ndarray
+    states: np.ndarray
+    iterations: int
+    residuals: tuple[float, ...]
+    seconds: float
+    unknowns: np.ndarray
+    resultant: tuple[float, float]
+    errors: dict | None
+    exact: tuple[np.ndarray, np.ndarray] | None
+
+    @classmethod
+    def build(cls, simulation, problem, load, state, iterations, residuals, seconds, history):
+        n = problem.n_pairs
+        geo = simulation.pair.geometry
+        x = geo["points"][:, 0]
+        p, q = state.x[:n], state.x[n : 2 * n]
+        functions, coefficients = problem.traction_coefficients["lower"]
+        traction = coefficients @ state.x[: 2 * n]  # (n_f, 2) coefficients on the lower body
+        force = simulation.pair.lower.resultant_weights()[functions] @ traction
+        normal, tangent = simulation.frame()
+        resultant = (float(-force @ normal), float(force @ tangent))
+        errors, exact = None, None
+        reference = simulation.reference
+        if reference is not None:
+            p_exact = reference.hertz.pressure(x)
+            q_exact = reference.shear_traction(x, np.asarray(history))
+            p0 = reference.hertz.peak_pressure
+            fp0 = reference.friction * p0
+            errors = {
+                "e_p_max": float(np.max(np.abs(p - p_exact)) / p0),
+                "e_q_max": float(np.max(np.abs(q - q_exact)) / fp0),
+                "e_p_l2": _l2(p - p_exact, x) / p0,
+                "e_q_l2": _l2(q - q_exact, x) / fp0,
+            }
+            exact = (p_exact, q_exact)
+        return cls(
+            name=load.name,
+            normal=load.normal,
+            tangential=load.tangential,
+            x=x,
+            pressure=p,
+            shear=q,
+            normal_displacement=problem.normal_base + problem.normal_map @ state.x,
+            tangential_displacement=state.slip,
+            states=state.states,
+            iterations=iterations,
+            residuals=tuple(residuals),
+            seconds=seconds,
+            unknowns=state.x,
+            resultant=resultant,
+            errors=errors,
+            exact=exact,
+        )
+
+    def count(self, state: str) -> int:
+        """Number of pairs in ``state`` ("separated", "stick" or "slip")."""
+        return int(np.sum(self.states == STATE_NAMES.index(state)))
+
+
+@attrs.frozen(eq=False)
+class SimulationResult:
+    """Results of every step and the run's timings (seconds)."""
+
+    simulation: object
+    steps: tuple[StepResult, ...]
+    timings: dict[str, float]
+
+    def __getitem__(self, name: str) -> StepResult:
+        for step in self.steps:
+            if step.name == name:
+                return step
+        raise KeyError(f"no step {name!r}; steps are {[s.name for s in self.steps]}")
+
+    def describe(self) -> dict:
+        """Scene facts for the summary: family, pairs, degrees of freedom."""
+        pair = self.simulation.pair
+        basis = pair.lower.family
+        return {
+            "basis": basis.name,
+            "degree": _contact_degree(pair),
+            "pairs": int(pair.n_pairs),
+            "dofs": int(pair.upper.dofs + pair.lower.dofs),
+            "friction": pair.friction,
+        }
+
+    def table(self) -> str:
+        """Per-step table of errors, iterations and times."""
+
+        def fmt(value):
+            return "   n/a" if value is None else f"{100 * value:6.3f}"
+
+        lines = [
+            "step      P        Q   e_p max%  e_q max%  e_p L2%  e_q L2%  iters  stick  slip"
+            "  time s",
+        ]
+        for s in self.steps:
+            e = s.errors or {}
+            lines.append(
+                f"{s.name:<4} {s.normal:7.2f} {s.tangential:8.2f}  {fmt(e.get('e_p_max'))}   "
+                f"{fmt(e.get('e_q_max'))}   {fmt(e.get('e_p_l2'))}  {fmt(e.get('e_q_l2'))}  "
+                f"{s.iterations:5d}  {s.count('stick'):5d} {s.count('slip'):5d}  {s.seconds:6.3f}"
+            )
+        t = self.timings
+        lines.append(
+            f"assembly {t['assembly']:.3f} s, factorisation {t['factorisation']:.3f} s, "
+            f"condensation {t['condensation']:.3f} s, steps {t['steps']:.3f} s, "
+            f"total {t['total']:.3f} s"
+        )
+        return "\n".join(lines)
+
+    def write_csv(self, path: str | Path) -> None:
+        """results.csv: one row per pair per step, columns step,x,p,q,un,ut,state."""
+        with open(path, "w", newline="") as handle:
+            writer = csv.writer(handle)
+            writer.writerow(["step", "x", "p", "q", "un", "ut", "state"])
+            for s in self.steps:
+                for k in range(len(s.x)):
+                    writer.writerow(
+                        [
+                            s.name,
+                            repr(float(s.x[k])),
+                            repr(float(s.pressure[k])),
+                            repr(float(s.shear[k])),
+                            repr(float(s.normal_displacement[k])),
+                            repr(float(s.tangential_displacement[k])),
+                            STATE_NAMES[s.states[k]],
+                        ]
+                    )
+
+    def summary(self) -> dict:
+        """Per-step errors (None where theory does not apply), iterations and times."""
+        steps = []
+        for s in self.steps:
+            e = s.errors or {}
+            steps.append(
+                {
+                    "step": s.name,
+                    "P": s.normal,
+                    "Q": s.tangential,
+                    **{k: e.get(k) for k in ("e_p_max", "e_q_max", "e_p_l2", "e_q_l2")},
+                    "integral_p": s.resultant[0],
+                    "integral_q": s.resultant[1],
+                    "iterations": s.iterations,
+                    "residuals": list(s.residuals),
+                    "stick": s.count("stick"),
+                    "slip": s.count("slip"),
+                    "separated": s.count("separated"),
+                    "seconds": s.seconds,
+                }
+            )
+        return {"scene": self.describe(), "timings": dict(self.timings), "steps": steps}
+
+    def write_json(self, path: str | Path) -> None:
+        with open(path, "w") as handle:
+            json.dump(self.summary(), handle, indent=2)
+
+    def save(self, directory: str | Path, *, figures: bool = True, vtk: bool = True) -> Path:
+        """Write results.csv, summary.json and, if asked, the figures and VTK files."""
+        directory = Path(directory)
+        directory.mkdir(parents=True, exist_ok=True)
+        self.write_csv(directory / "results.csv")
+        self.write_json(directory / "summary.json")
+        if figures:
+            from . import plot
+
+            plot.save_figures(self, directory)
+        if vtk:
+            from . import vtk_
+
+            vtk_.save_vtk(self, directory)
+        return directory

@@ -1,0 +1,242 @@
+"""Scene factories: the Cattaneo-Mindlin fretting cycle of shared/reference-scene.md.
+
+Each body's face is split into three segments: a candidate contact zone of half-width
+``zone`` x (Hertz half-width) holding exactly ``pairs`` collocation points, and two flanks
+graded away from it; sides, top and bottom are coarse.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Sequence
+
+import attrs
+import numpy as np
+from scipy.optimize import brentq
+
+from . import bases
+from .analytical import HertzLineContact, MindlinDeresiewicz, dundurs_beta
+from .basis import Basis, Refinement
+from .body import Body
+from .conditions import Displacement, LoadingBlock
+from .contact import ContactPair
+from .geometry.boundary import Boundary, Segment
+from .geometry.nurbs import NurbsCurve
+from .material import Material
+from .simulation import LoadStep, Simulation
+from .solver import Solver
+
+REFERENCE_STEPS = ("A", "B", "C", "D", "E")
+#: element size ratio on sides, top and bottom, graded toward their corners
+CORNER_RATIO = 50.0
+
+
+@attrs.frozen
+class CattaneoMindlinScene:
+    """Parameters of the reference scene (defaults are the scene file's values).
+
+    Attributes
+    ----------
+    basis : str or Basis subclass
+    pairs : int
+        Node pairs in the candidate contact zone.
+    zone : float
+        Candidate zone half-width over the Hertz half-width.
+    degree : int or None
+        Basis degree (nurbs family); None for the family default.
+    radius, width, height : float
+        R, w, h in mm.
+    lower : str
+        "arc" (two similar bodies) or "flat" (pad on a flat specimen).
+    E_upper, nu_upper, E_lower, nu_lower : float
+    friction : float
+    normal : float
+        P, N/mm.
+    tangential : sequence of float
+        Q at the end of each step.
+    names : sequence of str
+    increments : int
+        Sub-increments per step.
+    flank_elements, side_elements, top_elements : int
+        Elements on each flank, side and top/bottom.
+    """
+
+    basis: str | type[Basis] = "nurbs"
+    pairs: int = 61
+    zone: float = 1.5
+    degree: int | None = None
+    radius: float = 70.0
+    width: float = 6.5
+    height: float = 16.25
+    lower: str = attrs.field(default="arc", validator=attrs.validators.in_(("arc", "flat")))
+    E_upper: float = 73400.0
+    nu_upper: float = 0.33
+    E_lower: float = 73400.0
+    nu_lower: float = 0.33
+    friction: float = 0.3
+    normal: float = 100.0
+    tangential: Sequence[float] = (0.0, 18.0, 0.0, -18.0, 0.0)
+    names: Sequence[str] = REFERENCE_STEPS
+    increments: int = 1
+    flank_elements: int = 16
+    side_elements: int = 12
+    top_elements: int = 12
+
+    def hertz(self) -> HertzLineContact:
+        return HertzLineContact.from_bodies(
+            load=self.normal,
+            radius_upper=self.radius,
+            radius_lower=self.radius if self.lower == "arc" else math.inf,
+            E_upper=self.E_upper,
+            nu_upper=self.nu_upper,
+            E_lower=self.E_lower,
+            nu_lower=self.nu_lower,
+        )
+
+    def reference(self) -> MindlinDeresiewicz | None:
+        """Mindlin-Deresiewicz reference, or None for dissimilar materials (coupled problem)."""
+        beta = dundurs_beta(self.E_upper, self.nu_upper, self.E_lower, self.nu_lower)
+        if abs(beta) > 1e-12:
+            return None
+        return MindlinDeresiewicz(self.hertz(), self.friction)
+
+    def zone_elements(self, family: type[Basis]) -> int:
+        """Elements on the zone segment giving exactly ``pairs`` collocation points."""
+        line = NurbsCurve.line([0, 0], [1, 0], degree=1)
+        counts = [
+            family.discretise(line, Refinement(elements=k, degree=self.degree)).n_functions
+            for k in (4, 8)
+        ]
+        per_element = (counts[1] - counts[0]) / 4
+        extra = counts[0] - 4 * per_element
+        elements = (self.pairs - extra) / per_element
+        if elements < 1 or elements != int(elements):
+            raise ValueError(
+                f"the {family.name} family cannot put exactly {self.pairs} collocation points "
+                f"in the contact zone (it gives {per_element:g} per element + {extra:g}); "
+                f"choose pairs = {per_element:g} k + {extra:g} for an integer k >= 1"
+            )
+        return int(elements)
+
+
+def _grading_ratio(length: float, elements: int, smallest: float) -> float:
+    """Ratio for Refinement.graded whose smallest element is about ``smallest``."""
+    target = smallest * elements / length  # = ln(r) / (r - 1) for the linear density
+    if target >= 1.0:
+        return 1.0
+    return float(brentq(lambda r: np.log(r) / (r - 1.0) - target, 1.0 + 1e-9, 1e6))
+
+
+def _arcs(center_y: float, radius: float, angles: Sequence[float]) -> list[NurbsCurve]:
+    center = np.array([0.0, center_y])
+    return [NurbsCurve.arc(center, radius, a0, a1) for a0, a1 in itertools.pairwise(angles)]
+
+
+def _flatten(curve: NurbsCurve, y: float) -> NurbsCurve:
+    """A straight curve with the arc's x(xi): control points (x_i, y), the arc's weights."""
+    points = np.column_stack([curve.control_points[:, 0], np.full(curve.n_control_points, y)])
+    return attrs.evolve(curve, control_points=points)
+
+
+FACE_TAGS = ("flank_left", "contact", "flank_right")
+
+
+def upper_boundary(radius: float, half_width: float, height: float, zone: float) -> Boundary:
+    """The pad: arc face (lowest point at the origin) split at +-zone, sides, top at y = h."""
+    phi_w, phi_z = math.asin(half_width / radius), math.asin(zone / radius)
+    down = -math.pi / 2
+    face = _arcs(radius, radius, [down - phi_w, down - phi_z, down + phi_z, down + phi_w])
+    left, right = face[0].points([0.0])[0], face[-1].points([1.0])[0]
+    return Boundary(
+        [Segment(tag, c) for tag, c in zip(FACE_TAGS, face, strict=True)]
+        + [
+            Segment("side_right", NurbsCurve.line(right, [half_width, height])),
+            Segment("top", NurbsCurve.line([half_width, height], [-half_width, height])),
+            Segment("side_left", NurbsCurve.line([-half_width, height], left)),
+        ]
+    )
+
+
+def lower_boundary(
+    radius: float, half_width: float, height: float, zone: float, flat: bool = False
+) -> Boundary:
+    """The specimen: mirror image of the pad about y = 0, or with a flat face (same x(xi))."""
+    phi_w, phi_z = math.asin(half_width / radius), math.asin(zone / radius)
+    up = math.pi / 2
+    face = _arcs(-radius, radius, [up - phi_w, up - phi_z, up + phi_z, up + phi_w])
+    if flat:
+        face = [_flatten(c, 0.0) for c in face]
+    right, left = face[0].points([0.0])[0], face[-1].points([1.0])[0]
+    tags = FACE_TAGS[::-1]  # the top face runs right to left
+    return Boundary(
+        [
+            Segment("bottom", NurbsCurve.line([-half_width, -height], [half_width, -height])),
+            Segment("side_right", NurbsCurve.line([half_width, -height], right)),
+        ]
+        + [Segment(tag, c) for tag, c in zip(tags, face, strict=True)]
+        + [Segment("side_left", NurbsCurve.line(left, [-half_width, -height]))]
+    )
+
+
+def _refinements(scene: CattaneoMindlinScene, family: type[Basis], upper: bool) -> dict:
+    """Zone uniform; flanks graded toward the zone; sides, top and bottom toward corners.
+
+    The loaded/fixed edge meets the free sides at corners where the traction is singular;
+    grading toward them keeps each body's equilibrium error near 0.01 % of the load.
+    """
+    zone = scene.zone * scene.hertz().half_width
+    zone_elements = scene.zone_elements(family)
+    zone_size = 2 * zone / zone_elements
+    flank = _grading_ratio(scene.width / 2 - zone, scene.flank_elements, 2 * zone_size)
+    # parameter end of each flank nearest the zone (the lower face runs right to left)
+    near_zone = {"flank_left": 1.0, "flank_right": 0.0}
+    if not upper:
+        near_zone = {tag: 1.0 - end for tag, end in near_zone.items()}
+    coarse = Refinement.graded(scene.top_elements, (0.0, 1.0), CORNER_RATIO, degree=scene.degree)
+    levels = {
+        "contact": Refinement(elements=zone_elements, degree=scene.degree),
+        "top" if upper else "bottom": coarse,
+        "side_left": Refinement.graded(
+            scene.side_elements, (0.0, 1.0), CORNER_RATIO, degree=scene.degree
+        ),
+    }
+    levels["side_right"] = levels["side_left"]
+    for tag, end in near_zone.items():
+        levels[tag] = Refinement.graded(scene.flank_elements, end, flank, degree=scene.degree)
+    return levels
+
+
+def cattaneo_mindlin(scene: CattaneoMindlinScene | None = None, **overrides) -> Simulation:
+    """Build the reference fretting simulation (overrides are CattaneoMindlinScene fields)."""
+    scene = attrs.evolve(scene or CattaneoMindlinScene(), **overrides)
+    family = bases.get(scene.basis)
+    zone = scene.zone * scene.hertz().half_width
+    if not 0 < zone < scene.width / 2:
+        raise ValueError(
+            f"the candidate zone half-width {zone:.4g} mm must lie inside the face (half-width "
+            f"{scene.width / 2:g} mm); lower 'zone' or widen the bodies"
+        )
+    w2, h, radius = scene.width / 2, scene.height, scene.radius
+    upper = Body(
+        upper_boundary(radius, w2, h, zone),
+        Material(scene.E_upper, scene.nu_upper),
+        [LoadingBlock("top", (0.0, -scene.normal))],
+        basis=family,
+        refinement=_refinements(scene, family, upper=True),
+        name="upper",
+    )
+    lower = Body(
+        lower_boundary(radius, w2, h, zone, flat=scene.lower == "flat"),
+        Material(scene.E_lower, scene.nu_lower),
+        [Displacement("bottom")],
+        basis=family,
+        refinement=_refinements(scene, family, upper=False),
+        name="lower",
+    )
+    pair = ContactPair(upper, lower, friction=scene.friction)
+    steps = tuple(
+        LoadStep(name, scene.normal, q, scene.increments)
+        for name, q in zip(scene.names, scene.tangential, strict=True)
+    )
+    return Simulation(pair, steps, Solver(), reference=scene.reference(), name="cattaneo-mindlin")
