@@ -60,6 +60,7 @@ class Body:
     _cache: dict = attrs.field(init=False, factory=dict, repr=False)
 
     def __attrs_post_init__(self) -> None:
+        bases.get(self.basis)  # an unknown family is an error now, listing the installed ones
         for condition in self.conditions:
             if not isinstance(condition, (Displacement, Traction, LoadingBlock)):
                 raise TypeError(f"body {self.name!r}: unknown boundary condition {condition!r}")
@@ -75,7 +76,9 @@ class Body:
         try:
             return self.boundary.indices(tag)
         except KeyError as err:
-            raise KeyError(f"body {self.name!r}: {used_by} names {err.args[0]}") from None
+            raise KeyError(
+                f"body {self.name!r}: {used_by} refers to tag {tag!r}, but {err.args[0]}"
+            ) from None
 
     # -- discretisation and matrices ------------------------------------------------------
     @property

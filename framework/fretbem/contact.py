@@ -65,7 +65,7 @@ class ContactPair:
 
     def _pair_up(self) -> dict[str, np.ndarray]:
         low_rows, low_points, normals = self._side(self.lower, self.lower_tag)
-        up_rows, up_points, up_normals = self._side(self.upper, self.upper_tag)
+        up_rows, up_points, _ = self._side(self.upper, self.upper_tag)
         if len(low_rows) != len(up_rows):
             raise ContactDiscretisationError(
                 f"contact pair: the lower segment {self.lower_tag!r} has {len(low_rows)} "
@@ -93,11 +93,11 @@ class ContactPair:
             )
         order = np.argsort(low_points[:, 0] if np.ptp(low_points[:, 0]) > 0 else low_points[:, 1])
         low, up = order, partner[order]
-        # pair normal: mean of the lower normal and the reversed upper one, so two similar
-        # curved faces get the normal of their common (flat) interface
-        pair_normals = normals[low] - up_normals[up]
-        pair_normals /= np.linalg.norm(pair_normals, axis=1)[:, None]
-        pair_tangents = np.column_stack([pair_normals[:, 1], -pair_normals[:, 0]])
+        # one frame for all pairs: the mean normal, along which the points face each other
+        # (the half-plane idealisation of a non-conformal contact; a per-point normal of
+        # one curved face would turn part of the normal approach into spurious slip)
+        pair_normals = np.tile(mean_normal, (len(low), 1))
+        pair_tangents = np.tile(mean_tangent, (len(low), 1))
         gap = np.einsum("pd,pd->p", up_points[up] - low_points[low], pair_normals)
         if np.any(gap < -1e-9 * max(spacing, 1e-300)):
             k = int(np.argmin(gap))

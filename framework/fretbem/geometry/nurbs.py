@@ -197,14 +197,27 @@ class NurbsCurve:
         degree = self.degree if new_degree is None else int(new_degree)
         new_knots = np.asarray(new_knots, float)
         kv.check(new_knots, degree, new_knots.size - degree - 1)
+        if degree < self.degree or new_knots[0] != self.knots[0] or new_knots[-1] != self.knots[-1]:
+            raise ValueError(
+                f"refinement must keep the domain {self.domain} and may not lower the degree "
+                f"({self.degree} -> {degree})"
+            )
         sites = kv.greville(new_knots, degree)
         new_matrix = BSpline.design_matrix(sites, new_knots, degree).toarray()
         old_matrix = BSpline.design_matrix(sites, self.knots, self.degree).toarray()
-        transform = np.linalg.solve(new_matrix, old_matrix)
+        try:
+            transform = np.linalg.solve(new_matrix, old_matrix)
+        except np.linalg.LinAlgError:
+            raise ValueError(
+                "knots closer than round-off make the refined space degenerate; merge them"
+            ) from None
         transform[np.abs(transform) < 1e-14] = 0.0
         hom = transform @ self._homogeneous()
         refined = NurbsCurve(degree, new_knots, hom[:, :2] / hom[:, 2:], hom[:, 2])
-        mismatch = np.max(np.abs(refined.points(sites) - self.points(sites)))
+        # check away from the interpolation sites: midpoints of every span of both vectors
+        breaks = np.union1d(kv.breakpoints(new_knots), kv.breakpoints(self.knots))
+        probes = np.concatenate([sites, 0.5 * (breaks[1:] + breaks[:-1])])
+        mismatch = np.max(np.abs(refined.points(probes) - self.points(probes)))
         size = np.ptp(self.control_points, axis=0).max()
         if mismatch > 1e-9 * max(size, 1.0):
             raise ValueError(
@@ -223,6 +236,8 @@ class NurbsCurve:
 
     def elevate_degree(self, times: int = 1) -> tuple[NurbsCurve, np.ndarray]:
         """p-refinement: raise the degree ``times`` times (curve unchanged); returns (curve, T)."""
+        if int(times) != times or times < 0:
+            raise ValueError(f"elevate_degree needs a whole number of times >= 0, got {times!r}")
         knots = self.knots
         for _ in range(times):
             knots = kv.elevate(knots)

@@ -1,0 +1,388 @@
+"""Knot vectors, exact NURBS curves and tagged boundaries, with real numbers."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
+
+from fretbem.geometry import knots as kv
+from fretbem.geometry.boundary import Boundary, BoundaryError, Segment
+from fretbem.geometry.nurbs import NurbsCurve, bspline_basis
+
+#: a general rational cubic: non-uniform interior knots, one of them double, uneven weights
+CUBIC = NurbsCurve(
+    3,
+    [0, 0, 0, 0, 0.2, 0.45, 0.45, 0.8, 1, 1, 1, 1],
+    [[0, 0], [1, 2], [2.5, 1.5], [3, -1], [4.5, 0.5], [5, 2], [6.5, 1], [7, 0]],
+    [1.0, 0.7, 1.8, 1.0, 0.4, 2.5, 1.1, 1.0],
+)
+#: parameters away from every knot, for finite differences
+SMOOTH_XI = np.array([0.05, 0.13, 0.31, 0.39, 0.52, 0.66, 0.74, 0.91, 0.97])
+
+
+def homogeneous(curve: NurbsCurve) -> np.ndarray:
+    """Weighted control points Pw = (w x, w y, w)."""
+    return np.column_stack([curve.control_points * curve.weights[:, None], curve.weights])
+
+
+def curve_size(curve: NurbsCurve) -> float:
+    """Largest extent of the control polygon."""
+    return float(np.ptp(curve.control_points, axis=0).max())
+
+
+# --------------------------------------------------------------------------- knot vectors
+
+
+def test_open_uniform_and_breakpoints():
+    """open_uniform(2, 4) is [0 0 0 .25 .5 .75 1 1 1], its breakpoints the 5 element ends."""
+    knots = kv.open_uniform(2, 4)
+    np.testing.assert_array_equal(knots, [0, 0, 0, 0.25, 0.5, 0.75, 1, 1, 1])
+    np.testing.assert_array_equal(kv.breakpoints(knots), [0, 0.25, 0.5, 0.75, 1])
+    kv.check(knots, 2, 6)
+
+
+def test_greville_abscissae():
+    """Greville points of [0 0 0 .5 1 1 1] are 0, .25, .75, 1 (averages of 2 knots)."""
+    np.testing.assert_allclose(kv.greville([0, 0, 0, 0.5, 1, 1, 1], 2), [0, 0.25, 0.75, 1])
+
+
+def test_elevate_raises_every_multiplicity():
+    """Degree elevation adds each distinct knot once."""
+    np.testing.assert_array_equal(kv.elevate([0, 0, 0.5, 1, 1]), [0, 0, 0, 0.5, 0.5, 1, 1, 1])
+
+
+@pytest.mark.parametrize(
+    ("degree", "knots", "n", "match"),
+    [
+        (2, [0, 0, 0, 0.6, 0.4, 1, 1, 1], 5, r"non-decreasing, but knot 4 \(0\.4\) < knot 3"),
+        (2, [0, 0, 0, 0.5, 1, 1, 1], 5, r"has 7 entries but degree 2 with 5 .* = 8"),
+        (2, [0, 0, 0.2, 0.5, 0.8, 1, 1, 1], 5, r"must be open \(first and last knots repeated"),
+        (2, [0, 0, 0, 0.5, 0.5, 0.5, 1, 1, 1], 6, r"interior knot 0\.5 is repeated more than"),
+        (0, [0, 1], 2, r"degree must be an integer >= 1, got 0"),
+        (2, [0, 0, 0, np.nan, 1, 1, 1], 4, r"1-D array of finite numbers"),
+        (1, [1, 1, 1, 1], 2, r"empty parameter interval"),
+    ],
+    ids=["decreasing", "wrong-length", "not-open", "multiplicity", "degree-0", "nan", "empty"],
+)
+def test_knot_vector_errors(degree, knots, n, match):
+    """kv.check rejects each kind of bad knot vector with a message saying what is wrong."""
+    with pytest.raises(kv.KnotVectorError, match=match):
+        kv.check(np.asarray(knots, float), degree, n)
+
+
+def test_curve_rejects_bad_knots():
+    """NurbsCurve runs the knot check: a decreasing vector is a KnotVectorError (ValueError)."""
+    with pytest.raises(ValueError, match="non-decreasing"):
+        NurbsCurve(2, [0, 0, 0, 0.7, 0.3, 1, 1, 1], np.zeros((5, 2)), np.ones(5))
+    with pytest.raises(kv.KnotVectorError, match=r"degree must be an integer >= 1"):
+        NurbsCurve(0, [0, 0.5, 1], [[0, 0], [1, 0]], [1, 1])
+
+
+@pytest.mark.parametrize(("weight", "shown"), [(0.0, "0.0"), (-0.5, "-0.5")])
+def test_curve_rejects_non_positive_weight(weight, shown):
+    """A zero or negative weight is refused, naming the weight and its value."""
+    with pytest.raises(ValueError, match=rf"NURBS weight 1 is {shown}; weights must be > 0"):
+        NurbsCurve(2, [0, 0, 0, 1, 1, 1], [[0, 0], [1, 1], [2, 0]], [1.0, weight, 1.0])
+
+
+def test_curve_rejects_nan_control_point():
+    """A NaN control point is refused by the finiteness validator, naming the field."""
+    with pytest.raises(ValueError, match=r"NurbsCurve\.control_points must be finite"):
+        NurbsCurve(1, [0, 0, 1, 1], [[0, 0], [np.nan, 1]], [1, 1])
+
+
+def test_curve_rejects_weight_count():
+    """One weight per control point."""
+    with pytest.raises(ValueError, match="3 control points but 2 weights"):
+        NurbsCurve(2, [0, 0, 0, 1, 1, 1], [[0, 0], [1, 1], [2, 0]], [1.0, 1.0])
+
+
+# --------------------------------------------------------------------------- exact circles
+
+
+@pytest.mark.parametrize(
+    ("center", "radius", "start", "end"),
+    [
+        ((0.0, 0.0), 1.0, 0.0, 2 * math.pi),
+        ((1.5, -0.5), 2.0, 0.3, 0.3 + 2 * math.pi),
+        ((0.0, 0.0), 1.0, 0.0, math.pi / 2),
+        ((-3.0, 4.0), 0.25, 1.0, 1.0 + 2 * math.pi / 3),
+    ],
+    ids=["unit-circle", "offset-circle", "quarter", "arc-120"],
+)
+def test_arc_is_exact_with_radial_normals(center, radius, start, end):
+    """Radius error < 1e-14 at 1000 points; unit normals are radial, outward on a CCW arc."""
+    curve = NurbsCurve.arc(center, radius, start, end)
+    xi = np.linspace(*curve.domain, 1000)
+    offset = curve.points(xi) - np.asarray(center)
+    r = np.linalg.norm(offset, axis=1)
+    assert np.abs(r - radius).max() < 1e-14
+    np.testing.assert_allclose(curve.normals(xi), offset / r[:, None], rtol=0, atol=1e-14)
+    # end points at the requested angles
+    np.testing.assert_allclose(
+        curve.points([0.0, 1.0]) - center,
+        radius * np.array([[math.cos(start), math.sin(start)], [math.cos(end), math.sin(end)]]),
+        atol=1e-14,
+    )
+
+
+def test_clockwise_arc_normals_point_inward():
+    """Travelling clockwise, the right-hand normal points to the centre."""
+    curve = NurbsCurve.arc([0.0, 0.0], 3.0, math.pi / 2, 0.0)
+    xi = np.linspace(0, 1, 101)
+    points = curve.points(xi)
+    np.testing.assert_allclose(curve.normals(xi), -points / 3.0, atol=1e-14)
+
+
+def test_arc_length_of_quarter_circle():
+    """The integral of |dC/dxi| over a quarter circle of radius 2 is pi, to 1e-13."""
+    curve = NurbsCurve.arc([0.0, 0.0], 2.0, 0.0, math.pi / 2)
+    x, w = np.polynomial.legendre.leggauss(40)
+    length = 0.5 * np.sum(w * curve.jacobians(0.5 * (x + 1)))
+    assert length == pytest.approx(math.pi, rel=1e-13)
+
+
+@pytest.mark.parametrize(("radius", "sweep"), [(0.0, 1.0), (-1.0, 1.0), (1.0, 0.0), (1.0, 7.0)])
+def test_arc_rejects_bad_radius_or_sweep(radius, sweep):
+    """Radius <= 0, zero sweep and more than a full turn are refused."""
+    with pytest.raises(ValueError, match=r"arc (radius|sweep) must"):
+        NurbsCurve.arc([0, 0], radius, 0.0, sweep)
+
+
+# --------------------------------------------------------------------------- basis functions
+
+
+def test_basis_partition_of_unity_and_reproduction():
+    """Rational functions sum to 1 (derivatives to 0) and reproduce the curve: sum R_i P_i."""
+    xi = np.linspace(0, 1, 501)
+    values, derivatives = CUBIC.basis_functions(xi)
+    assert values.shape == (501, CUBIC.n_control_points)
+    np.testing.assert_allclose(values.sum(axis=1), 1.0, atol=1e-14)
+    np.testing.assert_allclose(derivatives.sum(axis=1), 0.0, atol=1e-12)
+    assert values.min() >= 0.0
+    np.testing.assert_allclose(values @ CUBIC.control_points, CUBIC.points(xi), atol=1e-13)
+    np.testing.assert_allclose(
+        derivatives @ CUBIC.control_points, CUBIC.derivatives(xi), atol=1e-11
+    )
+
+
+def test_bspline_basis_matches_local_support():
+    """bspline_basis returns p + 1 values per point starting at span - p, summing to 1."""
+    knots = kv.open_uniform(3, 5)
+    xi = np.array([0.0, 0.1, 0.2, 0.55, 0.999, 1.0])
+    values, derivatives, first = bspline_basis(knots, 3, xi)
+    assert values.shape == derivatives.shape == (6, 4)
+    np.testing.assert_array_equal(first, [0, 0, 1, 2, 4, 4])
+    np.testing.assert_allclose(values.sum(axis=1), 1.0, atol=1e-15)
+    np.testing.assert_allclose(derivatives.sum(axis=1), 0.0, atol=1e-12)
+
+
+def test_derivatives_match_finite_differences():
+    """dC/dxi and dR/dxi agree with 4th-order central differences (step 1e-4) to 1e-9."""
+    h = 1e-4
+
+    def fd(f):
+        return (f(SMOOTH_XI - 2 * h) - 8 * f(SMOOTH_XI - h) + 8 * f(SMOOTH_XI + h)
+                - f(SMOOTH_XI + 2 * h)) / (12 * h)  # fmt: skip
+
+    # derivatives reach ~17; measured differences ~1.2e-11, so 1e-9 leaves a 100x margin
+    np.testing.assert_allclose(CUBIC.derivatives(SMOOTH_XI), fd(CUBIC.points), rtol=0, atol=1e-9)
+    _, d_basis = CUBIC.basis_functions(SMOOTH_XI)
+    np.testing.assert_allclose(
+        d_basis, fd(lambda xi: CUBIC.basis_functions(xi)[0]), rtol=0, atol=1e-9
+    )
+
+
+# --------------------------------------------------------------------------- refinement
+
+
+def test_knot_insertion_keeps_curve_and_returns_transform():
+    """Inserting 3 knots adds 3 control points, moves the curve < 1e-13, Pw_new = T @ Pw_old."""
+    refined, transform = CUBIC.insert_knots([0.1, 0.45, 0.6])
+    assert refined.n_control_points == CUBIC.n_control_points + 3
+    assert transform.shape == (refined.n_control_points, CUBIC.n_control_points)
+    xi = np.linspace(0, 1, 1001)
+    assert np.abs(refined.points(xi) - CUBIC.points(xi)).max() < 1e-13 * curve_size(CUBIC)
+    np.testing.assert_allclose(homogeneous(refined), transform @ homogeneous(CUBIC), atol=1e-13)
+    np.testing.assert_allclose(transform.sum(axis=1), 1.0, atol=1e-13)  # convex combinations
+
+
+def test_degree_elevation_keeps_curve_and_returns_transform():
+    """Raising degree 3 -> 5 keeps the curve to < 1e-13 and Pw_new = T @ Pw_old."""
+    refined, transform = CUBIC.elevate_degree(2)
+    assert refined.degree == 5
+    # every distinct knot gains 2: 4 distinct values (0, .2, .45, .8, 1 -> 5) x 2 = 10 more
+    assert refined.knots.size == CUBIC.knots.size + 10
+    xi = np.linspace(0, 1, 1001)
+    assert np.abs(refined.points(xi) - CUBIC.points(xi)).max() < 1e-13 * curve_size(CUBIC)
+    np.testing.assert_allclose(homogeneous(refined), transform @ homogeneous(CUBIC), atol=1e-12)
+
+
+def test_elevated_circle_stays_exact():
+    """A quarter circle elevated to degree 4 with 5 knots inserted is still exact (< 1e-14)."""
+    curve, _ = NurbsCurve.arc([0, 0], 1.0, 0, math.pi / 2).elevate_degree(2)
+    curve, _ = curve.insert_knots([0.1, 0.3, 0.5, 0.7, 0.9])
+    xi = np.linspace(0, 1, 1000)
+    assert np.abs(np.linalg.norm(curve.points(xi), axis=1) - 1.0).max() < 1e-14
+
+
+def test_insertion_outside_domain_is_refused():
+    """Knots on or beyond the ends of the domain are errors."""
+    with pytest.raises(ValueError, match=r"strictly inside the domain \(0\.0, 1\.0\)"):
+        CUBIC.insert_knots([0.0])
+    with pytest.raises(ValueError, match=r"strictly inside the domain"):
+        CUBIC.insert_knots([0.5, 1.2])
+
+
+def test_refine_refuses_a_space_not_containing_the_curve():
+    """refine() onto knots lacking the curve's double knot at 0.45 must raise, not move it."""
+    with pytest.raises(ValueError, match="do not contain the curve's spline space"):
+        CUBIC.refine(kv.open_uniform(3, 5))
+
+
+def test_reversed_and_reparametrised():
+    """Reversal flips travel direction and normals; reparametrising keeps the points."""
+    xi = np.linspace(0, 1, 51)
+    back = CUBIC.reversed()
+    np.testing.assert_allclose(back.points(1 - xi), CUBIC.points(xi), atol=1e-14)
+    np.testing.assert_allclose(back.normals(1 - xi[1:-1]), -CUBIC.normals(xi[1:-1]), atol=1e-12)
+    moved = CUBIC.reparametrised((2.0, 6.0))
+    assert moved.domain == (2.0, 6.0)
+    np.testing.assert_allclose(moved.points(2 + 4 * xi), CUBIC.points(xi), atol=1e-14)
+
+
+@st.composite
+def open_curves(draw) -> NurbsCurve:
+    """Random valid NURBS: degree 1-4, open knots, interior multiplicity <= p, weights > 0."""
+    degree = draw(st.integers(1, 4))
+    # distinct knots on a 1/100 grid: knots one ulp apart are valid but degenerate (see
+    # test_random_knot_insertion_keeps_curve)
+    values = draw(st.lists(st.integers(1, 99), max_size=5, unique=True).map(sorted))
+    values = [v / 100 for v in values]
+    multiplicities = [draw(st.integers(1, degree)) for _ in values]
+    interior = np.repeat(values, multiplicities)
+    knots = np.concatenate([np.zeros(degree + 1), interior, np.ones(degree + 1)])
+    n = knots.size - degree - 1
+    coordinate = st.floats(-10.0, 10.0, allow_nan=False)
+    points = draw(st.lists(st.tuples(coordinate, coordinate), min_size=n, max_size=n))
+    weights = draw(st.lists(st.floats(0.2, 5.0), min_size=n, max_size=n))
+    return NurbsCurve(degree, knots, points, weights)
+
+
+def assert_same_curve(refined: NurbsCurve, curve: NurbsCurve, transform: np.ndarray) -> None:
+    """Curves agree to 1e-10 of the control polygon size, and Pw_new = T @ Pw_old."""
+    scale = max(curve_size(curve), 1e-3)
+    xi = np.linspace(0, 1, 257)
+    assert np.abs(refined.points(xi) - curve.points(xi)).max() <= 1e-10 * scale
+    pw_scale = np.abs(homogeneous(curve)).max()
+    assert np.abs(homogeneous(refined) - transform @ homogeneous(curve)).max() <= 1e-10 * pw_scale
+
+
+@settings(max_examples=60, deadline=None)
+@given(curve=open_curves(), data=st.data())
+def test_random_knot_insertion_keeps_curve(curve, data):
+    """Any valid curve is unchanged by inserting random knots, new or raising a multiplicity."""
+    new = data.draw(st.lists(st.floats(0.001, 0.999), min_size=1, max_size=4, unique=True))
+    # keep new knots 1e-9 away from the others: Greville interpolation, which refine() uses,
+    # needs distinct sites, and knots an ulp apart make two sites coincide
+    kept: list[float] = []
+    for v in new:
+        if np.abs(np.concatenate([curve.knots, kept]) - v).min() > 1e-9:
+            kept.append(v)
+    new = kept
+    values, counts = np.unique(curve.knots[curve.degree + 1 : -curve.degree - 1],
+                               return_counts=True)  # fmt: skip
+    raisable = values[counts < curve.degree].tolist()
+    if raisable and data.draw(st.booleans()):
+        new.append(data.draw(st.sampled_from(raisable)))
+    assume(new)
+    refined, transform = curve.insert_knots(new)
+    assert refined.n_control_points == curve.n_control_points + len(new)
+    assert_same_curve(refined, curve, transform)
+
+
+@settings(max_examples=40, deadline=None)
+@given(curve=open_curves(), times=st.integers(1, 2))
+def test_random_degree_elevation_keeps_curve(curve, times):
+    """Any valid curve is unchanged by raising its degree once or twice."""
+    refined, transform = curve.elevate_degree(times)
+    assert refined.degree == curve.degree + times
+    assert_same_curve(refined, curve, transform)
+
+
+# --------------------------------------------------------------------------- boundaries
+
+SQUARE = [[0, 0], [1, 0], [1, 1], [0, 1]]
+
+
+def test_polygon_tags_and_indices():
+    """Segments keep their tags in order; a shared tag maps to every segment carrying it."""
+    boundary = Boundary.polygon([[0, 0], [2, 0], [2, 1], [1, 1.5], [0, 1]],
+                                ["bottom", "side", "top", "top", "side"])  # fmt: skip
+    assert boundary.tags == ("bottom", "side", "top", "top", "side")
+    assert boundary.indices("top") == [2, 3]
+    assert boundary.indices("side") == [1, 4]
+    np.testing.assert_allclose(boundary.segments[0].curve.normals([0.5]), [[0.0, -1.0]])
+
+
+def test_unknown_tag_lists_the_tags():
+    """Asking for a tag no segment has is a KeyError listing the tags that exist."""
+    boundary = Boundary.polygon(SQUARE, ["bottom", "right", "top", "left"])
+    with pytest.raises(KeyError, match=r"no boundary segment is tagged 'roof'; the tags are "
+                       r"\['bottom', 'left', 'right', 'top'\]"):  # fmt: skip
+        boundary.indices("roof")
+
+
+def test_segment_reparametrises_onto_unit_interval():
+    """A Segment's curve always runs over [0, 1], and the tag must be a string."""
+    segment = Segment("arc", NurbsCurve.arc([0, 0], 1.0, 0, 1.0).reparametrised((3.0, 5.0)))
+    assert segment.curve.domain == (0.0, 1.0)
+    with pytest.raises(TypeError, match="tag"):
+        Segment(3, NurbsCurve.line([0, 0], [1, 0]))
+
+
+def test_boundary_not_closed():
+    """A gap between consecutive segments is reported with the segments involved."""
+    segments = [
+        Segment("a", NurbsCurve.line([0, 0], [1, 0])),
+        Segment("b", NurbsCurve.line([1, 0], [1, 1])),
+        Segment("c", NurbsCurve.line([1, 1], [0, 0.1])),
+    ]
+    with pytest.raises(BoundaryError, match=r"not closed: segment 2 \('c'\) .*\(gap 0\.1\)"):
+        Boundary(segments)
+
+
+def test_boundary_self_crossing():
+    """A figure-eight (bow-tie) polygon crosses itself."""
+    with pytest.raises(BoundaryError, match=r"crosses itself: segments 0 \('a'\) and 2 \('c'\)"):
+        Boundary.polygon([[0, 0], [1, 1], [1, 0], [0, 1]], ["a", "b", "c", "d"])
+
+
+def test_boundary_clockwise_and_reversed():
+    """A clockwise boundary is refused with a hint; reversed() of a valid one is clockwise."""
+    with pytest.raises(BoundaryError, match=r"runs clockwise .* Boundary\.reversed\(\)"):
+        Boundary.polygon(SQUARE[::-1], ["a", "b", "c", "d"])
+    ccw = Boundary.polygon(SQUARE, ["a", "b", "c", "d"])
+    with pytest.raises(BoundaryError, match="clockwise"):
+        ccw.reversed()
+
+
+def test_boundary_with_arcs_is_accepted():
+    """A quarter annulus (two lines, two arcs) is closed, simple and counter-clockwise."""
+    boundary = Boundary([
+        Segment("bottom", NurbsCurve.line([1, 0], [2, 0])),
+        Segment("outer", NurbsCurve.arc([0, 0], 2.0, 0, math.pi / 2)),
+        Segment("left", NurbsCurve.line([0, 2], [0, 1])),
+        Segment("inner", NurbsCurve.arc([0, 0], 1.0, math.pi / 2, 0)),
+    ])  # fmt: skip
+    assert boundary.tags == ("bottom", "outer", "left", "inner")
+
+
+def test_polygon_needs_one_tag_per_side():
+    """Tag count must match the number of sides."""
+    with pytest.raises(ValueError, match="polygon has 4 sides but 3 tags"):
+        Boundary.polygon(SQUARE, ["a", "b", "c"])
