@@ -18,6 +18,24 @@ import numpy as np
 from ._validators import float_array, shape
 from .geometry.nurbs import NurbsCurve
 
+@attrs.frozen(eq=False)
+class ElementMap:
+    """Shape-function values and geometry at a set of (element, local coordinate) points.
+
+    Attributes
+    ----------
+    values : ndarray, shape (m, n_local)
+    points, tangents, normals : ndarray, shape (m, 2)
+    jacobians : ndarray, shape (m,)
+    """
+
+    values: np.ndarray
+    points: np.ndarray
+    tangents: np.ndarray
+    jacobians: np.ndarray
+    normals: np.ndarray
+
+
 #: collocation parameters at a segment end are moved this fraction of the end element inward
 END_SHIFT = 1.0 / 6.0
 
@@ -172,15 +190,20 @@ class Basis(ABC):
         lo, hi = self.element_bounds[elements].T
         return lo + (np.asarray(local) + 1.0) * 0.5 * (hi - lo)
 
-    def geometry(self, elements: np.ndarray, local: np.ndarray):
-        """Points, tangents d x / d(local), Jacobians and unit outward normals, from the basis."""
+    def map(self, elements: np.ndarray, local: np.ndarray) -> ElementMap:
+        """Shape functions and geometry at once (one basis evaluation), for quadrature."""
         values, derivatives = self.shape_functions(elements, local)
         coefficients = self.geometry_coefficients[self.connectivity[elements]]
         points = np.einsum("ma,mak->mk", values, coefficients)
         tangents = np.einsum("ma,mak->mk", derivatives, coefficients)
         jacobians = np.linalg.norm(tangents, axis=-1)
         normals = np.stack([tangents[:, 1], -tangents[:, 0]], axis=-1) / jacobians[:, None]
-        return points, tangents, jacobians, normals
+        return ElementMap(values, points, tangents, jacobians, normals)
+
+    def geometry(self, elements: np.ndarray, local: np.ndarray):
+        """Points, tangents d x / d(local), Jacobians and unit outward normals, from the basis."""
+        m = self.map(elements, local)
+        return m.points, m.tangents, m.jacobians, m.normals
 
     @property
     def collocation_parameters(self) -> np.ndarray:

@@ -107,19 +107,25 @@ class _Accumulator:
 def _pairs_quadrature(basis, elements, local, weights):
     """Geometry and shape functions at per-pair points local (P, Q); weights include dlocal."""
     n_pairs, n_points = local.shape
-    flat_elements = np.repeat(elements, n_points)
-    points, _, jac, normals = basis.geometry(flat_elements, local.ravel())
-    values, _ = basis.shape_functions(flat_elements, local.ravel())
+    m = basis.map(np.repeat(elements, n_points), local.ravel())
     shape3 = (n_pairs, n_points)
     return (
-        points.reshape(*shape3, 2),
-        normals.reshape(*shape3, 2),
-        (jac.reshape(shape3) * weights),
-        values.reshape(*shape3, -1),
+        m.points.reshape(*shape3, 2),
+        m.normals.reshape(*shape3, 2),
+        (m.jacobians.reshape(shape3) * weights),
+        m.values.reshape(*shape3, -1),
     )
 
 
-def _closest_local(basis, elements, sources, iterations: int = 6):
+def _element_rule(basis, rule: QuadratureRule):
+    """The same rule on every element: points, normals, J w, values, each (n_el, q, ...)."""
+    n_el = basis.n_elements
+    local = np.tile(rule.points, (n_el, 1))
+    points, normals, jw, values = _pairs_quadrature(basis, np.arange(n_el), local, rule.weights)
+    return points, normals, jw, values
+
+
+def _closest_local(basis, elements, sources, iterations: int = 3):
     """Local coordinate on each element closest to each source (sampling, then Gauss-Newton)."""
     samples = np.linspace(-1.0, 1.0, 17)
     pts, *_ = basis.geometry(np.repeat(elements, samples.size), np.tile(samples, len(elements)))
@@ -212,19 +218,11 @@ class Assembler:
         n_el, n_loc = basis.n_elements, basis.n_local
         cols_of = self.offsets[k] + basis.connectivity  # (n_el, n_loc)
         # element data for the far rule, element sizes and distance samples
-        far = QuadratureRule.gauss_legendre(s.far_points)
-        elements_q = np.repeat(np.arange(n_el), far.points.size)
-        x_far, _, j_far, n_far = basis.geometry(elements_q, np.tile(far.points, n_el))
-        phi_far, _ = basis.shape_functions(elements_q, np.tile(far.points, n_el))
-        x_far = x_far.reshape(n_el, -1, 2)
-        n_far = n_far.reshape(n_el, -1, 2)
-        jw_far = j_far.reshape(n_el, -1) * far.weights
-        phi_far = phi_far.reshape(n_el, -1, n_loc)
-        mid = QuadratureRule.gauss_legendre(s.mid_points)
-        _, _, j_mid, _ = basis.geometry(
-            np.repeat(np.arange(n_el), mid.points.size), np.tile(mid.points, n_el)
+        x_far, n_far, jw_far, phi_far = _element_rule(
+            basis, QuadratureRule.gauss_legendre(s.far_points)
         )
-        length = (j_mid.reshape(n_el, -1) * mid.weights).sum(axis=1)
+        mid_data = _element_rule(basis, QuadratureRule.gauss_legendre(s.mid_points))
+        length = mid_data[2].sum(axis=1)
         samples = np.linspace(-1.0, 1.0, 9)
         x_samp, *_ = basis.geometry(np.repeat(np.arange(n_el), 9), np.tile(samples, n_el))
         x_samp = x_samp.reshape(n_el, 9, 2)
@@ -260,9 +258,7 @@ class Assembler:
             # mid: one high-order rule per pair
             pr, pe = np.nonzero((ratio >= s.near_ratio) & ~is_far & ~singular)
             if pr.size:
-                local, weights = mid.points[None].repeat(pr.size, 0), mid.weights[None]
-                data = _pairs_quadrature(basis, pe, local, weights)
-                h, g = self._blocks(src[pr], *data)
+                h, g = self._blocks(src[pr], *(array[pe] for array in mid_data))
                 h_acc.add(rows[pr], cols_of[pe], h)
                 g_acc.add(rows[pr], cols_of[pe], g)
             # near: graded composite rule toward the closest point

@@ -386,3 +386,24 @@ def test_polygon_needs_one_tag_per_side():
     """Tag count must match the number of sides."""
     with pytest.raises(ValueError, match="polygon has 4 sides but 3 tags"):
         Boundary.polygon(SQUARE, ["a", "b", "c"])
+
+
+@pytest.mark.parametrize("degree", [1, 2, 3, 4])
+def test_bspline_basis_matches_scipy(degree):
+    """The vectorised Cox-de Boor equals scipy's design matrix and BSpline derivative."""
+    from scipy.interpolate import BSpline
+
+    from fretbem.geometry.nurbs import bspline_basis
+
+    knots = kv.from_breakpoints(np.array([0.0, 0.1, 0.35, 0.4, 0.8, 1.0]), degree)
+    xi = np.concatenate([np.linspace(0, 1, 97), [0.1, 0.35, 1.0]])
+    values, derivatives, first = bspline_basis(knots, degree, xi)
+    n = knots.size - degree - 1
+    dense = np.zeros((2, xi.size, n))
+    cols = first[:, None] + np.arange(degree + 1)
+    dense[0][np.arange(xi.size)[:, None], cols] = values
+    dense[1][np.arange(xi.size)[:, None], cols] = derivatives
+    np.testing.assert_allclose(
+        dense[0], BSpline.design_matrix(xi, knots, degree).toarray(), atol=1e-14
+    )
+    np.testing.assert_allclose(dense[1], BSpline(knots, np.eye(n), degree)(xi, nu=1), atol=1e-11)

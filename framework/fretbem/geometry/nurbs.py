@@ -12,43 +12,47 @@ from .._validators import finite, float_array, shape
 from . import knots as kv
 
 
-def _scatter_local(matrix, first: np.ndarray, width: int) -> np.ndarray:
-    """Entries of a sparse (m x n) matrix as (m, width) blocks starting at column ``first``."""
-    coo = matrix.tocoo()
-    local = coo.col - first[coo.row]
-    keep = (local >= 0) & (local < width)
-    out = np.zeros((matrix.shape[0], width))
-    out[coo.row[keep], local[keep]] = coo.data[keep]
-    return out
-
-
 def bspline_basis(
     knots: np.ndarray, degree: int, xi: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The p + 1 non-zero B-spline functions at each ``xi`` and their first derivatives.
 
     Returns ``(values, derivatives, first)``: arrays of shape (m, p + 1) holding the functions
-    ``first[k] .. first[k] + p`` at ``xi[k]``. Values come from
-    ``scipy.interpolate.BSpline.design_matrix``; derivatives from the degree p - 1 design
-    matrix and the difference formula of the NURBS Book, eq. 2.7. Right-continuous at knots.
+    ``first[k] .. first[k] + p`` at ``xi[k]``; right-continuous at knots. The NURBS Book's
+    A2.2 (values) and eq. 2.9 (derivatives from degree p - 1), vectorised over points: this
+    is 3-9x faster than scipy's ``BSpline.design_matrix`` (whose sparse output must be
+    unpacked to element-local blocks), measured in benchmarks/bspline_basis.py, and is
+    tested against it.
     """
     knots = np.asarray(knots, dtype=float)
     xi = np.clip(np.atleast_1d(np.asarray(xi, dtype=float)), knots[0], knots[-1])
     n = knots.size - degree - 1
     span = np.clip(np.searchsorted(knots, xi, side="right") - 1, degree, n - 1)
-    first = span - degree
-    values = _scatter_local(BSpline.design_matrix(xi, knots, degree), first, degree + 1)
-    # N_{j, p-1} for j = first .. first + p, from the degree p - 1 matrix on knots[1:-1],
-    # whose column c holds N_{c+1, p-1}
-    lower = _scatter_local(
-        BSpline.design_matrix(xi, knots[1:-1], degree - 1), first - 1, degree + 2
-    )
-    j = first[:, None] + np.arange(degree + 2)  # global index of N_{j, p-1}
-    gap = knots[np.minimum(j + degree, knots.size - 1)] - knots[np.minimum(j, knots.size - 1)]
-    factor = np.divide(degree, gap, out=np.zeros_like(gap), where=gap > 0)
-    scaled = lower * factor
-    derivatives = scaled[:, :-1] - scaled[:, 1:]
-    return values, derivatives, first
+    values = np.zeros((degree + 1, xi.size))
+    values[0] = 1.0
+    left = np.zeros((degree + 1, xi.size))
+    right = np.zeros((degree + 1, xi.size))
+    lower = values[:1].copy()
+    for j in range(1, degree + 1):
+        left[j] = xi - knots[span + 1 - j]
+        right[j] = knots[span + j] - xi
+        if j == degree:
+            lower = values[:degree].copy()  # the degree p - 1 functions, for derivatives
+        saved = np.zeros(xi.size)
+        for r in range(j):
+            temp = values[r] / (right[r + 1] + left[j - r])
+            values[r] = saved + right[r + 1] * temp
+            saved = left[j - r] * temp
+        values[j] = saved
+    derivatives = np.zeros_like(values)
+    for r in range(degree + 1):
+        if r >= 1:
+            derivatives[r] += degree * lower[r - 1] / (knots[span + r] - knots[span + r - degree])
+        if r < degree:
+            derivatives[r] -= degree * lower[r] / (
+                knots[span + r + 1] - knots[span + r + 1 - degree]
+            )
+    return values.T, derivatives.T, span - degree
 
 
 def rational_basis(
