@@ -1,0 +1,233 @@
+"""VTK export with pyvista: each body's boundary per load step, and a ParaView time series.
+
+Every step gives, per body, ``vtk/<step>_<body>.vtp`` (undeformed boundary with point data
+"displacement", "traction", "traction_magnitude", "segment") and ``vtk/<step>_<body>_deformed.vtp``
+(points moved by displacement x scale, the scale in field data). ``history.pvd`` lists the
+undeformed files and ``history_deformed.pvd`` the deformed ones, one time step per load step.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from xml.sax.saxutils import quoteattr
+
+import numpy as np
+import pyvista as pv
+
+from .body import Body, BodySolution
+from .results import SimulationResult, StepResult
+
+POINTS_PER_ELEMENT = 8
+#: the deformed files magnify displacements so the largest is this fraction of the body width
+DEFORMED_FRACTION = 0.05
+
+
+def _params(basis, points_per_element: int) -> np.ndarray:
+    """Curve parameters sampling every element (shared element ends appear once)."""
+    local = np.linspace(0.0, 1.0, points_per_element)
+    lo, hi = basis.element_bounds.T
+    params = (lo[:, None] + local[None, :] * (hi - lo)[:, None])[:, :-1].ravel()
+    return np.append(params, hi[-1])
+
+
+def _as_3d(values: np.ndarray) -> np.ndarray:
+    return np.column_stack([values, np.zeros(len(values))])
+
+
+def boundary_mesh(
+    body: Body, solution: BodySolution | None = None, points_per_element: int = POINTS_PER_ELEMENT
+) -> pv.PolyData:
+    """The discretised boundary as polylines (one per segment), with the solution's fields."""
+    points, lines, segment, fields = [], [], [], {"displacement": [], "traction": []}
+    start = 0
+    for k, basis in enumerate(body.segments):
+        params = _params(basis, points_per_element)
+        points.append(basis.geometry(*basis.to_local(params))[0])
+        lines.append(np.concatenate([[len(params)], start + np.arange(len(params))]))
+        segment.append(np.full(len(params), k))
+        start += len(params)
+        if solution is not None:
+            fields["displacement"].append(solution.displacement(k, params))
+            fields["traction"].append(solution.traction(k, params))
+    mesh = pv.PolyData(_as_3d(np.concatenate(points)), lines=np.concatenate(lines))
+    mesh.point_data["segment"] = np.concatenate(segment)
+    mesh.cell_data["segment"] = np.arange(len(body.segments))
+    mesh.field_data["tags"] = np.array(body.boundary.tags)
+    mesh.field_data["body"] = np.array([body.name])
+    if solution is not None:
+        for name, values in fields.items():
+            mesh.point_data[name] = _as_3d(np.concatenate(values))
+        mesh.point_data["traction_magnitude"] = np.linalg.norm(mesh.point_data["traction"], axis=1)
+        mesh.field_data["block_displacement"] = np.asarray(solution.block_displacement, float)
+    return mesh
+
+
+def body_solutions(result: SimulationResult, step: StepResult) -> dict[str, BodySolution]:
+    """Each body's full boundary solution at ``step`` ("upper" and "lower")."""
+    pair = result.simulation.pair
+    cond = pair.condensed()
+    n = cond.n_pairs
+    x = np.asarray(step.unknowns)
+    out = {}
+    for label, body, tag in (
+        ("upper", pair.upper, pair.upper_tag),
+        ("lower", pair.lower, pair.lower_tag),
+    ):
+        _, coefficients = cond.traction_coefficients[label]
+        traction = coefficients @ x[: 2 * n]  # (n_f, 2) on the contact segments
+        delta = np.zeros(2)
+        if label in cond.blocks:
+            k = cond.blocks.index(label)
+            delta = x[2 * n + 2 * k : 2 * n + 2 * k + 2]
+        out[label] = body.system((tag,)).solution(delta, traction.ravel())
+    return out
+
+
+def step_meshes(
+    result: SimulationResult, step: StepResult, points_per_element: int = POINTS_PER_ELEMENT
+) -> dict[str, pv.PolyData]:
+    """Undeformed boundary meshes of both bodies at ``step``, with step facts as field data."""
+    pair = result.simulation.pair
+    bodies = {"upper": pair.upper, "lower": pair.lower}
+    meshes = {}
+    for label, solution in body_solutions(result, step).items():
+        mesh = boundary_mesh(bodies[label], solution, points_per_element)
+        mesh.field_data["step"] = np.array([step.name])
+        mesh.field_data["loads"] = np.array([step.normal, step.tangential])
+        meshes[label] = mesh
+    return meshes
+
+
+def deformation_scale(meshes: list[pv.PolyData], fraction: float = DEFORMED_FRACTION) -> float:
+    """Magnification making the largest displacement ``fraction`` of the widest body."""
+    width = max(float(np.ptp(m.points[:, 0])) for m in meshes)
+    largest = max(float(np.linalg.norm(m.point_data["displacement"], axis=1).max()) for m in meshes)
+    return fraction * width / largest if largest > 0 else 1.0
+
+
+def deformed(mesh: pv.PolyData, scale: float) -> pv.PolyData:
+    """A copy of ``mesh`` with its points moved by scale x displacement."""
+    out = mesh.copy()
+    out.points = mesh.points + scale * mesh.point_data["displacement"]
+    out.field_data["displacement_scale"] = np.array([scale])
+    return out
+
+
+def write_pvd(path: Path, entries: list[tuple[int, int, str, Path]]) -> Path:
+    """A ParaView collection: (timestep, part, name, file) per dataset, files relative to path."""
+    lines = [
+        '<?xml version="1.0"?>',
+        '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
+        "  <Collection>",
+    ]
+    for timestep, part, name, file in entries:
+        relative = Path(file).relative_to(path.parent).as_posix()
+        lines.append(
+            f'    <DataSet timestep="{timestep}" group="" part="{part}" '
+            f"name={quoteattr(name)} file={quoteattr(relative)}/>"
+        )
+    lines += ["  </Collection>", "</VTKFile>", ""]
+    path.write_text("\n".join(lines))
+    return path
+
+
+def save_vtk(
+    result: SimulationResult, directory: str | Path, points_per_element: int = POINTS_PER_ELEMENT
+) -> list[Path]:
+    """Write every step's boundary meshes (undeformed and deformed) and two .pvd series."""
+    directory = Path(directory)
+    folder = directory / "vtk"
+    folder.mkdir(parents=True, exist_ok=True)
+    steps = {s.name: step_meshes(result, s, points_per_element) for s in result.steps}
+    scale = deformation_scale([m for meshes in steps.values() for m in meshes.values()])
+    written, plain, warped = [], [], []
+    for timestep, (name, meshes) in enumerate(steps.items()):
+        for part, (label, mesh) in enumerate(meshes.items()):
+            versions = (("", mesh, plain), ("_deformed", deformed(mesh, scale), warped))
+            for suffix, data, series in versions:
+                path = folder / f"{name}_{label}{suffix}.vtp"
+                data.save(path)
+                series.append((timestep, part, label, path))
+                written.append(path)
+    written.append(write_pvd(directory / "history.pvd", plain))
+    written.append(write_pvd(directory / "history_deformed.pvd", warped))
+    return written
+
+
+def _contact_centre(mesh: pv.PolyData, shape: pv.PolyData, zone: float) -> np.ndarray:
+    """Mean deformed position of the points of ``mesh`` within ``zone`` of the origin."""
+    near = np.linalg.norm(mesh.points[:, :2], axis=1) <= zone
+    return shape.points[near].mean(axis=0)
+
+
+def _add_boundaries(plotter: pv.Plotter, shapes, clim, scalar_bar: bool) -> None:
+    bar = {"title": "traction magnitude (MPa)", "position_x": 0.3, "width": 0.4}
+    for shape in shapes:
+        plotter.add_mesh(
+            shape, scalars="traction_magnitude", cmap="viridis", clim=clim, line_width=5,
+            render_lines_as_tubes=True, show_scalar_bar=scalar_bar, scalar_bar_args=bar,
+        )  # fmt: skip
+
+
+def _add_traction_arrows(plotter, mesh, shape, segments, length: float, count: int = 21) -> None:
+    """About ``count`` arrows of the traction on ``mesh`` along ``segments``."""
+    on = np.flatnonzero(np.isin(mesh.point_data["segment"], segments))
+    on = on[np.linspace(0, len(on) - 1, count).round().astype(int)]
+    vectors = mesh.point_data["traction"][on]
+    largest = np.linalg.norm(vectors, axis=1).max()
+    if largest == 0:
+        return
+    cloud = pv.PolyData(shape.points[on])
+    cloud.point_data["traction"] = vectors / largest
+    arrow = pv.Arrow(tip_length=0.15, tip_radius=0.03, shaft_radius=0.008)
+    glyphs = cloud.glyph(orient="traction", scale="traction", factor=length, geom=arrow)
+    plotter.add_mesh(glyphs, color="black")
+
+
+def render_step(
+    result: SimulationResult,
+    step_name: str,
+    path: str | Path,
+    *,
+    window_size: tuple[int, int] = (1600, 800),
+) -> Path:
+    """Off-screen picture of the deformed boundaries at a step, coloured by |traction|.
+
+    Left: both bodies, displacements magnified; right: the contact zone at true scale, with
+    arrows of the traction the upper body exerts on the lower one.
+    """
+    step = result[step_name]
+    pair = result.simulation.pair
+    meshes = list(step_meshes(result, step).values())  # upper, lower
+    scale = deformation_scale(meshes)
+    shapes = [deformed(m, scale) for m in meshes]
+    zone = float(np.abs(step.x).max())
+    clim = (0.0, 1.05 * float(np.max(np.hypot(step.pressure, step.shear))))
+    weights = (1.0, 3.0)
+    plotter = pv.Plotter(
+        off_screen=True, shape=(1, 2), col_weights=weights, window_size=window_size, border=True
+    )
+    label = f"step {step.name}: P = {step.normal:g}, Q = {step.tangential:g} N/mm"
+    plotter.subplot(0, 0)
+    _add_boundaries(plotter, shapes, clim, scalar_bar=False)
+    plotter.add_text(f"{label}\ndisplacement x {scale:.3g}", font_size=8)
+    plotter.view_xy()
+    plotter.subplot(0, 1)
+    true_shapes = [deformed(m, 1.0) for m in meshes]
+    _add_boundaries(plotter, true_shapes, clim, scalar_bar=True)
+    segments = pair.lower.boundary.indices(pair.lower_tag)
+    _add_traction_arrows(plotter, meshes[1], true_shapes[1], segments, 0.5 * zone)
+    plotter.add_text("contact zone, true scale; arrows: traction on the lower body", font_size=8)
+    plotter.view_xy()
+    centre = _contact_centre(meshes[1], true_shapes[1], zone)
+    aspect = window_size[0] * weights[1] / sum(weights) / window_size[1]
+    camera = plotter.camera
+    camera.parallel_projection = True
+    camera.focal_point = centre
+    camera.position = centre + np.array([0.0, 0.0, 10.0])
+    camera.up = (0.0, 1.0, 0.0)
+    camera.parallel_scale = 1.6 * zone / aspect
+    path = Path(path)
+    plotter.screenshot(path)
+    plotter.close()
+    return path
