@@ -65,7 +65,7 @@ class ContactPair:
 
     def _pair_up(self) -> dict[str, np.ndarray]:
         low_rows, low_points, normals = self._side(self.lower, self.lower_tag)
-        up_rows, up_points, _ = self._side(self.upper, self.upper_tag)
+        up_rows, up_points, up_normals = self._side(self.upper, self.upper_tag)
         if len(low_rows) != len(up_rows):
             raise ContactDiscretisationError(
                 f"contact pair: the lower segment {self.lower_tag!r} has {len(low_rows)} "
@@ -93,6 +93,20 @@ class ContactPair:
             )
         order = np.argsort(low_points[:, 0] if np.ptp(low_points[:, 0]) > 0 else low_points[:, 1])
         low, up = order, partner[order]
+        # the faces must look at each other: the upper face's outward normal points back
+        # toward the lower face (a segment on the far side of the upper body would
+        # otherwise "touch" through that body after a rigid translation)
+        facing = up_normals[up] @ mean_normal
+        if np.any(facing >= 0.0):
+            k = int(np.argmax(facing))
+            raise ContactDiscretisationError(
+                f"contact pair: the contact segments do not face each other: at "
+                f"{up_points[up][k].round(6)} the outward normal of the upper segment "
+                f"{self.upper_tag!r} is {up_normals[up][k].round(6)}, pointing away from the "
+                f"lower segment {self.lower_tag!r} (whose mean outward normal is "
+                f"{mean_normal.round(6)}); tag the faces that touch, with the upper body on "
+                "the side the lower face's normal points to"
+            )
         # one frame for all pairs: the mean normal, along which the points face each other
         # (the half-plane idealisation of a non-conformal contact; a per-point normal of
         # one curved face would turn part of the normal approach into spurious slip)

@@ -118,6 +118,12 @@ class Simulation:
                 "bodies are pressed together before any tangential load"
             )
         friction = self.pair.friction
+        if friction == 0:
+            raise GrossSlidingError(
+                "the contact is frictionless (f = 0), so it cannot hold the upper body "
+                "tangentially and under force control its tangential position is undetermined "
+                "(no unique equilibrium); use a friction coefficient f > 0"
+            )
         for step in self.steps:
             if step.normal <= 0:
                 raise LoadHistoryError(
@@ -162,14 +168,16 @@ class Simulation:
                 start=None if state.virgin else state.x,
                 start_states=None if state.virgin else state.states,
             )
-        except NewtonConvergenceError:
+        except NewtonConvergenceError as failure:
             if depth >= self.solver.max_substeps:
                 raise
             mid_n = 0.5 * (state.normal + normal)
             mid_t = 0.5 * (state.tangential + tangential)
             half, it1, res1 = self._increment(problem, state, mid_n, mid_t, depth + 1)
             full, it2, res2 = self._increment(problem, half, normal, tangential, depth + 1)
-            return full, it1 + it2, res1 + res2
+            # the failed attempt's iterations were spent too: report them with the halves
+            failed = list(failure.residuals)
+            return full, len(failed) + it1 + it2, failed + res1 + res2
         return (
             self._advance(problem, state, result, normal, tangential),
             result.iterations,

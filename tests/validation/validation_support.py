@@ -1,0 +1,92 @@
+"""Shared scenes for the hard cases: assemble a scene once, then run many load histories on it.
+
+A ``Simulation`` is a contact pair plus a history; building new ``Simulation`` objects on the
+same ``ContactPair`` reuses its assembled, factorised and condensed problem, so each extra
+history costs only the small dense Newton solves.
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+from fretbem.analytical import MindlinDeresiewicz
+from fretbem.contact import ContactPair
+from fretbem.scenes import CattaneoMindlinScene, cattaneo_mindlin
+from fretbem.simulation import LoadStep, Simulation, run
+from fretbem.solver import Solver
+
+P = 100.0  # the reference scene's normal load, N/mm
+
+
+@functools.cache
+def scene(**fields) -> Simulation:
+    """The reference scene with ``fields`` overridden, prepared (assembled) once per session."""
+    simulation = cattaneo_mindlin(**fields)
+    simulation.prepare()
+    return simulation
+
+
+def history(
+    base: Simulation,
+    tangential,
+    *,
+    friction: float | None = None,
+    normal: float = P,
+    solver: Solver | None = None,
+    increments: int = 1,
+    reference: bool = True,
+) -> Simulation:
+    """A new load history (steps named A, B, C, ... unless 26 are exceeded) on ``base``'s pair.
+
+    A different ``friction`` gets a new ContactPair on the same (already assembled) bodies.
+    """
+    pair = base.pair
+    if friction is not None and friction != pair.friction:
+        pair = ContactPair(pair.upper, pair.lower, friction=friction)
+    steps = [LoadStep(_name(k), normal, q, increments) for k, q in enumerate(tangential)]
+    ref = None
+    if reference and base.reference is not None:
+        ref = MindlinDeresiewicz(base.reference.hertz, pair.friction)
+    return Simulation(pair, steps, solver or Solver(), reference=ref, name=base.name)
+
+
+def _name(k: int) -> str:
+    return chr(ord("A") + k) if k < 26 else f"S{k}"
+
+
+def cycle(base: Simulation, ratio: float, *, friction: float | None = None, **kwargs):
+    """Run A (P), B (+Q), C (0), D (-Q), E (0) with Q = ratio f P on ``base``'s pair."""
+    f = base.pair.friction if friction is None else friction
+    q = ratio * f * P
+    return run(history(base, (0.0, q, 0.0, -q, 0.0), friction=friction, **kwargs))
+
+
+def hertz_of(**fields):
+    return CattaneoMindlinScene(**fields).hertz()
+
+
+def check_physics(result, *, p_rel: float, q_abs: float) -> None:
+    """Every step: |q| <= f p, p >= 0, slip pairs on the cone, separated pairs carry nothing,
+    int p = P to ``p_rel`` (relative) and |int q - Q| <= ``q_abs``."""
+    f = result.simulation.pair.friction
+    for step in result.steps:
+        scale = np.max(step.pressure)
+        assert np.all(step.pressure >= -1e-12 * scale), step.name
+        assert np.all(np.abs(step.shear) <= f * step.pressure + 1e-12 * scale), step.name
+        slip = step.states == 2
+        np.testing.assert_allclose(
+            np.abs(step.shear[slip]), f * step.pressure[slip], rtol=1e-9, atol=1e-12 * scale
+        )
+        separated = step.states == 0
+        assert np.all(np.abs(step.pressure[separated]) <= 1e-12 * scale), step.name
+        assert np.all(np.abs(step.shear[separated]) <= 1e-12 * scale), step.name
+        assert abs(step.resultant[0] - step.normal) <= p_rel * step.normal, step.name
+        assert abs(step.resultant[1] - step.tangential) <= q_abs, step.name
+
+
+def l2_difference(step, reference_step, field: str) -> float:
+    """RMS over the coarse pairs of (coarse - fine interpolated), fields 'pressure'/'shear'."""
+    fine = np.interp(step.x, reference_step.x, getattr(reference_step, field))
+    return float(np.sqrt(np.mean((getattr(step, field) - fine) ** 2)))
