@@ -18,6 +18,7 @@ import numpy as np
 from ._validators import float_array, shape
 from .geometry.nurbs import NurbsCurve
 
+
 @attrs.frozen(eq=False)
 class ElementMap:
     """Shape-function values and geometry at a set of (element, local coordinate) points.

@@ -10,8 +10,8 @@ from ._validators import positive
 def _poisson(instance, attribute, value) -> None:
     if not (-1.0 < value < 0.5):
         raise ValueError(
-            f"Poisson's ratio nu must lie in (-1, 0.5) for a stable isotropic material, got "
-            f"{value!r}"
+            f"Poisson's ratio {attribute.name} must lie in (-1, 0.5) for a stable isotropic "
+            f"material, got {value!r}"
         )
 
 

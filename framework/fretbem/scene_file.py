@@ -103,9 +103,13 @@ def scene_from_dict(data: dict) -> CattaneoMindlinScene:
             f"{len(fields.get('tangential', ()))} values; give one name per value of Q"
         )
     material = data.get("material", {})
+    if not isinstance(material, dict):
+        raise SceneFileError("[material] must be a table")
     _unknown("[material]", material, MATERIAL_KEYS | {"upper", "lower"})
     for side in ("upper", "lower"):
         override = material.get(side, {})
+        if not isinstance(override, dict):
+            raise SceneFileError(f"[material.{side}] must be a table (with E and nu)")
         _unknown(f"[material.{side}]", override, MATERIAL_KEYS)
         for key in ("E", "nu"):
             value = override.get(key, material.get(key))

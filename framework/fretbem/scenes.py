@@ -16,6 +16,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from . import bases
+from ._validators import finite, non_negative, positive
 from .analytical import HertzLineContact, MindlinDeresiewicz, dundurs_beta
 from .basis import Basis, Refinement
 from .body import Body
@@ -23,11 +24,18 @@ from .conditions import Displacement, LoadingBlock
 from .contact import ContactPair
 from .geometry.boundary import Boundary, Segment
 from .geometry.nurbs import NurbsCurve
-from .material import Material
+from .material import Material, _poisson
 from .simulation import LoadStep, Simulation
 from .solver import Solver
 
 REFERENCE_STEPS = ("A", "B", "C", "D", "E")
+
+
+def _count(instance, attribute, value) -> None:
+    if isinstance(value, bool) or int(value) != value or value < 1:
+        raise ValueError(f"{attribute.name} must be a whole number >= 1, got {value!r}")
+
+
 #: element size ratio on sides, top and bottom, graded toward their corners
 CORNER_RATIO = 50.0
 
@@ -63,25 +71,34 @@ class CattaneoMindlinScene:
     """
 
     basis: str | type[Basis] = "nurbs"
-    pairs: int = 61
-    zone: float = 1.5
+    pairs: int = attrs.field(default=61, validator=_count)
+    zone: float = attrs.field(default=1.5, validator=positive)
     degree: int | None = None
-    radius: float = 70.0
-    width: float = 6.5
-    height: float = 16.25
+    radius: float = attrs.field(default=70.0, validator=positive)
+    width: float = attrs.field(default=6.5, validator=positive)
+    height: float = attrs.field(default=16.25, validator=positive)
     lower: str = attrs.field(default="arc", validator=attrs.validators.in_(("arc", "flat")))
-    E_upper: float = 73400.0
-    nu_upper: float = 0.33
-    E_lower: float = 73400.0
-    nu_lower: float = 0.33
-    friction: float = 0.3
-    normal: float = 100.0
-    tangential: Sequence[float] = (0.0, 18.0, 0.0, -18.0, 0.0)
-    names: Sequence[str] = REFERENCE_STEPS
-    increments: int = 1
-    flank_elements: int = 16
-    side_elements: int = 12
-    top_elements: int = 12
+    E_upper: float = attrs.field(default=73400.0, validator=positive)
+    nu_upper: float = attrs.field(default=0.33, validator=_poisson)
+    E_lower: float = attrs.field(default=73400.0, validator=positive)
+    nu_lower: float = attrs.field(default=0.33, validator=_poisson)
+    friction: float = attrs.field(default=0.3, validator=non_negative)
+    normal: float = attrs.field(default=100.0, validator=positive)
+    tangential: Sequence[float] = attrs.field(
+        default=(0.0, 18.0, 0.0, -18.0, 0.0), converter=tuple, validator=finite
+    )
+    names: Sequence[str] = attrs.field(default=REFERENCE_STEPS, converter=tuple)
+    increments: int = attrs.field(default=1, validator=_count)
+    flank_elements: int = attrs.field(default=16, validator=_count)
+    side_elements: int = attrs.field(default=12, validator=_count)
+    top_elements: int = attrs.field(default=12, validator=_count)
+
+    def __attrs_post_init__(self) -> None:
+        if len(self.names) != len(self.tangential):
+            raise ValueError(
+                f"the scene has {len(self.names)} step names but {len(self.tangential)} "
+                "tangential loads; give one name per load step"
+            )
 
     def hertz(self) -> HertzLineContact:
         return HertzLineContact.from_bodies(

@@ -119,14 +119,6 @@ def test_refined_basis_reproduces_the_old_one(curve, data):
         )
 
 
-@pytest.mark.xfail(
-    reason="knots.greville averages p equal end knots, which can land one ulp outside the "
-    "domain (140 of 2000 random domain ends for p = 3); refine() then fails in scipy with "
-    "'Out of bounds'. Segments use [0, 1], where the average is exact. Fix: clip greville "
-    "to [knots[0], knots[-1]].",
-    raises=ValueError,
-    strict=False,
-)
 def test_degree_elevation_on_any_parameter_domain():
     """Elevation keeps the curve whatever its parameter domain (found by hypothesis)."""
     end = 5.839908251229852

@@ -86,6 +86,11 @@ class Boundary:
         extent = np.concatenate([s.curve.control_points for s in self.segments])
         size = max(np.ptp(extent, axis=0).max(), 1e-300)
         for k, seg in enumerate(self.segments):
+            if np.ptp(seg.curve.control_points, axis=0).max() <= 1e-12 * size:
+                raise BoundaryError(
+                    f"segment {k} ({seg.tag!r}) has zero length; remove it or give it two "
+                    "distinct end points"
+                )
             nxt = self.segments[(k + 1) % len(self.segments)]
             gap = np.linalg.norm(ends[k][1] - ends[(k + 1) % len(ends)][0])
             if gap > 1e-9 * size:

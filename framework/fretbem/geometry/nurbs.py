@@ -49,8 +49,8 @@ def bspline_basis(
         if r >= 1:
             derivatives[r] += degree * lower[r - 1] / (knots[span + r] - knots[span + r - degree])
         if r < degree:
-            derivatives[r] -= degree * lower[r] / (
-                knots[span + r + 1] - knots[span + r + 1 - degree]
+            derivatives[r] -= (
+                degree * lower[r] / (knots[span + r + 1] - knots[span + r + 1 - degree])
             )
     return values.T, derivatives.T, span - degree
 
@@ -82,7 +82,7 @@ class NurbsCurve:
         Strictly positive weights (all ones for a B-spline).
     """
 
-    degree: int = attrs.field(converter=int)
+    degree: int = attrs.field(converter=lambda d: int(d) if float(d).is_integer() else d)
     knots: np.ndarray = attrs.field(converter=float_array, validator=finite)
     control_points: np.ndarray = attrs.field(
         converter=float_array, validator=[shape(None, 2), finite]
