@@ -43,8 +43,10 @@ def scipy_local(knots, degree, xi):
 
 
 def main() -> None:
-    print(f"{os.cpu_count()} cores, {platform.processor() or platform.machine()}, "
-          f"python {platform.python_version()}")
+    print(
+        f"{os.cpu_count()} cores, {platform.processor() or platform.machine()}, "
+        f"python {platform.python_version()}"
+    )
     print("degree  points  scipy ms  fretbem ms  ratio  max diff")
     rng = np.random.default_rng(0)
     for degree in (2, 3, 4):
@@ -55,10 +57,14 @@ def main() -> None:
             diff = max(np.abs(a - b).max() for a, b in zip(ref[:2], ours[:2], strict=True))
             times = []
             for fn in (scipy_local, bspline_basis):
-                runs = timeit.repeat(lambda fn=fn: fn(knots, degree, xi), number=10, repeat=7)
+                runs = timeit.repeat(
+                    lambda fn=fn, k=knots, p=degree, x=xi: fn(k, p, x), number=10, repeat=7
+                )
                 times.append(statistics.median(runs) / 10 * 1e3)
-            print(f"{degree:6d} {m:7d} {times[0]:9.3f} {times[1]:11.3f} {times[0] / times[1]:6.1f}"
-                  f"  {diff:.1e}")
+            print(
+                f"{degree:6d} {m:7d} {times[0]:9.3f} {times[1]:11.3f} {times[0] / times[1]:6.1f}"
+                f"  {diff:.1e}"
+            )
 
 
 if __name__ == "__main__":
