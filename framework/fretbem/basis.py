@@ -89,6 +89,7 @@ class Refinement:
 
     @classmethod
     def uniform(cls, elements: int, degree: int | None = None) -> Refinement:
+        """Equal elements in the parameter."""
         return cls(elements=elements, degree=degree)
 
     @classmethod
@@ -169,14 +170,17 @@ class Basis(ABC):
     # -- shared layer ---------------------------------------------------------------------
     @property
     def n_elements(self) -> int:
+        """Number of elements on the segment."""
         return len(self.element_bounds)
 
     @property
     def n_functions(self) -> int:
+        """Number of basis functions (coefficients) on the segment."""
         return len(self.geometry_coefficients)
 
     @property
     def n_local(self) -> int:
+        """Functions non-zero on one element."""
         return self.connectivity.shape[1]
 
     def to_local(self, params: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -188,6 +192,7 @@ class Basis(ABC):
         return elements, np.clip(2.0 * (params - lo) / (hi - lo) - 1.0, -1.0, 1.0)
 
     def to_parameter(self, elements: np.ndarray, local: np.ndarray) -> np.ndarray:
+        """Curve parameters of (element, local coordinate) points."""
         lo, hi = self.element_bounds[elements].T
         return lo + (np.asarray(local) + 1.0) * 0.5 * (hi - lo)
 

@@ -83,6 +83,7 @@ class Body:
     # -- discretisation and matrices ------------------------------------------------------
     @property
     def family(self) -> type[Basis]:
+        """The basis family class (resolved through the registry)."""
         return bases.get(self.basis)
 
     @property
@@ -98,10 +99,12 @@ class Body:
 
     @property
     def offsets(self) -> np.ndarray:
+        """First global function index of each segment, and the total at the end."""
         return offsets(self.segments)
 
     @property
     def n_functions(self) -> int:
+        """Number of basis functions over the whole boundary."""
         return int(self.offsets[-1])
 
     @property
@@ -111,6 +114,7 @@ class Body:
 
     @property
     def collocation(self) -> Collocation:
+        """Collocation points of every segment (computed once)."""
         if "collocation" not in self._cache:
             self._cache["collocation"] = Collocation.of(self.segments)
         return self._cache["collocation"]
@@ -135,6 +139,7 @@ class Body:
         return self._cache["matrices"]
 
     def function_slice(self, segment: int) -> slice:
+        """Global function indices of one segment."""
         return slice(int(self.offsets[segment]), int(self.offsets[segment + 1]))
 
     def resultant_weights(self) -> np.ndarray:
@@ -213,6 +218,7 @@ class Body:
 
     @property
     def loading_block(self) -> LoadingBlock | None:
+        """The body's loading block condition, if any."""
         return next((c for c in self.conditions if isinstance(c, LoadingBlock)), None)
 
     def free_rigid_motions(
@@ -315,6 +321,7 @@ class BodySystem:
         body.timings["factorisation"] = time.perf_counter() - start
 
     def unknowns(self, delta: np.ndarray, contact_tractions: np.ndarray) -> np.ndarray:
+        """z = z0 + Z_delta delta + Z_contact t_contact."""
         return self.base + self.block_response @ delta + self.contact_response @ contact_tractions
 
     def resultant_map(self) -> tuple[np.ndarray, np.ndarray]:
@@ -326,6 +333,7 @@ class BodySystem:
         return select @ self.base[self.block_dofs], select @ self.block_response[self.block_dofs]
 
     def solution(self, delta: np.ndarray, contact_tractions: np.ndarray) -> BodySolution:
+        """Full displacement and traction coefficients for given block and contact data."""
         z = self.unknowns(delta, contact_tractions)
         u = np.where(self.solves_u, z, self.known)
         t = np.where(self.solves_u, self.known, z)

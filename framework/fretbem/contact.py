@@ -131,6 +131,7 @@ class ContactPair:
 
     @property
     def n_pairs(self) -> int:
+        """Number of node pairs."""
         return len(self.geometry["gap"])
 
     def condensed(self) -> CondensedContact:
@@ -228,6 +229,7 @@ class CondensedContact:
 
     @classmethod
     def build(cls, pair: ContactPair) -> CondensedContact:
+        """Assemble, factorise and condense both bodies of ``pair`` (timed)."""
         geo = pair.geometry
         n = len(geo["gap"])
         for body, tag in ((pair.upper, pair.upper_tag), (pair.lower, pair.lower_tag)):

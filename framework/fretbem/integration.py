@@ -63,6 +63,7 @@ class Collocation:
 
     @classmethod
     def of(cls, segments: Sequence[Basis]) -> Collocation:
+        """Collocation data of the discretised segments, in segment order."""
         parts = []
         for k, basis in enumerate(segments):
             elements, local = basis.collocation()

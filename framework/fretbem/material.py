@@ -35,6 +35,7 @@ class Material:
 
     @property
     def shear_modulus(self) -> float:
+        """mu = E / (2 (1 + nu))."""
         return self.E / (2.0 * (1.0 + self.nu))
 
     @property

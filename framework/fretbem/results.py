@@ -68,6 +68,7 @@ class StepResult:
 
     @classmethod
     def build(cls, simulation, problem, load, state, iterations, residuals, seconds, history):
+        """Collect a step's pair results, resultants and errors against the reference."""
         n = problem.n_pairs
         geo = simulation.pair.geometry
         x = geo["points"][:, 0]
@@ -147,14 +148,15 @@ class SimulationResult:
         def fmt(value):
             return "   n/a" if value is None else f"{100 * value:6.3f}"
 
+        width = max(4, *(len(s.name) for s in self.steps))
         lines = [
-            "step      P        Q   e_p max%  e_q max%  e_p L2%  e_q L2%  iters  stick  slip"
-            "  time s",
+            f"{'step':<{width}}      P        Q   e_p max%  e_q max%  e_p L2%  e_q L2%  iters"
+            "  stick  slip  time s",
         ]
         for s in self.steps:
             e = s.errors or {}
             lines.append(
-                f"{s.name:<4} {s.normal:7.2f} {s.tangential:8.2f}  {fmt(e.get('e_p_max'))}   "
+                f"{s.name:<{width}} {s.normal:7.2f} {s.tangential:8.2f}  {fmt(e.get('e_p_max'))}   "
                 f"{fmt(e.get('e_q_max'))}   {fmt(e.get('e_p_l2'))}  {fmt(e.get('e_q_l2'))}  "
                 f"{s.iterations:5d}  {s.count('stick'):5d} {s.count('slip'):5d}  {s.seconds:6.3f}"
             )
@@ -209,6 +211,7 @@ class SimulationResult:
         return {"scene": self.describe(), "timings": dict(self.timings), "steps": steps}
 
     def write_json(self, path: str | Path) -> None:
+        """summary.json: the summary() dictionary."""
         with open(path, "w") as handle:
             json.dump(self.summary(), handle, indent=2)
 

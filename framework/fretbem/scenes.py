@@ -101,6 +101,7 @@ class CattaneoMindlinScene:
             )
 
     def hertz(self) -> HertzLineContact:
+        """Hertz line contact of the scene (two arcs, or arc on flat)."""
         return HertzLineContact.from_bodies(
             load=self.normal,
             radius_upper=self.radius,
@@ -150,12 +151,6 @@ def _arcs(center_y: float, radius: float, angles: Sequence[float]) -> list[Nurbs
     return [NurbsCurve.arc(center, radius, a0, a1) for a0, a1 in itertools.pairwise(angles)]
 
 
-def _flatten(curve: NurbsCurve, y: float) -> NurbsCurve:
-    """A straight curve with the arc's x(xi): control points (x_i, y), the arc's weights."""
-    points = np.column_stack([curve.control_points[:, 0], np.full(curve.n_control_points, y)])
-    return attrs.evolve(curve, control_points=points)
-
-
 FACE_TAGS = ("flank_left", "contact", "flank_right")
 
 
@@ -183,7 +178,7 @@ def lower_boundary(
     up = math.pi / 2
     face = _arcs(-radius, radius, [up - phi_w, up - phi_z, up + phi_z, up + phi_w])
     if flat:
-        face = [_flatten(c, 0.0) for c in face]
+        face = [c.flattened(0.0) for c in face]
     right, left = face[0].points([0.0])[0], face[-1].points([1.0])[0]
     tags = FACE_TAGS[::-1]  # the top face runs right to left
     return Boundary(

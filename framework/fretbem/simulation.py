@@ -73,6 +73,7 @@ class ContactState:
 
     @classmethod
     def initial(cls, problem: CondensedContact) -> ContactState:
+        """The unloaded state: all pairs separated, no slip."""
         n = problem.n_pairs
         return cls(
             x=np.zeros(problem.normal_map.shape[1]),

@@ -153,6 +153,7 @@ class NurbsCurve:
 
     @property
     def n_control_points(self) -> int:
+        """Number of control points."""
         return len(self.control_points)
 
     def _homogeneous(self) -> np.ndarray:
@@ -252,6 +253,17 @@ class NurbsCurve:
         lo, hi = self.domain
         knots = domain[0] + (self.knots - lo) * (domain[1] - domain[0]) / (hi - lo)
         return attrs.evolve(self, knots=knots)
+
+    def flattened(self, y: float = 0.0) -> NurbsCurve:
+        """A straight curve at height ``y`` with this curve's x(xi).
+
+        Same knots and weights, control points (x_i, y): the face of a flat that a curved
+        face can be paired with node to node (equal refinement gives facing points).
+        """
+        points = np.column_stack(
+            [self.control_points[:, 0], np.full(self.n_control_points, float(y))]
+        )
+        return attrs.evolve(self, control_points=points)
 
     def reversed(self) -> NurbsCurve:
         """The same curve traversed the other way (normals flip)."""
