@@ -76,19 +76,14 @@ pad_boundary = Boundary(
 #
 # Contact is resolved between *node pairs*: collocation points of the two contact faces
 # at the same x. They face each other if the specimen's contact segments have the same
-# x(ξ) as the pad's: a flat copy of each pad segment, with the same knots and weights
-# and control points (x_i, 0), is such a curve. The specimen lies below, so its
-# counter-clockwise boundary runs along its top face from right to left: each copy is
-# reversed, and the copies are listed in reverse order.
+# x(ξ) as the pad's: ``NurbsCurve.flattened(y)`` is such a curve (same knots and weights,
+# control points (x_i, y)). The specimen lies below, so its counter-clockwise boundary
+# runs along its top face from right to left: each copy is reversed, and the copies are
+# listed in reverse order.
 
-
-def flat_copy(curve: NurbsCurve) -> NurbsCurve:
-    """The straight curve y = 0 with the same x(xi) as ``curve``, run the other way."""
-    points = np.column_stack([curve.control_points[:, 0], np.zeros(curve.n_control_points)])
-    return NurbsCurve(curve.degree, curve.knots, points, curve.weights).reversed()
-
-
-specimen_contact = [Segment("contact", flat_copy(s.curve)) for s in face if s.tag == "contact"]
+specimen_contact = [
+    Segment("contact", s.curve.flattened(0.0).reversed()) for s in face if s.tag == "contact"
+]
 specimen_boundary = Boundary(
     [
         Segment("bottom", NurbsCurve.line([-half, -HEIGHT], [half, -HEIGHT])),
