@@ -71,6 +71,12 @@ def _demo(args: argparse.Namespace) -> int:
     return _simulate(scene, args)
 
 
+def _convergence(args: argparse.Namespace) -> int:
+    from .convergence import main as study
+
+    return study(quick=args.quick, out=args.out)
+
+
 def _output_options(parser: argparse.ArgumentParser, default_out: str) -> None:
     parser.add_argument("--out", default=default_out, help="output directory")
     parser.add_argument("--no-figures", action="store_true", help="skip the matplotlib figures")
@@ -84,6 +90,7 @@ def _output_options(parser: argparse.ArgumentParser, default_out: str) -> None:
 
 
 def parser() -> argparse.ArgumentParser:
+    """The argument parser of the ``fretbem`` command."""
     main = argparse.ArgumentParser(
         prog="fretbem",
         description="2D frictional contact (fretting) by the boundary element method",
@@ -101,10 +108,19 @@ def parser() -> argparse.ArgumentParser:
     demo.add_argument("--pairs", type=int, default=61, help="node pairs (default 61)")
     _output_options(demo, "demo-out")
     demo.set_defaults(func=_demo)
+    convergence = sub.add_parser(
+        "convergence", help="speed against error: the convergence study of the reference scene"
+    )
+    convergence.add_argument(
+        "--quick", action="store_true", help="a few small levels (CI) instead of the full study"
+    )
+    convergence.add_argument("--out", default="convergence-out", help="output directory")
+    convergence.set_defaults(func=_convergence)
     return main
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Entry point of the ``fretbem`` console script; returns the exit code."""
     args = parser().parse_args(argv)
     try:
         return args.func(args)

@@ -1,0 +1,49 @@
+"""Generate docs/results.md (and its two figures) from the convergence study's CSV.
+
+Every number on the page is computed from the CSV (and study.json next to it, for the
+machine); the figures are redrawn into ``--figures`` (default: a folder named after the
+page, e.g. docs/results/). Benchmark medians from ``benchmarks/performance.py --json`` are
+added as a table when given.
+
+    python benchmarks/results_page.py --csv docs/results/convergence.csv --out docs/results.md \
+        --benchmarks docs/results/benchmarks-1thread.json docs/results/benchmarks-default.json
+
+How docs/results/ was made (the study with one BLAS thread, see the page)::
+
+    OPENBLAS_NUM_THREADS=1 fretbem convergence --out study-out
+    OPENBLAS_NUM_THREADS=1 python benchmarks/performance.py \
+        --json docs/results/benchmarks-1thread.json
+    python benchmarks/performance.py --only cycle demo steps \
+        --json docs/results/benchmarks-default.json
+    python benchmarks/results_page.py --csv study-out/convergence.csv --out docs/results.md \
+        --benchmarks docs/results/benchmarks-1thread.json docs/results/benchmarks-default.json
+"""
+
+from __future__ import annotations
+
+import argparse
+
+from fretbem.convergence import write_results_page
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--csv", required=True, help="convergence.csv of `fretbem convergence`")
+    parser.add_argument("--out", default="docs/results.md", help="markdown page to write")
+    parser.add_argument("--figures", help="folder for the PNG figures (default: next to --out)")
+    parser.add_argument(
+        "--benchmarks",
+        nargs="*",
+        default=(),
+        help="JSON files written by benchmarks/performance.py --json (one column each)",
+    )
+    args = parser.parse_args(argv)
+    path = write_results_page(
+        args.csv, args.out, figure_dir=args.figures, benchmarks=args.benchmarks
+    )
+    print(f"wrote {path}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
