@@ -13,7 +13,6 @@ from collections.abc import Sequence
 
 import attrs
 import numpy as np
-from scipy.optimize import brentq
 
 from . import bases
 from ._validators import finite, non_negative, positive
@@ -139,11 +138,19 @@ class CattaneoMindlinScene:
 
 
 def _grading_ratio(length: float, elements: int, smallest: float) -> float:
-    """Ratio for Refinement.graded whose smallest element is about ``smallest``."""
-    target = smallest * elements / length  # = ln(r) / (r - 1) for the linear density
+    """Ratio for Refinement.graded whose smallest element is about ``smallest``.
+
+    Solves ln(r) / (r - 1) = smallest * elements / length (the linear density of
+    Refinement.breakpoints) by bisection on ln r: the left side falls monotonically from 1.
+    """
+    target = smallest * elements / length
     if target >= 1.0:
         return 1.0
-    return float(brentq(lambda r: np.log(r) / (r - 1.0) - target, 1.0 + 1e-9, 1e6))
+    lo, hi = 1e-9, math.log(1e6)
+    for _ in range(80):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if mid / math.expm1(mid) > target else (lo, mid)
+    return math.exp(0.5 * (lo + hi))
 
 
 def _arcs(center_y: float, radius: float, angles: Sequence[float]) -> list[NurbsCurve]:

@@ -6,7 +6,6 @@ import math
 
 import attrs
 import numpy as np
-from scipy.interpolate import BSpline
 
 from .._validators import finite, float_array, shape
 from . import knots as kv
@@ -65,6 +64,14 @@ def rational_basis(
     total = weighted.sum(axis=1, keepdims=True)
     dtotal = dweighted.sum(axis=1, keepdims=True)
     return weighted / total, (dweighted * total - weighted * dtotal) / total**2, first
+
+
+def _collocation_matrix(knots: np.ndarray, degree: int, sites: np.ndarray) -> np.ndarray:
+    """Dense matrix of all B-spline functions at ``sites`` (rows) for refinement."""
+    values, _, first = bspline_basis(knots, degree, sites)
+    matrix = np.zeros((len(sites), knots.size - degree - 1))
+    matrix[np.arange(len(sites))[:, None], first[:, None] + np.arange(degree + 1)] = values
+    return matrix
 
 
 @attrs.frozen(eq=False)
@@ -159,18 +166,22 @@ class NurbsCurve:
     def _homogeneous(self) -> np.ndarray:
         return np.column_stack([self.control_points * self.weights[:, None], self.weights])
 
+    def _homogeneous_at(self, xi):
+        """Homogeneous point (w x, w y, w) and its derivative at ``xi``, each (m, 3)."""
+        values, derivatives, first = bspline_basis(self.knots, self.degree, np.ravel(xi))
+        hom = self._homogeneous()[first[:, None] + np.arange(self.degree + 1)]
+        return np.einsum("ma,mak->mk", values, hom), np.einsum("ma,mak->mk", derivatives, hom)
+
     def points(self, xi) -> np.ndarray:
-        """Curve points C(xi), shape (m, 2)."""
-        hom = BSpline(self.knots, self._homogeneous(), self.degree)(np.asarray(xi, float))
-        return hom[..., :2] / hom[..., 2:]
+        """Curve points C(xi), shape xi.shape + (2,)."""
+        hom, _ = self._homogeneous_at(xi)
+        return (hom[:, :2] / hom[:, 2:]).reshape(*np.shape(xi), 2)
 
     def derivatives(self, xi) -> np.ndarray:
-        """First derivatives dC/dxi, shape (m, 2) (quotient rule on homogeneous coordinates)."""
-        spline = BSpline(self.knots, self._homogeneous(), self.degree)
-        xi = np.asarray(xi, float)
-        hom, dhom = spline(xi), spline(xi, nu=1)
-        point = hom[..., :2] / hom[..., 2:]
-        return (dhom[..., :2] - dhom[..., 2:] * point) / hom[..., 2:]
+        """First derivatives dC/dxi (quotient rule on homogeneous coordinates)."""
+        hom, dhom = self._homogeneous_at(xi)
+        point = hom[:, :2] / hom[:, 2:]
+        return ((dhom[:, :2] - dhom[:, 2:] * point) / hom[:, 2:]).reshape(*np.shape(xi), 2)
 
     def jacobians(self, xi) -> np.ndarray:
         """|dC/dxi|: arc length per unit parameter."""
@@ -208,8 +219,8 @@ class NurbsCurve:
                 f"({self.degree} -> {degree})"
             )
         sites = kv.greville(new_knots, degree)
-        new_matrix = BSpline.design_matrix(sites, new_knots, degree).toarray()
-        old_matrix = BSpline.design_matrix(sites, self.knots, self.degree).toarray()
+        new_matrix = _collocation_matrix(new_knots, degree, sites)
+        old_matrix = _collocation_matrix(self.knots, self.degree, sites)
         try:
             transform = np.linalg.solve(new_matrix, old_matrix)
         except np.linalg.LinAlgError:
