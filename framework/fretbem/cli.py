@@ -67,7 +67,16 @@ def _demo(args: argparse.Namespace) -> int:
 
     scene = CattaneoMindlinScene(basis=args.basis, pairs=args.pairs)
     if args.compare is None:
-        args.compare = [name for name in bases.available() if name != args.basis]
+        args.compare = []
+        for name, family in bases.available().items():
+            if name == args.basis:
+                continue
+            try:
+                scene.zone_elements(family)
+            except ValueError as err:  # e.g. a cubic family needs pairs = 3 k + 1
+                print(f"fretbem: not comparing with {name}: {err}", file=sys.stderr)
+                continue
+            args.compare.append(name)
     return _simulate(scene, args)
 
 
