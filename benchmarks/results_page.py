@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import argparse
 
-from fretbem.convergence import write_results_page
+from fretbem.convergence_report import write_results_page
 
 
 def main(argv=None) -> int:

@@ -21,9 +21,9 @@ from fretbem.convergence import (
     first_crossing,
     fit_exponent,
     read_csv,
-    results_page,
     run_study,
 )
+from fretbem.convergence_report import results_page
 
 
 @pytest.fixture(scope="module")
