@@ -189,8 +189,8 @@ class Assembler:
         t_kernel = kernels.traction(src, points, normals, nu=self.nu)
         u_kernel = kernels.displacement(src, points, shear_modulus=self.mu, nu=self.nu)
         phi_h = values if subtract is None else values - subtract[:, None, :]
-        h = np.einsum("pqij,pq,pqa->piaj", t_kernel, jw, phi_h)
-        g = np.einsum("pqij,pq,pqa->piaj", u_kernel, jw, values)
+        h = np.einsum("pqij,pq,pqa->piaj", t_kernel, jw, phi_h, optimize=True)
+        g = np.einsum("pqij,pq,pqa->piaj", u_kernel, jw, values, optimize=True)
         return h, g
 
     def assemble(self) -> tuple[np.ndarray, np.ndarray]:
@@ -245,12 +245,12 @@ class Assembler:
             singular = own & (par >= lo - 1e-12) & (par <= hi + 1e-12)
             is_far = (ratio >= s.far_ratio) & ~singular
             # far: dense block evaluation
-            offs = src[:, None, None, :]
-            t_kernel = kernels.traction(offs, x_far[None], n_far[None], nu=self.nu)
-            u_kernel = kernels.displacement(offs, x_far[None], shear_modulus=self.mu, nu=self.nu)
+            t_kernel, u_kernel = kernels.traction_and_displacement(
+                src[:, None, None, :], x_far[None], n_far[None], shear_modulus=self.mu, nu=self.nu
+            )
             weight = jw_far[None] * is_far[:, :, None]
             for kernel, target in ((t_kernel, h_mat), (u_kernel, g_mat)):
-                block = np.einsum("ceqij,ceq,eqa->cijea", kernel, weight, phi_far)
+                block = np.einsum("ceqij,ceq,eqa->cijea", kernel, weight, phi_far, optimize=True)
                 block = block.reshape(len(rows) * 4, n_el * n_loc) @ assembly
                 block = block.reshape(len(rows), 2, 2, -1).transpose(0, 1, 3, 2)
                 target[2 * rows[0] : 2 * rows[-1] + 2, col_slice] += block.reshape(

@@ -44,3 +44,33 @@ def traction(source, field, normal, *, nu: float) -> np.ndarray:
     normal_part = dr_dn[..., None, None] * ((1.0 - 2.0 * nu) * IDENTITY + 2.0 * outer)
     skew = unit[..., :, None] * normal[..., None, :] - normal[..., :, None] * unit[..., None, :]
     return scale[..., None, None] * (normal_part - (1.0 - 2.0 * nu) * skew)
+
+
+def traction_and_displacement(source, field, normal, *, shear_modulus: float, nu: float):
+    """T and U together from one pass over the offsets (the far-field hot loop).
+
+    Same formulas as :func:`traction` and :func:`displacement`, written per component to
+    avoid the (..., 2, 2) temporaries; about twice as fast on large blocks.
+    """
+    rx, ry = field[..., 0] - source[..., 0], field[..., 1] - source[..., 1]
+    d2 = rx * rx + ry * ry
+    inv = 1.0 / d2
+    ux, uy = rx * rx * inv, ry * ry * inv  # r_i r_j / r^2 terms
+    uxy = rx * ry * inv
+    nx, ny = normal[..., 0], normal[..., 1]
+    dr_dn = (rx * nx + ry * ny) * inv  # (dr/dn) / r
+    a = 1.0 - 2.0 * nu
+    t_scale = -1.0 / (4.0 * np.pi * (1.0 - nu))
+    skew = a * (rx * ny - ry * nx) * inv  # (1 - 2 nu)(r_x n_y - r_y n_x) / r^2
+    t = np.empty((*d2.shape, 2, 2))
+    t[..., 0, 0] = t_scale * dr_dn * (a + 2.0 * ux)
+    t[..., 1, 1] = t_scale * dr_dn * (a + 2.0 * uy)
+    t[..., 0, 1] = t_scale * (dr_dn * 2.0 * uxy - skew)
+    t[..., 1, 0] = t_scale * (dr_dn * 2.0 * uxy + skew)
+    u_scale = 1.0 / (8.0 * np.pi * shear_modulus * (1.0 - nu))
+    log_term = -(3.0 - 4.0 * nu) * 0.5 * np.log(d2)
+    u = np.empty_like(t)
+    u[..., 0, 0] = u_scale * (log_term + ux)
+    u[..., 1, 1] = u_scale * (log_term + uy)
+    u[..., 0, 1] = u[..., 1, 0] = u_scale * uxy
+    return t, u
