@@ -324,13 +324,16 @@ class BodySystem:
         """z = z0 + Z_delta delta + Z_contact t_contact."""
         return self.base + self.block_response @ delta + self.contact_response @ contact_tractions
 
+    def block_resultant(self, z: np.ndarray) -> np.ndarray:
+        """Resultant force (2, ...) of the loading block's tractions in unknown vector(s) z."""
+        weights = np.repeat(self.body.resultant_weights(), 2)[self.block_dofs]
+        select = np.zeros((2, len(self.block_dofs)))
+        select[self.block_dofs % 2, np.arange(len(self.block_dofs))] = weights
+        return select @ z[self.block_dofs]
+
     def resultant_map(self) -> tuple[np.ndarray, np.ndarray]:
         """Block resultant force as r0 + K delta (with zero contact traction)."""
-        weights = np.repeat(self.body.resultant_weights(), 2)[self.block_dofs]
-        comp = self.block_dofs % 2
-        select = np.zeros((2, len(self.block_dofs)))
-        select[comp, np.arange(len(comp))] = weights
-        return select @ self.base[self.block_dofs], select @ self.block_response[self.block_dofs]
+        return self.block_resultant(self.base), self.block_resultant(self.block_response)
 
     def solution(self, delta: np.ndarray, contact_tractions: np.ndarray) -> BodySolution:
         """Full displacement and traction coefficients for given block and contact data."""

@@ -173,25 +173,22 @@ def _side_operator(body: Body, tag: str, rows: np.ndarray, frame_t: np.ndarray):
     values[pick, :, n_pairs + np.arange(n_pairs)] = frame_t[:, :, 1]
     coefficients = np.linalg.solve(e_matrix, values.reshape(len(functions), -1))
     coefficients = coefficients.reshape(len(functions), 2, 2 * n_pairs)
-    # order of system.contact_dofs is function-major (2 a + i) over the contact functions
+    # system.contact_dofs are function-major (2 a + i) over these functions, in this order
     contact_coeff = coefficients.reshape(2 * len(functions), 2 * n_pairs)
-    dofs = 2 * functions[:, None] + np.arange(2)
-    assert np.array_equal(dofs.ravel(), system.contact_dofs)
     z_lambda = system.contact_response @ contact_coeff  # (2N, 2n)
-    u_coeff = lambda z: z[system.contact_dofs].reshape(len(functions), 2, *z.shape[1:])  # noqa: E731
-    to_values = lambda c: np.einsum("cf,f...->c...", e_matrix[pick], c)  # noqa: E731
-    base = to_values(u_coeff(system.base))
-    d_lambda = to_values(u_coeff(z_lambda))
-    d_delta = to_values(u_coeff(system.block_response))
+
+    def values_at_pairs(z: np.ndarray) -> np.ndarray:
+        """Displacement values at the pairs from unknown vector(s) z (contact u part)."""
+        u_coefficients = z[system.contact_dofs].reshape(len(functions), 2, *z.shape[1:])
+        return np.einsum("cf,f...->c...", e_matrix[pick], u_coefficients)
+
+    base = values_at_pairs(system.base)
+    d_lambda = values_at_pairs(z_lambda)
+    d_delta = values_at_pairs(system.block_response)
     resultant = None
     if system.block_dofs.size:
-        weights = np.repeat(body.resultant_weights(), 2)[system.block_dofs]
-        select = np.zeros((2, len(system.block_dofs)))
-        select[system.block_dofs % 2, np.arange(len(system.block_dofs))] = weights
-        resultant = (
-            select @ system.base[system.block_dofs],
-            select @ z_lambda[system.block_dofs],
-            select @ system.block_response[system.block_dofs],
+        resultant = tuple(
+            system.block_resultant(z) for z in (system.base, z_lambda, system.block_response)
         )
     return base, d_lambda, d_delta, resultant, (functions, coefficients)
 
