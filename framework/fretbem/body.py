@@ -185,7 +185,20 @@ class Body:
         return table
 
     def layout(self, contact_tags: tuple[str, ...] = ()) -> tuple[np.ndarray, np.ndarray]:
-        """Kind (TRACTION, DISPLACEMENT, BLOCK, CONTACT) and known coefficient of every dof."""
+        """Kind (TRACTION, DISPLACEMENT, BLOCK, CONTACT) and known coefficient of every dof.
+
+        Computed once per set of contact tags (the rigid-motion check and the factorised
+        system both need it); the arrays are read-only.
+        """
+        key = ("layout", tuple(sorted(contact_tags)))
+        if key not in self._cache:
+            kinds, known = self._layout(contact_tags)
+            kinds.setflags(write=False)
+            known.setflags(write=False)
+            self._cache[key] = (kinds, known)
+        return self._cache[key]
+
+    def _layout(self, contact_tags: tuple[str, ...]) -> tuple[np.ndarray, np.ndarray]:
         kinds = np.full((self.n_functions, 2), TRACTION)
         known = np.zeros((self.n_functions, 2))
         contact_segments = {k for tag in contact_tags for k in self._indices(tag, "a contact")}
