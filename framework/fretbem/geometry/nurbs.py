@@ -66,12 +66,19 @@ def rational_basis(
     return weighted / total, (dweighted * total - weighted * dtotal) / total**2, first
 
 
-def _collocation_matrix(knots: np.ndarray, degree: int, sites: np.ndarray) -> np.ndarray:
-    """Dense matrix of all B-spline functions at ``sites`` (rows) for refinement."""
+def _collocation_matrix(knots: np.ndarray, degree: int, sites: np.ndarray):
+    """Sparse (CSC) matrix of all B-spline functions at ``sites`` (rows) for refinement.
+
+    Each row has degree + 1 non-zeros, so refining to n control points costs O(n p^2)
+    memory and time instead of the O(n^2) / O(n^3) of a dense interpolation solve.
+    """
+    from scipy import sparse
+
     values, _, first = bspline_basis(knots, degree, sites)
-    matrix = np.zeros((len(sites), knots.size - degree - 1))
-    matrix[np.arange(len(sites))[:, None], first[:, None] + np.arange(degree + 1)] = values
-    return matrix
+    rows = np.repeat(np.arange(len(sites)), degree + 1)
+    cols = (first[:, None] + np.arange(degree + 1)).ravel()
+    shape = (len(sites), knots.size - degree - 1)
+    return sparse.csc_array((values.ravel(), (rows, cols)), shape=shape)
 
 
 @attrs.frozen(eq=False)
@@ -219,14 +226,18 @@ class NurbsCurve:
                 f"({self.degree} -> {degree})"
             )
         sites = kv.greville(new_knots, degree)
+        from scipy.sparse.linalg import splu
+
         new_matrix = _collocation_matrix(new_knots, degree, sites)
-        old_matrix = _collocation_matrix(self.knots, self.degree, sites)
-        try:
-            transform = np.linalg.solve(new_matrix, old_matrix)
-        except np.linalg.LinAlgError:
+        old_matrix = _collocation_matrix(self.knots, self.degree, sites).toarray()
+        try:  # banded (Schoenberg-Whitney): a sparse LU is linear in the control points
+            transform = splu(new_matrix).solve(old_matrix)
+        except RuntimeError:  # "Factor is exactly singular"
+            transform = np.full(old_matrix.shape, np.nan)
+        if not np.all(np.isfinite(transform)):
             raise ValueError(
                 "knots closer than round-off make the refined space degenerate; merge them"
-            ) from None
+            )
         transform[np.abs(transform) < 1e-14] = 0.0
         hom = transform @ self._homogeneous()
         refined = NurbsCurve(degree, new_knots, hom[:, :2] / hom[:, 2:], hom[:, 2])
