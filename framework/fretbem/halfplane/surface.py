@@ -103,9 +103,10 @@ class HalfPlaneSurface:
         per_coefficient = self.coefficient_map(x)
         m = per_coefficient.shape[0]
         n = self.face.n_functions
-        inverse = np.linalg.inv(self.collocation_matrix)  # coefficients = E^-1 values
-        blocks = per_coefficient.reshape(m, 2, n, 2)
-        return np.einsum("mibj,ba->miaj", blocks, inverse).reshape(m, 2, 2 * n)
+        # per node value = per coefficient @ E^-1 (coefficients = E^-1 values), as one solve
+        blocks = np.moveaxis(per_coefficient.reshape(m, 2, n, 2), 2, -1).reshape(-1, n)
+        per_value = np.linalg.solve(self.collocation_matrix.T, blocks.T).T
+        return np.moveaxis(per_value.reshape(m, 2, 2, n), -1, 2).reshape(m, 2, 2 * n)
 
     def bulk_displacement(self, x) -> np.ndarray:
         """Surface displacement (m, 2) per unit far-field stress sigma_xx (the "bulk" load).
@@ -121,9 +122,8 @@ class HalfPlaneSurface:
 
     def contact_force(self) -> np.ndarray:
         """Resultant force (2, 2n) of the face tractions per unit node traction."""
-        inverse = np.linalg.inv(self.collocation_matrix)
-        rule_integrals = _shape_integrals(self.face)  # int phi_b |dx|
-        weights = rule_integrals @ inverse  # per node value
+        # int phi_b |dx| per coefficient, then per node value through E^-1
+        weights = np.linalg.solve(self.collocation_matrix.T, _shape_integrals(self.face))
         n = len(weights)
         out = np.zeros((2, n, 2))
         out[0, :, 0] = weights
