@@ -1,0 +1,1 @@
+"""Stresses on the boundary and inside the bodies: Somigliana, half-plane and closed forms."""

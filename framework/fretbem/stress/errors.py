@@ -1,0 +1,11 @@
+"""Errors raised by the stress evaluation, one type per cause."""
+
+from __future__ import annotations
+
+
+class StressInputError(ValueError):
+    """A stress request has a bad argument (the message names it and the fix)."""
+
+
+class StressRequestError(ValueError):
+    """A ``[stress]`` table or request cannot be read (the message names the key)."""
