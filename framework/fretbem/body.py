@@ -18,6 +18,7 @@ from .basis import Basis, Refinement
 from .conditions import Condition, Displacement, LoadingBlock, Traction, evaluate
 from .geometry.boundary import Boundary
 from .integration import Assembler, Collocation, IntegrationSettings, offsets
+from .kernels import KelvinKernel
 from .material import Material
 
 #: kinds of each (function, component) coefficient pair
@@ -128,12 +129,7 @@ class Body:
         """H and G (2N x 2N), assembled on first request and cached."""
         if "matrices" not in self._cache:
             start = time.perf_counter()
-            assembler = Assembler(
-                self.segments,
-                self.material.shear_modulus,
-                self.material.kernel_nu,
-                self.integration,
-            )
+            assembler = Assembler(self.segments, KelvinKernel.of(self.material), self.integration)
             self._cache["matrices"] = assembler.assemble()
             self.timings["assembly"] = time.perf_counter() - start
         return self._cache["matrices"]

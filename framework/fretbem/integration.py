@@ -23,8 +23,8 @@ import attrs
 import numpy as np
 import scipy.sparse as sp
 
-from . import kernels
 from .basis import Basis
+from .kernels import KelvinKernel
 from .quadrature import QuadratureRule
 
 
@@ -166,17 +166,24 @@ def _graded_rule(center, distance_local, settings):
 
 
 class Assembler:
-    """Builds H and G for a list of discretised segments of one homogeneous body."""
+    """Builds H and G for a list of discretised segments of one homogeneous body.
+
+    ``kernel`` is the fundamental solution integrated (plane strain or plane stress).
+    """
 
     def __init__(
         self,
         segments: Sequence[Basis],
-        shear_modulus: float,
-        nu: float,
+        kernel: KelvinKernel,
         settings: IntegrationSettings | None = None,
     ):
+        if not isinstance(kernel, KelvinKernel):
+            raise TypeError(
+                f"Assembler needs a KelvinKernel (e.g. KelvinKernel.of(material)), got {kernel!r}"
+            )
         self.segments = tuple(segments)
-        self.mu, self.nu = float(shear_modulus), float(nu)
+        self.kernel = kernel
+        self.mu, self.nu = kernel.shear_modulus, kernel.effective_nu
         self.settings = settings or IntegrationSettings()
         self.offsets = offsets(self.segments)
         self.n = int(self.offsets[-1])
@@ -186,8 +193,8 @@ class Assembler:
     def _blocks(self, sources, points, normals, jw, values, *, subtract=None):
         """(P, 2, n_local, 2) blocks of H and G from per-pair quadrature data."""
         src = sources[:, None, :]
-        t_kernel = kernels.traction(src, points, normals, nu=self.nu)
-        u_kernel = kernels.displacement(src, points, shear_modulus=self.mu, nu=self.nu)
+        t_kernel = self.kernel.traction(src, points, normals)
+        u_kernel = self.kernel.displacement(src, points)
         phi_h = values if subtract is None else values - subtract[:, None, :]
         h = np.einsum("pqij,pq,pqa->piaj", t_kernel, jw, phi_h, optimize=True)
         g = np.einsum("pqij,pq,pqa->piaj", u_kernel, jw, values, optimize=True)
@@ -245,8 +252,8 @@ class Assembler:
             singular = own & (par >= lo - 1e-12) & (par <= hi + 1e-12)
             is_far = (ratio >= s.far_ratio) & ~singular
             # far: dense block evaluation
-            t_kernel, u_kernel = kernels.traction_and_displacement(
-                src[:, None, None, :], x_far[None], n_far[None], shear_modulus=self.mu, nu=self.nu
+            t_kernel, u_kernel = self.kernel.traction_and_displacement(
+                src[:, None, None, :], x_far[None], n_far[None]
             )
             weight = jw_far[None] * is_far[:, :, None]
             for kernel, target in ((t_kernel, h_mat), (u_kernel, g_mat)):
@@ -299,9 +306,7 @@ class Assembler:
             )
             h, _ = self._blocks(src, points, normals, jw, values, subtract=at_source)
             h_acc.add(rows, cols, h)
-            log_coef, smooth = kernels.displacement_parts(
-                src[:, None, :], points, shear_modulus=self.mu, nu=self.nu
-            )
+            log_coef, smooth = self.kernel.displacement_parts(src[:, None, :], points)
             dist = np.linalg.norm(points - src[:, None, :], axis=-1)
             # -ln r = -ln t - ln(r / t); the -ln t part: log rule minus L ln L x Gauss
             log_factor = -np.log(dist / t) - np.log(safe)[:, None]

@@ -1,15 +1,18 @@
-"""Kelvin fundamental solutions of 2D elastostatics (plane strain form), vectorised.
+"""Kelvin fundamental solutions of 2D elastostatics, vectorised, as a :class:`KelvinKernel`.
 
 ``source`` is the collocation point, ``field`` the integration point, ``normal`` the unit
 outward normal at the field point; all broadcast over leading axes and end in a 2-vector
 axis. Results end in (2, 2) axes indexed [i, j]: response in direction i to a unit point
-load in direction j. ``nu`` is the plane-strain Poisson ratio (use nu / (1 + nu) for plane
-stress). See docs/theory.md for the formulas.
+load in direction j. The module functions take the plane-strain Poisson ratio; the kernel
+object converts plane stress (nu / (1 + nu)) itself. See docs/theory.md for the formulas.
 """
 
 from __future__ import annotations
 
+import attrs
 import numpy as np
+
+from ._validators import positive
 
 IDENTITY = np.eye(2)
 
@@ -74,3 +77,59 @@ def traction_and_displacement(source, field, normal, *, shear_modulus: float, nu
     u[..., 1, 1] = u_scale * (log_term + uy)
     u[..., 0, 1] = u[..., 1, 0] = u_scale * uxy
     return t, u
+
+
+def _kernel_poisson(instance, attribute, value) -> None:
+    if not (-1.0 < value < 0.5):
+        raise ValueError(
+            f"KelvinKernel.nu must lie in (-1, 0.5) for a stable isotropic material, got {value!r}"
+        )
+
+
+@attrs.frozen
+class KelvinKernel:
+    """The Kelvin point-load solution of an isotropic plane body: what the Assembler integrates.
+
+    Attributes
+    ----------
+    shear_modulus : float
+        mu (> 0).
+    nu : float
+        Poisson's ratio of the material (not yet converted for plane stress).
+    plane_stress : bool
+        Plane stress: the plane-strain formulas with nu / (1 + nu).
+    """
+
+    shear_modulus: float = attrs.field(converter=float, validator=positive)
+    nu: float = attrs.field(converter=float, validator=_kernel_poisson)
+    plane_stress: bool = False
+
+    @classmethod
+    def of(cls, material) -> KelvinKernel:
+        """The kernel of a :class:`~fretbem.material.Material`."""
+        return cls(material.shear_modulus, material.nu, material.plane_stress)
+
+    @property
+    def effective_nu(self) -> float:
+        """Poisson's ratio in the plane-strain formulas (nu / (1 + nu) in plane stress)."""
+        return self.nu / (1.0 + self.nu) if self.plane_stress else self.nu
+
+    def displacement(self, source, field) -> np.ndarray:
+        """U_ij (..., 2, 2): displacement at ``field`` due to a unit load at ``source``."""
+        return displacement(source, field, shear_modulus=self.shear_modulus, nu=self.effective_nu)
+
+    def displacement_parts(self, source, field):
+        """U as (coefficient of ln(1/r) delta_ij, smooth remainder), for log-weighted rules."""
+        return displacement_parts(
+            source, field, shear_modulus=self.shear_modulus, nu=self.effective_nu
+        )
+
+    def traction(self, source, field, normal) -> np.ndarray:
+        """T_ij (..., 2, 2): traction on the surface with outward ``normal`` at ``field``."""
+        return traction(source, field, normal, nu=self.effective_nu)
+
+    def traction_and_displacement(self, source, field, normal):
+        """(T, U) from one pass over the offsets (the far-field hot loop)."""
+        return traction_and_displacement(
+            source, field, normal, shear_modulus=self.shear_modulus, nu=self.effective_nu
+        )
