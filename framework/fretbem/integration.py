@@ -13,10 +13,19 @@ from the point to the element over the element's length h:
 
 The H rows come out already containing the free term c(x) u(x): with
 H u = int T (u(x) - u(s)) dGamma, rigid translations give exactly zero (docs/theory.md).
+
+Two implementations give the same H and G to round-off: this module's numpy code, and the
+compiled loops of :mod:`fretbem._assembly_compiled` (numba), which classify and integrate
+pair by pair without temporaries. Loading numba costs about 0.4 s in a fresh process, so
+by default (``IntegrationSettings.compiled = None``) the compiled path is taken for bodies
+with at least ``COMPILED_MIN_PAIRS`` (collocation point, element) pairs, where it repays
+that, or once it is loaded anyway (docs/performance.md).
 """
 
 from __future__ import annotations
 
+import importlib.util
+import sys
 from collections.abc import Sequence
 
 import attrs
@@ -30,7 +39,11 @@ from .quadrature import QuadratureRule
 
 @attrs.frozen
 class IntegrationSettings:
-    """Quadrature orders and distance thresholds (see module docstring)."""
+    """Quadrature orders and distance thresholds (see module docstring).
+
+    ``compiled``: True for the compiled (numba) assembly, False for numpy, None to choose
+    by problem size (``COMPILED_MIN_PAIRS``); the two give the same H and G to round-off.
+    """
 
     far_ratio: float = 4.0
     far_points: int = 6
@@ -41,6 +54,23 @@ class IntegrationSettings:
     singular_points: int = 16
     log_points: int = 8
     block_rows: int = 256
+    compiled: bool | None = attrs.field(
+        default=None, validator=attrs.validators.optional(attrs.validators.instance_of(bool))
+    )
+
+
+#: (collocation point, element) pairs of one body from which the compiled path repays
+#: loading numba in a fresh process (about 0.45 s for the import and the cached kernels,
+#: against 1-2 us saved per pair; benchmarks/floor.py, docs/performance.md)
+COMPILED_MIN_PAIRS = 250_000
+
+
+class CompiledKernelsUnavailableError(RuntimeError):
+    """``IntegrationSettings(compiled=True)`` was asked for but numba is not installed."""
+
+
+def _numba_installed() -> bool:
+    return importlib.util.find_spec("numba") is not None
 
 
 @attrs.frozen(eq=False)
@@ -87,19 +117,22 @@ def offsets(segments: Sequence[Basis]) -> np.ndarray:
 
 
 class _Accumulator:
-    """Scatter-adds (rows, 2, n_local, 2) blocks into a dense 2N x 2M matrix via bincount."""
+    """Scatter-adds (rows, 2, n_local, 2) blocks into a dense 2N x 2M matrix in place."""
 
     def __init__(self, n_rows: int, n_cols: int):
         self.shape = (2 * n_rows, 2 * n_cols)
         self.flat = np.zeros(self.shape[0] * self.shape[1])
 
     def add(self, rows: np.ndarray, cols: np.ndarray, blocks: np.ndarray) -> None:
-        """blocks[p, i, a, j] goes to (2 rows[p] + i, 2 cols[p, a] + j)."""
+        """blocks[p, i, a, j] goes to (2 rows[p] + i, 2 cols[p, a] + j).
+
+        ``np.add.at`` on the flat matrix: unbuffered (repeated indices add up), and no
+        temporary of the matrix's size (a bincount with ``minlength`` would allocate one).
+        """
         i = np.arange(2)
         r = 2 * rows[:, None, None, None] + i[None, :, None, None]
         c = 2 * cols[:, None, :, None] + i[None, None, None, :]
-        index = (r * self.shape[1] + c).ravel()
-        self.flat += np.bincount(index, weights=blocks.ravel(), minlength=self.flat.size)
+        np.add.at(self.flat, (r * self.shape[1] + c).ravel(), blocks.ravel())
 
     def matrix(self) -> np.ndarray:
         return self.flat.reshape(self.shape)
@@ -138,6 +171,20 @@ def _closest_local(basis, elements, sources, iterations: int = 3):
         eta = np.clip(eta - step, -1.0, 1.0)
     x, *_ = basis.geometry(elements, eta)
     return eta, np.linalg.norm(x - sources, axis=-1)
+
+
+def _distance_ratio(sources, samples, centres, radii, length, far_ratio):
+    """min over an element's samples of the distance to each source, over its length.
+
+    Exact where it decides the class; pairs whose bounding circle is already far by
+    ``far_ratio`` get the circle's (lower-bound) ratio, which is only compared to it.
+    """
+    lower = np.linalg.norm(sources[:, None, :] - centres[None], axis=-1) - radii[None]
+    ratio = lower * (1.0 - 1e-12) / length[None]
+    pr, pe = np.nonzero(ratio < far_ratio)
+    dist = np.linalg.norm(sources[pr, None, :] - samples[pe], axis=-1).min(axis=1)
+    ratio[pr, pe] = dist / length[pe]
+    return ratio
 
 
 def _graded_rule(center, distance_local, settings):
@@ -200,8 +247,32 @@ class Assembler:
         g = np.einsum("pqij,pq,pqa->piaj", u_kernel, jw, values, optimize=True)
         return h, g
 
+    @property
+    def point_element_pairs(self) -> int:
+        """Number of (collocation point, element) pairs: the assembly's work."""
+        return self.n * sum(basis.n_elements for basis in self.segments)
+
+    @property
+    def uses_compiled(self) -> bool:
+        """Whether :meth:`assemble` takes the compiled path (see the module docstring)."""
+        choice = self.settings.compiled
+        if choice is True and not _numba_installed():
+            raise CompiledKernelsUnavailableError(
+                "IntegrationSettings(compiled=True) needs numba, which is not installed; "
+                "pip install numba, or leave compiled=None to use it only when available"
+            )
+        if choice is not None:
+            return choice
+        if "fretbem._compiled" in sys.modules:  # loaded already: its cost is paid
+            return True
+        return self.point_element_pairs >= COMPILED_MIN_PAIRS and _numba_installed()
+
     def assemble(self) -> tuple[np.ndarray, np.ndarray]:
         """Dense H and G, rows 2 s + i (collocation point s), columns 2 b + j (function b)."""
+        if self.uses_compiled:
+            from . import _assembly_compiled
+
+            return _assembly_compiled.assemble(self, self.mu, self.nu)
         n = self.n
         h_acc, g_acc = _Accumulator(n, n), _Accumulator(n, n)
         singular_jobs = []
@@ -234,6 +305,9 @@ class Assembler:
         samples = np.linspace(-1.0, 1.0, 9)
         x_samp, *_ = basis.geometry(np.repeat(np.arange(n_el), 9), np.tile(samples, n_el))
         x_samp = x_samp.reshape(n_el, 9, 2)
+        # a bounding circle of the samples: its distance is a lower bound of theirs
+        centres = 0.5 * (x_samp.max(axis=1) + x_samp.min(axis=1))
+        radii = np.linalg.norm(x_samp - centres[:, None], axis=-1).max(axis=1)
         assembly = sp.csr_matrix(
             (np.ones(n_el * n_loc), (np.arange(n_el * n_loc), basis.connectivity.ravel())),
             shape=(n_el * n_loc, basis.n_functions),
@@ -244,8 +318,7 @@ class Assembler:
         for start in range(0, self.n, s.block_rows):
             rows = np.arange(start, min(start + s.block_rows, self.n))
             src = colloc.points[rows]
-            dist = np.linalg.norm(src[:, None, None, :] - x_samp[None], axis=-1).min(axis=2)
-            ratio = dist / length[None, :]
+            ratio = _distance_ratio(src, x_samp, centres, radii, length, s.far_ratio)
             lo, hi = basis.element_bounds.T
             own = colloc.segment[rows][:, None] == k
             par = colloc.parameter[rows][:, None]
