@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 import sys
 import time
-from pathlib import Path
 
 from . import bases
 
@@ -21,12 +20,61 @@ def _bases(args: argparse.Namespace) -> int:
     return 0
 
 
+def _progress(message: str) -> None:
+    """A short status line on stderr (stdout keeps the table)."""
+    print(f"fretbem: {message}", file=sys.stderr, flush=True)
+
+
+def _check_compare(names) -> list[str]:
+    """--compare names must be installed families (checked before the run)."""
+    installed = bases.available()
+    unknown = [name for name in names or [] if name not in installed]
+    if unknown:
+        raise CommandError(
+            f"--compare: no basis family {unknown}; installed: {sorted(installed)} "
+            "(`fretbem bases`)"
+        )
+    return list(names or [])
+
+
+def _check_steps(simulation, steps) -> None:
+    names = [step.name for step in simulation.steps]
+    from .checks import step_names
+
+    step_names(names)
+    if steps:
+        missing = [name for name in steps if name not in names]
+        if missing:
+            raise CommandError(f"--steps {missing} are not load steps; the steps are {names}")
+
+
+def _prepare(scene, args: argparse.Namespace):
+    """Everything checkable before computing: output directory, options, size, step names."""
+    from .output import prepare_output
+    from .resources import check_resources
+    from .scenes import cattaneo_mindlin
+
+    prepare_output(args.out, overwrite=args.overwrite)
+    compare = _check_compare(args.compare) if not args.no_figures else []
+    simulation = cattaneo_mindlin(scene)
+    _check_steps(simulation, args.steps)
+    pair = simulation.pair
+    estimate = check_resources(int(pair.upper.dofs + pair.lower.dofs))
+    if estimate.seconds > 2.0:
+        _progress(f"running, estimated {estimate.describe()}")
+    return simulation, compare
+
+
 def _simulate(scene, args: argparse.Namespace) -> int:
+    import attrs
+
+    from .output import write_results
     from .scenes import cattaneo_mindlin
     from .simulation import run
 
     start = time.perf_counter()
-    result = run(cattaneo_mindlin(scene))
+    simulation, compare = _prepare(scene, args)
+    result = run(simulation)
     info = result.describe()
     print(
         f"{info['basis']} (degree {info['degree']}), {info['pairs']} node pairs, "
@@ -35,22 +83,20 @@ def _simulate(scene, args: argparse.Namespace) -> int:
     print(result.table())
     if result.simulation.reference is None:
         print("errors: n/a (no analytical reference for this scene, e.g. dissimilar materials)")
-    results = [result]
-    if not args.no_figures:
-        for name in args.compare or []:
-            import attrs
-
-            results.append(run(cattaneo_mindlin(attrs.evolve(scene, basis=name))))
-    out = Path(args.out)
-    result.save(out, figures=False, vtk=not args.no_vtk)
-    if not args.no_figures:
-        from . import plot
-
-        plot.save_figures(results, out)
+    others = []
+    for name in compare:
+        _progress(f"running {name} for the comparison figures")
+        others.append(run(cattaneo_mindlin(attrs.evolve(scene, basis=name))))
+    if not args.no_figures or not args.no_vtk:
+        _progress("writing figures and files")
+    out = write_results(
+        result, args.out, figures=not args.no_figures, vtk=not args.no_vtk,
+        overwrite=args.overwrite, compare=others, steps=args.steps,
+    )  # fmt: skip
     print(
-        f"wrote {out}/ (results.csv, summary.json"
+        f"wrote {out}/ (results.csv, summary.json, units.json"
         f"{', VTK' if not args.no_vtk else ''}{', figures' if not args.no_figures else ''}) "
-        f"in {time.perf_counter() - start:.2f} s"
+        f"in {time.perf_counter() - start:.2f} s; all result checks passed"
     )
     return 0
 
@@ -66,7 +112,7 @@ def _demo(args: argparse.Namespace) -> int:
     from .scenes import CattaneoMindlinScene
 
     scene = CattaneoMindlinScene(basis=args.basis, pairs=args.pairs)
-    if args.compare is None:
+    if args.compare is None and not args.no_figures:
         args.compare = []
         for name, family in bases.available().items():
             if name == args.basis:
@@ -86,8 +132,27 @@ def _convergence(args: argparse.Namespace) -> int:
     return study(quick=args.quick, out=args.out)
 
 
+class CommandError(ValueError):
+    """A command-line option that cannot work (checked before any computation)."""
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got {value}")
+    return value
+
+
 def _output_options(parser: argparse.ArgumentParser, default_out: str) -> None:
     parser.add_argument("--out", default=default_out, help="output directory")
+    parser.add_argument(
+        "--overwrite",
+        action="store_true",
+        help="replace --out even if it is a non-empty directory that fretbem did not write",
+    )
     parser.add_argument("--no-figures", action="store_true", help="skip the matplotlib figures")
     parser.add_argument("--no-vtk", action="store_true", help="skip the VTK files")
     parser.add_argument(
@@ -95,6 +160,13 @@ def _output_options(parser: argparse.ArgumentParser, default_out: str) -> None:
         nargs="*",
         metavar="NAME",
         help="also run these families and draw them in the figures",
+    )
+    parser.add_argument(
+        "--steps",
+        nargs="+",
+        metavar="STEP",
+        help="load steps drawn as figure panels (default: all, or 6 spread over a long "
+        "history, the first included)",
     )
 
 
@@ -104,17 +176,20 @@ def parser() -> argparse.ArgumentParser:
         prog="fretbem",
         description="2D frictional contact (fretting) by the boundary element method",
     )
-    sub = main.add_subparsers(dest="command", required=True)
+    main.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
+    sub = main.add_subparsers(dest="command")
     sub.add_parser("bases", help="list the installed basis families").set_defaults(func=_bases)
     run_ = sub.add_parser("run", help="run a scene file (TOML)")
     run_.add_argument("scene", help="scene file, e.g. examples/cattaneo_mindlin.toml")
     run_.add_argument("--basis", help="basis family (overrides the file)")
-    run_.add_argument("--pairs", type=int, help="node pairs in the contact zone (overrides)")
+    run_.add_argument(
+        "--pairs", type=_positive_int, help="node pairs in the contact zone (overrides)"
+    )
     _output_options(run_, "out")
     run_.set_defaults(func=_run)
     demo = sub.add_parser("demo", help="run the reference Cattaneo-Mindlin fretting cycle")
     demo.add_argument("--basis", default="nurbs", help="basis family (default nurbs)")
-    demo.add_argument("--pairs", type=int, default=61, help="node pairs (default 61)")
+    demo.add_argument("--pairs", type=_positive_int, default=61, help="node pairs (default 61)")
     _output_options(demo, "demo-out")
     demo.set_defaults(func=_demo)
     convergence = sub.add_parser(
@@ -128,15 +203,52 @@ def parser() -> argparse.ArgumentParser:
     return main
 
 
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("fretbem")
+    except PackageNotFoundError:  # pragma: no cover - not installed
+        return "unknown"
+
+
+def _one_line(err: BaseException) -> str:
+    if isinstance(err, KeyError) and err.args:
+        return str(err.args[0])
+    if isinstance(err, MemoryError):
+        return (
+            "out of memory; use fewer pairs (a coarser contact zone) or a machine with more memory"
+        )
+    if isinstance(err, OSError):
+        where = f": {err.filename}" if err.filename else ""
+        return f"{err.strerror or err}{where}"
+    return " ".join(str(err).split("\n"))
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Entry point of the ``fretbem`` console script; returns the exit code."""
-    args = parser().parse_args(argv)
+    """Entry point of the ``fretbem`` console script; returns the exit code.
+
+    Exit codes: 0 success, 1 a result check failed (nothing written), 2 bad input or an
+    output/system error (one line on stderr), 130 interrupted.
+    """
+    from .checks import ResultCheckError
+
+    main_parser = parser()
+    args = main_parser.parse_args(argv)
+    if args.command is None:
+        main_parser.print_help()
+        return 0
     try:
         return args.func(args)
-    except (ValueError, KeyError, RuntimeError) as err:
-        message = err.args[0] if isinstance(err, KeyError) and err.args else err
-        print(f"fretbem: error: {message}", file=sys.stderr)
+    except ResultCheckError as err:
+        print(f"fretbem: result check failed ({err.check}): {_one_line(err)}", file=sys.stderr)
+        return 1
+    except (ValueError, KeyError, RuntimeError, OSError, MemoryError) as err:
+        print(f"fretbem: error: {_one_line(err)}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print("fretbem: interrupted; the output directory was left as it was", file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":  # pragma: no cover

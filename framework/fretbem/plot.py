@@ -32,7 +32,12 @@ from .results import SimulationResult, StepResult
 
 FIGURE_STEPS = ("B", "C", "D", "E")
 STATE_COLORS = ("#d9d9d9", "#4c72b0", "#dd5544")  # separated, stick, slip
-DPI = 120
+DPI = 100
+#: at most this many step panels per figure (2 rows x 3 columns); longer histories are
+#: summarised by ``history_figure`` and a readable selection of steps, the first included
+MAX_PANELS = 6
+#: at most this many rows labelled in the pair-state map
+MAX_STATE_LABELS = 30
 
 
 def _as_list(results) -> list[SimulationResult]:
@@ -55,26 +60,66 @@ def _scale(results) -> tuple[float, str]:
     return (ref.hertz.half_width, "x / a") if ref is not None else (1.0, "x (mm)")
 
 
-def _steps(results, steps: Sequence[str]) -> list[str]:
-    names = {s.name for s in results[0].steps}
-    chosen = [name for name in steps if name in names]
-    if not chosen:
-        raise ValueError(f"none of the steps {list(steps)} is in the results {sorted(names)}")
-    return chosen
+class FigureStepsError(ValueError):
+    """Steps asked for in a figure that the results do not have, or too many of them."""
+
+
+def default_steps(names: Sequence[str], limit: int = MAX_PANELS) -> list[str]:
+    """All step names if there are at most ``limit``, else ``limit`` evenly spread ones,
+    the first (the normal load, step A) and the last included."""
+    names = list(names)
+    if len(names) <= limit:
+        return names
+    picks = np.unique(np.linspace(0, len(names) - 1, limit).round().astype(int))
+    return [names[k] for k in picks]
+
+
+def _steps(results, steps: Sequence[str] | None) -> list[str]:
+    names = [s.name for s in results[0].steps]
+    if steps is None:
+        return default_steps(names)
+    known = set(names)
+    missing = [name for name in steps if name not in known]
+    if missing or not steps:
+        raise FigureStepsError(
+            f"figure steps {missing or list(steps)} are not in the results; steps are "
+            f"{names[:20]}{' ...' if len(names) > 20 else ''}"
+        )
+    if len(steps) > MAX_PANELS:
+        raise FigureStepsError(
+            f"{len(steps)} figure steps asked for; at most {MAX_PANELS} panels are drawn (the "
+            "history figure summarises every step): choose fewer"
+        )
+    return list(steps)
+
+
+def _histories(result: SimulationResult) -> list[list[float]]:
+    """Tangential loads up to and including each step, in step order (one pass)."""
+    loads, out = [], []
+    for s in result.steps:
+        loads.append(s.tangential)
+        out.append(list(loads))
+    return out
 
 
 def _history(result: SimulationResult, name: str) -> list[float]:
     """Tangential loads of the steps up to and including ``name``."""
-    k = [s.name for s in result.steps].index(name)
-    return [s.tangential for s in result.steps[: k + 1]]
+    loads = []
+    for s in result.steps:
+        loads.append(s.tangential)
+        if s.name == name:
+            return loads
+    raise KeyError(name)
 
 
 def _grid(n: int, title: str) -> tuple[Figure, np.ndarray]:
-    cols = min(n, 2)
+    cols = min(n, 3)
     rows = -(-n // cols)
-    fig, axes = plt.subplots(
-        rows, cols, figsize=(5.2 * cols, 3.6 * rows + 0.8), squeeze=False, layout="constrained"
-    )
+    fig, axes = plt.subplots(rows, cols, figsize=(4.6 * cols, 3.3 * rows + 1.2), squeeze=False)
+    fig.subplots_adjust(
+        left=0.07, right=0.98, top=1 - 0.9 / (3.3 * rows + 1.2),
+        bottom=0.75 / (3.3 * rows + 1.2) + 0.05, hspace=0.55, wspace=0.25,
+    )  # fmt: skip
     for ax in axes.flat[n:]:
         ax.set_visible(False)
     fig.suptitle(title)
@@ -96,7 +141,7 @@ def _step_title(step: StepResult) -> str:
 
 
 def traction_figure(
-    results: SimulationResult | Sequence[SimulationResult], steps: Sequence[str] = FIGURE_STEPS
+    results: SimulationResult | Sequence[SimulationResult], steps: Sequence[str] | None = None
 ) -> Figure:
     """Pressure p and shear q along the contact at each step, with theory (paper Fig. 4)."""
     results = _as_list(results)
@@ -121,21 +166,22 @@ def traction_figure(
         ax.set_xlabel(xlabel)
         ax.set_ylabel("traction (MPa)")
     handles, labels = axes[0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="outside lower center", ncol=min(len(labels), 3), fontsize=8)
+    fig.legend(handles, labels, loc="lower center", ncol=min(len(labels), 4), fontsize=7)
     return fig
 
 
 def displacement_figure(
-    results: SimulationResult | Sequence[SimulationResult], steps: Sequence[str] = FIGURE_STEPS
+    results: SimulationResult | Sequence[SimulationResult], steps: Sequence[str] | None = None
 ) -> Figure:
     """Relative normal (top row) and tangential (bottom row) displacements per step (Fig. 5)."""
     results = _as_list(results)
     names = _steps(results, steps)
     scale, xlabel = _scale(results)
     fig, axes = plt.subplots(
-        2, len(names), figsize=(4.0 * len(names), 6.4), squeeze=False, sharex=True,
-        sharey="row", layout="constrained",
+        2, len(names), figsize=(3.4 * len(names) + 0.8, 6.0), squeeze=False, sharex=True,
+        sharey="row",
     )  # fmt: skip
+    fig.subplots_adjust(left=0.08, right=0.98, top=0.88, bottom=0.17, wspace=0.1, hspace=0.15)
     fig.suptitle("Relative displacements at the node pairs (upper minus lower body)")
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     gap = results[0].simulation.pair.geometry["gap"]
@@ -155,7 +201,7 @@ def displacement_figure(
         axes[0, col].set_title(_step_title(results[0][name]))
         axes[1, col].set_xlabel(xlabel)
     handles, labels = axes[0, 0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="outside lower center", ncol=len(labels), fontsize=8)
+    fig.legend(handles, labels, loc="lower center", ncol=min(len(labels), 4), fontsize=7)
     return fig
 
 
@@ -169,25 +215,31 @@ def stick_slip_figure(result: SimulationResult | Sequence[SimulationResult]) -> 
     """State of every pair (separated, stick, slip) at every step, with theory's stick zone."""
     results = _as_list(result)
     scale, xlabel = _scale(results)
+    cols = min(len(results), 3)
+    height = 3.6 if len(results[0].steps) <= 12 else 5.0
     fig, axes = plt.subplots(
-        1, len(results), figsize=(6.0 * len(results), 3.6), squeeze=False, layout="constrained"
+        -(-len(results) // cols), cols, figsize=(5.0 * cols, height), squeeze=False
     )
+    fig.subplots_adjust(left=0.1, right=0.98, top=0.88, bottom=0.25, wspace=0.3)
     cmap = ListedColormap(STATE_COLORS)
     norm = BoundaryNorm(np.arange(len(STATE_NAMES) + 1) - 0.5, cmap.N)
-    for ax, r in zip(axes.flat, results, strict=True):
+    for ax, r in zip(axes.flat, results, strict=False):
         states = np.array([s.states for s in r.steps])
         x = r.steps[0].x / scale
         rows = np.arange(len(r.steps) + 1) - 0.5
-        ax.pcolormesh(_edges(x), rows, states, cmap=cmap, norm=norm, edgecolors="w", lw=0.3)
+        few = len(r.steps) <= MAX_STATE_LABELS
+        ax.pcolormesh(_edges(x), rows, states, cmap=cmap, norm=norm,
+                      edgecolors="w" if few else "face", lw=0.3 if few else 0.0)  # fmt: skip
         ref = r.simulation.reference
-        if ref is not None:
+        if ref is not None and few:
             a = ref.hertz.half_width / scale
-            for k, s in enumerate(r.steps):
-                c = ref.stick_zone(_history(r, s.name))[1] / scale
+            for k, history in enumerate(_histories(r)):
+                c = ref.stick_zone(history)[1] / scale
                 ax.plot([-c, c], [k, k], "k|", ms=14, mew=2)
             ax.axvline(-a, color="k", ls=":", lw=1)
             ax.axvline(a, color="k", ls=":", lw=1)
-        ax.set_yticks(range(len(r.steps)), [s.name for s in r.steps])
+        shown = default_steps(range(len(r.steps)), MAX_STATE_LABELS)
+        ax.set_yticks(shown, [r.steps[k].name[:12] for k in shown])
         ax.invert_yaxis()
         ax.set_xlabel(xlabel)
         ax.set_ylabel("load step")
@@ -200,28 +252,70 @@ def stick_slip_figure(result: SimulationResult | Sequence[SimulationResult]) -> 
             )
         )
         handles.append(Line2D([], [], color="k", ls=":", label="Hertz half-width ±a"))
-    fig.legend(handles=handles, loc="outside lower center", ncol=len(handles), fontsize=8)
+    for ax in axes.flat[len(results) :]:
+        ax.set_visible(False)
+    fig.legend(handles=handles, loc="lower center", ncol=min(len(handles), 5), fontsize=7)
+    return fig
+
+
+def history_figure(result: SimulationResult | Sequence[SimulationResult]) -> Figure:
+    """Summary of a whole history, one point per step: loads, stick-zone width, peak shear."""
+    results = _as_list(result)
+    fig, axes = plt.subplots(3, 1, figsize=(7.0, 6.6), sharex=True)
+    fig.subplots_adjust(left=0.12, right=0.97, top=0.93, bottom=0.1, hspace=0.12)
+    fig.suptitle("Load history: one point per step")
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for i, r in enumerate(results):
+        steps = np.arange(len(r.steps))
+        c = colors[i % len(colors)]
+        widths, peaks = [], []
+        for s in r.steps:
+            stick = s.x[s.states == STATE_NAMES.index("stick")]
+            widths.append(float(np.ptp(stick)) if stick.size > 1 else 0.0)
+            peaks.append(float(np.max(np.abs(s.shear))) if len(s.shear) else 0.0)
+        if i == 0:
+            axes[0].plot(steps, [s.normal for s in r.steps], "k-", lw=1, label="P")
+            axes[0].plot(steps, [s.tangential for s in r.steps], "k--", lw=1, label="Q")
+        axes[1].plot(steps, widths, ".-", ms=3, lw=0.8, color=c, label=_label(r))
+        axes[2].plot(steps, peaks, ".-", ms=3, lw=0.8, color=c, label=_label(r))
+    axes[0].set_ylabel("load (N/mm)")
+    axes[0].legend(fontsize=7)
+    axes[1].set_ylabel("stick-zone width (mm)")
+    axes[1].legend(fontsize=7)
+    axes[2].set_ylabel("peak |q| (MPa)")
+    axes[2].set_xlabel("step index (0 = first step)")
+    for ax in axes:
+        ax.grid(alpha=0.3)
     return fig
 
 
 def save_figures(
-    result_or_results: SimulationResult | Sequence[SimulationResult], directory: str | Path
+    result_or_results: SimulationResult | Sequence[SimulationResult],
+    directory: str | Path,
+    steps: Sequence[str] | None = None,
 ) -> list[Path]:
-    """Write tractions.png, displacements.png and states.png into ``directory``."""
+    """Write tractions.png, displacements.png, states.png and history.png into ``directory``.
+
+    ``steps``: the steps drawn as panels (default: all, or at most MAX_PANELS evenly spread
+    ones, the first included, when the history is longer).
+    """
     results = _as_list(result_or_results)
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
-    steps = [n for n in FIGURE_STEPS if n in {s.name for s in results[0].steps}]
-    steps = steps or [s.name for s in results[0].steps]
-    figures = {
-        "tractions.png": traction_figure(results, steps),
-        "displacements.png": displacement_figure(results, steps),
-        "states.png": stick_slip_figure(results),
+    names = _steps(results, steps)
+    makers = {
+        "tractions.png": lambda: traction_figure(results, names),
+        "displacements.png": lambda: displacement_figure(results, names),
+        "states.png": lambda: stick_slip_figure(results),
+        "history.png": lambda: history_figure(results),
     }
     paths = []
-    for name, fig in figures.items():
-        fig.savefig(directory / name, dpi=DPI)
-        plt.close(fig)
+    for name, make in makers.items():
+        fig = make()
+        try:
+            fig.savefig(directory / name, dpi=DPI)
+        finally:
+            plt.close(fig)
         paths.append(directory / name)
     return paths
 

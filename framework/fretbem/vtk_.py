@@ -1,21 +1,30 @@
-"""VTK export with pyvista: each body's boundary per load step, and a ParaView time series.
+"""VTK export: each body's boundary per load step, and a ParaView time series.
 
 Every step gives, per body, ``vtk/<step>_<body>.vtp`` (undeformed boundary with point data
 "displacement", "traction", "traction_magnitude", "segment") and ``vtk/<step>_<body>_deformed.vtp``
 (points moved by displacement x scale, the scale in field data). ``history.pvd`` lists the
 undeformed files and ``history_deformed.pvd`` the deformed ones, one time step per load step.
+``<step>`` is the step name made safe for a file name (:func:`fretbem.checks.safe_names`).
+
+The .vtp files are written here as VTK XML (ASCII, full double precision) with Python file
+I/O, so a full disk raises OSError instead of crashing inside the VTK library, and the free
+space is checked before writing. pyvista is imported only to build meshes for rendering.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 from xml.sax.saxutils import quoteattr
 
 import numpy as np
-import pyvista as pv
 
 from .body import Body, BodySolution
+from .checks import safe_names
 from .results import SimulationResult, StepResult
+
+if TYPE_CHECKING:  # pragma: no cover
+    import pyvista as pv
 
 POINTS_PER_ELEMENT = 8
 #: the deformed files magnify displacements so the largest is this fraction of the body width
@@ -34,32 +43,110 @@ def _as_3d(values: np.ndarray) -> np.ndarray:
     return np.column_stack([values, np.zeros(len(values))])
 
 
-def boundary_mesh(
+def boundary_arrays(
     body: Body, solution: BodySolution | None = None, points_per_element: int = POINTS_PER_ELEMENT
-) -> pv.PolyData:
-    """The discretised boundary as polylines (one per segment), with the solution's fields."""
+) -> dict:
+    """The discretised boundary as arrays: points (N, 3), lines (point index arrays, one per
+    segment), point_data, cell_data and field_data dictionaries (the solution's fields)."""
     points, lines, segment, fields = [], [], [], {"displacement": [], "traction": []}
     start = 0
     for k, basis in enumerate(body.segments):
         params = _params(basis, points_per_element)
         points.append(basis.geometry(*basis.to_local(params))[0])
-        lines.append(np.concatenate([[len(params)], start + np.arange(len(params))]))
+        lines.append(start + np.arange(len(params)))
         segment.append(np.full(len(params), k))
         start += len(params)
         if solution is not None:
             fields["displacement"].append(solution.displacement(k, params))
             fields["traction"].append(solution.traction(k, params))
-    mesh = pv.PolyData(_as_3d(np.concatenate(points)), lines=np.concatenate(lines))
-    mesh.point_data["segment"] = np.concatenate(segment)
-    mesh.cell_data["segment"] = np.arange(len(body.segments))
-    mesh.field_data["tags"] = np.array(body.boundary.tags)
-    mesh.field_data["body"] = np.array([body.name])
+    point_data = {"segment": np.concatenate(segment)}
+    field_data = {"tags": np.array(body.boundary.tags), "body": np.array([body.name])}
     if solution is not None:
         for name, values in fields.items():
-            mesh.point_data[name] = _as_3d(np.concatenate(values))
-        mesh.point_data["traction_magnitude"] = np.linalg.norm(mesh.point_data["traction"], axis=1)
-        mesh.field_data["block_displacement"] = np.asarray(solution.block_displacement, float)
+            point_data[name] = _as_3d(np.concatenate(values))
+        point_data["traction_magnitude"] = np.linalg.norm(point_data["traction"], axis=1)
+        field_data["block_displacement"] = np.asarray(solution.block_displacement, float)
+    return {
+        "points": _as_3d(np.concatenate(points)),
+        "lines": lines,
+        "point_data": point_data,
+        "cell_data": {"segment": np.arange(len(body.segments))},
+        "field_data": field_data,
+    }
+
+
+def to_polydata(arrays: dict) -> pv.PolyData:
+    """A pyvista PolyData of ``boundary_arrays`` output."""
+    import pyvista as pv
+
+    cells = np.concatenate([np.concatenate([[len(line)], line]) for line in arrays["lines"]])
+    mesh = pv.PolyData(arrays["points"], lines=cells)
+    for kind in ("point_data", "cell_data", "field_data"):
+        for name, values in arrays[kind].items():
+            getattr(mesh, kind)[name] = values
     return mesh
+
+
+def boundary_mesh(
+    body: Body, solution: BodySolution | None = None, points_per_element: int = POINTS_PER_ELEMENT
+) -> pv.PolyData:
+    """The discretised boundary as pyvista polylines (one per segment), with the fields."""
+    return to_polydata(boundary_arrays(body, solution, points_per_element))
+
+
+_VTK_TYPES = {"f": "Float64", "i": "Int64", "u": "Int64", "b": "Int64"}
+
+
+def _data_array(name: str | None, values: np.ndarray) -> str:
+    values = np.asarray(values)
+    named = f' Name="{name}"' if name else ""
+    if values.dtype.kind in "US":  # strings: char codes, each string ended by 0 (VTK ASCII)
+        codes = [str(c) for v in values.ravel() for c in [*str(v).encode(), 0]]
+        return (
+            f'<Array type="String"{named} NumberOfTuples="{values.size}" format="ascii">'
+            + " ".join(codes)
+            + "</Array>"
+        )
+    kind = _VTK_TYPES[values.dtype.kind]
+    components = values.shape[1] if values.ndim == 2 else 1
+    if kind == "Float64":
+        text = " ".join(repr(float(v)) for v in values.ravel())
+    else:
+        text = " ".join(str(int(v)) for v in values.ravel())
+    return (
+        f'<DataArray type="{kind}"{named} NumberOfComponents="{components}" '
+        f'NumberOfTuples="{len(values)}" format="ascii">{text}</DataArray>'
+    )
+
+
+def write_vtp(path: str | Path, arrays: dict) -> Path:
+    """Write ``boundary_arrays`` output as a VTK XML PolyData file (polylines), ASCII."""
+    points, lines = arrays["points"], arrays["lines"]
+    field = "".join(
+        _data_array(k, np.atleast_1d(v).ravel() if np.asarray(v).dtype.kind not in "US" else v)
+        for k, v in arrays["field_data"].items()
+    )
+    point = "".join(_data_array(k, v) for k, v in arrays["point_data"].items())
+    cell = "".join(_data_array(k, v) for k, v in arrays["cell_data"].items())
+    offsets = np.cumsum([len(line) for line in lines])
+    connectivity = np.concatenate(lines)
+    text = (
+        '<?xml version="1.0"?>\n'
+        '<VTKFile type="PolyData" version="1.0" byte_order="LittleEndian" '
+        'header_type="UInt64">\n<PolyData>\n'
+        f"<FieldData>{field}</FieldData>\n"
+        f'<Piece NumberOfPoints="{len(points)}" NumberOfVerts="0" NumberOfLines="{len(lines)}" '
+        'NumberOfStrips="0" NumberOfPolys="0">\n'
+        f"<PointData>{point}</PointData>\n<CellData>{cell}</CellData>\n"
+        f"<Points>{_data_array(None, points)}</Points>\n"
+        f"<Lines>{_data_array('connectivity', connectivity)}"
+        f"{_data_array('offsets', offsets)}</Lines>\n"
+        "</Piece>\n</PolyData>\n</VTKFile>\n"
+    )
+    path = Path(path)
+    with open(path, "w") as handle:
+        handle.write(text)
+    return path
 
 
 def body_solutions(result: SimulationResult, step: StepResult) -> dict[str, BodySolution]:
@@ -83,30 +170,49 @@ def body_solutions(result: SimulationResult, step: StepResult) -> dict[str, Body
     return out
 
 
+def step_arrays(
+    result: SimulationResult, step: StepResult, points_per_element: int = POINTS_PER_ELEMENT
+) -> dict[str, dict]:
+    """``boundary_arrays`` of both bodies at ``step``, with the step's name and loads."""
+    pair = result.simulation.pair
+    bodies = {"upper": pair.upper, "lower": pair.lower}
+    out = {}
+    for label, solution in body_solutions(result, step).items():
+        arrays = boundary_arrays(bodies[label], solution, points_per_element)
+        arrays["field_data"]["step"] = np.array([step.name])
+        arrays["field_data"]["loads"] = np.array([step.normal, step.tangential])
+        out[label] = arrays
+    return out
+
+
 def step_meshes(
     result: SimulationResult, step: StepResult, points_per_element: int = POINTS_PER_ELEMENT
 ) -> dict[str, pv.PolyData]:
     """Undeformed boundary meshes of both bodies at ``step``, with step facts as field data."""
-    pair = result.simulation.pair
-    bodies = {"upper": pair.upper, "lower": pair.lower}
-    meshes = {}
-    for label, solution in body_solutions(result, step).items():
-        mesh = boundary_mesh(bodies[label], solution, points_per_element)
-        mesh.field_data["step"] = np.array([step.name])
-        mesh.field_data["loads"] = np.array([step.normal, step.tangential])
-        meshes[label] = mesh
-    return meshes
+    return {k: to_polydata(v) for k, v in step_arrays(result, step, points_per_element).items()}
 
 
-def deformation_scale(meshes: list[pv.PolyData], fraction: float = DEFORMED_FRACTION) -> float:
+def _points_and_displacement(mesh) -> tuple[np.ndarray, np.ndarray]:
+    if isinstance(mesh, dict):
+        return mesh["points"], mesh["point_data"]["displacement"]
+    return np.asarray(mesh.points), np.asarray(mesh.point_data["displacement"])
+
+
+def deformation_scale(meshes: list, fraction: float = DEFORMED_FRACTION) -> float:
     """Magnification making the largest displacement ``fraction`` of the widest body."""
-    width = max(float(np.ptp(m.points[:, 0])) for m in meshes)
-    largest = max(float(np.linalg.norm(m.point_data["displacement"], axis=1).max()) for m in meshes)
-    return fraction * width / largest if largest > 0 else 1.0
+    pairs = [_points_and_displacement(m) for m in meshes]
+    width = max(float(np.ptp(points[:, 0])) for points, _ in pairs)
+    largest = max(float(np.linalg.norm(u, axis=1).max()) for _, u in pairs)
+    return fraction * width / largest if largest > 0 and np.isfinite(largest) else 1.0
 
 
-def deformed(mesh: pv.PolyData, scale: float) -> pv.PolyData:
-    """A copy of ``mesh`` with its points moved by scale x displacement."""
+def deformed(mesh, scale: float):
+    """A copy of ``mesh`` (PolyData or arrays) with its points moved by scale x displacement."""
+    if isinstance(mesh, dict):
+        out = {**mesh, "field_data": dict(mesh["field_data"])}
+        out["points"] = mesh["points"] + scale * mesh["point_data"]["displacement"]
+        out["field_data"]["displacement_scale"] = np.array([scale])
+        return out
     out = mesh.copy()
     out.points = mesh.points + scale * mesh.point_data["displacement"]
     out.field_data["displacement_scale"] = np.array([scale])
@@ -131,22 +237,35 @@ def write_pvd(path: Path, entries: list[tuple[int, int, str, Path]]) -> Path:
     return path
 
 
+def _size_estimate(arrays: dict) -> int:
+    """Bytes of a .vtp file: about 25 characters per number written."""
+    numbers = arrays["points"].size + sum(np.size(v) for v in arrays["point_data"].values())
+    return 25 * (numbers + sum(len(line) for line in arrays["lines"])) + 4096
+
+
 def save_vtk(
     result: SimulationResult, directory: str | Path, points_per_element: int = POINTS_PER_ELEMENT
 ) -> list[Path]:
-    """Write every step's boundary meshes (undeformed and deformed) and two .pvd series."""
+    """Write every step's boundary meshes (undeformed and deformed) and two .pvd series.
+
+    Checks the free disk space for all files first (OutputError if short).
+    """
+    from .output import check_free_space
+
     directory = Path(directory)
     folder = directory / "vtk"
     folder.mkdir(parents=True, exist_ok=True)
-    steps = {s.name: step_meshes(result, s, points_per_element) for s in result.steps}
-    scale = deformation_scale([m for meshes in steps.values() for m in meshes.values()])
+    stems = safe_names([s.name for s in result.steps])
+    steps = [step_arrays(result, s, points_per_element) for s in result.steps]
+    every = [m for meshes in steps for m in meshes.values()]
+    check_free_space(folder, 2 * sum(_size_estimate(m) for m in every), "VTK files")
+    scale = deformation_scale(every)
     written, plain, warped = [], [], []
-    for timestep, (name, meshes) in enumerate(steps.items()):
+    for timestep, (stem, meshes) in enumerate(zip(stems, steps, strict=True)):
         for part, (label, mesh) in enumerate(meshes.items()):
             versions = (("", mesh, plain), ("_deformed", deformed(mesh, scale), warped))
             for suffix, data, series in versions:
-                path = folder / f"{name}_{label}{suffix}.vtp"
-                data.save(path)
+                path = write_vtp(folder / f"{stem}_{label}{suffix}.vtp", data)
                 series.append((timestep, part, label, path))
                 written.append(path)
     written.append(write_pvd(directory / "history.pvd", plain))
@@ -160,7 +279,7 @@ def _contact_centre(mesh: pv.PolyData, shape: pv.PolyData, zone: float) -> np.nd
     return shape.points[near].mean(axis=0)
 
 
-def _add_boundaries(plotter: pv.Plotter, shapes, clim, scalar_bar: bool) -> None:
+def _add_boundaries(plotter, shapes, clim, scalar_bar: bool) -> None:
     bar = {"title": "traction magnitude (MPa)", "position_x": 0.3, "width": 0.4}
     for shape in shapes:
         plotter.add_mesh(
@@ -177,6 +296,8 @@ def _add_traction_arrows(plotter, mesh, shape, segments, length: float, count: i
     largest = np.linalg.norm(vectors, axis=1).max()
     if largest == 0:
         return
+    import pyvista as pv
+
     cloud = pv.PolyData(shape.points[on])
     cloud.point_data["traction"] = vectors / largest
     arrow = pv.Arrow(tip_length=0.15, tip_radius=0.03, shaft_radius=0.008)
@@ -196,6 +317,8 @@ def render_step(
     Left: both bodies, displacements magnified; right: the contact zone at true scale, with
     arrows of the traction the upper body exerts on the lower one.
     """
+    import pyvista as pv
+
     step = result[step_name]
     pair = result.simulation.pair
     meshes = list(step_meshes(result, step).values())  # upper, lower
