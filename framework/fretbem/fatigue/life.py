@@ -1,0 +1,190 @@
+"""Cycles to crack initiation from a critical-plane parameter, with run-out reported as such.
+
+SWT and Fatemi-Socie invert the Basquin / Coffin-Manson strain-life curve (uniaxial and shear)
+for 2N by root finding on log(2N); Findley uses the torsion Basquin curve scaled by
+sqrt(1 + k^2) (closed form); MWCM uses the modified Wohler curves of Susmel and Lazzarin
+(Fatigue Fract. Eng. Mater. Struct. 25 (2002) 63-78), interpolating the torsion (rho = 0) and
+uniaxial (rho = 1) curves linearly in rho. A life beyond ``runout_cycles`` is a run-out:
+``cycles = inf``, ``runout = True`` and a message, never a huge finite number.
+"""
+
+from __future__ import annotations
+
+import math
+
+import attrs
+from scipy.optimize import brentq
+
+from .errors import FatigueInputError
+from .material import FatigueMaterial
+
+__all__ = ["LifeEstimate", "estimate_life"]
+
+
+@attrs.frozen
+class LifeEstimate:
+    """Cycles to initiation by one method.
+
+    Attributes
+    ----------
+    method : str
+        Parameter name.
+    parameter : float
+        The parameter value the life is read from.
+    cycles : float
+        N (cycles, not reversals); ``inf`` for a run-out.
+    runout : bool
+        The parameter is below the curve at ``runout_cycles`` (or the fatigue limit).
+    message : str
+        Plain-language statement of the result.
+    """
+
+    method: str
+    parameter: float
+    cycles: float
+    runout: bool
+    message: str
+
+
+def _runout(method: str, parameter: float, runout_cycles: float, why: str) -> LifeEstimate:
+    return LifeEstimate(
+        method,
+        parameter,
+        math.inf,
+        True,
+        f"run-out: {why} (no initiation within {runout_cycles:.3g} cycles)",
+    )
+
+
+def _invert(method: str, parameter: float, curve, runout_cycles: float) -> LifeEstimate:
+    """Solve curve(2N) = parameter for N, curve decreasing in 2N."""
+    if parameter <= 0.0:
+        return _runout(method, parameter, runout_cycles, "the parameter is not positive")
+    at_runout = curve(2.0 * runout_cycles)
+    if parameter <= at_runout:
+        return _runout(
+            method,
+            parameter,
+            runout_cycles,
+            f"parameter {parameter:.4g} <= {at_runout:.4g} at run-out",
+        )
+    if parameter >= curve(1.0):
+        return LifeEstimate(
+            method,
+            parameter,
+            0.5,
+            False,
+            "parameter above the curve at the first reversal: N <= 0.5",
+        )
+    log2n = brentq(
+        lambda x: curve(10.0**x) - parameter, 0.0, math.log10(2.0 * runout_cycles), xtol=1e-12
+    )
+    cycles = 0.5 * 10.0**log2n
+    return LifeEstimate(method, parameter, cycles, False, f"N = {cycles:.4g} cycles")
+
+
+def estimate_life(
+    method: str,
+    parameter: float,
+    material: FatigueMaterial,
+    *,
+    rho: float | None = None,
+    runout_cycles: float = 1e7,
+) -> LifeEstimate:
+    """Cycles to initiation by ``method`` from its ``parameter`` value.
+
+    ``rho`` (sigma_n,max / tau_a on the critical plane) is needed by MWCM, whose ``parameter``
+    is the shear stress amplitude. Raises
+    :class:`~fretbem.fatigue.errors.MissingFatigueDataError` naming the missing constants.
+    """
+    if not runout_cycles > 1:
+        raise FatigueInputError(f"runout_cycles must be > 1, got {runout_cycles}")
+    m = material
+    if method == "swt":
+        c = m.require(
+            (
+                "E",
+                "fatigue_strength_coefficient",
+                "fatigue_strength_exponent",
+                "fatigue_ductility_coefficient",
+                "fatigue_ductility_exponent",
+            ),
+            "the SWT life",
+        )
+        sf, b = c["fatigue_strength_coefficient"], c["fatigue_strength_exponent"]
+        ef, cc = c["fatigue_ductility_coefficient"], c["fatigue_ductility_exponent"]
+
+        def curve(x):
+            return sf**2 / c["E"] * x ** (2 * b) + sf * ef * x ** (b + cc)
+
+        return _invert(method, parameter, curve, runout_cycles)
+    if method == "fatemi_socie":
+        c = m.require(
+            (
+                "E",
+                "nu",
+                "shear_fatigue_strength_coefficient",
+                "shear_fatigue_strength_exponent",
+                "shear_fatigue_ductility_coefficient",
+                "shear_fatigue_ductility_exponent",
+            ),
+            "the Fatemi-Socie life",
+        )
+        G = c["E"] / (2 * (1 + c["nu"]))
+
+        def curve(x):
+            return (
+                c["shear_fatigue_strength_coefficient"]
+                / G
+                * x ** c["shear_fatigue_strength_exponent"]
+                + c["shear_fatigue_ductility_coefficient"]
+                * x ** c["shear_fatigue_ductility_exponent"]
+            )
+
+        return _invert(method, parameter, curve, runout_cycles)
+    if method == "findley":
+        c = m.require(
+            ("findley_k", "shear_fatigue_strength_coefficient", "shear_fatigue_strength_exponent"),
+            "the Findley life",
+        )
+        scale = math.sqrt(1 + c["findley_k"] ** 2) * c["shear_fatigue_strength_coefficient"]
+        b0 = c["shear_fatigue_strength_exponent"]
+        if m.has("torsion_fatigue_limit_amplitude"):
+            limit = math.sqrt(1 + c["findley_k"] ** 2) * m.get("torsion_fatigue_limit_amplitude")
+            if parameter <= limit:
+                return _runout(
+                    method,
+                    parameter,
+                    runout_cycles,
+                    f"below the Findley fatigue limit {limit:.4g} MPa",
+                )
+        return _invert(method, parameter, lambda x: scale * x**b0, runout_cycles)
+    if method == "mwcm":
+        if rho is None:
+            raise FatigueInputError("the MWCM life needs rho = sigma_n,max / tau_a")
+        c = m.require(
+            (
+                "fatigue_limit_range",
+                "torsion_fatigue_limit_amplitude",
+                "fatigue_strength_exponent",
+                "shear_fatigue_strength_exponent",
+            ),
+            "the MWCM life",
+        )
+        sigma_a = 0.5 * c["fatigue_limit_range"]
+        tau_a_ref = c["torsion_fatigue_limit_amplitude"]
+        tau_ref = tau_a_ref + (sigma_a / 2 - tau_a_ref) * rho
+        k_rho = (
+            -1 / c["shear_fatigue_strength_exponent"]
+            + (-1 / c["fatigue_strength_exponent"] + 1 / c["shear_fatigue_strength_exponent"]) * rho
+        )
+        if parameter <= tau_ref or tau_ref <= 0:
+            return _runout(
+                method,
+                parameter,
+                runout_cycles,
+                f"tau_a {parameter:.4g} <= reference {tau_ref:.4g} MPa at rho = {rho:.3g}",
+            )
+        cycles = runout_cycles * (tau_ref / parameter) ** k_rho
+        return LifeEstimate(method, parameter, cycles, False, f"N = {cycles:.4g} cycles")
+    raise FatigueInputError(f"unknown fatigue method {method!r}")
