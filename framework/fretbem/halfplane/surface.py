@@ -14,7 +14,7 @@ import numpy as np
 from .._validators import positive
 from ..basis import Basis
 from ..material import Material
-from .influence import FlamantCompliance, check_face, side_sign, surface_integrals
+from .influence import DEFAULT_DATUM, FlamantCompliance, check_face, side_sign, surface_integrals
 
 
 @attrs.frozen(eq=False)
@@ -31,8 +31,9 @@ class HalfPlaneSurface:
         "lower" for a body occupying y < surface (its outward normal +y), "upper" for y >
         surface (outward normal -y).
     datum : float
-        Distance d0 (> 0, mm) from a line load at which its ln r displacement is zero. Only a
-        rigid translation of each body depends on it, never the contact tractions.
+        Distance d0 (> 0, mm) from a line load at which its ln r displacement is zero (10 mm by
+        default). Only a rigid translation of each body depends on it, never the contact
+        tractions.
     bulk_origin : float
         x at which the bulk-stress displacement u_x = eps (x - bulk_origin) is zero.
     """
@@ -40,7 +41,7 @@ class HalfPlaneSurface:
     face: Basis = attrs.field(validator=attrs.validators.instance_of(Basis))
     material: Material = attrs.field(validator=attrs.validators.instance_of(Material))
     side: str = attrs.field(default="lower")
-    datum: float = attrs.field(default=1.0, converter=float, validator=positive)
+    datum: float = attrs.field(default=DEFAULT_DATUM, converter=float, validator=positive)
     bulk_origin: float = attrs.field(default=0.0, converter=float)
     _cache: dict = attrs.field(init=False, factory=dict, repr=False)
 
