@@ -68,6 +68,7 @@ def _prepare(scene, args: argparse.Namespace):
 def _simulate(scene, args: argparse.Namespace) -> int:
     import attrs
 
+    from .checks import check_steps
     from .output import write_results
     from .scenes import cattaneo_mindlin
     from .simulation import run
@@ -83,6 +84,7 @@ def _simulate(scene, args: argparse.Namespace) -> int:
     print(result.table())
     if result.simulation.reference is None:
         print("errors: n/a (no analytical reference for this scene, e.g. dissimilar materials)")
+    check_steps(result)  # a failed check ends here: exit 1, nothing written
     others = []
     for name in compare:
         _progress(f"running {name} for the comparison figures")

@@ -10,6 +10,7 @@ import matplotlib.image as mpimg
 import numpy as np
 import pytest
 
+from fretbem.output import write_results
 from fretbem.scenes import REFERENCE_STEPS, cattaneo_mindlin
 from fretbem.simulation import run
 
@@ -22,7 +23,7 @@ PAIRS = 31
 def saved(tmp_path_factory):
     """The reference scene (nurbs, 31 pairs) run once and saved."""
     result = run(cattaneo_mindlin(basis="nurbs", pairs=PAIRS))
-    directory = result.save(tmp_path_factory.mktemp("output"))
+    directory = write_results(result, tmp_path_factory.mktemp("output") / "out")
     return result, directory
 
 
@@ -48,7 +49,9 @@ def test_summary_lists_every_step_with_errors(saved):
     assert summary["scene"]["pairs"] == PAIRS
 
 
-@pytest.mark.parametrize("name", ["tractions.png", "displacements.png", "states.png"])
+@pytest.mark.parametrize(
+    "name", ["tractions.png", "displacements.png", "states.png", "history.png"]
+)
 def test_figures_are_nonblank_images(saved, name):
     """Each figure is a readable PNG of plausible size that is not a blank canvas."""
     _, directory = saved

@@ -67,6 +67,37 @@ def _crossings(polylines: list[np.ndarray]) -> tuple[int, int] | None:
     return int(owner[i[k]]), int(owner[j[k]])
 
 
+def _point_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Distance from points p to segments a-b (row-wise)."""
+    d = b - a
+    t = np.clip(np.einsum("ij,ij->i", p - a, d) / np.maximum(np.einsum("ij,ij->i", d, d), 1e-300),
+                0.0, 1.0)  # fmt: skip
+    return np.linalg.norm(p - (a + t[:, None] * d), axis=1)
+
+
+def _touching(polylines: list[np.ndarray], tolerance: float) -> tuple[int, int, np.ndarray] | None:
+    """First pair of non-adjacent sample edges closer than ``tolerance`` (a pinch point)."""
+    edges, owner = [], []
+    for k, line in enumerate(polylines):
+        edges.append(np.stack([line[:-1], line[1:]], axis=1))
+        owner.append(np.full(len(line) - 1, k))
+    edges, owner = np.concatenate(edges), np.concatenate(owner)
+    n = len(edges)
+    i, j = np.triu_indices(n, k=2)
+    keep = ~((i == 0) & (j == n - 1))
+    i, j = i[keep], j[keep]
+    a, b, c, d = edges[i, 0], edges[i, 1], edges[j, 0], edges[j, 1]
+    gap = np.minimum.reduce(
+        [_point_segment(c, a, b), _point_segment(d, a, b), _point_segment(a, c, d),
+         _point_segment(b, c, d)]
+    )  # fmt: skip
+    close = gap <= tolerance
+    if not np.any(close):
+        return None
+    k = int(np.argmax(close))
+    return int(owner[i[k]]), int(owner[j[k]]), edges[j[k], 0]
+
+
 @attrs.frozen(eq=False)
 class Boundary:
     """A closed, simple, counter-clockwise chain of segments (outward normals on the right).
@@ -106,6 +137,15 @@ class Boundary:
             raise BoundaryError(
                 f"boundary crosses itself: segments {i} ({self.segments[i].tag!r}) and {j} "
                 f"({self.segments[j].tag!r}) intersect; a body's boundary must be a simple curve"
+            )
+        touching = _touching(polylines, 1e-9 * size)
+        if touching is not None:
+            i, j, where = touching
+            raise BoundaryError(
+                f"boundary touches itself near {np.round(where, 12).tolist()}: segments {i} "
+                f"({self.segments[i].tag!r}) and {j} ({self.segments[j].tag!r}) meet at a point "
+                "that is not their common end, pinching the body; a body's boundary must be a "
+                "simple curve: split the body in two or move the segments apart"
             )
         closed = np.concatenate([p[:-1] for p in polylines])
         x, y = closed[:, 0], closed[:, 1]
