@@ -1,0 +1,1 @@
+"""Studies over many simulations: convergence, parameter sweeps."""

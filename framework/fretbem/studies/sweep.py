@@ -1,0 +1,456 @@
+"""Parameter sweeps: many cases of one scene, grouped for reuse, run serially or on Dask.
+
+``sweep(scene, parameters, out=...)`` (or ``fretbem sweep SWEEP.toml``) expands the
+parameters into cases, groups them by what changes the condensed problem, splits the groups
+into batches, and solves the batches in this process (``serial=True``) or as tasks of a
+Dask cluster: a ``LocalCluster`` sized to the machine by default, any scheduler address, or
+a ``Client`` passed in. Every finished batch is stored at once (see ``sweep_store``), so an
+interrupted sweep re-run with the same description solves only the missing cases.
+Dask, pandas and pyarrow are imported only here, when a sweep runs.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import statistics
+import sys
+import time
+from collections import Counter
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import attrs
+
+from .sweep_cases import REGIMES, representative, run_batch
+from .sweep_spec import SweepSpec, SweepSpecError, load_sweep
+from .sweep_store import SweepStore
+
+#: environment of the local cluster's workers: one BLAS thread per process
+BLAS_ENV = {
+    "OMP_NUM_THREADS": "1",
+    "OPENBLAS_NUM_THREADS": "1",
+    "MKL_NUM_THREADS": "1",
+    "BLIS_NUM_THREADS": "1",
+    "VECLIB_MAXIMUM_THREADS": "1",
+    "NUMEXPR_NUM_THREADS": "1",
+}
+
+#: most cases in one task (and one stored chunk)
+MAX_BATCH = 250
+
+
+class SweepError(RuntimeError):
+    """A sweep that cannot run (no scheduler reachable, bad execution options)."""
+
+
+def machine_cores() -> int:
+    """Cores this process may use (affinity-aware)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # pragma: no cover - not on Linux
+        return os.cpu_count() or 1
+
+
+@attrs.frozen
+class Task:
+    """A batch of cases of one group, solved on the group's representative scene."""
+
+    scene: dict
+    cases: tuple[tuple[int, dict, dict], ...]
+
+
+def plan(spec: SweepSpec, done: set[int], workers: int, batch: int | None = None) -> list[Task]:
+    """Batches of the cases not yet done: enough tasks to keep ``workers`` busy.
+
+    The representative scene of a group is taken over all its cases (done or not), so a
+    resumed sweep solves on exactly the bodies of an uninterrupted one.
+    """
+    groups = spec.groups()
+    remaining = sum(1 for cases in groups.values() for c in cases if c.index not in done)
+    if batch is None:
+        batch = max(1, min(MAX_BATCH, math.ceil(remaining / (4 * max(1, workers)))))
+    elif isinstance(batch, bool) or not isinstance(batch, int) or batch < 1:
+        raise SweepError(f"batch size must be an integer >= 1, got {batch!r}")
+    tasks = []
+    for cases in groups.values():
+        todo = [(c.index, c.values, c.scene) for c in cases if c.index not in done]
+        if not todo:
+            continue
+        scene = representative([c.scene for c in cases])
+        for k in range(0, len(todo), batch):
+            tasks.append(Task(scene, tuple(todo[k : k + batch])))
+    return tasks
+
+
+class _Progress:
+    """A one-line progress bar on a terminal (silent elsewhere until the summary)."""
+
+    def __init__(self, tasks: int, cases: int, enabled: bool, stream=None) -> None:
+        self.stream = stream or sys.stderr
+        self.enabled = enabled and self.stream.isatty()
+        self.tasks, self.cases = tasks, cases
+        self.done_tasks = self.done_cases = 0
+        self.start = time.perf_counter()
+        self._draw()
+
+    def update(self, cases: int) -> None:
+        self.done_tasks += 1
+        self.done_cases += cases
+        self._draw()
+
+    def _draw(self) -> None:
+        if not self.enabled:
+            return
+        width = 30
+        filled = int(width * self.done_cases / max(1, self.cases))
+        bar = "#" * filled + "." * (width - filled)
+        self.stream.write(
+            f"\r[{bar}] {self.done_cases}/{self.cases} cases, {self.done_tasks}/{self.tasks} "
+            f"tasks, {time.perf_counter() - self.start:.1f} s"
+        )
+        self.stream.flush()
+
+    def close(self) -> None:
+        if self.enabled:
+            self.stream.write("\n")
+            self.stream.flush()
+
+
+@attrs.frozen
+class SweepSummary:
+    """What a sweep run did and what the store now holds."""
+
+    directory: Path
+    cases: int
+    stored: int
+    solved_now: int
+    skipped: int
+    groups: int
+    tasks: int
+    workers: int
+    mode: str
+    wall: float
+    status: dict
+    regimes: dict
+    assembly_seconds: float | None
+    solve_seconds: float | None
+    stopped: bool
+
+    def __str__(self) -> str:
+        def fmt(value, unit=" s"):
+            return "n/a" if value is None else f"{value:.4g}{unit}"
+
+        lines = [
+            f"sweep: {self.cases} cases in {self.groups} condensation groups -> {self.directory}",
+            f"  this run: {self.solved_now} cases in {self.tasks} tasks on {self.workers} "
+            f"{self.mode} worker(s), {self.wall:.2f} s wall; {self.skipped} already stored",
+            "  stored: "
+            + ", ".join(f"{n} {k}" for k, n in sorted(self.status.items()))
+            + f" ({self.stored}/{self.cases})",
+            "  regimes: " + ", ".join(f"{n} {k}" for k, n in self.regimes.items() if n),
+            f"  median assembly + condensation per group {fmt(self.assembly_seconds)}, "
+            f"median solve per case {fmt(self.solve_seconds)}",
+        ]
+        if self.stopped:
+            lines.append("  stopped early: re-run the same command to complete the sweep")
+        elif self.status.get("error"):
+            lines.append("  failed cases are in the table with their error (column 'error')")
+        return "\n".join(lines)
+
+
+@attrs.frozen(eq=False)
+class SweepResult:
+    """The store's table (pandas DataFrame, one row per case) and the run's summary."""
+
+    table: Any
+    summary: SweepSummary
+    spec: SweepSpec
+
+
+def _summarise(table, spec, directory, stats) -> SweepSummary:
+    status = Counter(table["status"]) if "status" in table else Counter()
+    regimes = Counter(table["regime"]) if "regime" in table else Counter()
+
+    def median(column, positive=False):
+        if column not in table:
+            return None
+        values = [float(v) for v in table[column].dropna() if not positive or v > 0]
+        return statistics.median(values) if values else None
+
+    return SweepSummary(
+        directory=Path(directory),
+        cases=len(spec.combinations()),
+        stored=len(table),
+        status=dict(status),
+        regimes={k: regimes.get(k, 0) for k in REGIMES},
+        groups=len(spec.groups()),
+        assembly_seconds=median("assembly_seconds", positive=True),
+        solve_seconds=median("solve_seconds"),
+        **stats,
+    )
+
+
+def _local_cluster(workers: int):
+    import logging
+
+    from dask.distributed import LocalCluster
+
+    return LocalCluster(
+        n_workers=workers,
+        threads_per_worker=1,
+        processes=True,
+        env=dict(BLAS_ENV),
+        dashboard_address=":0",
+        silence_logs=logging.ERROR,
+    )
+
+
+def _run_dask(tasks, client, scheduler, workers, builder, on_rows, limit):
+    """Submit every task, store each batch as it completes; returns (workers, stopped)."""
+    try:
+        from dask.distributed import Client, as_completed
+    except ImportError as err:  # pragma: no cover - dask is a dependency
+        raise SweepError("the Dask mode needs dask[distributed]; use serial=True") from err
+    cluster = own_client = None
+    if client is None:
+        try:
+            if scheduler is not None:
+                own_client = Client(scheduler, timeout="20s")
+            else:
+                cluster = _local_cluster(workers)
+                own_client = Client(cluster)
+        except (OSError, TimeoutError) as err:
+            raise SweepError(
+                f"cannot reach the Dask scheduler {scheduler!r}: {err}; start one "
+                "(`dask scheduler`, or dask-jobqueue on a cluster) or run with --serial"
+            ) from err
+        client = own_client
+    stopped = False
+    try:
+        n_workers = len(client.scheduler_info().get("workers", {})) or workers
+        futures = [client.submit(run_batch, t.scene, t.cases, builder, pure=False) for t in tasks]
+        finished = 0
+        for future in as_completed(futures):
+            on_rows(future.result())
+            finished += 1
+            if limit is not None and finished >= limit and finished < len(futures):
+                stopped = True
+                client.cancel(futures)
+                break
+    finally:
+        if own_client is not None:
+            own_client.close()
+        if cluster is not None:
+            cluster.close()
+    return n_workers, stopped
+
+
+def run_sweep(
+    spec: SweepSpec,
+    out: str | Path,
+    *,
+    client=None,
+    scheduler: str | None = None,
+    serial: bool = False,
+    workers: int | None = None,
+    batch: int | None = None,
+    limit: int | None = None,
+    progress: bool = True,
+    builder: Callable[[Mapping], Any] | None = None,
+) -> SweepResult:
+    """Run (or complete) ``spec`` into the store at ``out``; see ``sweep`` for the options."""
+    if workers is not None and (isinstance(workers, bool) or workers < 1):
+        raise SweepError(f"workers must be >= 1, got {workers!r}")
+    if serial and (client is not None or scheduler is not None):
+        raise SweepError("serial mode runs in this process: drop the client/scheduler")
+    if limit is not None and limit < 1:
+        raise SweepError(f"limit (tasks to run before stopping) must be >= 1, got {limit!r}")
+    start = time.perf_counter()
+    store = SweepStore(
+        out,
+        {
+            "fingerprint": spec.fingerprint(),
+            "paths": list(spec.paths),
+            "patterns": {p.path: p.pattern for p in spec.parameters if p.pattern},
+            "mode": spec.mode,
+            "cases": len(spec.combinations()),
+            "scene": spec.scene,
+            "options": spec.options,
+        },
+    )
+    done = store.done()
+    n_workers = 1 if serial else (workers or machine_cores())
+    tasks = plan(spec, done, n_workers, batch)
+    bar = _Progress(len(tasks), sum(len(t.cases) for t in tasks), progress)
+    solved = 0
+
+    def on_rows(rows):
+        nonlocal solved
+        store.write(rows)
+        solved += len(rows)
+        bar.update(len(rows))
+
+    stopped = False
+    try:
+        if not tasks:
+            mode = "no"
+        elif serial:
+            mode = "serial"
+            for k, task in enumerate(tasks):
+                if limit is not None and k >= limit:
+                    stopped = True
+                    break
+                on_rows(run_batch(task.scene, task.cases, builder))
+        else:
+            mode = "dask"
+            n_workers, stopped = _run_dask(
+                tasks, client, scheduler, n_workers, builder, on_rows, limit
+            )
+    finally:
+        bar.close()
+    table = store.table()
+    stats = {
+        "solved_now": solved,
+        "skipped": len(done),
+        "tasks": len(tasks),
+        "workers": n_workers,
+        "mode": mode,
+        "wall": time.perf_counter() - start,
+        "stopped": stopped,
+    }
+    return SweepResult(table, _summarise(table, spec, store.directory, stats), spec)
+
+
+def sweep(
+    scene: Mapping,
+    parameters: Mapping[str, Any],
+    *,
+    out: str | Path,
+    mode: str = "product",
+    client=None,
+    scheduler: str | None = None,
+    serial: bool = False,
+    workers: int | None = None,
+    batch: int | None = None,
+    limit: int | None = None,
+    progress: bool = True,
+    builder: Callable[[Mapping], Any] | None = None,
+    options: Mapping[str, Any] | None = None,
+) -> SweepResult:
+    """Solve ``scene`` for every combination of ``parameters`` and store one row per case.
+
+    Parameters
+    ----------
+    scene : mapping
+        A scene as a nested dict (a parsed scene file).
+    parameters : mapping
+        Key path (``"load.Q"``, ``"contact.friction"``, ``"geometry.radius"``...) to a list of
+        values, a range ``{"start", "stop", "num"}`` or ``{"values": [...]}``; either may
+        carry a ``"pattern"`` the value scales (e.g. a load history).
+    out : path
+        The store directory; re-running into it completes an interrupted sweep.
+    mode : "product" or "zip"
+    client : dask.distributed.Client, optional
+        Run on this client's cluster.
+    scheduler : str, optional
+        Address of a running scheduler (``tcp://host:8786``); else a LocalCluster.
+    serial : bool
+        Solve in this process, without Dask.
+    workers : int, optional
+        Local cluster processes (default: the machine's cores).
+    batch : int, optional
+        Cases per task (default: enough tasks for 4 per worker, at most ``MAX_BATCH``).
+    limit : int, optional
+        Stop after this many tasks (the store keeps them; re-run to complete).
+    progress : bool
+        Progress bar on a terminal.
+    builder : callable, optional
+        Scene dict -> Simulation (default: the scene-file reader of the scene's format).
+    options : mapping, optional
+        Extra settings stored with the sweep (part of its identity).
+    """
+    spec = SweepSpec.from_mapping(scene, parameters, mode=mode, **dict(options or {}))
+    return run_sweep(
+        spec,
+        out,
+        client=client,
+        scheduler=scheduler,
+        serial=serial,
+        workers=workers,
+        batch=batch,
+        limit=limit,
+        progress=progress,
+        builder=builder,
+    )
+
+
+def sweep_command(argv: Sequence[str] | None = None) -> int:
+    """``fretbem sweep SWEEP.toml [--scheduler ADDRESS] [--serial] [--out DIR] [--workers N]``."""
+    import argparse
+
+    parser = argparse.ArgumentParser(
+        prog="fretbem sweep",
+        description="Run a parameter sweep (fretting map) described in a sweep TOML file.",
+    )
+    add_arguments(parser)
+    return run_command(parser.parse_args(argv))
+
+
+def add_arguments(parser) -> None:
+    """The sweep subcommand's arguments (for the fretbem CLI's subparser)."""
+    parser.add_argument("sweep_file", metavar="SWEEP.toml", help="sweep description")
+    parser.add_argument("--scheduler", help="Dask scheduler address, e.g. tcp://host:8786")
+    parser.add_argument("--serial", action="store_true", help="solve in this process, no Dask")
+    parser.add_argument("--out", help="store directory (default: [sweep] out, or <name>-sweep)")
+    parser.add_argument("--workers", type=int, help="local cluster processes (default: cores)")
+    parser.add_argument("--batch", type=int, help="cases per task (default: automatic)")
+    parser.add_argument("--limit", type=int, help="stop after this many tasks (resume later)")
+    parser.add_argument("--no-figures", action="store_true", help="skip the fretting maps")
+
+
+def run_command(args) -> int:
+    """Run a parsed ``fretbem sweep`` command line; returns the exit status."""
+    from .sweep_store import SweepStoreError
+
+    try:
+        spec = load_sweep(args.sweep_file)
+        path = Path(args.sweep_file)
+        out = args.out or spec.options.get("out")
+        out = Path(out) if out else Path(f"{path.stem}-sweep")
+        result = run_sweep(
+            spec,
+            out,
+            scheduler=args.scheduler,
+            serial=args.serial,
+            workers=args.workers,
+            batch=args.batch,
+            limit=args.limit,
+        )
+        print(result.summary)
+        if not args.no_figures and not result.summary.stopped:
+            from .sweep_maps import draw_maps
+
+            for figure in draw_maps(result.table, spec, out):
+                print(f"  figure: {figure}")
+    except (SweepSpecError, SweepError, SweepStoreError, ValueError) as err:
+        print(f"fretbem sweep: error: {err}", file=sys.stderr)
+        return 2
+    return 0
+
+
+__all__ = [
+    "BLAS_ENV",
+    "SweepError",
+    "SweepResult",
+    "SweepSummary",
+    "Task",
+    "add_arguments",
+    "machine_cores",
+    "plan",
+    "run_command",
+    "run_sweep",
+    "sweep",
+    "sweep_command",
+]
