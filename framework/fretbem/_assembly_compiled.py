@@ -15,9 +15,10 @@ import numpy as np
 from . import _compiled
 from .quadrature import QuadratureRule
 
-#: distance samples per element (classification) and for the closest-point start
-SAMPLES = np.linspace(-1.0, 1.0, 9)
+#: closest-point start samples per element; every other one is a distance sample of the
+#: classification (np.linspace(-1, 1, 9), exactly: the spacings are powers of two)
 START = np.linspace(-1.0, 1.0, 17)
+SAMPLES = START[::2]
 
 
 def _singular_rules(center: np.ndarray, settings) -> list[dict]:
@@ -86,8 +87,8 @@ def assemble(assembler, shear_modulus: float, nu: float) -> tuple[np.ndarray, np
     h, g = np.zeros((2 * n, 2 * n)), np.zeros((2 * n, 2 * n))
     far_rule = QuadratureRule.gauss_legendre(s.far_points)
     mid_rule = QuadratureRule.gauss_legendre(s.mid_points)
-    per_element = np.concatenate([far_rule.points, mid_rule.points, SAMPLES, START])
-    cut = np.cumsum([0, far_rule.points.size, mid_rule.points.size, SAMPLES.size, START.size])
+    per_element = np.concatenate([far_rule.points, mid_rule.points, START])
+    cut = np.cumsum([0, far_rule.points.size, mid_rule.points.size, START.size])
     all_rows = np.arange(n)
     jobs = []
     for k, basis in enumerate(assembler.segments):
@@ -137,7 +138,7 @@ def assemble(assembler, shear_modulus: float, nu: float) -> tuple[np.ndarray, np
             per_el(m.jacobians, 1) * mid_rule.weights,
             per_el(m.values, 1),
         )
-        samples = np.ascontiguousarray(per_el(m.points, 2))
+        samples = np.ascontiguousarray(per_el(m.points, 2)[:, ::2])
         length = mid[2].sum(axis=1)
         centres = 0.5 * (samples.max(axis=1) + samples.min(axis=1))
         radii = np.linalg.norm(samples - centres[:, None], axis=-1).max(axis=1)
@@ -152,7 +153,7 @@ def assemble(assembler, shear_modulus: float, nu: float) -> tuple[np.ndarray, np
         if pr.size:
             src = colloc.points[pr]
             center_near, distance = _closest(
-                basis, pe, src, per_el(m.points, 3), per_el(m.tangents, 3)
+                basis, pe, src, per_el(m.points, 2), per_el(m.tangents, 2)
             )
             local, weights = _graded_rule(center_near, 2.0 * distance / length[pe], s)
             near_map = basis.map(np.repeat(pe, local.shape[1]), local.ravel())
