@@ -62,6 +62,25 @@ def _check_toward(instance, attribute, value) -> None:
             )
 
 
+def _as_breakpoints(value) -> tuple[float, ...] | None:
+    """Explicit element boundaries: strictly increasing, from 0 to 1."""
+    if value is None:
+        return None
+    at = np.asarray(value, dtype=float).ravel()
+    if (
+        at.size < 2
+        or not np.all(np.isfinite(at))
+        or at[0] != 0.0
+        or at[-1] != 1.0
+        or np.any(np.diff(at) <= 0.0)
+    ):
+        raise ValueError(
+            "Refinement.at needs strictly increasing breakpoints from 0.0 to 1.0 (the "
+            f"normalised parameter, both ends included), got {value!r}"
+        )
+    return tuple(float(v) for v in at)
+
+
 @attrs.frozen
 class Refinement:
     """How finely one segment is discretised.
@@ -78,6 +97,12 @@ class Refinement:
         ``(0.0, 1.0)`` for both ends, ``[(0.4, 0.6)]`` for an interval. None for uniform.
     ratio : float
         Size of the largest element over the smallest (>= 1) when graded.
+    at : tuple of float or None
+        Explicit element boundaries in the normalised parameter (0 and 1 included); when
+        given they replace the uniform or graded ones (see :meth:`explicit`).
+    c0_at : tuple of float
+        Breakpoints of ``at`` where the basis is only C0 (families whose functions are
+        smoother across elements repeat the knot there); empty for full continuity.
     """
 
     elements: int = attrs.field(default=4, converter=int, validator=attrs.validators.ge(1))
@@ -86,6 +111,35 @@ class Refinement:
         default=None, converter=_as_intervals, validator=_check_toward
     )
     ratio: float = attrs.field(default=1.0, converter=float, validator=attrs.validators.ge(1.0))
+    at: tuple[float, ...] | None = attrs.field(default=None, converter=_as_breakpoints)
+    c0_at: tuple[float, ...] = attrs.field(
+        default=(), converter=lambda v: tuple(float(x) for x in np.ravel(v))
+    )
+
+    def __attrs_post_init__(self) -> None:
+        if self.at is not None and self.elements != len(self.at) - 1:
+            raise ValueError(
+                f"Refinement.at lists {len(self.at)} breakpoints, i.e. {len(self.at) - 1} "
+                f"elements, but elements = {self.elements}; build it with "
+                "Refinement.explicit(breakpoints), which sets elements from the list"
+            )
+        if self.c0_at and (self.at is None or not set(self.c0_at) <= set(self.at[1:-1])):
+            raise ValueError(
+                f"Refinement.c0_at {self.c0_at!r} must be interior breakpoints listed in "
+                "Refinement.at; give both through Refinement.explicit(breakpoints, c0_at=...)"
+            )
+
+    @classmethod
+    def explicit(cls, breakpoints, degree: int | None = None, c0_at=()) -> Refinement:
+        """Elements between the given breakpoints (normalised parameter, 0 and 1 included).
+
+        For callers that place element boundaries themselves, e.g. adaptive refinement that
+        puts a breakpoint on a contact edge. ``c0_at``: breakpoints where a smoother family
+        lowers its continuity to C0 (NURBS repeat the knot), so the traction may kink there
+        and a collocation point (Greville abscissa) sits on it.
+        """
+        at = _as_breakpoints(breakpoints)
+        return cls(elements=len(at) - 1, degree=degree, at=at, c0_at=c0_at)
 
     @classmethod
     def uniform(cls, elements: int, degree: int | None = None) -> Refinement:
@@ -101,8 +155,10 @@ class Refinement:
         """Element boundaries in the normalised parameter [0, 1].
 
         Element density falls linearly with distance from ``toward``, from 1 to 1 / ratio,
-        and the breakpoints equidistribute it.
+        and the breakpoints equidistribute it; ``at``, when given, is returned as it is.
         """
+        if self.at is not None:
+            return np.array(self.at)
         if self.toward is None or self.ratio == 1.0:
             return np.linspace(0.0, 1.0, self.elements + 1)
         s = np.linspace(0.0, 1.0, 4001)

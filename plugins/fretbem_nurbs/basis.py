@@ -48,8 +48,13 @@ class NurbsBasis(Basis):
         if degree > curve.degree:
             curve, _ = curve.elevate_degree(degree - curve.degree)
         existing = kv.breakpoints(curve.knots)
-        wanted = _merge_breakpoints(existing, refinement.breakpoints())
+        if refinement.at is None:
+            wanted = _merge_breakpoints(existing, refinement.breakpoints())
+        else:  # explicit breakpoints are kept where they are (the curve's own knots added)
+            wanted = np.union1d(existing, refinement.breakpoints())
         new = np.setdiff1d(wanted, existing)
+        if refinement.c0_at:  # C0 there: the knot repeated to multiplicity = degree
+            new = np.sort(np.concatenate([new, np.repeat(refinement.c0_at, degree - 1)]))
         if new.size:
             curve, _ = curve.insert_knots(new)
         bounds = kv.breakpoints(curve.knots)
