@@ -33,7 +33,7 @@ __all__ = [
 METHODS = ("swt", "findley", "fatemi_socie", "mwcm")
 
 #: relative tolerance for "equal shear amplitude" when MWCM breaks ties by the normal stress
-MWCM_TIE_TOLERANCE = 1e-6
+MWCM_TIE_TOLERANCE = 1e-10
 
 
 @attrs.frozen
@@ -139,10 +139,9 @@ def plane_quantities(stress: np.ndarray, coef: np.ndarray, E: float, nu: float) 
 class _Criterion:
     """A parameter as a function of the plane quantities; bounds for pruning from tau_a bounds."""
 
-    needs_shear = True
-
     def __init__(self, name: str, *, E: float, nu: float, k: float = 0.0, sy: float = 1.0):
         self.name = name
+        self.needs_shear = name != "swt"
         self.G = E / (2.0 * (1.0 + nu))
         self.k = k
         self.sy = sy
@@ -211,6 +210,9 @@ def _coarse(stress, criteria, theta, psi, E, nu):
     q = plane_quantities(stress, coef, E, nu)
     n_p, n_g = q["normal_stress_max"].shape
     px, py = q["path_x"], q["path_y"]
+    if not any(c.needs_shear and c.name != "swt" for c in criteria):
+        zero = np.zeros((n_p, n_g))
+        return {c.name: _argbest(c, c.value(q, zero), c.secondary(q)) for c in criteria}
     tau_lo, tau_hi = (b.reshape(n_p, n_g) for b in circle_bounds_xy(px, py))
     need = np.zeros((n_p, n_g), dtype=bool)
     for crit in criteria:
@@ -273,6 +275,24 @@ def _refine(stress, crit, theta, psi, step, levels, in_plane_only, E, nu):
         values = np.where(move, vj, values)
         if second is not None:
             second = np.where(move, sj, second)
+    # one parabolic step per angle through the last level's three values
+    h = step / 2**levels
+    offsets = np.array([[-h, 0.0], [h, 0.0]] + ([] if in_plane_only else [[0.0, -h], [0.0, h]]))
+    th = theta[:, None] + offsets[None, :, 0]
+    ps = np.clip(psi[:, None] + offsets[None, :, 1], 0.0, np.pi / 2)
+    v, _, _, _ = _evaluate(stress, crit, th, ps, E, nu)
+    shift = []
+    for lo, hi in ((0, 1), (2, 3))[: 1 if in_plane_only else 2]:
+        curv = v[:, lo] - 2.0 * values + v[:, hi]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            d = np.where(curv < 0, 0.5 * h * (v[:, lo] - v[:, hi]) / curv, 0.0)
+        shift.append(np.clip(np.nan_to_num(d), -h, h))
+    new_theta = theta + shift[0]
+    new_psi = psi if in_plane_only else np.clip(psi + shift[1], 0.0, np.pi / 2)
+    v, s2, _, _ = _evaluate(stress, crit, new_theta[:, None], new_psi[:, None], E, nu)
+    move = _better(crit, v[:, 0], None if s2 is None else s2[:, 0], values, second, scale)
+    theta = np.where(move, new_theta, theta)
+    psi = np.where(move, new_psi, psi)
     return np.mod(theta, np.pi), psi
 
 

@@ -130,12 +130,21 @@ class CattaneoMindlinCycle:
             )
 
     @property
+    def contact_half_width(self) -> float:
+        """a, mm: sets the default extent of the parameter map."""
+        return self.a
+
+    @property
     def tangential_history(self) -> np.ndarray:
         """Q / (f P) at every step: 0 -> +r -> -r -> +r."""
         n = self.steps_per_branch
         r = self.tangential_ratio
         return np.concatenate(
-            [np.linspace(0, r, n + 1), np.linspace(r, -r, 2 * n + 1)[1:], np.linspace(-r, r, 2 * n + 1)[1:]]
+            [
+                np.linspace(0, r, n + 1),
+                np.linspace(r, -r, 2 * n + 1)[1:],
+                np.linspace(-r, r, 2 * n + 1)[1:],
+            ]
         )
 
     @property
@@ -166,13 +175,13 @@ class CattaneoMindlinCycle:
             dr = rmax - r
             c = a * math.sqrt(max(1.0 - dr / 2.0, 0.0))
             e = a * k * dr / (8 * fp0)
-            return base + [(-2 * fp0, a, 0.0), (2 * fp0 * c / a, c, e)], k * r
+            return [*base, (-2 * fp0, a, 0.0), (2 * fp0 * c / a, c, e)], k * r
         # reloading from -rmax: minus the state at +rmax plus a forward increment
         dr = r + rmax
         c = a * math.sqrt(max(1.0 - dr / 2.0, 0.0))
         e = a * k * dr / (8 * fp0)
         neg = [(-q0, b, x0) for q0, b, x0 in base]
-        return neg + [(2 * fp0, a, 0.0), (-2 * fp0 * c / a, c, e)], k * r
+        return [*neg, (2 * fp0, a, 0.0), (-2 * fp0 * c / a, c, e)], k * r
 
     def stress_at(self, points: np.ndarray) -> np.ndarray:
         """Stress history (n_steps, n, 4) at points (n, 2) = [x, depth]."""
@@ -252,7 +261,8 @@ class GridStressHistory:
             raise FatigueInputError(f"points must have shape (n, 2), got {self.points.shape}")
         if self.stress.ndim != 3 or self.stress.shape[1:] != (self.points.shape[0], 4):
             raise FatigueInputError(
-                f"stress must have shape (n_steps, {self.points.shape[0]}, 4), got {self.stress.shape}"
+                f"stress must have shape (n_steps, {self.points.shape[0]}, 4), "
+                f"got {self.stress.shape}"
             )
         from scipy.interpolate import LinearNDInterpolator
 

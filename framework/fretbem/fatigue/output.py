@@ -1,0 +1,218 @@
+"""Writers of a fatigue report: fatigue.json and the three figures (matplotlib, imported lazily).
+
+Every number in fatigue.json says what it is (amplitude, range, max, mean) and its unit in its
+key; a run-out is ``"cycles": null`` with ``"runout": true`` and a message.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from .critical_plane import CriterionResult
+from .life import LifeEstimate
+from .run import FatigueReport
+
+__all__ = [
+    "fatigue_summary",
+    "plot_depth_profile",
+    "plot_parameter_map",
+    "plot_ruiz",
+    "write_fatigue",
+]
+
+UNITS = {"swt": "MPa", "findley": "MPa", "fatemi_socie": "-", "mwcm": "MPa"}
+LABELS = {
+    "swt": "SWT = sigma_n,max eps_a (MPa)",
+    "findley": "Findley tau_a + k sigma_n,max (MPa)",
+    "fatemi_socie": "Fatemi-Socie gamma_a (1 + k sigma_n,max / sigma_y)",
+    "mwcm": "MWCM shear stress amplitude tau_a (MPa)",
+}
+
+
+def _life(life: LifeEstimate | None):
+    if life is None:
+        return None
+    return {
+        "cycles": None if math.isinf(life.cycles) else life.cycles,
+        "runout": life.runout,
+        "parameter": life.parameter,
+        "message": life.message,
+    }
+
+
+def _plane(r: CriterionResult, i: int = 0) -> dict:
+    return {
+        "normal_angle_deg": float(r.normal_angle_deg[i]),
+        "normal_tilt_deg": float(r.normal_tilt_deg[i]),
+        "shear_stress_amplitude_MPa": float(r.shear_stress_amplitude[i]),
+        "normal_stress_max_MPa": float(r.normal_stress_max[i]),
+        "normal_stress_amplitude_MPa": float(r.normal_stress_amplitude[i]),
+        "normal_stress_mean_MPa": float(r.normal_stress_mean[i]),
+        "normal_strain_amplitude": float(r.normal_strain_amplitude[i]),
+        "shear_strain_amplitude": float(r.shear_strain_amplitude[i]),
+    }
+
+
+def fatigue_summary(report: FatigueReport) -> dict:
+    """The report as plain JSON-able data (what fatigue.json holds)."""
+    req = report.request
+    out = {
+        "material": {
+            "name": req.material.name,
+            "constants": dict(req.material.values),
+            "sources": dict(req.material.sources),
+            "estimated": req.material.derived,
+        },
+        "cycle_steps": [int(s) for s in report.cycle_steps],
+        "critical_distance_mm": req.critical_distance,
+        "plane_search": "in-plane only (planes containing z)" if req.search.in_plane_only else "3D",
+        "runout_cycles": req.runout_cycles,
+        "methods": {},
+        "notes": list(report.notes),
+    }
+    for m, rep in report.methods.items():
+        entry = {
+            "parameter_unit": UNITS[m],
+            "hot_spot": {"x_mm": rep.hot_spot[0], "depth_mm": rep.hot_spot[1]},
+            "parameter_at_hot_spot": float(rep.at_hot_spot.value[0]),
+            "critical_plane_at_hot_spot": _plane(rep.at_hot_spot),
+            "critical_direction": {"x": rep.direction[0], "depth": rep.direction[1]},
+            "life_at_hot_spot": _life(rep.life_hot_spot),
+            "life_at_critical_distance": _life(rep.life_critical_distance),
+        }
+        if m == "mwcm":
+            entry["rho_at_hot_spot"] = float(rep.at_hot_spot.rho[0])
+        if rep.critical_distance is not None:
+            t = rep.critical_distance
+            entry["critical_distance"] = {
+                "L_mm": t.critical_distance,
+                "point_method_value": t.point_value,
+                "point_method_location_mm": list(t.point),
+                "line_method_value": t.line_value,
+                "area_method_value": t.area_value,
+                "area_method_radius_mm": t.area_radius,
+            }
+        if rep.life_message:
+            entry["life_message"] = rep.life_message
+        out["methods"][m] = entry
+    if report.ruiz is not None:
+        r = report.ruiz
+        i = int(np.argmax(r.f2))
+        out["ruiz"] = {
+            "f2_max_x_mm": float(r.x[i]),
+            "f1_at_f2_max_N_per_mm": float(r.f1[i]),
+            "f2_max_MPa_N_per_mm": float(r.f2[i]),
+            "slip_amplitude_at_f2_max_mm": float(r.slip_amplitude[i]),
+            "shear_traction_max_at_f2_max_MPa": float(r.shear_traction_max[i]),
+            "surface_stress_xx_max_at_f2_max_MPa": float(r.surface_stress_xx_max[i]),
+        }
+    return out
+
+
+def plot_parameter_map(report: FatigueReport, method: str, ax=None, ticks: int = 12):
+    """Parameter map below the contact with the critical-plane traces as short ticks."""
+    import matplotlib.pyplot as plt
+
+    rep = report.methods[method]
+    xs, zs = report.map_x, report.map_depth
+    values = rep.map.value.reshape(zs.size, xs.size)
+    if ax is None:
+        _, ax = plt.subplots(figsize=(7, 3.6), layout="constrained")
+    mesh = ax.pcolormesh(xs, zs, values, shading="gouraud", cmap="viridis")
+    ax.figure.colorbar(mesh, ax=ax, label=LABELS[method])
+    ix = np.unique(np.linspace(0, xs.size - 1, ticks).round().astype(int))
+    iz = np.unique(np.linspace(0, zs.size - 1, max(ticks // 2, 2)).round().astype(int))
+    theta = np.deg2rad(rep.map.normal_angle_deg.reshape(zs.size, xs.size))
+    length = 0.35 * (xs[-1] - xs[0]) / ticks
+    for j in iz:
+        for i in ix:
+            # the plane's trace in the x-y plane is perpendicular to the normal's projection;
+            # shown in (x, depth) axes, depth = -y
+            tx, ty = -np.sin(theta[j, i]), np.cos(theta[j, i])
+            ax.plot(
+                [xs[i] - length * tx, xs[i] + length * tx],
+                [zs[j] + length * ty, zs[j] - length * ty],
+                color="white",
+                lw=0.8,
+            )
+    ax.plot(*rep.hot_spot, marker="*", color="red", ms=12, label="hot spot")
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("depth (mm)")
+    ax.set_xlim(xs[0], xs[-1])
+    ax.set_ylim(zs[-1], zs[0])
+    ax.set_aspect("equal", adjustable="box")
+    ax.legend(loc="lower right", fontsize=8)
+    ax.set_title(f"{method}: parameter map, ticks = critical-plane traces")
+    return ax
+
+
+def plot_depth_profile(report: FatigueReport, method: str, ax=None):
+    """Parameter against distance from the hot spot along the critical direction, L marked."""
+    import matplotlib.pyplot as plt
+
+    rep = report.methods[method]
+    if ax is None:
+        _, ax = plt.subplots(figsize=(6, 3.6), layout="constrained")
+    ax.plot(rep.profile_distance, rep.profile_value, color="C0")
+    tcd = rep.critical_distance
+    if tcd is not None:
+        L = tcd.critical_distance
+        ax.axvline(L / 2, color="C1", ls="--", label=f"L/2 = {L / 2:.4g} mm (point method)")
+        ax.axvline(2 * L, color="C2", ls=":", label=f"2L = {2 * L:.4g} mm (line method)")
+        ax.plot([L / 2], [tcd.point_value], "o", color="C1")
+        ax.legend(fontsize=8)
+    ax.set_xlabel("distance from the hot spot along the critical direction (mm)")
+    ax.set_ylabel(LABELS[method])
+    ax.set_title(f"{method} below the hot spot x = {rep.hot_spot[0]:.4g} mm")
+    return ax
+
+
+def plot_ruiz(report: FatigueReport, ax=None):
+    """Ruiz F2 = sigma_xx tau delta along the surface."""
+    import matplotlib.pyplot as plt
+
+    r = report.ruiz
+    if r is None:
+        raise ValueError("this report has no Ruiz parameters (the provider gave no surface data)")
+    if ax is None:
+        _, ax = plt.subplots(figsize=(6, 3.6), layout="constrained")
+    ax.plot(r.x, r.f2, color="C3")
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("F2 = sigma_xx,max tau_max delta_a (MPa N/mm)")
+    ax.set_title("Ruiz F2 along the surface")
+    return ax
+
+
+def write_fatigue(directory, report: FatigueReport, *, figures: bool = True) -> list[Path]:
+    """Write fatigue.json (and the figures) into ``directory``; returns the written paths."""
+    out = Path(directory)
+    out.mkdir(parents=True, exist_ok=True)
+    written = []
+    path = out / "fatigue.json"
+    path.write_text(json.dumps(fatigue_summary(report), indent=2, allow_nan=False) + "\n")
+    written.append(path)
+    if not figures:
+        return written
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    for m in report.methods:
+        for name, plot in (("map", plot_parameter_map), ("depth", plot_depth_profile)):
+            ax = plot(report, m)
+            p = out / f"fatigue_{m}_{name}.png"
+            ax.figure.savefig(p, dpi=130)
+            plt.close(ax.figure)
+            written.append(p)
+    if report.ruiz is not None:
+        ax = plot_ruiz(report)
+        p = out / "fatigue_ruiz_f2.png"
+        ax.figure.savefig(p, dpi=130)
+        plt.close(ax.figure)
+        written.append(p)
+    return written
