@@ -1,0 +1,194 @@
+"""Sweep speed: per-case cost against the assembly, a 1,000-case load sweep, a size-effect sweep.
+
+    python benchmarks/sweep_benchmark.py [--cases 1000] [--radii 20] [--workers N] [--json F]
+
+1. Reuse: on the reference scene (61 pairs) the assembly + condensation of one geometry
+   against the solve of one load case on it, and a case built and solved from scratch.
+2. Load sweep: P x Q amplitude (a fully reversed cycle, every case below gross slip) on one
+   geometry, with the default LocalCluster (one process per core) and serially; compared
+   with the ideal wall time (serial per-case time x cases / cores + one assembly).
+3. Size effect: ``--radii`` pad radii (one assembly each), serially and on the cluster.
+
+Timings are medians over ``--repeat`` runs where it says so; the machine may be shared.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import statistics
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+ROOT = Path(__file__).resolve().parents[1]
+CYCLE = [0.0, 1.0, 0.0, -1.0, 0.0]
+
+
+def reference_scene() -> dict:
+    return tomllib.loads((ROOT / "examples" / "cattaneo_mindlin.toml").read_text())
+
+
+def reuse(repeat: int) -> dict:
+    """Assembly + condensation of one group vs one case on it vs one case from scratch."""
+    from fretbem.simulation import run
+    from fretbem.studies import sweep_cases
+    from fretbem.studies.sweep_spec import SweepSpec
+
+    scene = reference_scene()
+    spec = SweepSpec.from_mapping(
+        scene, {"load.Q": {"start": 2.0, "stop": 26.0, "num": 25, "pattern": CYCLE}}
+    )
+    cases = spec.cases()
+    rep = sweep_cases.representative([c.scene for c in cases])
+    assembly, per_case = [], []
+    for _ in range(repeat):
+        sweep_cases._GROUPS.clear()
+        tic = time.perf_counter()
+        rows = sweep_cases.run_batch(rep, [(c.index, c.values, c.scene) for c in cases])
+        total = time.perf_counter() - tic
+        assembly.append(rows[0]["assembly_seconds"])
+        per_case.append((total - rows[0]["assembly_seconds"]) / len(cases))
+    scratch = []
+    for case in cases[:repeat]:
+        tic = time.perf_counter()
+        run(sweep_cases.build_simulation(case.scene))
+        scratch.append(time.perf_counter() - tic)
+    out = {
+        "assembly_condensation_s": statistics.median(assembly),
+        "per_case_reused_s": statistics.median(per_case),
+        "per_case_from_scratch_s": statistics.median(scratch),
+    }
+    out["assembly_over_case"] = out["assembly_condensation_s"] / out["per_case_reused_s"]
+    out["reuse_speedup"] = out["per_case_from_scratch_s"] / out["per_case_reused_s"]
+    return out
+
+
+def _timed_sweep(parameters, workers, serial, **kw) -> tuple[float, object]:
+    from fretbem.studies.sweep import sweep
+
+    with tempfile.TemporaryDirectory() as tmp:
+        tic = time.perf_counter()
+        result = sweep(
+            reference_scene(),
+            parameters,
+            out=Path(tmp) / "s",
+            serial=serial,
+            workers=workers,
+            progress=False,
+            **kw,
+        )
+        return time.perf_counter() - tic, result
+
+
+def load_sweep(cases: int, workers: int, per_case: float, assembly: float) -> dict:
+    """P x Q on one geometry: LocalCluster (incl. its start) and serial, against the ideal."""
+    from fretbem.studies import sweep_cases
+
+    n_p = 10
+    n_q = max(1, cases // n_p)
+    parameters = {
+        "load.P": {"start": 60.0, "stop": 140.0, "num": n_p},
+        # below gross slip everywhere: |Q| <= 0.95 f P_min
+        "load.Q": {"start": 0.0, "stop": 0.95 * 0.3 * 60.0, "num": n_q, "pattern": CYCLE},
+    }
+    sweep_cases._GROUPS.clear()
+    dask_wall, result = _timed_sweep(parameters, workers, serial=False)
+    solved = int((result.table["status"] == "ok").sum())
+    sweep_cases._GROUPS.clear()
+    serial_wall, serial_result = _timed_sweep(parameters, None, serial=True)
+    n = n_p * n_q
+    serial_case = (serial_wall - assembly) / n
+    ideal = serial_case * n / workers + assembly
+    return {
+        "cases": n,
+        "solved": solved,
+        "workers": workers,
+        "dask_wall_s": dask_wall,
+        "serial_wall_s": serial_wall,
+        "serial_per_case_s": serial_case,
+        "ideal_s": ideal,
+        "dask_over_ideal": dask_wall / ideal,
+        "dask_speedup_over_serial": serial_wall / dask_wall,
+        "summary": str(result.summary),
+        "serial_summary": str(serial_result.summary),
+        "reuse_per_case_s": per_case,
+    }
+
+
+def size_effect(radii: int, workers: int) -> dict:
+    """``radii`` pad radii, one assembly each, one load case per radius."""
+    from fretbem.studies import sweep_cases
+
+    parameters = {
+        "geometry.radius": {"start": 30.0, "stop": 120.0, "num": radii},
+        "load.Q": {"values": [12.0], "pattern": CYCLE},
+    }
+    sweep_cases._GROUPS.clear()
+    serial_wall, _ = _timed_sweep(parameters, None, serial=True)
+    dask_wall, result = _timed_sweep(parameters, workers, serial=False)
+    return {
+        "radii": radii,
+        "workers": workers,
+        "serial_wall_s": serial_wall,
+        "dask_wall_s": dask_wall,
+        "speedup": serial_wall / dask_wall,
+        "summary": str(result.summary),
+    }
+
+
+def cluster_start(workers: int) -> float:
+    """Seconds to start and stop the default LocalCluster (part of every Dask run above)."""
+    from dask.distributed import Client
+
+    from fretbem.studies.sweep import _local_cluster
+
+    tic = time.perf_counter()
+    with _local_cluster(workers) as cluster, Client(cluster) as client:
+        client.submit(sum, [1, 2]).result()
+    return time.perf_counter() - tic
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--cases", type=int, default=1000)
+    parser.add_argument("--radii", type=int, default=20)
+    parser.add_argument("--workers", type=int, default=None)
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--json", type=Path, default=None)
+    args = parser.parse_args(argv)
+    from fretbem.studies.sweep import machine_cores
+
+    workers = args.workers or machine_cores()
+    report = {
+        "machine": f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
+        f"Python {platform.python_version()}",
+    }
+    report["reuse"] = reuse(args.repeat)
+    print(json.dumps(report["reuse"], indent=2))
+    report["cluster_start_s"] = cluster_start(workers)
+    print(f"LocalCluster start/stop with {workers} workers: {report['cluster_start_s']:.2f} s")
+    report["load_sweep"] = load_sweep(
+        args.cases,
+        workers,
+        report["reuse"]["per_case_reused_s"],
+        report["reuse"]["assembly_condensation_s"],
+    )
+    print(json.dumps({k: v for k, v in report["load_sweep"].items()}, indent=2))
+    report["size_effect"] = size_effect(args.radii, workers)
+    print(json.dumps(report["size_effect"], indent=2))
+    if args.json:
+        args.json.write_text(json.dumps(report, indent=2))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
