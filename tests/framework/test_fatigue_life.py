@@ -3,11 +3,16 @@
 from __future__ import annotations
 
 import math
-import tomllib
+import sys
 from importlib import resources
 
 import numpy as np
 import pytest
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
 
 from fretbem.fatigue import (
     FatigueInputError,
