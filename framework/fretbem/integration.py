@@ -62,7 +62,7 @@ class IntegrationSettings:
 #: (collocation point, element) pairs of one body from which the compiled path repays
 #: loading numba in a fresh process (about 0.45 s for the import and the cached kernels,
 #: against 1-2 us saved per pair; benchmarks/floor.py, docs/performance.md)
-COMPILED_MIN_PAIRS = 250_000
+COMPILED_MIN_PAIRS = 400_000
 
 
 class CompiledKernelsUnavailableError(RuntimeError):
