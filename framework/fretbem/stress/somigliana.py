@@ -33,6 +33,10 @@ from .boundary import boundary_state
 from .errors import StressInputError
 from .kernels import stress_kernels
 
+#: Gauss points of the rule used where a point is farther than ``coarse_factor`` element
+#: lengths from an element
+COARSE_POINTS = 4
+
 __all__ = ["StressOperator", "StressSettings", "somigliana_operator"]
 
 
@@ -58,17 +62,24 @@ class StressSettings:
         (e.g. on the exact curve where an isoparametric boundary cuts a chord inside it) are
         taken as boundary points; farther outside is an error.
     chunk : int
-        Points per block of the far-field evaluation (memory).
+        Points per block of the numpy far-field evaluation (memory).
+    coarse_factor : float
+        The compiled loop uses a 4-point rule where a point is farther than this many
+        element lengths from an element (beyond the bounding circle).
+    compiled : bool
+        Use the numba far-field loop when numba is installed.
     """
 
-    far_points: int = attrs.field(default=10, validator=attrs.validators.ge(2))
-    near_factor: float = attrs.field(default=2.0, validator=attrs.validators.gt(0))
-    graded_points: int = attrs.field(default=8, validator=attrs.validators.ge(2))
+    far_points: int = attrs.field(default=8, validator=attrs.validators.ge(2))
+    near_factor: float = attrs.field(default=1.0, validator=attrs.validators.gt(0))
+    graded_points: int = attrs.field(default=6, validator=attrs.validators.ge(2))
     graded_ratio: float = attrs.field(default=0.35, validator=[attrs.validators.gt(0)])
     subtract_factor: float = attrs.field(default=4.0, validator=attrs.validators.ge(0))
     boundary_tolerance: float = attrs.field(default=1e-6, validator=attrs.validators.ge(0))
     outside_tolerance: float = attrs.field(default=1e-3, validator=attrs.validators.ge(0))
     chunk: int = attrs.field(default=256, validator=attrs.validators.ge(1))
+    coarse_factor: float = attrs.field(default=4.0, validator=attrs.validators.gt(0))
+    compiled: bool = True
 
 
 @attrs.frozen(eq=False)
@@ -135,10 +146,17 @@ class _Elements:
     n: np.ndarray  # (E, q, 2)
     jw: np.ndarray  # (E, q)
     phi: np.ndarray  # (E, q, nl)
+    samples: np.ndarray  # (E, 17, 2) points along each element, in boundary order
+    coarse: tuple  # (x, n, jw, phi) of a 4-point rule, for elements far from a point
 
     @classmethod
     def of(cls, segments: Sequence[Basis], far_points: int) -> _Elements:
-        rule = QuadratureRule.gauss_legendre(far_points)
+        fine = cls._rule(segments, QuadratureRule.gauss_legendre(far_points))
+        coarse = cls._rule(segments, QuadratureRule.gauss_legendre(COARSE_POINTS))
+        return cls(*fine, coarse=coarse[6:10])
+
+    @staticmethod
+    def _rule(segments: Sequence[Basis], rule: QuadratureRule) -> list[np.ndarray]:
         samples = np.linspace(-1.0, 1.0, 17)
         n_local = max(b.n_local for b in segments)
         offset = 0
@@ -171,15 +189,16 @@ class _Elements:
                     m.normals.reshape(n_el, q, 2),
                     jw,
                     phi,
+                    pts,
                 )
             )
             offset += basis.n_functions
-        return cls(*(np.concatenate(p) for p in zip(*parts, strict=True)))
+        return [np.concatenate(p) for p in zip(*parts, strict=True)]
 
 
 def _closest_local(basis: Basis, elements, points, iterations: int = 4):
     """Local coordinate on each element closest to each point (samples, then Newton)."""
-    samples = np.linspace(-1.0, 1.0, 17)
+    samples = np.linspace(-1.0, 1.0, 9)
     pts = basis.geometry(np.repeat(elements, samples.size), np.tile(samples, len(elements)))[0]
     dist = np.linalg.norm(pts.reshape(len(elements), samples.size, 2) - points[:, None], axis=-1)
     eta = samples[np.argmin(dist, axis=1)]
@@ -210,13 +229,28 @@ def _graded_rule(centre, distance_local, n_points: int, ratio: float):
     return np.concatenate(local, axis=1), np.concatenate(weight, axis=1)
 
 
-def _closest_points(segments, elements: _Elements, points: np.ndarray, reach: np.ndarray):
-    """Per point: closest element, its local coordinate and distance; and every pair
-    (point, element) closer than ``reach`` (E,) with its closest local coordinate."""
+def _closest_points(
+    segments, elements: _Elements, points: np.ndarray, reach: np.ndarray, band: np.ndarray
+):
+    """Closest boundary points, computed exactly only where it matters.
+
+    Pairs (point, element) whose bounding-circle distance is below ``reach`` (E,), and the
+    two nearest elements of points within ``band`` (E,), get the exact closest local
+    coordinate and distance. Returns those pairs, and per point the
+    index of its best pair (-1 for points farther than every band: no near pair, no
+    subtraction) and a lower bound of its distance to the boundary.
+    """
     centre_dist = np.linalg.norm(points[:, None] - elements.centre[None], axis=-1)
     lower = centre_dist - elements.radius
-    upper = (centre_dist + elements.radius).min(axis=1)
-    candidate = (lower <= upper[:, None]) | (lower < reach[None])
+    candidate = lower < reach[None]
+    # in the subtraction band, the closest point is on one of the two nearest elements
+    two = (
+        np.argpartition(lower, 1, axis=1)[:, :2]
+        if lower.shape[1] > 1
+        else np.zeros((len(lower), 1), int)
+    )
+    rows = np.arange(len(points))[:, None]
+    candidate[rows, two] |= lower[rows, two] < band[two]
     p_idx, e_idx = np.nonzero(candidate)
     eta = np.empty(len(p_idx))
     dist = np.empty(len(p_idx))
@@ -228,11 +262,18 @@ def _closest_points(segments, elements: _Elements, points: np.ndarray, reach: np
             )
     best = np.full(len(points), np.inf)
     np.minimum.at(best, p_idx, dist)
-    is_best = dist == best[p_idx]
     first = np.full(len(points), -1)
-    order = np.flatnonzero(is_best)
+    order = np.flatnonzero(dist == best[p_idx])
     first[p_idx[order[::-1]]] = order[::-1]  # one best pair per point
-    return first, p_idx, e_idx, eta, dist
+    bound = np.maximum(lower.min(axis=1), 0.0)
+    return first, p_idx, e_idx, eta, dist, bound
+
+
+def _inside_polygon(elements: _Elements, points: np.ndarray) -> np.ndarray:
+    """Points inside the boundary sampled as a polygon (for points away from it)."""
+    from matplotlib.path import Path
+
+    return Path(elements.samples.reshape(-1, 2)).contains_points(points)
 
 
 def _weighted_kernels(x, y, n, w, nu: float, mu: float):
@@ -262,6 +303,46 @@ def _scatter_local(mt, mu_, rows, cols, coefficients):
             np.add.at(mu_, (rows, cols[:, a], k), -coefficients[:, :, 2 * (n_local + a) + k])
 
 
+def _far_field_compiled():
+    """The numba loop, or None where numba is not installed."""
+    try:
+        from ._compiled import far_field
+    except ImportError:
+        return None
+    return far_field
+
+
+def _far_field_numpy(points, elements, skip, sub_index, closest, nu, mu, mt, mu_, moments, chunk):
+    """The far pairs in blocks of points (numpy): kernels, shape functions, one scatter."""
+    mom_dn, mom_s, mom_sy = moments
+    n_el, _, n_local = elements.phi.shape
+    n_fun = mt.shape[1]
+    scatter = np.zeros((n_el * n_local, n_fun))
+    scatter[np.arange(n_el * n_local), elements.columns.ravel()] = 1.0
+    for start in range(0, len(points), chunk):
+        rows = np.arange(start, min(start + chunk, len(points)))
+        rows = rows[~skip[rows].all(axis=1)]
+        if not rows.size:
+            continue
+        w = elements.jw[None] * ~skip[rows][:, :, None]
+        d, s = _weighted_kernels(
+            points[rows, None, None], elements.x[None], elements.n[None], w, nu, mu
+        )
+        for target, kern in ((mt, d), (mu_, s)):
+            local = np.einsum("peqkc,eqa->peakc", kern, elements.phi)
+            target[rows] += np.matmul(
+                scatter.T, local.reshape(len(rows), n_el * n_local, 6)
+            ).reshape(len(rows), n_fun, 2, 3)
+        sub = sub_index[rows] >= 0
+        if sub.any():
+            si = sub_index[rows[sub]]
+            mom_dn[si] += np.einsum("peqkc,eql->pkcl", d[sub], elements.n)
+            mom_s[si] += np.einsum("peqkc->pkc", s[sub])
+            mom_sy[si] += np.einsum(
+                "peqkc,peql->pkcl", s[sub], elements.x[None] - closest[rows[sub], None, None]
+            )
+
+
 def somigliana_operator(
     segments: Sequence[Basis],
     points: np.ndarray,
@@ -286,36 +367,42 @@ def somigliana_operator(
     offsets = np.concatenate([[0], np.cumsum([b.n_functions for b in segments])])
     n_fun = int(offsets[-1])
     m, n_el = len(points), len(elements.length)
-    n_local = elements.phi.shape[2]
 
     reach = settings.near_factor * elements.length
-    first, p_idx, e_idx, eta, dist = _closest_points(segments, elements, points, reach)
-    distance = dist[first]
+    band = max(settings.near_factor, settings.subtract_factor) * elements.length
+    first, p_idx, e_idx, eta, dist, bound = _closest_points(segments, elements, points, reach, band)
+    banded = first >= 0
+    distance = np.where(banded, dist[np.maximum(first, 0)], bound)
     near = dist < reach[e_idx]
     near_mask = np.zeros((m, n_el), dtype=bool)
     near_mask[p_idx[near], e_idx[near]] = True
 
-    best_e, best_eta = e_idx[first], eta[first]
-    closest = np.empty((m, 2))
-    normal = np.empty((m, 2))
+    best_e, best_eta = e_idx[first[banded]], eta[first[banded]]
+    closest = np.full((m, 2), np.nan)
+    normal = np.full((m, 2), np.nan)
+    rows_b = np.flatnonzero(banded)
     for k, basis in enumerate(segments):
         sel = elements.segment[best_e] == k
         if sel.any():
             mp = basis.map(elements.local_index[best_e[sel]], best_eta[sel])
-            closest[sel], normal[sel] = mp.points, mp.normals
-    scale = elements.length[best_e]
-    outside = np.sum((points - closest) * normal, axis=1) > 0
-    on_boundary = distance <= settings.boundary_tolerance * scale
-    on_boundary |= outside & (distance <= settings.outside_tolerance * scale)
+            closest[rows_b[sel]], normal[rows_b[sel]] = mp.points, mp.normals
+    scale = np.full(m, np.inf)
+    scale[banded] = elements.length[best_e]
+    outside = np.zeros(m, dtype=bool)
+    outside[banded] = np.sum((points - closest)[banded] * normal[banded], axis=1) > 0
+    if (~banded).any():
+        outside[~banded] = ~_inside_polygon(elements, points[~banded])
+    on_boundary = banded & (distance <= settings.boundary_tolerance * scale)
+    on_boundary |= banded & outside & (distance <= settings.outside_tolerance * scale)
     outside &= ~on_boundary
     if outside.any():
         i = int(np.flatnonzero(outside)[0])
         raise StressInputError(
             f"{int(outside.sum())} of {m} points lie outside the body (first: "
-            f"{points[i].tolist()}, {distance[i]:.3g} from the boundary); evaluate them in "
-            "the other body or move them inside"
+            f"{points[i].tolist()}, at least {distance[i]:.3g} from the boundary); evaluate "
+            "them in the other body or move them inside"
         )
-    subtract = (distance < settings.subtract_factor * scale) & ~on_boundary
+    subtract = banded & (distance < settings.subtract_factor * scale) & ~on_boundary
     integrate = ~on_boundary
     near_mask[on_boundary] = True  # nothing is integrated for boundary points
 
@@ -328,31 +415,20 @@ def somigliana_operator(
     mom_s = np.zeros((n_sub, 2, 3))  # int S_kc
     mom_sy = np.zeros((n_sub, 2, 3, 2))  # int S_kc (y - x0)_l
 
-    # far pairs: the same rule on every element, blocks of points, one scatter matmul
-    scatter = np.zeros((n_el * n_local, n_fun))
-    scatter[np.arange(n_el * n_local), elements.columns.ravel()] = 1.0
-    for start in range(0, m, settings.chunk):
-        rows = np.arange(start, min(start + settings.chunk, m))
-        rows = rows[integrate[rows]]
-        if not rows.size:
-            continue
-        w = elements.jw[None] * ~near_mask[rows][:, :, None]
-        d, s = _weighted_kernels(
-            points[rows, None, None], elements.x[None], elements.n[None], w, knu, mu
-        )
-        for target, kern in ((mt, d), (mu_, s)):
-            local = np.einsum("peqkc,eqa->peakc", kern, elements.phi)
-            target[rows] += np.matmul(
-                scatter.T, local.reshape(len(rows), n_el * n_local, 6)
-            ).reshape(len(rows), n_fun, 2, 3)
-        sub = subtract[rows]
-        if sub.any():
-            si = sub_index[rows[sub]]
-            mom_dn[si] += np.einsum("peqkc,eql->pkcl", d[sub], elements.n)
-            mom_s[si] += np.einsum("peqkc->pkc", s[sub])
-            mom_sy[si] += np.einsum(
-                "peqkc,peql->pkcl", s[sub], elements.x[None] - closest[rows[sub], None, None]
-            )
+    # far pairs: the same rule on every element
+    skip = near_mask | ~integrate[:, None]
+    far = _far_field_compiled() if settings.compiled else None
+    if far is not None:
+        far(
+            points, elements.x, elements.n, elements.jw, elements.phi, *elements.coarse,
+            elements.centre, elements.radius + settings.coarse_factor * elements.length,
+            elements.columns, skip, sub_index, closest, knu, mu, mt, mu_, mom_dn, mom_s, mom_sy,
+        )  # fmt: skip
+    else:
+        _far_field_numpy(
+            points, elements, skip, sub_index, closest, knu, mu, mt, mu_,
+            (mom_dn, mom_s, mom_sy), settings.chunk,
+        )  # fmt: skip
 
     # near pairs: graded composite rule toward the closest point of the element
     keep = near & integrate[p_idx]
@@ -388,12 +464,16 @@ def somigliana_operator(
     # subtraction and boundary points: the boundary state at the closest point
     special = subtract | on_boundary
     comp = ((0, 0), (1, 1), (0, 1))
+    point_e = np.full(m, -1)
+    point_e[banded] = best_e
+    point_eta = np.zeros(m)
+    point_eta[banded] = best_eta
     for k, basis in enumerate(segments):
-        sel = special & (elements.segment[best_e] == k)
+        sel = special & (elements.segment[point_e] == k)
         if not sel.any():
             continue
         rows = np.flatnonzero(sel)
-        el, centre = elements.local_index[best_e[rows]], best_eta[rows]
+        el, centre = elements.local_index[point_e[rows]], point_eta[rows]
         values, derivatives = basis.shape_functions(el, centre)
         tangents = basis.geometry(el, centre)[1]
         t_batch, u_batch = _identity_batch(len(rows), basis.n_local)
