@@ -7,6 +7,7 @@ singular, on curved and straight segments, graded and uniform, both families.
 """
 
 import math
+import sys
 
 import frozen_assembly_round1 as frozen
 import numpy as np
@@ -112,3 +113,19 @@ def test_compiled_true_without_numba_is_a_clear_error(monkeypatch):
     monkeypatch.setattr(integration, "_numba_installed", lambda: False)
     with pytest.raises(integration.CompiledKernelsUnavailableError, match="pip install numba"):
         _assemble(_segments("lagrange2"), compiled=True)
+
+
+def test_automatic_choice_by_size(monkeypatch):
+    """Small bodies stay on numpy (no numba import) unless the kernels are loaded already."""
+    segments = _segments("lagrange2")
+    try:
+        from fretbem.kernels import KelvinKernel
+
+        assembler = integration.Assembler(segments, KelvinKernel(SHEAR_MODULUS, NU))
+    except (ImportError, TypeError):
+        assembler = integration.Assembler(segments, SHEAR_MODULUS, NU)
+    monkeypatch.delitem(sys.modules, "fretbem._compiled", raising=False)
+    assert assembler.point_element_pairs < integration.COMPILED_MIN_PAIRS
+    assert not assembler.uses_compiled
+    monkeypatch.setattr(integration, "COMPILED_MIN_PAIRS", assembler.point_element_pairs)
+    assert assembler.uses_compiled == integration._numba_installed()
