@@ -37,7 +37,7 @@ DPI = 100
 #: summarised by ``history_figure`` and a readable selection of steps, the first included
 MAX_PANELS = 6
 #: at most this many rows labelled in the pair-state map
-MAX_STATE_LABELS = 30
+MAX_STATE_LABELS = 15
 
 
 def _as_list(results) -> list[SimulationResult]:
@@ -178,7 +178,7 @@ def displacement_figure(
     names = _steps(results, steps)
     scale, xlabel = _scale(results)
     fig, axes = plt.subplots(
-        2, len(names), figsize=(3.4 * len(names) + 0.8, 6.0), squeeze=False, sharex=True,
+        2, len(names), figsize=(min(3.4 * len(names) + 0.8, 16.0), 6.0), squeeze=False, sharex=True,
         sharey="row",
     )  # fmt: skip
     fig.subplots_adjust(left=0.08, right=0.98, top=0.88, bottom=0.17, wspace=0.1, hspace=0.15)
@@ -218,7 +218,7 @@ def stick_slip_figure(result: SimulationResult | Sequence[SimulationResult]) -> 
     cols = min(len(results), 3)
     height = 3.6 if len(results[0].steps) <= 12 else 5.0
     fig, axes = plt.subplots(
-        -(-len(results) // cols), cols, figsize=(5.0 * cols, height), squeeze=False
+        -(-len(results) // cols), cols, figsize=(max(7.0, 5.0 * cols), height), squeeze=False
     )
     fig.subplots_adjust(left=0.1, right=0.98, top=0.88, bottom=0.25, wspace=0.3)
     cmap = ListedColormap(STATE_COLORS)
@@ -254,7 +254,8 @@ def stick_slip_figure(result: SimulationResult | Sequence[SimulationResult]) -> 
         handles.append(Line2D([], [], color="k", ls=":", label="Hertz half-width ±a"))
     for ax in axes.flat[len(results) :]:
         ax.set_visible(False)
-    fig.legend(handles=handles, loc="lower center", ncol=min(len(handles), 5), fontsize=7)
+    ncol = min(len(handles), 5 if cols > 1 else 3)
+    fig.legend(handles=handles, loc="lower center", ncol=ncol, fontsize=7)
     return fig
 
 
