@@ -56,7 +56,13 @@ GROUPS: dict[str, tuple[str, ...]] = {
         "fretbem.analytical",
         "fretbem.convergence",
     ),
-    "Output": ("fretbem.plot", "fretbem.vtk_"),
+    "Output": (
+        "fretbem.output",
+        "fretbem.checks",
+        "fretbem.resources",
+        "fretbem.plot",
+        "fretbem.vtk_",
+    ),
     "Command line": ("fretbem.cli",),
 }
 

@@ -176,3 +176,37 @@ def test_short_disk_space_is_refused_before_the_vtk_writer(result, tmp_path, mon
     with pytest.raises(OutputError, match="not enough disk space for the VTK files"):
         write_results(result, tmp_path / "out", figures=False)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_long_history_figures_are_capped_and_summarised(result, tmp_path):
+    """Reproducer: one panel per step made unreadable, huge figures for long histories.
+    100 steps: 6 panels (first and last included), capped sizes, a history summary."""
+    import matplotlib.image as mpimg
+
+    from fretbem import plot
+
+    steps = tuple(attrs.evolve(s, name=f"S{k}") for k, s in enumerate(result.steps * 20))
+    long = attrs.evolve(result, steps=steps)
+    chosen = plot.default_steps([s.name for s in steps])
+    assert len(chosen) == plot.MAX_PANELS and chosen[0] == "S0" and chosen[-1] == "S99"
+    paths = plot.save_figures(long, tmp_path)
+    assert {p.name for p in paths} == {
+        "tractions.png", "displacements.png", "states.png", "history.png"
+    }  # fmt: skip
+    for path in paths:
+        height, width = mpimg.imread(path).shape[:2]
+        assert width <= 1800 and height <= 1000, (path.name, width, height)
+    with pytest.raises(plot.FigureStepsError, match="at most 6"):
+        plot.save_figures(long, tmp_path, steps=[f"S{k}" for k in range(7)])
+    with pytest.raises(plot.FigureStepsError, match="not in the results"):
+        plot.save_figures(long, tmp_path, steps=["nope"])
+
+
+def test_docs_list_every_column_with_its_unit():
+    """docs/how-to/output-files.rst has a row for every results.csv column and summary key."""
+    page = (Path(__file__).parents[2] / "docs" / "how-to" / "output-files.rst").read_text()
+    rows = {line.split()[0] for line in page.splitlines() if line.startswith("   ") and
+            line.strip() and not line.strip().startswith("=")}  # fmt: skip
+    assert set(output.CSV_COLUMNS) <= rows
+    for key, (unit, _) in output.SUMMARY_KEYS.items():
+        assert key.split(",")[0] in page and (not unit or unit in page)
