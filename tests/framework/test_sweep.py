@@ -180,6 +180,24 @@ def test_gross_slip_refused_and_failing_case_recorded():
     assert rows[0]["status"] == "error" and "radius" in rows[0]["error"]
 
 
+def test_output_functions_add_columns():
+    from fretbem.studies.sweep import sweep
+
+    spec = SweepSpec.from_mapping(SCENE, {"load.Q": {"values": [9.0], "pattern": CYCLE}})
+    (case,) = spec.cases()
+    name = "fretbem.studies.sweep_outputs:reference_errors"
+    (row,) = run_batch(representative([case.scene]), [(0, case.values, case.scene)], None, [name])
+    assert row["status"] == "ok"
+    # 21 pairs, measured: e_p 5.1 % of p0 (zone edges), e_q 5.1 % at B, 11.0 % at C of f p0
+    assert row["e_q_max.A"] < 1e-10  # no tangential load yet: q = 0 exactly
+    assert row["e_p_max.B"] == pytest.approx(0.051, abs=0.005)
+    assert row["e_q_max.C"] == pytest.approx(0.110, abs=0.01)
+    with pytest.raises(SweepSpecError, match="module:function"):
+        sweep(SCENE, {"load.P": [90.0]}, out="unused", serial=True, outputs=["nope"])
+    with pytest.raises(SweepSpecError, match="cannot import"):
+        sweep(SCENE, {"load.P": [90.0]}, out="unused", serial=True, outputs=["fretbem:nope"])
+
+
 # --- store, resume, Dask ----------------------------------------------------------------------
 
 PARAMETERS = {

@@ -24,6 +24,7 @@ from typing import Any
 import attrs
 
 from .sweep_cases import REGIMES, representative, run_batch
+from .sweep_outputs import resolve_all
 from .sweep_spec import SweepSpec, SweepSpecError, load_sweep
 from .sweep_store import SweepStore
 
@@ -207,7 +208,7 @@ def _local_cluster(workers: int):
     )
 
 
-def _run_dask(tasks, client, scheduler, workers, builder, on_rows, limit):
+def _run_dask(tasks, client, scheduler, workers, builder, outputs, on_rows, limit):
     """Submit every task, store each batch as it completes; returns (workers, stopped)."""
     try:
         from dask.distributed import Client, as_completed
@@ -230,7 +231,9 @@ def _run_dask(tasks, client, scheduler, workers, builder, on_rows, limit):
     stopped = False
     try:
         n_workers = len(client.scheduler_info().get("workers", {})) or workers
-        futures = [client.submit(run_batch, t.scene, t.cases, builder, pure=False) for t in tasks]
+        futures = [
+            client.submit(run_batch, t.scene, t.cases, builder, outputs, pure=False) for t in tasks
+        ]
         finished = 0
         for future in as_completed(futures):
             on_rows(future.result())
@@ -267,6 +270,9 @@ def run_sweep(
         raise SweepError("serial mode runs in this process: drop the client/scheduler")
     if limit is not None and limit < 1:
         raise SweepError(f"limit (tasks to run before stopping) must be >= 1, got {limit!r}")
+    outputs = spec.options.get("outputs", ())
+    outputs = (outputs,) if isinstance(outputs, str) else tuple(outputs)
+    resolve_all(outputs)  # a bad name fails here, not on every case
     start = time.perf_counter()
     store = SweepStore(
         out,
@@ -302,11 +308,11 @@ def run_sweep(
                 if limit is not None and k >= limit:
                     stopped = True
                     break
-                on_rows(run_batch(task.scene, task.cases, builder))
+                on_rows(run_batch(task.scene, task.cases, builder, outputs))
         else:
             mode = "dask"
             n_workers, stopped = _run_dask(
-                tasks, client, scheduler, n_workers, builder, on_rows, limit
+                tasks, client, scheduler, n_workers, builder, outputs, on_rows, limit
             )
     finally:
         bar.close()
@@ -337,6 +343,7 @@ def sweep(
     limit: int | None = None,
     progress: bool = True,
     builder: Callable[[Mapping], Any] | None = None,
+    outputs: Sequence[str] = (),
     options: Mapping[str, Any] | None = None,
 ) -> SweepResult:
     """Solve ``scene`` for every combination of ``parameters`` and store one row per case.
@@ -368,10 +375,15 @@ def sweep(
         Progress bar on a terminal.
     builder : callable, optional
         Scene dict -> Simulation (default: the scene-file reader of the scene's format).
+    outputs : sequence of str
+        Extra column functions, ``"package.module:function"`` (see ``sweep_outputs``).
     options : mapping, optional
         Extra settings stored with the sweep (part of its identity).
     """
-    spec = SweepSpec.from_mapping(scene, parameters, mode=mode, **dict(options or {}))
+    options = dict(options or {})
+    if outputs:
+        options["outputs"] = [outputs] if isinstance(outputs, str) else list(outputs)
+    spec = SweepSpec.from_mapping(scene, parameters, mode=mode, **options)
     return run_sweep(
         spec,
         out,

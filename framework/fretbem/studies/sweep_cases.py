@@ -195,8 +195,12 @@ def _error(err: BaseException) -> str:
     return f"{type(err).__name__}: {err}"
 
 
-def solve_case(simulation, loading: Loading) -> dict[str, Any]:
-    """Solve one case on the group's problem; returns its output columns."""
+def solve_case(simulation, loading: Loading, outputs=(), scene=None) -> dict[str, Any]:
+    """Solve one case on the group's problem; returns its output columns.
+
+    ``outputs`` are extra column functions (see ``sweep_outputs``) called with the result
+    and the case's ``scene`` dict.
+    """
     from ..simulation import run
 
     row: dict[str, Any] = {
@@ -219,6 +223,8 @@ def solve_case(simulation, loading: Loading) -> dict[str, Any]:
         for key, value in step_metrics(step).items():
             row[f"{key}.{step.name}"] = value
         regimes.append(row[f"regime.{step.name}"])
+    for function in outputs:
+        row.update(function(result, scene))
     row.update(status="ok", error="", regime=worst(regimes))
     return row
 
@@ -227,19 +233,24 @@ def run_batch(
     scene: dict,
     cases: Sequence[tuple[int, dict, dict]],
     builder: Callable[[Mapping], Any] | None = None,
+    outputs: Sequence[str] = (),
 ) -> list[dict[str, Any]]:
     """Solve ``cases`` (index, parameter values, scene dict) on the bodies of ``scene``.
 
-    ``scene`` is the group's representative scene. Never raises for a case: a failing case
-    becomes a row with status "error" and the message; a group whose bodies cannot be built
-    fails every one of its cases that way.
+    ``scene`` is the group's representative scene; ``outputs`` names extra column functions
+    ("module:function"). Never raises for a case: a failing case becomes a row with status
+    "error" and the message; a group whose bodies cannot be built fails every one of its
+    cases that way.
     """
     import os
     import socket
 
+    from .sweep_outputs import resolve_all
+
     worker = f"{socket.gethostname()}:{os.getpid()}"
     simulation, assembly, failure = None, 0.0, None
     try:
+        functions = resolve_all(outputs)
         if builder is None:
             simulation, assembly = _group_simulation(json.dumps(scene, sort_keys=True), scene)
         else:
@@ -256,7 +267,7 @@ def run_batch(
             loading = case_loading(case_scene)
             if failure is not None:
                 raise GroupBuildError(f"the group's bodies could not be built: {failure}")
-            row.update(solve_case(simulation, loading))
+            row.update(solve_case(simulation, loading, functions, case_scene))
         except Exception as err:
             row.update(status="error", error=_error(err), regime="")
         row["assembly_seconds"] = assembly

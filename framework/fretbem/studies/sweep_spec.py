@@ -308,7 +308,7 @@ def _read_toml(path: Path, what: str) -> dict:
         raise SweepSpecError(f"cannot read {what} {path}: {err.strerror}") from err
 
 
-SWEEP_KEYS = {"scene", "mode", "out"}
+SWEEP_KEYS = {"scene", "mode", "out", "outputs"}
 
 
 def load_sweep(path: str | Path) -> SweepSpec:
@@ -342,6 +342,11 @@ def load_sweep(path: str | Path) -> SweepSpec:
     options = {k: v for k, v in data.items() if k not in ("sweep", "parameters")}
     if "out" in table:
         options["out"] = str(table["out"])
+    if "outputs" in table:
+        outputs = table["outputs"]
+        if not isinstance(outputs, list) or not all(isinstance(o, str) for o in outputs):
+            raise SweepSpecError(f"{path}: [sweep] outputs must be a list of 'module:function'")
+        options["outputs"] = outputs
     flat = _flatten(parameters)
     return SweepSpec.from_mapping(scene, flat, mode=table.get("mode", "product"), **options)
 
