@@ -1,0 +1,119 @@
+"""Error against pair count: the fixed-pairs sawtooth beside the adaptive mode (issue 12).
+
+Runs the reference Cattaneo-Mindlin cycle with ``pairs = N`` (uniform zone) and with the
+adaptive mode at budget N, for every N in the range, and writes docs/results/sawtooth.csv
+and docs/results/sawtooth.png (max over steps of e_p max, e_q max and e_q L2, the adaptive
+estimate, and the whole-cycle time of every level).
+
+    python benchmarks/adaptive_sawtooth.py [--first 31] [--last 81] [--basis nurbs] [--P 100]
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import platform
+import time
+from pathlib import Path
+
+from fretbem import adaptive
+from fretbem.scenes import cattaneo_mindlin
+from fretbem.simulation import run
+
+OUT = Path(__file__).resolve().parents[1] / "docs" / "results"
+KEYS = ("e_p_max", "e_q_max", "e_p_l2", "e_q_l2")
+
+
+def worst(steps) -> dict[str, float]:
+    """Max over steps of each error (fractions)."""
+    return {k: max(s.errors[k] for s in steps) for k in KEYS}
+
+
+def scene(pairs: int, basis: str, load: float):
+    q = 0.18 * load
+    return cattaneo_mindlin(
+        pairs=pairs, basis=basis, normal=load, tangential=(0.0, q, 0.0, -q, 0.0)
+    )
+
+
+def sweep(first: int, last: int, basis: str, load: float) -> list[dict]:
+    rows = []
+    step = 2 if basis == "lagrange2" else 1
+    for n in range(first, last + 1, step):
+        tic = time.perf_counter()
+        fixed = run(scene(n, basis, load))
+        fixed_seconds = time.perf_counter() - tic
+        out = adaptive.run_adaptive(scene(n, basis, load), adaptive.AdaptiveSettings(budget=n))
+        est = out.estimate
+        rows.append(
+            {
+                "pairs": n,
+                "basis": basis,
+                "P": load,
+                **{f"fixed_{k}": v for k, v in worst(fixed.steps).items()},
+                "fixed_seconds": fixed_seconds,
+                "adaptive_pairs": out.result.steps[0].x.size,
+                **{f"adaptive_{k}": v for k, v in worst(out.result.steps).items()},
+                **{f"estimate_{k}": max(e[k] for e in est.values()) for k in KEYS},
+                "adaptive_seconds": out.seconds,
+            }
+        )
+        print(
+            f"{n:4d} fixed p {100 * rows[-1]['fixed_e_p_max']:5.2f} q "
+            f"{100 * rows[-1]['fixed_e_q_max']:5.2f} | adaptive p "
+            f"{100 * rows[-1]['adaptive_e_p_max']:5.2f} q {100 * rows[-1]['adaptive_e_q_max']:5.2f}"
+            f" qL2 {100 * rows[-1]['adaptive_e_q_l2']:5.2f} est p "
+            f"{100 * rows[-1]['estimate_e_p_max']:5.2f} q {100 * rows[-1]['estimate_e_q_max']:5.2f}"
+            f" {out.seconds:5.2f} s",
+            flush=True,
+        )
+    return rows
+
+
+def figure(rows: list[dict], path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    n = [r["pairs"] for r in rows]
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4), sharey=True)
+    for ax, key, label in zip(axes, ("e_p_max", "e_q_max"), ("p", "q"), strict=True):
+        ax.semilogy(n, [100 * r[f"fixed_{key}"] for r in rows], "o-", ms=3, label="fixed pairs")
+        ax.semilogy(n, [100 * r[f"adaptive_{key}"] for r in rows], "s-", ms=3, label="adaptive")
+        ax.semilogy(
+            n, [100 * r[f"estimate_{key}"] for r in rows], "--", lw=1, label="adaptive estimate"
+        )
+        ax.axhline(1.0 if label == "p" else 2.0, color="k", lw=0.6, ls=":", label="target")
+        ax.set_xlabel("pairs (fixed) / pair budget (adaptive)")
+        ax.set_title(f"max over the cycle of e_{label} max (%)")
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].set_ylabel("error, % of p0 (p) or f p0 (q)")
+    axes[0].legend(fontsize=8)
+    fig.suptitle(f"Reference scene, {rows[0]['basis']}, P = {rows[0]['P']:g} N/mm")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--first", type=int, default=31)
+    parser.add_argument("--last", type=int, default=81)
+    parser.add_argument("--basis", default="nurbs")
+    parser.add_argument("--P", type=float, default=100.0)
+    parser.add_argument("--out", type=Path, default=OUT)
+    args = parser.parse_args()
+    rows = sweep(args.first, args.last, args.basis, args.P)
+    args.out.mkdir(parents=True, exist_ok=True)
+    stem = "sawtooth" if args.basis == "nurbs" else f"sawtooth_{args.basis}"
+    with open(args.out / f"{stem}.csv", "w", newline="") as handle:
+        handle.write(f"# {platform.node()} {platform.processor()} (shared machine)\n")
+        writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    figure(rows, args.out / f"{stem}.png")
+
+
+if __name__ == "__main__":
+    main()

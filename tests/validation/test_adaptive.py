@@ -1,0 +1,178 @@
+"""Adaptive contact meshes and the two-level error estimate (issue 12).
+
+Tolerances are the errors measured on the shared 2-core machine (November 2026) plus a
+margin; see docs/explanation/adaptive.rst for the numbers and what is not yet reached.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from fretbem import adaptive, estimate
+from fretbem.basis import Refinement
+from fretbem.geometry.nurbs import NurbsCurve
+from fretbem.scenes import cattaneo_mindlin
+from fretbem.simulation import run
+from fretbem_lagrange.quadratic import QuadraticLagrangeBasis
+from fretbem_nurbs.basis import NurbsBasis
+
+KEYS = ("e_p_max", "e_q_max", "e_p_l2", "e_q_l2")
+
+
+def worst(result) -> dict[str, float]:
+    return {k: max(s.errors[k] for s in result.steps) for k in KEYS}
+
+
+def exact_transitions(simulation) -> np.ndarray:
+    """+-a, +-c (step B) and +-c' (unloading) of the reference cycle, from the closed form."""
+    a = simulation.reference.hertz.half_width
+    f, load = simulation.pair.friction, simulation.steps[0].normal
+    q = max(abs(s.tangential) for s in simulation.steps)
+    c = a * math.sqrt(1 - q / (f * load))
+    c2 = a * math.sqrt(1 - q / (2 * f * load))
+    return np.array([-a, -c2, -c, c, c2, a])
+
+
+# -- the refinement record ------------------------------------------------------------------
+def test_explicit_breakpoints_with_c0_put_a_greville_point_on_the_knot():
+    curve = NurbsCurve.arc([0.0, 70.0], 70.0, -1.6, -1.5)
+    basis = NurbsBasis.discretise(curve, Refinement.explicit([0, 0.3, 0.5, 1], c0_at=[0.5]))
+    assert np.count_nonzero(basis.curve.knots == 0.5) == 2
+    assert np.any(np.isclose(basis.natural_collocation, 0.5, atol=1e-14))
+    np.testing.assert_allclose(basis.element_bounds[:, 0], [0, 0.3, 0.5])
+
+
+@pytest.mark.parametrize("family", [NurbsBasis, QuadraticLagrangeBasis])
+def test_explicit_breakpoints_keep_the_geometry_and_partition_of_unity(family):
+    curve = NurbsCurve.arc([0.0, 70.0], 70.0, -1.6, -1.5)
+    basis = family.discretise(curve, Refinement.explicit([0, 0.1, 0.45, 0.7, 1.0], c0_at=[0.7]))
+    np.testing.assert_allclose(basis.element_bounds[:, 0], [0, 0.1, 0.45, 0.7])
+    params = np.linspace(0.0, 1.0, 41)
+    matrix = basis.evaluation_matrix(params)
+    np.testing.assert_allclose(matrix.sum(axis=1), 1.0, atol=1e-12)
+    elements, local = basis.to_local(params)
+    points = basis.geometry(elements, local)[0]
+    # exact for NURBS; quadratic interpolation of the 7 mm arc for Lagrange (measured 3.6e-5)
+    np.testing.assert_allclose(points, curve.points(params), atol=1e-4)
+
+
+@pytest.mark.parametrize(
+    "kwargs",
+    [
+        {"elements": 3, "at": (0.0, 0.5, 1.0)},
+        {"elements": 2, "at": (0.0, 0.6, 0.5, 1.0)},
+        {"elements": 2, "at": (0.1, 0.5, 1.0)},
+        {"elements": 2, "at": (0.0, 0.5, 1.0), "c0_at": (0.3,)},
+    ],
+)
+def test_bad_explicit_refinements_are_refused_by_name(kwargs):
+    with pytest.raises(ValueError, match="Refinement"):
+        Refinement(**kwargs)
+
+
+def test_aligned_breakpoints_count_anchor_and_grade():
+    anchors = np.array([0.2, 0.33, 0.67, 0.8])
+    bounds = adaptive.aligned_breakpoints(anchors, 40, ratio=10.0)
+    assert bounds.size == 41 and bounds[0] == 0.0 and bounds[-1] == 1.0
+    assert np.all(np.diff(bounds) > 0)
+    for t in anchors:
+        assert np.min(np.abs(bounds - t)) < 1e-12
+    sizes = np.diff(bounds)
+    assert 6.0 < sizes.max() / sizes.min() < 16.0
+    centred = adaptive.aligned_breakpoints(anchors, 40, ratio=4.0, centred=True)
+    mids = 0.5 * (centred[1:] + centred[:-1])
+    for t in anchors:
+        assert np.min(np.abs(mids - t)) < 1e-12
+
+
+def test_settings_refuse_bad_input():
+    with pytest.raises(adaptive.AdaptiveError, match="tolerance"):
+        adaptive.AdaptiveSettings(tolerance=2.0)
+    with pytest.raises(adaptive.AdaptiveError, match="budget"):
+        adaptive.AdaptiveSettings(budget=3)
+    with pytest.raises(adaptive.AdaptiveError, match="max_levels"):
+        adaptive.AdaptiveSettings(max_levels=1)
+
+
+# -- meshes aligned with the transitions ------------------------------------------------------
+def test_remesh_keeps_pairs_facing_and_puts_points_on_transitions():
+    simulation = cattaneo_mindlin(pairs=31)
+    exact = exact_transitions(simulation)
+    fine = adaptive.remesh(simulation, exact, 45, ratio=10.0)
+    x = fine.pair.geometry["points"][:, 0]
+    assert x.size <= 45
+    for t in exact:
+        assert np.min(np.abs(x - t)) < 1e-9 * simulation.reference.hertz.half_width
+
+
+def test_aligned_meshes_converge_without_sawtooth():
+    """Transitions on C0 knots: errors fall with pairs (measured 1.05/3.26 % at 45 pairs,
+    1.14/1.80 % at 61, ratio 10) where the uniform zone jumps 0.3 -> 6 %."""
+    simulation = cattaneo_mindlin(pairs=31)
+    exact = exact_transitions(simulation)
+    errors = {n: worst(run(adaptive.remesh(simulation, exact, n, ratio=10.0))) for n in (45, 61)}
+    assert errors[61]["e_q_max"] < 0.021
+    assert errors[61]["e_q_l2"] < 0.0035
+    assert errors[61]["e_p_max"] < 0.014
+    assert errors[61]["e_q_l2"] < errors[45]["e_q_l2"]
+
+
+# -- transitions found from a solve and the adaptive loop -------------------------------------
+@pytest.mark.parametrize("pairs", [31, 41, 45])
+def test_transitions_found_near_the_closed_form(pairs):
+    """From a uniform zone (the first level): measured edges within 0.36 % of a, stick-slip
+    boundaries within 1.5 % of a (31, 41, 45 pairs)."""
+    simulation = cattaneo_mindlin(pairs=pairs)
+    exact = exact_transitions(simulation)
+    a = simulation.reference.hertz.half_width
+    found = adaptive.transitions(run(simulation))
+    assert found.size == exact.size
+    np.testing.assert_allclose(found[[0, -1]], exact[[0, -1]], atol=5e-3 * a)
+    np.testing.assert_allclose(found[1:-1], exact[1:-1], atol=2.5e-2 * a)
+
+
+def test_adaptive_run_reference_scene():
+    """Budget 61 on the reference scene: measured e_p 1.21 %, e_q 2.24 %, e_q L2 0.38 %."""
+    out = adaptive.run_adaptive(cattaneo_mindlin(pairs=31), adaptive.AdaptiveSettings(budget=61))
+    assert out.result.steps[0].x.size <= 61
+    e = worst(out.result)
+    assert e["e_p_max"] < 0.016
+    assert e["e_q_max"] < 0.03
+    assert e["e_q_l2"] < 0.0045
+    assert set(out.estimate) == {s.name for s in out.result.steps}
+    for name, est in out.estimate.items():
+        assert set(est) == set(KEYS)
+        true = out.result[name].errors
+        # the estimate does not miss a large error: never below half the true max error
+        for key in ("e_p_max", "e_q_max"):
+            if true[key] > 1e-3:
+                assert est[key] > 0.5 * true[key], (name, key, est[key], true[key])
+
+
+def test_estimate_of_identical_levels_is_zero_and_order_is_checked():
+    simulation = cattaneo_mindlin(pairs=31)
+    result = run(simulation)
+    change = estimate.difference(result, result)
+    assert max(max(c.values()) for c in change) < 1e-10
+    with pytest.raises(estimate.EstimateInputError, match="fine level"):
+        estimate.estimate_errors(result, result)
+    assert estimate.richardson_factor(31, 61) == pytest.approx(1 / ((61 / 31) ** 1.5 - 1))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("load", [60.0, 100.0, 250.0])
+@pytest.mark.parametrize("budget", range(31, 122, 10))
+def test_adaptive_sweep_over_budget_and_load(budget, load):
+    """Measured state of issue 12's targets (see the docs page): guards against regressions.
+
+    The issue's targets (e_p <= 1 %, e_q <= 2 %) are not reached yet; these bounds are the
+    measured worst case over the sweep plus a margin."""
+    q = 0.18 * load
+    simulation = cattaneo_mindlin(pairs=31, normal=load, tangential=(0.0, q, 0.0, -q, 0.0))
+    out = adaptive.run_adaptive(simulation, adaptive.AdaptiveSettings(budget=budget))
+    e = worst(out.result)
+    assert e["e_p_max"] < 0.05
+    assert e["e_q_max"] < 0.08
