@@ -241,6 +241,46 @@ def test_serial_sweep_store_and_resume(tmp_path):
     assert manifest["paths"] == list(PARAMETERS)
 
 
+def test_resume_after_the_process_is_killed(tmp_path):
+    """SIGKILL a running sweep after two stored chunks; the re-run completes the same table."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    from fretbem.studies.sweep import sweep
+
+    parameters = {
+        "load.Q": {"start": 0.0, "stop": 27.0, "num": 30, "pattern": CYCLE},
+        "contact.friction": [0.3, 0.5],
+    }
+    out = tmp_path / "killed"
+    script = (
+        "import json, sys\n"
+        "from fretbem.studies.sweep import sweep\n"
+        "scene, parameters, out = json.loads(sys.argv[1])\n"
+        "sweep(scene, parameters, out=out, serial=True, batch=1, progress=False)\n"
+    )
+    argument = json.dumps([SCENE, parameters, str(out)])
+    process = subprocess.Popen([sys.executable, "-c", script, argument])
+    try:
+        deadline = time.monotonic() + 60
+        while len(list(out.glob("cases-*.parquet"))) < 2 and time.monotonic() < deadline:
+            assert process.poll() is None, "the sweep ended before it could be killed"
+            time.sleep(0.005)
+        os.kill(process.pid, signal.SIGKILL)
+    finally:
+        process.wait()
+    assert process.returncode == -signal.SIGKILL
+    stored = len(list(out.glob("cases-*.parquet")))
+    assert 2 <= stored < 60
+    rest = sweep(SCENE, parameters, out=out, serial=True, batch=7)
+    assert rest.summary.skipped == stored and rest.summary.stored == 60
+    whole = sweep(SCENE, parameters, out=tmp_path / "whole", serial=True)
+    pd.testing.assert_frame_equal(_results(rest.table), _results(whole.table))
+
+
 def test_local_cluster_equals_serial_and_resumes(tmp_path):
     """Two process workers; stopped after one task and re-run: same table as serial."""
     pytest.importorskip("distributed")
