@@ -147,7 +147,12 @@ def _extent(x: np.ndarray, mask: np.ndarray) -> float:
 
 def step_metrics(step) -> dict[str, Any]:
     """Regime, stick and contact widths, peak p and |q|, iterations of one solved step."""
-    from ..contact import SEPARATED, SLIP, STICK
+    try:  # the pair states moved to the contact-law module (issue 9)
+        from ..law import PairState
+
+        SEPARATED, STICK, SLIP = PairState.SEPARATED, PairState.STICK, PairState.SLIP
+    except ImportError:
+        from ..contact import SEPARATED, SLIP, STICK
 
     states = np.asarray(step.states)
     stick, slip = states == STICK, states == SLIP
