@@ -109,31 +109,33 @@ class CriterionResult:
             )
 
 
-def plane_quantities(stress: np.ndarray, coef: np.ndarray, E: float, nu: float) -> dict:
+def plane_quantities(
+    stress: np.ndarray, coef: np.ndarray, E: float, nu: float, *, strains: bool = True
+) -> dict:
     """Normal stress/strain summaries and shear paths of (T, P, 4) stress on planes ``coef``.
 
     ``coef`` (3, G, 4) for the same planes at every point, or (3, P, G, 4) per point.
-    Returns summaries over (P, G) and the shear path components (T, P*G) each.
+    Returns summaries over (P, G) and the shear path components (T, P*G) each; the normal
+    strain amplitude only if ``strains``.
     """
     if coef.ndim == 3:
         sn, t1, t2 = (stress @ c.T for c in coef)  # (T, P, G)
     else:
-        comps = [stress[:, :, None, k] for k in range(4)]
-        sn, t1, t2 = (sum(comps[k] * c[None, :, :, k] for k in range(4)) for c in coef)
+        per_point = stress.transpose(1, 0, 2)  # (P, T, 4) @ (P, 4, G) -> (P, T, G)
+        sn, t1, t2 = (np.matmul(per_point, c.transpose(0, 2, 1)).transpose(1, 0, 2) for c in coef)
     n_t, n_p, n_g = sn.shape
-    trace = stress[..., 0] + stress[..., 1] + stress[..., 3]  # (T, P)
-    sn_max = sn.max(axis=0)
-    sn_min = sn.min(axis=0)
-    # normal strain from Hooke's law: eps_n = ((1 + nu) sigma_n - nu tr(sigma)) / E
-    en = (1.0 + nu) * sn - nu * trace[:, :, None]
-    en_amp = 0.5 * (en.max(axis=0) - en.min(axis=0)) / E
-    return {
-        "normal_stress_max": sn_max,
-        "normal_stress_min": sn_min,
-        "normal_strain_amplitude": en_amp,
+    out = {
+        "normal_stress_max": sn.max(axis=0),
+        "normal_stress_min": sn.min(axis=0),
         "path_x": t1.reshape(n_t, n_p * n_g),
         "path_y": t2.reshape(n_t, n_p * n_g),
     }
+    if strains:
+        # normal strain from Hooke's law: eps_n = ((1 + nu) sigma_n - nu tr(sigma)) / E
+        trace = stress[..., 0] + stress[..., 1] + stress[..., 3]  # (T, P)
+        en = (1.0 + nu) * sn - nu * trace[:, :, None]
+        out["normal_strain_amplitude"] = 0.5 * (en.max(axis=0) - en.min(axis=0)) / E
+    return out
 
 
 class _Criterion:
@@ -206,8 +208,10 @@ def _make_criteria(methods, E, nu, findley_k, fatemi_socie_k, yield_strength):
 
 def _coarse(stress, criteria, theta, psi, E, nu):
     """Best grid plane per point and criterion: (theta, psi) indices, pruned exact MCC."""
-    coef = projection(theta, psi)
-    q = plane_quantities(stress, coef, E, nu)
+    # single precision is enough to pick the best grid plane; the refinement is in double
+    coef = projection(theta, psi).astype(np.float32)
+    with_swt = any(c.name == "swt" for c in criteria)
+    q = plane_quantities(stress.astype(np.float32), coef, E, nu, strains=with_swt)
     n_p, n_g = q["normal_stress_max"].shape
     px, py = q["path_x"], q["path_y"]
     if not any(c.needs_shear and c.name != "swt" for c in criteria):
@@ -251,17 +255,17 @@ def _evaluate(stress, crit, theta, psi, E, nu):
     return crit.value(q, tau), crit.secondary(q), tau, q
 
 
-def _refine(stress, crit, theta, psi, step, levels, in_plane_only, E, nu):
-    """Pattern search: move each point's plane to its best neighbour, halving the step."""
+def _refine(stress, crit, theta, psi, steps, levels, in_plane_only, E, nu):
+    """Pattern search: move each point's plane to its best neighbour, halving the steps."""
     values, second, _, _ = _evaluate(stress, crit, theta[:, None], psi[:, None], E, nu)
     values, second = values[:, 0], None if second is None else second[:, 0]
     scale = np.maximum(np.abs(values), 1e-300)
     for level in range(levels):
-        h = step / 2 ** (level + 1)
+        ht, hp = steps[0] / 2 ** (level + 1), steps[1] / 2 ** (level + 1)
         if in_plane_only:
-            offsets = np.array([[-h, 0.0], [h, 0.0]])
+            offsets = np.array([[-ht, 0.0], [ht, 0.0]])
         else:
-            offsets = np.array([[-h, 0.0], [h, 0.0], [0.0, -h], [0.0, h]])
+            offsets = np.array([[-ht, 0.0], [ht, 0.0], [0.0, -hp], [0.0, hp]])
         th = theta[:, None] + offsets[None, :, 0]
         ps = np.clip(psi[:, None] + offsets[None, :, 1], 0.0, np.pi / 2)
         v, s, _, _ = _evaluate(stress, crit, th, ps, E, nu)
@@ -276,13 +280,14 @@ def _refine(stress, crit, theta, psi, step, levels, in_plane_only, E, nu):
         if second is not None:
             second = np.where(move, sj, second)
     # one parabolic step per angle through the last level's three values
-    h = step / 2**levels
-    offsets = np.array([[-h, 0.0], [h, 0.0]] + ([] if in_plane_only else [[0.0, -h], [0.0, h]]))
+    ht, hp = steps[0] / 2**levels, steps[1] / 2**levels
+    offsets = np.array([[-ht, 0.0], [ht, 0.0]] + ([] if in_plane_only else [[0.0, -hp], [0.0, hp]]))
     th = theta[:, None] + offsets[None, :, 0]
     ps = np.clip(psi[:, None] + offsets[None, :, 1], 0.0, np.pi / 2)
     v, _, _, _ = _evaluate(stress, crit, th, ps, E, nu)
     shift = []
-    for lo, hi in ((0, 1), (2, 3))[: 1 if in_plane_only else 2]:
+    pairs = [((0, 1), ht), ((2, 3), hp)][: 1 if in_plane_only else 2]
+    for (lo, hi), h in pairs:
         curv = v[:, lo] - 2.0 * values + v[:, hi]
         with np.errstate(divide="ignore", invalid="ignore"):
             d = np.where(curv < 0, 0.5 * h * (v[:, lo] - v[:, hi]) / curv, 0.0)
@@ -344,15 +349,13 @@ def critical_plane_parameters(
         chunk_best = _coarse(stress[:, part], criteria, theta_g, psi_g, E, nu)
         for name, idx in chunk_best.items():
             best[name][part] = idx
-    step = np.deg2rad(
-        max(search.theta_step_deg, 0.0 if search.in_plane_only else search.psi_step_deg)
-    )
+    steps = (np.deg2rad(search.theta_step_deg), np.deg2rad(search.psi_step_deg))
     results = {}
     for crit in criteria:
         theta = theta_g[best[crit.name]]
         psi = psi_g[best[crit.name]]
         theta, psi = _refine(
-            stress, crit, theta, psi, step, search.refine_levels, search.in_plane_only, E, nu
+            stress, crit, theta, psi, steps, search.refine_levels, search.in_plane_only, E, nu
         )
         values, _, tau, q = _evaluate(stress, crit, theta[:, None], psi[:, None], E, nu)
         smax, smin = q["normal_stress_max"][:, 0], q["normal_stress_min"][:, 0]

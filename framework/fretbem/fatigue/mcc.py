@@ -26,6 +26,8 @@ __all__ = [
 
 #: relative slack on "inside the circle" (round-off of the circle through three points)
 INSIDE_TOLERANCE = 1e-10
+#: 1 / sqrt(2): projections on the diagonals
+_HALF_SQRT2 = 0.5 * np.sqrt(2.0)
 #: the iteration ends after this many rounds; each round enlarges the radius strictly
 MAX_ROUNDS = 200
 
@@ -50,13 +52,20 @@ def _initial_circle(x: np.ndarray, y: np.ndarray):
 def circle_bounds_xy(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Lower and upper bounds on the circumscribed radius of sets given as columns (m, K).
 
-    The lower bound is half the distance of an approximate farthest pair; the upper bound is
-    the largest distance from that pair's midpoint. They coincide for proportional
-    (straight-line) paths, which is the common case.
+    From the extents of each set along four directions (x, y and the diagonals): half the
+    largest extent is a lower bound, and the half-diagonal of the smallest of the two bounding
+    boxes (axis-aligned, diagonal-aligned) an upper bound. For a straight-line path they are
+    within 8 % of each other; only reductions over the path, so cheap.
     """
-    cx, cy, radius, _, _ = _initial_circle(x, y)
-    upper = np.sqrt(np.max((x - cx) ** 2 + (y - cy) ** 2, axis=0))
-    return radius, upper
+    rx = x.max(axis=0) - x.min(axis=0)
+    ry = y.max(axis=0) - y.min(axis=0)
+    u = x + y
+    v = x - y
+    ru = (u.max(axis=0) - u.min(axis=0)) * _HALF_SQRT2
+    rv = (v.max(axis=0) - v.min(axis=0)) * _HALF_SQRT2
+    lower = 0.5 * np.maximum(np.maximum(rx, ry), np.maximum(ru, rv))
+    upper = 0.5 * np.sqrt(np.minimum(rx * rx + ry * ry, ru * ru + rv * rv))
+    return lower, upper
 
 
 def circle_bounds(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
