@@ -137,7 +137,7 @@ def with_loading(simulation, loading: Loading):
 
 
 def refused_steps(loading: Loading) -> list[str]:
-    """Steps with |Q| >= f P: gross slip, refused under force control."""
+    """Steps with ``|Q| >= f P``: gross slip, refused under force control."""
     return [s.name for s in loading.steps if abs(s.tangential) >= loading.friction * s.normal]
 
 
@@ -146,7 +146,7 @@ def _extent(x: np.ndarray, mask: np.ndarray) -> float:
 
 
 def step_metrics(step) -> dict[str, Any]:
-    """Regime, stick and contact widths, peak p and |q|, iterations of one solved step."""
+    """Regime, stick and contact widths, peak p and ``|q|``, iterations of one solved step."""
     try:  # the pair states moved to the contact-law module (issue 9)
         from ..law import PairState
 

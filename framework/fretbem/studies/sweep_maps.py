@@ -50,7 +50,7 @@ def _grid(rows, x: str, y: str, values) -> tuple[np.ndarray, np.ndarray, np.ndar
 
 
 def _boundary(ax, rows, x: str, y: str) -> bool:
-    """Contour |Q|peak = f P over the cases (the gross-slip boundary); False if absent."""
+    """Contour ``Q_peak = f P_max`` over the cases (the gross-slip boundary); False if absent."""
     if not {"Q_peak", "P_max", "friction"} <= set(rows.columns):
         return False
     g = rows["Q_peak"].to_numpy(float) - rows["friction"].to_numpy(float) * rows["P_max"].to_numpy(
