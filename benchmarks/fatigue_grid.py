@@ -80,7 +80,8 @@ def main() -> None:
     parser.add_argument("--json", help="write the medians here")
     args = parser.parse_args()
     print(
-        f"machine: {platform.platform()}, {os.cpu_count()} cores, Python {platform.python_version()}"
+        f"machine: {platform.platform()}, {os.cpu_count()} cores, "
+        f"Python {platform.python_version()}, load average {os.getloadavg()[0]:.1f}"
     )
     stress = stress_cycle(args.side, args.steps)
     print(f"grid {stress.shape[1]} points, cycle of {stress.shape[0]} steps")
