@@ -150,3 +150,17 @@ def test_boundary_touching_itself_at_a_vertex_is_refused():
         Boundary.polygon(notch, list("abcdefg"))
     notch[4] = (2, 0.01)  # a narrow gap is a valid body
     Boundary.polygon(notch, list("abcdefg"))
+
+
+def test_refining_to_twenty_thousand_control_points_stays_sparse():
+    """Reproducer: --pairs 20001 spent minutes in a dense (n x n) knot-insertion solve.
+    The banded sparse solve refines an arc to 20 002 control points exactly (memory O(n p))."""
+    from fretbem.geometry.nurbs import NurbsCurve
+
+    arc = NurbsCurve.arc([0, 0], 70.0, -1.6, -1.5)
+    new = np.linspace(0.0, 1.0, 20_001)[1:-1]
+    refined, transform = arc.reparametrised().insert_knots(new)
+    assert refined.n_control_points == arc.n_control_points + new.size
+    assert transform.shape == (refined.n_control_points, arc.n_control_points)
+    xi = np.linspace(0.0, 1.0, 997)
+    assert np.abs(refined.points(xi) - arc.reparametrised().points(xi)).max() < 1e-9
