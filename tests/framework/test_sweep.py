@@ -46,6 +46,19 @@ def _results(table):
     return table.drop(columns=[c for c in TIMING_COLUMNS if c in table])
 
 
+def test_importing_the_sweep_does_not_import_dask_or_pandas():
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, fretbem, fretbem.studies.sweep, fretbem.studies.sweep_maps\n"
+        "heavy = [m for m in ('dask', 'distributed', 'pandas', 'pyarrow', 'xarray') "
+        "if m in sys.modules]\n"
+        "assert not heavy, heavy\n"
+    )
+    subprocess.run([sys.executable, "-c", code], check=True)
+
+
 # --- description ----------------------------------------------------------------------------
 
 
