@@ -131,6 +131,10 @@ class StressOperator:
         )
         return np.concatenate([stress, szz[..., None]], axis=-1)
 
+    def evaluate(self, solution) -> np.ndarray:
+        """Stresses (m, 4) for a solved body's coefficients (``BodySolution``-like)."""
+        return self.apply(solution.traction_coefficients, solution.displacement_coefficients)
+
 
 @attrs.frozen(eq=False)
 class _Elements:
@@ -372,7 +376,8 @@ def somigliana_operator(
     band = max(settings.near_factor, settings.subtract_factor) * elements.length
     first, p_idx, e_idx, eta, dist, bound = _closest_points(segments, elements, points, reach, band)
     banded = first >= 0
-    distance = np.where(banded, dist[np.maximum(first, 0)], bound)
+    distance = bound.copy()
+    distance[banded] = dist[first[banded]]
     near = dist < reach[e_idx]
     near_mask = np.zeros((m, n_el), dtype=bool)
     near_mask[p_idx[near], e_idx[near]] = True
