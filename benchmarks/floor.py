@@ -100,7 +100,10 @@ def _floor(body):
     rule = QuadratureRule.gauss_legendre(body.integration.far_points)
     data = []
     for k, basis in enumerate(segments):
-        x, normals, jw, phi = integration._element_rule(basis, rule)
+        n_el, q = basis.n_elements, rule.points.size
+        m = basis.map(np.repeat(np.arange(n_el), q), np.tile(rule.points, n_el))
+        x, normals = m.points.reshape(n_el, q, 2), m.normals.reshape(n_el, q, 2)
+        jw, phi = m.jacobians.reshape(n_el, q) * rule.weights, m.values.reshape(n_el, q, -1)
         cols = offsets[k] + basis.connectivity
         data.append(tuple(np.ascontiguousarray(a) for a in (x, normals, jw, phi, cols)))
     mu, nu = body.material.shear_modulus, body.material.kernel_nu

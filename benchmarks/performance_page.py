@@ -29,29 +29,31 @@ do not edit by hand -->
 
 EXPLANATION = """## How the assembly is computed
 
-H and G are assembled by one of two implementations that give the same matrices to
-round-off (4e-16 relative; `tests/framework/test_assembly_compiled.py` compares both with a
-frozen copy of the round-1 assembler):
+`fretbem._assembly` organises the work of one body: per segment, one evaluation of the
+basis family for the far and mid rules of every element, the distance samples, the
+collocation points and every singular rule, and one more for the near pairs' graded
+rules. The pair loops come in two implementations that give the same H and G to round-off
+(4e-16 relative; `tests/framework/test_assembly_compiled.py` compares both with a frozen
+copy of the round-1 assembler):
 
-- the **compiled path** (`fretbem._assembly_compiled`, numba, compiled once and cached on
-  disk): one loop over (collocation point, element) pairs decides each pair's class
-  (far, mid, near, singular) from a bounding circle of the element, falling back to the
-  exact 9-sample distance only where the circle cannot decide, and integrates far and mid
-  pairs straight into H and G: far elements are skipped, not masked, and nothing of the
-  matrix's size is allocated besides H and G. Near and singular pairs need the basis
-  family's shape functions at pair-specific points, which the plugin evaluates in numpy:
-  one call per segment for every fixed rule and singular rule, one for the near pairs'
-  graded rules;
-- the **numpy path** (`fretbem.integration`), block-vectorised, with the same bounding
-  circle test and an in-place `np.add.at` scatter.
+- **compiled** (`fretbem._compiled`, numba, compiled once and cached on disk): one loop
+  over (collocation point, element) pairs decides each pair's class from a bounding
+  circle of the element's samples, falling back to the exact 9-sample distance only where
+  the circle cannot decide, and integrates far and mid pairs straight into H and G: far
+  elements are skipped, not masked, and nothing of the matrix's size is allocated besides
+  H and G;
+- **numpy** (`fretbem._numpy_loops`): the same circle test on whole arrays; the far field
+  on dense (rows, elements, points) blocks with zero weight for other pairs (in numpy,
+  masking beats gathering), added into H and G column by column; mid, near and singular
+  pairs gathered and scattered in place with `np.add.at`.
 
-`IntegrationSettings(compiled=None)` (the default) takes the compiled path for bodies with
-at least `COMPILED_MIN_PAIRS` (400,000) point-element pairs, or once numba is loaded in the
-process. In a fresh process, importing numba and loading the cached kernels costs about
-0.45 s (and about 50 MB), which only larger bodies repay; the 61-pair demo therefore stays
-on numpy. What is left of the ratio to the floor at 61 pairs is mostly the basis family's
-own evaluation (the NURBS Cox–de Boor recursion in numpy: about half the compiled
-assembly's time there).
+`IntegrationSettings(compiled=None)` (the default) takes the compiled loops for bodies
+with at least `COMPILED_MIN_PAIRS` (400,000) point-element pairs, or once numba is loaded
+in the process. In a fresh process, importing numba and loading the cached kernels costs
+about 0.45 s (and about 50 MB), which only larger bodies repay; the 61-pair demo stays on
+numpy. What is left of the compiled path's ratio to the floor at 61 pairs is mostly the
+basis family's own evaluation (the NURBS Cox-de Boor recursion, in numpy: about half of the
+compiled assembly's time there).
 """
 
 TARGETS = (

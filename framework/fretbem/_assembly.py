@@ -1,18 +1,17 @@
-"""The collocation assembly on the compiled loops of :mod:`fretbem._compiled`.
+"""The collocation assembly of :class:`fretbem.integration.Assembler`, on either loops.
 
-Same classes, rules and formulas as the numpy path of :class:`fretbem.integration.Assembler`
-(H and G agree to round-off, tests/framework/test_assembly_compiled.py), organised so the
-plugin's basis is evaluated in as few calls as possible: one call per segment for the far
-and mid rules, the distance samples, the collocation points and every singular rule; one
-more for the near pairs' graded rules. Far and mid pairs never leave the compiled loop;
-nothing of size (2N)^2 is allocated besides H and G.
+The pair loops (classify, integrate far and mid pairs, scatter) come from
+:mod:`fretbem._compiled` (numba) or :mod:`fretbem._numpy_loops`; both give H and G equal to
+the round-1 assembler to round-off (tests/framework/test_assembly_compiled.py). The
+plugin's basis is evaluated in as few calls as possible: one per segment for the far and
+mid rules, the distance samples, the collocation points and every singular rule; one more
+for the near pairs' graded rules. Nothing of size (2N)^2 is allocated besides H and G.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from . import _compiled
 from .quadrature import QuadratureRule
 
 #: closest-point start samples per element; every other one is a distance sample of the
@@ -79,8 +78,11 @@ def _contiguous(*arrays):
     return tuple(np.ascontiguousarray(a) for a in arrays)
 
 
-def assemble(assembler, shear_modulus: float, nu: float) -> tuple[np.ndarray, np.ndarray]:
-    """Dense H and G of ``assembler`` (an :class:`~fretbem.integration.Assembler`)."""
+def assemble(assembler, shear_modulus: float, nu: float, loops) -> tuple[np.ndarray, np.ndarray]:
+    """Dense H and G of ``assembler`` (an :class:`~fretbem.integration.Assembler`).
+
+    ``loops`` is :mod:`fretbem._compiled` or :mod:`fretbem._numpy_loops`.
+    """
     from .integration import _graded_rule
 
     n, s, colloc = assembler.n, assembler.settings, assembler.colloc
@@ -143,12 +145,12 @@ def assemble(assembler, shear_modulus: float, nu: float) -> tuple[np.ndarray, np
         centres = 0.5 * (samples.max(axis=1) + samples.min(axis=1))
         radii = np.linalg.norm(samples - centres[:, None], axis=-1).max(axis=1)
         cols = assembler.offsets[k] + basis.connectivity
-        pr, pe, kind = _compiled.classify_and_integrate(
+        pr, pe, kind = loops.classify_and_integrate(
             all_rows, colloc.points, colloc.segment == k, colloc.parameter,
             basis.element_bounds, samples, centres, radii, length, *far, *mid, cols,
             s.far_ratio, s.near_ratio, shear_modulus, nu, h, g,
         )  # fmt: skip
-        near = kind == _compiled.NEAR
+        near = kind == loops.NEAR
         pr, pe = pr[near], pe[near]
         if pr.size:
             src = colloc.points[pr]
@@ -158,7 +160,7 @@ def assemble(assembler, shear_modulus: float, nu: float) -> tuple[np.ndarray, np
             local, weights = _graded_rule(center_near, 2.0 * distance / length[pe], s)
             near_map = basis.map(np.repeat(pe, local.shape[1]), local.ravel())
             shape = local.shape
-            _compiled.integrate_pairs(
+            loops.integrate_pairs(
                 pr, colloc.points, near_map.points.reshape(*shape, 2),
                 near_map.normals.reshape(*shape, 2), near_map.jacobians.reshape(shape) * weights,
                 near_map.values.reshape(*shape, -1), cols[pe], shear_modulus, nu, h, g,
@@ -173,7 +175,7 @@ def assemble(assembler, shear_modulus: float, nu: float) -> tuple[np.ndarray, np
     for k, basis, rows, values, *_ in jobs:
         cols = assembler.offsets[k] + basis.connectivity[colloc.element[rows]]
         blocks = -np.einsum("pa,pij->piaj", values, row_sums[rows])
-        _compiled.scatter_blocks(rows, cols, np.ascontiguousarray(blocks), h)
+        loops.scatter_blocks(rows, cols, np.ascontiguousarray(blocks), h)
     g_singular = np.zeros_like(g)
     q_gauss, q_log = s.singular_points, s.log_points
     for k, basis, _, _, rows, elements, sides, data in jobs:
@@ -186,7 +188,7 @@ def assemble(assembler, shear_modulus: float, nu: float) -> tuple[np.ndarray, np
             gauss = slice(start, start + q_gauss)
             log = slice(start + q_gauss, start + q_gauss + q_log)
             start += q_gauss + q_log
-            _compiled.integrate_singular(
+            loops.integrate_singular(
                 rows, colloc.points, *_contiguous(data["points"][:, gauss],
                 data["normals"][:, gauss]), data["jacobians"][:, gauss] * side["weights"],
                 np.ascontiguousarray(data["values"][:, gauss]), at_source, side["t"],
