@@ -63,6 +63,22 @@ GROUPS: dict[str, tuple[str, ...]] = {
         "fretbem.plot",
         "fretbem.vtk_",
     ),
+    "Fretting fatigue": (
+        "fretbem.fatigue",
+        "fretbem.fatigue.critical_plane",
+        "fretbem.fatigue.planes",
+        "fretbem.fatigue.mcc",
+        "fretbem.fatigue.cycle",
+        "fretbem.fatigue.critical_distance",
+        "fretbem.fatigue.life",
+        "fretbem.fatigue.material",
+        "fretbem.fatigue.ruiz",
+        "fretbem.fatigue.providers",
+        "fretbem.fatigue.request",
+        "fretbem.fatigue.run",
+        "fretbem.fatigue.output",
+        "fretbem.fatigue.errors",
+    ),
     "Command line": ("fretbem.cli",),
 }
 

@@ -109,8 +109,8 @@ class FatigueMaterial:
         if missing:
             raise MissingFatigueDataError(
                 f"{purpose} needs {missing} for material {self.name!r}, which has no sourced "
-                "value for them: give them in the [fatigue] table (e.g. "
-                f"[fatigue.material] {missing[0]} = ...) or as keyword arguments"
+                "value for them: give them in the [fatigue.constants] table (e.g. "
+                f"{missing[0]} = ...) or with FatigueMaterial.with_values"
             )
         return found
 

@@ -141,25 +141,24 @@ def run_fatigue(provider: StressHistoryProvider, request: FatigueRequest) -> Fat
         )
 
     xs, zs = _grid(provider, request)
+    a = getattr(provider, "contact_half_width", None)
     X, Z = np.meshgrid(xs, zs)
     grid = np.stack([X.ravel(), Z.ravel()], axis=1)
     maps = parameters(grid, request.methods)
     notes = list(request.notes)
     reports = {}
     scan_x = np.linspace(xs[0], xs[-1], SURFACE_SCAN_POINTS)
+    if a is not None:  # the contact edges, where closed-form surface peaks sit, exactly
+        edges = np.array([-a, a])
+        scan_x = np.unique(np.concatenate([scan_x, edges[(edges > xs[0]) & (edges < xs[-1])]]))
     scan = np.stack([scan_x, np.full_like(scan_x, request.surface_depth)], axis=1)
     scan_values = parameters(scan, request.methods) if request.hot_spot == "surface" else None
     for m in request.methods:
         if scan_values is not None:
             i = int(np.argmax(scan_values[m].value))
             lo, hi = scan_x[max(i - 1, 0)], scan_x[min(i + 1, scan_x.size - 1)]
-            fine = np.stack(
-                [
-                    np.linspace(lo, hi, FINE_SCAN_POINTS),
-                    np.full(FINE_SCAN_POINTS, request.surface_depth),
-                ],
-                axis=1,
-            )
+            fine_x = np.unique(np.append(np.linspace(lo, hi, FINE_SCAN_POINTS), scan_x[i]))
+            fine = np.stack([fine_x, np.full(fine_x.size, request.surface_depth)], axis=1)
             hot = tuple(fine[int(np.argmax(parameters(fine, (m,))[m].value))])
         else:
             hot = tuple(float(v) for v in request.hot_spot)
