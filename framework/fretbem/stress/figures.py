@@ -1,0 +1,99 @@
+"""Stress figures: surface sigma_xx along the contact over the steps, and contour maps of
+sigma_xx and von Mises below the contact with the stick and slip zones marked.
+
+matplotlib is imported only when a figure is drawn (Agg backend, files only).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from .output import von_mises
+
+__all__ = ["plot_contour_maps", "plot_surface_sigma_xx"]
+
+#: pair states as the results store them
+STICK, SLIP = 1, 2
+
+
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def plot_surface_sigma_xx(
+    path: str | Path, x: np.ndarray, steps: Sequence[str], sigma_xx: np.ndarray, *, scale=None
+) -> Path:
+    """sigma_xx (n_steps, m) on the surface against x (m,), one line per step.
+
+    ``scale`` = (a, p0) plots x / a and sigma_xx / p0 instead of mm and MPa.
+    """
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(6.4, 4.0), layout="constrained")
+    xs, ys = (x, sigma_xx) if scale is None else (x / scale[0], sigma_xx / scale[1])
+    for k, name in enumerate(steps):
+        ax.plot(xs, ys[k], label=f"step {name}")
+    ax.axhline(0.0, color="0.6", lw=0.6)
+    ax.set_xlabel("x (mm)" if scale is None else "x / a")
+    ax.set_ylabel("surface $\\sigma_{xx}$ (MPa)" if scale is None else "$\\sigma_{xx} / p_0$")
+    ax.legend(fontsize=8)
+    ax.set_title("Surface stress $\\sigma_{xx}$ along the contact")
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return Path(path)
+
+
+def _zones(ax, x: np.ndarray, states: np.ndarray) -> None:
+    """Bars on the surface line: stick (blue) and slip (red) pairs."""
+    half = 0.5 * np.diff(x).mean() if len(x) > 1 else 0.0
+    for state, color, label in ((STICK, "tab:blue", "stick"), (SLIP, "tab:red", "slip")):
+        sel = states == state
+        if sel.any():
+            ax.scatter(x[sel], np.zeros(sel.sum()), marker="s", s=12, color=color, label=label,
+                       clip_on=False, zorder=5)  # fmt: skip
+    ax.set_xlim(min(ax.get_xlim()[0], x.min() - half), max(ax.get_xlim()[1], x.max() + half))
+
+
+def plot_contour_maps(
+    path: str | Path,
+    xs: np.ndarray,
+    depths: np.ndarray,
+    stress: np.ndarray,
+    *,
+    pair_x: np.ndarray,
+    states: np.ndarray,
+    title: str = "",
+) -> Path:
+    """Contours of sigma_xx and von Mises (stress (ny, nx, 4) on the grid xs x depths, depth
+    downward), with the contact pairs' stick and slip zones marked on the surface."""
+    plt = _pyplot()
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), layout="constrained", sharey=True)
+    fields = ((stress[..., 0], "$\\sigma_{xx}$ (MPa)", "RdBu_r"),
+              (von_mises(stress), "von Mises (MPa)", "viridis"))  # fmt: skip
+    for ax, (field, label, cmap) in zip(axes, fields, strict=True):
+        if cmap == "RdBu_r":
+            bound = np.abs(field).max()
+            levels = np.linspace(-bound, bound, 25)
+        else:
+            levels = np.linspace(0.0, field.max(), 25)
+        cs = ax.contourf(xs, -depths, field, levels=levels, cmap=cmap)
+        ax.contour(xs, -depths, field, levels=levels[::4], colors="k", linewidths=0.3)
+        fig.colorbar(cs, ax=ax, label=label)
+        inside = (pair_x >= xs.min()) & (pair_x <= xs.max())
+        _zones(ax, pair_x[inside], states[inside])
+        ax.set_xlabel("x (mm)")
+        ax.set_aspect("equal")
+    axes[0].set_ylabel("y below the surface (mm)")
+    axes[0].legend(loc="lower left", fontsize=8)
+    if title:
+        fig.suptitle(title)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return Path(path)
