@@ -213,7 +213,7 @@ def tangential_hold(
 ) -> CheckRecord:
     """Something must hold the loaded body tangentially: a stick pair and a bounded block move.
 
-    Near gross sliding (|Q| -> f P) the stick zone shrinks below one pair spacing; the
+    Near gross sliding (``|Q| -> f P``) the stick zone shrinks below one pair spacing; the
     tangential position is then undetermined and Newton may return an arbitrary (e.g. 1e9 mm)
     block displacement. The residual is the block displacement in contact-zone widths.
     Raises :class:`TangentialIndeterminacyError` with the stick-zone width and the fixes.
