@@ -40,6 +40,9 @@ BLAS_ENV = {
 
 #: most cases in one task (and one stored chunk)
 MAX_BATCH = 250
+#: default tasks per worker: small enough to balance the last round, large enough that the
+#: per-task cost (scheduling, one Parquet chunk) stays below 1 % of the solves
+TASKS_PER_WORKER = 8
 
 
 class SweepError(RuntimeError):
@@ -71,7 +74,8 @@ def plan(spec: SweepSpec, done: set[int], workers: int, batch: int | None = None
     groups = spec.groups()
     remaining = sum(1 for cases in groups.values() for c in cases if c.index not in done)
     if batch is None:
-        batch = max(1, min(MAX_BATCH, math.ceil(remaining / (4 * max(1, workers)))))
+        per_worker = TASKS_PER_WORKER * max(1, workers)
+        batch = max(1, min(MAX_BATCH, math.ceil(remaining / per_worker)))
     elif isinstance(batch, bool) or not isinstance(batch, int) or batch < 1:
         raise SweepError(f"batch size must be an integer >= 1, got {batch!r}")
     tasks = []
@@ -208,37 +212,60 @@ def _local_cluster(workers: int):
     )
 
 
-def _run_dask(tasks, client, scheduler, workers, builder, outputs, on_rows, limit):
-    """Submit every task, store each batch as it completes; returns (workers, stopped)."""
+def _connect(scheduler: str | None, workers: int):
+    """(cluster or None, client): a new LocalCluster, or a client of ``scheduler``."""
+    from dask.distributed import Client
+
     try:
-        from dask.distributed import Client, as_completed
+        if scheduler is not None:
+            return None, Client(scheduler, timeout="20s")
+        cluster = _local_cluster(workers)
+        return cluster, Client(cluster)
+    except (OSError, TimeoutError) as err:
+        raise SweepError(
+            f"cannot reach the Dask scheduler {scheduler!r}: {err}; start one "
+            "(`dask scheduler`, or dask-jobqueue on a cluster) or run with --serial"
+        ) from err
+
+
+def _run_dask(tasks, client, scheduler, workers, builder, outputs, on_rows, limit):
+    """Run the tasks on Dask, storing each batch as it completes; returns (workers, stopped).
+
+    Without a client, the cluster starts (or the scheduler is reached) in a thread while
+    this process solves the first tasks itself: the seconds a cluster takes to start are
+    not lost.
+    """
+    import concurrent.futures
+
+    try:
+        from dask.distributed import as_completed
     except ImportError as err:  # pragma: no cover - dask is a dependency
         raise SweepError("the Dask mode needs dask[distributed]; use serial=True") from err
+    queue = list(tasks)
+    finished = 0
     cluster = own_client = None
     if client is None:
-        try:
-            if scheduler is not None:
-                own_client = Client(scheduler, timeout="20s")
-            else:
-                cluster = _local_cluster(workers)
-                own_client = Client(cluster)
-        except (OSError, TimeoutError) as err:
-            raise SweepError(
-                f"cannot reach the Dask scheduler {scheduler!r}: {err}; start one "
-                "(`dask scheduler`, or dask-jobqueue on a cluster) or run with --serial"
-            ) from err
+        with concurrent.futures.ThreadPoolExecutor(1) as pool:
+            starting = pool.submit(_connect, scheduler, workers)
+            while queue and not starting.done() and (limit is None or finished < limit):
+                task = queue.pop(0)
+                on_rows(run_batch(task.scene, task.cases, builder, outputs))
+                finished += 1
+            cluster, own_client = starting.result()
         client = own_client
     stopped = False
     try:
         n_workers = len(client.scheduler_info().get("workers", {})) or workers
+        if limit is not None and finished >= limit:
+            return n_workers, bool(queue)
+        total = finished + len(queue)
         futures = [
-            client.submit(run_batch, t.scene, t.cases, builder, outputs, pure=False) for t in tasks
+            client.submit(run_batch, t.scene, t.cases, builder, outputs, pure=False) for t in queue
         ]
-        finished = 0
         for future in as_completed(futures):
             on_rows(future.result())
             finished += 1
-            if limit is not None and finished >= limit and finished < len(futures):
+            if limit is not None and finished >= limit and finished < total:
                 stopped = True
                 client.cancel(futures)
                 break
@@ -368,7 +395,8 @@ def sweep(
     workers : int, optional
         Local cluster processes (default: the machine's cores).
     batch : int, optional
-        Cases per task (default: enough tasks for 4 per worker, at most ``MAX_BATCH``).
+        Cases per task (default: ``TASKS_PER_WORKER`` tasks per worker, at most ``MAX_BATCH``
+        cases each).
     limit : int, optional
         Stop after this many tasks (the store keeps them; re-run to complete).
     progress : bool
