@@ -171,3 +171,11 @@ def test_console_script_bad_scene_has_no_traceback(tmp_path):
     )  # fmt: skip
     assert done.returncode == 2
     assert "Traceback" not in done.stderr and len(done.stderr.strip().splitlines()) == 1
+
+
+def test_long_run_prints_a_progress_line_with_the_estimate(tmp_path, monkeypatch, capsys):
+    """A run estimated above two seconds says so on stderr before it starts."""
+    monkeypatch.setattr(resources, "SECONDS_PER_DOF2", 1e-4)
+    assert cli.main(["demo", "--pairs", "21", "--out", str(tmp_path / "o"), *FAST]) == 0
+    err = capsys.readouterr().err
+    assert "fretbem: running, estimated" in err and "boundary DOFs" in err

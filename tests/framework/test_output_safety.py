@@ -210,3 +210,13 @@ def test_docs_list_every_column_with_its_unit():
     assert set(output.CSV_COLUMNS) <= rows
     for key, (unit, _) in output.SUMMARY_KEYS.items():
         assert key.split(",")[0] in page and (not unit or unit in page)
+
+
+def test_replacement_without_atomic_exchange_is_whole(result, tmp_path, monkeypatch):
+    """Where renameat2 is missing the old output is renamed aside, then the new one in."""
+    monkeypatch.setattr(output, "_exchange", lambda a, b: False)
+    out = write_results(result, tmp_path / "out", figures=False, vtk=False)
+    (out / "stale.txt").write_text("old")
+    write_results(result, out, figures=False, vtk=False)
+    assert "stale.txt" not in _files(out)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
