@@ -2,12 +2,16 @@
 
 from .complementarity import CondensedArrays, LcpIncrement, solve_lcp_increment
 from .lemke import LcpSolution, LemkeError, lemke
+from .pivoting import LemkeSolver, PivotingError, UnsupportedLawError
 
 __all__ = [
     "CondensedArrays",
     "LcpIncrement",
     "LcpSolution",
     "LemkeError",
+    "LemkeSolver",
+    "PivotingError",
+    "UnsupportedLawError",
     "lemke",
     "solve_lcp_increment",
 ]

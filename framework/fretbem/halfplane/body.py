@@ -1,0 +1,204 @@
+"""The half-plane body model: a semi-infinite elastic body with a discretised contact face.
+
+Only the contact face is discretised (any basis family); its response comes in closed form
+from :class:`~fretbem.halfplane.surface.HalfPlaneSurface`. A pad modelled as a half-plane
+is driven by a loading block (the rigid far field: u += delta, and the block carries the
+face's resultant); a specimen without a block responds to the history's ``"bulk"`` load, a
+uniform far-field stress sigma_xx.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import attrs
+import numpy as np
+
+from .. import bases
+from .._validators import positive
+from ..basis import Basis, Refinement
+from ..body import Body, ContactFace, ContactResponse
+from ..conditions import LoadingBlock
+from ..geometry.nurbs import NurbsCurve
+from ..material import Material
+from .influence import DEFAULT_DATUM
+from .surface import HalfPlaneSurface
+
+#: the history-driven load a half-plane specimen (no loading block) responds to
+BULK = "bulk"
+
+
+@attrs.frozen(eq=False)
+class HalfPlaneSolution:
+    """Surface fields of a solved half-plane body.
+
+    Attributes
+    ----------
+    body : HalfPlaneBody
+    points : ndarray, shape (n, 2)
+        Face nodes.
+    tractions, displacements : ndarray, shape (n, 2)
+        Traction on the body and displacement at the face nodes.
+    block_displacement : ndarray, shape (2,)
+    loads : dict
+        Load amplitudes by name.
+    """
+
+    body: HalfPlaneBody
+    points: np.ndarray
+    tractions: np.ndarray
+    displacements: np.ndarray
+    block_displacement: np.ndarray
+    loads: dict
+
+    def displacement(self, x) -> np.ndarray:
+        """Surface displacement (m, 2) at abscissae ``x`` (anywhere on the surface line)."""
+        x = np.asarray(x, dtype=float).ravel()
+        surface = self.body.surface
+        u = surface.node_map(x) @ self.tractions.ravel()
+        u += self.block_displacement if self.body.loading_block is not None else 0.0
+        if BULK in self.body.load_names:
+            u += surface.bulk_displacement(x) * self.loads.get(BULK, 0.0)
+        return u
+
+
+@attrs.frozen(eq=False)
+class HalfPlaneBody(Body):
+    """An elastic half-plane whose contact face is the only discretised boundary.
+
+    Attributes
+    ----------
+    face : NurbsCurve
+        The contact face's profile, running monotonically in x: a straight line for a flat
+        specimen, the arc of a cylindrical pad. Its points give the contact geometry; the
+        elasticity is that of the half-plane under the straight surface (see
+        :class:`~fretbem.halfplane.surface.HalfPlaneSurface`).
+    material : Material
+    side : str
+        "lower": the body lies below its surface (a specimen, outward normal +y);
+        "upper": above it (a pad, outward normal -y).
+    basis : str or Basis subclass
+        Basis family discretising the face.
+    refinement : Refinement
+    loading_block : LoadingBlock or None
+        The rigid far field of a pad, driven by the load history (its tag is not used).
+        Without it the body is held at infinity and responds to the ``"bulk"`` load.
+    datum : float
+        Distance (mm) from a line load at which its ln r displacement is zero (10 mm by
+        default, a typical specimen thickness).
+    bulk_origin : float
+        x where the bulk-stress displacement is zero.
+    tag : str
+        The tag under which the face is known to contact pairs.
+    name : str
+    """
+
+    face: NurbsCurve = attrs.field(validator=attrs.validators.instance_of(NurbsCurve))
+    material: Material = attrs.field(validator=attrs.validators.instance_of(Material))
+    side: str = "lower"
+    basis: str | type[Basis] = "nurbs"
+    refinement: Refinement = attrs.field(factory=Refinement)
+    loading_block: LoadingBlock | None = None
+    datum: float = attrs.field(default=DEFAULT_DATUM, converter=float, validator=positive)
+    bulk_origin: float = attrs.field(default=0.0, converter=float)
+    tag: str = "contact"
+    name: str = "half-plane"
+    _cache: dict = attrs.field(init=False, factory=dict, repr=False)
+
+    def __attrs_post_init__(self) -> None:
+        if self.loading_block is not None and not isinstance(self.loading_block, LoadingBlock):
+            raise TypeError(
+                f"body {self.name!r}: loading_block must be a LoadingBlock or None, got "
+                f"{self.loading_block!r}"
+            )
+        self.surface  # noqa: B018 - checks the side and the face now, not at first use
+
+    @property
+    def surface(self) -> HalfPlaneSurface:
+        """The discretised surface operator (computed once)."""
+        if "surface" not in self._cache:
+            family = bases.get(self.basis)
+            face = family.discretise(self.face, self.refinement)
+            self._cache["surface"] = HalfPlaneSurface(
+                face, self.material, self.side, self.datum, self.bulk_origin
+            )
+        return self._cache["surface"]
+
+    @property
+    def load_names(self) -> tuple[str, ...]:
+        """("bulk",) for a specimen (no loading block); a pad responds to no named load."""
+        return () if self.loading_block is not None else (BULK,)
+
+    @property
+    def dofs(self) -> int:
+        """Unknowns of the discretised body: two traction components per face node."""
+        return 2 * self.surface.face.n_functions
+
+    def describe(self) -> dict:
+        """Model, basis family and face degree for the run summary."""
+        return {
+            "model": "half-plane",
+            "basis": bases.get(self.basis).name,
+            "degree": self.surface.face.degree,
+        }
+
+    def _check_tag(self, tag: str) -> None:
+        if tag != self.tag:
+            raise KeyError(
+                f"body {self.name!r} is a half-plane whose only face is tagged {self.tag!r}, "
+                f"but tag {tag!r} was asked for; use {self.tag!r} in the contact pair"
+            )
+
+    def contact_face(self, tag: str) -> ContactFace:
+        """The face nodes (collocation points of the face discretisation) and normals."""
+        self._check_tag(tag)
+        surface = self.surface
+        return ContactFace(surface.points, surface.normals)
+
+    def contact_response(self, tag: str) -> ContactResponse:
+        """u = A t (+ delta for a pad, + eps(x) sigma_B for a specimen), in closed form."""
+        self._check_tag(tag)
+        if "response" not in self._cache:
+            self._cache["response"] = self._response()
+        return self._cache["response"]
+
+    def _response(self) -> ContactResponse:
+        surface = self.surface
+        n = len(surface.points)
+        force = surface.contact_force()
+        has_block = self.loading_block is not None
+        block_map = np.zeros((n, 2, 2))
+        load_map = np.zeros((n, 2, len(self.load_names)))
+        r_traction = np.zeros((2, 2 * n))
+        if has_block:
+            block_map[:, 0, 0] = block_map[:, 1, 1] = 1.0
+            r_traction = -force  # the block balances the face tractions
+        else:
+            load_map[:, :, 0] = surface.bulk_displacement(surface.points[:, 0])
+        arrays = {
+            "base": np.zeros((n, 2)),
+            "traction_map": np.array(surface.traction_map),
+            "block_map": block_map,
+            "load_map": load_map,
+            "r_base": np.zeros(2),
+            "r_traction": r_traction,
+            "r_block": np.zeros((2, 2)),
+            "r_load": np.zeros((2, len(self.load_names))),
+            "contact_force": force,
+        }
+        for value in arrays.values():
+            value.setflags(write=False)
+        return ContactResponse(**arrays, has_block=has_block)
+
+    def solution(
+        self, tag: str, tractions: np.ndarray, block: np.ndarray, loads: Mapping[str, float]
+    ) -> HalfPlaneSolution:
+        """Face tractions (n, 2) on the body, displacements at the nodes, block and loads."""
+        self._check_tag(tag)
+        tractions = np.asarray(tractions, dtype=float).reshape(-1, 2)
+        block = np.asarray(block, dtype=float)
+        amplitudes = [float(loads.get(name, 0.0)) for name in self.load_names]
+        u = self.contact_response(tag).displacement(tractions, block, amplitudes)
+        return HalfPlaneSolution(
+            self, self.surface.points, tractions, u, block, {k: float(v) for k, v in loads.items()}
+        )

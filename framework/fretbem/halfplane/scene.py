@@ -1,0 +1,55 @@
+"""The half-plane as a body model a scene can choose (``models = {"lower": "half-plane"}``).
+
+The scene describes each body as for the BEM model (boundary, conditions, refinement); the
+half-plane keeps only the contact face (its profile, discretisation and the loading block)
+and replaces the rest of the body by the half-plane under that face.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+from ..basis import Basis, Refinement
+from ..conditions import Condition, LoadingBlock
+from ..geometry.boundary import Boundary
+from ..material import Material
+from .body import HalfPlaneBody
+
+#: the name scenes use for this model
+MODEL = "half-plane"
+
+
+def half_plane_model(
+    label: str,
+    *,
+    scene: Any,
+    boundary: Boundary,
+    material: Material,
+    conditions: Sequence[Condition],
+    family: type[Basis],
+    refinement: Mapping[str, Refinement],
+    tag: str = "contact",
+) -> HalfPlaneBody:
+    """The ``label`` body ("upper": a pad above its surface; "lower": a specimen below it).
+
+    Keeps the face tagged ``tag`` (one segment) with its refinement and a loading block if
+    the body has one; supports and other segments describe the finite body only.
+    """
+    segments = [segment for segment in boundary.segments if segment.tag == tag]
+    if len(segments) != 1:
+        raise ValueError(
+            f"the half-plane model of the {label} body needs exactly one segment tagged "
+            f"{tag!r} as its face, but the boundary has {len(segments)}; tag one segment"
+        )
+    block = next((c for c in conditions if isinstance(c, LoadingBlock)), None)
+    return HalfPlaneBody(
+        segments[0].curve,
+        material,
+        side="upper" if label == "upper" else "lower",
+        basis=family,
+        refinement=refinement.get(tag, Refinement()),
+        loading_block=block,
+        tag=tag,
+        name=label,
+    )

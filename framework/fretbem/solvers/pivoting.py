@@ -1,0 +1,100 @@
+"""The pivoting solver: each increment as one LCP, solved exactly by Lemke's method.
+
+An independent algorithm for the same condensed problem as the semi-smooth Newton method
+(:mod:`fretbem.solvers.complementarity` has the formulation): the tests cross-check the
+two, and a user whose Newton iteration fails may choose this one instead.
+"""
+
+from __future__ import annotations
+
+import attrs
+import numpy as np
+from threadpoolctl import threadpool_limits
+
+from ..condensation import CondensedContact
+from ..law import ContactLaw, ContactState, CoulombFriction
+from ..solver import IncrementResult, Solver, SolverConvergenceError, SolverSettingsError
+from .complementarity import CondensedArrays, solve_lcp_increment
+from .lemke import LemkeError
+
+
+class PivotingError(SolverConvergenceError):
+    """Lemke's method found no solution of an increment (ray termination or pivot limit)."""
+
+
+class UnsupportedLawError(ValueError):
+    """A contact law the pivoting solver has no LCP form for."""
+
+
+def _pivots(instance, attribute, value) -> None:
+    if value is not None and not (isinstance(value, int) and value >= 1):
+        raise SolverSettingsError(
+            f"LemkeSolver.max_pivots must be None (50 x the LCP size) or a whole number >= 1, "
+            f"got {value!r}"
+        )
+
+
+def _substeps(instance, attribute, value) -> None:
+    if not (isinstance(value, int) and value >= 0):
+        raise SolverSettingsError(
+            f"LemkeSolver.max_substeps must be a whole number >= 0, got {value!r}"
+        )
+
+
+@attrs.frozen
+class LemkeSolver(Solver):
+    """Lemke's complementary pivoting method on the LCP form of Coulomb friction.
+
+    Exact to round-off in finitely many pivots, with no convergence parameters; reports its
+    pivots as the increment's iterations.
+
+    Attributes
+    ----------
+    max_pivots : int or None
+        Pivots per increment before giving up (None: 50 times the LCP size).
+    max_substeps : int
+        Times the Simulation may halve an increment this solver failed on (default 0).
+    """
+
+    max_pivots: int | None = attrs.field(default=None, validator=_pivots)
+    max_substeps: int = attrs.field(default=0, validator=_substeps)
+
+    def solve_increment(
+        self,
+        problem: CondensedContact,
+        law: ContactLaw,
+        *,
+        forces: np.ndarray,
+        loads: np.ndarray,
+        previous: ContactState,
+        start: ContactState | None,
+    ) -> IncrementResult:
+        """Solve one increment from scratch (``start`` is not needed by a pivoting method)."""
+        if not isinstance(law, CoulombFriction):
+            raise UnsupportedLawError(
+                f"the Lemke solver has the LCP form of Coulomb friction only, but the law is "
+                f"{type(law).__name__}; use CoulombFriction, or the SemiSmoothNewton solver "
+                "for other laws"
+            )
+        normal_base, tangential_base, resultant_base = problem.bases(loads)
+        arrays = CondensedArrays(
+            normal_map=problem.normal_map,
+            tangential_map=problem.tangential_map,
+            normal_base=normal_base,
+            tangential_base=tangential_base,
+            resultant_map=problem.resultant_map,
+            resultant_base=resultant_base,
+            gap=problem.gap,
+        )
+        try:
+            with threadpool_limits(limits=1, user_api="blas"):
+                result = solve_lcp_increment(
+                    arrays,
+                    friction=law.friction,
+                    forces=forces,
+                    reference_slip=previous.slip,
+                    max_pivots=self.max_pivots,
+                )
+        except LemkeError as failure:
+            raise PivotingError(str(failure)) from failure
+        return IncrementResult(result.x, result.states, result.pivots, (result.residual,))
