@@ -106,8 +106,12 @@ def check_one(data: dict, root: Path) -> None:
     path.write_text(to_toml(data))
     out = root / "out"
     err = io.StringIO()
-    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(err):
-        code = cli.main(["run", str(path), "--out", str(out), "--no-figures", "--no-vtk"])
+    with (
+        contextlib.chdir(root),  # relative paths written by mistake would land in root
+        contextlib.redirect_stdout(io.StringIO()),
+        contextlib.redirect_stderr(err),
+    ):
+        code = cli.main(["run", str(path), "--out", "out", "--no-figures", "--no-vtk"])
     lines = err.getvalue().strip().splitlines()
     event(f"exit code {code}")
     assert "Traceback" not in err.getvalue()
