@@ -282,6 +282,19 @@ BENCHMARKS = {
 }
 
 
+def _merge(old: dict, new: dict) -> None:
+    """Update ``old`` with ``new``; rows of a series are replaced size by size, so a run of
+    some sizes (e.g. --large alone) keeps the others."""
+    for key, value in new.items():
+        if isinstance(value, list) and isinstance(old.get(key), list):
+            ident = (lambda r: (r.get("family"), r["pairs"])) if value else None
+            rows = {ident(r): r for r in old[key]}
+            rows.update({ident(r): r for r in value})
+            old[key] = sorted(rows.values(), key=lambda r: (str(r.get("family")), r["pairs"]))
+        else:
+            old[key] = value
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--only", nargs="+", choices=list(BENCHMARKS), default=list(BENCHMARKS))
@@ -306,7 +319,7 @@ def main(argv=None) -> int:
         if os.path.exists(args.json):
             with open(args.json) as handle:
                 data = json.load(handle)
-        data.setdefault(args.label, {}).update(out)
+        _merge(data.setdefault(args.label, {}), out)
         with open(args.json, "w") as handle:
             json.dump(data, handle, indent=1, default=float)
     return 0
