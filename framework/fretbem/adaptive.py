@@ -25,6 +25,8 @@ __all__ = [
     "AdaptiveError",
     "AdaptiveResult",
     "AdaptiveSettings",
+    "Transitions",
+    "aligned",
     "aligned_breakpoints",
     "pairs_for",
     "remesh",
@@ -38,7 +40,7 @@ MERGE = 2e-3
 #: collocation point just inside the true edge sees the square root of the pressure (an edge
 #: 0.05 % too far in costs 2 % of p0 at 61 pairs) while one just outside costs little
 #: (0.2 % out: +0.6 %); measured on the reference scene, docs/explanation/adaptive.rst
-EDGE_MARGIN = 1e-3
+EDGE_MARGIN = 3e-3
 
 
 class AdaptiveError(ValueError):
@@ -67,21 +69,33 @@ class AdaptiveSettings:
         Pairs of the first, uniform level that finds the transitions.
     ratio : float
         Largest over smallest element of the graded levels (>= 1).
+    grading : float
+        Distance (fraction of the face's parameter) over which elements grow to full size.
+    edge_peak : float
+        Element density at contact edges relative to stick-slip boundaries (0, 1]: edges
+        are graded less, see docs/explanation/adaptive.rst.
     max_levels : int
         Most aligned levels after the first.
     """
 
     tolerance: float = attrs.field(default=0.005, converter=float)
     budget: int = attrs.field(default=61, validator=_budget)
-    first: int = attrs.field(default=21, validator=_budget)
+    first: int = attrs.field(default=31, validator=_budget)
     ratio: float = attrs.field(default=10.0, converter=float)
     max_levels: int = attrs.field(default=2, converter=int)
+    grading: float = attrs.field(default=0.06, converter=float)
+    edge_peak: float = attrs.field(default=0.5, converter=float)
 
     def __attrs_post_init__(self) -> None:
         if not (0.0 < self.tolerance < 1.0):
             raise AdaptiveError(
                 f"AdaptiveSettings.tolerance is a fraction of p0, 0 < tolerance < 1; got "
                 f"{self.tolerance!r} (e.g. 0.005 for 0.5 %)"
+            )
+        if not (0.0 < self.grading <= 1.0 and 0.0 < self.edge_peak <= 1.0):
+            raise AdaptiveError(
+                f"AdaptiveSettings.grading and edge_peak must lie in (0, 1], got "
+                f"{self.grading!r} and {self.edge_peak!r}"
             )
         if not (self.ratio >= 1.0 and math.isfinite(self.ratio)):
             raise AdaptiveError(f"AdaptiveSettings.ratio must be >= 1, got {self.ratio!r}")
@@ -152,20 +166,54 @@ def _stick_boundaries(x, p, q, states, friction) -> list[float]:
     return out
 
 
-def transitions(result) -> np.ndarray:
-    """Contact edges and stick-slip boundaries of every step, positions along the face.
+def _merge(values: list[float], tolerance: float) -> np.ndarray:
+    """Sorted values with those closer than ``tolerance`` averaged into one."""
+    merged: list[float] = []
+    for value in np.sort(np.array(values, float)):
+        if merged and value - merged[-1] < tolerance:
+            merged[-1] = 0.5 * (merged[-1] + value)
+        else:
+            merged.append(float(value))
+    return np.array(merged)
+
+
+@attrs.frozen(eq=False)
+class Transitions:
+    """Transition points of a whole history, positions along the contact face.
+
+    Attributes
+    ----------
+    edges : ndarray
+        Contact edges of every step (moved out by :data:`EDGE_MARGIN`).
+    boundaries : ndarray
+        Stick-slip and reverse-slip boundaries of every step.
+    """
+
+    edges: np.ndarray
+    boundaries: np.ndarray
+
+    @property
+    def all(self) -> np.ndarray:
+        """Edges and boundaries together, sorted."""
+        return np.sort(np.concatenate([self.edges, self.boundaries]))
+
+
+def transitions(result) -> Transitions:
+    """Contact edges and stick-slip boundaries of every step of a result.
 
     Edges from a quadratic fit of p**2 over the outer contact nodes (exact for a Hertzian
-    pressure); stick-slip boundaries from a fit of the squared traction reserve f p - |q|
-    over the stick nodes next to the slip zone. Falls back to the midpoint between the
-    nodes on either side where a fit is not possible.
+    pressure); stick-slip boundaries from a linear fit of the squared traction reserve
+    f p - |q| over the three stick nodes next to the slip zone (a square-root fall squared
+    is linear near its zero). Falls back to the midpoint between the nodes on either side
+    where a fit is not possible.
     """
     along = estimate.positions(result)
     order = np.argsort(along)
     x = along[order]
     gap = float(np.min(np.diff(x)))
     friction = result.simulation.pair.friction
-    found: list[float] = []
+    edges: list[float] = []
+    boundaries: list[float] = []
     for step in result.steps:
         p, q, states = step.pressure[order], step.shear[order], step.states[order]
         inside = states != SEPARATED
@@ -174,17 +222,10 @@ def transitions(result) -> np.ndarray:
         k = np.flatnonzero(inside)
         margin = EDGE_MARGIN * 0.5 * (x[k[-1]] - x[k[0]])
         for side in (-1, 1):
-            found.append(_edge(x, p, inside, side, gap) + side * margin)
-        found += _stick_boundaries(x, p, q, states, friction)
-    points = np.sort(np.array(found))
-    length = x[-1] - x[0]
-    merged: list[float] = []
-    for value in points:
-        if merged and value - merged[-1] < MERGE * length:
-            merged[-1] = 0.5 * (merged[-1] + value)
-        else:
-            merged.append(float(value))
-    return np.array(merged)
+            edges.append(_edge(x, p, inside, side, gap) + side * margin)
+        boundaries += _stick_boundaries(x, p, q, states, friction)
+    tolerance = MERGE * (x[-1] - x[0])
+    return Transitions(_merge(edges, tolerance), _merge(boundaries, tolerance))
 
 
 # -- aligned meshes -----------------------------------------------------------------------
@@ -195,18 +236,24 @@ def aligned_breakpoints(
     ratio: float = 4.0,
     grading: float = 0.15,
     centred: bool = False,
+    peaks: np.ndarray | None = None,
 ) -> np.ndarray:
     """Breakpoints in [0, 1]: ``elements`` elements, graded toward ``anchors``.
 
-    Each anchor is a breakpoint, or with ``centred`` the centre of an element. Element size
-    grows linearly with the distance to the nearest anchor, from h there to ``ratio`` h at
-    ``grading`` (fraction of [0, 1]) and beyond; the gaps between anchors get whole numbers
-    of elements that equidistribute that size.
+    Each anchor is a breakpoint, or with ``centred`` the centre of an element. Element
+    density falls linearly with the distance to an anchor, from ``peaks`` (default 1) at it
+    to 1 / ``ratio`` at ``grading`` (fraction of [0, 1]) and beyond; the gaps between
+    anchors get whole numbers of elements that equidistribute it.
     """
-    anchors = np.sort(np.asarray(anchors, float))
-    anchors = anchors[(anchors > MERGE) & (anchors < 1.0 - MERGE)]
+    anchors = np.asarray(anchors, float)
+    peaks = np.ones(anchors.size) if peaks is None else np.asarray(peaks, float)
+    order = np.argsort(anchors)
+    anchors, peaks = anchors[order], peaks[order]
+    keep = (anchors > MERGE) & (anchors < 1.0 - MERGE)
+    anchors, peaks = anchors[keep], peaks[keep]
     if anchors.size > 1:  # coincident transitions share one anchor
-        anchors = anchors[np.concatenate([[True], np.diff(anchors) > MERGE])]
+        keep = np.concatenate([[True], np.diff(anchors) > MERGE])
+        anchors, peaks = anchors[keep], peaks[keep]
     m = anchors.size
     fixed = m if centred else 0
     if elements < m + 1 + fixed:
@@ -218,8 +265,8 @@ def aligned_breakpoints(
         return np.linspace(0.0, 1.0, elements + 1)
     slope = (ratio - 1.0) / grading
     grid = np.linspace(0.0, 1.0, 8001)
-    distance = np.min(np.abs(grid[:, None] - anchors[None, :]), axis=1)
-    rho = 1.0 / (1.0 + slope * np.minimum(distance, grading))
+    distance = np.abs(grid[:, None] - anchors[None, :])
+    rho = np.maximum(1.0 / ratio, np.max(peaks / (1.0 + slope * distance), axis=1))
     cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (rho[1:] + rho[:-1]) * np.diff(grid))])
     spacing = np.diff(np.concatenate([[-anchors[0]], anchors, [2.0 - anchors[-1]]]))
     room = 0.3 * np.minimum(spacing[:-1], spacing[1:])
@@ -270,7 +317,17 @@ def elements_for(family, pairs: int, degree: int | None = None) -> int:
     return max(1, math.floor((pairs - extra) / per))
 
 
-def remesh(simulation, anchors: np.ndarray, pairs: int, *, ratio: float = 4.0, centred=False):
+def remesh(
+    simulation,
+    anchors: np.ndarray,
+    pairs: int,
+    *,
+    ratio: float = 4.0,
+    grading: float = 0.15,
+    centred: bool = False,
+    edges: np.ndarray | None = None,
+    edge_peak: float = 1.0,
+):
     """The simulation with both contact faces re-meshed toward ``anchors``, <= ``pairs`` pairs.
 
     ``anchors`` are positions along the pair tangent. Each becomes a breakpoint where the
@@ -288,14 +345,19 @@ def remesh(simulation, anchors: np.ndarray, pairs: int, *, ratio: float = 4.0, c
     # the segments' own curves (not the refined ones, whose knots would be kept)
     up_curve = pair.upper.boundary.segments[up_index].curve
     low_curve = pair.lower.boundary.segments[low_index].curve
-    sigma = estimate.parameter_of(up_curve, tangent)(np.asarray(anchors, float))
+    edges = np.zeros(0) if edges is None else np.asarray(edges, float)
+    peaks = np.concatenate([np.ones(np.size(anchors)), np.full(edges.size, edge_peak)])
+    anchors = np.concatenate([np.asarray(anchors, float).ravel(), edges])
+    sigma = estimate.parameter_of(up_curve, tangent)(anchors)
     flip = bool((up_curve.points([1.0])[0] - up_curve.points([0.0])[0]) @ tangent < 0)
     if flip:
         sigma = 1.0 - sigma
     low_inverse = estimate.parameter_of(low_curve, tangent)
 
     def build(elements):
-        bounds = aligned_breakpoints(sigma, elements, ratio=ratio, centred=centred)
+        bounds = aligned_breakpoints(
+            sigma, elements, ratio=ratio, grading=grading, centred=centred, peaks=peaks
+        )
         if flip:
             bounds = (1.0 - bounds)[::-1]
         marks = [] if centred else [bounds[np.argmin(np.abs(bounds - t))] for t in sigma]
@@ -336,8 +398,8 @@ class AdaptiveResult:
     ----------
     levels : tuple of SimulationResult
         First (uniform) level first; the last is the answer.
-    transitions : tuple of ndarray
-        Transition positions used to build each aligned level.
+    transitions : tuple of Transitions
+        Transitions used to build each aligned level.
     estimate : dict
         Per step name, the estimated error of the last level (keys of StepResult.errors).
     seconds : float
@@ -378,6 +440,19 @@ def _level_pairs(settings: AdaptiveSettings, family, degree) -> list[int]:
     return counts[::-1]
 
 
+def aligned(simulation, found: Transitions, pairs: int, settings: AdaptiveSettings):
+    """The simulation re-meshed for ``found`` with at most ``pairs`` pairs (not solved)."""
+    return remesh(
+        simulation,
+        found.boundaries,
+        pairs,
+        ratio=settings.ratio,
+        grading=settings.grading,
+        edges=found.edges,
+        edge_peak=settings.edge_peak,
+    )
+
+
 def run_adaptive(simulation, settings: AdaptiveSettings | None = None) -> AdaptiveResult:
     """Solve, find the transitions, re-mesh aligned, and re-solve until tolerance or budget.
 
@@ -397,9 +472,11 @@ def run_adaptive(simulation, settings: AdaptiveSettings | None = None) -> Adapti
     found = []
     estimated: dict = {}
     for k, pairs in enumerate(counts):
-        centres = transitions(levels[-1])
-        found.append(centres)
-        levels.append(_solve(remesh(simulation, centres, pairs, ratio=settings.ratio)))
+        latest = transitions(levels[-1])
+        if found:  # edges from the uniform level: an aligned level biases their fit inward
+            latest = Transitions(found[0].edges, latest.boundaries)
+        found.append(latest)
+        levels.append(_solve(aligned(simulation, found[-1], pairs, settings)))
         if k >= 1 and k >= len(counts) - 2:
             estimated = estimate.estimate_errors(levels[-2], levels[-1])
             worst = max(max(e["e_p_max"], e["e_q_max"]) for e in estimated.values())
