@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from fretbem.basis import Refinement
-from fretbem.body import Body
+from fretbem.bem_body import BemBody
 from fretbem.conditions import Displacement, Traction
 from fretbem.geometry.boundary import Boundary, Segment
 from fretbem.geometry.nurbs import NurbsCurve
@@ -65,10 +65,10 @@ def hoop_stress(r):
     return A**2 * P / (B**2 - A**2) * (1 + B**2 / r**2)
 
 
-def make_body(family: str, elements: int) -> Body:
+def make_body(family: str, elements: int) -> BemBody:
     """The Lamé body with ``elements`` uniform elements on every segment."""
     pressure = [lambda x, c=c: P * x[:, c] / np.linalg.norm(x, axis=1) for c in range(2)]
-    return Body(
+    return BemBody(
         BOUNDARY,
         Material(E, NU),
         [

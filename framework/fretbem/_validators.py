@@ -52,3 +52,18 @@ def float_array(value: Any) -> np.ndarray:
     arr = np.array(value, dtype=float)
     arr.setflags(write=False)
     return arr
+
+
+def count(instance: Any, attribute: Any, value: Any) -> None:
+    """Require a whole number >= 1 (booleans rejected)."""
+    if isinstance(value, bool) or int(value) != value or value < 1:
+        raise ValueError(f"{attribute.name} must be a whole number >= 1, got {value!r}")
+
+
+def poisson(instance: Any, attribute: Any, value: Any) -> None:
+    """Require a Poisson's ratio in (-1, 0.5), the range of a stable isotropic material."""
+    if not (-1.0 < value < 0.5):
+        raise ValueError(
+            f"Poisson's ratio {attribute.name} must lie in (-1, 0.5) for a stable isotropic "
+            f"material, got {value!r}"
+        )

@@ -327,8 +327,7 @@ def check_steps(result, *, raise_error: bool = True) -> list[dict[str, CheckReco
     friction = float(facts.get("friction", math.nan))
     out = []
     for s in result.steps:
-        n = len(s.x)
-        blocks = np.asarray(s.unknowns, float)[2 * n :]
+        blocks = np.concatenate([np.zeros(0), *s.pair_unknowns.blocks.values()])
         block = float(np.max(np.abs(blocks))) if blocks.size else 0.0
         records = {
             "equilibrium": equilibrium(

@@ -35,6 +35,14 @@ def evaluate(component: Component, points: np.ndarray) -> np.ndarray:
     return values
 
 
+def _load_name(instance, attribute, value) -> None:
+    if not isinstance(value, str) or not value.strip():
+        raise ValueError(
+            f"{type(instance).__name__}.{attribute.name} must be a non-empty load name such as "
+            f"'bulk', or None for a fixed traction; got {value!r}"
+        )
+
+
 @attrs.frozen
 class Displacement:
     """Prescribed displacement; both components fixed at zero by default.
@@ -54,15 +62,22 @@ class Displacement:
 class Traction:
     """Prescribed traction (force per length on the surface); zero by default.
 
+    With ``load`` set, the values are per unit of that named load amplitude, which the load
+    history drives (``LoadStep(loads={"bulk": sigma_B})``): ``Traction("end", x=1.0,
+    load="bulk")`` is a bulk stress sigma_B on the end.
+
     Attributes
     ----------
     tag : str
     x, y : float, callable or None
+    load : str or None
+        Name of the history load scaling this traction (None: a fixed traction).
     """
 
     tag: str
     x: Component = attrs.field(default=0.0, validator=_component)
     y: Component = attrs.field(default=0.0, validator=_component)
+    load: str | None = attrs.field(default=None, validator=attrs.validators.optional(_load_name))
 
 
 @attrs.frozen

@@ -1,75 +1,186 @@
-"""Contact pairs: facing collocation points, local frames, gaps, and the condensed problem.
+"""Contact pairs: which points of two contact faces face each other, their frame and gap.
 
-The pair's unknowns are the pressure p and shear q at each node pair (the traction the
-upper body exerts on the lower one, in the lower body's frame: t_lower = -p n + q t).
-Each body's collocation system is condensed onto them once, so relative displacements
-are an affine function of (p, q, loading-block displacements).
+A :class:`ContactPair` knows two bodies and the tags of their faces that may touch; its
+:meth:`~ContactPair.pairing` says how the faces are paired (the :class:`Pairing` record).
+The pair's unknowns are the pressure p and shear q at each pair point (the traction the
+upper body exerts on the lower one, in the pair frame: t_lower = -p n + q t). The
+condensation (:class:`~fretbem.condensation.CondensedContact`) and the solvers use only
+the Pairing, so a new pairing (node to segment, mortar) needs no change to either.
 """
 
 from __future__ import annotations
 
-import time
+from abc import ABC, abstractmethod
+from collections.abc import Mapping
+from typing import TYPE_CHECKING
 
 import attrs
 import numpy as np
 
-from ._validators import non_negative
 from .body import Body
+from .law import STATE_NAMES, PairState
 
-SEPARATED, STICK, SLIP = 0, 1, 2
-STATE_NAMES = ("separated", "stick", "slip")
+if TYPE_CHECKING:  # pragma: no cover
+    from .condensation import CondensedContact
+
+#: pair states (kept as plain names for array comparisons)
+SEPARATED, STICK, SLIP = PairState.SEPARATED, PairState.STICK, PairState.SLIP
+
+__all__ = [
+    "SEPARATED",
+    "SLIP",
+    "STATE_NAMES",
+    "STICK",
+    "ContactDiscretisationError",
+    "ContactPair",
+    "NodeToNodePair",
+    "Pairing",
+]
 
 
 class ContactDiscretisationError(ValueError):
-    """The two sides of a contact pair cannot be paired node to node."""
+    """The two sides of a contact pair cannot be paired as the pairing requires."""
+
+
+def _frozen_array(value) -> np.ndarray:
+    array = np.array(value)
+    array.setflags(write=False)
+    return array
 
 
 @attrs.frozen(eq=False)
-class ContactPair:
-    """Two bodies and the tagged segments that may touch, with Coulomb friction.
+class Pairing:
+    """Which points of the two faces face each other, in which frame, at which gap.
+
+    Pair k joins a point of the lower face and a point of the upper face. Node-to-node
+    pairings give the face nodes (``lower_nodes``, ``upper_nodes``, indices into each
+    body's :meth:`~fretbem.body.Body.contact_face`). A pairing whose points are not face
+    nodes (node to segment, mortar) also gives, per side, an interpolation matrix W
+    (n_pairs, n_face_nodes): the displacement at the pair points is W @ (node values),
+    and the pair tractions reach the face nodes through W.T; ``*_nodes`` then name the
+    nearest node, for reporting. The condensation uses only :meth:`gather` and
+    :meth:`scatter`, so it works unchanged for any pairing.
+
+    Attributes
+    ----------
+    lower_nodes, upper_nodes : ndarray of int, shape (n,)
+    points : ndarray, shape (n, 2)
+        Pair positions (on the lower face).
+    normals, tangents : ndarray, shape (n, 2)
+        The pair frame: the lower face's outward normal and the tangent (n_y, -n_x).
+    gap : ndarray, shape (n,)
+        Initial normal gap (>= 0).
+    interpolation : mapping of "lower"/"upper" to ndarray (n, n_face), optional
+    """
+
+    lower_nodes: np.ndarray = attrs.field(converter=_frozen_array)
+    upper_nodes: np.ndarray = attrs.field(converter=_frozen_array)
+    points: np.ndarray = attrs.field(converter=_frozen_array)
+    normals: np.ndarray = attrs.field(converter=_frozen_array)
+    tangents: np.ndarray = attrs.field(converter=_frozen_array)
+    gap: np.ndarray = attrs.field(converter=_frozen_array)
+    interpolation: Mapping[str, np.ndarray] = attrs.field(factory=dict)
+
+    @property
+    def n_pairs(self) -> int:
+        """Number of pairs."""
+        return len(self.gap)
+
+    def nodes(self, side: str) -> np.ndarray:
+        """Face node of each pair on ``side`` ("lower" or "upper")."""
+        return {"lower": self.lower_nodes, "upper": self.upper_nodes}[side]
+
+    def gather(self, side: str, values: np.ndarray, axis: int = 0) -> np.ndarray:
+        """Face-node values along ``axis`` -> values at the pair points (W @ values)."""
+        matrix = self.interpolation.get(side)
+        if matrix is None:
+            return np.take(values, self.nodes(side), axis=axis)
+        return np.moveaxis(np.tensordot(matrix, values, axes=([1], [axis])), 0, axis)
+
+    def scatter(self, side: str, pair_values: np.ndarray, n_nodes: int) -> np.ndarray:
+        """Pair-point values (n, ...) -> face-node values (n_nodes, ...) (W.T @ values)."""
+        matrix = self.interpolation.get(side)
+        if matrix is not None:
+            return np.tensordot(matrix.T, pair_values, axes=1)
+        out = np.zeros((n_nodes, *pair_values.shape[1:]))
+        out[self.nodes(side)] = pair_values
+        return out
+
+
+@attrs.frozen(eq=False)
+class ContactPair(ABC):
+    """Two bodies and the tagged faces that may touch; subclasses say how they pair.
+
+    Friction is not a property of the pair: it belongs to the contact law
+    (:class:`~fretbem.law.CoulombFriction`) the Simulation holds.
 
     Attributes
     ----------
     upper, lower : Body
-        The lower body's normal on the contact segment defines the pair frame.
-    friction : float
-        Coulomb coefficient f >= 0.
+        The lower body's outward normal on its face defines the pair frame.
     upper_tag, lower_tag : str
-        Tags of the segments that may touch.
+        Tags of the faces that may touch.
     """
 
-    upper: Body
-    lower: Body
-    friction: float = attrs.field(converter=float, validator=non_negative)
+    upper: Body = attrs.field(validator=attrs.validators.instance_of(Body))
+    lower: Body = attrs.field(validator=attrs.validators.instance_of(Body))
     upper_tag: str = "contact"
     lower_tag: str = "contact"
     _cache: dict = attrs.field(init=False, factory=dict, repr=False)
 
     def __attrs_post_init__(self) -> None:
         for body, tag in ((self.upper, self.upper_tag), (self.lower, self.lower_tag)):
-            body._indices(tag, "the contact pair")
+            body.contact_face(tag)  # an unknown tag is a KeyError naming it, now
 
-    def _side(self, body: Body, tag: str):
-        """Rows of the body's collocation points on the tagged segments, and their E blocks."""
-        indices = body.boundary.indices(tag)
-        colloc = body.collocation
-        rows = np.flatnonzero(np.isin(colloc.segment, indices))
-        return rows, colloc.points[rows], colloc.normals[rows]
+    @abstractmethod
+    def pairing(self) -> Pairing:
+        """The pairing of the two faces (compute it once and cache it in ``self._cache``).
+
+        Raises ContactDiscretisationError naming the cause if the faces cannot be paired.
+        """
+
+    def side(self, label: str) -> tuple[Body, str]:
+        """(body, face tag) of ``label`` ("upper" or "lower")."""
+        return {"upper": (self.upper, self.upper_tag), "lower": (self.lower, self.lower_tag)}[label]
 
     @property
-    def geometry(self) -> dict[str, np.ndarray]:
-        """Pairing and frames: lower/upper collocation rows, positions, normal, tangent, gap."""
-        if "geometry" not in self._cache:
-            self._cache["geometry"] = self._pair_up()
-        return self._cache["geometry"]
+    def n_pairs(self) -> int:
+        """Number of pairs."""
+        return self.pairing().n_pairs
 
-    def _pair_up(self) -> dict[str, np.ndarray]:
-        low_rows, low_points, normals = self._side(self.lower, self.lower_tag)
-        up_rows, up_points, up_normals = self._side(self.upper, self.upper_tag)
-        if len(low_rows) != len(up_rows):
+    def condensed(self) -> CondensedContact:
+        """Both bodies condensed onto the pair unknowns (computed once)."""
+        if "condensed" not in self._cache:
+            from .condensation import CondensedContact
+
+            self._cache["condensed"] = CondensedContact.build(self)
+        return self._cache["condensed"]
+
+
+@attrs.frozen(eq=False)
+class NodeToNodePair(ContactPair):
+    """Face nodes paired one to one: the two faces are discretised alike, nodes facing.
+
+    Facing means the same position along the mean tangent of the lower face; all pairs
+    share one frame (the lower face's mean normal), the half-plane idealisation of a
+    non-conformal contact.
+    """
+
+    def pairing(self) -> Pairing:
+        """Face nodes paired by position along the lower face (computed once)."""
+        if "pairing" not in self._cache:
+            self._cache["pairing"] = self._pair_up()
+        return self._cache["pairing"]
+
+    def _pair_up(self) -> Pairing:
+        lower_face = self.lower.contact_face(self.lower_tag)
+        upper_face = self.upper.contact_face(self.upper_tag)
+        low_points, normals = lower_face.points, lower_face.normals
+        up_points, up_normals = upper_face.points, upper_face.normals
+        if len(low_points) != len(up_points):
             raise ContactDiscretisationError(
-                f"contact pair: the lower segment {self.lower_tag!r} has {len(low_rows)} "
-                f"collocation points but the upper {self.upper_tag!r} has {len(up_rows)}; "
+                f"contact pair: the lower segment {self.lower_tag!r} has {len(low_points)} "
+                f"collocation points but the upper {self.upper_tag!r} has {len(up_points)}; "
                 "discretise both contact segments alike (same family, degree and number of "
                 "elements, mirrored parameters) so their points face each other"
             )
@@ -80,7 +191,7 @@ class ContactPair:
         along = np.abs(offsets @ mean_tangent)
         partner = np.argmin(along, axis=1)
         spacing = np.min(np.linalg.norm(np.diff(low_points, axis=0), axis=1))
-        miss = along[np.arange(len(low_rows)), partner]
+        miss = along[np.arange(len(low_points)), partner]
         bad = np.flatnonzero(miss > 1e-3 * spacing)
         if bad.size or np.unique(partner).size != partner.size:
             k = int(bad[0]) if bad.size else int(np.argmax(np.bincount(partner)))
@@ -108,8 +219,8 @@ class ContactPair:
                 "the side the lower face's normal points to"
             )
         # one frame for all pairs: the mean normal, along which the points face each other
-        # (the half-plane idealisation of a non-conformal contact; a per-point normal of
-        # one curved face would turn part of the normal approach into spurious slip)
+        # (a per-point normal of one curved face would turn part of the normal approach
+        # into spurious slip)
         pair_normals = np.tile(mean_normal, (len(low), 1))
         pair_tangents = np.tile(mean_tangent, (len(low), 1))
         gap = np.einsum("pd,pd->p", up_points[up] - low_points[low], pair_normals)
@@ -120,160 +231,20 @@ class ContactPair:
                 f"{low_points[low][k].round(6)}; move the upper body up so the surfaces touch "
                 "without interpenetration"
             )
-        return {
-            "lower_rows": low_rows[low],
-            "upper_rows": up_rows[up],
-            "points": low_points[low],
-            "normals": pair_normals,
-            "tangents": pair_tangents,
-            "gap": np.maximum(gap, 0.0),
-        }
-
-    @property
-    def n_pairs(self) -> int:
-        """Number of node pairs."""
-        return len(self.geometry["gap"])
-
-    def condensed(self) -> CondensedContact:
-        """Both bodies condensed onto the pair unknowns (computed once)."""
-        if "condensed" not in self._cache:
-            self._cache["condensed"] = CondensedContact.build(self)
-        return self._cache["condensed"]
-
-
-def _side_operator(body: Body, tag: str, rows: np.ndarray, frame_t: np.ndarray):
-    """Affine map from pair tractions (p, q) and block delta to displacement values at ``rows``.
-
-    ``frame_t`` (n_pairs, 2, 2) gives the traction vector on this body at each pair per unit
-    (p, q). Returns (base (n,2), d_lambda (n,2,2n), d_delta (n,2,2), and the block resultant
-    map (r0, R_lambda, R_delta)) or None parts for a body without a block.
-    """
-    contact = (tag,)
-    system = body.system(contact)
-    colloc_rows_all = np.flatnonzero(np.isin(body.collocation.segment, body.boundary.indices(tag)))
-    segments = body.boundary.indices(tag)
-    functions = np.concatenate(
-        [np.arange(*body.function_slice(k).indices(body.n_functions)) for k in segments]
-    )
-    # E restricted to the contact segments: values at their collocation points
-    e_matrix = np.zeros((len(colloc_rows_all), len(functions)))
-    r0 = 0
-    for k in segments:
-        basis = body.segments[k]
-        block = basis.collocation_matrix()
-        n = basis.n_functions
-        e_matrix[r0 : r0 + n, r0 : r0 + n] = block
-        r0 += n
-    position = {int(r): i for i, r in enumerate(colloc_rows_all)}
-    pick = np.array([position[int(r)] for r in rows])  # pair order -> contact-local row
-    n_pairs = len(rows)
-    # pair tractions -> traction values at contact collocation points -> coefficients
-    values = np.zeros((len(functions), 2, 2 * n_pairs))
-    values[pick, :, np.arange(n_pairs)] = frame_t[:, :, 0]
-    values[pick, :, n_pairs + np.arange(n_pairs)] = frame_t[:, :, 1]
-    coefficients = np.linalg.solve(e_matrix, values.reshape(len(functions), -1))
-    coefficients = coefficients.reshape(len(functions), 2, 2 * n_pairs)
-    # system.contact_dofs are function-major (2 a + i) over these functions, in this order
-    contact_coeff = coefficients.reshape(2 * len(functions), 2 * n_pairs)
-    z_lambda = system.contact_response @ contact_coeff  # (2N, 2n)
-
-    def values_at_pairs(z: np.ndarray) -> np.ndarray:
-        """Displacement values at the pairs from unknown vector(s) z (contact u part)."""
-        u_coefficients = z[system.contact_dofs].reshape(len(functions), 2, *z.shape[1:])
-        return np.einsum("cf,f...->c...", e_matrix[pick], u_coefficients)
-
-    base = values_at_pairs(system.base)
-    d_lambda = values_at_pairs(z_lambda)
-    d_delta = values_at_pairs(system.block_response)
-    resultant = None
-    if system.block_dofs.size:
-        resultant = tuple(
-            system.block_resultant(z) for z in (system.base, z_lambda, system.block_response)
-        )
-    return base, d_lambda, d_delta, resultant, (functions, coefficients)
-
-
-@attrs.frozen(eq=False)
-class CondensedContact:
-    """Relative displacements and block resultants as affine maps of x = (p, q, deltas).
-
-    Attributes
-    ----------
-    normal_map, tangential_map : ndarray, shape (n, n_x)
-        Relative normal / tangential displacement (upper minus lower) per unit of x.
-    normal_base, tangential_base : ndarray, shape (n,)
-    resultant_map : ndarray, shape (2 n_blocks, n_x); resultant_base : (2 n_blocks,)
-        Loading-block resultant forces.
-    blocks : tuple of str
-        Which bodies ("upper", "lower") carry a loading block, in the order of x.
-    gap : ndarray
-        Initial normal gap of each pair.
-    seconds : float
-        Wall time of the condensation (excluding assembly).
-    """
-
-    pair: ContactPair
-    normal_map: np.ndarray
-    tangential_map: np.ndarray
-    normal_base: np.ndarray
-    tangential_base: np.ndarray
-    resultant_map: np.ndarray
-    resultant_base: np.ndarray
-    blocks: tuple[str, ...]
-    gap: np.ndarray
-    traction_coefficients: dict
-    seconds: float
-
-    @classmethod
-    def build(cls, pair: ContactPair) -> CondensedContact:
-        """Assemble, factorise and condense both bodies of ``pair`` (timed)."""
-        geo = pair.geometry
-        n = len(geo["gap"])
-        for body, tag in ((pair.upper, pair.upper_tag), (pair.lower, pair.lower_tag)):
-            body.check_supported((tag,), in_contact=True)
-            body.matrices()
-        start = time.perf_counter()
-        normals, tangents = geo["normals"], geo["tangents"]
-        # traction per unit (p, q): on the lower body -p n + q t; on the upper the opposite
-        lower_frame = np.stack([-normals, tangents], axis=-1)
-        sides = {}
-        for label, body, tag, rows, frame in (
-            ("upper", pair.upper, pair.upper_tag, geo["upper_rows"], -lower_frame),
-            ("lower", pair.lower, pair.lower_tag, geo["lower_rows"], lower_frame),
-        ):
-            sides[label] = _side_operator(body, tag, rows, frame)
-        blocks = tuple(label for label in ("upper", "lower") if sides[label][3] is not None)
-        n_x = 2 * n + 2 * len(blocks)
-        relative_map = np.zeros((n, 2, n_x))
-        relative_base = np.zeros((n, 2))
-        resultant_map = np.zeros((2 * len(blocks), n_x))
-        resultant_base = np.zeros(2 * len(blocks))
-        for label, sign in (("upper", 1.0), ("lower", -1.0)):
-            base, d_lambda, d_delta, resultant, _ = sides[label]
-            relative_base += sign * base
-            relative_map[:, :, : 2 * n] += sign * d_lambda
-            if label in blocks:
-                k = blocks.index(label)
-                cols = slice(2 * n + 2 * k, 2 * n + 2 * k + 2)
-                relative_map[:, :, cols] += sign * d_delta
-                r0, r_lambda, r_delta = resultant
-                resultant_base[2 * k : 2 * k + 2] = r0
-                resultant_map[2 * k : 2 * k + 2, : 2 * n] = r_lambda
-                resultant_map[2 * k : 2 * k + 2, cols] = r_delta
-        return cls(
-            pair=pair,
-            normal_map=np.einsum("pd,pdx->px", normals, relative_map),
-            tangential_map=np.einsum("pd,pdx->px", tangents, relative_map),
-            normal_base=np.einsum("pd,pd->p", normals, relative_base),
-            tangential_base=np.einsum("pd,pd->p", tangents, relative_base),
-            resultant_map=resultant_map,
-            resultant_base=resultant_base,
-            blocks=blocks,
-            gap=geo["gap"],
-            traction_coefficients={k: v[4] for k, v in sides.items()},
-            seconds=time.perf_counter() - start,
+        return Pairing(
+            lower_nodes=low,
+            upper_nodes=up,
+            points=low_points[low],
+            normals=pair_normals,
+            tangents=pair_tangents,
+            gap=np.maximum(gap, 0.0),
         )
 
-    @property
-    def n_pairs(self) -> int:
-        return len(self.gap)
+
+def __getattr__(name: str):
+    """CondensedContact lives in :mod:`fretbem.condensation` (imported lazily here)."""
+    if name == "CondensedContact":
+        from .condensation import CondensedContact
+
+        return CondensedContact
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -4,15 +4,7 @@ from __future__ import annotations
 
 import attrs
 
-from ._validators import positive
-
-
-def _poisson(instance, attribute, value) -> None:
-    if not (-1.0 < value < 0.5):
-        raise ValueError(
-            f"Poisson's ratio {attribute.name} must lie in (-1, 0.5) for a stable isotropic "
-            f"material, got {value!r}"
-        )
+from ._validators import poisson, positive
 
 
 @attrs.frozen
@@ -30,7 +22,7 @@ class Material:
     """
 
     E: float = attrs.field(converter=float, validator=positive)
-    nu: float = attrs.field(converter=float, validator=_poisson)
+    nu: float = attrs.field(converter=float, validator=poisson)
     plane_stress: bool = False
 
     @property

@@ -25,7 +25,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from .basis import Basis
-from .body import Body
+from .bem_body import BemBody
 from .contact import STATE_NAMES, ContactPair
 from .geometry.boundary import Boundary
 from .results import SimulationResult, StepResult
@@ -184,7 +184,7 @@ def displacement_figure(
     fig.subplots_adjust(left=0.08, right=0.98, top=0.88, bottom=0.17, wspace=0.1, hspace=0.15)
     fig.suptitle("Relative displacements at the node pairs (upper minus lower body)")
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    gap = results[0].simulation.pair.geometry["gap"]
+    gap = results[0].simulation.pair.pairing().gap
     rows = (("normal_displacement", "$u_n$", "o"), ("tangential_displacement", "$u_t$", "s"))
     for col, name in enumerate(names):
         for row, (field, symbol, marker) in enumerate(rows):
@@ -362,7 +362,7 @@ def _(obj: Basis, ax=None, points_per_element: int = 8, **style):
 
 
 @draw.register
-def _(obj: Body, ax=None, **style):
+def _(obj: BemBody, ax=None, **style):
     """Every discretised segment of the body and its collocation points."""
     ax = _axes(ax)
     for basis in obj.segments:

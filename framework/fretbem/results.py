@@ -10,11 +10,8 @@ from pathlib import Path
 import attrs
 import numpy as np
 
-from .contact import STATE_NAMES
-
-
-def _contact_degree(pair) -> int:
-    return int(pair.lower.segments[pair.lower.boundary.indices(pair.lower_tag)[0]].degree)
+from .law import STATE_NAMES
+from .unknowns import PairUnknowns, UnknownLayout
 
 
 def _l2(values: np.ndarray, x: np.ndarray) -> float:
@@ -42,7 +39,11 @@ class StepResult:
     residuals : tuple of float
     seconds : float
     unknowns : ndarray
-        Raw pair unknowns (p, q, block displacements), for post-processing.
+        Raw pair unknowns (p, q, block displacements); :attr:`pair_unknowns` names them.
+    layout : UnknownLayout
+        The order of ``unknowns``.
+    loads : dict
+        Named load amplitudes at the end of the step.
     resultant : (float, float)
         Integrals of p and q over the contact segment (from the traction field).
     errors : dict or None
@@ -65,17 +66,21 @@ class StepResult:
     resultant: tuple[float, float]
     errors: dict | None
     exact: tuple[np.ndarray, np.ndarray] | None
+    layout: UnknownLayout | None = None
+    loads: dict = attrs.field(factory=dict)
+
+    @property
+    def pair_unknowns(self) -> PairUnknowns:
+        """``unknowns`` split by name (pressure, shear, block displacements)."""
+        return PairUnknowns.from_vector(self.unknowns, self.layout)
 
     @classmethod
     def build(cls, simulation, problem, load, state, iterations, residuals, seconds, history):
         """Collect a step's pair results, resultants and errors against the reference."""
-        n = problem.n_pairs
-        geo = simulation.pair.geometry
-        x = geo["points"][:, 0]
-        p, q = state.x[:n], state.x[n : 2 * n]
-        functions, coefficients = problem.traction_coefficients["lower"]
-        traction = coefficients @ state.x[: 2 * n]  # (n_f, 2) coefficients on the lower body
-        force = simulation.pair.lower.resultant_weights()[functions] @ traction
+        x = problem.pairing.points[:, 0]
+        unknowns = problem.unknowns(state.x)
+        p, q = unknowns.pressure, unknowns.shear
+        force = problem.lower_force_map @ state.x  # contact force on the lower body
         normal, tangent = simulation.frame()
         resultant = (float(-force @ normal), float(force @ tangent))
         errors, exact = None, None
@@ -99,7 +104,7 @@ class StepResult:
             x=x,
             pressure=p,
             shear=q,
-            normal_displacement=problem.normal_base + problem.normal_map @ state.x,
+            normal_displacement=problem.relative(state.x, problem.amplitudes(state.loads))[0],
             tangential_displacement=state.slip,
             states=state.states,
             iterations=iterations,
@@ -109,6 +114,8 @@ class StepResult:
             resultant=resultant,
             errors=errors,
             exact=exact,
+            layout=problem.layout,
+            loads=dict(state.loads),
         )
 
     def count(self, state: str) -> int:
@@ -133,13 +140,15 @@ class SimulationResult:
     def describe(self) -> dict:
         """Scene facts for the summary: family, pairs, degrees of freedom."""
         pair = self.simulation.pair
-        basis = pair.lower.family
+        lower, upper = pair.lower.describe(), pair.upper.describe()
         return {
-            "basis": basis.name,
-            "degree": _contact_degree(pair),
+            "basis": lower.get("basis", upper.get("basis")),
+            "degree": lower.get("degree", upper.get("degree")),
+            "models": {"upper": upper.get("model"), "lower": lower.get("model")},
+            "solver": type(self.simulation.solver).__name__,
             "pairs": int(pair.n_pairs),
             "dofs": int(pair.upper.dofs + pair.lower.dofs),
-            "friction": pair.friction,
+            "friction": getattr(self.simulation.law, "friction", None),
         }
 
     def table(self) -> str:

@@ -9,30 +9,27 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 
 import attrs
 import numpy as np
 
 from . import bases
-from ._validators import finite, non_negative, positive
+from ._validators import count, finite, non_negative, poisson, positive
 from .analytical import HertzLineContact, MindlinDeresiewicz, dundurs_beta
 from .basis import Basis, Refinement
+from .bem_body import BemBody
 from .body import Body
-from .conditions import Displacement, LoadingBlock
-from .contact import ContactPair
+from .conditions import Condition, Displacement, LoadingBlock
+from .contact import NodeToNodePair
 from .geometry.boundary import Boundary, Segment
 from .geometry.nurbs import NurbsCurve
-from .material import Material, _poisson
+from .law import CoulombFriction
+from .material import Material
 from .simulation import LoadStep, Simulation
-from .solver import Solver
+from .solver import SemiSmoothNewton, Solver
 
 REFERENCE_STEPS = ("A", "B", "C", "D", "E")
-
-
-def _count(instance, attribute, value) -> None:
-    if isinstance(value, bool) or int(value) != value or value < 1:
-        raise ValueError(f"{attribute.name} must be a whole number >= 1, got {value!r}")
 
 
 #: element size ratio on sides, top and bottom, graded toward their corners
@@ -67,10 +64,12 @@ class CattaneoMindlinScene:
         Sub-increments per step.
     flank_elements, side_elements, top_elements : int
         Elements on each flank, side and top/bottom.
+    models : mapping of "upper"/"lower" to str
+        Body model per body: "bem" (default) or a name registered in ``BODY_MODELS``.
     """
 
     basis: str | type[Basis] = "nurbs"
-    pairs: int = attrs.field(default=61, validator=_count)
+    pairs: int = attrs.field(default=61, validator=count)
     zone: float = attrs.field(default=1.5, validator=positive)
     degree: int | None = None
     radius: float = attrs.field(default=70.0, validator=positive)
@@ -78,19 +77,20 @@ class CattaneoMindlinScene:
     height: float = attrs.field(default=16.25, validator=positive)
     lower: str = attrs.field(default="arc", validator=attrs.validators.in_(("arc", "flat")))
     E_upper: float = attrs.field(default=73400.0, validator=positive)
-    nu_upper: float = attrs.field(default=0.33, validator=_poisson)
+    nu_upper: float = attrs.field(default=0.33, validator=poisson)
     E_lower: float = attrs.field(default=73400.0, validator=positive)
-    nu_lower: float = attrs.field(default=0.33, validator=_poisson)
+    nu_lower: float = attrs.field(default=0.33, validator=poisson)
     friction: float = attrs.field(default=0.3, validator=non_negative)
     normal: float = attrs.field(default=100.0, validator=positive)
     tangential: Sequence[float] = attrs.field(
         default=(0.0, 18.0, 0.0, -18.0, 0.0), converter=tuple, validator=finite
     )
     names: Sequence[str] = attrs.field(default=REFERENCE_STEPS, converter=tuple)
-    increments: int = attrs.field(default=1, validator=_count)
-    flank_elements: int = attrs.field(default=16, validator=_count)
-    side_elements: int = attrs.field(default=12, validator=_count)
-    top_elements: int = attrs.field(default=12, validator=_count)
+    increments: int = attrs.field(default=1, validator=count)
+    flank_elements: int = attrs.field(default=16, validator=count)
+    side_elements: int = attrs.field(default=12, validator=count)
+    top_elements: int = attrs.field(default=12, validator=count)
+    models: Mapping[str, str] = attrs.field(factory=dict, converter=lambda m: dict(m), hash=False)
 
     def __attrs_post_init__(self) -> None:
         if len(self.names) != len(self.tangential):
@@ -226,8 +226,14 @@ def _refinements(scene: CattaneoMindlinScene, family: type[Basis], upper: bool) 
     return levels
 
 
-def cattaneo_mindlin(scene: CattaneoMindlinScene | None = None, **overrides) -> Simulation:
-    """Build the reference fretting simulation (overrides are CattaneoMindlinScene fields)."""
+def cattaneo_mindlin(
+    scene: CattaneoMindlinScene | None = None, *, solver: Solver | None = None, **overrides
+) -> Simulation:
+    """Build the reference fretting simulation (overrides are CattaneoMindlinScene fields).
+
+    ``solver`` replaces the default :class:`~fretbem.solver.SemiSmoothNewton`; the body
+    models come from ``scene.models`` (see :func:`body_model`).
+    """
     scene = attrs.evolve(scene or CattaneoMindlinScene(), **overrides)
     family = bases.get(scene.basis)
     zone = scene.zone * scene.hertz().half_width
@@ -237,25 +243,75 @@ def cattaneo_mindlin(scene: CattaneoMindlinScene | None = None, **overrides) -> 
             f"{scene.width / 2:g} mm); lower 'zone' or widen the bodies"
         )
     w2, h, radius = scene.width / 2, scene.height, scene.radius
-    upper = Body(
-        upper_boundary(radius, w2, h, zone),
-        Material(scene.E_upper, scene.nu_upper),
-        [LoadingBlock("top", (0.0, -scene.normal))],
-        basis=family,
+    upper = body_model(
+        "upper",
+        scene=scene,
+        boundary=upper_boundary(radius, w2, h, zone),
+        material=Material(scene.E_upper, scene.nu_upper),
+        conditions=[LoadingBlock("top", (0.0, -scene.normal))],
+        family=family,
         refinement=_refinements(scene, family, upper=True),
-        name="upper",
     )
-    lower = Body(
-        lower_boundary(radius, w2, h, zone, flat=scene.lower == "flat"),
-        Material(scene.E_lower, scene.nu_lower),
-        [Displacement("bottom")],
-        basis=family,
+    lower = body_model(
+        "lower",
+        scene=scene,
+        boundary=lower_boundary(radius, w2, h, zone, flat=scene.lower == "flat"),
+        material=Material(scene.E_lower, scene.nu_lower),
+        conditions=[Displacement("bottom")],
+        family=family,
         refinement=_refinements(scene, family, upper=False),
-        name="lower",
     )
-    pair = ContactPair(upper, lower, friction=scene.friction)
     steps = tuple(
         LoadStep(name, scene.normal, q, scene.increments)
         for name, q in zip(scene.names, scene.tangential, strict=True)
     )
-    return Simulation(pair, steps, Solver(), reference=scene.reference(), name="cattaneo-mindlin")
+    return Simulation(
+        NodeToNodePair(upper, lower),
+        steps,
+        solver or SemiSmoothNewton(),
+        law=CoulombFriction(scene.friction),
+        reference=scene.reference(),
+        name="cattaneo-mindlin",
+    )
+
+
+#: body models a scene can choose per body: name -> factory (see :func:`body_model`)
+BODY_MODELS: dict = {}
+
+
+def body_model(
+    label: str,
+    *,
+    scene: CattaneoMindlinScene,
+    boundary: Boundary,
+    material: Material,
+    conditions: Sequence[Condition],
+    family: type[Basis],
+    refinement: dict,
+) -> Body:
+    """The body ``label`` ("upper" or "lower") in the model the scene chooses for it.
+
+    ``scene.models[label]`` names the model: "bem" (the default, :class:`BemBody`) or a
+    model registered in :data:`BODY_MODELS` (a factory taking the same keywords).
+    """
+    model = dict(scene.models).get(label, "bem")
+    if model == "bem":
+        return BemBody(
+            boundary, material, conditions, basis=family, refinement=refinement, name=label
+        )
+    try:
+        factory = BODY_MODELS[model]
+    except KeyError:
+        raise ValueError(
+            f"unknown body model {model!r} for the {label} body; choose 'bem' or one of "
+            f"{sorted(BODY_MODELS)}"
+        ) from None
+    return factory(
+        label,
+        scene=scene,
+        boundary=boundary,
+        material=material,
+        conditions=conditions,
+        family=family,
+        refinement=refinement,
+    )

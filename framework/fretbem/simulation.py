@@ -1,30 +1,40 @@
 """The cyclic load history: load steps as data, a Simulation that advances a ContactState.
 
 ``run(simulation)`` prepares (assembles and condenses once), then steps through the
-history; the friction memory (slip already accumulated) is carried from step to step in
-the frozen ``ContactState`` records.
+history; the law's memory (slip already accumulated) is carried from step to step in the
+frozen :class:`~fretbem.law.ContactState` records.
 """
 
 from __future__ import annotations
 
+import math
 import time
+from collections.abc import Mapping
 
 import attrs
 import numpy as np
 
 from ._validators import finite
 from .analytical import MindlinDeresiewicz
-from .contact import SEPARATED, STATE_NAMES, CondensedContact, ContactPair
+from .condensation import CondensedContact
+from .contact import ContactPair
+from .law import STATE_NAMES, ContactLaw, ContactState, GrossSlidingError
 from .results import SimulationResult, StepResult
-from .solver import IncrementResult, NewtonConvergenceError, Solver
-
-
-class GrossSlidingError(ValueError):
-    """|Q| >= f P under force control: no static equilibrium exists."""
+from .solver import IncrementResult, SemiSmoothNewton, Solver, SolverConvergenceError
 
 
 class LoadHistoryError(ValueError):
     """A load history that cannot start or continue a contact simulation."""
+
+
+def _load_amplitudes(value) -> dict[str, float]:
+    return {str(name): float(amplitude) for name, amplitude in dict(value).items()}
+
+
+def _finite_loads(instance, attribute, value) -> None:
+    bad = {name: a for name, a in value.items() if not math.isfinite(a)}
+    if bad:
+        raise ValueError(f"LoadStep.loads must be finite numbers, got {bad!r}")
 
 
 @attrs.frozen
@@ -40,51 +50,23 @@ class LoadStep:
         Tangential load Q on the upper body, along the pair's tangent (+x in the scene).
     increments : int
         Equal sub-increments inside the step (friction is path dependent).
+    loads : mapping of str to float
+        Amplitudes of named body loads (e.g. ``{"bulk": sigma_B}`` for a
+        ``Traction(..., load="bulk")``); a load not given is 0.
     """
 
     name: str
     normal: float = attrs.field(converter=float, validator=finite)
     tangential: float = attrs.field(converter=float, validator=finite)
     increments: int = attrs.field(default=1, converter=int, validator=attrs.validators.ge(1))
-
-
-@attrs.frozen(eq=False)
-class ContactState:
-    """The pair unknowns at the end of an increment: the friction memory.
-
-    Attributes
-    ----------
-    x : ndarray
-        (p, q, block displacements) of the pair.
-    states : ndarray of int
-        SEPARATED, STICK or SLIP per pair.
-    slip : ndarray
-        Relative tangential displacement per pair (the stick reference of the next step).
-    normal, tangential : float
-        Loads reached.
-    """
-
-    x: np.ndarray
-    states: np.ndarray
-    slip: np.ndarray
-    normal: float = 0.0
-    tangential: float = 0.0
-    virgin: bool = True
-
-    @classmethod
-    def initial(cls, problem: CondensedContact) -> ContactState:
-        """The unloaded state: all pairs separated, no slip."""
-        n = problem.n_pairs
-        return cls(
-            x=np.zeros(problem.normal_map.shape[1]),
-            states=np.full(n, SEPARATED),
-            slip=np.zeros(n),
-        )
+    loads: Mapping[str, float] = attrs.field(
+        factory=dict, converter=_load_amplitudes, validator=_finite_loads, hash=False
+    )
 
 
 @attrs.frozen(eq=False)
 class Simulation:
-    """A contact pair, its load history and the solver.
+    """A contact pair, its load history, the contact law and the solver.
 
     Attributes
     ----------
@@ -92,6 +74,9 @@ class Simulation:
         Its upper body must carry a LoadingBlock: the history drives that block's force.
     steps : tuple of LoadStep
     solver : Solver
+        Default :class:`~fretbem.solver.SemiSmoothNewton`.
+    law : ContactLaw
+        E.g. :class:`~fretbem.law.CoulombFriction` (keyword, required).
     reference : MindlinDeresiewicz or None
         Analytical solution to report errors against (None where theory does not apply).
     name : str
@@ -99,7 +84,10 @@ class Simulation:
 
     pair: ContactPair
     steps: tuple[LoadStep, ...] = attrs.field(converter=tuple)
-    solver: Solver = attrs.field(factory=Solver)
+    solver: Solver = attrs.field(
+        factory=SemiSmoothNewton, validator=attrs.validators.instance_of(Solver)
+    )
+    law: ContactLaw = attrs.field(kw_only=True, validator=attrs.validators.instance_of(ContactLaw))
     reference: MindlinDeresiewicz | None = None
     name: str = "simulation"
 
@@ -118,30 +106,26 @@ class Simulation:
                 f"{first.tangential}) must be a pure normal load, P > 0 and Q = 0, so the "
                 "bodies are pressed together before any tangential load"
             )
-        friction = self.pair.friction
-        if friction == 0:
-            raise GrossSlidingError(
-                "the contact is frictionless (f = 0), so it cannot hold the upper body "
-                "tangentially and under force control its tangential position is undetermined "
-                "(no unique equilibrium); use a friction coefficient f > 0"
-            )
         for step in self.steps:
             if step.normal <= 0:
                 raise LoadHistoryError(
                     f"load step {step.name!r} has P = {step.normal}; the bodies must stay pressed "
                     "together (P > 0) under force control"
                 )
-            if abs(step.tangential) >= friction * step.normal:
-                raise GrossSlidingError(
-                    f"load step {step.name!r}: |Q| = {abs(step.tangential):g} >= f P = "
-                    f"{friction * step.normal:g}, so no static equilibrium exists (gross "
-                    "sliding); keep |Q| below f P under force control"
+        known = set(self.pair.upper.load_names) | set(self.pair.lower.load_names)
+        for step in self.steps:
+            unknown = sorted(set(step.loads) - known)
+            if unknown:
+                raise LoadHistoryError(
+                    f"load step {step.name!r} drives loads {unknown} that no body responds to "
+                    f"(the bodies' loads are {sorted(known)}); name them in a "
+                    "Traction(..., load=name) condition or remove them from the step"
                 )
+        self.law.check_history(self.steps)
 
     def frame(self) -> tuple[np.ndarray, np.ndarray]:
         """Mean normal and tangent of the pair: loads act along these."""
-        geo = self.pair.geometry
-        normal = geo["normals"].mean(axis=0)
+        normal = self.pair.pairing().normals.mean(axis=0)
         normal /= np.linalg.norm(normal)
         return normal, np.array([normal[1], -normal[0]])
 
@@ -158,50 +142,63 @@ class Simulation:
         """Assemble both bodies and condense them onto the pair unknowns (cached)."""
         return self.pair.condensed()
 
-    def _increment(self, problem, state, normal, tangential, depth=0) -> tuple:
-        """Solve from ``state`` to loads (normal, tangential), halving on failure."""
+    def _increment(self, problem, state, normal, tangential, loads, depth=0) -> tuple:
+        """Solve from ``state`` to loads (normal, tangential, named), halving on failure."""
         try:
             result = self.solver.solve_increment(
                 problem,
-                friction=self.pair.friction,
+                self.law,
                 forces=self.forces(normal, tangential),
-                reference_slip=state.slip,
-                start=None if state.virgin else state.x,
-                start_states=None if state.virgin else state.states,
+                loads=problem.amplitudes(loads),
+                previous=state,
+                start=None if state.virgin else state,
             )
-        except NewtonConvergenceError as failure:
+        except SolverConvergenceError as failure:
             if depth >= self.solver.max_substeps:
                 raise
             mid_n = 0.5 * (state.normal + normal)
             mid_t = 0.5 * (state.tangential + tangential)
-            half, it1, res1 = self._increment(problem, state, mid_n, mid_t, depth + 1)
-            full, it2, res2 = self._increment(problem, half, normal, tangential, depth + 1)
+            mid_loads = _between(state.loads, loads, 0.5)
+            half, it1, res1 = self._increment(problem, state, mid_n, mid_t, mid_loads, depth + 1)
+            full, it2, res2 = self._increment(problem, half, normal, tangential, loads, depth + 1)
             # the failed attempt's iterations were spent too: report them with the halves
             failed = list(failure.residuals)
             return full, len(failed) + it1 + it2, failed + res1 + res2
         return (
-            self._advance(problem, state, result, normal, tangential),
+            self._advance(problem, result, normal, tangential, loads),
             result.iterations,
             list(result.residuals),
         )
 
     @staticmethod
-    def _advance(problem, state, result: IncrementResult, normal, tangential) -> ContactState:
-        slip = problem.tangential_base + problem.tangential_map @ result.x
-        return ContactState(result.x, result.states, slip, normal, tangential, virgin=False)
+    def _advance(problem, result: IncrementResult, normal, tangential, loads) -> ContactState:
+        _, slip = problem.relative(result.x, problem.amplitudes(loads))
+        return ContactState(
+            result.x, result.states, slip, normal, tangential, dict(loads), virgin=False
+        )
 
     def step(self, problem: CondensedContact, state: ContactState, load: LoadStep):
         """Advance ``state`` through one load step; returns (new state, iterations, residuals)."""
         iterations, residuals = 0, []
-        start_n, start_t = state.normal, state.tangential
+        start_n, start_t, start_loads = state.normal, state.tangential, dict(state.loads)
         for k in range(1, load.increments + 1):
             frac = k / load.increments
             target_n = start_n + frac * (load.normal - start_n)
             target_t = start_t + frac * (load.tangential - start_t)
-            state, its, res = self._increment(problem, state, target_n, target_t)
+            target_loads = _between(start_loads, load.loads, frac)
+            state, its, res = self._increment(problem, state, target_n, target_t, target_loads)
             iterations += its
             residuals += res
         return state, iterations, residuals
+
+
+def _between(start: Mapping[str, float], end: Mapping[str, float], frac: float) -> dict:
+    """Load amplitudes a fraction ``frac`` of the way from ``start`` to ``end``."""
+    names = dict.fromkeys([*start, *end])
+    return {
+        name: start.get(name, 0.0) + frac * (end.get(name, 0.0) - start.get(name, 0.0))
+        for name in names
+    }
 
 
 def run(simulation: Simulation) -> SimulationResult:
@@ -232,4 +229,12 @@ def run(simulation: Simulation) -> SimulationResult:
     return SimulationResult(simulation=simulation, steps=tuple(steps), timings=timings)
 
 
-__all__ = ["STATE_NAMES", "ContactState", "LoadStep", "Simulation", "run"]
+__all__ = [
+    "STATE_NAMES",
+    "ContactState",
+    "GrossSlidingError",
+    "LoadHistoryError",
+    "LoadStep",
+    "Simulation",
+    "run",
+]

@@ -1,26 +1,51 @@
-"""Generalized (semi-smooth) Newton method for frictional contact on the condensed problem.
+"""Solvers of one load increment of the condensed contact problem.
 
-Contact conditions are written as nonlinear complementarity functions (Alart-Curnier):
-    F_n = p - max(0, p - r g),   F_t = q - proj[-f p^, f p^](q + r s),   p^ = max(0, p - r g)
-with g the deformed gap and s the tangential slip increment. They are piecewise linear, so
-each Newton step solves the exact linear problem of its separated/stick/slip pattern, and
-the iteration ends when the residual is below the tolerance, which happens once the
-pattern is right (docs/theory.md).
+A :class:`Solver` finds the pair unknowns x = (p, q, block displacements) at which the
+contact law holds at every pair and the loading blocks carry the prescribed forces; the
+:class:`~fretbem.simulation.Simulation` calls :meth:`Solver.solve_increment` once per
+increment, halving a failing increment up to ``max_substeps`` times.
+
+:class:`SemiSmoothNewton` is the generalised Newton method on the Alart-Curnier functions
+of the law: they are piecewise linear, so each step solves the exact linear problem of its
+separated/stick/slip pattern, and the iteration ends when the residual is below the
+tolerance, which happens once the pattern is right (docs/theory.md).
+docs/how-to/new-solver.rst shows how to add a solver.
 """
 
 from __future__ import annotations
+
+from abc import ABC, abstractmethod
 
 import attrs
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from .contact import SEPARATED, SLIP, STATE_NAMES, STICK, CondensedContact
+from .condensation import CondensedContact
+from .law import STATE_NAMES, ContactLaw, ContactState, PairState
 
 #: factor applied to the normal augmentation r_n when the Newton iteration cycles
 CYCLE_SOFTENING = 0.1
 
 
-class NewtonConvergenceError(RuntimeError):
+class SolverSettingsError(ValueError):
+    """A solver setting outside its valid range."""
+
+
+class SolverConvergenceError(RuntimeError):
+    """A solver did not converge on an increment; the Simulation may then sub-step.
+
+    Attributes
+    ----------
+    residuals : list of float
+        The residual history of the failed attempt.
+    """
+
+    def __init__(self, message: str, residuals=()):
+        super().__init__(message)
+        self.residuals = list(residuals)
+
+
+class NewtonConvergenceError(SolverConvergenceError):
     """The Newton iteration did not converge; carries the residual history and culprits.
 
     Attributes
@@ -31,14 +56,13 @@ class NewtonConvergenceError(RuntimeError):
     """
 
     def __init__(self, message: str, residuals, changing_pairs):
-        super().__init__(message)
-        self.residuals = list(residuals)
+        super().__init__(message, residuals)
         self.changing_pairs = np.asarray(changing_pairs)
 
 
 @attrs.frozen(eq=False)
 class IncrementResult:
-    """Converged pair unknowns x = (p, q, deltas), states and iteration history."""
+    """Converged pair unknowns x = (p, q, deltas), pair states and iteration history."""
 
     x: np.ndarray
     states: np.ndarray
@@ -46,71 +70,99 @@ class IncrementResult:
     residuals: tuple[float, ...]
 
 
+class Solver(ABC):
+    """Solves one load increment of a condensed contact problem under a contact law.
+
+    Attributes
+    ----------
+    max_substeps : int
+        Times the Simulation may halve an increment this solver failed on
+        (:class:`SolverConvergenceError`); 0 disables sub-stepping.
+    """
+
+    max_substeps: int = 0
+
+    @abstractmethod
+    def solve_increment(
+        self,
+        problem: CondensedContact,
+        law: ContactLaw,
+        *,
+        forces: np.ndarray,
+        loads: np.ndarray,
+        previous: ContactState,
+        start: ContactState | None,
+    ) -> IncrementResult:
+        """The pair unknowns at the end of one increment.
+
+        Parameters
+        ----------
+        problem : CondensedContact
+            Relative displacements and block resultants as affine maps of x and loads.
+        law : ContactLaw
+            The contact law to satisfy at every pair.
+        forces : ndarray, shape (2 m,)
+            Forces the loading blocks must apply (problem.blocks order).
+        loads : ndarray, shape (k,)
+            Load amplitudes beta at the end of the increment (problem.load_names order).
+        previous : ContactState
+            The state at the start of the increment: its ``slip`` is the stick reference.
+        start : ContactState or None
+            Initial guess (None: the gap-only start, nothing known yet).
+
+        Raises
+        ------
+        SolverConvergenceError
+            If the increment could not be solved (the Simulation may then sub-step).
+        """
+
+
+def _tolerance(instance, attribute, value) -> None:
+    if not (0.0 < value <= 1e-3):
+        raise SolverSettingsError(
+            f"{type(instance).__name__}.tolerance must lie in (0, 1e-3] (a relative residual; "
+            f"the default 1e-10 reproduces the published numbers), got {value!r}"
+        )
+
+
+def _at_least(minimum: int):
+    def check(instance, attribute, value) -> None:
+        if not value >= minimum:
+            raise SolverSettingsError(
+                f"{type(instance).__name__}.{attribute.name} must be a whole number >= "
+                f"{minimum}, got {value!r}"
+            )
+
+    return check
+
+
 @attrs.frozen
-class Solver:
-    """Semi-smooth Newton solver settings.
+class SemiSmoothNewton(Solver):
+    """Semi-smooth (generalised) Newton method on the law's complementarity functions.
 
     Attributes
     ----------
     tolerance : float
-        Relative tolerance on the complementarity and equilibrium residuals.
+        Relative tolerance on the complementarity and equilibrium residuals, in (0, 1e-3].
     max_iterations : int
-        Newton iterations per increment before giving up (or sub-stepping).
+        Newton iterations per increment before giving up (or sub-stepping), >= 1.
     max_substeps : int
         Times a failing increment may be halved automatically (0 disables sub-stepping).
     """
 
-    tolerance: float = attrs.field(default=1e-10, converter=float)
-    max_iterations: int = attrs.field(default=50, converter=int)
-    max_substeps: int = attrs.field(default=4, converter=int)
-
-    def _evaluate(self, problem: CondensedContact, friction, forces, reference_slip, x, r_n, r_t):
-        n = problem.n_pairs
-        p, q = x[:n], x[n : 2 * n]
-        gap = problem.gap + problem.normal_base + problem.normal_map @ x
-        slip = problem.tangential_base + problem.tangential_map @ x - reference_slip
-        augmented = p - r_n * gap
-        contact = augmented > 0
-        trial = q + r_t * slip
-        bound = friction * np.maximum(augmented, 0.0)
-        stick = contact & (np.abs(trial) < bound)
-        sliding = contact & ~stick
-        direction = np.sign(trial)
-        f_n = np.where(contact, r_n * gap, p)
-        f_t = np.where(stick, -r_t * slip, np.where(sliding, q - bound * direction, q))
-        f_b = problem.resultant_base + problem.resultant_map @ x - forces
-        states = np.full(n, SEPARATED)
-        states[stick], states[sliding] = STICK, SLIP
-        return np.concatenate([f_n, f_t, f_b]), states, direction
-
-    def _jacobian(self, problem, friction, states, direction, r_n, r_t):
-        n = problem.n_pairs
-        n_x = problem.normal_map.shape[1]
-        jac = np.zeros((n_x, n_x))
-        rows = np.arange(n)
-        separated, stick, slip = (states == s for s in (SEPARATED, STICK, SLIP))
-        contact = ~separated
-        jac[rows[separated], rows[separated]] = 1.0
-        jac[rows[contact]] = r_n * problem.normal_map[contact]
-        jac[n + rows[separated], n + rows[separated]] = 1.0
-        jac[n + rows[stick]] = -r_t * problem.tangential_map[stick]
-        slip_rows = n + rows[slip]
-        coeff = (friction * direction[slip])[:, None]
-        jac[slip_rows] = coeff * r_n * problem.normal_map[slip]
-        jac[slip_rows, rows[slip]] -= coeff[:, 0]
-        jac[slip_rows, slip_rows] += 1.0
-        jac[2 * n :] = problem.resultant_map
-        return jac
+    tolerance: float = attrs.field(default=1e-10, converter=float, validator=_tolerance)
+    max_iterations: int = attrs.field(default=50, converter=int, validator=_at_least(1))
+    max_substeps: int = attrs.field(default=4, converter=int, validator=_at_least(0))
 
     def solve_increment(
         self,
         problem: CondensedContact,
+        law: ContactLaw,
         *,
-        friction: float,
         forces: np.ndarray,
-        reference_slip: np.ndarray,
-        start: np.ndarray | None = None,
-        start_states: np.ndarray | None = None,
+        loads: np.ndarray,
+        previous: ContactState,
+        start: ContactState | None,
     ) -> IncrementResult:
         """Solve one load increment from ``start`` (the gap-only start x = 0 if None).
 
@@ -119,51 +171,76 @@ class Solver:
         (benchmarks/performance.py: 1.65 s against 0.29 s for the 61-pair cycle).
         """
         with threadpool_limits(limits=1, user_api="blas"):
-            return self._solve_increment(
-                problem, friction, forces, reference_slip, start, start_states
-            )
+            return self._solve_increment(problem, law, forces, loads, previous, start)
 
-    def _solve_increment(
-        self, problem, friction, forces, reference_slip, start, start_states
-    ) -> IncrementResult:
+    @staticmethod
+    def _evaluate(problem, law, bases, forces, reference_slip, x, r_n, r_t):
+        normal_base, tangential_base, resultant_base = bases
+        layout = problem.layout
+        gap = problem.gap + normal_base + problem.normal_map @ x
+        slip = tangential_base + problem.tangential_map @ x - reference_slip
+        evaluation = law.evaluate(x[layout.pressure], x[layout.shear], gap, slip, r_n, r_t)
+        f_b = resultant_base + problem.resultant_map @ x - forces
+        residual = np.concatenate([evaluation.normal, evaluation.tangential, f_b])
+        return residual, evaluation
+
+    def _solve_increment(self, problem, law, forces, loads, previous, start) -> IncrementResult:
         """The Newton iteration of :meth:`solve_increment`.
 
         From the gap-only start every pair is first taken closed and sticking, which makes
         the first linear system non-singular even for a body held only by contact.
         """
         n = problem.n_pairs
-        n_x = problem.normal_map.shape[1]
-        r_n = 1.0 / np.mean(np.abs(np.diag(problem.normal_map[:, :n])))
-        r_t = 1.0 / np.mean(np.abs(np.diag(problem.tangential_map[:, n : 2 * n])))
-        x = np.zeros(n_x) if start is None else np.array(start, dtype=float)
+        layout = problem.layout
+        r_n = 1.0 / np.mean(np.abs(np.diag(problem.normal_map[:, layout.pressure])))
+        r_t = 1.0 / np.mean(np.abs(np.diag(problem.tangential_map[:, layout.shear])))
+        bases = problem.bases(loads)
         forces = np.asarray(forces, float)
-        residual, states, direction = self._evaluate(
-            problem, friction, forces, reference_slip, x, r_n, r_t
-        )
-        if start is None or start_states is None:
-            states = np.full(n, STICK)
+        reference_slip = previous.slip
+        x = np.zeros(layout.size) if start is None else np.array(start.x, dtype=float)
+        args = (problem, law, bases, forces, reference_slip)
+        residual, evaluation = self._evaluate(*args, x, r_n, r_t)
+        if start is None:
+            evaluation = attrs.evolve(evaluation, states=np.full(n, PairState.STICK, dtype=int))
         else:
-            states = np.asarray(start_states)
-        history, state_history, seen = [], [states.copy()], set()
+            evaluation = attrs.evolve(evaluation, states=np.asarray(start.states))
+        history, state_history, seen = [], [evaluation.states.copy()], set()
         force_scale = max(np.max(np.abs(forces), initial=0.0), 1e-300)
         for iteration in range(1, self.max_iterations + 1):
-            jac = self._jacobian(problem, friction, states, direction, r_n, r_t)
+            jac = np.concatenate(
+                [
+                    law.jacobian_rows(
+                        evaluation, problem.normal_map, problem.tangential_map, r_n, r_t
+                    ),
+                    problem.resultant_map,
+                ]
+            )
             try:
                 step = np.linalg.solve(jac, -residual)
             except np.linalg.LinAlgError:
                 step = np.linalg.lstsq(jac, -residual, rcond=None)[0]
             x = x + step
-            residual, new_states, direction = self._evaluate(
-                problem, friction, forces, reference_slip, x, r_n, r_t
-            )
-            traction_scale = max(np.max(np.abs(x[: 2 * n])), 1e-300)
+            residual, evaluation = self._evaluate(*args, x, r_n, r_t)
+            traction_scale = max(np.max(np.abs(x[layout.tractions])), 1e-300)
             norm = max(
                 np.max(np.abs(residual[: 2 * n])) / traction_scale,
                 np.max(np.abs(residual[2 * n :]), initial=0.0) / force_scale,
             )
             history.append(float(norm))
-            states = new_states
+            states = evaluation.states
             state_history.append(states.copy())
+            if force_scale > 1e-300 and np.all(states == PairState.SEPARATED) and n:
+                # nothing touches but the blocks must carry a force: the next step would
+                # move a block held by nothing (a near-singular system); give up so the
+                # Simulation can sub-step the increment
+                raise NewtonConvergenceError(
+                    f"the contact Newton iteration separated every pair at iteration "
+                    f"{iteration} although the loading blocks carry a force; split the load "
+                    "step into sub-increments (LoadStep(increments=...)) or allow automatic "
+                    "sub-stepping (SemiSmoothNewton(max_substeps=...))",
+                    history,
+                    np.arange(n),
+                )
             # F is continuous across the separated/stick/slip boundaries, so a small residual
             # is a solution whichever side round-off puts a pair on. Pairs exactly at a limit
             # (|q| = f p with zero slip increment) flip state at round-off; requiring the
@@ -173,13 +250,12 @@ class Solver:
             # F is affine on each pattern (states, slip directions), so the Newton iterate
             # depends on the pattern only: a pattern seen before means an endless cycle.
             # Break it by softening the normal augmentation r_n (F keeps the same roots).
-            pattern = (states.tobytes(), np.where(states == SLIP, direction, 0.0).tobytes())
+            slipping = states == PairState.SLIP
+            pattern = (states.tobytes(), np.where(slipping, evaluation.direction, 0.0).tobytes())
             if pattern in seen:
                 seen.clear()
                 r_n *= CYCLE_SOFTENING
-                residual, states, direction = self._evaluate(
-                    problem, friction, forces, reference_slip, x, r_n, r_t
-                )
+                residual, evaluation = self._evaluate(*args, x, r_n, r_t)
             else:
                 seen.add(pattern)
         recent = np.array(state_history[-6:])
@@ -190,7 +266,8 @@ class Solver:
             f"{changing.tolist()} kept changing state "
             f"({', '.join(STATE_NAMES[s] for s in np.unique(recent[:, changing]))}). Split the "
             "load step into sub-increments (LoadStep(increments=...)), allow automatic "
-            "sub-stepping (Solver(max_substeps=...)), or refine the contact discretisation",
+            "sub-stepping (SemiSmoothNewton(max_substeps=...)), or refine the contact "
+            "discretisation",
             history,
             changing,
         )

@@ -1,4 +1,7 @@
-"""Conformance checks every basis family should pass: call :func:`check_basis` in its tests.
+"""Conformance checks for the extension points: basis families, body models and solvers.
+
+:func:`check_basis` checks a basis family, :func:`check_body` a body model (a
+:class:`~fretbem.body.Body` implementation) and :func:`check_solver` a contact solver.
 
 A third-party family runs the same suite as the built-in ones::
 
@@ -20,10 +23,18 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
+from ._testing_contact import check_body, check_solver
 from .basis import Basis, Refinement
 from .geometry.nurbs import NurbsCurve
 
-__all__ = ["FD_TOL", "check_basis", "default_curves", "default_refinements"]
+__all__ = [
+    "FD_TOL",
+    "check_basis",
+    "check_body",
+    "check_solver",
+    "default_curves",
+    "default_refinements",
+]
 
 #: relative tolerance of the derivative check (fourth-order central differences, step 1e-4)
 FD_TOL = 1e-8

@@ -19,7 +19,8 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
-from .body import Body, BodySolution
+from .bem_body import BemBody as Body
+from .bem_body import BodySolution
 from .checks import safe_names
 from .results import SimulationResult, StepResult
 
@@ -151,23 +152,7 @@ def write_vtp(path: str | Path, arrays: dict) -> Path:
 
 def body_solutions(result: SimulationResult, step: StepResult) -> dict[str, BodySolution]:
     """Each body's full boundary solution at ``step`` ("upper" and "lower")."""
-    pair = result.simulation.pair
-    cond = pair.condensed()
-    n = cond.n_pairs
-    x = np.asarray(step.unknowns)
-    out = {}
-    for label, body, tag in (
-        ("upper", pair.upper, pair.upper_tag),
-        ("lower", pair.lower, pair.lower_tag),
-    ):
-        _, coefficients = cond.traction_coefficients[label]
-        traction = coefficients @ x[: 2 * n]  # (n_f, 2) on the contact segments
-        delta = np.zeros(2)
-        if label in cond.blocks:
-            k = cond.blocks.index(label)
-            delta = x[2 * n + 2 * k : 2 * n + 2 * k + 2]
-        out[label] = body.system((tag,)).solution(delta, traction.ravel())
-    return out
+    return result.simulation.pair.condensed().solutions(step.unknowns, step.loads)
 
 
 def step_arrays(

@@ -14,7 +14,7 @@ import pytest
 
 from fretbem import bases
 from fretbem.basis import Refinement
-from fretbem.body import Body
+from fretbem.bem_body import BemBody
 from fretbem.conditions import Displacement, Traction
 from fretbem.geometry.boundary import Boundary, Segment
 from fretbem.geometry.nurbs import NurbsCurve
@@ -71,7 +71,7 @@ def _lame_error(family, elements: int) -> float:
     def radial(k):
         return lambda x: p * x[:, k] / np.linalg.norm(x, axis=1)
 
-    body = Body(
+    body = BemBody(
         boundary,
         Material(E, nu),
         [

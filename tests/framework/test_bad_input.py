@@ -13,12 +13,14 @@ import numpy as np
 import pytest
 
 from fretbem.bases import UnknownBasisError
-from fretbem.body import Body, RigidMotionError
+from fretbem.bem_body import BemBody
+from fretbem.body import RigidMotionError
 from fretbem.conditions import Displacement, LoadingBlock, Traction
-from fretbem.contact import ContactDiscretisationError, ContactPair
+from fretbem.contact import ContactDiscretisationError, NodeToNodePair
 from fretbem.geometry.boundary import Boundary, BoundaryError, Segment
 from fretbem.geometry.knots import KnotVectorError
 from fretbem.geometry.nurbs import NurbsCurve
+from fretbem.law import CoulombFriction
 from fretbem.material import Material
 from fretbem.scene_file import SceneFileError, load_scene, scene_from_dict
 from fretbem.scenes import cattaneo_mindlin
@@ -34,7 +36,7 @@ def reference():
     return cattaneo_mindlin(pairs=21)
 
 
-def moved(body: Body, shift, **changes) -> Body:
+def moved(body: BemBody, shift, **changes) -> BemBody:
     """The same body translated by ``shift`` (conditions and mesh unchanged)."""
     boundary = Boundary(
         [
@@ -126,28 +128,28 @@ def test_condition_on_missing_tag(condition, used_by):
         match=rf"{used_by} refers to tag 'roof', but no boundary "
         r"segment is tagged 'roof'; the tags are \['bottom', 'left'",
     ):
-        Body(RECTANGLE, STEEL, [Displacement("bottom"), condition])
+        BemBody(RECTANGLE, STEEL, [Displacement("bottom"), condition])
 
 
 def test_refinement_on_missing_tag():
     from fretbem.basis import Refinement
 
     with pytest.raises(KeyError, match=r"a refinement refers to tag 'roof'"):
-        Body(RECTANGLE, STEEL, [Displacement("bottom")], refinement={"roof": Refinement(3)})
+        BemBody(RECTANGLE, STEEL, [Displacement("bottom")], refinement={"roof": Refinement(3)})
 
 
 @pytest.mark.parametrize("side", ["upper_tag", "lower_tag"])
 def test_contact_pair_on_missing_tag(reference, side):
     pair = reference.pair
     with pytest.raises(KeyError, match=r"the contact pair refers to tag 'contcat', but no"):
-        ContactPair(pair.upper, pair.lower, friction=0.3, **{side: "contcat"})
+        NodeToNodePair(pair.upper, pair.lower, **{side: "contcat"})
 
 
 # ---------------------------------------------------------------------------- rigid motion
 
 
 def test_body_with_free_rigid_motion():
-    body = Body(RECTANGLE, STEEL, [Traction("right", x=1.0), Traction("left", x=-1.0)])
+    body = BemBody(RECTANGLE, STEEL, [Traction("right", x=1.0), Traction("left", x=-1.0)])
     with pytest.raises(
         RigidMotionError,
         match=r"rigid motion free \(rotation, x translation, "
@@ -159,7 +161,7 @@ def test_body_with_free_rigid_motion():
 def test_contact_body_with_free_rigid_motion(reference):
     """A lower body held by nothing but tractions cannot carry the pad: named before solving."""
     lower = attrs.evolve(reference.pair.lower, conditions=[Traction("bottom", y=100.0 / 6.5)])
-    pair = ContactPair(reference.pair.upper, lower, friction=0.3)
+    pair = NodeToNodePair(reference.pair.upper, lower)
     with pytest.raises(RigidMotionError, match=r"body 'lower'.* rigid motion free \("):
         pair.condensed()
     assert lower.timings == {}  # refused before the assembly
@@ -175,10 +177,10 @@ def test_contact_segments_that_face_away(reference):
     pad = moved(
         lower, [0.0, 40.0], conditions=[LoadingBlock("bottom", (0.0, -100.0))], name="upper"
     )
-    pair = ContactPair(pad, lower, friction=0.3)
+    pair = NodeToNodePair(pad, lower)
     match = r"do not face each other: at \[ ?0\.? +40\.?\] the outward normal of the upper"
     with pytest.raises(ContactDiscretisationError, match=match + " segment 'contact'"):
-        _ = pair.geometry
+        _ = pair.pairing()
 
 
 def test_contact_segments_that_do_not_face_along_the_surface(reference):
@@ -189,7 +191,7 @@ def test_contact_segments_that_do_not_face_along_the_surface(reference):
         match=r"has no facing point on the upper "
         r"segment 'contact'.*discretisations must match",
     ):
-        _ = ContactPair(upper, reference.pair.lower, friction=0.3).geometry
+        _ = NodeToNodePair(upper, reference.pair.lower).pairing()
 
 
 def test_contact_discretisations_that_do_not_match(reference):
@@ -199,13 +201,13 @@ def test_contact_discretisations_that_do_not_match(reference):
         match=r"the lower segment 'contact' has 21 "
         r"collocation points but the upper 'contact' has 23",
     ):
-        _ = ContactPair(other, reference.pair.lower, friction=0.3).geometry
+        _ = NodeToNodePair(other, reference.pair.lower).pairing()
 
 
 def test_bodies_that_overlap_at_the_start(reference):
     upper = moved(reference.pair.upper, [0.0, -0.001])
     with pytest.raises(ContactDiscretisationError, match=r"overlap at the start by 0\.001"):
-        _ = ContactPair(upper, reference.pair.lower, friction=0.3).geometry
+        _ = NodeToNodePair(upper, reference.pair.lower).pairing()
 
 
 # ---------------------------------------------------------------------------- friction
@@ -213,17 +215,17 @@ def test_bodies_that_overlap_at_the_start(reference):
 
 @pytest.mark.parametrize("friction", [-0.1, np.nan])
 def test_bad_friction(reference, friction):
-    with pytest.raises(ValueError, match=r"ContactPair\.friction must be (>= 0|finite)"):
-        ContactPair(reference.pair.upper, reference.pair.lower, friction=friction)
+    with pytest.raises(ValueError, match=r"CoulombFriction\.friction must be (>= 0|finite)"):
+        CoulombFriction(friction)
     with pytest.raises(ValueError, match=r"friction must be (>= 0|finite)"):
         cattaneo_mindlin(pairs=21, friction=friction)
 
 
 def test_frictionless_contact_under_force_control(reference):
     """f = 0 is a valid coefficient, but nothing then holds the pad tangentially."""
-    pair = ContactPair(reference.pair.upper, reference.pair.lower, friction=0.0)
+    pair = NodeToNodePair(reference.pair.upper, reference.pair.lower)
     with pytest.raises(GrossSlidingError, match=r"frictionless \(f = 0\).* undetermined"):
-        Simulation(pair, [LoadStep("A", 100.0, 0.0)])
+        Simulation(pair, [LoadStep("A", 100.0, 0.0)], law=CoulombFriction(0.0))
 
 
 # ---------------------------------------------------------------------------- material
@@ -264,7 +266,7 @@ def test_first_step_is_not_a_normal_load(reference, steps):
         match=r"first load step \('A'.*\) must be a pure "
         r"normal load, P > 0 and Q = 0",
     ):
-        Simulation(reference.pair, steps)
+        Simulation(reference.pair, steps, law=reference.law)
 
 
 def test_later_step_releases_the_contact(reference):
@@ -274,12 +276,12 @@ def test_later_step_releases_the_contact(reference):
         match=r"load step 'lift' has P = -5\.0; the bodies "
         r"must stay pressed together",
     ):
-        Simulation(reference.pair, steps)
+        Simulation(reference.pair, steps, law=reference.law)
 
 
 def test_empty_history(reference):
     with pytest.raises(LoadHistoryError, match="at least one load step"):
-        Simulation(reference.pair, [])
+        Simulation(reference.pair, [], law=reference.law)
 
 
 def test_scene_history_starting_with_shear():
@@ -297,9 +299,14 @@ def test_non_finite_load(value):
 
 def test_newton_failure_says_what_to_change(reference):
     """A Newton iteration that cannot converge carries its history and suggests fixes."""
-    from fretbem.solver import NewtonConvergenceError, Solver
+    from fretbem.solver import NewtonConvergenceError, SemiSmoothNewton
 
-    strict = Simulation(reference.pair, reference.steps, Solver(max_iterations=1, max_substeps=0))
+    strict = Simulation(
+        reference.pair,
+        reference.steps,
+        SemiSmoothNewton(max_iterations=1, max_substeps=0),
+        law=reference.law,
+    )
     match = r"did not converge in 1 iterations .*pairs \[.*\] kept changing state .*"
     with pytest.raises(
         NewtonConvergenceError, match=match + "sub-increments.*max_substeps.*refine"
@@ -380,7 +387,7 @@ def test_scene_file_semantic_errors_name_the_cause():
 def test_basis_family_not_installed(tmp_path):
     message = r"unknown basis family 'quartic'; installed families: .*'lagrange2'.*'nurbs'"
     with pytest.raises(UnknownBasisError, match=message):
-        Body(RECTANGLE, STEEL, [Displacement("bottom")], basis="quartic")
+        BemBody(RECTANGLE, STEEL, [Displacement("bottom")], basis="quartic")
     with pytest.raises(UnknownBasisError, match=message):
         cattaneo_mindlin(pairs=21, basis="quartic")
     path = tmp_path / "scene.toml"

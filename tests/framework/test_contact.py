@@ -7,10 +7,10 @@ the paper's 4.104 % and the 2 % pressure bound are the acceptance thresholds.
 import numpy as np
 import pytest
 
-from fretbem.contact import ContactDiscretisationError, ContactPair
+from fretbem.contact import ContactDiscretisationError, NodeToNodePair
 from fretbem.scenes import cattaneo_mindlin
 from fretbem.simulation import GrossSlidingError, LoadHistoryError, LoadStep, Simulation, run
-from fretbem.solver import NewtonConvergenceError, Solver
+from fretbem.solver import NewtonConvergenceError, SemiSmoothNewton
 
 PAPER_MAX_ERROR = 0.04104
 
@@ -147,15 +147,15 @@ def test_mismatched_discretisation_names_the_point():
     sim = cattaneo_mindlin()
     upper = sim.pair.upper
     other = cattaneo_mindlin(pairs=59).pair.upper
-    pair = ContactPair(other, sim.pair.lower, friction=0.3)
+    pair = NodeToNodePair(other, sim.pair.lower)
     with pytest.raises(ContactDiscretisationError, match="collocation points"):
-        _ = pair.geometry
+        _ = pair.pairing()
     assert upper is not other
 
 
 def test_overlapping_bodies_are_refused():
     """An upper body pushed into the lower one is an error stating the overlap."""
-    from fretbem.body import Body
+    from fretbem.bem_body import BemBody
     from fretbem.geometry.boundary import Boundary, Segment
 
     sim = cattaneo_mindlin()
@@ -174,7 +174,7 @@ def test_overlapping_bodies_are_refused():
             for s in upper.boundary.segments
         ]
     )
-    moved = Body(
+    moved = BemBody(
         shifted,
         upper.material,
         upper.conditions,
@@ -183,14 +183,18 @@ def test_overlapping_bodies_are_refused():
         name="upper",
     )
     with pytest.raises(ContactDiscretisationError, match="overlap at the start"):
-        _ = ContactPair(moved, sim.pair.lower, friction=0.3).geometry
+        _ = NodeToNodePair(moved, sim.pair.lower).pairing()
 
 
 def test_newton_failure_carries_history():
     """Too few iterations and no sub-stepping: the error names pairs and suggests fixes."""
     sim = cattaneo_mindlin()
     strict = Simulation(
-        sim.pair, sim.steps, Solver(max_iterations=2, max_substeps=0), reference=sim.reference
+        sim.pair,
+        sim.steps,
+        SemiSmoothNewton(max_iterations=2, max_substeps=0),
+        law=sim.law,
+        reference=sim.reference,
     )
     with pytest.raises(NewtonConvergenceError, match="sub-increments") as info:
         run(strict)

@@ -15,7 +15,8 @@ import pytest
 
 from fretbem import bases
 from fretbem.basis import Refinement
-from fretbem.body import Body, RigidMotionError
+from fretbem.bem_body import BemBody
+from fretbem.body import RigidMotionError
 from fretbem.conditions import Displacement, Traction
 from fretbem.geometry.boundary import Boundary, Segment
 from fretbem.geometry.nurbs import NurbsCurve
@@ -39,7 +40,7 @@ def uniform(boundary: Boundary, elements: int) -> dict[str, Refinement]:
 def test_rigid_translation_gives_zero_traction(family, elements):
     """A prescribed uniform displacement (0.1, -0.05) on all sides gives zero traction."""
     shift = np.array([0.1, -0.05])
-    body = Body(
+    body = BemBody(
         RECTANGLE,
         Material(E, NU),
         [Displacement(tag, x=shift[0], y=shift[1]) for tag in RECTANGLE.tags],
@@ -58,7 +59,7 @@ def test_rigid_translation_gives_zero_traction(family, elements):
 @pytest.mark.parametrize("family", FAMILIES)
 def test_h_annihilates_rigid_translations(family):
     """H times a unit translation in x, or in y, is zero (the rigid-body identity)."""
-    body = Body(RECTANGLE, Material(E, NU), basis=family, refinement=uniform(RECTANGLE, 3))
+    body = BemBody(RECTANGLE, Material(E, NU), basis=family, refinement=uniform(RECTANGLE, 3))
     h, g = body.matrices()
     assert h.shape == g.shape == (body.dofs, body.dofs)
     for component in range(2):
@@ -73,9 +74,9 @@ def test_h_annihilates_rigid_translations(family):
 SIGMA = 5.0
 
 
-def tension_body(family: str, elements: int, plane_stress: bool) -> Body:
+def tension_body(family: str, elements: int, plane_stress: bool) -> BemBody:
     """[0, 2] x [0, 1] pulled by sigma on the right, on rollers at the bottom and left."""
-    return Body(
+    return BemBody(
         RECTANGLE,
         Material(E, NU, plane_stress=plane_stress),
         [
@@ -153,7 +154,7 @@ def lame_errors(family: str, elements: int) -> tuple[float, float, int]:
     Both are maxima over 201 points relative to the peak exact value; the hoop maximum
     includes the corners.
     """
-    body = Body(
+    body = BemBody(
         ANNULUS,
         Material(E, NU),
         [
@@ -231,7 +232,7 @@ def test_unknown_family_lists_installed_ones():
     with pytest.raises(
         bases.UnknownBasisError, match=r"'quartic'; installed families: .*'lagrange2'.*'nurbs'"
     ):
-        Body(RECTANGLE, Material(E, NU), [Displacement("bottom")], basis="quartic")
+        BemBody(RECTANGLE, Material(E, NU), [Displacement("bottom")], basis="quartic")
 
 
 def test_condition_on_unknown_tag():
@@ -239,13 +240,13 @@ def test_condition_on_unknown_tag():
     with pytest.raises(
         KeyError, match=r"Traction condition .*'roof'.*\['bottom', 'left', 'right', 'top'\]"
     ):
-        Body(RECTANGLE, Material(E, NU), [Traction("roof", y=-1.0)])
+        BemBody(RECTANGLE, Material(E, NU), [Traction("roof", y=-1.0)])
 
 
 @pytest.mark.parametrize("family", FAMILIES)
 def test_traction_only_body_is_rigid(family):
     """Tractions alone leave every rigid motion free: RigidMotionError names all three."""
-    body = Body(
+    body = BemBody(
         RECTANGLE,
         Material(E, NU),
         [Traction("right", x=1.0), Traction("left", x=-1.0)],
@@ -259,7 +260,7 @@ def test_traction_only_body_is_rigid(family):
 
 def test_roller_alone_leaves_sliding_free():
     """A bottom roller fixes y and rotation; only the x translation is reported free."""
-    body = Body(RECTANGLE, Material(E, NU), [Displacement("bottom", x=None, y=0.0)])
+    body = BemBody(RECTANGLE, Material(E, NU), [Displacement("bottom", x=None, y=0.0)])
     with pytest.raises(RigidMotionError, match=r"free \(x translation\)"):
         body.solve()
 
@@ -269,7 +270,7 @@ def test_conflicting_conditions_on_one_component():
     with pytest.raises(
         ValueError, match=r"segment 1 \('right'\) has two conditions on its x component"
     ):
-        Body(
+        BemBody(
             RECTANGLE,
             Material(E, NU),
             [Displacement("right", x=0.0, y=None), Traction("right", x=1.0, y=None)],

@@ -201,7 +201,7 @@ def simulate(loads, increments=1):
     steps = [LoadStep(f"s{k}", p, q, increments) for k, (p, q) in enumerate(loads)]
     constant = all(p == loads[0][0] for p, _ in loads)
     reference = base.reference if constant and loads[0][0] == P else None
-    return run(Simulation(base.pair, steps, base.solver, reference=reference))
+    return run(Simulation(base.pair, steps, base.solver, law=base.law, reference=reference))
 
 
 ratios = st.floats(-0.98, 0.98, allow_nan=False)

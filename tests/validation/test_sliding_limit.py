@@ -12,7 +12,7 @@ from validation_support import P, check_physics, history, scene
 
 from fretbem.scenes import cattaneo_mindlin
 from fretbem.simulation import GrossSlidingError, LoadStep, Simulation, run
-from fretbem.solver import NewtonConvergenceError, Solver
+from fretbem.solver import NewtonConvergenceError, SemiSmoothNewton
 
 F = 0.3
 
@@ -93,12 +93,12 @@ def test_hardest_case_error_falls_with_refinement():
     assert [s.iterations for s in fine.steps] <= [12, 12, 9]  # measured 9, 9, 4
 
 
-class CountingSolver(Solver):
-    """A Solver that records every call: (converged, Newton iterations spent)."""
+class CountingSolver(SemiSmoothNewton):
+    """A Newton solver that records every call: (converged, Newton iterations spent)."""
 
-    def solve_increment(self, problem, **kwargs):
+    def solve_increment(self, problem, law, **kwargs):
         try:
-            result = super().solve_increment(problem, **kwargs)
+            result = super().solve_increment(problem, law, **kwargs)
         except NewtonConvergenceError as failure:
             CALLS.append((False, len(failure.residuals)))
             raise
@@ -119,7 +119,7 @@ def test_hardest_case_uses_automatic_substepping(base):
     loads = (0.0, 0.99 * F * P, 0.0)
     plain = run(history(base, loads))
     with pytest.raises(NewtonConvergenceError, match="sub-increments") as info:
-        run(history(base, loads, solver=Solver(max_iterations=5, max_substeps=0)))
+        run(history(base, loads, solver=SemiSmoothNewton(max_iterations=5, max_substeps=0)))
     assert len(info.value.residuals) == 5 and info.value.changing_pairs.size > 0
 
     CALLS.clear()
@@ -149,7 +149,7 @@ def test_gross_sliding_is_refused_before_iterating(q):
     pair = simulation.pair
     steps = [LoadStep("A", P, 0.0), LoadStep("B", P, 0.5 * F * P * np.sign(q)), LoadStep("C", P, q)]
     with pytest.raises(GrossSlidingError) as info:
-        Simulation(pair, steps, CountingSolver())
+        Simulation(pair, steps, CountingSolver(), law=simulation.law)
     message = str(info.value)
     assert "load step 'C'" in message and "gross sliding" in message
     assert f"f P = {F * P:g}" in message and "no static equilibrium" in message
@@ -162,4 +162,4 @@ def test_gross_sliding_reached_by_lowering_p():
     simulation = cattaneo_mindlin(pairs=21)
     steps = [LoadStep("A", P, 0.0), LoadStep("B", P, 20.0), LoadStep("unload", 60.0, 20.0)]
     with pytest.raises(GrossSlidingError, match=r"'unload': \|Q\| = 20 >= f P = 18"):
-        Simulation(simulation.pair, steps)
+        Simulation(simulation.pair, steps, law=simulation.law)

@@ -12,10 +12,10 @@ import functools
 import numpy as np
 
 from fretbem.analytical import MindlinDeresiewicz
-from fretbem.contact import ContactPair
+from fretbem.law import CoulombFriction
 from fretbem.scenes import CattaneoMindlinScene, cattaneo_mindlin
 from fretbem.simulation import LoadStep, Simulation, run
-from fretbem.solver import Solver
+from fretbem.solver import SemiSmoothNewton, Solver
 
 P = 100.0  # the reference scene's normal load, N/mm
 
@@ -40,16 +40,17 @@ def history(
 ) -> Simulation:
     """A new load history (steps named A, B, C, ... unless 26 are exceeded) on ``base``'s pair.
 
-    A different ``friction`` gets a new ContactPair on the same (already assembled) bodies.
+    A different ``friction`` gets a new law on the same (already condensed) pair.
     """
     pair = base.pair
-    if friction is not None and friction != pair.friction:
-        pair = ContactPair(pair.upper, pair.lower, friction=friction)
+    law = base.law if friction is None else CoulombFriction(friction)
     steps = [LoadStep(_name(k), normal, q, increments) for k, q in enumerate(tangential)]
     ref = None
     if reference and base.reference is not None:
-        ref = MindlinDeresiewicz(base.reference.hertz, pair.friction)
-    return Simulation(pair, steps, solver or Solver(), reference=ref, name=base.name)
+        ref = MindlinDeresiewicz(base.reference.hertz, law.friction)
+    return Simulation(
+        pair, steps, solver or SemiSmoothNewton(), law=law, reference=ref, name=base.name
+    )
 
 
 def _name(k: int) -> str:
@@ -58,7 +59,7 @@ def _name(k: int) -> str:
 
 def cycle(base: Simulation, ratio: float, *, friction: float | None = None, **kwargs):
     """Run A (P), B (+Q), C (0), D (-Q), E (0) with Q = ratio f P on ``base``'s pair."""
-    f = base.pair.friction if friction is None else friction
+    f = base.law.friction if friction is None else friction
     q = ratio * f * P
     return run(history(base, (0.0, q, 0.0, -q, 0.0), friction=friction, **kwargs))
 
@@ -70,7 +71,7 @@ def hertz_of(**fields):
 def check_physics(result, *, p_rel: float, q_abs: float) -> None:
     """Every step: |q| <= f p, p >= 0, slip pairs on the cone, separated pairs carry nothing,
     int p = P to ``p_rel`` (relative) and |int q - Q| <= ``q_abs``."""
-    f = result.simulation.pair.friction
+    f = result.simulation.law.friction
     for step in result.steps:
         scale = np.max(step.pressure)
         assert np.all(step.pressure >= -1e-12 * scale), step.name

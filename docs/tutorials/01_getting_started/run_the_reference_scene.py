@@ -52,10 +52,11 @@ for path in sorted(OUT.rglob("*")):
 # -----------
 #
 # :func:`fretbem.scenes.cattaneo_mindlin` builds the scene as a
-# :class:`~fretbem.simulation.Simulation` (two :class:`~fretbem.body.Body` objects, a
-# :class:`~fretbem.contact.ContactPair`, five :class:`~fretbem.simulation.LoadStep`
-# records and the analytical reference); :func:`fretbem.simulation.run` assembles and
-# condenses both bodies once, then steps through the history.
+# :class:`~fretbem.simulation.Simulation` (two :class:`~fretbem.bem_body.BemBody` objects, a
+# :class:`~fretbem.contact.NodeToNodePair`, five :class:`~fretbem.simulation.LoadStep`
+# records, the :class:`~fretbem.law.CoulombFriction` law and the analytical reference);
+# :func:`fretbem.simulation.run` assembles and condenses both bodies once, then steps
+# through the history.
 from fretbem.scenes import cattaneo_mindlin
 from fretbem.simulation import run
 

@@ -107,7 +107,7 @@ specimen_boundary = Boundary(
 # nearest the zone, in the segment's own parameter), and the sides, top and bottom toward
 # their corners, where the traction is singular.
 from fretbem.basis import Refinement
-from fretbem.body import Body
+from fretbem.bem_body import BemBody
 from fretbem.conditions import Displacement, LoadingBlock
 from fretbem.material import Material
 
@@ -133,7 +133,7 @@ specimen_refinement = {
 # the load history prescribes that block's force (P, Q), and its displacement is an
 # unknown. The specimen is clamped at its bottom.
 material = Material(E, NU)
-pad = Body(
+pad = BemBody(
     pad_boundary,
     material,
     [LoadingBlock("top")],
@@ -141,7 +141,7 @@ pad = Body(
     refinement=pad_refinement,
     name="pad",
 )
-specimen = Body(
+specimen = BemBody(
     specimen_boundary,
     material,
     [Displacement("bottom")],
@@ -170,8 +170,11 @@ zoom.set_title("contact zone, y exaggerated: facing points")
 # giving P and Q at its end (reached linearly in ``increments`` sub-increments). The
 # first step must press the bodies together with Q = 0, and :math:`|Q|` must stay below f P
 # (else there is gross sliding). Here: press, then two cycles of ±15 N/mm with a partial
-# unloading to ±5 N/mm inside the first.
-from fretbem.contact import ContactPair
+# unloading to ±5 N/mm inside the first. The two contact faces are paired node to node
+# (:class:`~fretbem.contact.NodeToNodePair`), and friction is the contact law's
+# (:class:`~fretbem.law.CoulombFriction`), which the simulation holds.
+from fretbem.contact import NodeToNodePair
+from fretbem.law import CoulombFriction
 from fretbem.simulation import LoadStep, Simulation, run
 
 P = 100.0
@@ -185,7 +188,9 @@ steps = (
     LoadStep("D", P, 15.0, increments=2),  # second cycle
     LoadStep("E", P, -15.0, increments=2),
 )
-simulation = Simulation(ContactPair(pad, specimen, friction=FRICTION), steps, name="rounded flat")
+simulation = Simulation(
+    NodeToNodePair(pad, specimen), steps, law=CoulombFriction(FRICTION), name="rounded flat"
+)
 result = run(simulation)
 print(result.table())
 
