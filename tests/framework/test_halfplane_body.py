@@ -164,3 +164,23 @@ def test_scene_model_needs_one_contact_segment():
             family=None,
             refinement={},
         )
+
+
+@pytest.mark.parametrize("role", ["pad", "specimen"])
+@pytest.mark.parametrize("family", ["nurbs", "lagrange2"])
+def test_half_plane_passes_the_body_conformance_checks(role, family):
+    from fretbem.testing import check_body
+
+    def factory():
+        face = NurbsCurve.line([-0.5, 0.0], [0.5, 0.0])
+        return HalfPlaneBody(
+            face,
+            MATERIAL,
+            side="upper" if role == "pad" else "lower",
+            basis=family,
+            refinement=Refinement(elements=6),
+            loading_block=LoadingBlock("far field", (0.0, -1.0)) if role == "pad" else None,
+            name=role,
+        )
+
+    check_body(factory)

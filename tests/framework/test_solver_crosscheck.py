@@ -86,3 +86,12 @@ def test_pivot_limit_is_a_convergence_failure():
 def test_bad_settings_are_refused(field, value):
     with pytest.raises(SolverSettingsError, match=field):
         LemkeSolver(**{field: value})
+
+
+@pytest.mark.parametrize(
+    "models", [{}, {"upper": "half-plane", "lower": "half-plane"}], ids=["bem", "half-plane"]
+)
+def test_lemke_passes_the_solver_conformance_checks(models):
+    from fretbem.testing import check_solver
+
+    check_solver(LemkeSolver(), simulation=scenes.cattaneo_mindlin(pairs=21, models=models))
