@@ -15,6 +15,7 @@ global frame, y up, the body below the surface.
 
 from __future__ import annotations
 
+import itertools
 import math
 from typing import Protocol, runtime_checkable
 
@@ -110,6 +111,9 @@ class CattaneoMindlinCycle:
     plane_strain: bool = True
     steps_per_branch: int = 6
     contact_modulus: float | None = None
+    history: tuple[float, ...] | None = attrs.field(
+        default=None, converter=lambda v: None if v is None else tuple(float(x) for x in v)
+    )
 
     def __attrs_post_init__(self) -> None:
         if not (self.a > 0 and self.p0 > 0 and self.f > 0):
@@ -120,6 +124,8 @@ class CattaneoMindlinCycle:
             )
         if self.steps_per_branch < 2:
             raise FatigueInputError("steps_per_branch must be >= 2")
+        if self.history is not None:
+            self._check_history()
         c = self.a * math.sqrt(1.0 - self.tangential_ratio)
         e = self.a * abs(self.sigma_bulk_max) / (4.0 * self.f * self.p0)
         if e + c > self.a * (1 + 1e-12):
@@ -134,9 +140,33 @@ class CattaneoMindlinCycle:
         """a, mm: sets the default extent of the parameter map."""
         return self.a
 
+    def _check_history(self) -> None:
+        h = np.asarray(self.history)
+        if h.size < 2 or h[0] != 0.0 or np.max(np.abs(h)) > self.tangential_ratio * (1 + 1e-12):
+            raise FatigueInputError(
+                "history must start at Q = 0 and stay within |Q/(fP)| <= tangential_ratio"
+            )
+        turns = [0.0]
+        for r in self._turning_values(h):
+            turns.append(r)
+        for k in range(2, len(turns)):
+            if abs(turns[k] - turns[k - 1]) > abs(turns[k - 1] - turns[k - 2]) * (1 + 1e-12):
+                raise FatigueInputError(
+                    "the closed form (Masing branches without memory erasure) needs each load "
+                    "reversal to stay within the previous one"
+                )
+
+    @staticmethod
+    def _turning_values(h: np.ndarray) -> list[float]:
+        from .cycle import turning_points
+
+        return [float(h[i]) for i in turning_points(h)[1:]]
+
     @property
     def tangential_history(self) -> np.ndarray:
-        """Q / (f P) at every step: 0 -> +r -> -r -> +r."""
+        """Q / (f P) at every step: ``history``, or by default 0 -> +r -> -r -> +r."""
+        if self.history is not None:
+            return np.asarray(self.history)
         n = self.steps_per_branch
         r = self.tangential_ratio
         return np.concatenate(
@@ -157,31 +187,38 @@ class CattaneoMindlinCycle:
         """Q / (f P) history: the default cycle is its last full reversal."""
         return self.tangential_history
 
+    def _increment(self, dr: float, scale: float):
+        """Terms of a load increment dr (in Q/fP) from a turning point; Masing scale 1 or 2.
+
+        The stick zone of an increment sits at e = a k |dr| / (4 scale f p0) whatever the
+        direction of dr: negating every load negates the tractions and keeps the zones.
+        """
+        fp0, a = self.f * self.p0, self.a
+        k = self.sigma_bulk_max / self.tangential_ratio  # sigma_B = k Q/(fP), in phase
+        sign = 1.0 if dr >= 0 else -1.0
+        c = a * math.sqrt(max(1.0 - abs(dr) / scale, 0.0))
+        e = a * k * abs(dr) / (4 * scale * fp0)
+        return [(sign * scale * fp0, a, 0.0), (-sign * scale * fp0 * c / a, c, e)]
+
     def _terms(self, step: int):
-        """Shear terms (q0, half-width, centre) and the bulk stress at one step."""
-        fp0, a, rmax = self.f * self.p0, self.a, self.tangential_ratio
-        r = self.tangential_history[step]
-        k = self.sigma_bulk_max / rmax  # sigma_B = k r (in phase)
-        n = self.steps_per_branch
+        """Shear terms (q0, half-width, centre) and the bulk stress at one step.
 
-        def loading(rr):
-            c = a * math.sqrt(max(1.0 - rr, 0.0))
-            return [(fp0, a, 0.0), (-fp0 * c / a, c, a * k * rr / (4 * fp0))]
+        First loading: Cattaneo-Mindlin with the Nowell-Hills offset; after each turning point
+        the state there plus an increment of twice the scale (Masing), e.g. unloading from
+        (Q_max, sigma_max): - 2 f p0 [E_a - (c'/a) E_c'(x - e')], c'/a = sqrt(1 - dQ/(2fP)),
+        e' = a d(sigma)/(8 f p0) (Hills and Nowell 1994, ch. 5).
+        """
+        from .cycle import turning_points
 
-        if step <= n:
-            return loading(r), k * r
-        base = loading(rmax)
-        if step <= 3 * n:  # unloading from +rmax
-            dr = rmax - r
-            c = a * math.sqrt(max(1.0 - dr / 2.0, 0.0))
-            e = a * k * dr / (8 * fp0)
-            return [*base, (-2 * fp0, a, 0.0), (2 * fp0 * c / a, c, e)], k * r
-        # reloading from -rmax: minus the state at +rmax plus a forward increment
-        dr = r + rmax
-        c = a * math.sqrt(max(1.0 - dr / 2.0, 0.0))
-        e = a * k * dr / (8 * fp0)
-        neg = [(-q0, b, x0) for q0, b, x0 in base]
-        return [*neg, (2 * fp0, a, 0.0), (-2 * fp0 * c / a, c, e)], k * r
+        h = self.tangential_history
+        k = self.sigma_bulk_max / self.tangential_ratio
+        turns = [int(i) for i in turning_points(h[: step + 1])] if step > 0 else [0]
+        # turning points strictly before this step, then the step itself
+        marks = [t for t in turns if t < step] + [step]
+        terms = self._increment(h[marks[1]] if len(marks) > 1 else 0.0, 1.0)
+        for t0, t1 in itertools.pairwise(marks[1:]):
+            terms = terms + self._increment(h[t1] - h[t0], 2.0)
+        return terms, k * h[step]
 
     def stress_at(self, points: np.ndarray) -> np.ndarray:
         """Stress history (n_steps, n, 4) at points (n, 2) = [x, depth]."""
