@@ -25,6 +25,31 @@ def _progress(message: str) -> None:
     print(f"fretbem: {message}", file=sys.stderr, flush=True)
 
 
+class StepProgress:
+    """Prints "step k/n (name)" on stderr after each step, at most once a second (and last)."""
+
+    def __init__(self, total: int, interval: float = 1.0) -> None:
+        self.total, self.interval = total, interval
+        self.start = self.last = time.perf_counter()
+
+    def __call__(self, k: int, n: int, step) -> None:
+        now = time.perf_counter()
+        if now - self.last >= self.interval or k == n:
+            self.last = now
+            name = getattr(step, "name", "")
+            _progress(f"step {k}/{n} ({name}) done, {now - self.start:.1f} s")
+
+
+def _progress_option(run, simulation, estimate) -> dict:
+    """``progress=`` for run() when it takes the hook and the run is long (> 2 s or > 20 steps)."""
+    import inspect
+
+    long = estimate.seconds > 2.0 or len(simulation.steps) > 20
+    if long and "progress" in inspect.signature(run).parameters:
+        return {"progress": StepProgress(len(simulation.steps))}
+    return {}
+
+
 def _check_compare(names) -> list[str]:
     """--compare names must be installed families (checked before the run)."""
     installed = bases.available()
@@ -62,7 +87,7 @@ def _prepare(scene, args: argparse.Namespace):
     estimate = check_resources(int(pair.upper.dofs + pair.lower.dofs))
     if estimate.seconds > 2.0:
         _progress(f"running, estimated {estimate.describe()}")
-    return simulation, compare
+    return simulation, compare, estimate
 
 
 def _simulate(scene, args: argparse.Namespace) -> int:
@@ -74,8 +99,8 @@ def _simulate(scene, args: argparse.Namespace) -> int:
     from .simulation import run
 
     start = time.perf_counter()
-    simulation, compare = _prepare(scene, args)
-    result = run(simulation)
+    simulation, compare, estimate = _prepare(scene, args)
+    result = run(simulation, **_progress_option(run, simulation, estimate))
     info = result.describe()
     print(
         f"{info['basis']} (degree {info['degree']}), {info['pairs']} node pairs, "

@@ -179,3 +179,26 @@ def test_long_run_prints_a_progress_line_with_the_estimate(tmp_path, monkeypatch
     assert cli.main(["demo", "--pairs", "21", "--out", str(tmp_path / "o"), *FAST]) == 0
     err = capsys.readouterr().err
     assert "fretbem: running, estimated" in err and "boundary DOFs" in err
+
+
+def test_step_progress_lines_are_rate_limited(capsys):
+    """The per-step progress printer writes at most once per interval, and the last step."""
+    progress = cli.StepProgress(1000, interval=3600.0)
+    for k in range(1, 1001):
+        progress(k, 1000, type("Step", (), {"name": f"S{k}"})())
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("fretbem: step 1000/1000 (S1000) done")
+
+
+def test_progress_hook_is_passed_only_to_a_run_that_takes_it():
+    """run(simulation, progress=...) once the simulation offers the hook; never otherwise."""
+    long = type("Estimate", (), {"seconds": 10.0})()
+    simulation = type("Simulation", (), {"steps": (1, 2)})()
+
+    def with_hook(simulation, *, progress=None): ...
+
+    def without(simulation): ...
+
+    option = cli._progress_option(with_hook, simulation, long)
+    assert isinstance(option["progress"], cli.StepProgress)
+    assert cli._progress_option(without, simulation, long) == {}
