@@ -1,1 +1,27 @@
-"""Stresses on the boundary and inside the bodies: Somigliana, half-plane and closed forms."""
+"""Stresses on the boundary and inside the bodies: Somigliana, half-plane and closed forms.
+
+``stresses(result, step, points, body)`` for one step; :class:`StressEvaluator` to reuse one
+evaluation matrix over the steps; :func:`run_stress_request` for a scene file's
+``[stress]`` table; :mod:`fretbem.stress.closed_form` for the half-plane closed forms.
+"""
+
+from .errors import StressInputError, StressRequestError
+from .evaluate import StressEvaluator, stresses
+from .request import StressGrid, StressLine, StressRequest, stress_request_from_dict
+from .run import run_stress_request
+from .somigliana import StressOperator, StressSettings, somigliana_operator
+
+__all__ = [
+    "StressEvaluator",
+    "StressGrid",
+    "StressInputError",
+    "StressLine",
+    "StressOperator",
+    "StressRequest",
+    "StressRequestError",
+    "StressSettings",
+    "run_stress_request",
+    "somigliana_operator",
+    "stress_request_from_dict",
+    "stresses",
+]

@@ -18,59 +18,69 @@ _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
 
 
 @numba.njit(**_JIT)
-def _delta(i, j):
-    return 1.0 if i == j else 0.0
-
-
-@numba.njit(**_JIT)
 def _kernels(rx, ry, nx, ny, nu, mu, d, s):
-    """Fill d[k, c] and s[k, c] (c = xx, yy, xy) for offset r = y - x and normal n at y."""
-    r2 = rx * rx + ry * ry
-    inv_r = 1.0 / math.sqrt(r2)
-    g0 = rx * inv_r
-    g1 = ry * inv_r
-    dn = g0 * nx + g1 * ny
+    """Fill d[k, c] and s[k, c] (c = xx, yy, xy) for offset r = y - x and normal n at y:
+    the formulas of :func:`fretbem.stress.kernels.stress_kernels`, expanded by component."""
+    inv_r = 1.0 / math.sqrt(rx * rx + ry * ry)
+    gx = rx * inv_r
+    gy = ry * inv_r
+    dn = gx * nx + gy * ny
     a = 1.0 - 2.0 * nu
-    d_scale = inv_r / (4.0 * math.pi * (1.0 - nu))
-    s_scale = mu / (2.0 * math.pi * (1.0 - nu)) * inv_r * inv_r
-    for k in range(2):
-        gk = g0 if k == 0 else g1
-        nk = nx if k == 0 else ny
-        for c in range(3):
-            i = 0 if c == 0 else 1
-            j = 0 if c != 1 else 1
-            if c == 2:
-                i, j = 0, 1
-            gi = g0 if i == 0 else g1
-            gj = g0 if j == 0 else g1
-            ni = nx if i == 0 else ny
-            nj = nx if j == 0 else ny
-            d[k, c] = d_scale * (
-                a * (_delta(k, i) * gj + _delta(k, j) * gi - _delta(i, j) * gk) + 2.0 * gi * gj * gk
-            )
-            s[k, c] = s_scale * (
-                2.0
-                * dn
-                * (
-                    a * _delta(i, j) * gk
-                    + nu * (_delta(i, k) * gj + _delta(j, k) * gi)
-                    - 4.0 * gi * gj * gk
-                )
-                + 2.0 * nu * (ni * gj * gk + nj * gi * gk)
-                + a * (2.0 * nk * gi * gj + nj * _delta(i, k) + ni * _delta(j, k))
-                - (1.0 - 4.0 * nu) * nk * _delta(i, j)
-            )
+    b = 1.0 - 4.0 * nu
+    cd = inv_r / (4.0 * math.pi * (1.0 - nu))
+    cs = mu / (2.0 * math.pi * (1.0 - nu)) * inv_r * inv_r
+    gxx = gx * gx
+    gyy = gy * gy
+    gxy = gx * gy
+    d[0, 0] = cd * (a * gx + 2.0 * gx * gxx)
+    d[0, 1] = cd * (-a * gx + 2.0 * gx * gyy)
+    d[0, 2] = cd * (a * gy + 2.0 * gxx * gy)
+    d[1, 0] = cd * (-a * gy + 2.0 * gxx * gy)
+    d[1, 1] = cd * (a * gy + 2.0 * gy * gyy)
+    d[1, 2] = cd * (a * gx + 2.0 * gx * gyy)
+    dn2 = 2.0 * dn
+    s[0, 0] = cs * (
+        dn2 * (a * gx + 2.0 * nu * gx - 4.0 * gx * gxx)
+        + 4.0 * nu * nx * gxx
+        + a * (2.0 * nx * gxx + 2.0 * nx)
+        - b * nx
+    )
+    s[0, 1] = cs * (
+        dn2 * (a * gx - 4.0 * gx * gyy) + 4.0 * nu * ny * gxy + 2.0 * a * nx * gyy - b * nx
+    )
+    s[0, 2] = cs * (
+        dn2 * (nu * gy - 4.0 * gxx * gy)
+        + 2.0 * nu * (nx * gxy + ny * gxx)
+        + a * (2.0 * nx * gxy + ny)
+    )
+    s[1, 0] = cs * (
+        dn2 * (a * gy - 4.0 * gxx * gy) + 4.0 * nu * nx * gxy + 2.0 * a * ny * gxx - b * ny
+    )
+    s[1, 1] = cs * (
+        dn2 * (a * gy + 2.0 * nu * gy - 4.0 * gy * gyy)
+        + 4.0 * nu * ny * gyy
+        + a * (2.0 * ny * gyy + 2.0 * ny)
+        - b * ny
+    )
+    s[1, 2] = cs * (
+        dn2 * (nu * gx - 4.0 * gx * gyy)
+        + 2.0 * nu * (nx * gyy + ny * gxy)
+        + a * (2.0 * ny * gxy + nx)
+    )
 
 
 @numba.njit(parallel=True, **_JIT)
 def far_field(
-    points, x, n, jw, phi, x4, n4, jw4, phi4, centre, coarse_radius, cols, skip, sub_index,
-    closest, nu, mu, mt, mu_, mom_dn, mom_s, mom_sy,
+    points, x, n, jw, phi, x4, n4, jw4, phi4, x2, n2, jw2, phi2, centre, coarse_radius,
+    far_radius, cols, skip, sub_index,
+    closest, nu, mu, full, mom_dn, mom_s, mom_sy,
 ):  # fmt: skip
-    """Add the far pairs (skip[p, e] False) into mt, mu_ (m, N, 2, 3) and the moments.
+    """Add the far pairs (skip[p, e] False) into full (m, 3, 2, N, 2): [p, c, 0, col, k] the
+    D integrals, [p, c, 1, col, k] the S integrals; and the moments.
 
-    Elements whose centre is farther than ``coarse_radius`` from a point use the coarse
-    rule (x4, n4, jw4, phi4); the others the fine rule.
+    Elements whose centre is farther than ``far_radius`` from a point use the 2-point rule
+    (x2, ...), farther than ``coarse_radius`` the 4-point rule (x4, ...), the others the
+    fine rule.
     """
     m = points.shape[0]
     n_el = phi.shape[0]
@@ -86,7 +96,10 @@ def far_field(
                 continue
             cx = centre[e, 0] - px
             cy = centre[e, 1] - py
-            if cx * cx + cy * cy > coarse_radius[e] * coarse_radius[e]:
+            c2 = cx * cx + cy * cy
+            if c2 > far_radius[e] * far_radius[e]:
+                xr, nr, wr, fr = x2, n2, jw2, phi2
+            elif c2 > coarse_radius[e] * coarse_radius[e]:
                 xr, nr, wr, fr = x4, n4, jw4, phi4
             else:
                 xr, nr, wr, fr = x, n, jw, phi
@@ -98,10 +111,10 @@ def far_field(
                     if fw == 0.0:
                         continue
                     col = cols[e, a]
-                    for k in range(2):
-                        for c in range(3):
-                            mt[p, col, k, c] += d[k, c] * fw
-                            mu_[p, col, k, c] += s[k, c] * fw
+                    for c in range(3):
+                        for k in range(2):
+                            full[p, c, 0, col, k] += d[k, c] * fw
+                            full[p, c, 1, col, k] += s[k, c] * fw
                 if si >= 0:
                     for k in range(2):
                         for c in range(3):

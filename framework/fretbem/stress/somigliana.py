@@ -63,9 +63,10 @@ class StressSettings:
         taken as boundary points; farther outside is an error.
     chunk : int
         Points per block of the numpy far-field evaluation (memory).
-    coarse_factor : float
-        The compiled loop uses a 4-point rule where a point is farther than this many
-        element lengths from an element (beyond the bounding circle).
+    coarse_factor, far_factor : float
+        The compiled loop uses a 4-point rule where a point is farther than
+        ``coarse_factor`` element lengths from an element (beyond its bounding circle), and
+        a 2-point rule beyond ``far_factor``.
     compiled : bool
         Use the numba far-field loop when numba is installed.
     """
@@ -79,6 +80,7 @@ class StressSettings:
     outside_tolerance: float = attrs.field(default=1e-3, validator=attrs.validators.ge(0))
     chunk: int = attrs.field(default=256, validator=attrs.validators.ge(1))
     coarse_factor: float = attrs.field(default=4.0, validator=attrs.validators.gt(0))
+    far_factor: float = attrs.field(default=30.0, validator=attrs.validators.gt(0))
     compiled: bool = True
 
 
@@ -152,12 +154,14 @@ class _Elements:
     phi: np.ndarray  # (E, q, nl)
     samples: np.ndarray  # (E, 17, 2) points along each element, in boundary order
     coarse: tuple  # (x, n, jw, phi) of a 4-point rule, for elements far from a point
+    farthest: tuple  # the same for a 2-point rule, for elements very far from a point
 
     @classmethod
     def of(cls, segments: Sequence[Basis], far_points: int) -> _Elements:
         fine = cls._rule(segments, QuadratureRule.gauss_legendre(far_points))
         coarse = cls._rule(segments, QuadratureRule.gauss_legendre(COARSE_POINTS))
-        return cls(*fine, coarse=coarse[6:10])
+        farthest = cls._rule(segments, QuadratureRule.gauss_legendre(2))
+        return cls(*fine, coarse=coarse[6:10], farthest=farthest[6:10])
 
     @staticmethod
     def _rule(segments: Sequence[Basis], rule: QuadratureRule) -> list[np.ndarray]:
@@ -411,8 +415,11 @@ def somigliana_operator(
     integrate = ~on_boundary
     near_mask[on_boundary] = True  # nothing is integrated for boundary points
 
-    mt = np.zeros((m, n_fun, 2, 3))  # [point, function, k, component]
-    mu_ = np.zeros((m, n_fun, 2, 3))
+    # the matrix in its final layout [point, component, (traction, displacement), function,
+    # direction]; mt and mu_ are views [point, function, direction, component] of its halves
+    full = np.zeros((m, 3, 2, n_fun, 2))
+    mt = full[:, :, 0].transpose(0, 2, 3, 1)
+    mu_ = full[:, :, 1].transpose(0, 2, 3, 1)
     sub_index = np.full(m, -1)
     n_sub = int(subtract.sum())
     sub_index[subtract] = np.arange(n_sub)
@@ -426,8 +433,10 @@ def somigliana_operator(
     if far is not None:
         far(
             points, elements.x, elements.n, elements.jw, elements.phi, *elements.coarse,
-            elements.centre, elements.radius + settings.coarse_factor * elements.length,
-            elements.columns, skip, sub_index, closest, knu, mu, mt, mu_, mom_dn, mom_s, mom_sy,
+            *elements.farthest, elements.centre,
+            elements.radius + settings.coarse_factor * elements.length,
+            elements.radius + settings.far_factor * elements.length,
+            elements.columns, skip, sub_index, closest, knu, mu, full, mom_dn, mom_s, mom_sy,
         )  # fmt: skip
     else:
         _far_field_numpy(
@@ -498,13 +507,8 @@ def somigliana_operator(
         cols = offsets[k] + basis.connectivity[el]
         _scatter_local(mt, mu_, rows, cols, coefficients)
 
-    matrix = np.concatenate(
-        [
-            mt.transpose(0, 3, 1, 2).reshape(3 * m, 2 * n_fun),
-            -mu_.transpose(0, 3, 1, 2).reshape(3 * m, 2 * n_fun),
-        ],
-        axis=1,
-    )
+    full[:, :, 1] *= -1.0  # sigma = int D t - int S u
+    matrix = full.reshape(3 * m, 4 * n_fun)
     return StressOperator(
         points=points,
         matrix=matrix,
