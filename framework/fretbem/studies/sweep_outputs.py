@@ -12,6 +12,8 @@ import importlib
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
+import numpy as np
+
 from .sweep_spec import SweepSpecError
 
 OutputFunction = Callable[[Any, Mapping], Mapping[str, Any]]
@@ -55,4 +57,73 @@ def reference_errors(result, scene: Mapping) -> dict[str, float]:
     return columns
 
 
-__all__ = ["OutputFunction", "reference_errors", "resolve", "resolve_all"]
+#: per process: one stress evaluator per contact pair (its matrix depends on the body and
+#: the points only, so every case of a group reuses it)
+_EVALUATORS: dict[int, Any] = {}
+
+
+def _surface_evaluator(result):
+    from ..stress.evaluate import StressEvaluator
+
+    pair = result.simulation.pair
+    evaluator = _EVALUATORS.get(id(pair))
+    if evaluator is None or evaluator.result.simulation.pair is not pair:
+        if len(_EVALUATORS) > 4:
+            _EVALUATORS.clear()
+        points = np.asarray(pair.pairing().points, dtype=float)
+        evaluator = StressEvaluator(result, points, "lower")
+        _EVALUATORS[id(pair)] = evaluator
+    evaluator.result = result  # same bodies and points: the matrix is reused
+    return evaluator
+
+
+def surface_stress(result, scene: Mapping) -> dict[str, float]:
+    """Peak surface sigma_xx of the lower body (specimen) per step and over the cycle, MPa.
+
+    Evaluated at the contact pairs' positions on the lower face by
+    :class:`fretbem.stress.evaluate.StressEvaluator` (bulk stress included): columns
+    ``sxx_max.<step>`` and ``sxx_max``.
+    """
+    stress = _surface_evaluator(result).steps()  # (n_steps, n_pairs, 4)
+    peaks = stress[:, :, 0].max(axis=1)
+    columns = {f"sxx_max.{s.name}": float(v) for s, v in zip(result.steps, peaks, strict=True)}
+    columns["sxx_max"] = float(peaks.max())
+    return columns
+
+
+def fatigue(result, scene: Mapping) -> dict[str, Any]:
+    """Hot-spot parameter and life per method from the scene's ``[fatigue]`` table.
+
+    Runs :func:`fretbem.fatigue.run.run_fatigue` on the lower body's stress history
+    (:class:`fretbem.fatigue.from_simulation.SimulationStressHistory`): columns
+    ``<method>.parameter``, ``<method>.life`` (cycles, inf for a run-out), ``<method>.x``
+    and ``<method>.depth`` (hot spot, mm).
+    """
+    from ..fatigue.from_simulation import SimulationStressHistory
+    from ..fatigue.request import fatigue_request_from_dict
+    from ..fatigue.run import run_fatigue
+
+    table = scene.get("fatigue")
+    if not isinstance(table, Mapping):
+        raise SweepSpecError(
+            "the fatigue output needs a [fatigue] table in the scene (material, methods...)"
+        )
+    report = run_fatigue(SimulationStressHistory(result), fatigue_request_from_dict(table))
+    columns: dict[str, Any] = {}
+    for method, entry in report.methods.items():
+        life = entry.life_hot_spot
+        columns[f"{method}.parameter"] = float(entry.at_hot_spot.value[0])
+        columns[f"{method}.life"] = float(life.cycles) if life is not None else float("nan")
+        columns[f"{method}.x"] = float(entry.hot_spot[0])
+        columns[f"{method}.depth"] = float(entry.hot_spot[1])
+    return columns
+
+
+__all__ = [
+    "OutputFunction",
+    "fatigue",
+    "reference_errors",
+    "resolve",
+    "resolve_all",
+    "surface_stress",
+]
