@@ -298,6 +298,37 @@ def check_free_space(directory: Path, needed: float, what: str) -> None:
         )
 
 
+@contextlib.contextmanager
+def staged_directory(directory: str | os.PathLike, *, overwrite: bool = False) -> Iterator[Path]:
+    """Yield an empty temporary directory beside ``directory`` that replaces it whole on exit.
+
+    The target is checked (:func:`prepare_output`) and locked (:func:`output_lock`); the
+    staging directory gets the fretbem marker. On any exception the staging directory is
+    removed and the target left as it was; an OSError becomes a one-line OutputError.
+    Any writer of a run's files (results, studies, stresses) can write through it.
+    """
+    target = prepare_output(directory, overwrite=overwrite)
+    with output_lock(target):
+        staging = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-", dir=target.parent))
+        try:
+            os.chmod(staging, 0o777 & ~_umask())  # mkdtemp makes it private (0700)
+            (staging / MARKER).write_text(
+                json.dumps({"fretbem_output": 1, "written": time.strftime("%Y-%m-%dT%H:%M:%S")})
+            )
+            yield staging
+            _move_into_place(staging, target)
+        except OSError as err:
+            shutil.rmtree(staging, ignore_errors=True)
+            where = f" ({err.filename})" if err.filename else ""
+            raise OutputError(
+                f"could not write the output: {err.strerror or err}{where}; {target} was left "
+                "as it was"
+            ) from None
+        except BaseException:
+            shutil.rmtree(staging, ignore_errors=True)
+            raise
+
+
 def write_results(
     result,
     directory: str | os.PathLike,
@@ -330,35 +361,18 @@ def write_results(
         if name not in WRITERS:
             raise OutputError(f"no output writer {name!r}; registered: {sorted(WRITERS)}")
         chosen.append(WRITERS[name])
-    with output_lock(target):
-        staging = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-", dir=target.parent))
-        try:
-            os.chmod(staging, 0o777 & ~_umask())  # mkdtemp makes it private (0700)
-            (staging / MARKER).write_text(
-                json.dumps({"fretbem_output": 1, "written": time.strftime("%Y-%m-%dT%H:%M:%S")})
-            )
-            write_csv(result, staging / "results.csv")
-            write_json(result, staging / "summary.json", records)
-            write_units(staging / "units.json")
-            if figures:
-                from . import plot
+    with staged_directory(target, overwrite=overwrite) as staging:
+        write_csv(result, staging / "results.csv")
+        write_json(result, staging / "summary.json", records)
+        write_units(staging / "units.json")
+        if figures:
+            from . import plot
 
-                plot.save_figures([result, *compare], staging, steps=steps)
-            if vtk:
-                from . import vtk_
+            plot.save_figures([result, *compare], staging, steps=steps)
+        if vtk:
+            from . import vtk_
 
-                vtk_.save_vtk(result, staging)
-            for writer in chosen:
-                writer.write(result, staging)
-            _move_into_place(staging, target)
-        except OSError as err:
-            shutil.rmtree(staging, ignore_errors=True)
-            where = f" ({err.filename})" if err.filename else ""
-            raise OutputError(
-                f"could not write the output: {err.strerror or err}{where}; {target} was left "
-                "as it was"
-            ) from None
-        except BaseException:
-            shutil.rmtree(staging, ignore_errors=True)
-            raise
+            vtk_.save_vtk(result, staging)
+        for writer in chosen:
+            writer.write(result, staging)
     return target
