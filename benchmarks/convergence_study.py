@@ -18,7 +18,7 @@ import os
 
 import attrs
 
-from fretbem.convergence import StudyPlan, run_study
+from fretbem.studies.convergence import StudyPlan, run_study
 
 
 def family(text: str) -> tuple[str, int | None]:

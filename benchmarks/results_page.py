@@ -22,8 +22,12 @@ How docs/results/ was made (the study with one BLAS thread, see the page)::
 from __future__ import annotations
 
 import argparse
+import sys
+from pathlib import Path
 
-from fretbem.convergence_report import write_results_page
+# the page generator is documentation tooling, beside the Sphinx extensions
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "docs" / "sphinxext"))
+from results_page_text import write_results_page
 
 
 def main(argv=None) -> int:

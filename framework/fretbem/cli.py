@@ -154,7 +154,7 @@ def _demo(args: argparse.Namespace) -> int:
 
 
 def _convergence(args: argparse.Namespace) -> int:
-    from .convergence import main as study
+    from .studies.convergence import main as study
 
     return study(quick=args.quick, out=args.out)
 

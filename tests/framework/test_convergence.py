@@ -6,11 +6,12 @@ import json
 import math
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
 from fretbem import cli
-from fretbem.convergence import (
+from fretbem.studies.convergence import (
     COLUMNS,
     FAMILIES,
     LARGE,
@@ -23,7 +24,10 @@ from fretbem.convergence import (
     read_csv,
     run_study,
 )
-from fretbem.convergence_report import results_page
+
+# the results page generator is documentation tooling (docs/sphinxext), not the package
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "docs" / "sphinxext"))
+from results_page_text import results_page, write_results_page
 
 
 @pytest.fixture(scope="module")
@@ -88,13 +92,16 @@ def test_quick_study_checks_refinement_of_the_rest(quick_study):
         assert 0 <= r["rest_change_p"] < 0.005 and 0 <= r["rest_change_q"] < 0.005
 
 
-def test_quick_study_figures_and_page(quick_study):
-    """Two PNG figures and a results page with the table, the comparison and the answer."""
+def test_quick_study_figures_and_page(quick_study, tmp_path):
+    """Two PNG figures from the study; the docs tool turns its CSV into a results page with
+    the table, the comparison and the answer."""
     out, rows = quick_study
     for name in ("error_vs_dofs.png", "error_vs_time.png"):
         data = (out / name).read_bytes()
         assert data.startswith(b"\x89PNG") and len(data) > 10_000
-    page = (out / "results.md").read_text()
+    assert not (out / "results.md").exists()  # the package writes no docs page
+    page_path = write_results_page(out / "convergence.csv", tmp_path / "results.md")
+    page = page_path.read_text()
     for heading in (
         "## Which family is fastest to 1 %",
         "## All runs on the scene's bodies",
@@ -105,7 +112,8 @@ def test_quick_study_figures_and_page(quick_study):
         assert heading in page
     assert "| nurbs | 2 | 31 |" in page and "| lagrange2 | 2 | 15 |" in page
     meta = json.loads((out / "study.json").read_text())
-    assert page == results_page(rows, meta=meta)  # the page is a function of the CSV
+    figures = {"dofs": "results/error_vs_dofs.png", "time": "results/error_vs_time.png"}
+    assert page == results_page(rows, meta=meta, figures=figures)  # a function of the CSV
 
 
 def test_first_crossing_interpolates_in_log_log():
@@ -149,7 +157,7 @@ def test_case_scales_bodies_and_rest():
 
 def test_importing_the_study_defers_matplotlib():
     """matplotlib is imported only when figures are drawn."""
-    code = "import sys, fretbem.convergence; print('matplotlib' in sys.modules)"
+    code = "import sys, fretbem.studies.convergence; print('matplotlib' in sys.modules)"
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert done.stdout.strip() == "False", done.stderr
 
