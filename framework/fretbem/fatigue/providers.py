@@ -150,7 +150,8 @@ class CattaneoMindlinCycle:
         for r in self._turning_values(h):
             turns.append(r)
         for k in range(2, len(turns)):
-            if abs(turns[k] - turns[k - 1]) > abs(turns[k - 1] - turns[k - 2]) * (1 + 1e-12):
+            previous = abs(turns[k - 1] - turns[k - 2]) * (2.0 if k == 2 else 1.0)
+            if abs(turns[k] - turns[k - 1]) > previous * (1 + 1e-12):
                 raise FatigueInputError(
                     "the closed form (Masing branches without memory erasure) needs each load "
                     "reversal to stay within the previous one"
