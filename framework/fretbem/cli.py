@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import argparse
+import signal
 import sys
 import time
+from pathlib import Path
 
 from . import bases
 
@@ -130,6 +132,13 @@ def _simulate(scene, args: argparse.Namespace) -> int:
 
 def _run(args: argparse.Namespace) -> int:
     from .scene_file import load_scene
+
+    scene_path, out = Path(args.scene).resolve(), Path(args.out).resolve()
+    if scene_path.is_relative_to(out):
+        raise CommandError(
+            f"--out {out} contains the scene file {args.scene}; replacing it would delete the "
+            "scene: choose another --out"
+        )
 
     scene = load_scene(args.scene, basis=args.basis, pairs=args.pairs)
     return _simulate(scene, args)
@@ -265,6 +274,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.command is None:
         main_parser.print_help()
         return 0
+    previous = _terminate_as_interrupt()
     try:
         return args.func(args)
     except ResultCheckError as err:
@@ -276,6 +286,22 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("fretbem: interrupted; the output directory was left as it was", file=sys.stderr)
         return 130
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _interrupt(signum, frame) -> None:
+    raise KeyboardInterrupt
+
+
+def _terminate_as_interrupt():
+    """SIGTERM (kill, a batch system's time limit) cleans up like Ctrl-C; returns the old
+    handler (None where signals cannot be set, e.g. outside the main thread)."""
+    try:
+        return signal.signal(signal.SIGTERM, _interrupt)
+    except ValueError:
+        return None
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -309,6 +309,9 @@ def staged_directory(directory: str | os.PathLike, *, overwrite: bool = False) -
     """
     target = prepare_output(directory, overwrite=overwrite)
     with output_lock(target):
+        for stale in (*target.parent.glob(f".{target.name}.tmp-*"),
+                      *target.parent.glob(f".{target.name}.old-*")):  # fmt: skip
+            shutil.rmtree(stale, ignore_errors=True)  # left by a killed run; we hold the lock
         staging = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-", dir=target.parent))
         try:
             os.chmod(staging, 0o777 & ~_umask())  # mkdtemp makes it private (0700)

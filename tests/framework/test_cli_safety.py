@@ -202,3 +202,26 @@ def test_progress_hook_is_passed_only_to_a_run_that_takes_it():
     option = cli._progress_option(with_hook, simulation, long)
     assert isinstance(option["progress"], cli.StepProgress)
     assert cli._progress_option(without, simulation, long) == {}
+
+
+def test_out_containing_the_scene_is_refused_even_with_overwrite(no_run, tmp_path, capsys):
+    """--overwrite on the scene's own folder would delete the scene: refused."""
+    path = scene(tmp_path)
+    assert cli.main(["run", path, "--out", str(tmp_path), "--overwrite", *FAST]) == 2
+    assert "contains the scene file" in one_line_error(capsys)
+    assert Path(path).is_file()
+
+
+def test_sigterm_cleans_up_like_ctrl_c(tmp_path, monkeypatch, capsys):
+    """kill (SIGTERM) during a run: exit 130, no output, no temporary directory."""
+    import os
+    import signal
+
+    def killed(*args, **kwargs):
+        os.kill(os.getpid(), signal.SIGTERM)
+
+    monkeypatch.setattr(simulation, "run", killed)
+    before = signal.getsignal(signal.SIGTERM)
+    assert cli.main(["demo", "--pairs", "21", "--out", str(tmp_path / "o"), *FAST]) == 130
+    assert signal.getsignal(signal.SIGTERM) is before
+    assert list(tmp_path.iterdir()) == []

@@ -220,3 +220,11 @@ def test_replacement_without_atomic_exchange_is_whole(result, tmp_path, monkeypa
     write_results(result, out, figures=False, vtk=False)
     assert "stale.txt" not in _files(out)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+
+
+def test_staging_left_by_a_killed_run_is_removed(result, tmp_path):
+    """SIGKILL leaves .out.tmp-*; the next run (holding the lock) removes it."""
+    (tmp_path / ".out.tmp-killed").mkdir()
+    (tmp_path / ".out.tmp-killed" / "results.csv").write_text("partial")
+    write_results(result, tmp_path / "out", figures=False, vtk=False)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
