@@ -129,11 +129,21 @@ def test_pad_response_is_the_rigid_far_field_plus_the_half_plane():
     t = np.random.default_rng(1).normal(size=(n, 2))
     solution = specimen.solution("contact", t, np.zeros(2), {"bulk": 3.0})
     np.testing.assert_allclose(
-        solution.displacement(x),
+        solution.surface_displacement(x),
         s_response.displacement(t, np.zeros(2), [3.0]),
         rtol=1e-12,
         atol=1e-18,
     )
+    # per segment at curve parameters, as writers read a body's fields: at the nodes the
+    # interpolated traction is the node traction
+    elements, local = specimen.segments[0].collocation()
+    params = specimen.segments[0].to_parameter(elements, local)
+    np.testing.assert_allclose(solution.traction(0, params), t, rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(
+        solution.displacement(0, params), solution.displacements, rtol=1e-10, atol=1e-18
+    )
+    with pytest.raises(IndexError, match="one segment"):
+        solution.traction(1, params)
 
 
 def test_wrong_tag_names_the_face():

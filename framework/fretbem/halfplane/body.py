@@ -32,6 +32,10 @@ BULK = "bulk"
 class HalfPlaneSolution:
     """Surface fields of a solved half-plane body.
 
+    Like a BEM body's solution, fields are evaluated per segment at curve parameters; the
+    half-plane has one segment (0), its contact face. :meth:`surface_displacement` gives
+    the displacement anywhere on the surface line.
+
     Attributes
     ----------
     body : HalfPlaneBody
@@ -51,7 +55,7 @@ class HalfPlaneSolution:
     block_displacement: np.ndarray
     loads: dict
 
-    def displacement(self, x) -> np.ndarray:
+    def surface_displacement(self, x) -> np.ndarray:
         """Surface displacement (m, 2) at abscissae ``x`` (anywhere on the surface line)."""
         x = np.asarray(x, dtype=float).ravel()
         surface = self.body.surface
@@ -60,6 +64,28 @@ class HalfPlaneSolution:
         if BULK in self.body.load_names:
             u += surface.bulk_displacement(x) * self.loads.get(BULK, 0.0)
         return u
+
+    def _face(self, segment: int):
+        if segment != 0:
+            raise IndexError(
+                f"a half-plane body has one segment (0, its contact face), got {segment}"
+            )
+        return self.body.surface.face
+
+    def points_at(self, segment: int, params) -> np.ndarray:
+        """Positions (m, 2) on the face profile at curve parameters."""
+        face = self._face(segment)
+        return face.geometry(*face.to_local(np.asarray(params, float)))[0]
+
+    def displacement(self, segment: int, params) -> np.ndarray:
+        """Displacement (m, 2) at face curve parameters (segment 0)."""
+        return self.surface_displacement(self.points_at(segment, params)[:, 0])
+
+    def traction(self, segment: int, params) -> np.ndarray:
+        """Traction (m, 2) on the body at face curve parameters, interpolated (segment 0)."""
+        face = self._face(segment)
+        coefficients = np.linalg.solve(face.collocation_matrix(), self.tractions)
+        return face.evaluation_matrix(np.asarray(params, float)) @ coefficients
 
 
 @attrs.frozen(eq=False)
@@ -123,6 +149,11 @@ class HalfPlaneBody(Body):
                 face, self.material, self.side, self.datum, self.bulk_origin
             )
         return self._cache["surface"]
+
+    @property
+    def segments(self) -> tuple[Basis, ...]:
+        """The discretised boundary a writer can draw: the contact face only."""
+        return (self.surface.face,)
 
     @property
     def load_names(self) -> tuple[str, ...]:
