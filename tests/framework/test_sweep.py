@@ -244,6 +244,28 @@ def test_surface_stress_output_reuses_the_evaluator():
         assert row["sxx_max"] >= row["sxx_max.B"]
 
 
+@pytest.mark.slow
+def test_fatigue_output_columns():
+    """Hot spot at the trailing contact edge; the SWT parameter grows with Q."""
+    pytest.importorskip("fretbem.law")
+    pytest.importorskip("fretbem.fatigue.from_simulation")
+    spec = SweepSpec.from_mapping(SCENE, {"load.Q": {"values": [9.0, 18.0], "pattern": CYCLE}})
+    cases = spec.cases()
+    extras = {"fatigue": {"material": "Al 7050-T7451", "methods": ["swt"], "in_plane_only": True}}
+    rows = run_batch(
+        representative([c.scene for c in cases]),
+        [(c.index, c.values, c.scene) for c in cases],
+        None,
+        ["fretbem.studies.sweep_outputs:fatigue"],
+        extras,
+    )
+    assert [r["status"] for r in rows] == ["ok", "ok"], [r["error"] for r in rows]
+    a = case_loading(cases[0].scene).reference.hertz.half_width
+    for row in rows:
+        assert abs(row["swt.x"]) == pytest.approx(a, rel=0.05) and row["swt.depth"] == 0.0
+    assert rows[1]["swt.parameter"] > rows[0]["swt.parameter"] > 0
+
+
 # --- store, resume, Dask ----------------------------------------------------------------------
 
 PARAMETERS = {

@@ -38,6 +38,9 @@ BLAS_ENV = {
     "NUMEXPR_NUM_THREADS": "1",
 }
 
+#: tables of a sweep file passed to the output functions (e.g. [fatigue]), not to the scene
+POST_TABLES = ("fatigue", "stress")
+
 #: most cases in one task (and one stored chunk)
 MAX_BATCH = 250
 #: default tasks per worker: small enough to balance the last round, large enough that the
@@ -228,7 +231,7 @@ def _connect(scheduler: str | None, workers: int):
         ) from err
 
 
-def _run_dask(tasks, client, scheduler, workers, builder, outputs, on_rows, limit):
+def _run_dask(tasks, client, scheduler, workers, builder, outputs, on_rows, limit, extras=None):
     """Run the tasks on Dask, storing each batch as it completes; returns (workers, stopped).
 
     Without a client, the cluster starts (or the scheduler is reached) in a thread while
@@ -249,7 +252,7 @@ def _run_dask(tasks, client, scheduler, workers, builder, outputs, on_rows, limi
             starting = pool.submit(_connect, scheduler, workers)
             while queue and not starting.done() and (limit is None or finished < limit):
                 task = queue.pop(0)
-                on_rows(run_batch(task.scene, task.cases, builder, outputs))
+                on_rows(run_batch(task.scene, task.cases, builder, outputs, extras))
                 finished += 1
             cluster, own_client = starting.result()
         client = own_client
@@ -260,7 +263,8 @@ def _run_dask(tasks, client, scheduler, workers, builder, outputs, on_rows, limi
             return n_workers, bool(queue)
         total = finished + len(queue)
         futures = [
-            client.submit(run_batch, t.scene, t.cases, builder, outputs, pure=False) for t in queue
+            client.submit(run_batch, t.scene, t.cases, builder, outputs, extras, pure=False)
+            for t in queue
         ]
         for future in as_completed(futures):
             on_rows(future.result())
@@ -300,6 +304,8 @@ def run_sweep(
     outputs = spec.options.get("outputs", ())
     outputs = (outputs,) if isinstance(outputs, str) else tuple(outputs)
     resolve_all(outputs)  # a bad name fails here, not on every case
+    #: post-processing tables of the sweep file, handed to the output functions with the scene
+    extras = {k: v for k, v in spec.options.items() if k in POST_TABLES}
     start = time.perf_counter()
     store = SweepStore(
         out,
@@ -335,11 +341,11 @@ def run_sweep(
                 if limit is not None and k >= limit:
                     stopped = True
                     break
-                on_rows(run_batch(task.scene, task.cases, builder, outputs))
+                on_rows(run_batch(task.scene, task.cases, builder, outputs, extras))
         else:
             mode = "dask"
             n_workers, stopped = _run_dask(
-                tasks, client, scheduler, n_workers, builder, outputs, on_rows, limit
+                tasks, client, scheduler, n_workers, builder, outputs, on_rows, limit, extras
             )
     finally:
         bar.close()
@@ -482,6 +488,7 @@ def run_command(args) -> int:
 
 __all__ = [
     "BLAS_ENV",
+    "POST_TABLES",
     "SweepError",
     "SweepResult",
     "SweepSummary",

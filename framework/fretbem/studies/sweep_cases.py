@@ -239,13 +239,15 @@ def run_batch(
     cases: Sequence[tuple[int, dict, dict]],
     builder: Callable[[Mapping], Any] | None = None,
     outputs: Sequence[str] = (),
+    extras: Mapping[str, Any] | None = None,
 ) -> list[dict[str, Any]]:
     """Solve ``cases`` (index, parameter values, scene dict) on the bodies of ``scene``.
 
     ``scene`` is the group's representative scene; ``outputs`` names extra column functions
-    ("module:function"). Never raises for a case: a failing case becomes a row with status
-    "error" and the message; a group whose bodies cannot be built fails every one of its
-    cases that way.
+    ("module:function"), called with the result and the case's scene plus ``extras`` (tables
+    of the sweep file such as ``fatigue``). Never raises for a case: a failing case becomes a
+    row with status "error" and the message; a group whose bodies cannot be built fails every
+    one of its cases that way.
     """
     import os
     import socket
@@ -272,7 +274,8 @@ def run_batch(
             loading = case_loading(case_scene)
             if failure is not None:
                 raise GroupBuildError(f"the group's bodies could not be built: {failure}")
-            row.update(solve_case(simulation, loading, functions, case_scene))
+            context = {**case_scene, **(extras or {})}
+            row.update(solve_case(simulation, loading, functions, context))
         except Exception as err:
             row.update(status="error", error=_error(err), regime="")
         row["assembly_seconds"] = assembly

@@ -92,12 +92,15 @@ def surface_stress(result, scene: Mapping) -> dict[str, float]:
 
 
 def fatigue(result, scene: Mapping) -> dict[str, Any]:
-    """Hot-spot parameter and life per method from the scene's ``[fatigue]`` table.
+    """Hot-spot parameter and life per method from the ``[fatigue]`` table.
+
+    The table comes from the sweep file (or from a two-body scene that carries one).
 
     Runs :func:`fretbem.fatigue.run.run_fatigue` on the lower body's stress history
     (:class:`fretbem.fatigue.from_simulation.SimulationStressHistory`): columns
-    ``<method>.parameter``, ``<method>.life`` (cycles, inf for a run-out), ``<method>.x``
-    and ``<method>.depth`` (hot spot, mm).
+    ``<method>.parameter``, ``<method>.life`` (cycles, inf for a run-out, NaN with the reason
+    in ``<method>.life_note``), ``<method>.x`` and ``<method>.depth`` (hot spot, mm). The
+    fatigue evaluation (stress map and plane search) costs far more than the contact solve.
     """
     from ..fatigue.from_simulation import SimulationStressHistory
     from ..fatigue.request import fatigue_request_from_dict
@@ -106,7 +109,8 @@ def fatigue(result, scene: Mapping) -> dict[str, Any]:
     table = scene.get("fatigue")
     if not isinstance(table, Mapping):
         raise SweepSpecError(
-            "the fatigue output needs a [fatigue] table in the scene (material, methods...)"
+            "the fatigue output needs a [fatigue] table (material, methods...) in the sweep "
+            "file or the scene"
         )
     report = run_fatigue(SimulationStressHistory(result), fatigue_request_from_dict(table))
     columns: dict[str, Any] = {}
@@ -114,6 +118,7 @@ def fatigue(result, scene: Mapping) -> dict[str, Any]:
         life = entry.life_hot_spot
         columns[f"{method}.parameter"] = float(entry.at_hot_spot.value[0])
         columns[f"{method}.life"] = float(life.cycles) if life is not None else float("nan")
+        columns[f"{method}.life_note"] = entry.life_message
         columns[f"{method}.x"] = float(entry.hot_spot[0])
         columns[f"{method}.depth"] = float(entry.hot_spot[1])
     return columns
