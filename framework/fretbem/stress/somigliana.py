@@ -56,7 +56,8 @@ class StressSettings:
         Points closer to the boundary than this many (closest) element lengths use
         singularity subtraction.
     boundary_tolerance : float
-        Points closer than this many element lengths are on the boundary.
+        Points closer than this many element lengths are on the boundary (closer in, the
+        subtracted integrals cancel to ~1e-16 h / d and round-off passes 1e-10).
     outside_tolerance : float
         Points outside the discretised boundary by less than this many element lengths
         (e.g. on the exact curve where an isoparametric boundary cuts a chord inside it) are
@@ -76,7 +77,7 @@ class StressSettings:
     graded_points: int = attrs.field(default=6, validator=attrs.validators.ge(2))
     graded_ratio: float = attrs.field(default=0.35, validator=[attrs.validators.gt(0)])
     subtract_factor: float = attrs.field(default=4.0, validator=attrs.validators.ge(0))
-    boundary_tolerance: float = attrs.field(default=1e-6, validator=attrs.validators.ge(0))
+    boundary_tolerance: float = attrs.field(default=1e-5, validator=attrs.validators.ge(0))
     outside_tolerance: float = attrs.field(default=1e-3, validator=attrs.validators.ge(0))
     chunk: int = attrs.field(default=256, validator=attrs.validators.ge(1))
     coarse_factor: float = attrs.field(default=4.0, validator=attrs.validators.gt(0))
