@@ -178,6 +178,38 @@ def test_reused_problem_gives_the_fresh_solution_and_theory():
         )
 
 
+def test_two_body_scene_with_bulk_load_reuses_the_problem():
+    """The two-body format: Q and sigma_B cases on one problem equal case-by-case runs."""
+    pytest.importorskip("fretbem.law")
+    from pathlib import Path
+
+    import tomllib
+
+    from fretbem.simulation import run
+
+    rig = Path(__file__).parents[2] / "examples" / "fretting_rig.toml"
+    scene = tomllib.loads(rig.read_text())
+    scene["contact"]["pairs"] = 21
+    spec = SweepSpec.from_mapping(
+        scene,
+        {
+            "load.Q": {"values": [20.0, 45.0], "pattern": CYCLE},
+            "load.bulk": {"values": [0.0, 10.0], "pattern": CYCLE},
+        },
+    )
+    cases = spec.cases()
+    assert len(spec.groups()) == 1
+    rep = representative([c.scene for c in cases])
+    assert rep["load"]["bulk"] == [1.0] * 5  # a bulk column for the loaded cases
+    rows = run_batch(rep, [(c.index, c.values, c.scene) for c in cases])
+    for case, row in zip(cases, rows, strict=True):
+        assert row["status"] == "ok", row["error"]
+        for step in run(build_simulation(case.scene)).steps:
+            for key, value in step_metrics(step).items():
+                got = row[f"{key}.{step.name}"]
+                assert got == (pytest.approx(value, abs=1e-9) if key != "regime" else value)
+
+
 def test_gross_slip_refused_and_failing_case_recorded():
     spec = SweepSpec.from_mapping(SCENE, {"load.Q": {"values": [10.0, 30.0], "pattern": CYCLE}})
     cases = spec.cases()
