@@ -134,6 +134,11 @@ def test_sweep_file_with_scene_file_and_inline_scene(tmp_path):
     (tmp_path / "c.toml").write_text('[sweep]\nscene = "scene.toml"\nsceen = 1\n')
     with pytest.raises(SweepSpecError, match="sceen"):
         load_sweep(tmp_path / "c.toml")
+    (tmp_path / "e.toml").write_text(
+        '[sweep]\nscene = "scene.toml"\n[parameters]\n"load.P" = [1.0]\n[fatige]\nx = 1\n'
+    )
+    with pytest.raises(SweepSpecError, match="fatige"):
+        load_sweep(tmp_path / "e.toml")
     (tmp_path / "d.toml").write_text('[sweep]\nscene = "scene.toml"\n')
     with pytest.raises(SweepSpecError, match=r"\[parameters\]"):
         load_sweep(tmp_path / "d.toml")

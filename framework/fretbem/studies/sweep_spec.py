@@ -309,6 +309,8 @@ def _read_toml(path: Path, what: str) -> dict:
 
 
 SWEEP_KEYS = {"scene", "mode", "out", "outputs"}
+#: the tables of a sweep file ([fatigue] and [stress] go to the output functions)
+TOP_TABLES = {"sweep", "parameters", "maps", "fatigue", "stress"}
 
 
 def load_sweep(path: str | Path) -> SweepSpec:
@@ -339,6 +341,12 @@ def load_sweep(path: str | Path) -> SweepSpec:
     parameters = data.get("parameters")
     if not isinstance(parameters, dict) or not parameters:
         raise SweepSpecError(f"{path}: give the varied key paths in a [parameters] table")
+    unknown = sorted(set(data) - TOP_TABLES)
+    if unknown:
+        raise SweepSpecError(
+            f"{path}: unknown table{'s' if len(unknown) > 1 else ''} {unknown}; a sweep file has "
+            f"{sorted(TOP_TABLES)}"
+        )
     options = {k: v for k, v in data.items() if k not in ("sweep", "parameters")}
     if "out" in table:
         options["out"] = str(table["out"])
