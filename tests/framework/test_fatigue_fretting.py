@@ -15,6 +15,7 @@ from fretbem.fatigue import (
     critical_distance_values,
     critical_plane_parameters,
     fatigue_request_from_dict,
+    format_report,
     last_full_reversal,
     run_fatigue,
     write_fatigue,
@@ -145,6 +146,8 @@ def test_write_fatigue(tmp_path):
     assert life["runout"] is (life["cycles"] is None)
     # no sourced MWCM constants for Ti-6Al-4V: the report says why there is no life
     assert "torsion_fatigue_limit_amplitude" in data["methods"]["mwcm"]["life_message"]
+    text = format_report(report)
+    assert "swt: hot spot x = -0.5 mm" in text and "missing constants" in text
 
 
 def test_grid_history_interpolates_the_closed_form():

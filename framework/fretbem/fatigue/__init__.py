@@ -25,7 +25,7 @@ from .errors import FatigueInputError, MissingFatigueDataError
 from .life import LifeEstimate, estimate_life
 from .material import FatigueMaterial, available_materials, load_material
 from .mcc import minimum_circumscribed_circle
-from .output import fatigue_summary, write_fatigue
+from .output import fatigue_summary, format_report, write_fatigue
 from .providers import (
     CattaneoMindlinCycle,
     GridStressHistory,
@@ -62,6 +62,7 @@ __all__ = [
     "estimate_life",
     "fatigue_request_from_dict",
     "fatigue_summary",
+    "format_report",
     "last_full_reversal",
     "load_material",
     "minimum_circumscribed_circle",

@@ -13,7 +13,6 @@ from __future__ import annotations
 import math
 
 import attrs
-from scipy.optimize import brentq
 
 from .errors import FatigueInputError
 from .material import FatigueMaterial
@@ -76,6 +75,8 @@ def _invert(method: str, parameter: float, curve, runout_cycles: float) -> LifeE
             False,
             "parameter above the curve at the first reversal: N <= 0.5",
         )
+    from scipy.optimize import brentq
+
     log2n = brentq(
         lambda x: curve(10.0**x) - parameter, 0.0, math.log10(2.0 * runout_cycles), xtol=1e-12
     )

@@ -113,6 +113,43 @@ def fatigue_summary(report: FatigueReport) -> dict:
     return out
 
 
+def _life_text(life: LifeEstimate | None, message: str) -> str:
+    if life is None:
+        return "none (missing constants: see the notes)" if message else "none"
+    return "run-out" if life.runout else f"N = {life.cycles:.3g}"
+
+
+def format_report(report: FatigueReport) -> str:
+    """Plain-text summary for a terminal: hot spot, critical plane, values and lives."""
+    req = report.request
+    lines = [
+        f"fatigue: material {req.material.name}, cycle steps {report.cycle_steps.tolist()}, "
+        f"planes {'in-plane only' if req.search.in_plane_only else '3D'}"
+        + (f", L = {req.critical_distance:.4g} mm" if req.critical_distance else ""),
+    ]
+    for m, rep in report.methods.items():
+        hot = rep.at_hot_spot
+        lines.append(
+            f"  {m}: hot spot x = {rep.hot_spot[0]:.4g} mm, depth = {rep.hot_spot[1]:.4g} mm; "
+            f"plane normal {hot.normal_angle_deg[0]:.1f} deg (tilt {hot.normal_tilt_deg[0]:.1f}); "
+            f"value {hot.value[0]:.4g} {UNITS[m]}"
+        )
+        t = rep.critical_distance
+        if t is not None:
+            lines.append(
+                f"      critical distance: point {t.point_value:.4g}, line {t.line_value:.4g}, "
+                f"area {t.area_value:.4g}"
+            )
+        lines.append(
+            f"      life: hot spot {_life_text(rep.life_hot_spot, rep.life_message)}; "
+            f"critical distance {_life_text(rep.life_critical_distance, rep.life_message)}"
+        )
+    if report.ruiz is not None:
+        lines.append(f"  Ruiz F2 largest at x = {report.ruiz.f2_max_location:.4g} mm")
+    lines.extend(f"  note: {n}" for n in report.notes)
+    return "\n".join(lines)
+
+
 def plot_parameter_map(report: FatigueReport, method: str, ax=None, ticks: int = 12):
     """Parameter map below the contact with the critical-plane traces as short ticks."""
     import matplotlib.pyplot as plt
