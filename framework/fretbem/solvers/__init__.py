@@ -1,7 +1,7 @@
 """Solver algorithms beside the semi-smooth Newton method: Lemke's pivoting on the LCP form."""
 
 from .complementarity import CondensedArrays, LcpIncrement, solve_lcp_increment
-from .lemke import LcpSolution, LemkeError, lemke
+from .lemke import LcpSolution, LemkeError, solve_lcp
 from .pivoting import LemkeSolver, PivotingError, UnsupportedLawError
 
 __all__ = [
@@ -12,6 +12,6 @@ __all__ = [
     "LemkeSolver",
     "PivotingError",
     "UnsupportedLawError",
-    "lemke",
+    "solve_lcp",
     "solve_lcp_increment",
 ]

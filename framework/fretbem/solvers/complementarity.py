@@ -21,7 +21,7 @@ from __future__ import annotations
 import attrs
 import numpy as np
 
-from .lemke import lemke
+from .lemke import solve_lcp
 
 SEPARATED, STICK, SLIP = 0, 1, 2
 
@@ -119,7 +119,7 @@ def solve_lcp_increment(
     force_rows = arrays.resultant_map @ columns / force_scale
     matrix[4 * n : 4 * n + k], base[4 * n : 4 * n + k] = force_rows, balance
     matrix[4 * n + k :], base[4 * n + k :] = -force_rows, -balance
-    solution = lemke(matrix, base, max_pivots=max_pivots)
+    solution = solve_lcp(matrix, base, max_pivots=max_pivots)
     x = columns @ solution.z
     p = x[p_cols]
     slipping = solution.z[lam] > 0

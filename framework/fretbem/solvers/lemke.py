@@ -32,7 +32,7 @@ class LcpSolution:
     pivots: int
 
 
-def lemke(m: np.ndarray, q: np.ndarray, *, max_pivots: int | None = None) -> LcpSolution:
+def solve_lcp(m: np.ndarray, q: np.ndarray, *, max_pivots: int | None = None) -> LcpSolution:
     """Solve LCP(M, q) by complementary pivoting on a dense tableau.
 
     Raises LemkeError on ray termination (the LCP may have no solution, or M is not of a
@@ -42,7 +42,7 @@ def lemke(m: np.ndarray, q: np.ndarray, *, max_pivots: int | None = None) -> Lcp
     q = np.asarray(q, dtype=float)
     n = len(q)
     if m.shape != (n, n):
-        raise ValueError(f"lemke: M must be square with the size of q ({n}), got {m.shape}")
+        raise ValueError(f"solve_lcp: M must be square with the size of q ({n}), got {m.shape}")
     if np.all(q >= 0.0):
         return LcpSolution(np.zeros(n), q.copy(), 0)
     max_pivots = 50 * n if max_pivots is None else int(max_pivots)
@@ -93,12 +93,17 @@ def _lexicographic_min(tableau, candidates, column, n, tol, *, first=False, pref
         tied = candidates[rhs <= rhs.min() + tol * 1e-3]
     if prefer is not None and np.any(prefer[tied]):
         return int(tied[np.argmax(prefer[tied])])
-    k = 0
-    while tied.size > 1 and k < n:
-        values = tableau[tied, k] / column[tied]
-        low = values.min()
-        tied = tied[values <= low + 1e-14 * max(np.abs(values).max(), 1.0)]
-        k += 1
+    # lexicographic order on the rows of B^-1 (the tableau's w columns) over the column entry:
+    # each pass jumps to the first column on which the tied rows differ
+    while tied.size > 1:
+        values = tableau[tied, :n] / column[tied, None]
+        spread = values.max(axis=0) - values.min(axis=0)
+        scale = 1e-14 * max(np.abs(values).max(), 1.0)
+        differ = np.flatnonzero(spread > scale)
+        if differ.size == 0:
+            break
+        k = differ[0]
+        tied = tied[values[:, k] <= values[:, k].min() + scale]
     return int(tied[0])
 
 
