@@ -20,6 +20,7 @@ import statistics
 import time
 
 from fretbem import scenes
+from fretbem.halfplane.scene import MODEL, half_plane_model
 from fretbem.simulation import Simulation, run
 from fretbem.solver import SemiSmoothNewton
 from fretbem.solvers import LemkeSolver
@@ -30,6 +31,9 @@ MODELS = {
     "half-plane/half-plane": {"upper": "half-plane", "lower": "half-plane"},
 }
 SOLVERS = {"Newton": SemiSmoothNewton, "Lemke": LemkeSolver}
+
+# the half-plane through the scene factory's body-model hook (kept if already registered)
+scenes.BODY_MODELS.setdefault(MODEL, half_plane_model)
 
 
 def _cycle(pairs: int, models: dict, solver) -> tuple[float, float, object]:
