@@ -92,6 +92,10 @@ class HalfPlaneSolution:
 class HalfPlaneBody(Body):
     """An elastic half-plane whose contact face is the only discretised boundary.
 
+    The field ``loading_block`` (a LoadingBlock or None) is the rigid far field of a pad,
+    driven by the load history (its tag is not used); without it the body is held at
+    infinity and responds to the ``"bulk"`` load.
+
     Attributes
     ----------
     face : NurbsCurve
@@ -106,9 +110,6 @@ class HalfPlaneBody(Body):
     basis : str or Basis subclass
         Basis family discretising the face.
     refinement : Refinement
-    loading_block : LoadingBlock or None
-        The rigid far field of a pad, driven by the load history (its tag is not used).
-        Without it the body is held at infinity and responds to the ``"bulk"`` load.
     datum : float
         Distance (mm) from a line load at which its ln r displacement is zero (10 mm by
         default, a typical specimen thickness).
