@@ -50,6 +50,17 @@ GROUPS: dict[str, tuple[str, ...]] = {
         "fretbem.simulation",
         "fretbem.results",
     ),
+    "Half-plane body and the pivoting solver": (
+        "fretbem.halfplane",
+        "fretbem.halfplane.influence",
+        "fretbem.halfplane.surface",
+        "fretbem.halfplane.body",
+        "fretbem.halfplane.scene",
+        "fretbem.solvers",
+        "fretbem.solvers.lemke",
+        "fretbem.solvers.complementarity",
+        "fretbem.solvers.pivoting",
+    ),
     "Scenes, studies and analytical references": (
         "fretbem.scenes",
         "fretbem.scene_file",
