@@ -340,6 +340,11 @@ def test_serial_sweep_store_and_resume(tmp_path):
     pd.testing.assert_frame_equal(_results(rest.table), _results(whole.table))
     again = sweep(SCENE, PARAMETERS, out=tmp_path / "part", serial=True)
     assert again.summary.solved_now == 0 and again.summary.tasks == 0
+    (tmp_path / "notes").mkdir()
+    (tmp_path / "notes" / "thesis.tex").write_text("precious")
+    with pytest.raises(SweepStoreError, match="not a sweep store"):
+        sweep(SCENE, PARAMETERS, out=tmp_path / "notes", serial=True)
+    assert (tmp_path / "notes" / "thesis.tex").read_text() == "precious"
     with pytest.raises(SweepStoreError, match="another sweep"):
         sweep(SCENE, {"load.P": [90.0]}, out=tmp_path / "part", serial=True)
     manifest = json.loads((tmp_path / "part" / "manifest.json").read_text())

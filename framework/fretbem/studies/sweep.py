@@ -480,9 +480,16 @@ def run_command(args) -> int:
 
             for figure in draw_maps(result.table, spec, out):
                 print(f"  figure: {figure}")
-    except (SweepSpecError, SweepError, SweepStoreError, ValueError) as err:
+    except (SweepSpecError, SweepError, SweepStoreError, ValueError, OSError) as err:
         print(f"fretbem sweep: error: {err}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print(
+            "fretbem sweep: interrupted; the finished batches are stored, re-run the same "
+            "command to complete the sweep",
+            file=sys.stderr,
+        )
+        return 130
     return 0
 
 

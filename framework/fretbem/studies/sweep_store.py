@@ -45,8 +45,14 @@ class SweepStore:
         is refused rather than mixed with this sweep's cases.
         """
         self.directory = Path(directory)
-        self.directory.mkdir(parents=True, exist_ok=True)
         path = self.directory / MANIFEST
+        if self.directory.exists() and not path.exists():
+            if not self.directory.is_dir() or any(self.directory.iterdir()):
+                raise SweepStoreError(
+                    f"{self.directory} exists and is not a sweep store (no {MANIFEST}); give a "
+                    "new or empty output directory, so nothing else is mixed with the results"
+                )
+        self.directory.mkdir(parents=True, exist_ok=True)
         if path.exists():
             try:
                 stored = json.loads(path.read_text())
