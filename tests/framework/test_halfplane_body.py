@@ -197,3 +197,20 @@ def test_half_plane_passes_the_body_conformance_checks(role, family):
         )
 
     check_body(factory)
+
+
+def test_fallback_solver_takes_over_where_newton_cycles():
+    """With a 0.1 mm datum Newton cycles on the half-plane pair (see the datum note); the
+    fallback solver hands those increments to Lemke and matches Lemke's answer."""
+    from fretbem.solver import NewtonConvergenceError, SemiSmoothNewton
+    from fretbem.solvers import FallbackSolver
+
+    with pytest.raises(NewtonConvergenceError):
+        run(_half_plane_pair(61, datum=0.1, solver=SemiSmoothNewton(max_substeps=0)))
+    lemke = run(_half_plane_pair(61, datum=0.1))
+    fallback = run(_half_plane_pair(61, datum=0.1, solver=FallbackSolver()))
+    fp0 = 0.3 * lemke.steps[0].pressure.max()
+    for a, b in zip(lemke.steps, fallback.steps, strict=True):
+        np.testing.assert_array_equal(a.states, b.states)
+        assert np.abs(a.shear - b.shear).max() < 1e-8 * fp0
+        assert np.abs(a.pressure - b.pressure).max() < 1e-8 * fp0

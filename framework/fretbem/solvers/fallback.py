@@ -1,0 +1,65 @@
+"""A solver that falls back to a second algorithm on the increments the first fails on."""
+
+from __future__ import annotations
+
+import attrs
+import numpy as np
+
+from ..condensation import CondensedContact
+from ..law import ContactLaw, ContactState
+from ..solver import IncrementResult, SemiSmoothNewton, Solver, SolverConvergenceError
+from .pivoting import LemkeSolver
+
+
+@attrs.frozen
+class FallbackSolver(Solver):
+    """Try ``primary``; where it fails on an increment, solve that increment by ``fallback``.
+
+    The default, Newton then Lemke, keeps Newton's speed and uses the pivoting method only
+    on the increments Newton cannot converge on (it cycled on the half-plane pair with a
+    small datum, for instance). The reported iterations add both attempts'.
+
+    Attributes
+    ----------
+    primary, fallback : Solver
+    max_substeps : int
+        Times the Simulation may halve an increment both failed on (default 0).
+    """
+
+    primary: Solver = attrs.field(
+        factory=lambda: SemiSmoothNewton(max_substeps=0),
+        validator=attrs.validators.instance_of(Solver),
+    )
+    fallback: Solver = attrs.field(
+        factory=LemkeSolver, validator=attrs.validators.instance_of(Solver)
+    )
+    max_substeps: int = attrs.field(default=0, validator=attrs.validators.ge(0))
+
+    def solve_increment(
+        self,
+        problem: CondensedContact,
+        law: ContactLaw,
+        *,
+        forces: np.ndarray,
+        loads: np.ndarray,
+        previous: ContactState,
+        start: ContactState | None,
+    ) -> IncrementResult:
+        """The primary's answer, or the fallback's where the primary raises a convergence
+        error (a fallback failure is raised with the primary's residuals attached)."""
+        arguments = {"forces": forces, "loads": loads, "previous": previous, "start": start}
+        try:
+            return self.primary.solve_increment(problem, law, **arguments)
+        except SolverConvergenceError as failure:
+            spent = list(failure.residuals)
+        try:
+            result = self.fallback.solve_increment(problem, law, **arguments)
+        except SolverConvergenceError as failure:
+            failure.residuals = spent + list(failure.residuals)
+            raise
+        return IncrementResult(
+            result.x,
+            result.states,
+            len(spent) + result.iterations,
+            (*spent, *result.residuals),
+        )
