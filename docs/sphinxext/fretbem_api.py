@@ -60,6 +60,7 @@ GROUPS: dict[str, tuple[str, ...]] = {
         "fretbem.solvers.lemke",
         "fretbem.solvers.complementarity",
         "fretbem.solvers.pivoting",
+        "fretbem.solvers.fallback",
     ),
     "Scenes, studies and analytical references": (
         "fretbem.scenes",
