@@ -176,7 +176,6 @@ def assemble(assembler, shear_modulus: float, nu: float, loops) -> tuple[np.ndar
         cols = assembler.offsets[k] + basis.connectivity[colloc.element[rows]]
         blocks = -np.einsum("pa,pij->piaj", values, row_sums[rows])
         loops.scatter_blocks(rows, cols, np.ascontiguousarray(blocks), h)
-    g_singular = np.zeros_like(g)
     q_gauss, q_log = s.singular_points, s.log_points
     for k, basis, _, _, rows, elements, sides, data in jobs:
         if not rows.size:
@@ -194,7 +193,6 @@ def assemble(assembler, shear_modulus: float, nu: float, loops) -> tuple[np.ndar
                 np.ascontiguousarray(data["values"][:, gauss]), at_source, side["t"],
                 side["safe"], data["jacobians"][:, log] * side["log_weights"],
                 np.ascontiguousarray(data["values"][:, log]), cols, shear_modulus, nu,
-                h, g_singular,
+                h, g,
             )  # fmt: skip
-    g += g_singular
     return h, g
