@@ -84,8 +84,12 @@ class StressEvaluator:
         return self.problem.solutions(step.unknowns, step.loads)[self.body]
 
     def _build(self):
+        from ..halfplane import HalfPlaneBody
+
         model = self.model
         material = model.material
+        if isinstance(model, HalfPlaneBody):
+            return _HalfPlaneOperator.of(model, self.points)
         if hasattr(model, "segments"):  # a boundary-element body
             return somigliana_operator(
                 model.segments,
@@ -95,8 +99,6 @@ class StressEvaluator:
                 plane_stress=material.plane_stress,
                 settings=self.settings,
             )
-        if hasattr(model, "surface"):  # a half-plane body
-            return _HalfPlaneOperator.of(model, self.points)
         raise StressInputError(
             f"body {self.body!r} is a {type(model).__name__}, which has no stress evaluation; "
             "stresses exist for boundary-element and half-plane bodies"
