@@ -108,7 +108,14 @@ def load_sweep(cases: int, workers: int, per_case: float, assembly: float) -> di
     n = n_p * n_q
     serial_case = (serial_wall - assembly) / n
     ideal = serial_case * n / workers + assembly
+    cpu = {
+        "dask_cpu_per_case_s": float(result.table["solve_cpu_seconds"].median()),
+        "serial_cpu_per_case_s": float(serial_result.table["solve_cpu_seconds"].median()),
+        "dask_wall_per_case_s": float(result.table["solve_seconds"].median()),
+        "serial_wall_per_case_s": float(serial_result.table["solve_seconds"].median()),
+    }
     return {
+        **cpu,
         "cases": n,
         "solved": solved,
         "workers": workers,
@@ -171,6 +178,7 @@ def main(argv=None) -> int:
     report = {
         "machine": f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
         f"Python {platform.python_version()}",
+        "load_average_at_start": os.getloadavg(),
     }
     report["reuse"] = reuse(args.repeat)
     print(json.dumps(report["reuse"], indent=2))
@@ -182,9 +190,18 @@ def main(argv=None) -> int:
         report["reuse"]["per_case_reused_s"],
         report["reuse"]["assembly_condensation_s"],
     )
-    print(json.dumps({k: v for k, v in report["load_sweep"].items()}, indent=2))
+    load = report["load_sweep"]
+    load["dask_minus_start_over_ideal"] = (load["dask_wall_s"] - report["cluster_start_s"]) / load[
+        "ideal_s"
+    ]
+    print(json.dumps(load, indent=2))
     report["size_effect"] = size_effect(args.radii, workers)
+    report["size_effect"]["speedup_without_start"] = report["size_effect"]["serial_wall_s"] / (
+        report["size_effect"]["dask_wall_s"] - report["cluster_start_s"]
+    )
     print(json.dumps(report["size_effect"], indent=2))
+    report["load_average_at_end"] = os.getloadavg()
+    print(f"load average at start {report['load_average_at_start']}, end {os.getloadavg()}")
     if args.json:
         args.json.write_text(json.dumps(report, indent=2))
     return 0
