@@ -201,3 +201,28 @@ def test_bem_stresses_through_the_module_match_the_closed_form():
         assert abs(abs(pts[i, 0]) - abs(pts[j, 0])) <= x[1] - x[0] + 1e-12, m
         assert pts[i, 1] == pts[j, 1], m
         assert abs(rb[m].value[i] - rc[m].value[j]) <= 1.5 * gap * rc[m].value[j] + 1e-12, m
+
+
+class _WithElastic:
+    """A provider that also knows the stressed body's elastic constants."""
+
+    def __init__(self, inner, elastic):
+        self.inner, self.elastic_constants = inner, elastic
+        self.n_steps, self.driver = inner.n_steps, inner.driver
+        self.contact_half_width = inner.contact_half_width
+
+    def stress_at(self, points):
+        return self.inner.stress_at(points)
+
+
+def test_strains_use_the_bodys_elastic_constants_when_the_material_has_none():
+    provider = _WithElastic(rig(), (E, NU))
+    bare = {"material": {"yield_strength": 900.0}, "methods": ["swt"], "map_points": [5, 3]}
+    report = run_fatigue(provider, fatigue_request_from_dict(bare))
+    assert report.request.material.sources["E"] == "the stressed body's material"
+    full = run_fatigue(rig(), small_request(methods=["swt"], map_points=[5, 3]))
+    assert report.methods["swt"].at_hot_spot.value[0] == pytest.approx(
+        full.methods["swt"].at_hot_spot.value[0], rel=1e-12
+    )
+    other = run_fatigue(_WithElastic(rig(), (2 * E, NU)), small_request(methods=["swt"]))
+    assert any("differ from the stressed body" in n for n in other.notes)

@@ -57,6 +57,15 @@ class SimulationStressHistory:
         return np.array([s.tangential for s in self.result.steps], dtype=float)
 
     @property
+    def elastic_constants(self) -> tuple[float, float]:
+        """(E, nu) of the evaluated body: the strains of the fatigue parameters use them
+        when the fatigue material does not give its own."""
+        from fretbem.stress.evaluate import StressEvaluator
+
+        material = StressEvaluator(self.result, np.zeros((1, 2)), self.body).model.material
+        return float(material.E), float(material.nu)
+
+    @property
     def contact_half_width(self) -> float:
         """Half the extent of the largest contact (positive pressure) over the steps, mm."""
         widths = []

@@ -61,6 +61,10 @@ class StressHistoryProvider(Protocol):
     def stress_at(self, points: np.ndarray) -> np.ndarray:
         """Stress (n_steps, n, 4) at points (n, 2) = [x, depth]."""
 
+    # optional members, used when present: ``contact_half_width`` (default map extent),
+    # ``elastic_constants`` ((E, nu) of the stressed body, for the strains when the fatigue
+    # material has none) and ``surface_history(x) -> SurfaceHistory`` (Ruiz parameters)
+
 
 def _ellipse(x, centre, b):
     u = (np.asarray(x, dtype=float) - centre) / b

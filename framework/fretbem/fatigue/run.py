@@ -131,6 +131,20 @@ def run_fatigue(provider: StressHistoryProvider, request: FatigueRequest) -> Fat
         provider.n_steps, driver=getattr(provider, "driver", None), steps=request.cycle_steps
     )
     material = request.material
+    notes = list(request.notes)
+    body_elastic = getattr(provider, "elastic_constants", None)
+    if body_elastic is not None and not (material.has("E") and material.has("nu")):
+        material = material.with_values(
+            {"E": body_elastic[0], "nu": body_elastic[1]}, source="the stressed body's material"
+        )
+        request = attrs.evolve(request, material=material)
+    elif body_elastic is not None:
+        if not np.allclose((material.get("E"), material.get("nu")), body_elastic, rtol=1e-9):
+            notes.append(
+                f"the fatigue material's E, nu ({material.get('E'):g}, {material.get('nu'):g}) "
+                f"differ from the stressed body's {tuple(float(v) for v in body_elastic)}: "
+                "strains use the fatigue material's"
+            )
     E, nu = material.require(("E", "nu"), "the strains (Hooke's law)").values()
     consts = request.method_constants
 
@@ -145,7 +159,6 @@ def run_fatigue(provider: StressHistoryProvider, request: FatigueRequest) -> Fat
     X, Z = np.meshgrid(xs, zs)
     grid = np.stack([X.ravel(), Z.ravel()], axis=1)
     maps = parameters(grid, request.methods)
-    notes = list(request.notes)
     reports = {}
     scan_x = np.linspace(xs[0], xs[-1], SURFACE_SCAN_POINTS)
     if a is not None:  # the contact edges, where closed-form surface peaks sit, exactly
