@@ -214,3 +214,20 @@ def test_fallback_solver_takes_over_where_newton_cycles():
         np.testing.assert_array_equal(a.states, b.states)
         assert np.abs(a.shear - b.shear).max() < 1e-8 * fp0
         assert np.abs(a.pressure - b.pressure).max() < 1e-8 * fp0
+
+
+@pytest.mark.parametrize(
+    ("fields", "error", "match"),
+    [
+        ({"loading_block": (0.0, -1.0)}, "HalfPlaneFaceError", "LoadingBlock"),
+        ({"datum": 0.0}, "ValueError", "datum must be > 0"),
+        ({"side": "left"}, "HalfPlaneFaceError", "'lower'"),
+        ({"basis": "no-such-family"}, "ValueError", "no-such-family"),
+    ],
+)
+def test_bad_half_plane_bodies_are_refused(fields, error, match):
+    from fretbem.halfplane import HalfPlaneFaceError
+
+    errors = {"HalfPlaneFaceError": HalfPlaneFaceError, "ValueError": ValueError}
+    with pytest.raises(errors[error], match=match):
+        HalfPlaneBody(NurbsCurve.line([-1.0, 0.0], [1.0, 0.0]), MATERIAL, **fields)

@@ -21,7 +21,7 @@ from ..body import Body, ContactFace, ContactResponse
 from ..conditions import LoadingBlock
 from ..geometry.nurbs import NurbsCurve
 from ..material import Material
-from .influence import DEFAULT_DATUM
+from .influence import DEFAULT_DATUM, HalfPlaneFaceError
 from .surface import HalfPlaneSurface
 
 #: the history-driven load a half-plane specimen (no loading block) responds to
@@ -134,8 +134,9 @@ class HalfPlaneBody(Body):
 
     def __attrs_post_init__(self) -> None:
         if self.loading_block is not None and not isinstance(self.loading_block, LoadingBlock):
-            raise TypeError(
-                f"body {self.name!r}: loading_block must be a LoadingBlock or None, got "
+            raise HalfPlaneFaceError(
+                f"body {self.name!r}: loading_block must be a LoadingBlock (for a pad driven "
+                f"by the load history) or None (a specimen held at infinity), got "
                 f"{self.loading_block!r}"
             )
         self.surface  # noqa: B018 - checks the side and the face now, not at first use
