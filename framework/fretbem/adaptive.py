@@ -481,6 +481,36 @@ class AdaptiveResult:
         """The finest level's SimulationResult."""
         return self.levels[-1]
 
+    def table(self) -> str:
+        """Per step: the finest level's errors (if a closed form exists) beside the estimate."""
+
+        def pct(value):
+            return "   n/a" if value is None else f"{100 * value:6.3f}"
+
+        lines = [
+            "levels (pairs): "
+            + ", ".join(str(r.steps[0].x.size) for r in self.levels)
+            + f"; all levels {self.seconds:.3f} s",
+            "step   e_p max%  est     e_q max%  est     e_p L2%   est     e_q L2%   est",
+        ]
+        for step in self.result.steps:
+            true, est = step.errors or {}, self.estimate[step.name]
+            cells = [
+                f"{pct(true.get(k))}  {pct(est[k])}"
+                for k in ("e_p_max", "e_q_max", "e_p_l2", "e_q_l2")
+            ]
+            lines.append(f"{step.name:<5s} " + "  ".join(cells))
+        return "\n".join(lines)
+
+    def summary(self) -> dict:
+        """Levels, transitions, timings and the per-step estimate, for summary.json."""
+        return {
+            "levels": [int(r.steps[0].x.size) for r in self.levels],
+            "transitions": [t.all.tolist() for t in self.transitions],
+            "seconds": self.seconds,
+            "estimate": {name: dict(e) for name, e in self.estimate.items()},
+        }
+
     @property
     def estimated_max(self) -> float:
         """Largest estimated max error over steps, p and q."""

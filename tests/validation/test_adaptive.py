@@ -172,7 +172,7 @@ def test_estimate_of_identical_levels_is_zero_and_order_is_checked():
     assert max(max(c.values()) for c in change) < 1e-10
     with pytest.raises(estimate.EstimateInputError, match="fine level"):
         estimate.estimate_errors(result, result)
-    assert estimate.richardson_factor(31, 61) == pytest.approx(1 / ((61 / 31) ** 1.5 - 1))
+    assert estimate.richardson_factor(31, 61) == pytest.approx(1 / ((61 / 31) ** 3 - 1))
 
 
 @pytest.mark.slow
@@ -191,3 +191,14 @@ def test_adaptive_sweep_over_budget_and_load(budget, load):
     e = worst(out.result)
     assert e["e_p_max"] < 0.08
     assert e["e_q_max"] < 0.09
+
+
+def test_table_and_summary_show_estimate_beside_true_error():
+    out = adaptive.run_adaptive(
+        cattaneo_mindlin(pairs=31), adaptive.AdaptiveSettings(budget=31, first=21)
+    )
+    table = out.table()
+    assert "levels (pairs)" in table and len(table.splitlines()) == 2 + len(out.result.steps)
+    summary = out.summary()
+    assert summary["levels"][0] == 21 and summary["levels"][-1] <= 31
+    assert set(summary["estimate"]) == {s.name for s in out.result.steps}
