@@ -86,6 +86,7 @@ GROUPS: dict[str, tuple[str, ...]] = {
         "fretbem.fatigue.material",
         "fretbem.fatigue.ruiz",
         "fretbem.fatigue.providers",
+        "fretbem.fatigue.from_simulation",
         "fretbem.fatigue.request",
         "fretbem.fatigue.run",
         "fretbem.fatigue.output",

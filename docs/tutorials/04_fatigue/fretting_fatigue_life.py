@@ -182,8 +182,9 @@ plt.show()
 # ----------------------------------------------------
 #
 # The reference scene (cylinder on a block, Q = 0 -> +Q -> 0 -> -Q -> 0, no bulk stress)
-# solved by the boundary-element method: :class:`~fretbem.fatigue.from_simulation.
-# SimulationStressHistory` evaluates the specimen's stresses at any points through
+# solved by the boundary-element method:
+# :class:`~fretbem.fatigue.from_simulation.SimulationStressHistory` evaluates the
+# specimen's stresses at any points through
 # :mod:`fretbem.stress.evaluate`. The cycle is B..E, the last full reversal of Q. The
 # material is Al 7050-T7451 from the library, whose sourced Delta K_th and plain fatigue
 # limit give L = 0.113 mm; its elastic constants are replaced by the scene's (user input),
