@@ -74,23 +74,30 @@ def plot_contour_maps(
     """Contours of sigma_xx and von Mises (stress (ny, nx, 4) on the grid xs x depths, depth
     downward), with the contact pairs' stick and slip zones marked on the surface."""
     plt = _pyplot()
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), layout="constrained", sharey=True)
+    from matplotlib.colors import TwoSlopeNorm
+
+    width = np.ptp(xs) / max(np.ptp(depths), 1e-300)
+    fig, axes = plt.subplots(
+        2, 1, figsize=(8.0, 2 * 6.2 / width + 1.2), layout="constrained", sharex=True
+    )
     fields = ((stress[..., 0], "$\\sigma_{xx}$ (MPa)", "RdBu_r"),
               (von_mises(stress), "von Mises (MPa)", "viridis"))  # fmt: skip
     for ax, (field, label, cmap) in zip(axes, fields, strict=True):
-        if cmap == "RdBu_r":
-            bound = np.abs(field).max()
-            levels = np.linspace(-bound, bound, 25)
+        norm = None
+        if cmap == "RdBu_r":  # zero white, tension red, compression blue, each to its extreme
+            low, high = min(field.min(), -1e-9), max(field.max(), 1e-9)
+            levels = np.unique(np.concatenate([np.linspace(low, 0, 13), np.linspace(0, high, 9)]))
+            norm = TwoSlopeNorm(0.0, low, high)
         else:
             levels = np.linspace(0.0, field.max(), 25)
-        cs = ax.contourf(xs, -depths, field, levels=levels, cmap=cmap)
-        ax.contour(xs, -depths, field, levels=levels[::4], colors="k", linewidths=0.3)
-        fig.colorbar(cs, ax=ax, label=label)
+        cs = ax.contourf(xs, -depths, field, levels=levels, cmap=cmap, norm=norm)
+        ax.contour(xs, -depths, field, levels=levels[::3], colors="k", linewidths=0.3)
+        fig.colorbar(cs, ax=ax, label=label, shrink=0.9)
         inside = (pair_x >= xs.min()) & (pair_x <= xs.max())
         _zones(ax, pair_x[inside], states[inside])
-        ax.set_xlabel("x (mm)")
         ax.set_aspect("equal")
-    axes[0].set_ylabel("y below the surface (mm)")
+        ax.set_ylabel("y below the surface (mm)")
+    axes[1].set_xlabel("x (mm)")
     axes[0].legend(loc="lower left", fontsize=8)
     if title:
         fig.suptitle(title)
