@@ -118,7 +118,7 @@ class AdaptiveSettings:
 
 # -- transitions ---------------------------------------------------------------------------
 def _root_of_square(x: np.ndarray, values: np.ndarray, towards: float) -> float | None:
-    """Zero of a quadratic fit of values**2 (a square-root fall to zero) nearest ``towards``."""
+    """Zero of a quadratic fit of values^2 (a square-root fall to zero) nearest ``towards``."""
     if x.size < 2:
         return None
     # a square-root fall squared is quadratic (Hertz, exactly) and linear near its zero
@@ -131,7 +131,7 @@ def _root_of_square(x: np.ndarray, values: np.ndarray, towards: float) -> float 
 
 
 def _edge(x, p, inside: np.ndarray, side: int, gap: float) -> float:
-    """Contact edge on one side: p**2 fitted over the outer contact nodes, else the midpoint."""
+    """Contact edge on one side: p^2 fitted over the outer contact nodes, else the midpoint."""
     k = np.flatnonzero(inside)
     last = k[-1] if side > 0 else k[0]
     beyond = last + side
@@ -211,7 +211,7 @@ class Transitions:
 def transitions(result) -> Transitions:
     """Contact edges and stick-slip boundaries of every step of a result.
 
-    Edges from a quadratic fit of p**2 over the outer contact nodes (exact for a Hertzian
+    Edges from a quadratic fit of p^2 over the outer contact nodes (exact for a Hertzian
     pressure); stick-slip boundaries from a linear fit of the squared traction reserve
     f p - |q| over the three stick nodes next to the slip zone (a square-root fall squared
     is linear near its zero). Falls back to the midpoint between the nodes on either side
@@ -221,7 +221,7 @@ def transitions(result) -> Transitions:
     order = np.argsort(along)
     x = along[order]
     gap = float(np.min(np.diff(x)))
-    friction = result.simulation.pair.friction
+    friction = estimate.friction_of(result.simulation)
     edges: list[float] = []
     boundaries: list[float] = []
     for step in result.steps:
@@ -402,7 +402,7 @@ def remesh(
     Returns a new Simulation (nothing assembled yet).
     """
     pair = simulation.pair
-    tangent = np.asarray(pair.geometry["tangents"][0], float)
+    tangent = estimate.pair_frame(pair)[1][0]
     up_index, _ = estimate.contact_segment(pair.upper, pair.upper_tag)
     low_index, _ = estimate.contact_segment(pair.lower, pair.lower_tag)
     degree = pair.upper.refinement.get(pair.upper_tag, Refinement()).degree

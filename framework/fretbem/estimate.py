@@ -49,6 +49,21 @@ class TractionField:
         return matrix @ self.pressure, matrix @ self.shear
 
 
+def pair_frame(pair) -> tuple[np.ndarray, np.ndarray]:
+    """Pair positions (n, 2) and tangents (n, 2) of a contact pair's pairing."""
+    if hasattr(pair, "pairing"):
+        pairing = pair.pairing()
+        return np.asarray(pairing.points, float), np.asarray(pairing.tangents, float)
+    geometry = pair.geometry
+    return np.asarray(geometry["points"], float), np.asarray(geometry["tangents"], float)
+
+
+def friction_of(simulation) -> float:
+    """Coulomb coefficient of a simulation (its contact law, or the pair before issue 9)."""
+    law = getattr(simulation, "law", None)
+    return float(law.friction if law is not None else simulation.pair.friction)
+
+
 def contact_segment(body, tag: str):
     """The single discretised segment of ``body`` tagged ``tag`` (the contact face)."""
     indices = body.boundary.indices(tag)
@@ -91,7 +106,7 @@ def traction_fields(result) -> list[TractionField]:
     """One TractionField per step of a SimulationResult (lower body's contact segment)."""
     pair = result.simulation.pair
     _, basis = contact_segment(pair.lower, pair.lower_tag)
-    tangent = np.asarray(pair.geometry["tangents"][0], float)
+    tangent = pair_frame(pair)[1][0]
     inverse = parameter_of(basis.curve, tangent)
     params = inverse(positions(result))
     matrix = basis.evaluation_matrix(params)
@@ -109,8 +124,8 @@ def traction_fields(result) -> list[TractionField]:
 
 def positions(result) -> np.ndarray:
     """Pair positions along the pair tangent (x in the reference scene)."""
-    geometry = result.simulation.pair.geometry
-    return geometry["points"] @ np.asarray(geometry["tangents"][0], float)
+    points, tangents = pair_frame(result.simulation.pair)
+    return points @ tangents[0]
 
 
 def _l2(values: np.ndarray, x: np.ndarray) -> float:
@@ -121,7 +136,7 @@ def _l2(values: np.ndarray, x: np.ndarray) -> float:
 def scales(result) -> tuple[float, float]:
     """Normalising tractions (p0, f p0): the reference's, else the peak pressure of the run."""
     reference = result.simulation.reference
-    friction = result.simulation.pair.friction
+    friction = friction_of(result.simulation)
     if reference is not None:
         p0 = reference.hertz.peak_pressure
     else:

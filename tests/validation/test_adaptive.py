@@ -29,7 +29,7 @@ def worst(result) -> dict[str, float]:
 def exact_transitions(simulation) -> np.ndarray:
     """+-a, +-c (step B) and +-c' (unloading) of the reference cycle, from the closed form."""
     a = simulation.reference.hertz.half_width
-    f, load = simulation.pair.friction, simulation.steps[0].normal
+    f, load = estimate.friction_of(simulation), simulation.steps[0].normal
     q = max(abs(s.tangential) for s in simulation.steps)
     c = a * math.sqrt(1 - q / (f * load))
     c2 = a * math.sqrt(1 - q / (2 * f * load))
@@ -102,7 +102,7 @@ def test_remesh_keeps_pairs_facing_and_puts_points_on_transitions():
     simulation = cattaneo_mindlin(pairs=31)
     exact = exact_transitions(simulation)
     fine = adaptive.remesh(simulation, exact, 45, ratio=10.0)
-    x = fine.pair.geometry["points"][:, 0]
+    x = estimate.pair_frame(fine.pair)[0][:, 0]
     assert x.size <= 45
     for t in exact:
         assert np.min(np.abs(x - t)) < 1e-9 * simulation.reference.hertz.half_width
