@@ -412,6 +412,46 @@ def test_local_cluster_equals_serial_and_resumes(tmp_path):
     pd.testing.assert_frame_equal(_results(rest.table), _results(serial.table))
 
 
+def _killing_builder(scene):
+    """Builds like the default, but a Dask worker building the radius-60 group dies."""
+    import os
+
+    from distributed import get_worker
+
+    try:
+        get_worker()
+    except ValueError:  # not on a worker
+        pass
+    else:
+        if scene["geometry"]["radius"] == 60.0:
+            os._exit(1)
+    return build_simulation(scene)
+
+
+@pytest.mark.slow
+def test_tasks_lost_with_their_workers_are_left_for_the_next_run(tmp_path):
+    import sys
+
+    import cloudpickle
+    import dask
+    from dask.distributed import Client
+
+    from fretbem.studies.sweep import _local_cluster, sweep
+
+    cloudpickle.register_pickle_by_value(sys.modules[__name__])
+    with dask.config.set({"distributed.scheduler.allowed-failures": 0}):
+        with _local_cluster(2) as cluster, Client(cluster) as client:
+            first = sweep(
+                SCENE, PARAMETERS, out=tmp_path, client=client, batch=3, builder=_killing_builder
+            )
+    assert first.summary.lost and "KilledWorker" in first.summary.lost[0]
+    assert "lost by the cluster" in str(first.summary)
+    assert set(first.table["geometry.radius"]) <= {70.0, -1.0}  # nothing of radius 60 stored
+    rest = sweep(SCENE, PARAMETERS, out=tmp_path, serial=True, batch=3)
+    whole = sweep(SCENE, PARAMETERS, out=tmp_path.parent / "whole-lost", serial=True)
+    pd.testing.assert_frame_equal(_results(rest.table), _results(whole.table))
+
+
 def test_maps_are_drawn(tmp_path):
     import matplotlib
 

@@ -145,15 +145,22 @@ class SweepSummary:
     assembly_seconds: float | None
     solve_seconds: float | None
     stopped: bool
+    lost: tuple[str, ...] = ()
 
     def __str__(self) -> str:
         def fmt(value, unit=" s"):
             return "n/a" if value is None else f"{value:.4g}{unit}"
 
+        if self.tasks:
+            run = (
+                f"  this run: {self.solved_now} cases in {self.tasks} tasks on {self.workers} "
+                f"{self.mode} worker(s), {self.wall:.2f} s wall; {self.skipped} already stored"
+            )
+        else:
+            run = f"  this run: nothing to solve, all {self.skipped} cases already stored"
         lines = [
             f"sweep: {self.cases} cases in {self.groups} condensation groups -> {self.directory}",
-            f"  this run: {self.solved_now} cases in {self.tasks} tasks on {self.workers} "
-            f"{self.mode} worker(s), {self.wall:.2f} s wall; {self.skipped} already stored",
+            run,
             "  stored: "
             + ", ".join(f"{n} {k}" for k, n in sorted(self.status.items()))
             + f" ({self.stored}/{self.cases})",
@@ -161,6 +168,11 @@ class SweepSummary:
             f"  median assembly + condensation per group {fmt(self.assembly_seconds)}, "
             f"median solve per case {fmt(self.solve_seconds)}",
         ]
+        if self.lost:
+            lines.append(
+                f"  {len(self.lost)} task(s) lost by the cluster (first: {self.lost[0]}); "
+                "their cases are not stored: re-run the same command to complete the sweep"
+            )
         if self.stopped:
             lines.append("  stopped early: re-run the same command to complete the sweep")
         elif self.status.get("error"):
@@ -232,7 +244,10 @@ def _connect(scheduler: str | None, workers: int):
 
 
 def _run_dask(tasks, client, scheduler, workers, builder, outputs, on_rows, limit, extras=None):
-    """Run the tasks on Dask, storing each batch as it completes; returns (workers, stopped).
+    """Run the tasks on Dask, storing each batch as it completes.
+
+    Returns (workers, stopped early, errors of tasks lost to the cluster): a lost task's
+    cases stay unstored, for the next run.
 
     Without a client, the cluster starts (or the scheduler is reached) in a thread while
     this process solves the first tasks itself: the seconds a cluster takes to start are
@@ -246,6 +261,7 @@ def _run_dask(tasks, client, scheduler, workers, builder, outputs, on_rows, limi
         raise SweepError("the Dask mode needs dask[distributed]; use serial=True") from err
     queue = list(tasks)
     finished = 0
+    lost: list[str] = []
     cluster = own_client = None
     if client is None:
         with concurrent.futures.ThreadPoolExecutor(1) as pool:
@@ -260,14 +276,19 @@ def _run_dask(tasks, client, scheduler, workers, builder, outputs, on_rows, limi
     try:
         n_workers = len(client.scheduler_info().get("workers", {})) or workers
         if limit is not None and finished >= limit:
-            return n_workers, bool(queue)
+            return n_workers, bool(queue), lost
         total = finished + len(queue)
         futures = [
             client.submit(run_batch, t.scene, t.cases, builder, outputs, extras, pure=False)
             for t in queue
         ]
         for future in as_completed(futures):
-            on_rows(future.result())
+            try:
+                rows = future.result()
+            except Exception as err:  # a lost worker or a cancelled task, not a failing case
+                lost.append(f"{type(err).__name__}: {err}")
+                continue
+            on_rows(rows)
             finished += 1
             if limit is not None and finished >= limit and finished < total:
                 stopped = True
@@ -278,7 +299,7 @@ def _run_dask(tasks, client, scheduler, workers, builder, outputs, on_rows, limi
             own_client.close()
         if cluster is not None:
             cluster.close()
-    return n_workers, stopped
+    return n_workers, stopped, lost
 
 
 def run_sweep(
@@ -331,10 +352,10 @@ def run_sweep(
         solved += len(rows)
         bar.update(len(rows))
 
-    stopped = False
+    stopped, lost = False, []
     try:
         if not tasks:
-            mode = "no"
+            mode = "none"
         elif serial:
             mode = "serial"
             for k, task in enumerate(tasks):
@@ -344,7 +365,7 @@ def run_sweep(
                 on_rows(run_batch(task.scene, task.cases, builder, outputs, extras))
         else:
             mode = "dask"
-            n_workers, stopped = _run_dask(
+            n_workers, stopped, lost = _run_dask(
                 tasks, client, scheduler, n_workers, builder, outputs, on_rows, limit, extras
             )
     finally:
@@ -358,6 +379,7 @@ def run_sweep(
         "mode": mode,
         "wall": time.perf_counter() - start,
         "stopped": stopped,
+        "lost": tuple(lost),
     }
     return SweepResult(table, _summarise(table, spec, store.directory, stats), spec)
 

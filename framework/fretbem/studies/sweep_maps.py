@@ -64,9 +64,15 @@ def _boundary(ax, rows, x: str, y: str) -> bool:
     return True
 
 
+def _axes():
+    """Axes on a new Figure, without pyplot (no backend switch, nothing left open)."""
+    from matplotlib.figure import Figure
+
+    return Figure(figsize=(6.4, 4.8), layout="constrained").add_subplot()
+
+
 def regime_map(table, x: str, y: str, *, where=None, ax=None, title: str | None = None):
     """Fretting map: regime of each case over parameters ``x`` and ``y`` (matplotlib Axes)."""
-    import matplotlib.pyplot as plt
     from matplotlib.colors import ListedColormap
     from matplotlib.patches import Patch
 
@@ -74,7 +80,7 @@ def regime_map(table, x: str, y: str, *, where=None, ax=None, title: str | None 
     codes = np.array([REGIMES.index(r) if r in REGIMES else np.nan for r in rows["regime"]])
     xs, ys, grid = _grid(rows, x, y, codes)
     if ax is None:
-        _, ax = plt.subplots(figsize=(6.4, 4.8), layout="constrained")
+        ax = _axes()
     cmap = ListedColormap([REGIME_COLOURS[r] for r in REGIMES])
     ax.pcolormesh(
         xs, ys, np.ma.masked_invalid(grid), cmap=cmap, vmin=-0.5, vmax=2.5, shading="nearest"
@@ -99,7 +105,6 @@ def regime_map(table, x: str, y: str, *, where=None, ax=None, title: str | None 
 
 def column_map(table, column: str, x: str, y: str, *, where=None, ax=None, title=None):
     """Map of a numeric output ``column`` (e.g. ``stick_width.B``, life) over ``x`` and ``y``."""
-    import matplotlib.pyplot as plt
 
     rows = _select(table, x, y, where)
     if column not in rows:
@@ -108,7 +113,7 @@ def column_map(table, column: str, x: str, y: str, *, where=None, ax=None, title
     values = rows[column].to_numpy(dtype=float)
     xs, ys, grid = _grid(rows, x, y, values)
     if ax is None:
-        _, ax = plt.subplots(figsize=(6.4, 4.8), layout="constrained")
+        ax = _axes()
     mesh = ax.pcolormesh(xs, ys, np.ma.masked_invalid(grid), shading="nearest", cmap="viridis")
     ax.figure.colorbar(mesh, ax=ax, label=column)
     if _boundary(ax, rows, x, y):
@@ -130,11 +135,6 @@ def default_maps(paths: Sequence[str]) -> list[dict]:
 
 def draw_maps(table, spec, directory: str | Path) -> list[Path]:
     """Draw the sweep's ``[[maps]]`` (x, y, column, optional where) into ``directory``."""
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
     maps = spec.options.get("maps", default_maps(spec.paths))
     if isinstance(maps, Mapping):
         maps = [maps]
@@ -155,7 +155,6 @@ def draw_maps(table, spec, directory: str | Path) -> list[Path]:
             )
         path = Path(directory) / _name(column, entry["x"], entry["y"])
         ax.figure.savefig(path, dpi=120)
-        plt.close(ax.figure)
         figures.append(path)
     return figures
 
