@@ -6,6 +6,7 @@ from __future__ import annotations
 import inspect
 import subprocess
 import sys
+from pathlib import Path
 
 import attrs
 import numpy as np
@@ -15,6 +16,7 @@ from fretbem import Basis, Body, ContactPair, Simulation, Solver
 from fretbem.basis import Refinement
 from fretbem.bem_body import BemBody
 from fretbem.conditions import Displacement, LoadingBlock, Traction
+from fretbem.contact import NodeToNodePair
 from fretbem.geometry.boundary import Boundary, Segment
 from fretbem.geometry.nurbs import NurbsCurve
 from fretbem.kernels import KelvinKernel
@@ -244,3 +246,52 @@ def test_loading_block_response_is_rigid_for_a_block_held_body():
     # equilibrium of the discretised pad, node by node: measured 3.9e-4 of the largest entry
     np.testing.assert_allclose(response.r_traction, -response.contact_force, atol=6e-4 * scale)
     _ = LoadingBlock  # the pad's condition
+
+
+# -- the worked examples of the how-to pages (docs/how-to/extension_examples.py) -------------
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "docs" / "how-to"))
+from extension_examples import FallbackSolver, TrescaFriction, WinklerFoundation  # noqa: E402
+
+
+def winkler_simulation(law, steps, solver=None):
+    """The reference pad (21 pairs) pressed on a Winkler bed with nodes under its face."""
+    pad = cattaneo_mindlin(pairs=21).pair.upper
+    x = np.sort(pad.contact_face("contact").points[:, 0])
+    bed = WinklerFoundation(x, stiffness=1e6)
+    return Simulation(
+        NodeToNodePair(pad, bed), steps, solver or SemiSmoothNewton(), law=law, name="winkler"
+    )
+
+
+def test_winkler_foundation_is_a_body():
+    check_body(lambda: WinklerFoundation(np.linspace(-1.0, 1.0, 9), stiffness=1e5))
+
+
+def test_pad_on_a_winkler_bed():
+    """The pad carries P and Q; the bed's own resultant (trapezoidal node weights) differs
+    from the pad's (its shape-function integrals) by the quadrature only (measured 0.04 %)."""
+    steps = [LoadStep("A", 100.0, 0.0), LoadStep("B", 100.0, 12.0)]
+    result = run(winkler_simulation(CoulombFriction(0.3), steps))
+    for step in result.steps:
+        assert abs(step.resultant[0] - 100.0) < 1e-3 * 100.0  # measured 2e-5 (A), 3.9e-4 (B)
+        assert abs(step.resultant[1] - step.tangential) < 1e-3 * 100.0  # measured 5.6e-5
+    assert result["B"].count("slip") > 0 and result["B"].count("stick") > 0
+
+
+def test_fallback_solver_conforms_and_rescues_a_failing_first_solver():
+    check_solver(
+        FallbackSolver(SemiSmoothNewton(max_iterations=1, max_substeps=0), SemiSmoothNewton())
+    )
+
+
+def test_tresca_law_bounds_the_shear_by_g():
+    """Tresca friction: |q| <= g everywhere, |q| = g on slipping pairs, int q = Q."""
+    g = 15.0
+    steps = [LoadStep("A", 100.0, 0.0), LoadStep("B", 100.0, 5.0)]
+    result = run(winkler_simulation(TrescaFriction(g), steps))
+    step = result["B"]
+    assert np.all(np.abs(step.shear) <= g * (1 + 1e-12))
+    slipping = step.states == PairState.SLIP
+    assert slipping.any()
+    np.testing.assert_allclose(np.abs(step.shear[slipping]), g, rtol=1e-9)
+    assert abs(step.resultant[1] - 5.0) < 1e-3 * 100.0  # measured 4.3e-4 (bed quadrature)
