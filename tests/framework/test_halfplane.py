@@ -252,3 +252,68 @@ def test_face_must_be_monotone_in_x():
 def test_side_is_checked():
     with pytest.raises(HalfPlaneFaceError, match=r"'lower'.*'upper'"):
         HalfPlaneSurface(_face(), STEEL, "left")
+
+
+# -- against the Kelvin BEM -----------------------------------------------------------------
+
+
+def _bem_block(half_width: float, patch: float, material: Material):
+    """A BEM block 2L wide and 2L deep, clamped at the bottom, its top loaded by a uniform
+    pressure of 1 on |x| < patch: a finite stand-in for the half-plane."""
+    from fretbem.bem_body import BemBody
+    from fretbem.conditions import Displacement, Traction
+    from fretbem.geometry.boundary import Boundary, Segment
+
+    L, b = half_width, patch
+    boundary = Boundary(
+        [
+            Segment("bottom", NurbsCurve.line([-L, -2 * L], [L, -2 * L])),
+            Segment("right", NurbsCurve.line([L, -2 * L], [L, 0])),
+            Segment("top_right", NurbsCurve.line([L, 0], [b, 0])),
+            Segment("patch", NurbsCurve.line([b, 0], [-b, 0])),
+            Segment("top_left", NurbsCurve.line([-b, 0], [-L, 0])),
+            Segment("left", NurbsCurve.line([-L, 0], [-L, -2 * L])),
+        ]
+    )
+    refinement = {
+        "patch": Refinement(elements=8),
+        "top_right": Refinement.graded(40, 1.0, 200.0),
+        "top_left": Refinement.graded(40, 0.0, 200.0),
+        "left": Refinement.graded(16, 0.0, 20.0),
+        "right": Refinement.graded(16, 1.0, 20.0),
+        "bottom": Refinement(elements=16),
+    }
+    conditions = [Displacement("bottom"), Traction("patch", x=0.0, y=-1.0)]
+    return BemBody(boundary, material, conditions, basis="nurbs", refinement=refinement)
+
+
+def test_influence_agrees_with_a_wide_bem_block():
+    """Both Flamant terms, sign and size, against the Kelvin-kernel BEM: a pressure patch
+    |x| < 1 on a block 2L wide and deep. Datum-free differences at x = 2, 3 (and -x):
+    u_x(x) - u_x(-x) (the sign term, 2 B) and u_y(x) - u_y(5) (the ln term, A). Measured
+    relative errors (worst of x = 2, 3) 13 % / 1.5 % at L = 25 and 3.2 % / 0.09 % at
+    L = 100: they fall like 1/L, the finite block's own correction."""
+    material = Material(100000.0, 0.3)
+    x = np.array([2.0, 3.0, 5.0])
+    face = bases.get("nurbs").discretise(NurbsCurve.line([-1, 0], [1, 0]), Refinement(elements=8))
+    surface = HalfPlaneSurface(face, material, "lower")
+    t = np.tile([0.0, -1.0], len(surface.points))
+    half_plane = {side: surface.node_map(side * x) @ t for side in (1.0, -1.0)}
+    hp_jump = half_plane[1.0][:2, 0] - half_plane[-1.0][:2, 0]
+    hp_log = half_plane[1.0][:2, 1] - half_plane[1.0][2, 1]
+    errors = []
+    for L in (25.0, 100.0):
+        solution = _bem_block(L, 1.0, material).solve()
+        right = solution.displacement(2, (L - x) / (L - 1.0))  # top_right runs L -> 1
+        left = solution.displacement(4, (x - 1.0) / (L - 1.0))  # top_left runs -1 -> -L
+        bem_jump = right[:2, 0] - left[:2, 0]
+        bem_log = right[:2, 1] - right[2, 1]
+        errors.append(
+            (
+                np.abs(bem_jump / hp_jump - 1).max(),
+                np.abs(bem_log / hp_log - 1).max(),
+            )
+        )
+    (jump_25, log_25), (jump_100, log_100) = errors
+    assert jump_100 < 0.04 and log_100 < 1.2e-3
+    assert jump_100 < 0.3 * jump_25 and log_100 < 0.3 * log_25  # ~1/L
