@@ -164,3 +164,15 @@ def test_refining_to_twenty_thousand_control_points_stays_sparse():
     assert transform.shape == (refined.n_control_points, arc.n_control_points)
     xi = np.linspace(0.0, 1.0, 997)
     assert np.abs(refined.points(xi) - arc.reparametrised().points(xi)).max() < 1e-9
+
+
+@pytest.mark.parametrize(
+    "settings",
+    [{"tolerance": 0.5}, {"tolerance": 0.0}, {"max_iterations": 0}, {"max_substeps": -1}],
+)
+def test_newton_refuses_meaningless_settings(settings):
+    """Reproducer: SemiSmoothNewton(tolerance=0.5) ran and returned e_q = 90 %."""
+    from fretbem.solver import SemiSmoothNewton
+
+    with pytest.raises(ValueError, match="must"):
+        SemiSmoothNewton(**settings)
