@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -67,3 +68,19 @@ def poisson(instance: Any, attribute: Any, value: Any) -> None:
             f"Poisson's ratio {attribute.name} must lie in (-1, 0.5) for a stable isotropic "
             f"material, got {value!r}"
         )
+
+
+def check_positive(name: str, value: float) -> float:
+    """``value`` as a float; ValueError naming ``name`` unless finite and > 0 (plain calls)."""
+    value = float(value)
+    if not (math.isfinite(value) and value > 0.0):
+        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    return value
+
+
+def check_poisson(name: str, value: float) -> float:
+    """``value`` as a float; ValueError naming ``name`` unless a Poisson's ratio in (-1, 0.5)."""
+    value = float(value)
+    if not (math.isfinite(value) and -1.0 < value < 0.5):
+        raise ValueError(f"{name} must be a Poisson's ratio in (-1, 0.5), got {value!r}")
+    return value

@@ -18,6 +18,8 @@ import attrs
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ._validators import check_poisson, check_positive
+
 __all__ = [
     "HertzLineContact",
     "MindlinDeresiewicz",
@@ -29,25 +31,9 @@ __all__ = [
 # --------------------------------------------------------------------------- validation
 
 
-def _check_positive(name: str, value: float) -> float:
-    """Return ``value`` as a float, or raise ValueError naming ``name`` unless finite and > 0."""
-    value = float(value)
-    if not (math.isfinite(value) and value > 0.0):
-        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
-    return value
-
-
-def _check_poisson(name: str, value: float) -> float:
-    """Return ``value`` as a float, or raise ValueError naming ``name`` unless in (-1, 0.5)."""
-    value = float(value)
-    if not (math.isfinite(value) and -1.0 < value < 0.5):
-        raise ValueError(f"{name} must be a Poisson's ratio in (-1, 0.5), got {value!r}")
-    return value
-
-
 def _positive(instance: object, attribute: attrs.Attribute, value: float) -> None:
     """Attrs validator: finite and strictly positive."""
-    _check_positive(attribute.name, value)
+    check_positive(attribute.name, value)
 
 
 # --------------------------------------------------------------------------- elastic constants
@@ -60,8 +46,8 @@ def effective_modulus(
 
     In plane stress 1/E* = 1/E1 + 1/E2. For similar bodies in plane strain E* = E/(2(1-nu²)).
     """
-    E1, E2 = _check_positive("E1", E1), _check_positive("E2", E2)
-    nu1, nu2 = _check_poisson("nu1", nu1), _check_poisson("nu2", nu2)
+    E1, E2 = check_positive("E1", E1), check_positive("E2", E2)
+    nu1, nu2 = check_poisson("nu1", nu1), check_poisson("nu2", nu2)
     if plane_stress:
         return 1.0 / (1.0 / E1 + 1.0 / E2)
     return 1.0 / ((1.0 - nu1**2) / E1 + (1.0 - nu2**2) / E2)
@@ -75,8 +61,8 @@ def dundurs_beta(
     β = [(κ1-1)/μ1 - (κ2-1)/μ2] / [(κ1+1)/μ1 + (κ2+1)/μ2] with κ = 3-4ν (plane strain) or
     (3-ν)/(1+ν) (plane stress); swapping the bodies flips its sign.
     """
-    E1, E2 = _check_positive("E1", E1), _check_positive("E2", E2)
-    nu1, nu2 = _check_poisson("nu1", nu1), _check_poisson("nu2", nu2)
+    E1, E2 = check_positive("E1", E1), check_positive("E2", E2)
+    nu1, nu2 = check_poisson("nu1", nu1), check_poisson("nu2", nu2)
 
     def kappa(nu: float) -> float:
         return (3.0 - nu) / (1.0 + nu) if plane_stress else 3.0 - 4.0 * nu

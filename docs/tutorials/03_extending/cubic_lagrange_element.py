@@ -13,7 +13,7 @@ someone else's package. Adding an element type takes two steps:
    ``pyproject.toml``.
 
 Then ``pip install`` the package, and ``fretbem bases``, scene files,
-:class:`~fretbem.body.Body` and :func:`~fretbem.scenes.cattaneo_mindlin` accept its name.
+:class:`~fretbem.bem_body.BemBody` and :func:`~fretbem.scenes.cattaneo_mindlin` accept its name.
 This tutorial walks through ``examples/custom_basis/``, a complete plugin package that
 adds continuous cubic Lagrange elements (``lagrange3``), and runs it on the reference
 scene beside the built-in families. The :doc:`how-to page </how-to/add-element-type>`
