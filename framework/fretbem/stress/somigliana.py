@@ -412,7 +412,8 @@ def somigliana_operator(
             f"{points[i].tolist()}, at least {distance[i]:.3g} from the boundary); evaluate "
             "them in the other body or move them inside"
         )
-    subtract = banded & (distance < settings.subtract_factor * scale) & ~on_boundary
+    subtract = banded & ~on_boundary
+    subtract[banded] &= distance[banded] < settings.subtract_factor * scale[banded]
     integrate = ~on_boundary
     near_mask[on_boundary] = True  # nothing is integrated for boundary points
 
