@@ -1,9 +1,9 @@
 """The two-body scene file: every key documented once, every bad input a named error."""
 
-import tomllib
 from pathlib import Path
 
 import pytest
+import tomllib
 
 from fretbem.scene_spec import KEYS, SceneFileError, markdown_table, scene_from_dict
 from fretbem.shapes import CylinderPad, FlatSpecimen, NurbsShape, RoundedFlatPad
