@@ -117,7 +117,7 @@ def column_map(table, column: str, x: str, y: str, *, where=None, ax=None, title
     mesh = ax.pcolormesh(xs, ys, np.ma.masked_invalid(grid), shading="nearest", cmap="viridis")
     ax.figure.colorbar(mesh, ax=ax, label=column)
     if _boundary(ax, rows, x, y):
-        ax.legend(loc="lower right", framealpha=0.9)
+        ax.legend(loc="upper left", framealpha=0.9)
     ax.set_xlabel(x)
     ax.set_ylabel(y)
     ax.set_title(title or f"{column} (blank: gross slip or failed)")
