@@ -92,6 +92,20 @@ GROUPS: dict[str, tuple[str, ...]] = {
         "fretbem.fatigue.output",
         "fretbem.fatigue.errors",
     ),
+    "Stresses": (
+        "fretbem.stress",
+        "fretbem.stress.evaluate",
+        "fretbem.stress.somigliana",
+        "fretbem.stress.boundary",
+        "fretbem.stress.kernels",
+        "fretbem.stress.halfplane",
+        "fretbem.stress.closed_form",
+        "fretbem.stress.request",
+        "fretbem.stress.run",
+        "fretbem.stress.output",
+        "fretbem.stress.figures",
+        "fretbem.stress.errors",
+    ),
     "Command line": ("fretbem.cli",),
 }
 
