@@ -207,6 +207,12 @@ def test_two_body_scene_with_bulk_load_reuses_the_problem():
     rep = representative([c.scene for c in cases])
     assert rep["load"]["bulk"] == [1.0] * 5  # a bulk column for the loaded cases
     rows = run_batch(rep, [(c.index, c.values, c.scene) for c in cases])
+    lemke = copy.deepcopy(cases[3].scene)
+    lemke["contact"]["solver"] = "lemke"  # the solver is per case too
+    assert type(case_loading(lemke).solver).__name__ == "LemkeSolver"
+    (row,) = run_batch(rep, [(3, cases[3].values, lemke)])
+    for key in ("p_max.B", "q_max.D", "stick_width.B"):
+        assert row[key] == pytest.approx(rows[3][key], rel=1e-6, abs=1e-9)
     for case, row in zip(cases, rows, strict=True):
         assert row["status"] == "ok", row["error"]
         for step in run(build_simulation(case.scene)).steps:

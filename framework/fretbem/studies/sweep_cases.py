@@ -37,11 +37,12 @@ class GroupBuildError(RuntimeError):
 
 @attrs.frozen
 class Loading:
-    """What a case changes on a shared problem: steps, friction, reference."""
+    """What a case changes on a shared problem: steps, friction, reference, solver."""
 
     steps: tuple
     friction: float
     reference: Any = None
+    solver: Any = None  #: None keeps the group's solver
 
 
 def _is_two_body(scene: Mapping) -> bool:
@@ -76,7 +77,12 @@ def case_loading(scene: Mapping) -> Loading:
                 load.steps, load.P, load.Q, load.bulk, load.increments, strict=True
             )
         )
-        return Loading(steps, float(spec.contact.friction), scene_build.reference(spec)[0])
+        return Loading(
+            steps,
+            float(spec.contact.friction),
+            scene_build.reference(spec)[0],
+            scene_build.solver(spec.contact.solver),
+        )
     from ..scene_file import scene_from_dict
 
     spec = scene_from_dict(scene)
@@ -126,6 +132,7 @@ def with_loading(simulation, loading: Loading):
             steps=loading.steps,
             law=CoulombFriction(loading.friction),
             reference=loading.reference,
+            solver=simulation.solver if loading.solver is None else loading.solver,
         )
     # round-1 API: the friction sits on the pair; share its cached condensation
     pair = simulation.pair
