@@ -89,6 +89,20 @@ def _has_compiled() -> bool:
     return "compiled" in _settings_dict(integration.IntegrationSettings())
 
 
+def _round_one():
+    """The frozen round-1 assembler of the tests, when the tests are next to this file."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    tests = os.path.join(os.path.dirname(here), "tests", "framework")
+    if not os.path.exists(os.path.join(tests, "frozen_assembly_round1.py")):
+        return None
+    sys.path.insert(0, tests)
+    try:
+        import frozen_assembly_round1
+    finally:
+        sys.path.remove(tests)
+    return frozen_assembly_round1
+
+
 def _floor(body):
     """The compiled floor for ``body``: far rule on every pair, dense H and G."""
     from fretbem import _compiled
@@ -126,6 +140,13 @@ def bench_floor(args, out: dict) -> None:
             body = cattaneo_mindlin(basis=family, pairs=pairs).pair.upper
             floor, evaluations = _floor(body)
             candidates = {"floor": floor}
+            round1 = _round_one()
+            if round1 is not None:  # the round-1 assembler, frozen: "before" in this process
+                material = body.material
+                mu, nu = material.shear_modulus, material.kernel_nu
+                candidates["round1"] = lambda b=body, mu=mu, nu=nu, r=round1: r.Assembler(
+                    b.segments, mu, nu
+                ).assemble()
             if _has_compiled():
                 candidates["numpy"] = lambda b=body: _assembler(b, compiled=False).assemble()
                 candidates["compiled"] = lambda b=body: _assembler(b, compiled=True).assemble()
