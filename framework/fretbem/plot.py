@@ -126,7 +126,7 @@ def _grid(n: int, title: str) -> tuple[Figure, np.ndarray]:
     return fig, axes.flat
 
 
-def _error_text(results, name: str, key: str = "e_q_max", label: str = "max $e_q$") -> str:
+def _error_text(results, name: str, key: str = "e_q_max", label: str = "max e_q") -> str:
     """A title line with each result's error ``key`` at step ``name`` (empty without theory)."""
     parts = []
     for r in results:
@@ -185,7 +185,7 @@ def displacement_figure(
     fig.suptitle("Relative displacements at the node pairs (upper minus lower body)")
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     gap = results[0].simulation.pair.pairing().gap
-    rows = (("normal_displacement", "$u_n$", "o"), ("tangential_displacement", "$u_t$", "s"))
+    rows = (("normal_displacement", "u_n", "o"), ("tangential_displacement", "u_t", "s"))
     for col, name in enumerate(names):
         for row, (field, symbol, marker) in enumerate(rows):
             ax = axes[row, col]
@@ -197,7 +197,7 @@ def displacement_figure(
             ax.grid(alpha=0.3)
             ax.set_ylabel(f"{symbol} (µm)" if col == 0 else "")
         x = results[0][name].x / scale
-        axes[0, col].plot(x, -1e3 * gap, ":", color="0.3", lw=1.2, label="$-g$ (gap closed)")
+        axes[0, col].plot(x, -1e3 * gap, ":", color="0.3", lw=1.2, label="−g (gap closed)")
         axes[0, col].set_title(_step_title(results[0][name]))
         axes[1, col].set_xlabel(xlabel)
     handles, labels = axes[0, 0].get_legend_handles_labels()
@@ -295,7 +295,8 @@ def save_figures(
     directory: str | Path,
     steps: Sequence[str] | None = None,
 ) -> list[Path]:
-    """Write tractions.png, displacements.png, states.png and history.png into ``directory``.
+    """Write tractions.png, displacements.png, states.png (and history.png for a history of
+    more than MAX_PANELS steps) into ``directory``.
 
     ``steps``: the steps drawn as panels (default: all, or at most MAX_PANELS evenly spread
     ones, the first included, when the history is longer).
@@ -308,13 +309,15 @@ def save_figures(
         "tractions.png": lambda: traction_figure(results, names),
         "displacements.png": lambda: displacement_figure(results, names),
         "states.png": lambda: stick_slip_figure(results),
-        "history.png": lambda: history_figure(results),
     }
+    if len(results[0].steps) > MAX_PANELS:  # a long history: summarised step by step
+        makers["history.png"] = lambda: history_figure(results)
     paths = []
     for name, make in makers.items():
         fig = make()
         try:
-            fig.savefig(directory / name, dpi=DPI)
+            # fast zlib level: PNG encoding was a tenth of the drawing time
+            fig.savefig(directory / name, dpi=DPI, pil_kwargs={"compress_level": 1})
         finally:
             plt.close(fig)
         paths.append(directory / name)

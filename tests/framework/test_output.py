@@ -49,9 +49,7 @@ def test_summary_lists_every_step_with_errors(saved):
     assert summary["scene"]["pairs"] == PAIRS
 
 
-@pytest.mark.parametrize(
-    "name", ["tractions.png", "displacements.png", "states.png", "history.png"]
-)
+@pytest.mark.parametrize("name", ["tractions.png", "displacements.png", "states.png"])
 def test_figures_are_nonblank_images(saved, name):
     """Each figure is a readable PNG of plausible size that is not a blank canvas."""
     _, directory = saved
