@@ -49,48 +49,62 @@ def _is_two_body(scene: Mapping) -> bool:
     return "pad" in scene or "specimen" in scene
 
 
+def parse_scene(scene: Mapping):
+    """The scene record of a scene dict: the two-body ``Scene`` or the round-1 scene."""
+    if _is_two_body(scene):
+        from ..scene_spec import scene_from_dict
+
+        return scene_from_dict(scene)
+    from ..scene_file import scene_from_dict
+
+    return scene_from_dict(scene)
+
+
+def _round_one(record) -> bool:
+    from ..scenes import CattaneoMindlinScene
+
+    return isinstance(record, CattaneoMindlinScene)
+
+
 def build_simulation(scene: Mapping):
     """The Simulation a scene dict describes (round-1 format or the two-body format)."""
-    if _is_two_body(scene):
-        from .. import scene_build, scene_spec
+    record = parse_scene(scene)
+    if _round_one(record):
+        from ..scenes import cattaneo_mindlin
 
-        simulation, _ = scene_build.build(scene_spec.scene_from_dict(scene))
-        return simulation
-    from ..scene_file import scene_from_dict
-    from ..scenes import cattaneo_mindlin
+        return cattaneo_mindlin(record)
+    from .. import scene_build
 
-    return cattaneo_mindlin(scene_from_dict(scene))
+    simulation, _ = scene_build.build(record)
+    return simulation
 
 
 def case_loading(scene: Mapping) -> Loading:
-    """The load steps, friction and reference of a scene dict, without building bodies."""
+    """The load steps, friction, reference and solver of a scene dict, without bodies."""
     from ..simulation import LoadStep
 
-    if _is_two_body(scene):
-        from .. import scene_build, scene_spec
-
-        spec = scene_spec.scene_from_dict(scene)
-        load = spec.load
+    record = parse_scene(scene)
+    if _round_one(record):
         steps = tuple(
-            LoadStep(name, P, Q, increments, loads={"bulk": bulk} if any(load.bulk) else {})
-            for name, P, Q, bulk, increments in zip(
-                load.steps, load.P, load.Q, load.bulk, load.increments, strict=True
-            )
+            LoadStep(name, record.normal, q, record.increments)
+            for name, q in zip(record.names, record.tangential, strict=True)
         )
-        return Loading(
-            steps,
-            float(spec.contact.friction),
-            scene_build.reference(spec)[0],
-            scene_build.solver(spec.contact.solver),
-        )
-    from ..scene_file import scene_from_dict
+        return Loading(steps, float(record.friction), record.reference())
+    from .. import scene_build
 
-    spec = scene_from_dict(scene)
+    load = record.load
     steps = tuple(
-        LoadStep(name, spec.normal, q, spec.increments)
-        for name, q in zip(spec.names, spec.tangential, strict=True)
+        LoadStep(name, P, Q, increments, loads={"bulk": bulk} if any(load.bulk) else {})
+        for name, P, Q, bulk, increments in zip(
+            load.steps, load.P, load.Q, load.bulk, load.increments, strict=True
+        )
     )
-    return Loading(steps, float(spec.friction), spec.reference())
+    return Loading(
+        steps,
+        float(record.contact.friction),
+        scene_build.reference(record)[0],
+        scene_build.solver(record.contact.solver),
+    )
 
 
 def representative(scenes: Sequence[Mapping]) -> dict:
@@ -300,6 +314,7 @@ __all__ = [
     "Loading",
     "build_simulation",
     "case_loading",
+    "parse_scene",
     "refused_steps",
     "representative",
     "run_batch",
