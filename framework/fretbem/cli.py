@@ -75,6 +75,12 @@ def _check_steps(simulation, steps) -> None:
             raise CommandError(f"--steps {missing} are not load steps; the steps are {names}")
 
 
+def _dofs(pair) -> int:
+    """Boundary unknowns of both bodies (bodies without a ``dofs`` count, e.g. half-planes,
+    hold no dense BEM matrices and count 0)."""
+    return sum(int(getattr(body, "dofs", 0) or 0) for body in (pair.upper, pair.lower))
+
+
 def _prepare(scene, args: argparse.Namespace):
     """Everything checkable before computing: output directory, options, size, step names."""
     from .output import prepare_output
@@ -85,8 +91,7 @@ def _prepare(scene, args: argparse.Namespace):
     compare = _check_compare(args.compare) if not args.no_figures else []
     simulation = cattaneo_mindlin(scene)
     _check_steps(simulation, args.steps)
-    pair = simulation.pair
-    estimate = check_resources(int(pair.upper.dofs + pair.lower.dofs))
+    estimate = check_resources(_dofs(simulation.pair))
     if estimate.seconds > 2.0:
         _progress(f"running, estimated {estimate.describe()}")
     return simulation, compare, estimate
@@ -115,7 +120,9 @@ def _simulate(scene, args: argparse.Namespace) -> int:
     others = []
     for name in compare:
         _progress(f"running {name} for the comparison figures")
-        others.append(run(cattaneo_mindlin(attrs.evolve(scene, basis=name))))
+        other = run(cattaneo_mindlin(attrs.evolve(scene, basis=name)))
+        check_steps(other)  # drawn results are results: checked like the main one
+        others.append(other)
     if not args.no_figures or not args.no_vtk:
         _progress("writing figures and files")
     out = write_results(
