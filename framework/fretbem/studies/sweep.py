@@ -165,9 +165,12 @@ class SweepSummary:
             + ", ".join(f"{n} {k}" for k, n in sorted(self.status.items()))
             + f" ({self.stored}/{self.cases})",
             "  regimes: " + ", ".join(f"{n} {k}" for k, n in self.regimes.items() if n),
-            f"  median assembly + condensation per group {fmt(self.assembly_seconds)}, "
-            f"median solve per case {fmt(self.solve_seconds)}",
+            f"  median assembly + condensation {fmt(self.assembly_seconds)} (per group and "
+            f"worker), median solve {fmt(self.solve_seconds)} per case",
         ]
+        if self.assembly_seconds and self.solve_seconds:
+            ratio = self.assembly_seconds / self.solve_seconds
+            lines[-1] += f": one assembly costs {ratio:.0f} case solves"
         if self.lost:
             lines.append(
                 f"  {len(self.lost)} task(s) lost by the cluster (first: {self.lost[0]}); "
