@@ -472,12 +472,20 @@ def sweep_command(argv: Sequence[str] | None = None) -> int:
 def add_arguments(parser) -> None:
     """The sweep subcommand's arguments (for the fretbem CLI's subparser)."""
     parser.add_argument("sweep_file", metavar="SWEEP.toml", help="sweep description")
-    parser.add_argument("--scheduler", help="Dask scheduler address, e.g. tcp://host:8786")
+    parser.add_argument(
+        "--scheduler", metavar="ADDRESS", help="Dask scheduler address, e.g. tcp://host:8786"
+    )
     parser.add_argument("--serial", action="store_true", help="solve in this process, no Dask")
-    parser.add_argument("--out", help="store directory (default: [sweep] out, or <name>-sweep)")
-    parser.add_argument("--workers", type=int, help="local cluster processes (default: cores)")
-    parser.add_argument("--batch", type=int, help="cases per task (default: automatic)")
-    parser.add_argument("--limit", type=int, help="stop after this many tasks (resume later)")
+    parser.add_argument(
+        "--out", metavar="DIR", help="store directory (default: [sweep] out, or <name>-sweep)"
+    )
+    parser.add_argument(
+        "--workers", type=int, metavar="N", help="local cluster processes (default: cores)"
+    )
+    parser.add_argument("--batch", type=int, metavar="N", help="cases per task (default: auto)")
+    parser.add_argument(
+        "--limit", type=int, metavar="N", help="stop after N tasks (re-run to complete)"
+    )
     parser.add_argument("--no-figures", action="store_true", help="skip the fretting maps")
 
 
