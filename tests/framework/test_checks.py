@@ -58,6 +58,16 @@ def test_too_small_zone_is_refused_naming_zone():
     assert all(r["zone_edge"].residual == 2 for r in records)
 
 
+def test_too_small_zone_is_refused_for_dissimilar_bodies_without_theory():
+    """Reproducer: with dissimilar bodies (no analytical reference, no error column) a zone
+    of 0.5 gave 1241 MPa at its edge pairs and nothing flagged it."""
+    scene = CattaneoMindlinScene(pairs=21, zone=0.5, E_lower=210000.0, nu_lower=0.3)
+    result = run(cattaneo_mindlin(scene))
+    assert result.simulation.reference is None
+    with pytest.raises(checks.ContactZoneError, match="enlarge the scene's `zone`"):
+        checks.check_steps(result)
+
+
 def test_no_stick_pair_is_refused_with_widths():
     """Near gross sliding: all pairs slip; the message gives stick width against spacing."""
     x = np.linspace(-1, 1, 21)
