@@ -92,7 +92,7 @@ print("max |BEM - closed form| / p0 on the profile (sxx, syy, sxy, szz):",
 #
 # A ``[stress]`` request (the same table a scene file takes) evaluates a grid graded toward
 # the surface for every step, writes CSV tables and a ParaView time series
-# (``stress_grid.pvd``), and draws the contour maps at the step of largest |Q| with the
+# (``stress_grid.pvd``), and draws the contour maps at the step of largest absolute Q with the
 # stick (blue) and slip (red) pairs on the surface.
 request = stress_request_from_dict(
     {

@@ -15,7 +15,7 @@ __all__ = ["most_loaded_step", "run_stress_request"]
 
 
 def most_loaded_step(result) -> int:
-    """Index of the step with the largest |Q| (the first of equals)."""
+    """Index of the step with the largest absolute Q (the first of equals)."""
     return int(np.argmax([abs(s.tangential) for s in result.steps]))
 
 
