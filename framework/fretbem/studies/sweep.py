@@ -270,8 +270,14 @@ def _run_dask(tasks, client, scheduler, workers, builder, outputs, on_rows, limi
         with concurrent.futures.ThreadPoolExecutor(1) as pool:
             starting = pool.submit(_connect, scheduler, workers)
             while queue and not starting.done() and (limit is None or finished < limit):
-                task = queue.pop(0)
-                on_rows(run_batch(task.scene, task.cases, builder, outputs, extras))
+                # case by case, so the cluster never waits for this process to finish a task
+                task, rows = queue.pop(0), []
+                for k, case in enumerate(task.cases):
+                    rows += run_batch(task.scene, [case], builder, outputs, extras)
+                    if starting.done() and k + 1 < len(task.cases):
+                        queue.insert(0, Task(task.scene, task.cases[k + 1 :]))
+                        break
+                on_rows(rows)
                 finished += 1
             cluster, own_client = starting.result()
         client = own_client
