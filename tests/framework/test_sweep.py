@@ -484,6 +484,38 @@ def test_maps_are_drawn(tmp_path):
     assert files[0].stat().st_size > 10_000
 
 
+def test_maps_select_with_where_and_draw_the_boundary_on_any_axes():
+    from fretbem.studies.sweep_maps import regime_map
+
+    rows = []
+    for f in (0.3, 0.5):
+        for q in (10.0, 20.0, 40.0):
+            for p in (50.0, 100.0):
+                regime = "gross slip" if q >= f * p else "partial slip"
+                rows.append(
+                    {
+                        "load.P": p,
+                        "load.Q": q,
+                        "contact.friction": f,
+                        "regime": regime,
+                        "P_max": p,
+                        "Q_peak": q,
+                        "friction": f,
+                    }
+                )
+    table = pd.DataFrame(rows)
+    with pytest.raises(SweepSpecError, match="where"):
+        regime_map(table, "load.P", "load.Q")
+    ax = regime_map(table, "load.P", "load.Q", where={"contact.friction": 0.5})
+    codes = np.asarray(ax.collections[0].get_array()).reshape(3, 2)
+    assert np.array_equal(codes, [[1, 1], [1, 1], [2, 1]])  # Q = 40 >= 0.5 P = 25: gross slip
+    # friction against Q at P = 100: the boundary Q = f P is a line there too
+    ax = regime_map(table, "contact.friction", "load.Q", where={"load.P": 100.0})
+    assert any(line.get_label() == "|Q| = f P" for line in ax.get_lines())
+    with pytest.raises(SweepSpecError, match="no column"):
+        regime_map(table, "load.P", "geometry.radius")
+
+
 def test_sweep_command(tmp_path, capsys):
     from fretbem.studies.sweep import sweep_command
 
