@@ -14,7 +14,7 @@ import math
 import numba
 import numpy as np
 
-_JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
+_JIT = {"cache": True, "nogil": True, "error_model": "numpy", "fastmath": True}
 
 
 @numba.njit(**_JIT)

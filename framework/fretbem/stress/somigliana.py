@@ -73,7 +73,7 @@ class StressSettings:
     """
 
     far_points: int = attrs.field(default=8, validator=attrs.validators.ge(2))
-    near_factor: float = attrs.field(default=1.0, validator=attrs.validators.gt(0))
+    near_factor: float = attrs.field(default=0.7, validator=attrs.validators.gt(0))
     graded_points: int = attrs.field(default=6, validator=attrs.validators.ge(2))
     graded_ratio: float = attrs.field(default=0.35, validator=[attrs.validators.gt(0)])
     subtract_factor: float = attrs.field(default=4.0, validator=attrs.validators.ge(0))
