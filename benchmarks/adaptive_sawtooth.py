@@ -77,8 +77,8 @@ def figure(rows: list[dict], path: Path) -> None:
     import matplotlib.pyplot as plt
 
     n = [r["pairs"] for r in rows]
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4), sharey=True)
-    for ax, key, label in zip(axes, ("e_p_max", "e_q_max"), ("p", "q"), strict=True):
+    fig, axes = plt.subplots(1, 3, figsize=(14, 4))
+    for ax, key, label in zip(axes, ("e_p_max", "e_q_max"), ("p", "q"), strict=False):
         ax.semilogy(n, [100 * r[f"fixed_{key}"] for r in rows], "o-", ms=3, label="fixed pairs")
         ax.semilogy(n, [100 * r[f"adaptive_{key}"] for r in rows], "s-", ms=3, label="adaptive")
         ax.semilogy(
@@ -90,6 +90,25 @@ def figure(rows: list[dict], path: Path) -> None:
         ax.grid(True, which="both", alpha=0.3)
     axes[0].set_ylabel("error, % of p0 (p) or f p0 (q)")
     axes[0].legend(fontsize=8)
+    ax = axes[2]
+    ax.loglog(
+        [r["fixed_seconds"] for r in rows],
+        [100 * r["fixed_e_q_max"] for r in rows],
+        "o",
+        ms=3,
+        label="fixed pairs",
+    )
+    ax.loglog(
+        [r["adaptive_seconds"] for r in rows],
+        [100 * r["adaptive_e_q_max"] for r in rows],
+        "s",
+        ms=3,
+        label="adaptive (all levels)",
+    )
+    ax.set_xlabel("whole-cycle wall time, s (shared machine)")
+    ax.set_title("e_q max (%) against time")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
     fig.suptitle(f"Reference scene, {rows[0]['basis']}, P = {rows[0]['P']:g} N/mm")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
@@ -103,10 +122,20 @@ def main() -> None:
     parser.add_argument("--basis", default="nurbs")
     parser.add_argument("--P", type=float, default=100.0)
     parser.add_argument("--out", type=Path, default=OUT)
+    parser.add_argument("--replot", action="store_true", help="redraw from the CSV")
     args = parser.parse_args()
+    stem = "sawtooth" if args.basis == "nurbs" else f"sawtooth_{args.basis}"
+    if args.replot:
+        with open(args.out / f"{stem}.csv") as handle:
+            lines = [line for line in handle if not line.startswith("#")]
+        rows = [
+            {k: (v if k == "basis" else float(v)) for k, v in row.items()}
+            for row in csv.DictReader(lines)
+        ]
+        figure(rows, args.out / f"{stem}.png")
+        return
     rows = sweep(args.first, args.last, args.basis, args.P)
     args.out.mkdir(parents=True, exist_ok=True)
-    stem = "sawtooth" if args.basis == "nurbs" else f"sawtooth_{args.basis}"
     with open(args.out / f"{stem}.csv", "w", newline="") as handle:
         handle.write(f"# {platform.node()} {platform.processor()} (shared machine)\n")
         writer = csv.DictWriter(handle, fieldnames=list(rows[0]))

@@ -64,7 +64,7 @@ class AdaptiveSettings:
     ----------
     tolerance : float
         Stop when the estimated error (max over steps of e_p max and e_q max, fractions of
-        p0 and f p0) is below this.
+        p0 and f p0) of two aligned levels is below this (default 2 %, the target for e_q).
     budget : int
         Most pairs in the candidate zone; the last level uses at most this many.
     first : int
@@ -86,11 +86,11 @@ class AdaptiveSettings:
         Most aligned levels after the first.
     """
 
-    tolerance: float = attrs.field(default=0.005, converter=float)
+    tolerance: float = attrs.field(default=0.02, converter=float)
     budget: int = attrs.field(default=61, validator=_budget)
     first: int = attrs.field(default=31, validator=_budget)
     ratio: float = attrs.field(default=10.0, converter=float)
-    max_levels: int = attrs.field(default=2, converter=int)
+    max_levels: int = attrs.field(default=3, converter=int)
     grading: float = attrs.field(default=0.06, converter=float)
     edge_peak: float = attrs.field(default=0.5, converter=float)
     edge_tolerance: float = attrs.field(default=2e-4, converter=float)
@@ -524,15 +524,23 @@ def _solve(simulation):
 
 
 def _level_pairs(settings: AdaptiveSettings, family, degree) -> list[int]:
-    """Pair counts of the aligned levels: about doubling, ending at the budget."""
-    top = pairs_for(family, elements_for(family, settings.budget, degree), degree)
-    counts = [top]
-    while len(counts) < settings.max_levels:
-        half = pairs_for(family, elements_for(family, (counts[-1] + 1) // 2, degree), degree)
-        if half < 11:
-            break
-        counts.append(half)
-    return counts[::-1]
+    """Pair counts of the aligned levels: ``first`` doubled while below the budget, then it.
+
+    A count within 20 % of the budget is skipped (too close to tell the levels apart); a
+    budget near ``first`` gets half the budget as its first aligned level.
+    """
+
+    def fit(pairs: int) -> int:
+        return pairs_for(family, elements_for(family, pairs, degree), degree)
+
+    top = fit(settings.budget)
+    counts, n = [], settings.first
+    while fit(n) < 0.8 * top and len(counts) < settings.max_levels - 1:
+        counts.append(fit(n))
+        n = 2 * n - 1
+    if not counts:
+        counts = [fit((top + 1) // 2)]
+    return [*counts, top]
 
 
 def _half_width(result) -> float:
@@ -579,12 +587,12 @@ def run_adaptive(simulation, settings: AdaptiveSettings | None = None) -> Adapti
             latest = Transitions(found[0].edges, latest.boundaries)
         found.append(latest)
         levels.append(_solve(aligned(simulation, found[-1], pairs, settings)))
-        if k >= 1 and k >= len(counts) - 2:
+        if k >= 1:
             estimated = estimate.estimate_errors(levels[-2], levels[-1])
             worst = max(max(e["e_p_max"], e["e_q_max"]) for e in estimated.values())
             if worst < settings.tolerance:
                 break
-    coarse, history = levels[-2], []
+    coarse, history, pairs = levels[-2], [], levels[-1].steps[0].x.size
     for _ in range(settings.edge_iterations):
         edges = found[-1].edges
         pressure = knot_pressures(levels[-1], edges)
@@ -604,7 +612,7 @@ def run_adaptive(simulation, settings: AdaptiveSettings | None = None) -> Adapti
         if not np.any(np.abs(moves) > settings.edge_tolerance * _half_width(levels[-1])):
             break
         found.append(Transitions(edges + moves, found[-1].boundaries))
-        levels.append(_solve(aligned(simulation, found[-1], counts[-1], settings)))
+        levels.append(_solve(aligned(simulation, found[-1], pairs, settings)))
         estimated = estimate.estimate_errors(coarse, levels[-1])
     if not estimated:
         estimated = estimate.estimate_errors(levels[-2], levels[-1])

@@ -144,37 +144,34 @@ def scales(result) -> tuple[float, float]:
     return p0, friction * p0
 
 
-def difference(coarse, fine, *, samples: int = 0) -> list[dict[str, float]]:
+def difference(coarse, fine, *, at: str = "fine") -> list[dict[str, float]]:
     """Per step: max and L2 of p and q change between two levels, in units of p0 and f p0.
 
-    Compared at the finer level's pair positions (plus ``samples`` uniform points, if > 0).
+    Compared at the pair positions of the ``fine`` level (the other level's field evaluated
+    there), or of the ``coarse`` one with ``at="coarse"`` (the error of a level at its own
+    collocation points against a finer reference).
     """
     if [s.name for s in coarse.steps] != [s.name for s in fine.steps]:
         raise EstimateInputError(
             "the two results have different load steps; compare two levels of one history"
         )
+    if at not in ("fine", "coarse"):
+        raise EstimateInputError(f"difference(at=...) is 'fine' or 'coarse', got {at!r}")
     p0, fp0 = scales(fine)
-    coarse_fields = traction_fields(coarse)
+    nodes, other = (fine, coarse) if at == "fine" else (coarse, fine)
+    x = positions(nodes)
+    order = np.argsort(x)
     out = []
-    fine_fields = traction_fields(fine) if samples else [None] * len(fine.steps)
-    along = positions(fine)
-    for coarse_field, fine_field, step in zip(coarse_fields, fine_fields, fine.steps, strict=True):
-        x = along
-        pf, qf = step.pressure, step.shear
-        if samples:
-            dense = np.linspace(x.min(), x.max(), samples)
-            pd, qd = fine_field(dense)
-            x = np.concatenate([x, dense])
-            order = np.argsort(x)
-            x, pf, qf = x[order], np.concatenate([pf, pd])[order], np.concatenate([qf, qd])[order]
-        pc, qc = coarse_field(x)
-        dp, dq = np.abs(pf - pc), np.abs(qf - qc)
+    for field, step in zip(traction_fields(other), nodes.steps, strict=True):
+        po, qo = field(x)
+        dp = np.abs(step.pressure - po)[order]
+        dq = np.abs(step.shear - qo)[order]
         out.append(
             {
                 "p_max": float(dp.max() / p0),
                 "q_max": float(dq.max() / fp0),
-                "p_l2": _l2(dp, x) / p0,
-                "q_l2": _l2(dq, x) / fp0,
+                "p_l2": _l2(dp, x[order]) / p0,
+                "q_l2": _l2(dq, x[order]) / fp0,
             }
         )
     return out
