@@ -207,8 +207,10 @@ def stress_request_from_dict(raw: Mapping) -> StressRequest:
 def surface_level(model, x: np.ndarray, side: str) -> np.ndarray:
     """y of the body's contact-side surface at abscissae x: the highest boundary crossing
     of the vertical line for the lower body, the lowest for the upper body."""
+    from ..halfplane import HalfPlaneBody
+
     x = np.asarray(x, float)
-    if hasattr(model, "surface") and not hasattr(model, "segments"):  # half-plane
+    if isinstance(model, HalfPlaneBody):  # the straight surface line under the face
         y = model.surface.points[:, 1]
         return np.full(x.shape, y.min() if side == "upper" else y.max())
     best = np.full(x.shape, -np.inf if side == "lower" else np.inf)
