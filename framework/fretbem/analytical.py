@@ -4,7 +4,7 @@ These are the references the BEM results are checked against (Johnson 1985, ch. 
 Hills & Nowell 1994). Units are whatever the caller uses consistently (the project uses
 mm, N, MPa); loads are per unit thickness.
 
-Conventions (see ``shared/reference-scene.md``): ``p >= 0`` is the contact pressure and
+Conventions (as in the reference scene, docs/theory.md): ``p >= 0`` is the contact pressure and
 ``q`` is the shear traction the upper body exerts on the lower body, in ``+x``, so that
 ``∫p dx = P`` and ``∫q dx = Q``.
 """

@@ -1,4 +1,4 @@
-"""Scene factories: the Cattaneo-Mindlin fretting cycle of shared/reference-scene.md.
+"""Scene factories: the reference Cattaneo-Mindlin fretting cycle (docs/theory.md).
 
 Each body's face is split into three segments: a candidate contact zone of half-width
 ``zone`` x (Hertz half-width) holding exactly ``pairs`` collocation points, and two flanks
