@@ -95,7 +95,7 @@ def main(argv=None) -> int:
     if args.json:
         with open(args.json) as handle:
             data = json.load(handle)
-        data["interleaved"] = summary
+        data.setdefault("interleaved", {}).update(summary)
         with open(args.json, "w") as handle:
             json.dump(data, handle, indent=1)
     return 0
