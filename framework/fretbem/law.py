@@ -137,6 +137,26 @@ class ContactLaw(ABC):
     def check_history(self, steps: Sequence[Any]) -> None:  # noqa: B027 - optional hook
         """Reject a load history this law cannot equilibrate (default: accept any)."""
 
+    def evaluate_on(
+        self,
+        states: np.ndarray,
+        direction: np.ndarray,
+        p: np.ndarray,
+        q: np.ndarray,
+        gap: np.ndarray,
+        slip: np.ndarray,
+        r_n: float,
+        r_t: float,
+    ) -> LawEvaluation:
+        """F_n, F_t continued affinely on a given pattern (states, slip directions).
+
+        Optional: a Newton solver that starts an increment on the previous pattern needs the
+        residual of that pattern, not of the pattern the start point falls in (they differ
+        when the loads move every pair, e.g. a bulk stress). Laws without it get a Newton
+        that starts from the pattern of the start point.
+        """
+        raise NotImplementedError
+
 
 @attrs.frozen
 class CoulombFriction(ContactLaw):
@@ -164,6 +184,16 @@ class CoulombFriction(ContactLaw):
         states = np.full(len(p), PairState.SEPARATED, dtype=int)
         states[stick], states[sliding] = PairState.STICK, PairState.SLIP
         return LawEvaluation(f_n, f_t, states, direction)
+
+    def evaluate_on(self, states, direction, p, q, gap, slip, r_n, r_t) -> LawEvaluation:
+        """The affine piece of F_n, F_t for the given pattern (see ContactLaw.evaluate_on)."""
+        states = np.asarray(states)
+        contact = states != PairState.SEPARATED
+        stick, sliding = states == PairState.STICK, states == PairState.SLIP
+        bound = self.friction * (p - r_n * gap)
+        f_n = np.where(contact, r_n * gap, p)
+        f_t = np.where(stick, -r_t * slip, np.where(sliding, q - bound * direction, q))
+        return LawEvaluation(f_n, f_t, states, np.asarray(direction, float))
 
     def jacobian_rows(self, evaluation, normal_map, tangential_map, r_n, r_t) -> np.ndarray:
         """Rows of the generalised Jacobian: identity on separated pairs, r_n N on contact

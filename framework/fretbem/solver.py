@@ -184,6 +184,32 @@ class SemiSmoothNewton(Solver):
         residual = np.concatenate([evaluation.normal, evaluation.tangential, f_b])
         return residual, evaluation
 
+    def _start_on_previous_pattern(
+        self, problem, law, bases, forces, reference_slip, x, r_n, r_t, start
+    ):
+        """Residual and pattern of the first iteration: the previous increment's pattern.
+
+        The first Newton step then solves that pattern's linear problem exactly. Its
+        residual must be the same pattern's (not the pattern the start point falls in,
+        which a load that moves every pair, like a bulk stress, changes wholesale).
+        """
+        residual, evaluation = self._evaluate(problem, law, bases, forces, reference_slip,
+                                              x, r_n, r_t)  # fmt: skip
+        states = np.asarray(start.states)
+        layout = problem.layout
+        q = x[layout.shear]
+        direction = np.where(q != 0.0, np.sign(q), evaluation.direction)
+        normal_base, tangential_base, _ = bases
+        gap = problem.gap + normal_base + problem.normal_map @ x
+        slip = tangential_base + problem.tangential_map @ x - reference_slip
+        try:
+            pattern = law.evaluate_on(states, direction, x[layout.pressure], q, gap, slip, r_n, r_t)
+        except NotImplementedError:
+            return residual, attrs.evolve(evaluation, states=states)
+        n = problem.n_pairs
+        residual = np.concatenate([pattern.normal, pattern.tangential, residual[2 * n :]])
+        return residual, pattern
+
     def _solve_increment(self, problem, law, forces, loads, previous, start) -> IncrementResult:
         """The Newton iteration of :meth:`solve_increment`.
 
@@ -203,7 +229,7 @@ class SemiSmoothNewton(Solver):
         if start is None:
             evaluation = attrs.evolve(evaluation, states=np.full(n, PairState.STICK, dtype=int))
         else:
-            evaluation = attrs.evolve(evaluation, states=np.asarray(start.states))
+            residual, evaluation = self._start_on_previous_pattern(*args, x, r_n, r_t, start)
         history, state_history, seen = [], [evaluation.states.copy()], set()
         force_scale = max(np.max(np.abs(forces), initial=0.0), 1e-300)
         for iteration in range(1, self.max_iterations + 1):
