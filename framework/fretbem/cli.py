@@ -81,32 +81,65 @@ def _dofs(pair) -> int:
     return sum(int(getattr(body, "dofs", 0) or 0) for body in (pair.upper, pair.lower))
 
 
-def _prepare(scene, args: argparse.Namespace):
+def _prepare(make, args: argparse.Namespace):
     """Everything checkable before computing: output directory, options, size, step names."""
     from .output import prepare_output
     from .resources import check_resources
-    from .scenes import cattaneo_mindlin
 
     prepare_output(args.out, overwrite=args.overwrite)
     compare = _check_compare(args.compare) if not args.no_figures else []
-    simulation = cattaneo_mindlin(scene)
+    simulation, reason = make(None)
     _check_steps(simulation, args.steps)
-    estimate = check_resources(_dofs(simulation.pair))
+    pair = simulation.pair
+    estimate = check_resources(int(pair.upper.dofs + pair.lower.dofs))
     if estimate.seconds > 2.0:
         _progress(f"running, estimated {estimate.describe()}")
-    return simulation, compare, estimate
+    return simulation, reason, compare, estimate
 
 
-def _simulate(scene, args: argparse.Namespace) -> int:
-    import attrs
+def _requests(extras) -> list:
+    """The [stress] and [fatigue] requests of a scene, parsed before any computation."""
+    requests = []
+    if "stress" in extras:
+        from .stress.request import stress_request_from_dict
 
+        requests.append(("stress", stress_request_from_dict(extras["stress"])))
+    if "fatigue" in extras:
+        from .fatigue import fatigue_request_from_dict
+
+        requests.append(("fatigue", fatigue_request_from_dict(extras["fatigue"])))
+    return requests
+
+
+def _postprocess(result, requests, figures: bool) -> list:
+    """Run the stress and fatigue requests; returns writers for the output directory."""
+    writers = []
+    for kind, request in requests:
+        if kind == "stress":
+            from .stress.run import run_stress_request
+
+            _progress("evaluating the stresses")
+            writers.append(lambda d, r=request: run_stress_request(result, r, d))
+        else:
+            from .fatigue import format_report, run_fatigue, write_fatigue
+            from .fatigue.from_simulation import SimulationStressHistory
+
+            _progress("fatigue assessment")
+            report = run_fatigue(SimulationStressHistory(result), request)
+            print(format_report(report))
+            writers.append(lambda d, r=report: write_fatigue(d, r, figures=figures))
+    return writers
+
+
+def _simulate(make, args: argparse.Namespace, extras=None) -> int:
     from .checks import check_steps
     from .output import write_results
-    from .scenes import cattaneo_mindlin
+    from .report import zone_table
     from .simulation import run
 
     start = time.perf_counter()
-    simulation, compare, estimate = _prepare(scene, args)
+    simulation, reason, compare, estimate = _prepare(make, args)
+    requests = _requests(extras or {})
     result = run(simulation, **_progress_option(run, simulation, estimate))
     info = result.describe()
     print(
@@ -114,30 +147,32 @@ def _simulate(scene, args: argparse.Namespace) -> int:
         f"{info['dofs']} boundary DOFs"
     )
     print(result.table())
-    if result.simulation.reference is None:
-        print("errors: n/a (no analytical reference for this scene, e.g. dissimilar materials)")
+    print(zone_table(result, reason))
     check_steps(result)  # a failed check ends here: exit 1, nothing written
     others = []
     for name in compare:
         _progress(f"running {name} for the comparison figures")
-        other = run(cattaneo_mindlin(attrs.evolve(scene, basis=name)))
-        check_steps(other)  # drawn results are results: checked like the main one
+        other = run(make(name)[0])
+        check_steps(other)
         others.append(other)
+    extra = _postprocess(result, requests, not args.no_figures)
     if not args.no_figures or not args.no_vtk:
         _progress("writing figures and files")
     out = write_results(
         result, args.out, figures=not args.no_figures, vtk=not args.no_vtk,
-        overwrite=args.overwrite, compare=others, steps=args.steps,
+        overwrite=args.overwrite, compare=others, steps=args.steps, extra=extra,
     )  # fmt: skip
     print(
         f"wrote {out}/ (results.csv, summary.json, units.json"
-        f"{', VTK' if not args.no_vtk else ''}{', figures' if not args.no_figures else ''}) "
+        f"{', VTK' if not args.no_vtk else ''}{', figures' if not args.no_figures else ''}"
+        f"{''.join(', ' + kind for kind, _ in requests)}) "
         f"in {time.perf_counter() - start:.2f} s; all result checks passed"
     )
     return 0
 
 
 def _run(args: argparse.Namespace) -> int:
+    from .scene_build import build
     from .scene_file import load_scene
 
     scene_path, out = Path(args.scene).resolve(), Path(args.out).resolve()
@@ -146,13 +181,19 @@ def _run(args: argparse.Namespace) -> int:
             f"--out {out} contains the scene file {args.scene}; replacing it would delete the "
             "scene: choose another --out"
         )
-
     scene = load_scene(args.scene, basis=args.basis, pairs=args.pairs)
-    return _simulate(scene, args)
+    if scene.legacy:
+        _progress(
+            f"{args.scene} is in the round-1 scene format; it was translated (see "
+            "docs/scene-format.md, 'Round-1 files', for the current keys)"
+        )
+    return _simulate(lambda basis: build(scene, basis=basis), args, scene.extras)
 
 
 def _demo(args: argparse.Namespace) -> int:
-    from .scenes import CattaneoMindlinScene
+    import attrs
+
+    from .scenes import CattaneoMindlinScene, cattaneo_mindlin
 
     scene = CattaneoMindlinScene(basis=args.basis, pairs=args.pairs)
     if args.compare is None and not args.no_figures:
@@ -166,7 +207,11 @@ def _demo(args: argparse.Namespace) -> int:
                 print(f"fretbem: not comparing with {name}: {err}", file=sys.stderr)
                 continue
             args.compare.append(name)
-    return _simulate(scene, args)
+
+    def make(basis):
+        return cattaneo_mindlin(attrs.evolve(scene, basis=basis or scene.basis)), None
+
+    return _simulate(make, args)
 
 
 def _convergence(args: argparse.Namespace) -> int:

@@ -343,13 +343,15 @@ def write_results(
     steps: Sequence[str] | None = None,
     writers: Sequence[str] | None = None,
     check: bool = True,
+    extra: Sequence[Callable] = (),
 ) -> Path:
     """Write results.csv, summary.json, units.json, figures and VTK files into ``directory``.
 
     All files go to a temporary directory beside ``directory`` first; it replaces the target
     whole at the end (old output or new, never a mix). ``compare`` are further results drawn
     in the figures; ``steps`` chooses the steps drawn; ``writers`` names registered writers
-    to run (default: those registered with ``default=True``). Returns the directory.
+    to run (default: those registered with ``default=True``); ``extra`` are further
+    callables ``write(directory)`` of this run (stresses, fatigue). Returns the directory.
     Every result check (:func:`fretbem.checks.check_steps`) runs first and its residuals go
     to summary.json; a failed check raises its ResultCheckError and writes nothing
     (``check=False`` skips them, for inspecting a failed run). Raises OutputError (one-line
@@ -378,4 +380,6 @@ def write_results(
             vtk_.save_vtk(result, staging)
         for writer in chosen:
             writer.write(result, staging)
+        for write in extra:
+            write(staging)
     return target

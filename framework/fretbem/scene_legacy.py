@@ -8,6 +8,7 @@ both w wide and h high, the lower body clamped at its bottom, constant P. They k
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from typing import Any
 
@@ -35,8 +36,22 @@ def _fail(message: str):
     raise SceneFileError(f"{message} (the file is in the round-1 format)")
 
 
+def _check_finite(where: str, value: Any) -> None:
+    if isinstance(value, float) and not math.isfinite(value):
+        _fail(f"{where} must be a finite number, got {value!r}")
+    if isinstance(value, list):
+        for k, item in enumerate(value):
+            _check_finite(f"{where}[{k}]", item)
+    if isinstance(value, dict):
+        for key, item in value.items():
+            _check_finite(f"[{where.strip('[]')}.{key}]" if isinstance(item, dict) else
+                          f"{where} {key}", item)  # fmt: skip
+
+
 def translate(data: Mapping[str, Any]) -> dict[str, Any]:
     """The same scene in the current format (unknown old keys are errors naming them)."""
+    for table, section in data.items():
+        _check_finite(f"[{table}]", section)
     allowed = {*LEGACY_TABLES, "material"}
     extra = sorted(set(data) - allowed)
     if extra:

@@ -22,6 +22,7 @@ from fretbem.geometry.knots import KnotVectorError
 from fretbem.geometry.nurbs import NurbsCurve
 from fretbem.law import CoulombFriction
 from fretbem.material import Material
+from fretbem.scene_build import build
 from fretbem.scene_file import SceneFileError, load_scene, scene_from_dict
 from fretbem.scenes import cattaneo_mindlin
 from fretbem.simulation import GrossSlidingError, LoadHistoryError, LoadStep, Simulation, run
@@ -374,11 +375,11 @@ def test_scene_file_material_override_is_not_a_table():
 
 
 def test_scene_file_semantic_errors_name_the_cause():
-    """Values of the right type but outside their range fail when the scene is built."""
-    with pytest.raises(ValueError, match=r"friction must be >= 0, got -0\.1"):
-        cattaneo_mindlin(scene_from_dict({"contact": {"friction": -0.1}}))
+    """Values of the right type but outside their range fail when read or built."""
+    with pytest.raises(ValueError, match=r"friction must be > 0.*got -0\.1"):
+        build(scene_from_dict({"contact": {"friction": -0.1}}))
     with pytest.raises(GrossSlidingError, match=r"\|Q\| = 40 >= f P = 30"):
-        cattaneo_mindlin(scene_from_dict({"load": {"Q": [0.0, 40.0]}}))
+        build(scene_from_dict({"load": {"Q": [0.0, 40.0]}}))
 
 
 # ---------------------------------------------------------------------------- basis family
@@ -391,6 +392,6 @@ def test_basis_family_not_installed(tmp_path):
     with pytest.raises(UnknownBasisError, match=message):
         cattaneo_mindlin(pairs=21, basis="quartic")
     path = tmp_path / "scene.toml"
-    path.write_text("[scene]\nbasis = 'quartic'\n")
+    path.write_text("[contact]\nbasis = 'quartic'\n")
     with pytest.raises(UnknownBasisError, match=message):
-        cattaneo_mindlin(load_scene(path))
+        build(load_scene(path))

@@ -29,7 +29,18 @@ def test_rig_example():
 
 
 def test_round_one_file_is_translated():
-    scene = scene_from_dict(read("cattaneo_mindlin.toml"))
+    old = tomllib.loads((ROOT / "tests/framework/data/cattaneo_mindlin_round1.toml").read_text())
+    scene = scene_from_dict(old)
+    new = scene_from_dict(read("cattaneo_mindlin.toml"))
+    for part in ("pad", "specimen"):
+        old_body, new_body = getattr(scene, part), getattr(new, part)
+        assert (old_body.shape, old_body.material, old_body.model, old_body.support) == (
+            new_body.shape,
+            new_body.material,
+            new_body.model,
+            new_body.support,
+        )
+    assert (scene.contact, scene.mesh, scene.load) == (new.contact, new.mesh, new.load)
     assert scene.legacy and scene.specimen.support == "clamped-bottom"
     assert scene.contact.pairs == 61 and scene.load.Q == (0.0, 18.0, 0.0, -18.0, 0.0)
     flat = scene_from_dict({"geometry": {"lower": "flat", "width": 8.0, "height": 9.0}})

@@ -16,7 +16,7 @@ from fretbem.scene_spec import scene_from_dict
 from fretbem.simulation import run
 
 F, P, Q = 0.6, 120.0, 0.4 * 0.6 * 120.0
-SOLVER = "lemke"
+SOLVER = "newton"
 
 
 def rig(pairs=61, pad="half-plane", specimen="half-plane", load=None, **specimen_keys):
