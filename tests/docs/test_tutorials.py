@@ -107,6 +107,7 @@ TESTED = {
     "tutorials/02_scripting/rounded_flat_pad_load_history.py",
     "tutorials/03_extending/cubic_lagrange_element.py",
     "tutorials/04_fatigue/fretting_fatigue_life.py",  # tests/docs/test_tutorial_fatigue.py
+    "tutorials/05_stress/stresses_below_the_contact.py",  # tests/docs/test_tutorial_stress.py
     "verification/lame_cylinder_convergence.py",
     "verification/reference_scene_convergence.py",
 }
