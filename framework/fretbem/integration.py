@@ -55,7 +55,6 @@ class IntegrationSettings:
     graded_ratio: float = 0.5
     singular_points: int = 16
     log_points: int = 8
-    block_rows: int = 256
     compiled: bool | None = attrs.field(
         default=None, validator=attrs.validators.optional(attrs.validators.instance_of(bool))
     )
