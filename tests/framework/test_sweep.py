@@ -405,10 +405,19 @@ def test_local_cluster_equals_serial_and_resumes(tmp_path):
     from fretbem.studies.sweep import _local_cluster, sweep
 
     serial = sweep(SCENE, PARAMETERS, out=tmp_path / "serial", serial=True)
-    with _local_cluster(2) as cluster, Client(cluster) as client:
-        first = sweep(SCENE, PARAMETERS, out=tmp_path / "dask", client=client, batch=3, limit=2)
+    with _local_cluster(2) as cluster:  # a running scheduler, named by its address
+        first = sweep(
+            SCENE,
+            PARAMETERS,
+            out=tmp_path / "dask",
+            scheduler=cluster.scheduler_address,
+            batch=3,
+            limit=2,
+        )
         assert first.summary.mode == "dask" and first.summary.stopped
         assert first.summary.stored == 6  # two tasks of 3 cases
+        with Client(cluster) as client:
+            assert len(client.scheduler_info()["workers"]) == 2  # still up: not ours to close
     # completed on a cluster of its own (started while this process solves the first tasks)
     rest = sweep(SCENE, PARAMETERS, out=tmp_path / "dask", workers=2, batch=3)
     assert rest.summary.stored == 18 and rest.summary.skipped == 6

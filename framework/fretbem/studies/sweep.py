@@ -246,6 +246,14 @@ def _connect(scheduler: str | None, workers: int):
         ) from err
 
 
+def _cluster_threads(client) -> int:
+    """Worker threads of a client's cluster now (0 without a client or workers)."""
+    if client is None:
+        return 0
+    workers = client.scheduler_info().get("workers", {})
+    return sum(int(w.get("nthreads", 1)) for w in workers.values())
+
+
 def _run_dask(tasks, client, scheduler, workers, builder, outputs, on_rows, limit, extras=None):
     """Run the tasks on Dask, storing each batch as it completes.
 
@@ -350,7 +358,11 @@ def run_sweep(
         },
     )
     done = store.done()
-    n_workers = 1 if serial else (workers or machine_cores())
+    connected = None
+    if not serial and client is None and scheduler is not None:
+        _, connected = _connect(scheduler, 0)  # first, so the batches fit its workers
+        client = connected
+    n_workers = 1 if serial else (workers or _cluster_threads(client) or machine_cores())
     tasks = plan(spec, done, n_workers, batch)
     bar = _Progress(len(tasks), sum(len(t.cases) for t in tasks), progress)
     solved = 0
@@ -379,6 +391,8 @@ def run_sweep(
             )
     finally:
         bar.close()
+        if connected is not None:
+            connected.close()
     table = store.table()
     stats = {
         "solved_now": solved,
