@@ -144,6 +144,23 @@ def test_sweep_file_with_scene_file_and_inline_scene(tmp_path):
         load_sweep(tmp_path / "d.toml")
 
 
+def test_the_fretting_map_example_parses():
+    from pathlib import Path
+
+    from fretbem.studies.sweep_outputs import resolve_all
+
+    spec = load_sweep(Path(__file__).parents[2] / "examples" / "fretting_map.toml")
+    assert spec.paths == ("load.P", "load.Q") and len(spec.cases()) == 144
+    assert len(spec.groups()) == 1  # loads only: one assembly
+    assert [m.get("column", "regime") for m in spec.options["maps"]] == [
+        "regime",
+        "stick_width.B",
+        "sxx_max",
+    ]
+    resolve_all(spec.options["outputs"])
+    case_loading(spec.cases()[-1].scene)  # the scene file reads each case
+
+
 # --- reuse ------------------------------------------------------------------------------------
 
 
