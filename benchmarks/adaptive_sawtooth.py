@@ -91,14 +91,14 @@ def figure(rows: list[dict], path: Path) -> None:
     axes[0].set_ylabel("error, % of p0 (p) or f p0 (q)")
     axes[0].legend(fontsize=8)
     ax = axes[2]
-    ax.loglog(
+    ax.semilogy(
         [r["fixed_seconds"] for r in rows],
         [100 * r["fixed_e_q_max"] for r in rows],
         "o",
         ms=3,
         label="fixed pairs",
     )
-    ax.loglog(
+    ax.semilogy(
         [r["adaptive_seconds"] for r in rows],
         [100 * r["adaptive_e_q_max"] for r in rows],
         "s",

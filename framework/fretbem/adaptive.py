@@ -213,7 +213,7 @@ def transitions(result) -> Transitions:
 
     Edges from a quadratic fit of p^2 over the outer contact nodes (exact for a Hertzian
     pressure); stick-slip boundaries from a linear fit of the squared traction reserve
-    f p - |q| over the three stick nodes next to the slip zone (a square-root fall squared
+    f p - abs(q) over the three stick nodes next to the slip zone (a square-root fall squared
     is linear near its zero). Falls back to the midpoint between the nodes on either side
     where a fit is not possible.
     """
@@ -526,8 +526,8 @@ def _solve(simulation):
 def _level_pairs(settings: AdaptiveSettings, family, degree) -> list[int]:
     """Pair counts of the aligned levels: ``first`` doubled while below the budget, then it.
 
-    A count within 20 % of the budget is skipped (too close to tell the levels apart); a
-    budget near ``first`` gets half the budget as its first aligned level.
+    A budget within 20 % of ``first`` gets half the budget as its first aligned level (two
+    counts that close cannot be told apart by the estimate).
     """
 
     def fit(pairs: int) -> int:
@@ -535,10 +535,10 @@ def _level_pairs(settings: AdaptiveSettings, family, degree) -> list[int]:
 
     top = fit(settings.budget)
     counts, n = [], settings.first
-    while fit(n) < 0.8 * top and len(counts) < settings.max_levels - 1:
+    while fit(n) < top and len(counts) < settings.max_levels - 1:
         counts.append(fit(n))
         n = 2 * n - 1
-    if not counts:
+    if not counts or counts[0] > 0.8 * top:
         counts = [fit((top + 1) // 2)]
     return [*counts, top]
 

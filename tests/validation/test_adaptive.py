@@ -175,22 +175,60 @@ def test_estimate_of_identical_levels_is_zero_and_order_is_checked():
     assert estimate.richardson_factor(31, 61) == pytest.approx(1 / ((61 / 31) ** 3 - 1))
 
 
-@pytest.mark.slow
-@pytest.mark.parametrize("load", [60.0, 100.0, 250.0])
-@pytest.mark.parametrize("budget", range(31, 122, 10))
-def test_adaptive_sweep_over_budget_and_load(budget, load):
-    """Measured state of issue 12's targets (see the docs page): guards against regressions.
-
-    The issue's targets (e_p <= 1 %, e_q <= 2 %) are not reached at every load: at P = 250
-    the BEM's own contact edge lies 0.2 % of a inside the half-plane one (finite bodies), and
-    a point on it sees 6.2 % of p0 of half-plane pressure. These bounds guard the measured
-    state against regressions."""
+def _reference_with_load(load: float):
     q = 0.18 * load
-    simulation = cattaneo_mindlin(pairs=31, normal=load, tangential=(0.0, q, 0.0, -q, 0.0))
-    out = adaptive.run_adaptive(simulation, adaptive.AdaptiveSettings(budget=budget))
+    return cattaneo_mindlin(pairs=31, normal=load, tangential=(0.0, q, 0.0, -q, 0.0))
+
+
+@pytest.mark.parametrize("budget", [41, 81])
+def test_adaptive_meets_the_targets_at_budgets_off_the_lucky_counts(budget):
+    """41 put a node on the edge in the fixed mode (6.05 %); measured adaptive: 41: e_p
+    0.72 %, e_q 1.10 %, e_q L2 0.24 %; 81 stops at 61 pairs (estimate 1.85 % < 2 %)."""
+    out = adaptive.run_adaptive(
+        _reference_with_load(100.0), adaptive.AdaptiveSettings(budget=budget)
+    )
     e = worst(out.result)
-    assert e["e_p_max"] < 0.08
-    assert e["e_q_max"] < 0.09
+    assert out.result.steps[0].x.size <= 61
+    assert e["e_p_max"] <= 0.01 and e["e_q_max"] <= 0.02 and e["e_q_l2"] <= 0.005
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("budget", range(39, 122))
+def test_adaptive_sweep_over_budgets_reference_load(budget):
+    """Budgets 39..121 on the reference scene (benchmarks/adaptive_sawtooth.py): measured
+    worst e_p 1.07 % (budgets 57, 58), e_q 1.88 %, e_q L2 0.28 %, never more than 61 pairs.
+    The e_p target of 1 % is missed by 0.07 points at 57 and 58 pairs."""
+    out = adaptive.run_adaptive(
+        _reference_with_load(100.0), adaptive.AdaptiveSettings(budget=budget)
+    )
+    e = worst(out.result)
+    assert out.result.steps[0].x.size <= 61
+    assert e["e_p_max"] < 0.0115 and e["e_q_max"] < 0.02 and e["e_q_l2"] < 0.005
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("budget", range(31, 39))
+def test_adaptive_small_budgets_are_reported_not_reached(budget):
+    """Budgets 31..38 cannot resolve six transitions: measured e_q max 3.7 to 5.6 %."""
+    out = adaptive.run_adaptive(
+        _reference_with_load(100.0), adaptive.AdaptiveSettings(budget=budget)
+    )
+    e = worst(out.result)
+    assert e["e_p_max"] < 0.012 and e["e_q_max"] < 0.065
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("load", [60.0, 150.0, 250.0])
+@pytest.mark.parametrize("budget", [41, 61, 81, 121])
+def test_adaptive_sweep_over_load(budget, load):
+    """Other loads: at P = 250 the BEM's own contact edge lies 0.2 % of a inside the
+    half-plane one (finite bodies) and a point on it sees 6.2 % of p0 of half-plane
+    pressure; these bounds guard the measured state (docs/explanation/adaptive.rst)."""
+    out = adaptive.run_adaptive(
+        _reference_with_load(load), adaptive.AdaptiveSettings(budget=budget)
+    )
+    e = worst(out.result)
+    assert e["e_p_max"] < 0.08 and e["e_q_max"] < 0.08
 
 
 def test_table_and_summary_show_estimate_beside_true_error():
