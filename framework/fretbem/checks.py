@@ -323,22 +323,24 @@ def check_steps(result, *, raise_error: bool = True) -> list[dict[str, CheckReco
     Returns per step {check name: CheckRecord}; raises the first failure's named error when
     ``raise_error``. Used before any output is written (fretbem.output) and by the CLI.
     """
-    facts = result.describe()
-    friction = float(facts.get("friction", math.nan))
-    out = []
-    for s in result.steps:
-        blocks = np.concatenate([np.zeros(0), *s.pair_unknowns.blocks.values()])
-        block = float(np.max(np.abs(blocks))) if blocks.size else 0.0
-        records = {
-            "equilibrium": equilibrium(
-                s.resultant[0], s.resultant[1], s.normal, s.tangential, step=s.name,
-                raise_error=raise_error,
-            ),
-            "zone_edge": zone_edge(s.x, s.states, s.pressure, step=s.name, raise_error=raise_error),
-            "tangential_hold": tangential_hold(
-                s.x, s.states, s.normal, s.tangential, friction, block_displacement=block,
-                step=s.name, raise_error=raise_error,
-            ),
-        }  # fmt: skip
-        out.append(records)
-    return out
+    friction = float(result.describe().get("friction", math.nan))
+    return [check_step(s, friction, raise_error=raise_error) for s in result.steps]
+
+
+def check_step(step, friction: float, *, raise_error: bool = True) -> dict[str, CheckRecord]:
+    """Every result check of one StepResult: equilibrium, zone edge, tangential hold."""
+    blocks = np.concatenate([np.zeros(0), *step.pair_unknowns.blocks.values()])
+    block = float(np.max(np.abs(blocks))) if blocks.size else 0.0
+    return {
+        "equilibrium": equilibrium(
+            step.resultant[0], step.resultant[1], step.normal, step.tangential, step=step.name,
+            raise_error=raise_error,
+        ),
+        "zone_edge": zone_edge(
+            step.x, step.states, step.pressure, step=step.name, raise_error=raise_error
+        ),
+        "tangential_hold": tangential_hold(
+            step.x, step.states, step.normal, step.tangential, friction,
+            block_displacement=block, step=step.name, raise_error=raise_error,
+        ),
+    }  # fmt: skip

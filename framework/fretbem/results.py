@@ -48,6 +48,9 @@ class StepResult:
         Integrals of p and q over the contact segment (from the traction field).
     errors : dict or None
         e_p, e_q (max and L2), normalised by p0 and f p0; None without a reference.
+    checks : dict or None
+        The result checks this step passed (name -> CheckRecord with its residual), set by
+        :func:`fretbem.simulation.run`.
     """
 
     name: str
@@ -68,6 +71,7 @@ class StepResult:
     exact: tuple[np.ndarray, np.ndarray] | None
     layout: UnknownLayout | None = None
     loads: dict = attrs.field(factory=dict)
+    checks: dict | None = None
 
     @property
     def pair_unknowns(self) -> PairUnknowns:

@@ -99,6 +99,9 @@ class Simulation:
             )
         if not self.steps:
             raise LoadHistoryError("a simulation needs at least one load step")
+        from .checks import step_names
+
+        step_names([step.name for step in self.steps])
         first = self.steps[0]
         if not (first.normal > 0 and first.tangential == 0):
             raise LoadHistoryError(
@@ -201,29 +204,43 @@ def _between(start: Mapping[str, float], end: Mapping[str, float], frac: float) 
     }
 
 
-def run(simulation: Simulation) -> SimulationResult:
-    """Prepare once and step through the whole history; returns per-step results."""
+def run(simulation: Simulation, *, progress=None, check: bool = True) -> SimulationResult:
+    """Prepare once and step through the whole history; returns per-step results.
+
+    Every step's result passes the result checks (:func:`fretbem.checks.check_step`:
+    equilibrium, the candidate zone's edge, something holding the pad tangentially) before
+    the next step starts; a failure raises its named ResultCheckError (``check=False``
+    skips them, to inspect a failed run). ``progress(k, n, step)`` is called after each step.
+    """
+    from .checks import check_step
+    from .resources import check_resources
+
     start = time.perf_counter()
-    problem = simulation.prepare()
     pair = simulation.pair
+    check_resources(int(pair.upper.dofs + pair.lower.dofs))
+    problem = simulation.prepare()
     timings = {
         "assembly": sum(b.timings.get("assembly", 0.0) for b in (pair.upper, pair.lower)),
         "factorisation": sum(b.timings.get("factorisation", 0.0) for b in (pair.upper, pair.lower)),
         "condensation": problem.seconds,
     }
+    friction = getattr(simulation.law, "friction", float("nan"))
     state = ContactState.initial(problem)
     history: list[float] = []
     steps = []
-    for load in simulation.steps:
+    for k, load in enumerate(simulation.steps, start=1):
         tic = time.perf_counter()
         state, iterations, residuals = simulation.step(problem, state, load)
         seconds = time.perf_counter() - tic
         history.append(load.tangential)
-        steps.append(
-            StepResult.build(
-                simulation, problem, load, state, iterations, residuals, seconds, tuple(history)
-            )
+        step = StepResult.build(
+            simulation, problem, load, state, iterations, residuals, seconds, tuple(history)
         )
+        if check:
+            step = attrs.evolve(step, checks=check_step(step, friction))
+        steps.append(step)
+        if progress is not None:
+            progress(k, len(simulation.steps), step)
     timings["steps"] = sum(s.seconds for s in steps)
     timings["total"] = time.perf_counter() - start
     return SimulationResult(simulation=simulation, steps=tuple(steps), timings=timings)

@@ -50,8 +50,12 @@ def test_body_balance():
 
 
 def test_too_small_zone_is_refused_naming_zone():
-    """Reproducer: zone = 0.5 put the end pairs in contact (1820 MPa at the edge), exit 0."""
-    result = run(cattaneo_mindlin(CattaneoMindlinScene(pairs=21, zone=0.5)))
+    """Reproducer: zone = 0.5 put the end pairs in contact (1820 MPa at the edge), exit 0.
+    run() itself refuses at the first step; check_steps refuses the same result."""
+    simulation = cattaneo_mindlin(CattaneoMindlinScene(pairs=21, zone=0.5))
+    with pytest.raises(checks.ContactZoneError, match="step 'A'.*`zone`"):
+        run(simulation)
+    result = run(simulation, check=False)
     with pytest.raises(checks.ContactZoneError, match="`zone`"):
         checks.check_steps(result)
     records = checks.check_steps(result, raise_error=False)
@@ -62,7 +66,9 @@ def test_too_small_zone_is_refused_for_dissimilar_bodies_without_theory():
     """Reproducer: with dissimilar bodies (no analytical reference, no error column) a zone
     of 0.5 gave 1241 MPa at its edge pairs and nothing flagged it."""
     scene = CattaneoMindlinScene(pairs=21, zone=0.5, E_lower=210000.0, nu_lower=0.3)
-    result = run(cattaneo_mindlin(scene))
+    with pytest.raises(checks.ContactZoneError):
+        run(cattaneo_mindlin(scene))
+    result = run(cattaneo_mindlin(scene), check=False)
     assert result.simulation.reference is None
     with pytest.raises(checks.ContactZoneError, match="enlarge the scene's `zone`"):
         checks.check_steps(result)
