@@ -137,7 +137,9 @@ def _error_text(results, name: str, key: str = "e_q_max", label: str = "max e_q"
 
 
 def _step_title(step: StepResult) -> str:
-    return f"step {step.name}: P = {step.normal:g}, Q = {step.tangential:g} N/mm"
+    bulk = step.loads.get("bulk", 0.0) if step.loads else 0.0
+    text = f"step {step.name}: P = {step.normal:g}, Q = {step.tangential:g} N/mm"
+    return text + (f", $\\sigma_B$ = {bulk:g} MPa" if bulk else "")
 
 
 def traction_figure(
