@@ -53,7 +53,7 @@ def test_too_small_zone_is_refused_naming_zone():
     """Reproducer: zone = 0.5 put the end pairs in contact (1820 MPa at the edge), exit 0.
     run() itself refuses at the first step; check_steps refuses the same result."""
     simulation = cattaneo_mindlin(CattaneoMindlinScene(pairs=21, zone=0.5))
-    with pytest.raises(checks.ContactZoneError, match="step 'A'.*`zone`"):
+    with pytest.raises(checks.ContactZoneError, match=r"step 'A'.*`zone`"):
         run(simulation)
     result = run(simulation, check=False)
     with pytest.raises(checks.ContactZoneError, match="`zone`"):
