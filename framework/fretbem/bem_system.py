@@ -15,6 +15,7 @@ import attrs
 import numpy as np
 import scipy.linalg as sla
 
+from ._blas import one_blas_thread
 from .bem_layout import BLOCK, CONTACT, DISPLACEMENT, TRACTION
 from .body import ContactResponse, RigidMotionError
 
@@ -51,8 +52,9 @@ class BodySystem:
         self.contact_dofs = np.flatnonzero(self.kinds == CONTACT)
         k = load_rhs.shape[1]
         parameters = np.column_stack([rhs, -h @ block_columns, g[:, self.contact_dofs], load_rhs])
-        self.factor = sla.lu_factor(matrix, check_finite=False)
-        response = sla.lu_solve(self.factor, parameters, check_finite=False)
+        with one_blas_thread():  # a busy machine made threaded BLAS 60x slower here
+            self.factor = sla.lu_factor(matrix, overwrite_a=True, check_finite=False)
+            response = sla.lu_solve(self.factor, parameters, overwrite_b=True, check_finite=False)
         if not np.all(np.isfinite(response)):
             raise RigidMotionError(
                 f"body {body.name!r}: the collocation system is singular; check that the "

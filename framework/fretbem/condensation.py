@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any
 import attrs
 import numpy as np
 
+from ._blas import one_blas_thread
 from .unknowns import PairUnknowns, UnknownLayout
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -78,7 +79,12 @@ class CondensedContact:
 
     @classmethod
     def build(cls, pair: ContactPair) -> CondensedContact:
-        """Condense both bodies of ``pair`` through its pairing (timed)."""
+        """Condense both bodies of ``pair`` through its pairing (timed), BLAS on one thread."""
+        with one_blas_thread():
+            return cls._build(pair)
+
+    @classmethod
+    def _build(cls, pair: ContactPair) -> CondensedContact:
         pairing = pair.pairing()
         start, body_before = time.perf_counter(), _assembly_seconds(pair)
         responses = {label: pair.side(label)[0].contact_response(pair.side(label)[1])

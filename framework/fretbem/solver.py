@@ -18,10 +18,11 @@ from abc import ABC, abstractmethod
 
 import attrs
 import numpy as np
-from threadpoolctl import threadpool_limits
 
+from ._blas import one_blas_thread
+from ._newton_linear import reduced_newton_step
 from .condensation import CondensedContact
-from .law import STATE_NAMES, ContactLaw, ContactState, PairState
+from .law import STATE_NAMES, ContactLaw, ContactState, CoulombFriction, PairState
 
 #: factor applied to the normal augmentation r_n when the Newton iteration cycles
 CYCLE_SOFTENING = 0.1
@@ -170,7 +171,7 @@ class SemiSmoothNewton(Solver):
         threads competing for the cores of a busy machine made each solve 10-40x slower
         (benchmarks/performance.py: 1.65 s against 0.29 s for the 61-pair cycle).
         """
-        with threadpool_limits(limits=1, user_api="blas"):
+        with one_blas_thread():
             return self._solve_increment(problem, law, forces, loads, previous, start)
 
     @staticmethod
@@ -183,6 +184,29 @@ class SemiSmoothNewton(Solver):
         f_b = resultant_base + problem.resultant_map @ x - forces
         residual = np.concatenate([evaluation.normal, evaluation.tangential, f_b])
         return residual, evaluation
+
+    @staticmethod
+    def _newton_step(problem, law, evaluation, residual, r_n, r_t) -> np.ndarray:
+        """Solve J dx = -F: for Coulomb friction on the active rows only (separated and slip
+        rows eliminated, fretbem._newton_linear), else densely; lstsq if J is singular."""
+        if isinstance(law, CoulombFriction):
+            try:
+                return reduced_newton_step(
+                    problem.normal_map, problem.tangential_map, problem.resultant_map,
+                    residual, evaluation.states, evaluation.direction, law.friction, r_n, r_t,
+                )  # fmt: skip
+            except np.linalg.LinAlgError:
+                pass
+        jac = np.concatenate(
+            [
+                law.jacobian_rows(evaluation, problem.normal_map, problem.tangential_map, r_n, r_t),
+                problem.resultant_map,
+            ]
+        )
+        try:
+            return np.linalg.solve(jac, -residual)
+        except np.linalg.LinAlgError:
+            return np.linalg.lstsq(jac, -residual, rcond=None)[0]
 
     def _start_on_previous_pattern(
         self, problem, law, bases, forces, reference_slip, x, r_n, r_t, start
@@ -233,18 +257,7 @@ class SemiSmoothNewton(Solver):
         history, state_history, seen = [], [evaluation.states.copy()], set()
         force_scale = max(np.max(np.abs(forces), initial=0.0), 1e-300)
         for iteration in range(1, self.max_iterations + 1):
-            jac = np.concatenate(
-                [
-                    law.jacobian_rows(
-                        evaluation, problem.normal_map, problem.tangential_map, r_n, r_t
-                    ),
-                    problem.resultant_map,
-                ]
-            )
-            try:
-                step = np.linalg.solve(jac, -residual)
-            except np.linalg.LinAlgError:
-                step = np.linalg.lstsq(jac, -residual, rcond=None)[0]
+            step = self._newton_step(problem, law, evaluation, residual, r_n, r_t)
             x = x + step
             residual, evaluation = self._evaluate(*args, x, r_n, r_t)
             traction_scale = max(np.max(np.abs(x[layout.tractions])), 1e-300)

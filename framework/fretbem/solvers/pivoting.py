@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import attrs
 import numpy as np
-from threadpoolctl import threadpool_limits
 
+from .._blas import one_blas_thread
 from ..condensation import CondensedContact
 from ..law import ContactLaw, ContactState, CoulombFriction
 from ..solver import IncrementResult, Solver, SolverConvergenceError, SolverSettingsError
@@ -87,7 +87,7 @@ class LemkeSolver(Solver):
             gap=problem.gap,
         )
         try:
-            with threadpool_limits(limits=1, user_api="blas"):
+            with one_blas_thread():
                 result = solve_lcp_increment(
                     arrays,
                     friction=law.friction,
