@@ -288,6 +288,14 @@ def parser() -> argparse.ArgumentParser:
     )
     convergence.add_argument("--out", default="convergence-out", help="output directory")
     convergence.set_defaults(func=_convergence)
+    from .studies.sweep import add_arguments as sweep_arguments
+    from .studies.sweep import run_command as sweep_command
+
+    sweep = sub.add_parser(
+        "sweep", help="parameter sweep and fretting maps from a sweep file (TOML), on Dask"
+    )
+    sweep_arguments(sweep)
+    sweep.set_defaults(func=sweep_command)
     return main
 
 
