@@ -2,10 +2,7 @@
 
 from __future__ import annotations
 
-import csv
-import json
 import math
-from pathlib import Path
 
 import attrs
 import numpy as np
@@ -188,25 +185,6 @@ class SimulationResult:
         )
         return "\n".join(lines)
 
-    def write_csv(self, path: str | Path) -> None:
-        """results.csv: one row per pair per step, columns step,x,p,q,un,ut,state."""
-        with open(path, "w", newline="") as handle:
-            writer = csv.writer(handle)
-            writer.writerow(["step", "x", "p", "q", "un", "ut", "state"])
-            for s in self.steps:
-                for k in range(len(s.x)):
-                    writer.writerow(
-                        [
-                            s.name,
-                            repr(float(s.x[k])),
-                            repr(float(s.pressure[k])),
-                            repr(float(s.shear[k])),
-                            repr(float(s.normal_displacement[k])),
-                            repr(float(s.tangential_displacement[k])),
-                            STATE_NAMES[s.states[k]],
-                        ]
-                    )
-
     def summary(self) -> dict:
         """Per-step errors (None where theory does not apply), iterations and times."""
         steps = []
@@ -229,24 +207,3 @@ class SimulationResult:
                 }
             )
         return {"scene": self.describe(), "timings": dict(self.timings), "steps": steps}
-
-    def write_json(self, path: str | Path) -> None:
-        """summary.json: the summary() dictionary."""
-        with open(path, "w") as handle:
-            json.dump(self.summary(), handle, indent=2)
-
-    def save(self, directory: str | Path, *, figures: bool = True, vtk: bool = True) -> Path:
-        """Write results.csv, summary.json and, if asked, the figures and VTK files."""
-        directory = Path(directory)
-        directory.mkdir(parents=True, exist_ok=True)
-        self.write_csv(directory / "results.csv")
-        self.write_json(directory / "summary.json")
-        if figures:
-            from . import plot
-
-            plot.save_figures(self, directory)
-        if vtk:
-            from . import vtk_
-
-            vtk_.save_vtk(self, directory)
-        return directory

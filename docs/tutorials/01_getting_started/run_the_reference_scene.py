@@ -112,12 +112,15 @@ plot.stick_slip_figure(result)
 # The VTK files
 # -------------
 #
-# ``result.save(directory)`` writes the CSV, the summary, the figures and the VTK files.
+# ``write_results(result, directory)`` checks every step, then writes the CSV, the summary,
+# the figures and the VTK files into the directory as a whole.
 # Every ``.vtp`` file is a pyvista (VTK) polyline of one body's boundary with point data
 # ``displacement``, ``traction`` and ``traction_magnitude``:
 import pyvista as pv
 
-result.save(OUT / "python")
+from fretbem.output import write_results
+
+write_results(result, OUT / "python")
 mesh = pv.read(OUT / "python" / "vtk" / "B_lower.vtp")
 print(mesh)
 print(list(mesh.point_data))
