@@ -275,8 +275,15 @@ def cattaneo_mindlin(
     )
 
 
+def _half_plane(label: str, **description) -> Body:
+    """The half-plane model (imported on first use)."""
+    from .halfplane.scene import half_plane_model
+
+    return half_plane_model(label, **description)
+
+
 #: body models a scene can choose per body: name -> factory (see :func:`body_model`)
-BODY_MODELS: dict = {}
+BODY_MODELS: dict = {"half-plane": _half_plane}
 
 
 def body_model(
