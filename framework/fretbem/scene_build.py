@@ -37,8 +37,8 @@ def zone_elements(family: type[Basis], pairs: int, degree: int | None) -> int:
     elements = (pairs - extra) / per_element
     if elements < 1 or elements != int(elements):
         raise ValueError(
-            f"the {family.name} family cannot put exactly {pairs} collocation points on a "
-            f"contact segment (it gives {per_element:g} per element + {extra:g}); choose "
+            f"the {family.name} family cannot put exactly {pairs} collocation points in the "
+            f"contact zone (it gives {per_element:g} per element + {extra:g}); choose "
             f"pairs = {per_element:g} k + {extra:g} for an integer k >= 1"
         )
     return int(elements)

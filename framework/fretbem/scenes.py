@@ -26,14 +26,11 @@ from .geometry.boundary import Boundary, Segment
 from .geometry.nurbs import NurbsCurve
 from .law import CoulombFriction
 from .material import Material
+from .scene_build import CORNER_RATIO, grading_ratio, zone_elements
 from .simulation import LoadStep, Simulation
 from .solver import SemiSmoothNewton, Solver
 
 REFERENCE_STEPS = ("A", "B", "C", "D", "E")
-
-
-#: element size ratio on sides, top and bottom, graded toward their corners
-CORNER_RATIO = 50.0
 
 
 @attrs.frozen
@@ -120,37 +117,7 @@ class CattaneoMindlinScene:
 
     def zone_elements(self, family: type[Basis]) -> int:
         """Elements on the zone segment giving exactly ``pairs`` collocation points."""
-        line = NurbsCurve.line([0, 0], [1, 0], degree=1)
-        counts = [
-            family.discretise(line, Refinement(elements=k, degree=self.degree)).n_functions
-            for k in (4, 8)
-        ]
-        per_element = (counts[1] - counts[0]) / 4
-        extra = counts[0] - 4 * per_element
-        elements = (self.pairs - extra) / per_element
-        if elements < 1 or elements != int(elements):
-            raise ValueError(
-                f"the {family.name} family cannot put exactly {self.pairs} collocation points "
-                f"in the contact zone (it gives {per_element:g} per element + {extra:g}); "
-                f"choose pairs = {per_element:g} k + {extra:g} for an integer k >= 1"
-            )
-        return int(elements)
-
-
-def _grading_ratio(length: float, elements: int, smallest: float) -> float:
-    """Ratio for Refinement.graded whose smallest element is about ``smallest``.
-
-    Solves ln(r) / (r - 1) = smallest * elements / length (the linear density of
-    Refinement.breakpoints) by bisection on ln r: the left side falls monotonically from 1.
-    """
-    target = smallest * elements / length
-    if target >= 1.0:
-        return 1.0
-    lo, hi = 1e-9, math.log(1e6)
-    for _ in range(80):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if mid / math.expm1(mid) > target else (lo, mid)
-    return math.exp(0.5 * (lo + hi))
+        return zone_elements(family, self.pairs, self.degree)
 
 
 def _arcs(center_y: float, radius: float, angles: Sequence[float]) -> list[NurbsCurve]:
@@ -207,7 +174,7 @@ def _refinements(scene: CattaneoMindlinScene, family: type[Basis], upper: bool) 
     zone = scene.zone * scene.hertz().half_width
     zone_elements = scene.zone_elements(family)
     zone_size = 2 * zone / zone_elements
-    flank = _grading_ratio(scene.width / 2 - zone, scene.flank_elements, 2 * zone_size)
+    flank = grading_ratio(scene.width / 2 - zone, scene.flank_elements, 2 * zone_size)
     # parameter end of each flank nearest the zone (the lower face runs right to left)
     near_zone = {"flank_left": 1.0, "flank_right": 0.0}
     if not upper:
