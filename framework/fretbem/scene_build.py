@@ -61,7 +61,7 @@ def grading_ratio(length: float, elements: int, smallest: float) -> float:
 
 
 def hertz(scene: Scene, load: float | None = None) -> HertzLineContact | None:
-    """Hertz contact of the scene's faces at P = ``load`` (first step's P by default)."""
+    """Hertz contact of the scene's faces at P = ``load`` (the history's largest P by default)."""
     curvatures = [scene.pad.shape.curvature, scene.specimen.shape.curvature]
     if any(c is None for c in curvatures) or sum(curvatures) <= 0:
         return None
