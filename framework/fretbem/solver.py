@@ -126,9 +126,20 @@ def _tolerance(instance, attribute, value) -> None:
         )
 
 
+def _whole(value):
+    """A count given as a whole number (2.0 is 2; 2.5 or True is refused by the validator)."""
+    if isinstance(value, bool):
+        return value
+    try:
+        as_float = float(value)
+    except (TypeError, ValueError):
+        return value
+    return int(as_float) if as_float.is_integer() else value
+
+
 def _at_least(minimum: int):
     def check(instance, attribute, value) -> None:
-        if not value >= minimum:
+        if isinstance(value, bool) or not isinstance(value, int) or not value >= minimum:
             raise SolverSettingsError(
                 f"{type(instance).__name__}.{attribute.name} must be a whole number >= "
                 f"{minimum}, got {value!r}"
@@ -152,8 +163,8 @@ class SemiSmoothNewton(Solver):
     """
 
     tolerance: float = attrs.field(default=1e-10, converter=float, validator=_tolerance)
-    max_iterations: int = attrs.field(default=50, converter=int, validator=_at_least(1))
-    max_substeps: int = attrs.field(default=4, converter=int, validator=_at_least(0))
+    max_iterations: int = attrs.field(default=50, converter=_whole, validator=_at_least(1))
+    max_substeps: int = attrs.field(default=4, converter=_whole, validator=_at_least(0))
 
     def solve_increment(
         self,

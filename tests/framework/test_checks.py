@@ -184,7 +184,14 @@ def test_refining_to_twenty_thousand_control_points_stays_sparse():
 
 @pytest.mark.parametrize(
     "settings",
-    [{"tolerance": 0.5}, {"tolerance": 0.0}, {"max_iterations": 0}, {"max_substeps": -1}],
+    [
+        {"tolerance": 0.5},
+        {"tolerance": 0.0},
+        {"max_iterations": 0},
+        {"max_substeps": -1},
+        {"max_iterations": 2.5},
+        {"max_substeps": True},
+    ],
 )
 def test_newton_refuses_meaningless_settings(settings):
     """Reproducer: SemiSmoothNewton(tolerance=0.5) ran and returned e_q = 90 %."""
