@@ -186,11 +186,18 @@ class SemiSmoothNewton(Solver):
             return self._solve_increment(problem, law, forces, loads, previous, start)
 
     @staticmethod
-    def _evaluate(problem, law, bases, forces, reference_slip, x, r_n, r_t):
-        normal_base, tangential_base, resultant_base = bases
-        layout = problem.layout
+    def _kinematics(problem, bases, reference_slip, x):
+        """Deformed gap and slip increment of every pair at ``x``."""
+        normal_base, tangential_base, _ = bases
         gap = problem.gap + normal_base + problem.normal_map @ x
         slip = tangential_base + problem.tangential_map @ x - reference_slip
+        return gap, slip
+
+    @staticmethod
+    def _evaluate(problem, law, bases, forces, reference_slip, x, r_n, r_t):
+        resultant_base = bases[2]
+        layout = problem.layout
+        gap, slip = SemiSmoothNewton._kinematics(problem, bases, reference_slip, x)
         evaluation = law.evaluate(x[layout.pressure], x[layout.shear], gap, slip, r_n, r_t)
         f_b = resultant_base + problem.resultant_map @ x - forces
         residual = np.concatenate([evaluation.normal, evaluation.tangential, f_b])
@@ -234,9 +241,7 @@ class SemiSmoothNewton(Solver):
         layout = problem.layout
         q = x[layout.shear]
         direction = np.where(q != 0.0, np.sign(q), evaluation.direction)
-        normal_base, tangential_base, _ = bases
-        gap = problem.gap + normal_base + problem.normal_map @ x
-        slip = tangential_base + problem.tangential_map @ x - reference_slip
+        gap, slip = self._kinematics(problem, bases, reference_slip, x)
         try:
             pattern = law.evaluate_on(states, direction, x[layout.pressure], q, gap, slip, r_n, r_t)
         except NotImplementedError:
