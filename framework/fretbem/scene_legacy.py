@@ -48,17 +48,20 @@ def _check_finite(where: str, value: Any) -> None:
                           f"{where} {key}", item)  # fmt: skip
 
 
+def _refuse_unknown(where: str, keys, known, noun: str = "keys") -> None:
+    unknown = sorted(set(keys) - set(known))
+    if unknown:
+        _fail(
+            f"unknown key{'s' if len(unknown) > 1 else ''} {unknown} in {where}; the {noun} "
+            f"there are {sorted(known)}"
+        )
+
+
 def translate(data: Mapping[str, Any]) -> dict[str, Any]:
     """The same scene in the current format (unknown old keys are errors naming them)."""
     for table, section in data.items():
         _check_finite(f"[{table}]", section)
-    allowed = {*LEGACY_TABLES, "material"}
-    extra = sorted(set(data) - allowed)
-    if extra:
-        _fail(
-            f"unknown key{'s' if len(extra) > 1 else ''} {extra} in the scene file; the "
-            f"tables there are {sorted(allowed)}"
-        )
+    _refuse_unknown("the scene file", data, {*LEGACY_TABLES, "material"}, "tables")
     out: dict[str, dict[str, Any]] = {
         "pad": {},
         "specimen": {},
@@ -76,13 +79,9 @@ def translate(data: Mapping[str, Any]) -> dict[str, Any]:
         section = data.get(table, {})
         if not isinstance(section, dict):
             _fail(f"[{table}] must be a table")
-        known = set(keys) | ({"lower"} if table == "geometry" else set())
-        unknown = sorted(set(section) - known)
-        if unknown:
-            _fail(
-                f"unknown key{'s' if len(unknown) > 1 else ''} {unknown} in [{table}]; the "
-                f"keys there are {sorted(known)}"
-            )
+        _refuse_unknown(
+            f"[{table}]", section, set(keys) | ({"lower"} if table == "geometry" else set())
+        )
         for key, value in section.items():
             if key == "lower":
                 continue
@@ -106,17 +105,13 @@ def translate(data: Mapping[str, Any]) -> dict[str, Any]:
     material = data.get("material", {})
     if not isinstance(material, dict):
         _fail("[material] must be a table")
-    unknown = sorted(set(material) - {"E", "nu", "upper", "lower"})
-    if unknown:
-        _fail(f"unknown key{'s' if len(unknown) > 1 else ''} {unknown} in [material]")
+    _refuse_unknown("[material]", material, {"E", "nu", "upper", "lower"})
     out["material"] = {k: v for k, v in material.items() if k in ("E", "nu")}
     for old, new in (("upper", "pad"), ("lower", "specimen")):
         own = material.get(old, {})
         if not isinstance(own, dict):
             _fail(f"[material.{old}] must be a table (with E and nu)")
-        unknown = sorted(set(own) - {"E", "nu"})
-        if unknown:
-            _fail(f"unknown key{'s' if len(unknown) > 1 else ''} {unknown} in [material.{old}]")
+        _refuse_unknown(f"[material.{old}]", own, {"E", "nu"})
         if own:
             out[new]["material"] = dict(own)
     return {k: v for k, v in out.items() if v or k in ("pad", "specimen")}
