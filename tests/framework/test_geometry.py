@@ -407,3 +407,24 @@ def test_bspline_basis_matches_scipy(degree):
         dense[0], BSpline.design_matrix(xi, knots, degree).toarray(), atol=1e-14
     )
     np.testing.assert_allclose(dense[1], BSpline(knots, np.eye(n), degree)(xi, nu=1), atol=1e-11)
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_candidate_pairs_equal_the_exhaustive_box_overlaps(seed):
+    """The sort-and-sweep of the self-intersection checks misses no overlapping box pair."""
+    from fretbem.geometry.boundary import _candidate_pairs
+
+    rng = np.random.default_rng(seed)
+    edges = rng.uniform(0.0, 1.0, (120, 2, 2)) * [1.0, 0.3]
+    edges[::7, 1] = edges[::7, 0] + [0.0, 0.2]  # some vertical edges: equal x bounds
+    pad = 0.01
+    lo, hi = edges.min(axis=1) - pad, edges.max(axis=1) + pad
+    n = len(edges)
+    expected = [
+        (i, j)
+        for i in range(n)
+        for j in range(i + 2, n)
+        if not (i == 0 and j == n - 1) and np.all(lo[i] <= hi[j]) and np.all(lo[j] <= hi[i])
+    ]
+    i, j = _candidate_pairs(edges, pad)
+    assert list(zip(i.tolist(), j.tolist(), strict=True)) == expected

@@ -36,30 +36,52 @@ def _samples(curve: NurbsCurve, count: int) -> np.ndarray:
     return curve.points(np.linspace(0.0, 1.0, count))
 
 
+def _edges(polylines: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """Sample edges (m, 2 ends, 2) of all polylines in order, and the segment owning each."""
+    edges = np.concatenate([np.stack([line[:-1], line[1:]], axis=1) for line in polylines])
+    owner = np.concatenate([np.full(len(line) - 1, k) for k, line in enumerate(polylines)])
+    return edges, owner
+
+
+def _candidate_pairs(edges: np.ndarray, pad: float) -> tuple[np.ndarray, np.ndarray]:
+    """Non-adjacent edge pairs (i < j, in row order) whose boxes, grown by ``pad``, overlap.
+
+    Sort and sweep along x, then the y test: every pair the exhaustive tests could flag,
+    without forming all m^2 / 2 of them (a boundary of 400 edges has ~1000 candidates).
+    """
+    lo, hi = edges.min(axis=1) - pad, edges.max(axis=1) + pad
+    n = len(edges)
+    order = np.argsort(lo[:, 0], kind="stable")
+    start_sorted = lo[order, 0]
+    reach = np.searchsorted(start_sorted, hi[order, 0], side="right")
+    count = np.maximum(reach - np.arange(n) - 1, 0)
+    first = np.repeat(np.arange(n), count)
+    offset = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
+    a, b = order[first], order[first + 1 + offset]
+    i, j = np.minimum(a, b), np.maximum(a, b)
+    keep = (lo[i, 1] <= hi[j, 1]) & (lo[j, 1] <= hi[i, 1]) & (j - i >= 2)
+    keep &= ~((i == 0) & (j == n - 1))  # first and last edges share the closing vertex
+    i, j = i[keep], j[keep]
+    rank = np.lexsort((j, i))
+    return i[rank], j[rank]
+
+
+def _orient(p, q, r):
+    return (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (
+        r[..., 0] - p[..., 0]
+    )
+
+
 def _crossings(polylines: list[np.ndarray]) -> tuple[int, int] | None:
     """First pair of non-adjacent segments whose sample polylines properly intersect."""
-    edges, owner = [], []
-    for k, line in enumerate(polylines):
-        edges.append(np.stack([line[:-1], line[1:]], axis=1))
-        owner.append(np.full(len(line) - 1, k))
-    edges, owner = np.concatenate(edges), np.concatenate(owner)
+    edges, owner = _edges(polylines)
     a, b = edges[:, 0], edges[:, 1]
-    d = b - a
-
-    def orient(p, q, r):
-        return (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (
-            r[..., 0] - p[..., 0]
-        )
-
-    n = len(edges)
-    i, j = np.triu_indices(n, k=2)
-    keep = ~((i == 0) & (j == n - 1))  # first and last edges share the closing vertex
-    i, j = i[keep], j[keep]
-    o1 = orient(a[i], b[i], a[j])
-    o2 = orient(a[i], b[i], b[j])
-    o3 = orient(a[j], b[j], a[i])
-    o4 = orient(a[j], b[j], b[i])
-    scale = np.max(np.linalg.norm(d, axis=1)) ** 2 * 1e-12
+    i, j = _candidate_pairs(edges, 0.0)
+    o1 = _orient(a[i], b[i], a[j])
+    o2 = _orient(a[i], b[i], b[j])
+    o3 = _orient(a[j], b[j], a[i])
+    o4 = _orient(a[j], b[j], b[i])
+    scale = np.max(np.linalg.norm(b - a, axis=1)) ** 2 * 1e-12
     hit = (o1 * o2 < -scale) & (o3 * o4 < -scale)
     if not np.any(hit):
         return None
@@ -77,15 +99,8 @@ def _point_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 def _touching(polylines: list[np.ndarray], tolerance: float) -> tuple[int, int, np.ndarray] | None:
     """First pair of non-adjacent sample edges closer than ``tolerance`` (a pinch point)."""
-    edges, owner = [], []
-    for k, line in enumerate(polylines):
-        edges.append(np.stack([line[:-1], line[1:]], axis=1))
-        owner.append(np.full(len(line) - 1, k))
-    edges, owner = np.concatenate(edges), np.concatenate(owner)
-    n = len(edges)
-    i, j = np.triu_indices(n, k=2)
-    keep = ~((i == 0) & (j == n - 1))
-    i, j = i[keep], j[keep]
+    edges, owner = _edges(polylines)
+    i, j = _candidate_pairs(edges, tolerance)
     a, b, c, d = edges[i, 0], edges[i, 1], edges[j, 0], edges[j, 1]
     gap = np.minimum.reduce(
         [_point_segment(c, a, b), _point_segment(d, a, b), _point_segment(a, c, d),
