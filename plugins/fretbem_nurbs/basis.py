@@ -45,9 +45,10 @@ class NurbsBasis(Basis):
                 f"the exact geometry needs degree >= {curve.degree}; ask for degree >= "
                 f"{curve.degree}"
             )
-        if degree > curve.degree:
-            curve, _ = curve.elevate_degree(degree - curve.degree)
-        existing = kv.breakpoints(curve.knots)
+        knots = curve.knots  # elevation and insertion in one refinement (one solve)
+        for _ in range(degree - curve.degree):
+            knots = kv.elevate(knots)
+        existing = kv.breakpoints(knots)
         if refinement.at is None:
             wanted = _merge_breakpoints(existing, refinement.breakpoints())
         else:  # explicit breakpoints are kept where they are (the curve's own knots added)
@@ -56,7 +57,9 @@ class NurbsBasis(Basis):
         if refinement.c0_at:  # C0 there: the knot repeated to multiplicity = degree
             new = np.sort(np.concatenate([new, np.repeat(refinement.c0_at, degree - 1)]))
         if new.size:
-            curve, _ = curve.insert_knots(new)
+            knots = kv.insert(knots, new)
+        if degree > curve.degree or new.size:
+            curve, _ = curve.refine(knots, degree)
         bounds = kv.breakpoints(curve.knots)
         element_bounds = np.column_stack([bounds[:-1], bounds[1:]])
         spans = np.searchsorted(curve.knots, element_bounds[:, 0], side="right") - 1

@@ -66,18 +66,28 @@ def rational_basis(
     return weighted / total, (dweighted * total - weighted * dtotal) / total**2, first
 
 
-def _collocation_matrix(knots: np.ndarray, degree: int, sites: np.ndarray):
-    """Sparse (CSC) matrix of all B-spline functions at ``sites`` (rows) for refinement.
+#: control points up to which refinement solves densely: below it LAPACK on the full matrix
+#: beats building a sparse one (0.1 ms against 1 ms at 60 points), above it the banded
+#: sparse LU keeps refinement linear in the control points (80 000 DOFs in 0.4 s)
+DENSE_REFINE_MAX = 400
+
+
+def _collocation_matrix(knots: np.ndarray, degree: int, sites: np.ndarray, *, dense=False):
+    """Matrix of all B-spline functions at ``sites`` (rows) for refinement: CSC or dense.
 
     Each row has degree + 1 non-zeros, so refining to n control points costs O(n p^2)
     memory and time instead of the O(n^2) / O(n^3) of a dense interpolation solve.
     """
-    from scipy import sparse
-
     values, _, first = bspline_basis(knots, degree, sites)
     rows = np.repeat(np.arange(len(sites)), degree + 1)
     cols = (first[:, None] + np.arange(degree + 1)).ravel()
     shape = (len(sites), knots.size - degree - 1)
+    if dense:
+        matrix = np.zeros(shape)
+        np.add.at(matrix, (rows, cols), values.ravel())
+        return matrix
+    from scipy import sparse
+
     return sparse.csc_array((values.ravel(), (rows, cols)), shape=shape)
 
 
@@ -226,13 +236,17 @@ class NurbsCurve:
                 f"({self.degree} -> {degree})"
             )
         sites = kv.greville(new_knots, degree)
-        from scipy.sparse.linalg import splu
-
-        new_matrix = _collocation_matrix(new_knots, degree, sites)
-        old_matrix = _collocation_matrix(self.knots, self.degree, sites).toarray()
+        dense = sites.size <= DENSE_REFINE_MAX
+        new_matrix = _collocation_matrix(new_knots, degree, sites, dense=dense)
+        old_matrix = _collocation_matrix(self.knots, self.degree, sites, dense=True)
         try:  # banded (Schoenberg-Whitney): a sparse LU is linear in the control points
-            transform = splu(new_matrix).solve(old_matrix)
-        except RuntimeError:  # "Factor is exactly singular"
+            if dense:
+                transform = np.linalg.solve(new_matrix, old_matrix)
+            else:
+                from scipy.sparse.linalg import splu
+
+                transform = splu(new_matrix).solve(old_matrix)
+        except (RuntimeError, np.linalg.LinAlgError):  # "Factor is exactly singular"
             transform = np.full(old_matrix.shape, np.nan)
         if not np.all(np.isfinite(transform)):
             raise ValueError(
