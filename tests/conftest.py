@@ -7,3 +7,19 @@ import os
 # for these sizes (set before numpy is first imported).
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+import pytest  # noqa: E402
+
+
+@pytest.fixture(autouse=True)
+def _fresh_assembly_budget():
+    """Each test starts with no numpy assembly spent, so its own runs take one path.
+
+    The automatic choice of assembly loops counts work across a process
+    (fretbem.integration); without this, two runs compared bit for bit in one test could
+    straddle the switch depending on which tests ran before.
+    """
+    from fretbem import integration
+
+    integration._numpy_pairs_spent = 0
+    yield

@@ -20,9 +20,13 @@ work (one basis evaluation per segment for all fixed rules); the pair loops are 
 compiled (:mod:`fretbem._compiled`, numba: classify and integrate pair by pair straight
 into H and G) or numpy (:mod:`fretbem._numpy_loops`); both give the same H and G to
 round-off. Loading numba costs about 0.45 s in a fresh process, so by default
-(``IntegrationSettings.compiled = None``) the compiled loops run for bodies with at least
-``COMPILED_MIN_PAIRS`` (collocation point, element) pairs, which repay that, or once they
-are loaded anyway (docs/performance.md).
+(``IntegrationSettings.compiled = None``) the choice is a ski rental: the numpy loops run
+until this process has spent on them ``COMPILED_MIN_PAIRS`` (collocation point, element)
+pairs, about what loading numba costs; from then on, or at once for a body that large, or
+once the compiled loops are loaded anyway, the compiled loops run. A one-off small run
+never pays for numba; a sweep, a study or an adaptive run of many small bodies switches
+after a few of them, and never loses more than twice the better choice
+(docs/performance.md).
 """
 
 from __future__ import annotations
@@ -60,10 +64,13 @@ class IntegrationSettings:
     )
 
 
-#: (collocation point, element) pairs of one body from which the compiled path repays
-#: loading numba in a fresh process (about 0.45 s for the import and the cached kernels,
-#: against 1-2 us saved per pair; benchmarks/floor.py, docs/performance.md)
+#: (collocation point, element) pairs from which the compiled path repays loading numba in
+#: a fresh process (about 0.45 s for the import and the cached kernels, against 1-2 us
+#: saved per pair; benchmarks/floor.py, docs/performance.md)
 COMPILED_MIN_PAIRS = 400_000
+
+#: (collocation point, element) pairs this process has assembled with the numpy loops
+_numpy_pairs_spent = 0
 
 
 class CompiledKernelsUnavailableError(RuntimeError):
@@ -184,14 +191,18 @@ class Assembler:
             return choice
         if "fretbem._compiled" in sys.modules:  # loaded already: its cost is paid
             return True
-        return self.point_element_pairs >= COMPILED_MIN_PAIRS and _numba_installed()
+        work = _numpy_pairs_spent + self.point_element_pairs
+        return work >= COMPILED_MIN_PAIRS and _numba_installed()
 
     def assemble(self) -> tuple[np.ndarray, np.ndarray]:
         """Dense H and G, rows 2 s + i (collocation point s), columns 2 b + j (function b)."""
+        global _numpy_pairs_spent
         from . import _assembly
 
         if self.uses_compiled:
             from . import _compiled as loops
         else:
             from . import _numpy_loops as loops
+
+            _numpy_pairs_spent += self.point_element_pairs
         return _assembly.assemble(self, self.mu, self.nu, loops)

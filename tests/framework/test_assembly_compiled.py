@@ -125,7 +125,34 @@ def test_automatic_choice_by_size(monkeypatch):
     except (ImportError, TypeError):
         assembler = integration.Assembler(segments, SHEAR_MODULUS, NU)
     monkeypatch.delitem(sys.modules, "fretbem._compiled", raising=False)
+    monkeypatch.setattr(integration, "_numpy_pairs_spent", 0)
     assert assembler.point_element_pairs < integration.COMPILED_MIN_PAIRS
     assert not assembler.uses_compiled
     monkeypatch.setattr(integration, "COMPILED_MIN_PAIRS", assembler.point_element_pairs)
     assert assembler.uses_compiled == integration._numba_installed()
+
+
+def test_numpy_loops_until_their_cost_matches_loading_numba(monkeypatch):
+    """Ski rental: repeated small assemblies switch to compiled once numpy spent the budget."""
+    monkeypatch.delitem(sys.modules, "fretbem._compiled", raising=False)
+    monkeypatch.setattr(integration, "_numba_installed", lambda: True)
+    monkeypatch.setattr(integration, "_numpy_pairs_spent", 0)
+    from fretbem.kernels import KelvinKernel
+
+    assembler = integration.Assembler(
+        _segments("lagrange2"), KelvinKernel(SHEAR_MODULUS, NU), integration.IntegrationSettings()
+    )
+    work = assembler.point_element_pairs
+    monkeypatch.setattr(integration, "COMPILED_MIN_PAIRS", 3 * work)
+    choices = []
+    for _ in range(4):
+        choices.append(assembler.uses_compiled)
+        if not choices[-1]:
+            monkeypatch.setattr(
+                integration, "_numpy_pairs_spent", integration._numpy_pairs_spent + work
+            )
+    assert choices == [False, False, True, True]
+    monkeypatch.setattr(integration, "_numpy_pairs_spent", 0)  # the numpy path counts its work
+    monkeypatch.setattr(integration, "COMPILED_MIN_PAIRS", 10 * work)
+    assembler.assemble()
+    assert integration._numpy_pairs_spent == work
