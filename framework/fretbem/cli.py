@@ -131,16 +131,62 @@ def _postprocess(result, requests, figures: bool) -> list:
     return writers
 
 
-def _simulate(make, args: argparse.Namespace, extras=None) -> int:
+def _mode(args: argparse.Namespace, base):
+    """The accuracy mode: the scene's (``base``) with the command's options over it."""
+    from .accuracy import Accuracy
+
+    mesh = args.mesh or base.mesh
+    if mesh != "adaptive":
+        given = [f"--{n}" for n in ("tolerance", "budget") if getattr(args, n) is not None]
+        if given:
+            raise CommandError(
+                f"{' and '.join(given)} apply to the adaptive mesh; add --mesh adaptive "
+                "(or set [contact] mesh = 'adaptive' in the scene)"
+            )
+    elif args.pairs is not None:
+        raise CommandError(
+            "--pairs sets the fixed mesh's pairs; an adaptive run takes --budget (most pairs) "
+            "or --tolerance, or add --mesh fixed"
+        )
+    elif args.no_estimate:
+        raise CommandError(
+            "--no-estimate applies to the fixed mesh; the adaptive mode's levels always give "
+            "the estimate"
+        )
+    return Accuracy(
+        mesh=mesh,
+        estimate=mesh == "adaptive" or (base.estimate and not args.no_estimate),
+        tolerance=base.tolerance if args.tolerance is None else args.tolerance,
+        budget=base.budget if args.budget is None else args.budget,
+    )
+
+
+def _simulate(make, args: argparse.Namespace, extras=None, mode=None, companion=None) -> int:
+    """Solve in ``mode`` (``companion(pairs)``: the fixed mode's coarser level), print the
+    tables with the estimate, post-process and write the output."""
+    from . import accuracy
     from .checks import check_steps
     from .output import write_results
     from .report import zone_table
     from .simulation import run
 
     start = time.perf_counter()
+    mode = mode or accuracy.Accuracy()
     simulation, reason, compare, estimate = _prepare(make, args)
+    if mode.mesh == "adaptive":
+        blocker = accuracy.adaptive_blocker(simulation)
+        if blocker is not None:
+            raise CommandError(blocker)
+        _progress(
+            f"adaptive mesh: tolerance {100 * mode.tolerance:g} %, at most {mode.budget} pairs"
+        )
     requests = _requests(extras or {})
-    result = run(simulation, **_progress_option(run, simulation, estimate))
+    result = accuracy.solve(
+        simulation,
+        mode,
+        coarse=companion,
+        **_progress_option(accuracy.solve, simulation, estimate),
+    )
     info = result.describe()
     print(
         f"{info['basis']} (degree {info['degree']}), {info['pairs']} node pairs, "
@@ -172,6 +218,9 @@ def _simulate(make, args: argparse.Namespace, extras=None) -> int:
 
 
 def _run(args: argparse.Namespace) -> int:
+    import attrs
+
+    from .accuracy import mode_of
     from .scene_build import build
     from .scene_file import load_scene
 
@@ -187,15 +236,25 @@ def _run(args: argparse.Namespace) -> int:
             f"{args.scene} is in the round-1 scene format; it was translated (see "
             "docs/scene-format.md, 'Round-1 files', for the current keys)"
         )
-    return _simulate(lambda basis: build(scene, basis=basis), args, scene.extras)
+    mode = _mode(args, mode_of(scene))
+    scene = attrs.evolve(scene, contact=attrs.evolve(scene.contact, mesh=mode.mesh))
+    return _simulate(
+        lambda basis: build(scene, basis=basis),
+        args,
+        scene.extras,
+        mode,
+        lambda pairs: build(scene, pairs=pairs)[0],
+    )
 
 
 def _demo(args: argparse.Namespace) -> int:
     import attrs
 
+    from .accuracy import Accuracy
     from .scenes import CattaneoMindlinScene, cattaneo_mindlin
 
-    scene = CattaneoMindlinScene(basis=args.basis, pairs=args.pairs)
+    mode = _mode(args, Accuracy())
+    scene = CattaneoMindlinScene(basis=args.basis, pairs=args.pairs or 61)
     if args.compare is None and not args.no_figures:
         args.compare = []
         for name, family in bases.available().items():
@@ -211,7 +270,10 @@ def _demo(args: argparse.Namespace) -> int:
     def make(basis):
         return cattaneo_mindlin(attrs.evolve(scene, basis=basis or scene.basis)), None
 
-    return _simulate(make, args)
+    def companion(pairs):
+        return cattaneo_mindlin(attrs.evolve(scene, pairs=pairs))
+
+    return _simulate(make, args, None, mode, companion)
 
 
 def _convergence(args: argparse.Namespace) -> int:
@@ -232,6 +294,40 @@ def _positive_int(text: str) -> int:
     if value < 1:
         raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got {value}")
     return value
+
+
+def _fraction(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not 0.0 < value < 1.0:
+        raise argparse.ArgumentTypeError(
+            f"expected a fraction of p0, 0 < tolerance < 1 (0.02 is 2 %), got {text}"
+        )
+    return value
+
+
+def _accuracy_options(parser: argparse.ArgumentParser, where: str) -> None:
+    parser.add_argument(
+        "--mesh",
+        choices=("fixed", "adaptive"),
+        help=f"contact mesh: fixed pairs, or adaptive to a tolerance or budget ({where})",
+    )
+    parser.add_argument(
+        "--tolerance",
+        type=_fraction,
+        help="adaptive: stop when the estimated max error is below this fraction (0.02 = 2 %%)",
+    )
+    parser.add_argument(
+        "--budget", type=_positive_int, help="adaptive: most node pairs of the last level"
+    )
+    parser.add_argument(
+        "--no-estimate",
+        action="store_true",
+        help="fixed: skip the companion level of half the pairs (no error estimate, ~30 %% "
+        "less time)",
+    )
 
 
 def _output_options(parser: argparse.ArgumentParser, default_out: str) -> None:
@@ -273,11 +369,13 @@ def parser() -> argparse.ArgumentParser:
     run_.add_argument(
         "--pairs", type=_positive_int, help="node pairs in the contact zone (overrides)"
     )
+    _accuracy_options(run_, "overrides [contact] mesh")
     _output_options(run_, "out")
     run_.set_defaults(func=_run)
     demo = sub.add_parser("demo", help="run the reference Cattaneo-Mindlin fretting cycle")
     demo.add_argument("--basis", default="nurbs", help="basis family (default nurbs)")
-    demo.add_argument("--pairs", type=_positive_int, default=61, help="node pairs (default 61)")
+    demo.add_argument("--pairs", type=_positive_int, help="node pairs (default 61)")
+    _accuracy_options(demo, "default fixed, 61 pairs")
     _output_options(demo, "demo-out")
     demo.set_defaults(func=_demo)
     convergence = sub.add_parser(

@@ -51,6 +51,12 @@ SUMMARY_KEYS = {
     "e_q_max": ("fraction of f p0", "max |q - q_exact| / (f p0); null without theory"),
     "e_p_l2": ("fraction of p0", "RMS over the zone of p - p_exact, / p0"),
     "e_q_l2": ("fraction of f p0", "RMS over the zone of q - q_exact, / (f p0)"),
+    "est_p_max, est_p_l2": (
+        "fraction of p0",
+        "estimated discretisation error of the step's p (max, RMS) from two levels of the "
+        "contact mesh; null: no estimate (accuracy.estimate_reason says why)",
+    ),
+    "est_q_max, est_q_l2": ("fraction of f p0", "the same for q, / (f p0)"),
     "integral_p": ("N/mm", "integral of p over the contact face"),
     "integral_q": ("N/mm", "integral of q over the contact face"),
     "iterations": ("", "Newton iterations of the step"),
@@ -58,6 +64,11 @@ SUMMARY_KEYS = {
     "stick, slip, separated": ("", "pair counts"),
     "seconds": ("s", "wall time of the step"),
     "checks": ("", "per check: residual, limit, passed (see fretbem.checks)"),
+    "accuracy": (
+        "",
+        "top level: mesh (fixed or adaptive), levels (pairs of every level solved, the last "
+        "is the result), seconds (all levels), estimate_reason (null, or why no estimate)",
+    ),
 }
 
 

@@ -48,6 +48,9 @@ class StepResult:
     checks : dict or None
         The result checks this step passed (name -> CheckRecord with its residual), set by
         :func:`fretbem.simulation.run`.
+    estimate : dict or None
+        Estimated discretisation error (the keys of ``errors``, fractions of p0 and f p0),
+        set by :func:`fretbem.accuracy.solve`; None without an estimate.
     """
 
     name: str
@@ -69,6 +72,7 @@ class StepResult:
     layout: UnknownLayout | None = None
     loads: dict = attrs.field(factory=dict)
     checks: dict | None = None
+    estimate: dict | None = None
 
     @property
     def pair_unknowns(self) -> PairUnknowns:
@@ -124,13 +128,23 @@ class StepResult:
         return int(np.sum(self.states == STATE_NAMES.index(state)))
 
 
+ERROR_KEYS = ("e_p_max", "e_q_max", "e_p_l2", "e_q_l2")
+#: summary.json key of each estimate, beside the error key it estimates
+ESTIMATE_KEYS = {k: "est" + k[1:] for k in ERROR_KEYS}
+
+
 @attrs.frozen(eq=False)
 class SimulationResult:
-    """Results of every step and the run's timings (seconds)."""
+    """Results of every step and the run's timings (seconds).
+
+    ``accuracy`` (set by :func:`fretbem.accuracy.solve`) records the mesh mode, the pairs
+    of every level solved, their time and, where no step has an estimate, the reason.
+    """
 
     simulation: object
     steps: tuple[StepResult, ...]
     timings: dict[str, float]
+    accuracy: dict | None = None
 
     def __getitem__(self, name: str) -> StepResult:
         for step in self.steps:
@@ -160,21 +174,21 @@ class SimulationResult:
         return stresses(self, step, points, body)
 
     def table(self) -> str:
-        """Per-step table of errors, iterations and times."""
+        """Per-step table of errors beside their estimates ("est"), iterations and times."""
 
         def fmt(value):
             return "   n/a" if value is None else f"{100 * value:6.3f}"
 
         width = max(4, *(len(s.name) for s in self.steps))
         lines = [
-            f"{'step':<{width}}      P        Q   e_p max%  e_q max%  e_p L2%  e_q L2%  iters"
-            "  stick  slip  time s",
+            f"{'step':<{width}}      P        Q   e_p max%     est  e_q max%     est  "
+            "e_p L2%     est  e_q L2%     est  iters  stick  slip  time s",
         ]
         for s in self.steps:
-            e = s.errors or {}
+            e, est = s.errors or {}, s.estimate or {}
+            cells = "  ".join(f"{fmt(e.get(k))}  {fmt(est.get(k))}" for k in ERROR_KEYS)
             lines.append(
-                f"{s.name:<{width}} {s.normal:7.2f} {s.tangential:8.2f}  {fmt(e.get('e_p_max'))}   "
-                f"{fmt(e.get('e_q_max'))}   {fmt(e.get('e_p_l2'))}  {fmt(e.get('e_q_l2'))}  "
+                f"{s.name:<{width}} {s.normal:7.2f} {s.tangential:8.2f}  {cells}  "
                 f"{s.iterations:5d}  {s.count('stick'):5d} {s.count('slip'):5d}  {s.seconds:6.3f}"
             )
         t = self.timings
@@ -183,19 +197,43 @@ class SimulationResult:
             f"condensation {t['condensation']:.3f} s, steps {t['steps']:.3f} s, "
             f"total {t['total']:.3f} s"
         )
+        lines.append(self.accuracy_line())
         return "\n".join(lines)
 
+    def accuracy_line(self) -> str:
+        """One line: the mesh mode, the levels solved and where the estimate comes from."""
+        record = self.accuracy
+        if record is None:
+            return "no estimate: one level solved (fretbem.accuracy.solve adds the estimate)"
+        levels = record.get("levels", [])
+        pairs = ", ".join(str(n) for n in levels)
+        seconds = record.get("seconds")
+        time_text = f"; all levels {seconds:.3f} s" if seconds is not None else ""
+        if record.get("estimate_reason"):
+            source = f"no estimate: {record['estimate_reason']}"
+        elif record.get("mesh") == "adaptive":
+            source = "est from the last two levels (aligned, rate 3)"
+        else:
+            source = (
+                f"est from the companion level of {levels[0]} pairs (uniform: the change "
+                f"x {record.get('factor', float('nan')):.2f})"
+            )
+        mode = "adaptive" if record.get("mesh") == "adaptive" else "fixed"
+        return f"{mode} mesh, levels {pairs} pairs{time_text}; {source}"
+
     def summary(self) -> dict:
-        """Per-step errors (None where theory does not apply), iterations and times."""
+        """Per-step errors and estimates (None where they do not apply), iterations, times,
+        and the accuracy record (mesh mode, levels, why no estimate)."""
         steps = []
         for s in self.steps:
-            e = s.errors or {}
+            e, est = s.errors or {}, s.estimate or {}
             steps.append(
                 {
                     "step": s.name,
                     "P": s.normal,
                     "Q": s.tangential,
-                    **{k: e.get(k) for k in ("e_p_max", "e_q_max", "e_p_l2", "e_q_l2")},
+                    **{k: e.get(k) for k in ERROR_KEYS},
+                    **{ESTIMATE_KEYS[k]: est.get(k) for k in ERROR_KEYS},
                     "integral_p": s.resultant[0],
                     "integral_q": s.resultant[1],
                     "iterations": s.iterations,
@@ -206,4 +244,13 @@ class SimulationResult:
                     "seconds": s.seconds,
                 }
             )
-        return {"scene": self.describe(), "timings": dict(self.timings), "steps": steps}
+        accuracy = dict(self.accuracy) if self.accuracy is not None else {
+            "mesh": "fixed", "levels": [int(self.steps[0].x.size)],
+            "estimate_reason": "one level solved (fretbem.accuracy.solve adds the estimate)",
+        }  # fmt: skip
+        return {
+            "scene": self.describe(),
+            "timings": dict(self.timings),
+            "accuracy": accuracy,
+            "steps": steps,
+        }

@@ -139,7 +139,34 @@ KEYS: tuple[Key, ...] = (
     Key("contact", "friction", NUMBER, "", 0.3, "Coulomb coefficient f"),
     Key("contact", "basis", (str,), "", "nurbs", "basis family (`fretbem bases`)"),
     Key("contact", "degree", (int,), "", None, "basis degree; omitted: the family's default"),
-    Key("contact", "pairs", (int,), "", 61, "node pairs in the candidate contact zone"),
+    Key("contact", "pairs", (int,), "", 61, "node pairs in the candidate contact zone (`fixed`)"),
+    Key(
+        "contact",
+        "mesh",
+        (str,),
+        "",
+        "fixed",
+        "`fixed` (uniform, `pairs`) or `adaptive` (re-meshed on the contact edges and "
+        "stick-slip boundaries until `tolerance` or `budget`)",
+    ),
+    Key(
+        "contact",
+        "tolerance",
+        NUMBER,
+        "",
+        0.02,
+        "`adaptive`: stop when the estimated max error is below this fraction of p0 and f p0",
+    ),
+    Key("contact", "budget", (int,), "", 61, "`adaptive`: most node pairs of the last level"),
+    Key(
+        "contact",
+        "estimate",
+        (bool,),
+        "",
+        True,
+        "`fixed`: also solve about half the pairs and estimate each step's error from the "
+        "two levels (`adaptive` always estimates)",
+    ),
     Key(
         "contact", "zone", NUMBER, "", 1.5, "candidate zone half-width over the Hertz half-width a"
     ),
@@ -235,6 +262,10 @@ class ContactSpec:
     zone: float = 1.5
     zone_width: float | None = None
     solver: str = "newton"
+    mesh: str = "fixed"
+    tolerance: float = 0.02
+    budget: int = 61
+    estimate: bool = True
 
 
 @attrs.frozen
@@ -294,12 +325,18 @@ class Scene:
 
 
 def _type_name(kind) -> str:
-    names = {int: "an integer", float: "a number", str: "a string", list: "a list"}
+    names = {
+        int: "an integer",
+        float: "a number",
+        str: "a string",
+        list: "a list",
+        bool: "true or false",
+    }
     return " or ".join(dict.fromkeys(names[k] for k in kind))
 
 
 def _check(where: str, value: Any, kind: tuple[type, ...]) -> Any:
-    if isinstance(value, bool) or not isinstance(value, kind):
+    if (isinstance(value, bool) and bool not in kind) or not isinstance(value, kind):
         raise SceneFileError(f"{where} must be {_type_name(kind)}, got {value!r}")
     if isinstance(value, float) and not math.isfinite(value):
         raise SceneFileError(f"{where} must be a finite number, got {value!r}")
@@ -472,6 +509,35 @@ def _load(data: Mapping) -> LoadSpec:
     return LoadSpec(steps, **values)
 
 
+#: [contact] keys that belong to one mesh mode only
+MODE_KEYS = {"pairs": "fixed", "tolerance": "adaptive", "budget": "adaptive", "estimate": "fixed"}
+
+
+def _mesh_mode(contact: dict) -> None:
+    """[contact] mesh and the keys of its mode: a key of the other mode is refused."""
+    mode = contact.get("mesh", "fixed")
+    if mode not in ("fixed", "adaptive"):
+        raise SceneFileError(
+            f"[contact] mesh must be 'fixed' (pairs) or 'adaptive' (tolerance, budget), got "
+            f"{mode!r}"
+        )
+    for name, owner in MODE_KEYS.items():
+        if name in contact and owner != mode:
+            raise SceneFileError(
+                f"[contact] {name} does not apply to mesh = {mode!r} (it is a key of "
+                f"mesh = {owner!r}); remove it or set mesh = {owner!r}"
+            )
+    if "tolerance" in contact and not 0.0 < contact["tolerance"] < 1.0:
+        raise SceneFileError(
+            f"[contact] tolerance is a fraction of p0 and f p0, 0 < tolerance < 1; got "
+            f"{contact['tolerance']!r} (e.g. 0.02 for 2 %)"
+        )
+    if "budget" in contact and contact["budget"] < 5:
+        raise SceneFileError(f"[contact] budget must be >= 5 pairs, got {contact['budget']}")
+    if "tolerance" in contact:
+        contact["tolerance"] = float(contact["tolerance"])
+
+
 def scene_from_dict(data: Mapping) -> Scene:
     """Validate a parsed scene file (new format, or the round-1 format translated)."""
     if not isinstance(data, Mapping):
@@ -493,6 +559,7 @@ def scene_from_dict(data: Mapping) -> Scene:
     for name, value in contact_section.items():
         key = _keys("contact")[name]
         contact[name] = _check(f"[contact] {name}", value, key.kind)
+    _mesh_mode(contact)
     mesh_section = _table(data, "mesh")
     _unknown("[mesh]", mesh_section, _keys("mesh"))
     mesh = {n: _check(f"[mesh] {n}", v, _keys("mesh")[n].kind) for n, v in mesh_section.items()}
@@ -529,6 +596,8 @@ def markdown_table() -> str:
             return (
                 "`[" + ", ".join(f'"{v}"' if isinstance(v, str) else f"{v:g}" for v in value) + "]`"
             )
+        if isinstance(value, bool):
+            return f"`{str(value).lower()}`"
         if isinstance(value, float):
             return f"`{value:g}`"
         return f"`{value}`" if value != "see meaning" else "see meaning"
