@@ -11,24 +11,18 @@ import os
 import sys
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import matplotlib
-
-if "matplotlib.pyplot" not in sys.modules and "MPLBACKEND" not in os.environ:
-    matplotlib.use("Agg")  # files only, unless the user already chose a backend
-
-import matplotlib.pyplot as plt
 import numpy as np
-from matplotlib.colors import BoundaryNorm, ListedColormap
-from matplotlib.figure import Figure
-from matplotlib.lines import Line2D
-from matplotlib.patches import Patch
 
 from .basis import Basis
 from .bem_body import BemBody
 from .contact import STATE_NAMES, ContactPair
 from .geometry.boundary import Boundary
 from .results import SimulationResult, StepResult
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.figure import Figure
 
 FIGURE_STEPS = ("B", "C", "D", "E")
 STATE_COLORS = ("#d9d9d9", "#4c72b0", "#dd5544")  # separated, stick, slip
@@ -38,6 +32,45 @@ DPI = 100
 MAX_PANELS = 6
 #: at most this many rows labelled in the pair-state map
 MAX_STATE_LABELS = 15
+#: titles sit at the top of their axes (no automatic placement: no axis draws labels on top)
+TITLE_Y = 1.0
+
+
+def _pyplot():
+    """pyplot, with the Agg backend chosen first unless the user already chose one."""
+    if "matplotlib.pyplot" not in sys.modules and "MPLBACKEND" not in os.environ:
+        import matplotlib
+
+        matplotlib.use("Agg")  # files only
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _figure(figsize: tuple[float, float]) -> Figure:
+    """A new figure: pyplot's when pyplot is in use (notebooks, galleries, ``plt.show``), else
+    a plain Figure on an Agg canvas (the command line: no pyplot import, no figure manager)."""
+    if "matplotlib.pyplot" in sys.modules:
+        return sys.modules["matplotlib.pyplot"].figure(figsize=figsize)
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=figsize)
+    FigureCanvasAgg(fig)
+    return fig
+
+
+def _close(fig: Figure) -> None:
+    """Release a figure that pyplot may hold (plain figures are freed with their last use)."""
+    plt = sys.modules.get("matplotlib.pyplot")
+    if plt is not None:
+        plt.close(fig)
+
+
+def _colors() -> list[str]:
+    import matplotlib
+
+    return matplotlib.rcParams["axes.prop_cycle"].by_key()["color"]
 
 
 def _as_list(results) -> list[SimulationResult]:
@@ -112,18 +145,18 @@ def _history(result: SimulationResult, name: str) -> list[float]:
     raise KeyError(name)
 
 
-def _grid(n: int, title: str) -> tuple[Figure, np.ndarray]:
+def _grid(n: int, title: str) -> tuple[Figure, list]:
+    """n panels, at most 3 per row, on fixed axes rectangles (no empty axes are made)."""
     cols = min(n, 3)
     rows = -(-n // cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(4.6 * cols, 3.3 * rows + 1.2), squeeze=False)
-    fig.subplots_adjust(
-        left=0.07, right=0.98, top=1 - 0.9 / (3.3 * rows + 1.2),
-        bottom=0.75 / (3.3 * rows + 1.2) + 0.05, hspace=0.55, wspace=0.25,
+    height = 3.3 * rows + 1.2
+    fig = _figure((4.6 * cols, height))
+    grid = fig.add_gridspec(
+        rows, cols, left=0.07, right=0.98, top=1 - 0.9 / height, bottom=0.75 / height + 0.05,
+        hspace=0.55, wspace=0.25,
     )  # fmt: skip
-    for ax in axes.flat[n:]:
-        ax.set_visible(False)
     fig.suptitle(title)
-    return fig, axes.flat
+    return fig, [fig.add_subplot(grid[k // cols, k % cols]) for k in range(n)]
 
 
 def _error_text(results, name: str, key: str = "e_q_max", label: str = "max e_q") -> str:
@@ -151,7 +184,7 @@ def traction_figure(
     scale, xlabel = _scale(results)
     ref = _reference(results)
     fig, axes = _grid(len(names), "Contact tractions (traction of the upper body on the lower)")
-    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    colors = _colors()
     for ax, name in zip(axes, names, strict=False):
         for i, r in enumerate(results):
             s, c = r[name], colors[i % len(colors)]
@@ -164,7 +197,7 @@ def traction_figure(
             ax.plot(fine / scale, ref.hertz.pressure(fine), "k-", lw=1, label="p, analytical")
             ax.plot(fine / scale, q, "k--", lw=1, label="q, analytical")
         ax.axhline(0.0, color="0.6", lw=0.5)
-        ax.set_title(_step_title(results[0][name]) + _error_text(results, name))
+        ax.set_title(_step_title(results[0][name]) + _error_text(results, name), y=TITLE_Y)
         ax.set_xlabel(xlabel)
         ax.set_ylabel("traction (MPa)")
     handles, labels = axes[0].get_legend_handles_labels()
@@ -179,13 +212,14 @@ def displacement_figure(
     results = _as_list(results)
     names = _steps(results, steps)
     scale, xlabel = _scale(results)
-    fig, axes = plt.subplots(
-        2, len(names), figsize=(min(3.4 * len(names) + 0.8, 16.0), 6.0), squeeze=False, sharex=True,
-        sharey="row",
+    fig = _figure((min(3.4 * len(names) + 0.8, 16.0), 6.0))
+    axes = fig.subplots(
+        2, len(names), squeeze=False, sharex=True, sharey="row",
+        gridspec_kw={"left": 0.08, "right": 0.98, "top": 0.88, "bottom": 0.17, "wspace": 0.1,
+                     "hspace": 0.15},
     )  # fmt: skip
-    fig.subplots_adjust(left=0.08, right=0.98, top=0.88, bottom=0.17, wspace=0.1, hspace=0.15)
     fig.suptitle("Relative displacements at the node pairs (upper minus lower body)")
-    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    colors = _colors()
     gap = results[0].simulation.pair.pairing().gap
     rows = (("normal_displacement", "u_n", "o"), ("tangential_displacement", "u_t", "s"))
     for col, name in enumerate(names):
@@ -200,7 +234,7 @@ def displacement_figure(
             ax.set_ylabel(f"{symbol} (µm)" if col == 0 else "")
         x = results[0][name].x / scale
         axes[0, col].plot(x, -1e3 * gap, ":", color="0.3", lw=1.2, label="−g (gap closed)")
-        axes[0, col].set_title(_step_title(results[0][name]))
+        axes[0, col].set_title(_step_title(results[0][name]), y=TITLE_Y)
         axes[1, col].set_xlabel(xlabel)
     handles, labels = axes[0, 0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=min(len(labels), 4), fontsize=7)
@@ -215,17 +249,22 @@ def _edges(x: np.ndarray) -> np.ndarray:
 
 def stick_slip_figure(result: SimulationResult | Sequence[SimulationResult]) -> Figure:
     """State of every pair (separated, stick, slip) at every step, with theory's stick zone."""
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
     results = _as_list(result)
     scale, xlabel = _scale(results)
     cols = min(len(results), 3)
     height = 3.6 if len(results[0].steps) <= 12 else 5.0
-    fig, axes = plt.subplots(
-        -(-len(results) // cols), cols, figsize=(max(7.0, 5.0 * cols), height), squeeze=False
+    fig = _figure((max(7.0, 5.0 * cols), height))
+    grid = fig.add_gridspec(
+        -(-len(results) // cols), cols, left=0.1, right=0.98, top=0.88, bottom=0.25, wspace=0.3
     )
-    fig.subplots_adjust(left=0.1, right=0.98, top=0.88, bottom=0.25, wspace=0.3)
+    axes = [fig.add_subplot(grid[k // cols, k % cols]) for k in range(len(results))]
     cmap = ListedColormap(STATE_COLORS)
     norm = BoundaryNorm(np.arange(len(STATE_NAMES) + 1) - 0.5, cmap.N)
-    for ax, r in zip(axes.flat, results, strict=False):
+    for ax, r in zip(axes, results, strict=True):
         states = np.array([s.states for s in r.steps])
         x = r.steps[0].x / scale
         rows = np.arange(len(r.steps) + 1) - 0.5
@@ -235,9 +274,10 @@ def stick_slip_figure(result: SimulationResult | Sequence[SimulationResult]) -> 
         ref = r.simulation.reference
         if ref is not None and few:
             a = ref.hertz.half_width / scale
-            for k, history in enumerate(_histories(r)):
-                c = ref.stick_zone(history)[1] / scale
-                ax.plot([-c, c], [k, k], "k|", ms=14, mew=2)
+            c = np.array([ref.stick_zone(h)[1] for h in _histories(r)]) / scale
+            rows_k = np.arange(len(c), dtype=float)
+            # every step's two stick-zone ends as the markers of one line artist
+            ax.plot(np.concatenate([-c, c]), np.concatenate([rows_k, rows_k]), "k|", ms=14, mew=2)
             ax.axvline(-a, color="k", ls=":", lw=1)
             ax.axvline(a, color="k", ls=":", lw=1)
         shown = default_steps(range(len(r.steps)), MAX_STATE_LABELS)
@@ -245,7 +285,7 @@ def stick_slip_figure(result: SimulationResult | Sequence[SimulationResult]) -> 
         ax.invert_yaxis()
         ax.set_xlabel(xlabel)
         ax.set_ylabel("load step")
-        ax.set_title(f"pair states, {_label(r)}")
+        ax.set_title(f"pair states, {_label(r)}", y=TITLE_Y)
     handles = [Patch(color=c, label=n) for c, n in zip(STATE_COLORS, STATE_NAMES, strict=True)]
     if _reference(results) is not None:
         handles.append(
@@ -254,8 +294,6 @@ def stick_slip_figure(result: SimulationResult | Sequence[SimulationResult]) -> 
             )
         )
         handles.append(Line2D([], [], color="k", ls=":", label="Hertz half-width ±a"))
-    for ax in axes.flat[len(results) :]:
-        ax.set_visible(False)
     ncol = min(len(handles), 5 if cols > 1 else 3)
     fig.legend(handles=handles, loc="lower center", ncol=ncol, fontsize=7)
     return fig
@@ -264,10 +302,13 @@ def stick_slip_figure(result: SimulationResult | Sequence[SimulationResult]) -> 
 def history_figure(result: SimulationResult | Sequence[SimulationResult]) -> Figure:
     """Summary of a whole history, one point per step: loads, stick-zone width, peak shear."""
     results = _as_list(result)
-    fig, axes = plt.subplots(3, 1, figsize=(7.0, 6.6), sharex=True)
-    fig.subplots_adjust(left=0.12, right=0.97, top=0.93, bottom=0.1, hspace=0.12)
+    fig = _figure((7.0, 6.6))
+    axes = fig.subplots(
+        3, 1, sharex=True,
+        gridspec_kw={"left": 0.12, "right": 0.97, "top": 0.93, "bottom": 0.1, "hspace": 0.12},
+    )  # fmt: skip
     fig.suptitle("Load history: one point per step")
-    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    colors = _colors()
     for i, r in enumerate(results):
         steps = np.arange(len(r.steps))
         c = colors[i % len(colors)]
@@ -321,7 +362,7 @@ def save_figures(
             # fast zlib level: PNG encoding was a tenth of the drawing time
             fig.savefig(directory / name, dpi=DPI, pil_kwargs={"compress_level": 1})
         finally:
-            plt.close(fig)
+            _close(fig)
         paths.append(directory / name)
     return paths
 
@@ -329,7 +370,7 @@ def save_figures(
 # -- geometry ---------------------------------------------------------------------------------
 def _axes(ax):
     if ax is None:
-        _, ax = plt.subplots(layout="constrained")
+        _, ax = _pyplot().subplots(layout="constrained")
         ax.set_aspect("equal")
     return ax
 
