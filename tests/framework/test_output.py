@@ -132,3 +132,47 @@ def test_draw_dispatches_on_geometry_types(saved):
     plt.close(ax.figure)
     with pytest.raises(TypeError, match="cannot draw"):
         draw(object())
+
+
+def test_vtp_arrays_read_back_bit_for_bit(saved, tmp_path):
+    """The inline-binary .vtp files read back in VTK equal the arrays written, bit for bit:
+    points, lines, point, cell and field data (strings too), plain and deformed."""
+    from fretbem.vtk_ import deformed, step_arrays, write_vtp
+
+    result, _ = saved
+    for label, arrays in step_arrays(result, result["B"]).items():
+        for suffix, data in (("", arrays), ("_deformed", deformed(arrays, 3.0))):
+            mesh = pv.read(write_vtp(tmp_path / f"{label}{suffix}.vtp", data))
+            assert np.array_equal(mesh.points, data["points"])
+            cells = np.concatenate([[len(line), *line] for line in data["lines"]])
+            assert np.array_equal(mesh.lines, cells)
+            for kind in ("point_data", "cell_data", "field_data"):
+                stored = getattr(mesh, kind)
+                assert set(stored.keys()) == set(data[kind]), kind
+                for name, values in data[kind].items():
+                    got, want = np.asarray(stored[name]).ravel(), np.asarray(values).ravel()
+                    assert got.tolist() == want.tolist(), (kind, name)
+
+
+def test_writing_figures_and_vtk_imports_neither_pyplot_nor_pyvista(tmp_path):
+    """The files of a run (figures and VTK included) are written without pyplot (plain
+    figures on an Agg canvas) and without pyvista (the .vtp files are written by Python)."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys\n"
+        "from fretbem.output import write_results\n"
+        "from fretbem.scenes import cattaneo_mindlin\n"
+        "from fretbem.simulation import run\n"
+        "write_results(run(cattaneo_mindlin(pairs=11)), sys.argv[1])\n"
+        "heavy = ('matplotlib.pyplot', 'pyvista', 'vtk', 'vtkmodules')\n"
+        "print([m for m in heavy if m in sys.modules], 'matplotlib.figure' in sys.modules)\n"
+    )
+    out = tmp_path / "out"
+    done = subprocess.run(
+        [sys.executable, "-c", code, str(out)], capture_output=True, text=True, check=False
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split("\n")[-2] == "[] True"
+    assert (out / "tractions.png").is_file() and (out / "vtk" / "B_upper.vtp").is_file()
