@@ -218,8 +218,6 @@ def _simulate(make, args: argparse.Namespace, extras=None, mode=None, companion=
 
 
 def _run(args: argparse.Namespace) -> int:
-    import attrs
-
     from .accuracy import mode_of
     from .scene_build import build
     from .scene_file import load_scene
@@ -237,7 +235,6 @@ def _run(args: argparse.Namespace) -> int:
             "docs/scene-format.md, 'Round-1 files', for the current keys)"
         )
     mode = _mode(args, mode_of(scene))
-    scene = attrs.evolve(scene, contact=attrs.evolve(scene.contact, mesh=mode.mesh))
     return _simulate(
         lambda basis: build(scene, basis=basis),
         args,

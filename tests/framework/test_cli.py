@@ -35,13 +35,16 @@ def test_run_scene_file(tmp_path, capsys):
     )
     assert code == 0
     out = capsys.readouterr().out
-    assert "e_q max%" in out and "assembly" in out
+    assert "e_q max%     est" in out and "assembly" in out
+    assert "fixed mesh, levels 16, 31 pairs" in out  # the companion level gives the estimate
     rows = list(csv.reader(open(tmp_path / "results.csv")))
     assert rows[0] == ["step", "x", "p", "q", "un", "ut", "state"]
     assert len(rows) == 1 + 5 * 31
     summary = json.loads((tmp_path / "summary.json").read_text())
     assert [s["step"] for s in summary["steps"]] == list("ABCDE")
     assert summary["steps"][2]["e_q_max"] < 0.1
+    assert summary["accuracy"]["levels"] == [16, 31]
+    assert 0 < summary["steps"][2]["est_q_max"] < 1
 
 
 def test_unknown_basis_is_a_clear_error(capsys):
