@@ -212,7 +212,7 @@ class SimulationResult:
         if record.get("estimate_reason"):
             source = f"no estimate: {record['estimate_reason']}"
         elif record.get("mesh") == "adaptive":
-            source = "est from the last two levels (aligned, rate 3)"
+            source = "est from the last two adaptive levels (fretbem.adaptive)"
         else:
             source = (
                 f"est from the companion level of {levels[0]} pairs (uniform: the change "
