@@ -279,3 +279,28 @@ def test_monotonic_step_does_not_depend_on_its_increments(start, end, increments
     p0 = coarse_pair().reference.hertz.peak_pressure
     np.testing.assert_allclose(many.steps[-1].shear, one.steps[-1].shear, atol=1e-8 * p0)
     np.testing.assert_allclose(many.steps[-1].pressure, one.steps[-1].pressure, atol=1e-8 * p0)
+
+
+# --------------------------------------------------------------------------- lazy imports
+
+#: packages that load only when used: figures, pictures, sparse assembly, sweeps, plugins
+HEAVY = ("matplotlib", "pyvista", "vtk", "vtkmodules", "PIL", "scipy.sparse", "numba", "xarray",
+         "dask", "fretbem_nurbs", "fretbem_lagrange")  # fmt: skip
+
+
+def test_importing_the_command_and_writers_imports_nothing_heavy():
+    """Importing fretbem, its command (parser built), and the figure, VTK, output, stress
+    figure and fatigue modules loads none of HEAVY: each comes with its first use."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys\n"
+        "import fretbem, fretbem.cli, fretbem.plot, fretbem.vtk_, fretbem.output\n"
+        "import fretbem.stress.figures, fretbem.fatigue\n"
+        "fretbem.cli.parser()\n"
+        f"print([m for m in {HEAVY!r} if m in sys.modules])\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[]"
