@@ -33,8 +33,8 @@ MESHES = ("fixed", "adaptive")
 #: rate of the Richardson factor for the fixed mode's two uniform levels: 1, so the factor is
 #: 1 / (n / n_c - 1), about 1 for half the pairs (the change itself). The uniform error is a
 #: sawtooth in the pair count (where the contact edge falls between two points), not a power
-#: law; measured on the reference scene, pairs 31 to 81 (docs/how-to/accuracy.rst): the change
-#: is 0.70 to 37 times the true error, never below 0.7.
+#: law; measured on the reference scene, pairs 31 to 81 (docs/how-to/accuracy.rst): the
+#: estimate is 0.73 to 39.5 times the true error (max of p and q), never below 0.73.
 UNIFORM_RATE = 1.0
 #: fewest pairs of the fixed mode's companion level
 MIN_COMPANION = 5
@@ -72,7 +72,8 @@ class Accuracy:
         ``"fixed"`` (the simulation's own pairs) or ``"adaptive"`` (re-meshed contact faces).
     estimate : bool
         Fixed mode: also solve a companion level of about half the pairs for the estimate
-        (about 40 % more time). The adaptive mode always estimates (from its own levels).
+        (at 61 pairs about half the time of the main solve: the bodies are assembled again).
+        The adaptive mode always estimates (from its own levels).
     tolerance : float
         Adaptive: stop when the estimated max error (fraction of p0 and f p0) is below it.
     budget : int

@@ -322,8 +322,8 @@ def _accuracy_options(parser: argparse.ArgumentParser, where: str) -> None:
     parser.add_argument(
         "--no-estimate",
         action="store_true",
-        help="fixed: skip the companion level of half the pairs (no error estimate, ~30 %% "
-        "less time)",
+        help="fixed: skip the companion level of half the pairs (no error estimate; the "
+        "level costs about half the main solve)",
     )
 
 
