@@ -153,6 +153,7 @@ def format_report(report: FatigueReport) -> str:
 def plot_parameter_map(report: FatigueReport, method: str, ax=None, ticks: int = 12):
     """Parameter map below the contact with the critical-plane traces as short ticks."""
     import matplotlib.pyplot as plt
+    from matplotlib.collections import LineCollection
 
     rep = report.methods[method]
     xs, zs = report.map_x, report.map_depth
@@ -163,19 +164,16 @@ def plot_parameter_map(report: FatigueReport, method: str, ax=None, ticks: int =
     ax.figure.colorbar(mesh, ax=ax, label=LABELS[method])
     ix = np.unique(np.linspace(0, xs.size - 1, ticks).round().astype(int))
     iz = np.unique(np.linspace(0, zs.size - 1, max(ticks // 2, 2)).round().astype(int))
-    theta = np.deg2rad(rep.map.normal_angle_deg.reshape(zs.size, xs.size))
+    theta = np.deg2rad(rep.map.normal_angle_deg.reshape(zs.size, xs.size))[np.ix_(iz, ix)]
     length = 0.35 * (xs[-1] - xs[0]) / ticks
-    for j in iz:
-        for i in ix:
-            # the plane's trace in the x-y plane is perpendicular to the normal's projection;
-            # shown in (x, depth) axes, depth = -y
-            tx, ty = -np.sin(theta[j, i]), np.cos(theta[j, i])
-            ax.plot(
-                [xs[i] - length * tx, xs[i] + length * tx],
-                [zs[j] + length * ty, zs[j] - length * ty],
-                color="white",
-                lw=0.8,
-            )
+    # the plane's trace in the x-y plane is perpendicular to the normal's projection; shown
+    # in (x, depth) axes, depth = -y; all traces are one artist
+    tx, ty = length * -np.sin(theta), length * np.cos(theta)
+    x, z = np.meshgrid(xs[ix], zs[iz])
+    ends = np.stack([np.stack([x - tx, z + ty], -1), np.stack([x + tx, z - ty], -1)], -2)
+    traces = LineCollection(ends.reshape(-1, 2, 2), colors="white", linewidths=0.8,
+                            capstyle="projecting", zorder=2)  # fmt: skip
+    ax.add_collection(traces)
     ax.plot(*rep.hot_spot, marker="*", color="red", ms=12, label="hot spot")
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("depth (mm)")
