@@ -41,25 +41,17 @@ class BodySystem:
         self.load_known = layout.loads.reshape(len(layout.loads), self.kinds.size)  # (k, 2N)
         solves_u = (self.kinds == TRACTION) | (self.kinds == CONTACT)
         self.solves_u = solves_u
-        matrix = np.where(solves_u[None, :], h, -g)
-        fixed_u, fixed_t = self.kinds == DISPLACEMENT, self.kinds == TRACTION
-        rhs = -h[:, fixed_u] @ self.known[fixed_u]
-        rhs += g[:, fixed_t] @ self.known[fixed_t]
-        load_rhs = g[:, fixed_t] @ self.load_known[:, fixed_t].T  # (2N, k)
         self.block_dofs = np.flatnonzero(self.kinds == BLOCK)
-        block_columns = np.zeros((len(self.kinds), 2))
-        block_columns[self.block_dofs, self.block_dofs % 2] = 1.0
         self.contact_dofs = np.flatnonzero(self.kinds == CONTACT)
-        k = load_rhs.shape[1]
-        parameters = np.column_stack([rhs, -h @ block_columns, g[:, self.contact_dofs], load_rhs])
         with one_blas_thread():  # a busy machine made threaded BLAS 60x slower here
-            self.factor = sla.lu_factor(matrix, overwrite_a=True, check_finite=False)
-            response = sla.lu_solve(self.factor, parameters, overwrite_b=True, check_finite=False)
+            response = _solve_parameters(h, g, self.kinds, self.known, self.load_known,
+                                         solves_u, self.block_dofs, self.contact_dofs)  # fmt: skip
         if not np.all(np.isfinite(response)):
             raise RigidMotionError(
                 f"body {body.name!r}: the collocation system is singular; check that the "
                 "boundary conditions fix the rigid motions"
             )
+        k = self.load_known.shape[0]
         self.base = response[:, 0]
         self.block_response = response[:, 1:3]
         self.contact_response = response[:, 3 : response.shape[1] - k]
@@ -76,12 +68,16 @@ class BodySystem:
             + self.load_response @ beta
         )
 
-    def block_resultant(self, z: np.ndarray) -> np.ndarray:
-        """Resultant force (2, ...) of the loading block's tractions in unknown vector(s) z."""
+    def block_selector(self) -> np.ndarray:
+        """(2, block dofs): the block's resultant force per unit of its traction unknowns."""
         weights = np.repeat(self.body.resultant_weights(), 2)[self.block_dofs]
         select = np.zeros((2, len(self.block_dofs)))
         select[self.block_dofs % 2, np.arange(len(self.block_dofs))] = weights
-        return select @ z[self.block_dofs]
+        return select
+
+    def block_resultant(self, z: np.ndarray) -> np.ndarray:
+        """Resultant force (2, ...) of the loading block's tractions in unknown vector(s) z."""
+        return self.block_selector() @ z[self.block_dofs]
 
     def resultant_map(self) -> tuple[np.ndarray, np.ndarray]:
         """Block resultant force as r0 + K delta (with zero contact traction and loads)."""
@@ -98,6 +94,41 @@ class BodySystem:
         u[self.block_dofs] = delta[self.block_dofs % 2]
         t[self.contact_dofs] = contact_tractions
         return BodySolution(self.body, u.reshape(-1, 2), t.reshape(-1, 2), delta)
+
+
+def _solve_parameters(h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs):
+    """A^-1 [z0 rhs, block columns, contact columns, load columns], A the collocation matrix.
+
+    One LU of the augmented matrix [A | parameters] (its trailing update runs as matrix
+    products, faster than a triangular solve with as many right-hand sides) and one
+    triangular solve with U; the LU itself is not kept (every later solve is a product).
+    """
+    size = len(kinds)
+    fixed_u, fixed_t = kinds == DISPLACEMENT, kinds == TRACTION
+    k = load_known.shape[0]
+    columns = 3 + len(contact_dofs) + k
+    augmented = np.empty((size, size + columns), order="F")
+    matrix, parameters = augmented[:, :size], augmented[:, size:]
+    matrix[...] = h
+    solves_t = np.flatnonzero(~solves_u)
+    matrix[:, solves_t] = -g[:, solves_t]
+    parameters[:, 0] = g[:, fixed_t] @ known[fixed_t] - h[:, fixed_u] @ known[fixed_u]
+    parameters[:, 1:3] = 0.0
+    for column in range(2):  # -h @ block columns: the block dofs of each direction summed
+        dofs = block_dofs[block_dofs % 2 == column]
+        parameters[:, 1 + column] = -h[:, dofs].sum(axis=1) if dofs.size else 0.0
+    contact = slice(3, 3 + len(contact_dofs))
+    if contact_dofs.size and np.all(np.diff(contact_dofs) == 1):
+        parameters[:, contact] = g[:, contact_dofs[0] : contact_dofs[-1] + 1]
+    else:
+        parameters[:, contact] = g[:, contact_dofs]
+    parameters[:, 3 + len(contact_dofs) :] = g[:, fixed_t] @ load_known[:, fixed_t].T
+    lu, _, info = sla.lapack.dgetrf(augmented, overwrite_a=True)
+    if info != 0 or not np.all(np.isfinite(np.diagonal(lu))):
+        return np.full((size, columns), np.nan)
+    # lu[:, size:] holds L^-1 P parameters; U^-1 of it, in place (both F-ordered views)
+    out = sla.blas.dtrsm(1.0, lu[:, :size], lu[:, size:], side=0, lower=0, overwrite_b=True)
+    return out.copy(order="F")  # a plain copy; the factors and H, G are not kept
 
 
 def face_rows(body: BemBody, tag: str) -> tuple[np.ndarray, np.ndarray]:
@@ -126,41 +157,51 @@ def contact_response(body: BemBody, tag: str) -> ContactResponse:
     """The face's displacement at its collocation points, affine in node tractions.
 
     Node traction values t become coefficients C t (C = E^-1); the system gives the
-    face's displacement coefficients; E turns them back into node values. Only BLAS
-    matrix products on (n, 2 N)-sized blocks.
+    face's displacement coefficients; E turns them back into node values. E is banded
+    (a basis function spans a few collocation points), so both are banded operations on
+    the face and block rows of the system's contact response only.
     """
     system = body.system((tag,))
-    e_matrix = face_values_matrix(body, tag)
-    n = len(e_matrix)
-    inverse = np.linalg.solve(e_matrix, np.eye(n))  # coefficient a per unit value at node b
+    band = _Band(face_values_matrix(body, tag))
+    n = band.size
 
     def node_values(z: np.ndarray) -> np.ndarray:
         """Displacement values (n, 2, cols) at the face nodes from unknown columns z."""
-        cols = z.shape[1]
-        coefficients = z[system.contact_dofs].reshape(n, 2 * cols)
-        return (e_matrix @ coefficients).reshape(n, 2, cols)
+        coefficients = z[system.contact_dofs].reshape(n, 2, z.shape[1])
+        out = np.zeros(coefficients.shape)
+        band.left(coefficients, out)
+        return out
 
-    # contact response per unit node traction: columns (b, j) <- sum_a Z[:, (a, j)] C[a, b]
-    z_contact = system.contact_response.reshape(-1, n, 2).transpose(0, 2, 1)
-    z_traction = (z_contact.reshape(-1, n) @ inverse).reshape(-1, 2, n)
-    z_traction = z_traction.transpose(0, 2, 1).reshape(-1, 2 * n)
-    weights = body.resultant_weights()[face_rows(body, tag)[1]] @ inverse  # force per node
+    # Z (C x I2) on the face and block rows: solve E^T w = Z^T, Z^T with the node axis first
+    rows = np.concatenate([system.contact_dofs, system.block_dofs])
+    selected = system.contact_response.T.reshape(n, 2, -1)[:, :, rows]  # [node a, j, row]
+    w = band.solve_transposed(selected.transpose(2, 1, 0).reshape(-1, n).T)
+    del selected
+    by_row = w.T.reshape(len(rows), 2, n)  # [row, traction component j, node b]
+    values = np.zeros((n, 2, 2, n))  # [node b', component j', component j, node b]
+    band.left(by_row[: 2 * n].reshape(n, 2, 2, n), values)
+    traction_map = values.transpose(0, 1, 3, 2).reshape(n, 2, 2 * n)
+    block_rows = by_row[2 * n :].transpose(0, 2, 1).reshape(-1, 2 * n)
+    del w, by_row, values
+    face_weights = body.resultant_weights()[face_rows(body, tag)[1]]
+    weights = band.solve_transposed(face_weights[:, None].copy(order="F"))[:, 0]
     contact_force = np.zeros((2, 2 * n))
     contact_force[0, 0::2] = weights
     contact_force[1, 1::2] = weights
     k = system.load_response.shape[1]
     has_block = bool(system.block_dofs.size)
     if has_block:
-        r_base, r_traction, r_block, r_load = (
+        r_base, r_block, r_load = (
             system.block_resultant(z)
-            for z in (system.base, z_traction, system.block_response, system.load_response)
+            for z in (system.base, system.block_response, system.load_response)
         )
+        r_traction = system.block_selector() @ block_rows
     else:
         r_base, r_traction = np.zeros(2), np.zeros((2, 2 * n))
         r_block, r_load = np.zeros((2, 2)), np.zeros((2, k))
     return ContactResponse(
         base=node_values(system.base[:, None])[:, :, 0],
-        traction_map=node_values(z_traction),
+        traction_map=traction_map,
         block_map=node_values(system.block_response) if has_block else np.zeros((n, 2, 2)),
         load_map=node_values(system.load_response),
         r_base=r_base,
@@ -170,6 +211,40 @@ def contact_response(body: BemBody, tag: str) -> ContactResponse:
         contact_force=contact_force,
         has_block=has_block,
     )
+
+
+class _Band:
+    """A banded square matrix E: products E @ x along the first axis and solves with E^T."""
+
+    def __init__(self, matrix: np.ndarray):
+        self.matrix = matrix
+        self.size = len(matrix)
+        rows, cols = np.nonzero(matrix)
+        self.lower = int(max(np.max(rows - cols, initial=0), 0))
+        self.upper = int(max(np.max(cols - rows, initial=0), 0))
+
+    def left(self, x: np.ndarray, out: np.ndarray) -> None:
+        """out += E @ x along the first axis (out may be a strided view), diagonal by diagonal."""
+        n = self.size
+        shape = (-1,) + (1,) * (x.ndim - 1)
+        for d in range(-self.lower, self.upper + 1):  # E[i, i + d]
+            diagonal = np.diagonal(self.matrix, d).reshape(shape)
+            if d >= 0:
+                out[: n - d] += diagonal * x[d:]
+            else:
+                out[-d:] += diagonal * x[: n + d]
+
+    def solve_transposed(self, rhs: np.ndarray) -> np.ndarray:
+        """E^-T rhs for rhs (n, cols), in place when rhs is F-ordered."""
+        lower, upper = self.upper, self.lower  # bandwidths of E^T
+        bands = np.zeros((lower + upper + 1, self.size))
+        for d in range(-lower, upper + 1):  # E^T[i, i + d] = E[i + d, i] into row upper - d
+            diagonal = np.diagonal(self.matrix, -d)
+            if d >= 0:
+                bands[upper - d, d:] = diagonal
+            else:
+                bands[upper - d, : self.size + d] = diagonal
+        return sla.solve_banded((lower, upper), bands, rhs, overwrite_b=True, check_finite=False)
 
 
 @attrs.frozen(eq=False)

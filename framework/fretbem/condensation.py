@@ -98,7 +98,8 @@ class CondensedContact:
         normals, tangents = pairing.normals, pairing.tangents
         # traction per unit (p, q): on the lower body -p n + q t; on the upper the opposite
         lower_frame = np.stack([-normals, tangents], axis=-1)  # (n, 2 components, (p, q))
-        relative_map = np.zeros((n, 2, layout.size))
+        normal_map = np.zeros((n, layout.size))
+        tangential_map = np.zeros((n, layout.size))
         relative_base = np.zeros((n, 2))
         relative_load = np.zeros((n, 2, len(names)))
         resultant_map = np.zeros((2 * len(blocks), layout.size))
@@ -112,32 +113,38 @@ class CondensedContact:
             load_columns = [names.index(name) for name in body.load_names]
             relative_base += sign * pairing.gather(label, response.base)
             face_nodes = response.n_nodes
-            traction = pairing.gather(
-                label,
-                pairing.gather(label, response.traction_map.reshape(face_nodes, 2, face_nodes, 2)),
-                axis=2,
-            )  # (n, 2, n, 2): pair point, component; pair traction node, component
-            relative_map[:, :, layout.tractions] += sign * _per_pair(traction, frame)
+            # pair-point rows first, projected on the pair frame, then the traction columns
+            gathered = pairing.gather(label, response.traction_map)  # (n, 2, 2 face nodes)
+            for target, direction in ((normal_map, normals), (tangential_map, tangents)):
+                projected = (sign * direction[:, 0, None]) * gathered[:, 0]
+                projected += (sign * direction[:, 1, None]) * gathered[:, 1]
+                columns = pairing.gather(label, projected.reshape(n, face_nodes, 2), axis=1)
+                target[:, layout.tractions] += _per_pair(columns, frame)
+            del gathered
             relative_load[:, :, load_columns] += sign * pairing.gather(label, response.load_map)
             force = pairing.gather(label, response.contact_force.reshape(2, face_nodes, 2), axis=1)
             if label == "lower":
                 lower_force_map[:, layout.tractions] = _per_pair(force, frame)
             if label in blocks:
                 cols = layout.block(label)
-                rows = slice(2 * blocks.index(label), 2 * blocks.index(label) + 2)
-                relative_map[:, :, cols] += sign * pairing.gather(label, response.block_map)
+                block_rows = slice(2 * blocks.index(label), 2 * blocks.index(label) + 2)
+                block = sign * pairing.gather(label, response.block_map)  # (n, 2, 2)
+                normal_map[:, cols] += np.einsum("pd,pdc->pc", normals, block)
+                tangential_map[:, cols] += np.einsum("pd,pdc->pc", tangents, block)
                 r_traction = pairing.gather(label, response.r_traction.reshape(2, face_nodes, 2), 1)
-                resultant_base[rows] = response.r_base
-                resultant_map[rows, layout.tractions] = _per_pair(r_traction, frame)
-                resultant_map[rows, cols] = response.r_block
-                resultant_load[rows, :] = _scatter_columns(response.r_load, load_columns, names)
+                resultant_base[block_rows] = response.r_base
+                resultant_map[block_rows, layout.tractions] = _per_pair(r_traction, frame)
+                resultant_map[block_rows, cols] = response.r_block
+                resultant_load[block_rows, :] = _scatter_columns(
+                    response.r_load, load_columns, names
+                )
         seconds = time.perf_counter() - start - (_assembly_seconds(pair) - body_before)
         return cls(
             pair=pair,
             pairing=pairing,
             layout=layout,
-            normal_map=np.einsum("pd,pdx->px", normals, relative_map),
-            tangential_map=np.einsum("pd,pdx->px", tangents, relative_map),
+            normal_map=normal_map,
+            tangential_map=tangential_map,
             normal_base=np.einsum("pd,pd->p", normals, relative_base),
             tangential_base=np.einsum("pd,pd->p", tangents, relative_base),
             normal_load=np.einsum("pd,pdk->pk", normals, relative_load),
@@ -203,7 +210,10 @@ class CondensedContact:
 
 def _per_pair(operator: np.ndarray, frame: np.ndarray) -> np.ndarray:
     """Operator (..., n, 2) per pair traction component -> (..., 2 n) per unit (p, q)."""
-    out = np.einsum("...kj,kjs->...sk", operator, frame)
+    out = np.empty((*operator.shape[:-2], 2, operator.shape[-2]))
+    for s in range(2):  # out[..., s, k] = sum_j operator[..., k, j] frame[k, j, s]
+        np.multiply(operator[..., 0], frame[:, 0, s], out=out[..., s, :])
+        out[..., s, :] += operator[..., 1] * frame[:, 1, s]
     return out.reshape(*operator.shape[:-2], -1)
 
 

@@ -14,18 +14,35 @@ docs/how-to/new-solver.rst shows how to add a solver.
 
 from __future__ import annotations
 
+import weakref
 from abc import ABC, abstractmethod
 
 import attrs
 import numpy as np
 
 from ._blas import one_blas_thread
-from ._newton_linear import reduced_newton_step
+from ._newton_linear import NewtonLinear
 from .condensation import CondensedContact
 from .law import STATE_NAMES, ContactLaw, ContactState, CoulombFriction, PairState
 
 #: factor applied to the normal augmentation r_n when the Newton iteration cycles
 CYCLE_SOFTENING = 0.1
+
+#: the Newton linear solver (an LU of a recent pattern) of each condensed problem, kept
+#: between increments: an increment starts on the previous one's final pattern
+_LINEAR: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _newton_linear(problem: CondensedContact, law: ContactLaw, r_n: float, r_t: float):
+    """The problem's kept Newton linear solver for Coulomb friction (None for other laws)."""
+    if not isinstance(law, CoulombFriction):
+        return None
+    linear = _LINEAR.get(problem)
+    if linear is None or not linear.matches(r_n, r_t, law.friction):
+        linear = NewtonLinear(problem.normal_map, problem.tangential_map,
+                              problem.resultant_map, law.friction, r_n, r_t)  # fmt: skip
+        _LINEAR[problem] = linear
+    return linear
 
 
 class SolverSettingsError(ValueError):
@@ -204,15 +221,13 @@ class SemiSmoothNewton(Solver):
         return residual, evaluation
 
     @staticmethod
-    def _newton_step(problem, law, evaluation, residual, r_n, r_t) -> np.ndarray:
+    def _newton_step(problem, law, evaluation, residual, r_n, r_t, linear) -> np.ndarray:
         """Solve J dx = -F: for Coulomb friction on the active rows only (separated and slip
-        rows eliminated, fretbem._newton_linear), else densely; lstsq if J is singular."""
-        if isinstance(law, CoulombFriction):
+        rows eliminated, through the LU of a nearby pattern: fretbem._newton_linear), else
+        densely; lstsq if J is singular."""
+        if linear is not None:
             try:
-                return reduced_newton_step(
-                    problem.normal_map, problem.tangential_map, problem.resultant_map,
-                    residual, evaluation.states, evaluation.direction, law.friction, r_n, r_t,
-                )  # fmt: skip
+                return linear.step(residual, evaluation.states, evaluation.direction)
             except np.linalg.LinAlgError:
                 pass
         jac = np.concatenate(
@@ -273,7 +288,8 @@ class SemiSmoothNewton(Solver):
         history, state_history, seen = [], [evaluation.states.copy()], set()
         force_scale = max(np.max(np.abs(forces), initial=0.0), 1e-300)
         for iteration in range(1, self.max_iterations + 1):
-            step = self._newton_step(problem, law, evaluation, residual, r_n, r_t)
+            linear = _newton_linear(problem, law, r_n, r_t)
+            step = self._newton_step(problem, law, evaluation, residual, r_n, r_t, linear)
             x = x + step
             residual, evaluation = self._evaluate(*args, x, r_n, r_t)
             traction_scale = max(np.max(np.abs(x[layout.tractions])), 1e-300)

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from fretbem._newton_linear import reduced_newton_step
+from fretbem._newton_linear import NewtonLinear, reduced_newton_step
 
 SEPARATED, STICK, SLIP = 0, 1, 2
 
@@ -92,3 +92,28 @@ def test_singular_reduced_system_raises():
             normal, tangential, np.zeros((0, 2 * n)), np.ones(2 * n), states, np.ones(n),
             0.3, 1.0, 1.0,
         )  # fmt: skip
+
+
+@pytest.mark.parametrize("seed", range(6))
+@pytest.mark.parametrize("m", [0, 2])
+def test_successive_patterns_through_one_factorisation(seed, m):
+    """A pattern a few pairs away is solved through the kept LU, bordered by the rows that
+    differ, and still equals the full dense solve; a far pattern refactorises."""
+    rng = np.random.default_rng(100 + seed)
+    n = 60
+    states = rng.choice([SEPARATED, STICK, SLIP], n)
+    states[: n // 2] = STICK
+    normal, tangential, resultant, states, direction, residual = problem(rng, n, m, states)
+    f, r_n, r_t = 0.3, 1.7, 0.8
+    linear = NewtonLinear(normal, tangential, resultant, f, r_n, r_t)
+    for change in (0, 1, 2, 3, 1, 25):  # pairs changed from the previous pattern
+        states = states.copy()
+        moved = rng.choice(np.arange(n // 2, n), change, replace=False)
+        states[moved] = rng.choice([SEPARATED, STICK, SLIP], change)
+        direction = np.where(rng.random(n) < 0.1, -direction, direction)
+        residual = rng.standard_normal(2 * n + m)
+        jac = full_jacobian(normal, tangential, resultant, states, direction, f, r_n, r_t)
+        expected = np.linalg.solve(jac, -residual)
+        step = linear.step(residual, states, direction)
+        assert np.max(np.abs(step - expected)) <= 1e-12 * np.max(np.abs(expected))
+    assert linear.factorisations <= 2  # the near patterns went through the border
