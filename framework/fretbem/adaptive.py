@@ -82,7 +82,7 @@ class AdaptiveSettings:
         Most re-solves that move the knots of the last level onto its own transitions
         (:func:`settle`).
     coarse_iterations : int
-        The same for the levels before the last.
+        The same for the first aligned level (it hands on its transitions and its error).
     max_levels : int
         Most aligned levels after the first.
     """
@@ -241,7 +241,7 @@ def aligned(simulation, found: Transitions, pairs: int, settings: AdaptiveSettin
 #: inward knot moves (from a gap or a slip increment) are damped by this factor until the
 #: knot's transition is bracketed: a knot inside its transition costs a square root of the
 #: distance, one outside a power 1.5 (docs/explanation/adaptive.rst)
-INWARD_DAMPING = 0.5
+INWARD_DAMPING = 1.0
 
 
 def _next_positions(positions, moves, history) -> np.ndarray:
@@ -308,9 +308,10 @@ def run_adaptive(simulation, settings: AdaptiveSettings | None = None) -> Adapti
     found = [transitions(levels[0])]
     estimated: dict = {}
     previous = None
-    for pairs in counts:
-        last = pairs == counts[-1]
-        iterations = settings.edge_iterations if last else settings.coarse_iterations
+    for index, pairs in enumerate(counts):
+        # the first aligned level only hands on transitions and a coarse error; any later
+        # one may be the answer (the estimate can stop the run there)
+        iterations = settings.coarse_iterations if index == 0 else settings.edge_iterations
         solved, used = settle(simulation, found[-1], pairs, settings, iterations)
         levels += solved
         found += used

@@ -27,10 +27,11 @@ __all__ = [
     "transitions",
 ]
 
-#: detected contact edges are moved outward by this fraction of the contact half-width: a
-#: collocation point just inside the true edge sees the square root of the pressure (an edge
-#: 0.05 % too far in costs 2 % of p0 at 61 pairs) while one just outside costs little
-#: (0.2 % out: +0.6 %); measured on the reference scene, docs/explanation/adaptive.rst
+#: knots aim this fraction of the contact half-width outside their discrete transition (on
+#: the separated or slip side): a collocation point just inside the exact transition sees a
+#: square root of the distance (an edge 0.05 % too far in costs 2 % of p0 at 61 pairs, a
+#: stick-slip knot 0.03 % into the stick zone 3.5 % of f p0) while one just outside costs
+#: little (0.2 % out: +0.6 %); measured on the reference scene, docs/explanation/adaptive.rst
 EDGE_MARGIN = 1e-3
 
 #: the traction (pressure, or reserve f p - abs(q)) at a collocation point on a C0 knot a
@@ -231,9 +232,10 @@ def _edge_move(x, order, knot, k, steps, gaps, margin: float) -> float | None:
     return None
 
 
-def _boundary_move(x, order, k, steps, friction) -> float | None:
-    """Move of a stick-slip knot: the reserve on its point if stick, the slip increment if slip,
-    averaged over the steps whose stick-slip boundary is next to its point."""
+def _boundary_move(x, order, k, steps, friction, margin: float) -> float | None:
+    """Move of a stick-slip knot to ``margin`` on the slip side of the discrete boundary: the
+    reserve on its point if stick, the slip increment if slip, averaged over the steps whose
+    stick-slip boundary is next to its point."""
     moves = []
     previous = np.zeros(x.size)
     for step in steps:
@@ -250,11 +252,11 @@ def _boundary_move(x, order, k, steps, friction) -> float | None:
                 reserve = np.maximum(friction * p - direction * q, 0.0)
                 move = _inside_move(x, reserve, k, t)
                 if move is not None:
-                    moves.append(t * min(move, 0.9 * abs(x[j] - x[k])))
+                    moves.append(t * (min(move, 0.9 * abs(x[j] - x[k])) + margin))
             elif states[k] == SLIP and states[k - t] == STICK:
                 move = _outside_move(x, increment, k, t)
                 if move is not None:
-                    moves.append(-t * min(move, 0.9 * abs(x[k] - x[k - t])))
+                    moves.append(-t * (min(move, 0.9 * abs(x[k] - x[k - t])) - margin))
     return float(np.mean(moves)) if moves else None
 
 
@@ -264,7 +266,8 @@ def knot_moves(result, found: Transitions) -> tuple[np.ndarray, np.ndarray]:
 
     A knot point still inside its transition carries pressure (edges) or traction reserve
     (stick-slip) that grows linearly with the distance (:data:`KNOT_SLOPE`); one outside it
-    carries a gap or a slip increment growing like distance^1.5 (:data:`GROWTH`).
+    carries a gap or a slip increment growing like distance^1.5 (:data:`GROWTH`). A knot
+    with no transition next to its point moves to the middle of the nearest one.
     """
     x, order, spacing = _sorted_level(result)
     friction = estimate.friction_of(result.simulation)
@@ -274,17 +277,36 @@ def knot_moves(result, found: Transitions) -> tuple[np.ndarray, np.ndarray]:
         np.ptp(x[step.states[order] != SEPARATED]) for step in result.steps if step.states.any()
     ]
     margin = EDGE_MARGIN * 0.5 * max(widths, default=0.0)
+    states = [step.states[order] for step in result.steps]
     edges = np.zeros(found.edges.size)
     for j, knot in enumerate(found.edges):
         k = _knot_index(x, knot, spacing)
         move = None if k is None else _edge_move(x, order, knot, k, result.steps, gaps, margin)
-        edges[j] = move or 0.0
+        if move is None:
+            move = _nearest_change(x, states, knot, SEPARATED, (STICK, SLIP)) - knot
+        edges[j] = move
     boundaries = np.zeros(found.boundaries.size)
     for j, knot in enumerate(found.boundaries):
         k = _knot_index(x, knot, spacing)
-        move = None if k is None else _boundary_move(x, order, k, result.steps, friction)
-        boundaries[j] = move or 0.0
+        move = None if k is None else _boundary_move(x, order, k, result.steps, friction, margin)
+        if move is None:
+            move = _nearest_change(x, states, knot, SLIP, (STICK,)) - knot
+        boundaries[j] = move
     return edges, boundaries
+
+
+def _nearest_change(x, states, knot: float, outer: int, inner: tuple) -> float:
+    """Midpoint of the two points where the state changes between ``inner`` and ``outer``
+    nearest ``knot`` over the steps; ``knot`` itself if there is none."""
+    best = knot
+    for st in states:
+        a, b = st[:-1], st[1:]
+        change = ((a == outer) & np.isin(b, inner)) | (np.isin(a, inner) & (b == outer))
+        for i in np.flatnonzero(change):
+            middle = 0.5 * float(x[i] + x[i + 1])
+            if best == knot or abs(middle - knot) < abs(best - knot):
+                best = middle
+    return best
 
 
 def knot_pressures(result, edges: np.ndarray) -> np.ndarray:
