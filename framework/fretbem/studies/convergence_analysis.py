@@ -1,9 +1,10 @@
-"""Analysis and figures of the convergence study: crossings, fitted exponents, log-log plots.
+"""Analysis of the convergence study: crossings, fitted exponents, cheapest runs to an error.
 
-Pure functions of the study's rows (``convergence.csv``), shared by ``fretbem convergence``
-and the documentation's results page. The external reference numbers drawn for comparison
-(the IGABEM paper's error, the CalculiX runs) are read from ``references.toml``, which
-gives their sources.
+Pure functions of the study's rows (``convergence.csv``, ``adaptive_study.csv``,
+``adaptive_study_sawtooth.csv``), shared by ``fretbem convergence``, its figures
+(:mod:`.convergence_figures`) and the documentation's results page. The external reference
+numbers drawn for comparison (the IGABEM paper's error, the CalculiX runs) are read from
+``references.toml``, which gives their sources.
 """
 
 from __future__ import annotations
@@ -11,16 +12,16 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from importlib import resources
-from pathlib import Path
 
 import numpy as np
+
+from .convergence_io import ERRORS
 
 try:
     import tomllib
 except ModuleNotFoundError:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
-ERRORS = ("e_p_max", "e_q_max", "e_p_l2", "e_q_l2")
 #: the body-size factor of the finite-body comparison
 LARGE = 4.0
 #: external reference numbers with their sources (studies/references.toml)
@@ -33,7 +34,13 @@ PAPER_PAIRS, PAPER_E_Q = REFERENCES["paper"]["pairs"], REFERENCES["paper"]["e_q_
 CALCULIX = tuple((c["wall_s"], c.get("dofs"), c["e_q_max"]) for c in REFERENCES["calculix"])
 #: the error level the results page asks about
 TARGET = 0.01
-FIGURES = {"dofs": "error_vs_dofs.png", "time": "error_vs_time.png"}
+FIGURES = {
+    "dofs": "error_vs_dofs.png",
+    "time": "error_vs_time.png",
+    "sawtooth": "adaptive_study_sawtooth.png",
+}
+#: error levels at which the results page names the cheapest run of every series
+LEVELS = {"e_q_max": (0.05, 0.02, 0.01), "e_q_l2": (0.01, 0.005, 0.003)}
 
 
 # -- analysis -----------------------------------------------------------------------------
@@ -111,84 +118,57 @@ def exponents(rows: Sequence[dict], bodies: float = 1.0, min_pairs: int = 0) -> 
     return out
 
 
-# -- figures ------------------------------------------------------------------------------
-def plot_study(rows: Sequence[dict], out: str | Path) -> list[Path]:
-    """error_vs_dofs.png and error_vs_time.png: max and L2 e_q over steps B-E, log-log."""
-    from matplotlib.figure import Figure  # deferred: the study itself needs no matplotlib
-    from matplotlib.ticker import FuncFormatter
+# -- the adaptive mode ----------------------------------------------------------------------
+def adaptive_series(adaptive: Sequence[dict]) -> dict[tuple[str, int], list[dict]]:
+    """(family, degree) -> its adaptive runs in increasing budget."""
+    out: dict[tuple[str, int], list[dict]] = {}
+    for row in adaptive:
+        out.setdefault((row["family"], row["degree"]), []).append(row)
+    return {k: sorted(v, key=lambda r: r["budget"]) for k, v in out.items()}
 
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    scene, large = series(rows, 1.0), series(rows, LARGE)
-    colors = ("#4c72b0", "#55a868", "#8172b2", "#dd5544", "#937860", "#da8bc3")
-    paths = []
-    for axis, column, label in (
-        ("dofs", "dofs", "total degrees of freedom (both bodies)"),
-        ("time", "wall_s", "wall time of the five-step cycle, s (median)"),
-    ):
-        fig = Figure(figsize=(11, 4.6), layout="constrained")
-        panels = fig.subplots(1, 2, sharex=True)
-        for ax, error, title in (
-            (panels[0], "e_q_max", "largest shear error, max over steps B-E"),
-            (panels[1], "e_q_l2", "L2 shear error, max over steps B-E"),
-        ):
-            for k, key in enumerate(sorted(scene | large)):
-                color = colors[k % len(colors)]
-                for data, style, suffix in (
-                    (scene.get(key, []), "-o", ""),
-                    (large.get(key, []), "--^", f", bodies x{LARGE:g}"),
-                ):
-                    if not data:
-                        continue
-                    ax.plot(
-                        [r[column] for r in data],
-                        [100 * r[error] for r in data],
-                        style,
-                        color=color,
-                        markersize=4 if not suffix else 3,
-                        linewidth=1.5 if not suffix else 1.0,
-                        alpha=1.0 if not suffix else 0.7,
-                        label=family_label(key) + suffix,
-                    )
-            ax.axhline(100 * TARGET, color="0.6", linewidth=0.8, linestyle=":")
-            if error == "e_q_max":
-                ax.axhline(100 * PAPER_E_Q, color="k", linewidth=0.8, linestyle="-.")
-                ax.annotate(
-                    f"paper (IGABEM): {100 * PAPER_E_Q:.3f} % at {PAPER_PAIRS} pairs",
-                    (0.98, 100 * PAPER_E_Q),
-                    xycoords=("axes fraction", "data"),
-                    xytext=(0, 3),
-                    textcoords="offset points",
-                    fontsize=8,
-                    ha="right",
-                )
-                paper_x = [
-                    r[column] for r in scene.get(("nurbs", 2), []) if r["pairs"] == PAPER_PAIRS
-                ]
-                if axis == "dofs" and paper_x:
-                    ax.plot(paper_x, [100 * PAPER_E_Q], "k*", markersize=12, zorder=5)
-                for seconds, _, e_q in CALCULIX if axis == "time" else ():
-                    ax.plot([seconds], [100 * e_q], "ks", markerfacecolor="none", markersize=7)
-                    ax.annotate(
-                        f"CalculiX FE, {seconds:g} s",
-                        (seconds, 100 * e_q),
-                        xytext=(-4, 6),
-                        textcoords="offset points",
-                        fontsize=8,
-                        ha="right",
-                    )
-            ax.set_xscale("log")
-            ax.set_yscale("log")
-            plain = FuncFormatter(lambda v, _: f"{v:g}")
-            ax.yaxis.set_major_formatter(plain)
-            ax.yaxis.set_minor_formatter(FuncFormatter(lambda v, _: ""))
-            ax.set_xlabel(label)
-            ax.set_ylabel("e_q, % of f p0")
-            ax.set_title(title, fontsize=10)
-            ax.grid(True, which="both", color="0.92", linewidth=0.6)
-        handles, labels = panels[0].get_legend_handles_labels()
-        fig.legend(handles, labels, loc="outside right center", fontsize=8)
-        path = out / FIGURES[axis]
-        fig.savefig(path, dpi=110)
-        paths.append(path)
-    return paths
+
+def series_label(key: tuple) -> str:
+    """'nurbs p=2', 'lagrange2', 'nurbs p=2 adaptive' for (family, degree[, mode])."""
+    adaptive = len(key) > 2 and key[2] == "adaptive"
+    return family_label(key[:2]) + (" adaptive" if adaptive else "")
+
+
+def all_series(rows: Sequence[dict], adaptive: Sequence[dict] = ()) -> dict[tuple, list[dict]]:
+    """(family, degree, mode) -> runs on the scene's bodies, fixed pairs and adaptive."""
+    out = {(*k, "fixed"): v for k, v in series(rows).items()}
+    out |= {(*k, "adaptive"): v for k, v in adaptive_series(adaptive).items()}
+    return out
+
+
+def cheapest(
+    rows: Sequence[dict], adaptive: Sequence[dict], error: str, level: float
+) -> dict[tuple, tuple[dict | None, dict | None]]:
+    """(family, degree, mode) -> (run with the fewest DOFs, run with the least wall time)
+    among those with ``error`` at or below ``level`` (None, None if none is)."""
+    out = {}
+    for key, runs in all_series(rows, adaptive).items():
+        good = [r for r in runs if r[error] <= level]
+        out[key] = (
+            min(good, key=lambda r: r["dofs"], default=None),
+            min(good, key=lambda r: r["wall_s"], default=None),
+        )
+    return out
+
+
+def settled_from(tooth: Sequence[dict], column: str, level: float) -> int | None:
+    """Smallest pair count from which ``column`` stays at or below ``level`` up to the end of
+    the sawtooth (one family's rows); None if its last pair count is above."""
+    found = None
+    for row in sorted(tooth, key=lambda r: r["pairs"], reverse=True):
+        if row[column] > level:
+            break
+        found = row["pairs"]
+    return found
+
+
+def sawtooth_families(tooth: Sequence[dict]) -> dict[tuple[str, int], list[dict]]:
+    """(family, degree) -> its sawtooth rows in increasing pairs."""
+    out: dict[tuple[str, int], list[dict]] = {}
+    for row in tooth:
+        out.setdefault((row["family"], row["degree"]), []).append(row)
+    return {k: sorted(v, key=lambda r: r["pairs"]) for k, v in out.items()}
