@@ -1,58 +1,54 @@
 """The markdown results page of the convergence study (docs/results.md), from its CSV.
 
 Documentation tooling: ``benchmarks/results_page.py`` runs it; the package's study
-(:mod:`fretbem.studies.convergence`) only writes the CSV, study.json and the figures.
+(:mod:`fretbem.studies.convergence`) only writes the CSVs, study.json and the figures.
 
-Tables of every run, the finite-body comparison, the refinement-of-the-rest check, fitted
-exponents, benchmark medians, and a paragraph computed from the numbers saying which family
-reaches 1 % shear error first in degrees of freedom and in time.
+This module writes the page's head, the paragraph computed from the numbers saying which
+family reaches 1 % shear error first in degrees of freedom and in time, and the page file;
+the sections are in results_page_tables (every run, finite bodies, the rest, exponents),
+results_page_adaptive (the adaptive mode, the cheapest run to an error, the sawtooth) and
+results_page_bench (benchmark medians).
 """
 
 from __future__ import annotations
 
-import itertools
 import json
 import math
 import os
 import shutil
-import statistics
 from collections.abc import Sequence
 from pathlib import Path
 
-from fretbem.scenes import CattaneoMindlinScene
+from results_page_adaptive import adaptive_section
+from results_page_bench import benchmark_section
+from results_page_format import pct as _pct
+from results_page_format import threads as _threads
+from results_page_tables import (
+    exponent_section,
+    finite_body_section,
+    main_table,
+    rest_section,
+    step_tables,
+)
+
 from fretbem.studies.convergence import (
+    ADAPTIVE_NAME,
     CALCULIX,
-    ERROR_STEPS,
-    ERRORS,
     FIGURES,
     LARGE,
     META_NAME,
     PAPER_E_Q,
     PAPER_PAIRS,
-    STEPS,
+    REFERENCES,
+    SAWTOOTH_NAME,
     TARGET,
     crossings,
-    exponents,
     family_label,
     main_rows,
-    plot_study,
     read_csv,
     series,
 )
-
-
-def _pct(value, digits: int = 3) -> str:
-    return "–" if value is None else f"{100 * value:.{digits}f}"
-
-
-def _seconds(value) -> str:
-    if value is None:
-        return "–"
-    return f"{value:.3f}" if value < 10 else f"{value:.1f}"
-
-
-def _mib(value) -> str:
-    return "–" if value is None or math.isnan(value) else f"{value:.0f}"
+from fretbem.studies.convergence_figures import plot_sawtooth, plot_study
 
 
 def _describe_crossing(cross: dict, what: str) -> str:
@@ -88,8 +84,11 @@ def results_page(
     meta: dict | None = None,
     figures: dict[str, str] | None = None,
     benchmarks: Sequence[dict] | None = None,
+    adaptive: Sequence[dict] = (),
+    sawtooth: Sequence[dict] = (),
 ) -> str:
-    """The markdown results page, every number computed from the study's rows."""
+    """The markdown results page, every number computed from the study's rows: the
+    fixed-pairs runs, the adaptive series and the sawtooth."""
     figures = figures or FIGURES
     lines = [
         "# Results: speed against error",
@@ -114,7 +113,7 @@ def results_page(
             f"Python {m.get('python')}, numpy {m.get('numpy')}, scipy {m.get('scipy')}"
             + f"; {_threads(m)}"
             + f". {plan.get('repeats', '?')} timed runs per case; the study took "
-            f"{meta.get('seconds', math.nan):.0f} s.",
+            f"{meta.get('seconds', math.nan):.0f} s{_load(meta)}.",
             "",
         ]
     lines += _speed_paragraph(rows)
@@ -123,22 +122,47 @@ def results_page(
         "",
         f"![error against wall time]({figures['time']})",
         "",
-        "Solid lines: the scene's bodies; dashed: the same discretisations on bodies "
-        f"{LARGE:g}× larger. Dash-dotted: the paper's {100 * PAPER_E_Q:.3f} % at "
-        f"{PAPER_PAIRS} pairs (star: at the DOFs of our nurbs p=2 run with {PAPER_PAIRS} pairs; "
-        "the paper gives no timing). Squares: the CalculiX finite element model quoted in the "
-        "issue (27 s at 61 contact nodes; 720 s with 301 nodes and 89 000 DOFs). "
-        f"Dotted: {100 * TARGET:g} %.",
+        "Solid lines: the scene's bodies; dashed (against DOFs): the same discretisations "
+        f"on bodies {LARGE:g}× larger"
+        + (
+            "; diamonds on thick lines: the adaptive mode at its pair budgets (DOFs of the "
+            "finest level, time of all levels; see below)"
+            if adaptive
+            else ""
+        )
+        + f". Dash-dotted: the paper's {100 * PAPER_E_Q:.3f} % at {PAPER_PAIRS} pairs (star: "
+        f"at the DOFs of our nurbs p=2 run with {PAPER_PAIRS} pairs; the paper gives no "
+        f"timing). Squares: the CalculiX finite element model quoted in the issue ({_calculix()})."
+        f" Dotted: {100 * TARGET:g} %.",
         "",
     ]
-    lines += _main_table(rows)
-    lines += _step_tables(rows)
-    lines += _finite_body_section(rows)
-    lines += _rest_section(rows)
-    lines += _exponent_section(rows)
+    lines += adaptive_section(rows, adaptive, sawtooth, figures.get("sawtooth"))
+    lines += main_table(rows)
+    lines += step_tables(rows)
+    lines += finite_body_section(rows)
+    lines += rest_section(rows)
+    lines += exponent_section(rows)
     if benchmarks:
-        lines += _benchmark_section(benchmarks)
+        lines += benchmark_section(benchmarks)
     return "\n".join(lines).rstrip() + "\n"
+
+
+def _load(meta: dict) -> str:
+    """The machine's 1-minute load average at the start and the end of the study."""
+    start = meta.get("machine", {}).get("load_average_1min")
+    end = meta.get("machine_after", {}).get("load_average_1min")
+    if start is None or end is None:
+        return ""
+    return f", with a 1-minute load average of {start:.1f} at the start and {end:.1f} at the end"
+
+
+def _calculix() -> str:
+    """The CalculiX runs of references.toml: wall time, contact nodes and DOFs."""
+    runs = []
+    for c in REFERENCES["calculix"]:
+        dofs = f" and {c['dofs']:,} DOFs".replace(",", " ") if c.get("dofs") else ""
+        runs.append(f"{c['wall_s']:g} s with {c['contact_nodes']} contact nodes{dofs}")
+    return "; ".join(runs)
 
 
 def _speed_paragraph(rows) -> list[str]:
@@ -236,298 +260,8 @@ def _crossing_table(rows) -> list[str]:
     return [*out, ""]
 
 
-def _iterations(row) -> str:
-    return "/".join(str(row[f"iterations_{s}"]) for s in STEPS)
-
-
-def _main_table(rows) -> list[str]:
-    out = [
-        "## All runs on the scene's bodies",
-        "",
-        "Errors in % (largest over steps B–E); iterations per step A/B/C/D/E; times in s "
-        "(condense includes the LU factorisation; solve is the mean per step); memory is the "
-        "tracemalloc peak of one run in MiB.",
-        "",
-        "| family | p | pairs | DOFs | e_p max | e_q max | e_p L2 | e_q L2 | iterations "
-        "| assembly | condense | solve/step | wall | memory |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|",
-    ]
-    for key, runs in sorted(series(rows, 1.0).items()):
-        for r in runs:
-            out.append(
-                f"| {key[0]} | {key[1]} | {r['pairs']} | {r['dofs']} | {_pct(r['e_p_max'])} | "
-                f"{_pct(r['e_q_max'])} | {_pct(r['e_p_l2'])} | {_pct(r['e_q_l2'])} | "
-                f"{_iterations(r)} | {_seconds(r['assembly_s'])} | "
-                f"{_seconds(r['condensation_s'])} | {_seconds(r['steps_s'] / len(STEPS))} | "
-                f"{_seconds(r['wall_s'])} | {_mib(r['peak_memory_mib'])} |"
-            )
-    return [*out, ""]
-
-
-def _step_tables(rows) -> list[str]:
-    out = ["### Errors per step (scene's bodies, %)", ""]
-    for errors in (("e_q_max", "e_q_l2"), ("e_p_max", "e_p_l2")):
-        header = "| family | p | pairs | " + " | ".join(
-            f"{e[:3]} {e[4:]} {s}" for e in errors for s in ERROR_STEPS
-        )
-        out += [header + " |", "|---|---:|---:|" + "---:|" * (2 * len(ERROR_STEPS))]
-        for key, runs in sorted(series(rows, 1.0).items()):
-            for r in runs:
-                cells = [_pct(r[f"{e}_{s}"]) for e in errors for s in ERROR_STEPS]
-                out.append(f"| {key[0]} | {key[1]} | {r['pairs']} | " + " | ".join(cells) + " |")
-        out.append("")
-    return out
-
-
-def _finite_body_section(rows) -> list[str]:
-    large = series(rows, LARGE)
-    if not large:
-        return []
-    scene = series(rows, 1.0)
-    out = [
-        "## Finite bodies against half-plane theory",
-        "",
-        f"The scene's bodies are {CattaneoMindlinScene().width:g} mm wide, about 20 contact "
-        "half-widths; the theory is for half-planes. The same discretisations on bodies "
-        f"{LARGE:g}× larger (width {LARGE * CattaneoMindlinScene().width:g} mm, height "
-        f"{LARGE * CattaneoMindlinScene().height:g} mm) separate the finite-body effect from "
-        "the discretisation error. Errors in % (largest over steps B–E), scene → larger.",
-        "",
-        "| family | p | pairs | e_p max | e_p L2 | e_q max | e_q L2 |",
-        "|---|---:|---:|---:|---:|---:|---:|",
-    ]
-    for key, runs in sorted(large.items()):
-        base = {r["pairs"]: r for r in scene.get(key, [])}
-        for r in runs:
-            b = base.get(r["pairs"])
-            cells = [
-                f"{_pct(b[e]) if b else '–'} → {_pct(r[e])}"
-                for e in ("e_p_max", "e_p_l2", "e_q_max", "e_q_l2")
-            ]
-            out.append(f"| {key[0]} | {key[1]} | {r['pairs']} | " + " | ".join(cells) + " |")
-    finest = [
-        (key, runs[-1], {r["pairs"]: r for r in scene.get(key, [])}.get(runs[-1]["pairs"]))
-        for key, runs in large.items()
-    ]
-    finest = [(k, r, b) for k, r, b in finest if b is not None]
-    if finest:
-        dl2 = [b["e_p_l2"] - r["e_p_l2"] for _, r, b in finest]
-        dmax = [b["e_p_max"] - r["e_p_max"] for _, r, b in finest]
-        out += [
-            "",
-            f"At the finest level ({finest[0][1]['pairs']} pairs) the L2 pressure error is "
-            + ", ".join(
-                f"{_pct(b['e_p_l2'])} → {_pct(r['e_p_l2'])} % ({family_label(k)})"
-                for k, r, b in sorted(finest)
-            )
-            + f" on the scene's → larger bodies (a difference of {_pct(min(dl2), 2)} to "
-            f"{_pct(max(dl2), 2)} % of p0), and the largest pressure error changes by "
-            f"{_pct(min(dmax), 2)} to {_pct(max(dmax), 2)} % of p0. The part of the scene's "
-            "error that enlarging the bodies removes is the finite-body effect, which no "
-            "refinement of the contact zone removes. The largest errors sit at the contact "
-            "edges and stick–slip boundaries, where the exact traction has a square-root or "
-            "kink singularity, and need not fall monotonically with refinement.",
-        ]
-    out += ["", _monotonic_sentence(rows)]
-    return [*out, ""]
-
-
-def _falls(values: Sequence[float]) -> bool:
-    return all(b < a for a, b in itertools.pairwise(values))
-
-
-def _monotonic_sentence(rows) -> str:
-    """Which error series fall at every level, from 31 pairs on, per body size."""
-    parts = []
-    for bodies, where in ((1.0, "the scene's bodies"), (LARGE, f"the {LARGE:g}× bodies")):
-        runs = {k: [r for r in v if r["pairs"] >= 31] for k, v in series(rows, bodies).items()}
-        runs = {k: v for k, v in runs.items() if len(v) >= 3}
-        if not runs:
-            continue
-        for error in ("e_q_l2", "e_q_max"):
-            falling = [
-                family_label(k) for k, v in sorted(runs.items()) if _falls([r[error] for r in v])
-            ]
-            name = "L2" if error == "e_q_l2" else "largest"
-            parts.append(
-                f"on {where} the {name} shear error falls at every level from 31 pairs for "
-                + (", ".join(falling) if falling else "no family")
-                + f" (of {len(runs)})"
-            )
-    return ("Monotonic convergence: " + "; ".join(parts) + ".") if parts else ""
-
-
-def _factors(rows) -> str:
-    return ", ".join(f"×{f:g}" for f in sorted({r["rest"] for r in rows}))
-
-
-def _rest_section(rows) -> list[str]:
-    checks = [r for r in rows if r["rest"] != 1]
-    if not checks:
-        return []
-    out = [
-        "## Refinement of the rest of the bodies",
-        "",
-        "The contact zone is kept; the element counts of the flanks, sides and top/bottom "
-        "(scene: 16, 12, 12 per body) are scaled. Change of the tractions at any pair and step "
-        "against the scene's refinement, in % of p0 (pressure) and of f p0 (shear):",
-        "",
-        "| family | p | pairs | rest × | DOFs | change p | change q | e_q max | e_q L2 |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|",
-    ]
-    for r in sorted(checks, key=lambda r: (r["family"], r["degree"], r["pairs"], r["rest"])):
-        out.append(
-            f"| {r['family']} | {r['degree']} | {r['pairs']} | {r['rest']:g} | {r['dofs']} | "
-            f"{_pct(r['rest_change_p'], 4)} | {_pct(r['rest_change_q'], 4)} | "
-            f"{_pct(r['e_q_max'])} | {_pct(r['e_q_l2'])} |"
-        )
-    finer = [r for r in checks if r["rest"] > 1]
-    coarser = [r for r in checks if r["rest"] < 1]
-    if finer:
-        worst = max(max(r["rest_change_p"], r["rest_change_q"]) for r in finer)
-        out += [
-            "",
-            f"Refining the rest further ({_factors(finer)}) "
-            f"changes no traction by more than {_pct(worst, 3)} % of p0 (or f p0)",
-        ]
-        if coarser:
-            worst_c = max(max(r["rest_change_p"], r["rest_change_q"]) for r in coarser)
-            out[-1] += (
-                f"; coarsening it ({_factors(coarser)}) changes them by up to {_pct(worst_c, 3)} %"
-            )
-        out[-1] += "."
-    return [*out, ""]
-
-
-def _exponent_section(rows) -> list[str]:
-    out = [
-        "## Fitted exponents",
-        "",
-        "Least-squares slopes of log(error) against log(pairs) (the zone's element size is "
-        "2 × 1.5 a / pairs), over all levels and, in brackets, from 61 pairs on; negative is "
-        "converging. The max errors are dominated by single nodes at the contact edges and "
-        "stick–slip boundaries, so their slopes are rough. The last two columns are slopes "
-        "against DOFs: of the L2 shear error (from 61 pairs on) and of the wall time.",
-        "",
-        "| bodies | family | p | e_p max | e_q max | e_p L2 | e_q L2 | e_q L2 vs DOFs "
-        "| wall vs DOFs |",
-        "|---|---|---:|---:|---:|---:|---:|---:|---:|",
-    ]
-    for bodies in (1.0, LARGE):
-        tails = exponents(rows, bodies, min_pairs=PAPER_PAIRS)
-        for key, fit in sorted(exponents(rows, bodies).items()):
-            if math.isnan(fit["e_q_l2_pairs"]):
-                continue
-            tail = tails.get(key, {})
-            cells = [
-                f"{fit[f'{e}_pairs']:.2f} ({tail.get(f'{e}_pairs', math.nan):.2f})" for e in ERRORS
-            ]
-            out.append(
-                f"| ×{bodies:g} | {key[0]} | {key[1]} | "
-                + " | ".join(cells)
-                + f" | {tail.get('e_q_l2_dofs', math.nan):.2f} | {fit['wall_dofs']:.2f} |"
-            )
-    return [*out, ""]
-
-
-def _benchmark_section(runs: Sequence[dict]) -> list[str]:
-    """Benchmark medians of one or more ``benchmarks/performance.py --json`` files."""
-    runs = [runs] if isinstance(runs, dict) else list(runs)
-    out = ["## Performance budget", ""]
-    m = runs[0].get("machine", {})
-    out += [
-        f"`benchmarks/performance.py` on {m.get('cores')} cores, {m.get('processor')}, "
-        f"Python {m.get('python')}, numpy {m.get('numpy')}; medians of at least 5 runs. "
-        "Columns: the BLAS thread setting and the machine's 1-minute load average at the start "
-        "(the machine was shared).",
-        "",
-    ]
-    labels = [
-        f"{_threads(r['machine'])}, load {r['machine'].get('load_average_1min', math.nan):.1f}"
-        for r in runs
-    ]
-    out += [
-        "| benchmark | target | " + " | ".join(labels) + " |",
-        "|---|---:|" + "---:|" * len(runs),
-    ]
-    order: dict[str, dict] = {}
-    for r in runs:
-        for item in r.get("results", []):
-            order.setdefault(item["key"], item)
-    for key, first in order.items():
-        unit = first.get("unit", "s")
-        target = first.get("target")
-        cells = []
-        for r in runs:
-            item = next((i for i in r.get("results", []) if i["key"] == key), None)
-            if item is None:
-                cells.append("–")
-                continue
-            verdict = ""
-            if target is not None:
-                verdict = " ✓" if item["median"] <= target else " **missed**"
-            value = f"{item['median']:.0f}" if unit == "MiB" else f"{item['median']:.3g}"
-            cells.append(f"{value} {unit}{verdict}")
-        out.append(
-            f"| {first['name']} | {'–' if target is None else f'≤ {target:g} {unit}'} | "
-            + " | ".join(cells)
-            + " |"
-        )
-    for key, first in order.items():
-        target = first.get("target")
-        if target is None:
-            continue
-        missed = [
-            label
-            for label, r in zip(labels, runs, strict=True)
-            for item in r.get("results", [])
-            if item["key"] == key and item["median"] > target
-        ]
-        if missed:
-            out += ["", f"Target missed: {first['name']} with {'; '.join(missed)}."]
-    if len({_threads(r["machine"]) for r in runs}) > 1:
-        out += [
-            "",
-            "The columns differ in the environment's BLAS thread setting. With OpenBLAS's "
-            "default (one thread per core) every dense solve is split across both cores; when "
-            "another process occupies one of them, each call waits for the descheduled helper "
-            "thread, and the small solves of the contact iteration became one to two orders "
-            "of magnitude slower (1.65 s for the 61-pair cycle on a loaded machine). The "
-            "Newton iteration therefore limits BLAS to one thread itself (threadpoolctl), "
-            "which costs little at these matrix sizes and makes the two columns agree; the "
-            "environment setting still governs assembly and factorisation.",
-        ]
-    for r in runs:
-        for item in r.get("results", []):
-            if item["key"] == "assembly_largest" and "series" in item:
-                sizes = ", ".join(
-                    f"{p['dofs']} DOFs {statistics.median(p['times']):.3g} s"
-                    for p in item["series"]
-                )
-                out += [
-                    "",
-                    f"Assembly of one body ({_threads(r['machine'])}): {sizes}; fitted exponent "
-                    f"{item['exponent']:.2f} over all sizes, {item['exponent_upper_half']:.2f} "
-                    "over the upper half.",
-                ]
-            if item["key"] == "step_481" and "series" in item:
-                sizes = ", ".join(
-                    f"{p['pairs']} pairs {1e3 * statistics.median(p['times']):.3g} ms"
-                    for p in item["series"]
-                )
-                out += [
-                    "",
-                    f"One load step on the condensed problem ({_threads(r['machine'])}): {sizes}; "
-                    f"fitted exponent {item['exponent']:.2f} against pairs.",
-                ]
-    return [*out, ""]
-
-
-def _threads(m: dict) -> str:
-    env = m.get("blas_threads_env")
-    if isinstance(env, dict) and env:
-        return ", ".join(f"{k}={v}" for k, v in env.items())
-    return "default BLAS threads"
+def _read(path: Path) -> list[dict]:
+    return read_csv(path) if path.exists() else []
 
 
 def write_results_page(
@@ -537,23 +271,30 @@ def write_results_page(
     figure_dir: str | Path | None = None,
     benchmarks: Sequence[str | Path] = (),
 ) -> Path:
-    """Read the CSV (and study.json next to it), draw the figures, write the markdown page."""
+    """Read the CSV (and study.json and the adaptive CSVs next to it), draw the figures,
+    write the markdown page."""
     csv_path, out = Path(csv_path), Path(out)
     rows = read_csv(csv_path)
     meta_path = csv_path.with_name(META_NAME)
+    adaptive_path, tooth_path = csv_path.with_name(ADAPTIVE_NAME), csv_path.with_name(SAWTOOTH_NAME)
     meta = json.loads(meta_path.read_text()) if meta_path.exists() else None
+    adaptive, tooth = _read(adaptive_path), _read(tooth_path)
     figure_dir = Path(figure_dir) if figure_dir else out.parent / out.stem
-    paths = plot_study(rows, figure_dir)
-    for source in (csv_path, meta_path):  # the page's data next to its figures
+    paths = plot_study(rows, figure_dir, adaptive) + plot_sawtooth(tooth, figure_dir)
+    for source in (csv_path, meta_path, adaptive_path, tooth_path):  # data beside figures
         target = figure_dir / source.name
         if source.exists() and source.resolve() != target.resolve():
             shutil.copyfile(source, target)
-    rel = {k: os.path.relpath(p, out.parent) for k, p in zip(FIGURES, paths, strict=True)}
+    rel = {k: os.path.relpath(figure_dir / name, out.parent) for k, name in FIGURES.items()}
+    rel = {k: v for k, v in rel.items() if figure_dir / FIGURES[k] in paths}
     if isinstance(benchmarks, (str, Path)):
         benchmarks = [benchmarks]
     bench = [json.loads(Path(b).read_text()) for b in benchmarks or ()]
     out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(results_page(rows, meta=meta, figures=rel, benchmarks=bench))
+    page = results_page(
+        rows, meta=meta, figures=rel, benchmarks=bench, adaptive=adaptive, sawtooth=tooth
+    )
+    out.write_text(page)
     return out
 
 
