@@ -117,6 +117,12 @@ def results_page(
             "",
         ]
     lines += _speed_paragraph(rows)
+    if adaptive:
+        lines += [
+            "These are the fixed-pairs runs; with the adaptive mode included the answer is in "
+            "[its section](#the-adaptive-mode) below.",
+            "",
+        ]
     lines += [
         f"![error against degrees of freedom]({figures['dofs']})",
         "",
