@@ -2,6 +2,8 @@
 
 ``draw`` is a ``functools.singledispatch`` function drawing geometry (a Boundary, a
 discretised segment, a Body, a ContactPair); plugins extend it with ``draw.register``.
+matplotlib is imported on the first figure; figures are pyplot's when pyplot is in use
+(notebooks, galleries), else plain Figures on an Agg canvas (the command line).
 """
 
 from __future__ import annotations
