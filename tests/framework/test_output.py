@@ -176,3 +176,21 @@ def test_writing_figures_and_vtk_imports_neither_pyplot_nor_pyvista(tmp_path):
     assert done.returncode == 0, done.stderr
     assert done.stdout.split("\n")[-2] == "[] True"
     assert (out / "tractions.png").is_file() and (out / "vtk" / "B_upper.vtp").is_file()
+
+
+def test_figures_join_pyplot_when_it_is_in_use(saved, tmp_path):
+    """With pyplot imported (notebooks, the docs gallery) a figure is pyplot's, so it shows
+    and is collected there; save_figures closes the ones it draws."""
+    import matplotlib.pyplot as plt
+
+    from fretbem import plot
+
+    result, _ = saved
+    fig = plot.traction_figure(result, ["B"])
+    try:
+        assert fig.number in plt.get_fignums()
+    finally:
+        plt.close(fig)
+    before = set(plt.get_fignums())
+    plot.save_figures(result, tmp_path)
+    assert set(plt.get_fignums()) == before
