@@ -46,6 +46,11 @@ class BodySystem:
         with one_blas_thread():  # a busy machine made threaded BLAS 60x slower here
             response = _solve_parameters(h, g, self.kinds, self.known, self.load_known,
                                          solves_u, self.block_dofs, self.contact_dofs)  # fmt: skip
+        del h, g
+        if contact_tags:
+            # the contact path needs neither H nor G again (every later solve is a product
+            # with the response): 2 N^2 floats per body, 512 MB at 1921 pairs, released
+            body._cache.pop("matrices", None)
         if not np.all(np.isfinite(response)):
             raise RigidMotionError(
                 f"body {body.name!r}: the collocation system is singular; check that the "
@@ -99,21 +104,16 @@ class BodySystem:
 def _solve_parameters(h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs):
     """A^-1 [z0 rhs, block columns, contact columns, load columns], A the collocation matrix.
 
-    One LU of the augmented matrix [A | parameters] (its trailing update runs as matrix
-    products, faster than a triangular solve with as many right-hand sides) and one
-    triangular solve with U; the LU itself is not kept (every later solve is a product).
+    A and the parameters are built F-ordered (LAPACK's order) and factorised and solved in
+    place, so at the peak H, G, the LU and the parameters are alive and nothing else dense.
+    A is factorised with row pivoting, not as A^T (which moved the 961-pair unknowns by
+    1.4e-9: the condensed problem amplifies round-off). The LU is not kept (NaN if singular).
     """
     size = len(kinds)
     fixed_u, fixed_t = kinds == DISPLACEMENT, kinds == TRACTION
     k = load_known.shape[0]
-    columns = 3 + len(contact_dofs) + k
-    augmented = np.empty((size, size + columns), order="F")
-    matrix, parameters = augmented[:, :size], augmented[:, size:]
-    matrix[...] = h
-    solves_t = np.flatnonzero(~solves_u)
-    matrix[:, solves_t] = -g[:, solves_t]
+    parameters = np.empty((size, 3 + len(contact_dofs) + k), order="F")
     parameters[:, 0] = g[:, fixed_t] @ known[fixed_t] - h[:, fixed_u] @ known[fixed_u]
-    parameters[:, 1:3] = 0.0
     for column in range(2):  # -h @ block columns: the block dofs of each direction summed
         dofs = block_dofs[block_dofs % 2 == column]
         parameters[:, 1 + column] = -h[:, dofs].sum(axis=1) if dofs.size else 0.0
@@ -123,12 +123,15 @@ def _solve_parameters(h, g, kinds, known, load_known, solves_u, block_dofs, cont
     else:
         parameters[:, contact] = g[:, contact_dofs]
     parameters[:, 3 + len(contact_dofs) :] = g[:, fixed_t] @ load_known[:, fixed_t].T
-    lu, _, info = sla.lapack.dgetrf(augmented, overwrite_a=True)
-    if info != 0 or not np.all(np.isfinite(np.diagonal(lu))):
-        return np.full((size, columns), np.nan)
-    # lu[:, size:] holds L^-1 P parameters; U^-1 of it, in place (both F-ordered views)
-    out = sla.blas.dtrsm(1.0, lu[:, :size], lu[:, size:], side=0, lower=0, overwrite_b=True)
-    return out.copy(order="F")  # a plain copy; the factors and H, G are not kept
+    matrix = np.asfortranarray(h)
+    solves_t = np.flatnonzero(~solves_u)
+    matrix[:, solves_t] = -g[:, solves_t]
+    lu, piv, info = sla.lapack.dgetrf(matrix, overwrite_a=True)  # A = P L U
+    del matrix
+    if info != 0:
+        return np.full(parameters.shape, np.nan)
+    out, info = sla.lapack.dgetrs(lu, piv, parameters, overwrite_b=True)
+    return out if info == 0 else np.full(parameters.shape, np.nan)
 
 
 def face_rows(body: BemBody, tag: str) -> tuple[np.ndarray, np.ndarray]:
@@ -167,22 +170,21 @@ def contact_response(body: BemBody, tag: str) -> ContactResponse:
 
     def node_values(z: np.ndarray) -> np.ndarray:
         """Displacement values (n, 2, cols) at the face nodes from unknown columns z."""
-        coefficients = z[system.contact_dofs].reshape(n, 2, z.shape[1])
-        out = np.zeros(coefficients.shape)
-        band.left(coefficients, out)
-        return out
+        return band.left(z[system.contact_dofs].reshape(n, 2, z.shape[1]))
 
-    # Z (C x I2) on the face and block rows: solve E^T w = Z^T, Z^T with the node axis first
+    # Z (C x I2) on the face and block rows: solve E^T w = Z^T, Z^T with the node axis first;
+    # built, solved and multiplied in place, so two face-sized arrays at most are alive
     rows = np.concatenate([system.contact_dofs, system.block_dofs])
-    selected = system.contact_response.T.reshape(n, 2, -1)[:, :, rows]  # [node a, j, row]
-    w = band.solve_transposed(selected.transpose(2, 1, 0).reshape(-1, n).T)
-    del selected
-    by_row = w.T.reshape(len(rows), 2, n)  # [row, traction component j, node b]
-    values = np.zeros((n, 2, 2, n))  # [node b', component j', component j, node b]
-    band.left(by_row[: 2 * n].reshape(n, 2, 2, n), values)
+    by_node = system.contact_response.T.reshape(n, 2, -1)  # [node a, component j, row]
+    transposed = np.empty((len(rows), 2, n))  # [row, j, node a]: E^T's right-hand sides
+    for chunk in _chunks(len(rows)):
+        transposed[chunk] = by_node[:, :, rows[chunk]].transpose(2, 1, 0)
+    by_row = band.solve_transposed(transposed.reshape(-1, n).T).T.reshape(len(rows), 2, n)
+    block_rows = by_row[2 * n :].transpose(0, 2, 1).reshape(-1, 2 * n)  # [row, (b, j)]
+    values = band.left(by_row[: 2 * n].reshape(n, 2, 2, n))  # [node b', j', j, node b]
+    del transposed, by_row
     traction_map = values.transpose(0, 1, 3, 2).reshape(n, 2, 2 * n)
-    block_rows = by_row[2 * n :].transpose(0, 2, 1).reshape(-1, 2 * n)
-    del w, by_row, values
+    del values
     face_weights = body.resultant_weights()[face_rows(body, tag)[1]]
     weights = band.solve_transposed(face_weights[:, None].copy(order="F"))[:, 0]
     contact_force = np.zeros((2, 2 * n))
@@ -213,6 +215,11 @@ def contact_response(body: BemBody, tag: str) -> ContactResponse:
     )
 
 
+def _chunks(size: int, step: int = 512):
+    """Slices of ``step`` covering range(size)."""
+    return [slice(start, min(start + step, size)) for start in range(0, size, step)]
+
+
 class _Band:
     """A banded square matrix E: products E @ x along the first axis and solves with E^T."""
 
@@ -223,16 +230,20 @@ class _Band:
         self.lower = int(max(np.max(rows - cols, initial=0), 0))
         self.upper = int(max(np.max(cols - rows, initial=0), 0))
 
-    def left(self, x: np.ndarray, out: np.ndarray) -> None:
-        """out += E @ x along the first axis (out may be a strided view), diagonal by diagonal."""
+    def left(self, x: np.ndarray) -> np.ndarray:
+        """E @ x along the first axis, diagonal by diagonal, in column blocks (the products'
+        temporaries stay small)."""
         n = self.size
-        shape = (-1,) + (1,) * (x.ndim - 1)
-        for d in range(-self.lower, self.upper + 1):  # E[i, i + d]
-            diagonal = np.diagonal(self.matrix, d).reshape(shape)
-            if d >= 0:
-                out[: n - d] += diagonal * x[d:]
-            else:
-                out[-d:] += diagonal * x[: n + d]
+        shape, x = x.shape, x.reshape(n, -1)
+        out = np.zeros(x.shape)
+        for block in _chunks(x.shape[1]):
+            for d in range(-self.lower, self.upper + 1):  # E[i, i + d]
+                diagonal = np.diagonal(self.matrix, d)[:, None]
+                if d >= 0:
+                    out[: n - d, block] += diagonal * x[d:, block]
+                else:
+                    out[-d:, block] += diagonal * x[: n + d, block]
+        return out.reshape(shape)
 
     def solve_transposed(self, rhs: np.ndarray) -> np.ndarray:
         """E^-T rhs for rhs (n, cols), in place when rhs is F-ordered."""
