@@ -88,18 +88,24 @@ class _Maps:
                    np.max(np.abs(x), initial=0.0))  # fmt: skip
         return out, size
 
-    def rows(self, pattern: _Pattern, index: np.ndarray, x: np.ndarray) -> np.ndarray:
-        """Rows ``index`` (pair rows only, < 2 n) of J on ``pattern`` times x (n_x, cols)."""
+    def rows(self, pattern: _Pattern, index: np.ndarray, x: np.ndarray, dense=None):
+        """Rows ``index`` (pair rows only, < 2 n) of J on ``pattern`` times x (n_x, cols).
+
+        ``dense`` (len(index), cols), if given, holds N_i x (normal rows) or T_i x
+        (tangential rows) for every index row, computed beforehand.
+        """
         n = self.n
         out = np.empty((index.size, *x.shape[1:]))
         normal = index < n
         pos, pairs = np.flatnonzero(normal), index[normal]
         touching = pattern.contact[pairs]
-        out[pos[touching]] = self.r_n * (self.normal[pairs[touching]] @ x)
+        dense_normal = self.normal[pairs[touching]] @ x if dense is None else dense[pos[touching]]
+        out[pos[touching]] = self.r_n * dense_normal
         out[pos[~touching]] = x[pairs[~touching]]
         pos, pairs = np.flatnonzero(~normal), index[~normal] - n
         stick, slip = pattern.stick[pairs], pattern.slip[pairs]
-        out[pos[stick]] = -self.r_t * (self.tangential[pairs[stick]] @ x)
+        dense_stick = self.tangential[pairs[stick]] @ x if dense is None else dense[pos[stick]]
+        out[pos[stick]] = -self.r_t * dense_stick
         ps = pairs[slip]
         out[pos[slip]] = x[n + ps] - _column(pattern.coeff[ps], x) * x[ps]
         sep = ~(stick | slip)
@@ -148,6 +154,7 @@ class _Factor:
         self.known = np.concatenate([sep, n + sep, n + np.flatnonzero(pattern.slip)])
         self.bordered = np.zeros(0, dtype=int)  # rows with a kept column J^-1 e_row
         self.columns = np.empty((maps.n_x, 0), order="F")
+        self.dense, self.dense_columns = np.empty((0, maps.n_x)), np.empty((0, 0))
 
     @property
     def size(self) -> int:
@@ -183,24 +190,40 @@ class _Factor:
         y[n + slipping] += _column(pattern.coeff[slipping], u) * dp[self.slip_in_c]
         return y
 
-    def border(self, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The rows bordered so far, ``rows`` added, and J^-1 e_r for each (n_x, count).
+    def border(self, rows: np.ndarray):
+        """The bordered rows (``rows`` added), J^-1 e_r of each (n_x, r), their N or T rows
+        (r, n_x) and those rows times the columns (r, r).
 
-        Columns are computed once per row and kept; a row whose pattern row is back to this
+        All are computed once per row and kept; a row whose pattern row is back to this
         factor's costs nothing in the bordered solve, so every kept row stays in the border.
         """
         missing = rows[~np.isin(rows, self.bordered)]
         if missing.size:
-            units = np.zeros((self.maps.n_x, missing.size))
+            maps, count = self.maps, self.bordered.size
+            new = count + missing.size
+            if new > self.columns.shape[1]:
+                self._grow(2 * new)
+            units = np.zeros((maps.n_x, missing.size))
             units[missing, np.arange(missing.size)] = 1.0
-            count = self.bordered.size
-            if count + missing.size > self.columns.shape[1]:
-                grown = np.empty((self.maps.n_x, 2 * (count + missing.size)), order="F")
-                grown[:, :count] = self.columns[:, :count]
-                self.columns = grown
-            self.columns[:, count : count + missing.size] = self.solve(units)
+            self.columns[:, count:new] = self.solve(units)
+            normal = missing < maps.n
+            dense = self.dense[count:new]
+            dense[normal] = maps.normal[missing[normal]]
+            dense[~normal] = maps.tangential[missing[~normal] - maps.n]
+            self.dense_columns[:count, count:new] = self.dense[:count] @ self.columns[:, count:new]
+            self.dense_columns[count:new, :new] = dense @ self.columns[:, :new]
             self.bordered = np.concatenate([self.bordered, missing])
-        return self.bordered, self.columns[:, : self.bordered.size]
+        r = self.bordered.size
+        return self.bordered, self.columns[:, :r], self.dense[:r], self.dense_columns[:r, :r]
+
+    def _grow(self, capacity: int) -> None:
+        count, n_x = self.bordered.size, self.maps.n_x
+        columns = np.empty((n_x, capacity), order="F")
+        dense, dense_columns = np.empty((capacity, n_x)), np.empty((capacity, capacity))
+        columns[:, :count] = self.columns[:, :count]
+        dense[:count] = self.dense[:count]
+        dense_columns[:count, :count] = self.dense_columns[:count, :count]
+        self.columns, self.dense, self.dense_columns = columns, dense, dense_columns
 
 
 def _flat(values: np.ndarray) -> np.ndarray:
@@ -241,10 +264,11 @@ class NewtonLinear:
         y = self.factor.solve(b)
         if differing.size == 0:
             return y
-        rows, columns = self.factor.border(differing)
+        rows, columns, dense, dense_columns = self.factor.border(differing)
         try:
-            schur = self.maps.rows(pattern, rows, columns)
-            dx = _bordered(schur, columns, self.maps.rows(pattern, rows, y) - b[rows], y)
+            schur = self.maps.rows(pattern, rows, columns, dense_columns)
+            mismatch = self.maps.rows(pattern, rows, y, dense @ y) - b[rows]
+            dx = _bordered(schur, columns, mismatch, y)
             for refinement in range(2):  # accept, refine once, or refactorise
                 applied, size = self.maps.apply(pattern, dx)
                 defect = b - applied
@@ -252,9 +276,8 @@ class NewtonLinear:
                     return dx
                 if refinement == 0:
                     y = self.factor.solve(defect)
-                    dx += _bordered(
-                        schur, columns, self.maps.rows(pattern, rows, y) - defect[rows], y
-                    )
+                    mismatch = self.maps.rows(pattern, rows, y, dense @ y) - defect[rows]
+                    dx += _bordered(schur, columns, mismatch, y)
         except np.linalg.LinAlgError:
             pass
         return self._refactor(pattern, b)
