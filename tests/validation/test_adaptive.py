@@ -1,7 +1,9 @@
 """Adaptive contact meshes and the two-level error estimate (issue 12).
 
 Tolerances are the errors measured on the shared 2-core machine (November 2026) plus a
-margin; see docs/explanation/adaptive.rst for the numbers and what is not yet reached.
+margin, or the issue's targets where the measurement is below them; see
+docs/explanation/adaptive.rst for the numbers (benchmarks/adaptive_sawtooth.py,
+benchmarks/adaptive_estimator.py) and what is not reached.
 """
 
 from __future__ import annotations
@@ -134,31 +136,86 @@ def test_transitions_found_near_the_closed_form(pairs):
     np.testing.assert_allclose(found[1:-1], exact[1:-1], atol=2.5e-2 * a)
 
 
-def test_adaptive_run_reference_scene():
-    """Budget 61 on the reference scene: measured e_p 0.71 %, e_q 1.88 %, e_q L2 0.28 %."""
-    out = adaptive.run_adaptive(cattaneo_mindlin(pairs=31), adaptive.AdaptiveSettings(budget=61))
-    assert out.result.steps[0].x.size <= 61
-    e = worst(out.result)
-    assert e["e_p_max"] < 0.009
-    assert e["e_q_max"] < 0.022
-    assert e["e_q_l2"] < 0.0035
-    assert set(out.estimate) == {s.name for s in out.result.steps}
-    for name, est in out.estimate.items():
-        assert set(est) == set(KEYS)
-        true = out.result[name].errors
-        # the estimate does not miss a large error: never below half the true max error
-        for key in ("e_p_max", "e_q_max"):
-            if true[key] > 1e-3:
-                assert est[key] > 0.5 * true[key], (name, key, est[key], true[key])
+LARGE = {"width": 26.0, "height": 65.0}
 
 
-def test_edge_knot_carries_no_pressure_after_correction():
-    """The edge iteration brings the pressure at the point on each edge knot to ~0: the
-    knot sits on the discrete contact edge (P = 250: 0.9981 a, half-plane a = 1)."""
-    load = 250.0
-    simulation = cattaneo_mindlin(
-        pairs=31, normal=load, tangential=(0.0, 0.18 * load, 0.0, -0.18 * load, 0.0)
+def scene(basis: str = "nurbs", **overrides):
+    """The reference cycle (Q = 0.6 f P) with overrides; LARGE: a body where half-plane
+    theory holds at P = 250 and R = 140 (the 6.5 mm body's a / w = 0.08 changes p by 5 %)."""
+    load = overrides.get("normal", 100.0)
+    q = 0.6 * overrides.get("friction", 0.3) * load
+    return cattaneo_mindlin(pairs=31, basis=basis, tangential=(0.0, q, 0.0, -q, 0.0), **overrides)
+
+
+def adaptive_worst(budget: int, basis: str = "nurbs", **overrides):
+    out = adaptive.run_adaptive(scene(basis, **overrides), adaptive.AdaptiveSettings(budget=budget))
+    return out, worst(out.result)
+
+
+def meets_targets(out, e) -> bool:
+    return (
+        out.result.steps[0].x.size <= 61
+        and e["e_p_max"] <= 0.01
+        and e["e_q_max"] <= 0.02
+        and e["e_q_l2"] <= 0.005
     )
+
+
+def test_adaptive_run_reference_scene():
+    """Budget 61 on the reference scene: measured e_p 0.81 %, e_q 0.94 %, e_q L2 0.19 %
+    (levels 31 uniform, 31 aligned, 61 aligned settled)."""
+    out, e = adaptive_worst(61)
+    assert meets_targets(out, e), e
+    assert out.levels[0].steps[0].x.size == 31
+    assert set(out.estimate) == {s.name for s in out.result.steps}
+    for est in out.estimate.values():
+        assert set(est) == set(KEYS)
+    # every knot settled on its discrete transition: measured 0.5e-3 a
+    a = out.result.simulation.reference.hertz.half_width
+    moves = np.concatenate(adaptive.knot_moves(out.result, out.transitions[-1]))
+    assert np.max(np.abs(moves)) < 2e-3 * a
+
+
+@pytest.mark.parametrize(
+    ("offset", "kind"),
+    [(0.02, "boundary"), (-0.02, "boundary"), (0.005, "boundary"), (-0.005, "boundary")],
+)
+def test_knot_moves_point_back_to_the_transition_from_both_sides(offset, kind):
+    """A stick-slip knot put off the exact c' (outward: in slip; inward: in stick) is sent
+    back by about the offset: measured 0.83 to 1.14 times it (61 pairs)."""
+    simulation = scene()
+    exact = exact_transitions(simulation)
+    a = simulation.reference.hertz.half_width
+    moved = exact[1:-1] + np.array([-1, 0, 0, 1]) * offset * a  # c' out (offset > 0) or in
+    found = adaptive.Transitions(exact[[0, -1]] * 1.001, moved)
+    result = run(adaptive.aligned(simulation, found, 61, adaptive.AdaptiveSettings()))
+    _, moves = adaptive.knot_moves(result, found)
+    for j, side in ((0, -1), (3, 1)):
+        back = -side * np.sign(offset) * moves[j] / (abs(offset) * a)
+        assert 0.7 < back < 1.3, (j, moves[j] / a)
+
+
+def test_lagrange_edge_knot_outside_the_contact_moves_in():
+    """Quadratic Lagrange, edge knots 2 % of a outside: the gap sends them back in (the
+    former edge iteration moved knots outward only); measured 0.026 a in (about 0.02 a
+    to the discrete edge and its margin); 1 % inside, the pressure sends them 0.0097 a out."""
+    simulation = scene("lagrange2")
+    exact = exact_transitions(simulation)
+    a = simulation.reference.hertz.half_width
+    found = adaptive.Transitions(exact[[0, -1]] * 1.02, exact[1:-1])
+    result = run(adaptive.aligned(simulation, found, 41, adaptive.AdaptiveSettings()))
+    edges, _ = adaptive.knot_moves(result, found)
+    np.testing.assert_allclose(edges / a, [0.026, -0.026], atol=0.008)
+    found = adaptive.Transitions(exact[[0, -1]] * 0.99, exact[1:-1])
+    result = run(adaptive.aligned(simulation, found, 41, adaptive.AdaptiveSettings()))
+    edges, _ = adaptive.knot_moves(result, found)
+    np.testing.assert_allclose(edges / a, [-0.0097, 0.0097], atol=0.004)
+
+
+def test_edge_knot_carries_no_pressure_after_settling():
+    """The settled edge knots sit on the discrete contact edge (P = 250, finite bodies:
+    0.998 a): their points carry no pressure (measured 0: separated, just outside)."""
+    simulation = scene(normal=250.0)
     out = adaptive.run_adaptive(simulation)
     p0 = simulation.reference.hertz.peak_pressure
     knots = adaptive.knot_pressures(out.result, out.transitions[-1].edges)
@@ -173,62 +230,131 @@ def test_estimate_of_identical_levels_is_zero_and_order_is_checked():
     with pytest.raises(estimate.EstimateInputError, match="fine level"):
         estimate.estimate_errors(result, result)
     assert estimate.richardson_factor(31, 61) == pytest.approx(1 / ((61 / 31) ** 3 - 1))
+    assert estimate.carry_factor(31, 61) == pytest.approx((31 / 61) ** 2)
 
 
-def _reference_with_load(load: float):
-    q = 0.18 * load
-    return cattaneo_mindlin(pairs=31, normal=load, tangential=(0.0, q, 0.0, -q, 0.0))
+def test_estimate_against_the_discretisation_error():
+    """On the large body half-plane theory holds (reference body: 0.5 % of p0 of the error
+    at 61 pairs is the finite bodies', which no estimate of the discretisation sees): the
+    estimate over the true error at budget 61 measured 0.96 (p max), 1.44 (p L2), 0.72
+    (q L2) and 0.34 (q max: the q peak is where a knot sits a little off the exact
+    stick-slip boundary, which does not fall with the pair count)."""
+    out, e = adaptive_worst(61, **LARGE)
+    est = {k: max(v[k] for v in out.estimate.values()) for k in KEYS}
+    for key in ("e_p_max", "e_p_l2", "e_q_l2"):
+        assert 0.5 <= est[key] / e[key] <= 2.0, (key, est[key], e[key])
+    assert 0.25 <= est["e_q_max"] / e["e_q_max"] <= 2.0
 
 
-@pytest.mark.parametrize("budget", [41, 81])
-def test_adaptive_meets_the_targets_at_budgets_off_the_lucky_counts(budget):
-    """41 put a node on the edge in the fixed mode (6.05 %); measured adaptive: 41: e_p
-    0.72 %, e_q 1.10 %, e_q L2 0.24 %; 81 stops at 61 pairs (estimate 1.85 % < 2 %)."""
-    out = adaptive.run_adaptive(
-        _reference_with_load(100.0), adaptive.AdaptiveSettings(budget=budget)
-    )
-    e = worst(out.result)
+@pytest.mark.parametrize(
+    ("budget", "basis", "overrides"),
+    [
+        (31, "nurbs", {}),
+        (35, "nurbs", {}),
+        (45, "nurbs", {}),
+        (81, "nurbs", {}),
+        (51, "nurbs", {"radius": 35.0}),
+        (41, "nurbs", {"normal": 250.0, **LARGE}),
+        (61, "lagrange2", {}),
+    ],
+)
+def test_adaptive_meets_the_targets_on_a_subset(budget, basis, overrides):
+    """A few budgets off the lucky counts (fixed mode at 45 pairs: e_q 11 %), a variant
+    and Lagrange; the full sweeps are the slow tests below."""
+    out, e = adaptive_worst(budget, basis, **overrides)
+    assert meets_targets(out, e), e
+
+
+# -- slow sweeps (docs/explanation/adaptive.rst has the measured tables) ---------------------
+#: (variant, budget) -> (e_p max, e_q max, e_q L2) bounds where the targets are missed:
+#: measured plus about 5 %, the reasons in docs/explanation/adaptive.rst ("Where it stands")
+MISSES = {
+    ("P60", 36): (0.0118, 0.0118, 0.005),  # 1.12 %: the discretisation itself at 36 pairs
+    ("P100", 36): (0.0114, 0.0114, 0.005),  # 1.08 % (BEM 1.08 %)
+    ("P100", 37): (0.0106, 0.0106, 0.005),  # 1.004 % (BEM 1.00 %)
+    ("P175-large", 36): (0.0123, 0.0123, 0.005),  # 1.17 %
+    ("P250-large", 36): (0.0123, 0.0123, 0.005),  # 1.17 %
+    ("f0.5", 37): (0.0106, 0.0106, 0.005),  # 1.004 %, as P100
+    ("zone1.3", 33): (0.0123, 0.0123, 0.005),  # 1.17 %
+    ("zone2.0", 33): (0.01, 0.0333, 0.005),  # e_q 3.17 %: c' found 6 % of a off (coarse zone)
+    ("zone2.0", 37): (0.01, 0.0332, 0.005),  # e_q 3.16 %
+    ("zone2.0", 39): (0.01, 0.049, 0.0058),  # e_q 4.67 %, e_q L2 0.55 %
+    ("zone2.0", 61): (0.01, 0.0233, 0.005),  # e_q 2.22 %
+}
+
+
+def check(label: str, budget: int, out, e) -> None:
+    """The targets, or the measured bounds of a documented miss."""
+    p, q, q_l2 = MISSES.get((label, budget), (0.01, 0.02, 0.005))
     assert out.result.steps[0].x.size <= 61
-    assert e["e_p_max"] <= 0.01 and e["e_q_max"] <= 0.02 and e["e_q_l2"] <= 0.005
+    assert e["e_p_max"] <= p and e["e_q_max"] <= q and e["e_q_l2"] <= q_l2, e
+
+
+LOADS = {
+    "P60": {"normal": 60.0},
+    "P100": {},
+    "P175-large": {"normal": 175.0, **LARGE},
+    "P250-large": {"normal": 250.0, **LARGE},
+}
+VARIANTS = {
+    "R35": {"radius": 35.0},
+    "R140-large": {"radius": 140.0, **LARGE},
+    "f0.5": {"friction": 0.5},
+    "zone1.3": {"zone": 1.3},
+    "zone2.0": {"zone": 2.0},
+}
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("budget", range(39, 122))
-def test_adaptive_sweep_over_budgets_reference_load(budget):
-    """Budgets 39..121 on the reference scene (benchmarks/adaptive_sawtooth.py): measured
-    worst e_p 1.07 % (budgets 57, 58), e_q 1.88 %, e_q L2 0.28 %, never more than 61 pairs.
-    The e_p target of 1 % is missed by 0.07 points at 57 and 58 pairs."""
-    out = adaptive.run_adaptive(
-        _reference_with_load(100.0), adaptive.AdaptiveSettings(budget=budget)
-    )
-    e = worst(out.result)
+@pytest.mark.parametrize("budget", range(31, 122))
+@pytest.mark.parametrize("label", list(LOADS))
+def test_adaptive_sweep_over_budgets_and_loads(budget, label):
+    """Every budget 31..121 at P = 60 to 250 N/mm (175 and 250 on the large body, where
+    half-plane theory holds): the issue's targets, or the measured state of a miss."""
+    out, e = adaptive_worst(budget, **LOADS[label])
+    check(label, budget, out, e)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("budget", range(31, 62, 2))
+@pytest.mark.parametrize("label", list(VARIANTS))
+def test_adaptive_sweep_over_variants(budget, label):
+    """Other radii, friction and candidate zones, odd budgets 31..61 (larger budgets stop
+    at 61 pairs, except zone 2.0 whose estimate stays above 2 %)."""
+    out, e = adaptive_worst(budget, **VARIANTS[label])
+    check(label, budget, out, e)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("load", [175.0, 250.0])
+def test_finite_bodies_are_the_wide_contacts_error(load):
+    """On the 6.5 mm body the wide contacts miss half-plane theory by the bodies' size, not
+    the mesh: at budget 61 e_p measured 3.2 % (P = 175) and 5.5 % (P = 250) against the
+    closed form, but 0.20 % against a converged (161 pairs) BEM of the same bodies."""
+    out, e = adaptive_worst(61, normal=load)
+    reference = adaptive.run_adaptive(
+        scene(normal=load),
+        adaptive.AdaptiveSettings(budget=161, tolerance=1e-9, max_levels=4),
+    ).result
+    change = estimate.difference(out.result, reference, at="coarse")
+    bem = {k: max(d[k[2:]] for d in change) for k in KEYS}
+    assert e["e_p_max"] > 0.03  # the model error
+    assert bem["e_p_max"] < 0.0025 and bem["e_q_max"] < 0.0035, bem
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("budget", range(31, 122, 2))
+def test_adaptive_sweep_lagrange(budget):
+    """Quadratic Lagrange, odd budgets 31..121 (its faces hold odd pair counts): the
+    targets from 49 up; below, measured e_p 1.60 % at 31 and 1.00 to 1.03 % at 33 to 47,
+    e_q L2 0.46 to 0.60 % at 31 to 37 (elements twice as long as NURBS's at equal pairs)."""
+    out, e = adaptive_worst(budget, "lagrange2")
     assert out.result.steps[0].x.size <= 61
-    assert e["e_p_max"] < 0.0115 and e["e_q_max"] < 0.02 and e["e_q_l2"] < 0.005
-
-
-@pytest.mark.slow
-@pytest.mark.parametrize("budget", range(31, 39))
-def test_adaptive_small_budgets_are_reported_not_reached(budget):
-    """Budgets 31..38 cannot resolve six transitions: measured e_q max 3.7 to 5.6 %."""
-    out = adaptive.run_adaptive(
-        _reference_with_load(100.0), adaptive.AdaptiveSettings(budget=budget)
-    )
-    e = worst(out.result)
-    assert e["e_p_max"] < 0.012 and e["e_q_max"] < 0.065
-
-
-@pytest.mark.slow
-@pytest.mark.parametrize("load", [60.0, 150.0, 250.0])
-@pytest.mark.parametrize("budget", [41, 61, 81, 121])
-def test_adaptive_sweep_over_load(budget, load):
-    """Other loads: at P = 250 the BEM's own contact edge lies 0.2 % of a inside the
-    half-plane one (finite bodies) and a point on it sees 6.2 % of p0 of half-plane
-    pressure; these bounds guard the measured state (docs/explanation/adaptive.rst)."""
-    out = adaptive.run_adaptive(
-        _reference_with_load(load), adaptive.AdaptiveSettings(budget=budget)
-    )
-    e = worst(out.result)
-    assert e["e_p_max"] < 0.08 and e["e_q_max"] < 0.08
+    if budget >= 49:
+        assert meets_targets(out, e), e
+        return
+    assert e["e_p_max"] <= (0.0168 if budget == 31 else 0.0108), e
+    assert e["e_q_max"] <= 0.02 and e["e_q_l2"] <= (0.0063 if budget <= 35 else 0.005), e
 
 
 def test_table_and_summary_show_estimate_beside_true_error():
