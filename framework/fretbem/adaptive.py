@@ -95,7 +95,7 @@ class AdaptiveSettings:
     grading: float = attrs.field(default=0.06, converter=float)
     edge_peak: float | None = attrs.field(default=None, converter=attrs.converters.optional(float))
     edge_tolerance: float = attrs.field(default=2e-4, converter=float)
-    edge_iterations: int = attrs.field(default=3, converter=int)
+    edge_iterations: int = attrs.field(default=4, converter=int)
     coarse_iterations: int = attrs.field(default=1, converter=int)
 
     def for_family(self, family) -> AdaptiveSettings:
@@ -281,11 +281,26 @@ def _keep_apart(positions: np.ndarray, after: np.ndarray) -> np.ndarray:
     return out
 
 
+#: weight of a knot that still has to move outward (its point inside the transition, where
+#: the error is a square root of the distance) against one that has to move inward
+INSIDE_WEIGHT = 2.0
+
+
+def _residual(positions: np.ndarray, moves: np.ndarray) -> float:
+    """How far a level's knots are from settled: the largest move, outward moves (knot point
+    inside its transition) weighted by :data:`INSIDE_WEIGHT`."""
+    if moves.size == 0:
+        return 0.0
+    centre = 0.5 * (positions.min() + positions.max())
+    outward = np.sign(moves) == np.sign(positions - centre)
+    return float(np.max(np.abs(moves) * np.where(outward, INSIDE_WEIGHT, 1.0)))
+
+
 def settle(simulation, found: Transitions, pairs: int, settings: AdaptiveSettings, iterations: int):
     """Solve an aligned level and move its knots onto its own discrete transitions.
 
     Returns the solved levels and the transitions of each, the settled level (the one whose
-    knots would move least) last. Stops when no knot would move by more than
+    knots would move least, :func:`_residual`) last. Stops when no knot would move by more than
     ``settings.edge_tolerance`` of the contact half-width, or after ``iterations`` re-solves.
     """
     levels = [_solve(aligned(simulation, found, pairs, settings))]
@@ -293,7 +308,7 @@ def settle(simulation, found: Transitions, pairs: int, settings: AdaptiveSetting
     for k in range(iterations + 1):
         edge_moves, boundary_moves = knot_moves(levels[-1], used[-1])
         moves = np.concatenate([edge_moves, boundary_moves])
-        residual.append(float(np.max(np.abs(moves), initial=0.0)))
+        residual.append(_residual(np.concatenate([used[-1].edges, used[-1].boundaries]), moves))
         if residual[-1] <= settings.edge_tolerance * _half_width(levels[-1]) or k == iterations:
             break
         positions = np.concatenate([used[-1].edges, used[-1].boundaries])
