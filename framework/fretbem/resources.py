@@ -3,7 +3,7 @@
 The BEM matrices H and G are dense (dofs x dofs each), and the factorisation and the
 condensation hold further dense copies, so the peak memory grows as dofs^2 and the time as
 dofs^2 (assembly) plus dofs^3 (factorisation). The coefficients were measured with
-``benchmarks/resources.py`` (peak resident memory from ``resource.getrusage`` against the
+``benchmarks/resources.py`` and ``benchmarks/large_problems.py`` (peak resident memory from ``resource.getrusage`` against the
 DOFs of the reference scene) and carry a margin; they are estimates to refuse hopeless runs
 early, not predictions.
 """
@@ -17,15 +17,19 @@ import attrs
 
 from .checks import ResourceLimitError
 
-#: peak bytes per dofs^2 above the interpreter's own: 8-byte floats x 8 dense arrays.
-#: Measured 6.7 (1276 DOFs) and 5.7 (2236 DOFs) arrays' worth; 8 leaves a margin.
-BYTES_PER_DOF2 = 8 * 8
+#: peak bytes per dofs^2 above the interpreter's own: 8-byte floats x 4 dense arrays. The
+#: peak is H, G and the LU of one body with its parameter block, the other body's response
+#: and the condensed maps (H and G are released once a body's contact system is built).
+#: Measured (benchmarks/large_problems.py, peak RSS less 60 MB): 2.7 (2236 DOFs), 2.7 (4156)
+#: and 2.1 (7996) arrays' worth; 4 leaves a margin for the assembly's transients.
+BYTES_PER_DOF2 = 8 * 4
 #: memory of the interpreter with numpy, scipy and fretbem imported (measured 60 MB)
 BASE_BYTES = 100 * 2**20
-#: seconds per dofs^2 (assembly, condensation) and per dofs^3 (factorisations), fitted to
-#: 1.9 s at 1276 and 7.8 s at 2236 DOFs on a shared 2-core machine
-SECONDS_PER_DOF2 = 6.4e-7
-SECONDS_PER_DOF3 = 4.1e-10
+#: seconds per dofs^2 (assembly, condensation, steps) and per dofs^3 (factorisations),
+#: fitted to the CPU seconds of the whole cycle, 3.5 s at 4156 and 18 s at 7996 DOFs, on
+#: one BLAS thread (a busy machine stretches the wall time)
+SECONDS_PER_DOF2 = 1.2e-7
+SECONDS_PER_DOF3 = 2.0e-11
 #: refuse when the estimate exceeds this fraction of the available memory
 MEMORY_FRACTION = 0.8
 
