@@ -1,11 +1,13 @@
 """Stress figures: surface sigma_xx along the contact over the steps, and contour maps of
 sigma_xx and von Mises below the contact with the stick and slip zones marked.
 
-matplotlib is imported only when a figure is drawn (Agg backend, files only).
+matplotlib is imported only when a figure is drawn: pyplot's figure when pyplot is in use
+(notebooks, galleries), else a plain Figure on an Agg canvas (files only, no pyplot import).
 """
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -19,13 +21,24 @@ __all__ = ["plot_contour_maps", "plot_surface_sigma_xx"]
 STICK, SLIP = 1, 2
 
 
-def _pyplot():
-    import matplotlib
+def _figure(**options):
+    """A new figure (``Figure`` options): pyplot's if pyplot is in use, else a plain one."""
+    plt = sys.modules.get("matplotlib.pyplot")
+    if plt is not None:
+        return plt.figure(**options)
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
 
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
+    fig = Figure(**options)
+    FigureCanvasAgg(fig)
+    return fig
 
-    return plt
+
+def _close(fig) -> None:
+    """Release a figure that pyplot may hold."""
+    plt = sys.modules.get("matplotlib.pyplot")
+    if plt is not None:
+        plt.close(fig)
 
 
 def plot_surface_sigma_xx(
@@ -35,8 +48,8 @@ def plot_surface_sigma_xx(
 
     ``scale`` = (a, p0) plots x / a and sigma_xx / p0 instead of mm and MPa.
     """
-    plt = _pyplot()
-    fig, ax = plt.subplots(figsize=(6.4, 4.0), layout="constrained")
+    fig = _figure(figsize=(6.4, 4.0), layout="constrained")
+    ax = fig.add_subplot()
     xs, ys = (x, sigma_xx) if scale is None else (x / scale[0], sigma_xx / scale[1])
     for k, name in enumerate(steps):
         ax.plot(xs, ys[k], label=f"step {name}")
@@ -46,7 +59,7 @@ def plot_surface_sigma_xx(
     ax.legend(fontsize=8)
     ax.set_title("Surface stress $\\sigma_{xx}$ along the contact")
     fig.savefig(path, dpi=120)
-    plt.close(fig)
+    _close(fig)
     return Path(path)
 
 
@@ -73,13 +86,11 @@ def plot_contour_maps(
 ) -> Path:
     """Contours of sigma_xx and von Mises (stress (ny, nx, 4) on the grid xs x depths, depth
     downward), with the contact pairs' stick and slip zones marked on the surface."""
-    plt = _pyplot()
     from matplotlib.colors import TwoSlopeNorm
 
     width = np.ptp(xs) / max(np.ptp(depths), 1e-300)
-    fig, axes = plt.subplots(
-        2, 1, figsize=(8.0, 2 * 6.2 / width + 1.2), layout="constrained", sharex=True
-    )
+    fig = _figure(figsize=(8.0, 2 * 6.2 / width + 1.2), layout="constrained")
+    axes = fig.subplots(2, 1, sharex=True)
     fields = ((stress[..., 0], "$\\sigma_{xx}$ (MPa)", "RdBu_r"),
               (von_mises(stress), "von Mises (MPa)", "viridis"))  # fmt: skip
     for ax, (field, label, cmap) in zip(axes, fields, strict=True):
@@ -102,5 +113,5 @@ def plot_contour_maps(
     if title:
         fig.suptitle(title)
     fig.savefig(path, dpi=120)
-    plt.close(fig)
+    _close(fig)
     return Path(path)
