@@ -268,7 +268,7 @@ class NewtonLinear:
         try:
             schur = self.maps.rows(pattern, rows, columns, dense_columns)
             mismatch = self.maps.rows(pattern, rows, y, dense @ y) - b[rows]
-            dx = _bordered(schur, columns, mismatch, y)
+            dx = _exact_rows(pattern, b, _bordered(schur, columns, mismatch, y))
             for refinement in range(2):  # accept, refine once, or refactorise
                 applied, size = self.maps.apply(pattern, dx)
                 defect = b - applied
@@ -277,7 +277,7 @@ class NewtonLinear:
                 if refinement == 0:
                     y = self.factor.solve(defect)
                     mismatch = self.maps.rows(pattern, rows, y, dense @ y) - defect[rows]
-                    dx += _bordered(schur, columns, mismatch, y)
+                    dx = _exact_rows(pattern, b, dx + _bordered(schur, columns, mismatch, y))
         except np.linalg.LinAlgError:
             pass
         return self._refactor(pattern, b)
@@ -287,6 +287,18 @@ class NewtonLinear:
         self.factor = _Factor(self.maps, pattern)
         self.factorisations += 1
         return self.factor.solve(b)
+
+
+def _exact_rows(pattern: _Pattern, b: np.ndarray, dx: np.ndarray) -> np.ndarray:
+    """dx with the pattern's identity rows solved exactly, as the reduced solve does: a
+    separated pair's p and q land on exactly 0, a slipping pair's q on exactly c_i p."""
+    n = pattern.states.size
+    separated = np.flatnonzero(~pattern.contact)
+    slipping = np.flatnonzero(pattern.slip)
+    dx[separated] = b[separated]
+    dx[n + separated] = b[n + separated]
+    dx[n + slipping] = b[n + slipping] + pattern.coeff[slipping] * dx[slipping]
+    return dx
 
 
 def _bordered(schur: np.ndarray, columns: np.ndarray, mismatch: np.ndarray, y: np.ndarray):

@@ -116,4 +116,9 @@ def test_successive_patterns_through_one_factorisation(seed, m):
         expected = np.linalg.solve(jac, -residual)
         step = linear.step(residual, states, direction)
         assert np.max(np.abs(step - expected)) <= 1e-12 * np.max(np.abs(expected))
+        # a separated pair's step is exactly -F (its p lands on exactly 0), as in the
+        # reduced solve: results count pairs with p > 0
+        separated = np.flatnonzero(states == SEPARATED)
+        assert np.array_equal(step[separated], -residual[separated])
+        assert np.array_equal(step[n + separated], -residual[n + separated])
     assert linear.factorisations <= 2  # the near patterns went through the border
