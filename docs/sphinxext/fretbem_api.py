@@ -58,6 +58,7 @@ GROUPS: dict[str, tuple[str, ...]] = {
         "fretbem.report",
     ),
     "Accuracy: adaptive refinement and the error estimate": (
+        "fretbem.accuracy",
         "fretbem.adaptive",
         "fretbem.estimate",
     ),
@@ -87,6 +88,10 @@ GROUPS: dict[str, tuple[str, ...]] = {
         "fretbem.studies",
         "fretbem.studies.convergence",
         "fretbem.studies.convergence_analysis",
+        "fretbem.studies.convergence_runs",
+        "fretbem.studies.convergence_io",
+        "fretbem.studies.convergence_adaptive",
+        "fretbem.studies.convergence_figures",
         "fretbem.studies.sweep",
         "fretbem.studies.sweep_spec",
         "fretbem.studies.sweep_cases",
