@@ -180,11 +180,13 @@ def contact_response(body: BemBody, tag: str) -> ContactResponse:
     for chunk in _chunks(len(rows)):
         transposed[chunk] = by_node[:, :, rows[chunk]].transpose(2, 1, 0)
     by_row = band.solve_transposed(transposed.reshape(-1, n).T).T.reshape(len(rows), 2, n)
-    block_rows = by_row[2 * n :].transpose(0, 2, 1).reshape(-1, 2 * n)  # [row, (b, j)]
+    block_rows = by_row[2 * n :].transpose(0, 2, 1).reshape(-1, 2 * n).copy()  # [row, (b, j)]
     values = band.left(by_row[: 2 * n].reshape(n, 2, 2, n))  # [node b', j', j, node b]
-    del transposed, by_row
-    traction_map = values.transpose(0, 1, 3, 2).reshape(n, 2, 2 * n)
-    del values
+    del by_row
+    # the map goes into the right-hand sides' buffer (already in memory, at least as large)
+    traction_map = transposed.reshape(-1)[: 4 * n * n].reshape(n, 2, 2 * n)
+    traction_map.reshape(n, 2, n, 2)[...] = values.transpose(0, 1, 3, 2)
+    del values, transposed
     face_weights = body.resultant_weights()[face_rows(body, tag)[1]]
     weights = band.solve_transposed(face_weights[:, None].copy(order="F"))[:, 0]
     contact_force = np.zeros((2, 2 * n))
