@@ -3,9 +3,9 @@
 The BEM matrices H and G are dense (dofs x dofs each), and the factorisation and the
 condensation hold further dense copies, so the peak memory grows as dofs^2 and the time as
 dofs^2 (assembly) plus dofs^3 (factorisation). The coefficients were measured with
-``benchmarks/resources.py`` and ``benchmarks/large_problems.py`` (peak resident memory from ``resource.getrusage`` against the
-DOFs of the reference scene) and carry a margin; they are estimates to refuse hopeless runs
-early, not predictions.
+``benchmarks/resources.py`` and ``benchmarks/large_problems.py`` (peak resident memory from
+``resource.getrusage`` against the DOFs of the reference scene) and carry a margin; they
+are estimates to refuse hopeless runs early, not predictions.
 """
 
 from __future__ import annotations
