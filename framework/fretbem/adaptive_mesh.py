@@ -7,6 +7,7 @@ each becomes a breakpoint where the basis is only C0, which puts a collocation p
 
 from __future__ import annotations
 
+import functools
 import math
 
 import attrs
@@ -98,8 +99,10 @@ def aligned_breakpoints(
     return out
 
 
+@functools.lru_cache(maxsize=512)
 def pairs_for(family, elements: int, degree: int | None = None) -> int:
-    """Collocation points (pairs) the family puts on a face of ``elements`` elements."""
+    """Collocation points (pairs) the family puts on a face of ``elements`` elements
+    (remembered: each level asks for the same few counts)."""
     from .geometry.nurbs import NurbsCurve
 
     line = NurbsCurve.line([0, 0], [1, 0], degree=1)
