@@ -215,7 +215,16 @@ class BemBody(Body):
         key = ("system", tuple(sorted(contact_tags)))
         if key not in self._cache:
             self._cache[key] = BodySystem(self, tuple(contact_tags))
+            if contact_tags:
+                # the contact path needs neither H nor G again (every later solve is a
+                # product with the response): 2 N^2 floats, 512 MB at 1921 pairs; a later
+                # system for other contact faces re-assembles them
+                self.release_matrices()
         return self._cache[key]
+
+    def release_matrices(self) -> None:
+        """Forget H and G (assembled again if asked for): they are the body's largest arrays."""
+        self._cache.pop("matrices", None)
 
     def solve(self, loads: Mapping[str, float] | None = None) -> BodySolution:
         """Solve the body on its own (no contact): a linear elastostatic problem.

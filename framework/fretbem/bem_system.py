@@ -46,11 +46,7 @@ class BodySystem:
         with one_blas_thread():  # a busy machine made threaded BLAS 60x slower here
             response = _solve_parameters(h, g, self.kinds, self.known, self.load_known,
                                          solves_u, self.block_dofs, self.contact_dofs)  # fmt: skip
-        del h, g
-        if contact_tags:
-            # the contact path needs neither H nor G again (every later solve is a product
-            # with the response): 2 N^2 floats per body, 512 MB at 1921 pairs, released
-            body._cache.pop("matrices", None)
+        del h, g  # the body releases its own copies once this system is cached
         if not np.all(np.isfinite(response)):
             raise RigidMotionError(
                 f"body {body.name!r}: the collocation system is singular; check that the "

@@ -146,7 +146,7 @@ def test_any_names_give_safe_unique_stems(names):
 
 
 def test_resource_estimate_grows_as_dofs_squared_and_refuses_what_cannot_fit():
-    """Reproducer: --pairs 20001 (80316 DOFs) needs ~400 GB: refused up front with the
+    """Reproducer: --pairs 20001 (80316 DOFs) needs ~190 GB: refused up front with the
     estimate and the machine's free memory."""
     small, large = estimate_resources(1000, available=None), estimate_resources(2000)
     assert large.memory - small.memory == pytest.approx(3 * (small.memory - 100 * 2**20))
