@@ -219,7 +219,8 @@ class SimulationResult:
                 f"x {record.get('factor', float('nan')):.2f})"
             )
         mode = "adaptive" if record.get("mesh") == "adaptive" else "fixed"
-        return f"{mode} mesh, levels {pairs} pairs{time_text}; {source}"
+        caution = f"\ncaution: {record['caution']}" if record.get("caution") else ""
+        return f"{mode} mesh, levels {pairs} pairs{time_text}; {source}{caution}"
 
     def summary(self) -> dict:
         """Per-step errors and estimates (None where they do not apply), iterations, times,
