@@ -43,12 +43,16 @@ copy of the round-1 assembler):
   masking beats gathering), added into H and G column by column; mid, near and singular
   pairs gathered and scattered in place with `np.add.at`.
 
-`IntegrationSettings(compiled=None)` (the default) takes the compiled loops for bodies
-with at least `COMPILED_MIN_PAIRS` (400,000) point-element pairs, or once numba is loaded
-in the process. In a fresh process, importing numba and loading the cached kernels costs
-about 0.45 s (and about 50 MB), which only larger bodies repay; the 61-pair demo stays on
-numpy. What is left of the compiled path's ratio to the floor at 61 pairs is mostly the
-basis family's own evaluation (the NURBS Cox-de Boor recursion, in numpy: about half of the
+`IntegrationSettings(compiled=None)` (the default) chooses by ski rental: the numpy loops
+run until the process has spent `COMPILED_MIN_PAIRS` (400,000) point-element pairs on
+them, about what loading numba costs; from then on (at once for a body that large, or once
+numba is loaded anyway) the compiled loops run. In a fresh process, importing numba and
+loading the cached kernels costs about 0.45 s (and about 50 MB): a one-off 61-pair run
+(the demo) never pays it, a sweep, a study or an adaptive run of small bodies switches
+after a few assemblies, and no sequence of runs loses more than twice the better fixed
+choice. The in-process cycle times below are taken once the compiled loops are loaded.
+What is left of the compiled path's ratio to the floor at 61 pairs is mostly the basis
+family's own evaluation (the NURBS Cox-de Boor recursion, in numpy: about half of the
 compiled assembly's time there).
 """
 
@@ -148,8 +152,10 @@ def targets_section(data: dict) -> list[str]:
     lines = [
         "## Targets",
         "",
-        "Whole cycles (scene construction, assembly, factorisation, condensation, five steps)",
-        "in-process with one BLAS thread; the demo as a whole process. Where the alternating",
+        "Whole cycles (`run(simulation)`: assembly, factorisation, condensation, five steps;",
+        "building the simulation, geometry and discretisation, comes before it: 17 ms at 61",
+        "pairs) in-process with one BLAS thread; the demo as a whole process, with its error",
+        "estimate (a second, 31-pair level). Where the alternating",
         "run below measured a case, before and after come from it (same load, marked a);",
         "otherwise from the separate runs, whose loads differ (see above). Before: the code",
         "before this work (a dash: not re-measured; the issue reported 158 s and 2 GB at",
