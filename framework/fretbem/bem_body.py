@@ -8,6 +8,7 @@ contact response is that system condensed onto the contact face's node tractions
 from __future__ import annotations
 
 import time
+import weakref
 from collections.abc import Mapping
 
 import attrs
@@ -26,6 +27,21 @@ from .material import Material
 
 # BodySolution and BodySystem (fretbem.bem_system) are importable from here too
 __all__ = ["BemBody"]
+
+
+#: discretised segments per boundary segment, by (family, refinement): bodies re-meshed on
+#: one boundary (adaptive levels, companion levels, sweeps) discretise only what changed.
+#: Keyed by the Segment, which no Basis refers to, so a dropped boundary frees its entries.
+_DISCRETISED: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _discretised(family: type[Basis], segment, refinement: Refinement) -> Basis:
+    """``family.discretise(segment.curve, refinement)``, once per segment and refinement."""
+    per_segment = _DISCRETISED.setdefault(segment, {})
+    key = (family, refinement)
+    if key not in per_segment:
+        per_segment[key] = family.discretise(segment.curve, refinement)
+    return per_segment[key]
 
 
 @attrs.frozen(eq=False)
@@ -79,7 +95,7 @@ class BemBody(Body):
         if "segments" not in self._cache:
             family = self.family
             self._cache["segments"] = tuple(
-                family.discretise(s.curve, self.refinement.get(s.tag, Refinement()))
+                _discretised(family, s, self.refinement.get(s.tag, Refinement()))
                 for s in self.boundary.segments
             )
         return self._cache["segments"]
