@@ -15,6 +15,7 @@ import numpy as np
 
 from . import estimate
 from .basis import Refinement
+from .bem_body import discretised
 
 __all__ = ["AdaptiveError", "aligned_breakpoints", "elements_for", "pairs_for", "remesh"]
 
@@ -142,7 +143,8 @@ def remesh(
     degree = pair.upper.refinement.get(pair.upper_tag, Refinement()).degree
     family = pair.upper.family
     # the segments' own curves (not the refined ones, whose knots would be kept)
-    up_curve = pair.upper.boundary.segments[up_index].curve
+    up_segment = pair.upper.boundary.segments[up_index]
+    up_curve = up_segment.curve
     low_curve = pair.lower.boundary.segments[low_index].curve
     edges = np.zeros(0) if edges is None else np.asarray(edges, float)
     peaks = np.concatenate([np.ones(np.size(anchors)), np.full(edges.size, edge_peak)])
@@ -170,7 +172,7 @@ def remesh(
         low_bounds[0], low_bounds[-1] = 0.0, 1.0
         snap = [low_bounds[np.argmin(np.abs(low_bounds - t))] for t in low_marks]
         lower = Refinement.explicit(low_bounds, degree=degree, c0_at=snap)
-        return upper, lower, family.discretise(up_curve, upper).n_functions
+        return upper, lower, discretised(family, up_segment, upper).n_functions
 
     elements = elements_for(family, pairs, degree)
     while True:

@@ -35,7 +35,7 @@ __all__ = ["BemBody"]
 _DISCRETISED: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
-def _discretised(family: type[Basis], segment, refinement: Refinement) -> Basis:
+def discretised(family: type[Basis], segment, refinement: Refinement) -> Basis:
     """``family.discretise(segment.curve, refinement)``, once per segment and refinement."""
     per_segment = _DISCRETISED.setdefault(segment, {})
     key = (family, refinement)
@@ -95,7 +95,7 @@ class BemBody(Body):
         if "segments" not in self._cache:
             family = self.family
             self._cache["segments"] = tuple(
-                _discretised(family, s, self.refinement.get(s.tag, Refinement()))
+                discretised(family, s, self.refinement.get(s.tag, Refinement()))
                 for s in self.boundary.segments
             )
         return self._cache["segments"]
