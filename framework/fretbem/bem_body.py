@@ -26,7 +26,7 @@ from .kernels import KelvinKernel
 from .material import Material
 
 # BodySolution and BodySystem (fretbem.bem_system) are importable from here too
-__all__ = ["BemBody"]
+__all__ = ["BemBody", "discretised"]
 
 
 #: discretised segments per boundary segment, by (family, refinement): bodies re-meshed on
