@@ -260,30 +260,6 @@ def interleaved_section(data: dict) -> list[str]:
     return [*lines, ""]
 
 
-def newton_section(data: dict) -> list[str]:
-    entry = data.get("projected_reduced_newton")
-    if not entry:
-        return []
-    lines = [
-        "## The Newton step reduced to its active rows",
-        "",
-        "`fretbem._newton_linear.reduced_newton_step` eliminates separated pairs (identity",
-        "rows) and expresses slip rows through normal rows, so only the contact and stick",
-        "block is solved densely; the step equals the full Jacobian solve to round-off.",
-        f"Measured with it in place of the full solve ({entry['note']}):",
-        "",
-        "| pairs | steps, full solve (s) | steps, reduced (s) | Newton iterations | "
-        "max relative change of x |",
-        "|---|---|---|---|---|",
-    ]
-    for r in entry["rows"]:
-        lines.append(
-            f"| {r['pairs']} | {r['full']:.3g} | {r['reduced']:.3g} | {sum(r['iterations'])} "
-            f"(unchanged) | {r['max_rel_diff_x']:.1e} |"
-        )
-    return [*lines, ""]
-
-
 def halfplane_section(data: dict) -> list[str]:
     entry = data.get("halfplane")
     lines = ["## Half-plane body model against the BEM body", ""]
@@ -318,7 +294,7 @@ def write_page(json_path: str | Path, out: str | Path) -> Path:
     ]
     lines += [*EXPLANATION.splitlines(), ""]
     sections = (targets_section, interleaved_section, floor_section, phases_section)
-    for section in (*sections, memory_section, newton_section):
+    for section in (*sections, memory_section):
         lines += section(data)
     lines += halfplane_section(data)
     path = Path(out)
