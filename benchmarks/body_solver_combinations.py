@@ -8,6 +8,8 @@ warm-up; the machine's core count and load are printed first.
 
     python benchmarks/body_solver_combinations.py
     python benchmarks/body_solver_combinations.py --pairs 121 --runs 3 --json out.json
+    python benchmarks/body_solver_combinations.py --pairs 241 --runs 3 \
+        --performance docs/results/performance.json   # the performance page's comparison
 """
 
 from __future__ import annotations
@@ -55,6 +57,12 @@ def main() -> None:
     parser.add_argument("--pairs", type=int, default=61)
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--json", default=None, help="write the table to this file")
+    parser.add_argument(
+        "--performance",
+        default=None,
+        help="merge the Newton rows (BEM/BEM against half-plane/half-plane) into this "
+        'performance JSON under "halfplane" (benchmarks/performance_page.py)',
+    )
     args = parser.parse_args()
     print(
         f"{platform.platform()}, {os.cpu_count()} cores, load average "
@@ -78,6 +86,27 @@ def main() -> None:
     if args.json:
         with open(args.json, "w") as handle:
             json.dump({"pairs": args.pairs, "runs": args.runs, "rows": rows}, handle, indent=1)
+    if args.performance:
+        _merge_performance(args.performance, args.pairs, rows)
+
+
+def _merge_performance(path: str, pairs: int, rows: list[dict]) -> None:
+    """Add this pair count's Newton cycle of both body models to the performance JSON."""
+    newton = {r["bodies"]: r["cycle_s"] for r in rows if r["solver"] == "Newton"}
+    with open(path) as handle:
+        data = json.load(handle)
+    entry = data.setdefault("halfplane", {"cycle": []})
+    cycle = [r for r in entry["cycle"] if r["pairs"] != pairs]
+    cycle.append(
+        {
+            "pairs": pairs,
+            "bem": newton["BEM/BEM"],
+            "halfplane": newton["half-plane/half-plane"],
+        }
+    )
+    entry["cycle"] = sorted(cycle, key=lambda r: r["pairs"])
+    with open(path, "w") as handle:
+        json.dump(data, handle, indent=1)
 
 
 if __name__ == "__main__":

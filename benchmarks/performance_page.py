@@ -270,7 +270,15 @@ def halfplane_section(data: dict) -> list[str]:
             '"halfplane" entry (pairs, seconds of the same cycle for both body models).',
             "",
         ]
-    lines += ["| pairs | BEM body (s) | half-plane body (s) | ratio |", "|---|---|---|---|"]
+    lines += [
+        "The reference cycle with the semi-smooth Newton solver, from building the scene to",
+        "the last step (assembly included), for two BEM bodies and for two half-plane bodies",
+        "(influence coefficients, no finite bodies): in-process medians of",
+        "`benchmarks/body_solver_combinations.py --pairs N --runs 3 --performance ...`.",
+        "",
+        "| pairs | BEM body (s) | half-plane body (s) | ratio |",
+        "|---|---|---|---|",
+    ]
     for r in entry.get("cycle", []):
         lines.append(
             f"| {r['pairs']} | {r['bem']:.3g} | {r['halfplane']:.3g} | "
