@@ -7,14 +7,13 @@ each becomes a breakpoint where the basis is only C0, which puts a collocation p
 
 from __future__ import annotations
 
-import functools
 import math
 
 import attrs
 import numpy as np
 
 from . import estimate
-from .basis import Refinement
+from .basis import Refinement, face_points, points_per_element
 from .bem_body import discretised
 
 __all__ = ["AdaptiveError", "aligned_breakpoints", "elements_for", "pairs_for", "remesh"]
@@ -100,20 +99,13 @@ def aligned_breakpoints(
     return out
 
 
-@functools.lru_cache(maxsize=512)
-def pairs_for(family, elements: int, degree: int | None = None) -> int:
-    """Collocation points (pairs) the family puts on a face of ``elements`` elements
-    (remembered: each level asks for the same few counts)."""
-    from .geometry.nurbs import NurbsCurve
-
-    line = NurbsCurve.line([0, 0], [1, 0], degree=1)
-    return family.discretise(line, Refinement(elements=elements, degree=degree)).n_functions
+#: pairs a family puts on a face of that many elements (the discretisation's own count)
+pairs_for = face_points
 
 
 def elements_for(family, pairs: int, degree: int | None = None) -> int:
     """Most elements whose face has at most ``pairs`` collocation points."""
-    a, b = pairs_for(family, 4, degree), pairs_for(family, 8, degree)
-    per, extra = (b - a) / 4, a - 4 * (b - a) / 4
+    per, extra = points_per_element(family, degree)
     return max(1, math.floor((pairs - extra) / per))
 
 
@@ -179,7 +171,7 @@ def remesh(
         upper_ref, lower_ref, count = build(elements)
         if count <= pairs or elements <= 1:
             break
-        per = (pairs_for(family, 8, degree) - pairs_for(family, 4, degree)) / 4
+        per, _ = points_per_element(family, degree)
         elements -= max(1, math.ceil((count - pairs) / per))
     upper = attrs.evolve(
         pair.upper, refinement={**pair.upper.refinement, pair.upper_tag: upper_ref}

@@ -9,6 +9,7 @@ in [-1, 1]), the global numbering of the segment's coefficients, the geometry co
 
 from __future__ import annotations
 
+import functools
 from abc import ABC, abstractmethod
 from typing import ClassVar
 
@@ -297,3 +298,17 @@ class Basis(ABC):
     def collocation_matrix(self) -> np.ndarray:
         """The E matrix of the paper (eq. 5-6): coefficients to values at collocation points."""
         return self.evaluation_matrix(self.collocation_parameters)
+
+
+@functools.lru_cache(maxsize=512)
+def face_points(family: type[Basis], elements: int, degree: int | None = None) -> int:
+    """Collocation points (pairs) a family puts on a face of ``elements`` elements (cached)."""
+    line = NurbsCurve.line([0, 0], [1, 0], degree=1)
+    return family.discretise(line, Refinement(elements=elements, degree=degree)).n_functions
+
+
+def points_per_element(family: type[Basis], degree: int | None = None) -> tuple[float, float]:
+    """Collocation points per element of a family's face, and the extra ones of the face."""
+    a, b = face_points(family, 4, degree), face_points(family, 8, degree)
+    per = (b - a) / 4
+    return per, a - 4 * per

@@ -9,15 +9,13 @@ none where neither applies (the reason is kept for the report).
 
 from __future__ import annotations
 
-import functools
 import math
 
 import attrs
 
 from . import bases
 from .analytical import HertzLineContact, MindlinDeresiewicz, dundurs_beta
-from .basis import Basis, Refinement
-from .geometry.nurbs import NurbsCurve
+from .basis import Basis, Refinement, points_per_element
 from .nowell_hills import NowellHills
 from .scene_spec import Scene, SceneFileError
 
@@ -27,20 +25,9 @@ __all__ = ["CORNER_RATIO", "build", "grading_ratio", "hertz", "reference", "zone
 CORNER_RATIO = 50.0
 
 
-@functools.lru_cache(maxsize=64)
-def _points_per_element(family: type[Basis], degree: int | None) -> tuple[float, float]:
-    """Collocation points per element and the extra ones of a family's segment (cached)."""
-    line = NurbsCurve.line([0, 0], [1, 0], degree=1)
-    counts = [
-        family.discretise(line, Refinement(elements=k, degree=degree)).n_functions for k in (4, 8)
-    ]
-    per_element = (counts[1] - counts[0]) / 4
-    return per_element, counts[0] - 4 * per_element
-
-
 def zone_elements(family: type[Basis], pairs: int, degree: int | None) -> int:
     """Elements on one contact segment giving exactly ``pairs`` collocation points."""
-    per_element, extra = _points_per_element(family, degree)
+    per_element, extra = points_per_element(family, degree)
     elements = (pairs - extra) / per_element
     if elements < 1 or elements != int(elements):
         raise ValueError(
