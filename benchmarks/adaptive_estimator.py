@@ -25,7 +25,7 @@ from pathlib import Path
 
 from adaptive_sawtooth import KEYS, ratio, versus, worst
 
-from fretbem import adaptive
+from fretbem.accuracy import adaptive
 
 OUT = Path(__file__).resolve().parents[1] / "docs" / "results"
 #: a body four times the reference one (6.5 x 16.25 mm): a / w = 0.02 at P = 250
@@ -50,7 +50,7 @@ VARIANTS = (
 
 
 def scene(overrides: dict, basis: str = "nurbs"):
-    from fretbem.scenes import cattaneo_mindlin
+    from fretbem.scenes.reference import cattaneo_mindlin
 
     load = overrides.get("normal", 100.0)
     q = 0.6 * overrides.get("friction", 0.3) * load

@@ -22,8 +22,8 @@ import statistics
 import time
 from pathlib import Path
 
-from fretbem import adaptive, estimate
-from fretbem.scenes import cattaneo_mindlin
+from fretbem.accuracy import adaptive, estimate
+from fretbem.scenes.reference import cattaneo_mindlin
 from fretbem.simulation import run
 
 OUT = Path(__file__).resolve().parents[1] / "docs" / "results"

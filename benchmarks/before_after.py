@@ -41,7 +41,7 @@ def _env(tree: str) -> dict:
 
 
 def _cases(out_dir: str) -> dict:
-    demo = [sys.executable, "-m", "fretbem.cli", "demo"]
+    demo = [sys.executable, "-m", "fretbem.app.cli", "demo"]
     return {
         "demo_bare": [*demo, "--no-figures", "--no-vtk", "--out"],
         "demo_full": [*demo, "--out"],

@@ -21,11 +21,11 @@ import platform
 import statistics
 import time
 
-from fretbem import scenes
 from fretbem.halfplane.scene import MODEL, half_plane_model
+from fretbem.scenes import reference as scenes
 from fretbem.simulation import Simulation, run
-from fretbem.solver import SemiSmoothNewton
 from fretbem.solvers import LemkeSolver
+from fretbem.solvers.newton import SemiSmoothNewton
 
 MODELS = {
     "BEM/BEM": {},

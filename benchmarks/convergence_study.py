@@ -26,7 +26,7 @@ from pathlib import Path
 
 import attrs
 
-from fretbem.studies.convergence import CSV_NAME, StudyPlan, run_study
+from fretbem.studies.convergence.study import CSV_NAME, StudyPlan, run_study
 
 
 def family(text: str) -> tuple[str, int | None]:

@@ -3,7 +3,7 @@
 Each timing is one fresh process (``fretbem demo ... --out DIR``, the console script beside
 ``sys.executable``, not a pyenv shim); the modes are interleaved and the median of ``--runs``
 is printed with the load average before and after. A per-phase breakdown comes from fresh
-processes that run ``fretbem.cli.main`` with timers around the run, the figures and the VTK
+processes that run ``fretbem.app.cli.main`` with timers around the run, the figures and the VTK
 writer; floors (bare interpreter, numpy, scipy.linalg) bound what the demo can reach.
 Prints one JSON document. Usage::
 
@@ -28,23 +28,23 @@ FLOORS = {
     "python": "pass",
     "numpy": "import numpy",
     "numpy_scipy_linalg": "import numpy, scipy.linalg",
-    "fretbem_cli": "import fretbem.cli",
+    "fretbem_cli": "import fretbem.app.cli",
 }
 PHASES_CHILD = r"""
 import time
 begin = time.time()
 import json, sys
 start = time.perf_counter()
-import fretbem.cli
+import fretbem.app.cli
 import_cli = time.perf_counter() - start
 start = time.perf_counter()
 import fretbem.output, fretbem.scenes, fretbem.simulation
 import_run = time.perf_counter() - start
 start = time.perf_counter()
-import fretbem.plot
+import fretbem.output.figures
 import_plot = time.perf_counter() - start
 start = time.perf_counter()
-import fretbem.vtk_
+import fretbem.output.vtk
 import_vtk = time.perf_counter() - start
 spent = {"solve": 0.0, "figures": 0.0, "vtk": 0.0}
 
@@ -59,10 +59,10 @@ def timed(module, name, phase):
     setattr(module, name, wrapper)
 
 timed(fretbem.simulation, "run", "solve")
-timed(fretbem.plot, "save_figures", "figures")
-timed(fretbem.vtk_, "save_vtk", "vtk")
+timed(fretbem.output.figures, "save_figures", "figures")
+timed(fretbem.output.vtk, "save_vtk", "vtk")
 start = time.perf_counter()
-code = fretbem.cli.main(["demo", *sys.argv[2:], "--out", sys.argv[1]])
+code = fretbem.app.cli.main(["demo", *sys.argv[2:], "--out", sys.argv[1]])
 main = time.perf_counter() - start
 assert code == 0, code
 print(json.dumps({
@@ -78,7 +78,7 @@ def command() -> list[str]:
     script = Path(sys.executable).with_name("fretbem")
     if script.is_file():
         return [str(script)]
-    return [sys.executable, "-c", "import sys; from fretbem.cli import main; sys.exit(main())"]
+    return [sys.executable, "-c", "import sys; from fretbem.app.cli import main; sys.exit(main())"]
 
 
 def wall(argv: list[str]) -> float:

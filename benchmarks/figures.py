@@ -1,7 +1,8 @@
 """Figure time of the reference cycle against its solve time (issue 10: figures well under).
 
 Runs the demo's two families once, then draws the figures ``--repeat`` times into a temporary
-directory; the first call includes matplotlib's import (fretbem.plot loads it on first use),
+directory; the first call includes matplotlib's import (fretbem.output.figures
+loads it on first use),
 the median is over the later calls. Usage: python benchmarks/figures.py [--repeat 5]
 """
 
@@ -14,7 +15,7 @@ import time
 
 
 def main(repeat: int) -> dict:
-    from fretbem.scenes import cattaneo_mindlin
+    from fretbem.scenes.reference import cattaneo_mindlin
     from fretbem.simulation import run
 
     solves, results = [], []
@@ -23,7 +24,7 @@ def main(repeat: int) -> dict:
         results.append(run(cattaneo_mindlin(basis=basis, pairs=61)))
         solves.append(time.perf_counter() - start)
     start = time.perf_counter()
-    from fretbem import plot
+    from fretbem.output import figures as plot
 
     imports = time.perf_counter() - start
     figures = []

@@ -6,7 +6,7 @@ average noted; the machine may be shared, so compare ratios rather than seconds.
 - ``floor``: one body's H and G (the scene's pad) at 61 and 481 pairs, both families,
   against the *floor*: a numba kernel integrating every (collocation point, element) pair
   with the far-field rule straight into dense H and G, no classification and no near or
-  singular work (:func:`fretbem._compiled.dense_far_field`): the least work any assembler
+  singular work (:func:`fretbem.bem.compiled_loops.dense_far_field`): the least work any assembler
   using that rule must do. Both assembly paths are timed (numpy, compiled) when present;
 - ``cycle``: the reference five-step cycle at 61, 481, 961 (and 1921 with --large) pairs,
   per phase (assembly, factorisation, condensation, steps), against DOFs, with fitted
@@ -38,9 +38,9 @@ import time
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from fretbem import integration
-from fretbem.quadrature import QuadratureRule
-from fretbem.scenes import cattaneo_mindlin
+from fretbem.bem import integration
+from fretbem.numerics.quadrature import QuadratureRule
+from fretbem.scenes.reference import cattaneo_mindlin
 from fretbem.simulation import run
 
 FAMILIES = ("nurbs", "lagrange2")
@@ -71,7 +71,7 @@ def _assembler(body, **settings):
     given = {k: v for k, v in settings.items() if k in fields}
     config = integration.IntegrationSettings(**{**_settings_dict(body.integration), **given})
     try:
-        from fretbem.kernels import KelvinKernel
+        from fretbem.bem.kernels import KelvinKernel
 
         return integration.Assembler(body.segments, KelvinKernel.of(body.material), config)
     except (ImportError, AttributeError, TypeError):
@@ -105,7 +105,7 @@ def _round_one():
 
 def _floor(body):
     """The compiled floor for ``body``: far rule on every pair, dense H and G."""
-    from fretbem import _compiled
+    from fretbem.bem import compiled_loops as _compiled
 
     segments = body.segments
     offsets = integration.offsets(segments)
@@ -209,7 +209,7 @@ def bench_cycle(args, out: dict) -> None:
                 "dofs": parts[0][1],
                 "iterations": parts[0][2],
                 "timings": timings,
-                "compiled_loaded": "fretbem._compiled" in sys.modules,
+                "compiled_loaded": "fretbem.bem.compiled_loops" in sys.modules,
             }
         )
         phases = ", ".join(f"{k} {v:.3f}" for k, v in timings.items())
@@ -275,7 +275,7 @@ def bench_memory(args, out: dict) -> None:
 def bench_demo(args, out: dict) -> None:
     """Whole-process ``fretbem demo``: bare (no figures, no VTK) and full."""
     script = shutil.which("fretbem")
-    command = [script] if script else [sys.executable, "-m", "fretbem.cli"]
+    command = [script] if script else [sys.executable, "-m", "fretbem.app.cli"]
     rows = {}
     with tempfile.TemporaryDirectory() as tmp:
         for name, flags in (("demo_bare", ["--no-figures", "--no-vtk"]), ("demo_full", [])):

@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from fretbem.basis import Refinement
-from fretbem.bem_body import BemBody
+from fretbem.bem.body import BemBody
 from fretbem.conditions import Displacement, Traction
 from fretbem.geometry.boundary import Boundary, Segment
 from fretbem.geometry.nurbs import NurbsCurve

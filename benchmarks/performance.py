@@ -41,7 +41,7 @@ import time
 
 import numpy as np
 
-from fretbem.scenes import cattaneo_mindlin
+from fretbem.scenes.reference import cattaneo_mindlin
 from fretbem.simulation import ContactState, run
 
 TARGETS = {"cycle": 0.5, "demo": 3.0}
@@ -119,13 +119,13 @@ def bench_cycle(args, report) -> None:
 
 def _command() -> list[str]:
     script = shutil.which("fretbem")
-    return [script] if script else [sys.executable, "-m", "fretbem.cli"]
+    return [script] if script else [sys.executable, "-m", "fretbem.app.cli"]
 
 
 def bench_demo(args, report) -> None:
     """``fretbem demo`` as a whole process, figures off, with and without VTK."""
     code = (
-        "import sys, fretbem, fretbem.cli, fretbem.scenes, fretbem.simulation, fretbem.results;"
+        "import sys, fretbem, fretbem.app.cli, fretbem.scenes, fretbem.simulation, fretbem.results;"
         f"print([m for m in {HEAVY!r} if m in sys.modules])"
     )
     heavy = subprocess.run(
@@ -133,7 +133,7 @@ def bench_demo(args, report) -> None:
     ).stdout.strip()
     print(f"heavy modules imported by `import fretbem` and the demo's modules: {heavy}")
     importtime = subprocess.run(
-        [sys.executable, "-X", "importtime", "-c", "import fretbem.cli, fretbem.scenes"],
+        [sys.executable, "-X", "importtime", "-c", "import fretbem.app.cli, fretbem.scenes"],
         capture_output=True,
         text=True,
         check=True,
@@ -171,7 +171,7 @@ def bench_demo(args, report) -> None:
     )
     imports = timed(
         lambda: subprocess.run(
-            [sys.executable, "-c", "import fretbem.cli, fretbem.scenes, fretbem.simulation"],
+            [sys.executable, "-c", "import fretbem.app.cli, fretbem.scenes, fretbem.simulation"],
             check=True,
         ),
         args.runs,
@@ -181,7 +181,7 @@ def bench_demo(args, report) -> None:
         f"imports {statistics.median(imports):.3f} s"
     )
     report("python_startup", "bare python interpreter start", interpreter)
-    report("fretbem_import", "python start + import fretbem.cli/scenes/simulation", imports)
+    report("fretbem_import", "python start + import fretbem.app.cli/scenes/simulation", imports)
 
 
 def scaled_body(k: float, basis: str = "nurbs"):

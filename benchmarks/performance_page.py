@@ -25,20 +25,20 @@ do not edit by hand -->
 
 EXPLANATION = """## How the assembly is computed
 
-`fretbem._assembly` organises the work of one body: per segment, one evaluation of the
+`fretbem.bem.assembly` organises the work of one body: per segment, one evaluation of the
 basis family for the far and mid rules of every element, the distance samples, the
 collocation points and every singular rule, and one more for the near pairs' graded
 rules. The pair loops come in two implementations that give the same H and G to round-off
 (4e-16 relative; `tests/framework/test_assembly_compiled.py` compares both with a frozen
 copy of the round-1 assembler):
 
-- **compiled** (`fretbem._compiled`, numba, compiled once and cached on disk): one loop
+- **compiled** (`fretbem.bem.compiled_loops`, numba, compiled once and cached on disk): one loop
   over (collocation point, element) pairs decides each pair's class from a bounding
   circle of the element's samples, falling back to the exact 9-sample distance only where
   the circle cannot decide, and integrates far and mid pairs straight into H and G: far
   elements are skipped, not masked, and nothing of the matrix's size is allocated besides
   H and G;
-- **numpy** (`fretbem._numpy_loops`): the same circle test on whole arrays; the far field
+- **numpy** (`fretbem.bem.numpy_loops`): the same circle test on whole arrays; the far field
   on dense (rows, elements, points) blocks with zero weight for other pairs (in numpy,
   masking beats gathering), added into H and G column by column; mid, near and singular
   pairs gathered and scattered in place with `np.add.at`.
@@ -118,7 +118,8 @@ def floor_section(data: dict) -> list[str]:
         "One body's H and G (the reference scene's pad) against the *floor*: a numba kernel",
         "that integrates every (collocation point, element) pair with the 6-point far-field",
         "rule straight into dense H and G, without classification, near or singular work",
-        "(`fretbem._compiled.dense_far_field`). It is the least work any assembler with that",
+        "(`fretbem.bem.compiled_loops.dense_far_field`). It is the least work any assembler "
+        "with that",
         "rule does, at the rate shown (kernel evaluations per second). The ratio is the",
         "assembly's time over the floor's, timed in one process in interleaved rounds",
         "(medians), one BLAS thread. *numpy* is the numpy path (before: the round-1",

@@ -1,7 +1,7 @@
-"""Peak memory and time of the reference scene against its DOF count (fretbem.resources).
+"""Peak memory and time of the reference scene against its DOF count (fretbem.bem.resources).
 
 Each size runs in a fresh process so ``ru_maxrss`` is that run's peak. Prints one JSON line
-per size and the factor peak / (8 dofs^2) that fretbem.resources.BYTES_PER_DOF2 bounds.
+per size and the factor peak / (8 dofs^2) that fretbem.bem.resources.BYTES_PER_DOF2 bounds.
 Usage: python benchmarks/resources.py [pairs ...]   (default 121 241 481)
 """
 

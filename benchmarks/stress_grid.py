@@ -27,7 +27,7 @@ import time
 
 import numpy as np
 
-from fretbem.scenes import cattaneo_mindlin
+from fretbem.scenes.reference import cattaneo_mindlin
 from fretbem.simulation import run
 from fretbem.stress import StressEvaluator, StressSettings
 from fretbem.stress.request import StressGrid, grid_points

@@ -40,8 +40,8 @@ def reference_scene() -> dict:
 def reuse(repeat: int) -> dict:
     """Assembly + condensation of one group vs one case on it vs one case from scratch."""
     from fretbem.simulation import run
-    from fretbem.studies import sweep_cases
-    from fretbem.studies.sweep_spec import SweepSpec
+    from fretbem.studies.sweep import cases as sweep_cases
+    from fretbem.studies.sweep.spec import SweepSpec
 
     scene = reference_scene()
     spec = SweepSpec.from_mapping(
@@ -73,7 +73,7 @@ def reuse(repeat: int) -> dict:
 
 
 def _timed_sweep(parameters, workers, serial, **kw) -> tuple[float, object]:
-    from fretbem.studies.sweep import sweep
+    from fretbem.studies.sweep.run import sweep
 
     with tempfile.TemporaryDirectory() as tmp:
         tic = time.perf_counter()
@@ -91,7 +91,7 @@ def _timed_sweep(parameters, workers, serial, **kw) -> tuple[float, object]:
 
 def load_sweep(cases: int, workers: int, per_case: float, assembly: float) -> dict:
     """P x Q on one geometry: LocalCluster (incl. its start) and serial, against the ideal."""
-    from fretbem.studies import sweep_cases
+    from fretbem.studies.sweep import cases as sweep_cases
 
     n_p = 10
     n_q = max(1, cases // n_p)
@@ -133,7 +133,7 @@ def load_sweep(cases: int, workers: int, per_case: float, assembly: float) -> di
 
 def size_effect(radii: int, workers: int) -> dict:
     """``radii`` pad radii, one assembly each, one load case per radius."""
-    from fretbem.studies import sweep_cases
+    from fretbem.studies.sweep import cases as sweep_cases
 
     parameters = {
         "geometry.radius": {"start": 30.0, "stop": 120.0, "num": radii},
@@ -156,7 +156,7 @@ def cluster_start(workers: int) -> float:
     """Seconds to start and stop the default LocalCluster (part of every Dask run above)."""
     from dask.distributed import Client
 
-    from fretbem.studies.sweep import _local_cluster
+    from fretbem.studies.sweep.run import _local_cluster
 
     tic = time.perf_counter()
     with _local_cluster(workers) as cluster, Client(cluster) as client:
@@ -172,7 +172,7 @@ def main(argv=None) -> int:
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--json", type=Path, default=None)
     args = parser.parse_args(argv)
-    from fretbem.studies.sweep import machine_cores
+    from fretbem.studies.sweep.run import machine_cores
 
     workers = args.workers or machine_cores()
     report = {

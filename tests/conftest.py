@@ -16,10 +16,10 @@ def _fresh_assembly_budget():
     """Each test starts with no numpy assembly spent, so its own runs take one path.
 
     The automatic choice of assembly loops counts work across a process
-    (fretbem.integration); without this, two runs compared bit for bit in one test could
+    (fretbem.bem.integration); without this, two runs compared bit for bit in one test could
     straddle the switch depending on which tests ran before.
     """
-    from fretbem import integration
+    from fretbem.bem import integration
 
     integration._numpy_pairs_spent = 0
     yield

@@ -11,9 +11,9 @@ import attrs
 import numpy as np
 
 from fretbem.body import Body, ContactFace, ContactResponse
-from fretbem.law import ContactLaw, LawEvaluation, PairState
+from fretbem.contact.law import ContactLaw, LawEvaluation, PairState
 from fretbem.material import Material
-from fretbem.solver import Solver, SolverConvergenceError
+from fretbem.solvers.newton import Solver, SolverConvergenceError
 
 
 @attrs.frozen(eq=False)

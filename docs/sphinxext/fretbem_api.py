@@ -1,10 +1,10 @@
 """Generate the API reference pages: one page per public module, grouped on an index page.
 
 Modules are discovered by walking the ``fretbem`` package and the built-in family plugins,
-so a new module gets its page without editing the docs; the groups below only order them
-(a module in no group lands under "Other modules"; a grouped module that does not exist is
-left out). Pages are written to ``docs/api/``
-when the builder starts, and autodoc fills them from the docstrings.
+so a new module gets its page without editing the docs. The groups are the package's
+folders (each titled by its package docstring), in the order of the layers; nothing is kept
+by hand per module. Pages are written to ``docs/api/`` when the builder starts, and autodoc
+fills them from the docstrings.
 """
 
 from __future__ import annotations
@@ -19,126 +19,39 @@ import attrs
 #: packages whose modules are documented (the built-in families are plugins, see pyproject)
 PACKAGES = ("fretbem", "fretbem_nurbs", "fretbem_lagrange")
 
-GROUPS: dict[str, tuple[str, ...]] = {
-    "Package": ("fretbem",),
-    "Geometry": (
-        "fretbem.geometry",
-        "fretbem.geometry.nurbs",
-        "fretbem.geometry.knots",
-        "fretbem.geometry.boundary",
-    ),
-    "Basis families": (
-        "fretbem.basis",
-        "fretbem.bases",
-        "fretbem.testing",
-        "fretbem_nurbs",
-        "fretbem_nurbs.basis",
-        "fretbem_lagrange",
-        "fretbem_lagrange.quadratic",
-    ),
-    "Elastostatics": (
-        "fretbem.material",
-        "fretbem.conditions",
-        "fretbem.body",
-        "fretbem.bem_body",
-        "fretbem.bem_system",
-        "fretbem.bem_layout",
-        "fretbem.kernels",
-        "fretbem.quadrature",
-        "fretbem.integration",
-    ),
-    "Contact and load histories": (
-        "fretbem.contact",
-        "fretbem.condensation",
-        "fretbem.unknowns",
-        "fretbem.law",
-        "fretbem.solver",
-        "fretbem.simulation",
-        "fretbem.results",
-        "fretbem.report",
-    ),
-    "Accuracy: adaptive refinement and the error estimate": (
-        "fretbem.accuracy",
-        "fretbem.adaptive",
-        "fretbem.estimate",
-    ),
-    "Half-plane body and the pivoting solver": (
-        "fretbem.halfplane",
-        "fretbem.halfplane.influence",
-        "fretbem.halfplane.surface",
-        "fretbem.halfplane.body",
-        "fretbem.halfplane.scene",
-        "fretbem.solvers",
-        "fretbem.solvers.lemke",
-        "fretbem.solvers.complementarity",
-        "fretbem.solvers.pivoting",
-        "fretbem.solvers.fallback",
-    ),
-    "Scenes and analytical references": (
-        "fretbem.scene_spec",
-        "fretbem.scene_file",
-        "fretbem.scene_build",
-        "fretbem.scene_legacy",
-        "fretbem.shapes",
-        "fretbem.scenes",
-        "fretbem.analytical",
-        "fretbem.nowell_hills",
-    ),
-    "Studies: convergence and parameter sweeps": (
-        "fretbem.studies",
-        "fretbem.studies.convergence",
-        "fretbem.studies.convergence_analysis",
-        "fretbem.studies.convergence_runs",
-        "fretbem.studies.convergence_io",
-        "fretbem.studies.convergence_adaptive",
-        "fretbem.studies.convergence_figures",
-        "fretbem.studies.sweep",
-        "fretbem.studies.sweep_spec",
-        "fretbem.studies.sweep_cases",
-        "fretbem.studies.sweep_store",
-        "fretbem.studies.sweep_outputs",
-        "fretbem.studies.sweep_maps",
-    ),
-    "Output": (
-        "fretbem.output",
-        "fretbem.checks",
-        "fretbem.resources",
-        "fretbem.plot",
-        "fretbem.vtk_",
-    ),
-    "Fretting fatigue": (
-        "fretbem.fatigue",
-        "fretbem.fatigue.critical_plane",
-        "fretbem.fatigue.planes",
-        "fretbem.fatigue.mcc",
-        "fretbem.fatigue.cycle",
-        "fretbem.fatigue.critical_distance",
-        "fretbem.fatigue.life",
-        "fretbem.fatigue.material",
-        "fretbem.fatigue.ruiz",
-        "fretbem.fatigue.providers",
-        "fretbem.fatigue.from_simulation",
-        "fretbem.fatigue.request",
-        "fretbem.fatigue.run",
-        "fretbem.fatigue.output",
-        "fretbem.fatigue.errors",
-    ),
-    "Stresses": (
-        "fretbem.stress",
-        "fretbem.stress.evaluate",
-        "fretbem.stress.somigliana",
-        "fretbem.stress.boundary",
-        "fretbem.stress.kernels",
-        "fretbem.stress.halfplane",
-        "fretbem.stress.closed_form",
-        "fretbem.stress.request",
-        "fretbem.stress.run",
-        "fretbem.stress.output",
-        "fretbem.stress.figures",
-        "fretbem.stress.errors",
-    ),
-    "Command line": ("fretbem.cli",),
-}
+#: the order of the groups on the index page: the layers of the package, lowest first
+#: (a folder not listed here still gets its group, at the end: nothing is hand-kept per module)
+LAYERS = (
+    "numerics", "geometry", "bem", "halfplane", "contact", "solvers", "verification",
+    "scenes", "accuracy", "stress", "fatigue", "output", "studies", "app", "testing", "compat",
+)  # fmt: skip
+
+
+def _summary(name: str) -> str:
+    """First line of a module's docstring (the group title of a package)."""
+    doc = (importlib.import_module(name).__doc__ or name).strip().splitlines()[0]
+    return doc.rstrip(".")
+
+
+def groups(modules: list[str]) -> dict[str, list[str]]:
+    """Group title -> modules: the package root, then one group per folder, then plugins."""
+    def at_root(m: str) -> bool:
+        is_package = hasattr(importlib.import_module(m), "__path__")
+        return m == "fretbem" or (m.startswith("fretbem.") and m.count(".") == 1 and not is_package)
+
+    root = [m for m in modules if at_root(m)]
+    out = {"The package root: extension points and the run's vocabulary": root}
+    folders = sorted(
+        {m.split(".")[1] for m in modules if m.startswith("fretbem.") and m not in root},
+        key=lambda f: (LAYERS.index(f) if f in LAYERS else len(LAYERS), f),
+    )
+    for folder in folders:
+        package = f"fretbem.{folder}"
+        members = [m for m in modules if m == package or m.startswith(package + ".")]
+        out[f"``{package}``: {_summary(package)}"] = members
+    out["Basis families (plugins)"] = [m for m in modules if m.split(".")[0] != "fretbem"]
+    return out
+
 
 INTRO = """\
 API reference
@@ -146,7 +59,7 @@ API reference
 
 Every public module of ``fretbem`` and of the two built-in basis families, from the
 docstrings. The pieces a script uses most are :class:`fretbem.body.Body`,
-:class:`fretbem.contact.ContactPair`, :class:`fretbem.simulation.Simulation` with
+:class:`fretbem.contact.pairs.ContactPair`, :class:`fretbem.simulation.Simulation` with
 :func:`fretbem.simulation.run`, and :class:`fretbem.basis.Basis` for a new element type.
 """
 
@@ -206,11 +119,7 @@ def generate(folder: Path) -> list[str]:
     """Write ``index.rst`` and one page per module into ``folder``; returns the modules."""
     folder.mkdir(parents=True, exist_ok=True)
     modules = public_modules()
-    grouped = {group: [m for m in members if m in modules] for group, members in GROUPS.items()}
-    known = {m for members in GROUPS.values() for m in members}
-    other = [m for m in modules if m not in known]
-    if other:
-        grouped["Other modules"] = other
+    grouped = groups(modules)
     lines = [INTRO]
     for group, members in grouped.items():
         if not members:

@@ -1,6 +1,6 @@
 """The ``fretbem-cli`` directive: the command's ``--help`` texts, taken from its parser.
 
-The reference page of the command line is generated from :func:`fretbem.cli.parser` at
+The reference page of the command line is generated from :func:`fretbem.app.cli.parser` at
 build time, so an option added to the command appears in the docs without editing them.
 """
 
@@ -24,7 +24,7 @@ class FretbemCliDirective(SphinxDirective):
     has_content = False
 
     def run(self) -> list[nodes.Node]:
-        from fretbem import cli
+        from fretbem.app import cli
 
         main = cli.parser()
         out: list[nodes.Node] = [nodes.literal_block(text=_help(main), language="text")]

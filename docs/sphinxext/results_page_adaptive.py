@@ -10,8 +10,7 @@ from collections.abc import Sequence
 from results_page_format import pct as _pct
 from results_page_format import seconds as _seconds
 
-from fretbem.studies.convergence import ERRORS
-from fretbem.studies.convergence_analysis import (
+from fretbem.studies.convergence.analysis import (
     LEVELS,
     adaptive_series,
     all_series,
@@ -21,6 +20,7 @@ from fretbem.studies.convergence_analysis import (
     series_label,
     settled_from,
 )
+from fretbem.studies.convergence.study import ERRORS
 
 #: error levels of the sawtooth table (e_q max)
 SETTLE_LEVELS = (0.05, 0.02, 0.01)
@@ -51,7 +51,8 @@ def _intro(adaptive) -> list[str]:
     repeats = sorted({r["repeats"] for r in adaptive})
     runs = "one run" if repeats == [1] else f"{'/'.join(str(r) for r in repeats)} runs"
     return [
-        "`fretbem.adaptive.run_adaptive` with a pair budget N: a uniform first level finds "
+        "`fretbem.accuracy.adaptive.run_adaptive` with a pair budget N: "
+        "a uniform first level finds "
         "the contact edges and the stick–slip boundaries of every step, the contact faces are "
         "re-meshed with breakpoints on them and solved again at up to N pairs, and the last "
         "two levels give the mode's own error estimate ({doc}`explanation/adaptive`). The "

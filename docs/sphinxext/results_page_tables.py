@@ -11,8 +11,8 @@ from results_page_format import mib as _mib
 from results_page_format import pct as _pct
 from results_page_format import seconds as _seconds
 
-from fretbem.scenes import CattaneoMindlinScene
-from fretbem.studies.convergence import (
+from fretbem.scenes.reference import CattaneoMindlinScene
+from fretbem.studies.convergence.study import (
     ERROR_STEPS,
     ERRORS,
     LARGE,

@@ -31,7 +31,8 @@ from results_page_tables import (
     step_tables,
 )
 
-from fretbem.studies.convergence import (
+from fretbem.studies.convergence.figures import plot_sawtooth, plot_study
+from fretbem.studies.convergence.study import (
     ADAPTIVE_NAME,
     CALCULIX,
     FIGURES,
@@ -48,7 +49,6 @@ from fretbem.studies.convergence import (
     read_csv,
     series,
 )
-from fretbem.studies.convergence_figures import plot_sawtooth, plot_study
 
 
 def _describe_crossing(cross: dict, what: str) -> str:

@@ -22,8 +22,8 @@ import time
 
 import matplotlib.pyplot as plt
 
-from fretbem.adaptive import AdaptiveSettings, run_adaptive
-from fretbem.scenes import cattaneo_mindlin
+from fretbem.accuracy.adaptive import AdaptiveSettings, run_adaptive
+from fretbem.scenes.reference import cattaneo_mindlin
 from fretbem.simulation import run
 
 FAMILIES = ("nurbs", "lagrange2")
@@ -122,7 +122,7 @@ ax.legend(fontsize=8)
 # The adaptive mode
 # -----------------
 #
-# :func:`fretbem.adaptive.run_adaptive` solves a first uniform level, finds the contact
+# :func:`fretbem.accuracy.adaptive.run_adaptive` solves a first uniform level, finds the contact
 # edges and stick–slip boundaries of every step, and solves again on contact faces with
 # breakpoints on them, up to a pair budget (:doc:`/explanation/adaptive`). Its time counts
 # every level (the fastest of REPEATS runs, as above); its DOFs are the finest level's. A

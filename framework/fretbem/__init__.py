@@ -19,27 +19,33 @@ _EXPORTS = {
     "Body": "body",
     "ContactFace": "body",
     "ContactResponse": "body",
-    "BemBody": "bem_body",
-    "ContactPair": "contact",
-    "NodeToNodePair": "contact",
-    "Pairing": "contact",
-    "CondensedContact": "condensation",
-    "ContactLaw": "law",
-    "CoulombFriction": "law",
-    "ContactState": "law",
-    "PairState": "law",
-    "PairUnknowns": "unknowns",
-    "KelvinKernel": "kernels",
+    "BemBody": "bem.body",
+    "ContactPair": "contact.pairs",
+    "NodeToNodePair": "contact.pairs",
+    "Pairing": "contact.pairing",
+    "CondensedContact": "contact.condensation",
+    "ContactLaw": "contact.law",
+    "CoulombFriction": "contact.law",
+    "ContactState": "contact.law",
+    "PairState": "contact.law",
+    "PairUnknowns": "contact.unknowns",
+    "KelvinKernel": "bem.kernels",
     "Material": "material",
-    "Solver": "solver",
-    "SemiSmoothNewton": "solver",
-    "IncrementResult": "solver",
+    "Solver": "solvers.newton",
+    "SemiSmoothNewton": "solvers.newton",
+    "IncrementResult": "solvers.newton",
     "LoadStep": "simulation",
     "Simulation": "simulation",
     "run": "simulation",
 }
 
 __all__ = ["__version__", *_EXPORTS]
+
+# Old flat module paths (fretbem.bem_body, fretbem.solver, ...) import for one release,
+# with a DeprecationWarning naming the new path.
+from .compat import moved as _moved  # noqa: E402
+
+_moved.install()
 
 
 def __getattr__(name: str):

@@ -16,8 +16,9 @@ from typing import ClassVar
 import attrs
 import numpy as np
 
-from ._validators import float_array, shape
-from .geometry.nurbs import NurbsCurve
+from fretbem.geometry.nurbs import NurbsCurve
+
+from .validators import float_array, shape
 
 
 @attrs.frozen(eq=False)

@@ -1,6 +1,6 @@
 """What a contact simulation needs from an elastic body: the abstract :class:`Body`.
 
-A body model (the BEM body of :mod:`fretbem.bem_body`, a half-plane, ...) only has to
+A body model (the BEM body of :mod:`fretbem.bem.body`, a half-plane, ...) only has to
 give its discretised contact face and its displacement there as an affine function of the
 face tractions, its loading-block displacement and its named loads (the
 :class:`ContactResponse`); the contact condensation, the solvers and the results use
@@ -16,11 +16,13 @@ from typing import Any
 import attrs
 import numpy as np
 
+from fretbem.errors import InputError
+
 from .conditions import LoadingBlock
 from .material import Material
 
 
-class RigidMotionError(ValueError):
+class RigidMotionError(InputError):
     """The boundary conditions leave a rigid-body motion of a body undetermined."""
 
 
@@ -101,7 +103,7 @@ class ContactResponse:
 class Body(ABC):
     """An elastic body seen by the contact: a face, its response and its fields.
 
-    Implementations: :class:`fretbem.bem_body.BemBody` (finite body, boundary elements)
+    Implementations: :class:`fretbem.bem.body.BemBody` (finite body, boundary elements)
     and the half-plane body. ``check_body`` in :mod:`fretbem.testing` checks the contract.
 
     Attributes

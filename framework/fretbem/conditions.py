@@ -13,7 +13,7 @@ from typing import Union
 import attrs
 import numpy as np
 
-from ._validators import finite
+from .validators import finite
 
 Component = Union[float, Callable[[np.ndarray], np.ndarray], None]  # noqa: UP007
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import attrs
 
-from ._validators import poisson, positive
+from .validators import poisson, positive
 
 
 @attrs.frozen

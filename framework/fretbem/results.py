@@ -7,8 +7,8 @@ import math
 import attrs
 import numpy as np
 
-from .law import STATE_NAMES
-from .unknowns import PairUnknowns, UnknownLayout
+from fretbem.contact.law import STATE_NAMES
+from fretbem.contact.unknowns import PairUnknowns, UnknownLayout
 
 
 def _l2(values: np.ndarray, x: np.ndarray) -> float:
@@ -50,7 +50,7 @@ class StepResult:
         :func:`fretbem.simulation.run`.
     estimate : dict or None
         Estimated discretisation error (the keys of ``errors``, fractions of p0 and f p0),
-        set by :func:`fretbem.accuracy.solve`; None without an estimate.
+        set by :func:`fretbem.accuracy.modes.solve`; None without an estimate.
     """
 
     name: str
@@ -137,7 +137,7 @@ ESTIMATE_KEYS = {k: "est" + k[1:] for k in ERROR_KEYS}
 class SimulationResult:
     """Results of every step and the run's timings (seconds).
 
-    ``accuracy`` (set by :func:`fretbem.accuracy.solve`) records the mesh mode, the pairs
+    ``accuracy`` (set by :func:`fretbem.accuracy.modes.solve`) records the mesh mode, the pairs
     of every level solved, their time and, where no step has an estimate, the reason.
     """
 
@@ -204,7 +204,7 @@ class SimulationResult:
         """One line: the mesh mode, the levels solved and where the estimate comes from."""
         record = self.accuracy
         if record is None:
-            return "no estimate: one level solved (fretbem.accuracy.solve adds the estimate)"
+            return "no estimate: one level solved (fretbem.accuracy.modes.solve adds the estimate)"
         levels = record.get("levels", [])
         pairs = ", ".join(str(n) for n in levels)
         seconds = record.get("seconds")
@@ -212,7 +212,7 @@ class SimulationResult:
         if record.get("estimate_reason"):
             source = f"no estimate: {record['estimate_reason']}"
         elif record.get("mesh") == "adaptive":
-            source = "est from the last two adaptive levels (fretbem.adaptive)"
+            source = "est from the last two adaptive levels (fretbem.accuracy.adaptive)"
         else:
             source = (
                 f"est from the companion level of {levels[0]} pairs (uniform: the change "
@@ -247,7 +247,7 @@ class SimulationResult:
             )
         accuracy = dict(self.accuracy) if self.accuracy is not None else {
             "mesh": "fixed", "levels": [int(self.steps[0].x.size)],
-            "estimate_reason": "one level solved (fretbem.accuracy.solve adds the estimate)",
+            "estimate_reason": "one level solved (fretbem.accuracy.modes.solve adds the estimate)",
         }  # fmt: skip
         return {
             "scene": self.describe(),

@@ -2,7 +2,7 @@
 
 ``run(simulation)`` prepares (assembles and condenses once), then steps through the
 history; the law's memory (slip already accumulated) is carried from step to step in the
-frozen :class:`~fretbem.law.ContactState` records.
+frozen :class:`~fretbem.contact.law.ContactState` records.
 """
 
 from __future__ import annotations
@@ -14,16 +14,18 @@ from collections.abc import Mapping
 import attrs
 import numpy as np
 
-from ._validators import finite
-from .analytical import MindlinDeresiewicz
-from .condensation import CondensedContact
-from .contact import ContactPair
-from .law import STATE_NAMES, ContactLaw, ContactState, GrossSlidingError
+from fretbem.contact.condensation import CondensedContact
+from fretbem.contact.law import STATE_NAMES, ContactLaw, ContactState, GrossSlidingError
+from fretbem.contact.pairs import ContactPair
+from fretbem.errors import InputError
+from fretbem.solvers.newton import IncrementResult, SemiSmoothNewton, Solver, SolverConvergenceError
+from fretbem.verification.closed_forms import MindlinDeresiewicz
+
 from .results import SimulationResult, StepResult
-from .solver import IncrementResult, SemiSmoothNewton, Solver, SolverConvergenceError
+from .validators import finite
 
 
-class LoadHistoryError(ValueError):
+class LoadHistoryError(InputError):
     """A load history that cannot start or continue a contact simulation."""
 
 
@@ -74,9 +76,9 @@ class Simulation:
         Its upper body must carry a LoadingBlock: the history drives that block's force.
     steps : tuple of LoadStep
     solver : Solver
-        Default :class:`~fretbem.solver.SemiSmoothNewton`.
+        Default :class:`~fretbem.solvers.newton.SemiSmoothNewton`.
     law : ContactLaw
-        E.g. :class:`~fretbem.law.CoulombFriction` (keyword, required).
+        E.g. :class:`~fretbem.contact.law.CoulombFriction` (keyword, required).
     reference : MindlinDeresiewicz or None
         Analytical solution to report errors against (None where theory does not apply).
     name : str
@@ -99,7 +101,7 @@ class Simulation:
             )
         if not self.steps:
             raise LoadHistoryError("a simulation needs at least one load step")
-        from .checks import step_names
+        from fretbem.verification.checks import step_names
 
         step_names([step.name for step in self.steps])
         first = self.steps[0]
@@ -207,13 +209,13 @@ def _between(start: Mapping[str, float], end: Mapping[str, float], frac: float) 
 def run(simulation: Simulation, *, progress=None, check: bool = True) -> SimulationResult:
     """Prepare once and step through the whole history; returns per-step results.
 
-    Every step's result passes the result checks (:func:`fretbem.checks.check_step`:
+    Every step's result passes the result checks (:func:`fretbem.verification.checks.check_step`:
     equilibrium, the candidate zone's edge, something holding the pad tangentially) before
     the next step starts; a failure raises its named ResultCheckError (``check=False``
     skips them, to inspect a failed run). ``progress(k, n, step)`` is called after each step.
     """
-    from .checks import check_step
-    from .resources import check_resources
+    from fretbem.bem.resources import check_resources
+    from fretbem.verification.checks import check_step
 
     start = time.perf_counter()
     pair = simulation.pair

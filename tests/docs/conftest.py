@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from fretbem import bases
+from fretbem import registry as bases
 
 REPO = Path(__file__).resolve().parents[2]
 PLUGIN = REPO / "examples" / "custom_basis"

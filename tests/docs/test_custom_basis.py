@@ -12,16 +12,16 @@ import sys
 import numpy as np
 import pytest
 
-from fretbem import bases
+from fretbem import registry as bases
 from fretbem.basis import Refinement
-from fretbem.bem_body import BemBody
+from fretbem.bem.body import BemBody
 from fretbem.conditions import Displacement, Traction
 from fretbem.geometry.boundary import Boundary, Segment
 from fretbem.geometry.nurbs import NurbsCurve
 from fretbem.material import Material
-from fretbem.scenes import cattaneo_mindlin
+from fretbem.scenes.reference import cattaneo_mindlin
 from fretbem.simulation import run
-from fretbem.testing import check_basis
+from fretbem.testing.conformance import check_basis
 
 
 def test_registry_discovers_it(cubic_plugin):
@@ -43,7 +43,7 @@ def test_fretbem_bases_prints_it(cubic_plugin, command):
             pytest.skip("the fretbem console script is not on PATH")
         argv = [script, "bases"]
     else:
-        argv = [sys.executable, "-m", "fretbem.cli", "bases"]
+        argv = [sys.executable, "-m", "fretbem.app.cli", "bases"]
     done = subprocess.run(argv, capture_output=True, text=True, check=False, timeout=60)
     assert done.returncode == 0, done.stderr
     lines = {line.split()[0]: line for line in done.stdout.splitlines() if line.strip()}

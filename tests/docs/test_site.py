@@ -27,9 +27,10 @@ def test_api_pages_cover_every_public_module(tmp_path):
     required = {
         f"fretbem.{name}"
         for name in (
-            "bases basis body conditions contact solver simulation results scenes scene_file "
-            "analytical geometry.nurbs geometry.knots geometry.boundary integration kernels "
-            "quadrature material plot vtk_ testing cli"
+            "registry basis body conditions errors contact contact.pairs solvers.newton "
+            "simulation results scenes scenes.file verification.closed_forms geometry.nurbs "
+            "geometry.knots geometry.boundary bem.integration bem.kernels numerics.quadrature "
+            "material output.figures output.vtk testing app.cli"
         ).split()
     } | {"fretbem_nurbs.basis", "fretbem_lagrange.quadratic"}
     assert required <= set(modules)

@@ -1,4 +1,5 @@
-"""Every installed basis family passes fretbem.testing.check_basis; family-specific checks."""
+"""Every installed basis family passes fretbem.testing.check_basis;
+family-specific checks."""
 
 from __future__ import annotations
 
@@ -9,10 +10,10 @@ import attrs
 import numpy as np
 import pytest
 
-from fretbem import bases
+from fretbem import registry as bases
 from fretbem.basis import Refinement
 from fretbem.geometry.nurbs import NurbsCurve
-from fretbem.testing import check_basis, default_curves
+from fretbem.testing.conformance import check_basis, default_curves
 from fretbem_lagrange import QuadraticLagrangeBasis
 from fretbem_nurbs import NurbsBasis
 

@@ -13,10 +13,10 @@ import math
 import numpy as np
 import pytest
 
-from fretbem import adaptive, estimate
+from fretbem.accuracy import adaptive, estimate
 from fretbem.basis import Refinement
 from fretbem.geometry.nurbs import NurbsCurve
-from fretbem.scenes import cattaneo_mindlin
+from fretbem.scenes.reference import cattaneo_mindlin
 from fretbem.simulation import run
 from fretbem_lagrange.quadratic import QuadraticLagrangeBasis
 from fretbem_nurbs.basis import NurbsBasis

@@ -12,16 +12,16 @@ import pytest
 from validation_support import P, check_physics, cycle, hertz_of, l2_difference, scene
 
 from fretbem.basis import Refinement
-from fretbem.bem_body import BemBody
-from fretbem.checks import check_steps
+from fretbem.bem.body import BemBody
+from fretbem.bem.integration import IntegrationSettings
 from fretbem.conditions import Displacement, Traction
-from fretbem.contact import NodeToNodePair
+from fretbem.contact.pairs import NodeToNodePair
 from fretbem.geometry.boundary import Boundary, Segment
 from fretbem.geometry.nurbs import NurbsCurve
-from fretbem.integration import IntegrationSettings
 from fretbem.material import Material
-from fretbem.quadrature import QuadratureRule
+from fretbem.numerics.quadrature import QuadratureRule
 from fretbem.simulation import Simulation, run
+from fretbem.verification.checks import check_steps
 
 #: a much finer integration than the default, as the reference for integration accuracy
 FINE_INTEGRATION = IntegrationSettings(

@@ -6,12 +6,13 @@ import attrs
 import numpy as np
 import pytest
 
-from fretbem import bases, scenes
-from fretbem.bem_body import BemBody
+from fretbem import registry as bases
+from fretbem.bem.body import BemBody
 from fretbem.conditions import Displacement
-from fretbem.contact import NodeToNodePair
+from fretbem.contact.pairs import NodeToNodePair
 from fretbem.halfplane.scene import MODEL, half_plane_model
 from fretbem.material import Material
+from fretbem.scenes import reference as scenes
 from fretbem.simulation import Simulation, run
 
 HALF_PLANES = {"upper": "half-plane", "lower": "half-plane"}

@@ -170,8 +170,8 @@ def test_newton_cycle_is_broken_without_substepping():
     through three state patterns forever (residuals 0.93, 0.79, 0.62, ...) until sub-stepping
     rescued it (65 iterations). A repeated pattern now softens r_n: 13 iterations, measured,
     in one increment, with the cone, equilibrium and the mirror symmetry of step A intact."""
-    from fretbem.checks import check_steps
-    from fretbem.solver import SemiSmoothNewton
+    from fretbem.solvers.newton import SemiSmoothNewton
+    from fretbem.verification.checks import check_steps
 
     base = scene(pairs=121, E_lower=1000 * E)
     result = run(

@@ -10,10 +10,10 @@ R = 50 mm, E = 115 GPa, nu = 0.3, f = 0.6, P = 120 N/mm, Q = 0.4 f P.
 import numpy as np
 import pytest
 
-from fretbem.nowell_hills import NowellHills
-from fretbem.scene_build import build, hertz
-from fretbem.scene_spec import scene_from_dict
+from fretbem.scenes.builder import build, hertz
+from fretbem.scenes.spec import scene_from_dict
 from fretbem.simulation import run
+from fretbem.verification.nowell_hills import NowellHills
 
 F, P, Q = 0.6, 120.0, 0.4 * 0.6 * 120.0
 SOLVER = "newton"

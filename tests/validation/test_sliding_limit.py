@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 from validation_support import P, check_physics, history, scene
 
-from fretbem.scenes import cattaneo_mindlin
+from fretbem.scenes.reference import cattaneo_mindlin
 from fretbem.simulation import GrossSlidingError, LoadStep, Simulation, run
-from fretbem.solver import NewtonConvergenceError, SemiSmoothNewton
+from fretbem.solvers.newton import NewtonConvergenceError, SemiSmoothNewton
 
 F = 0.3
 

@@ -11,11 +11,11 @@ import functools
 
 import numpy as np
 
-from fretbem.analytical import MindlinDeresiewicz
-from fretbem.law import CoulombFriction
-from fretbem.scenes import CattaneoMindlinScene, cattaneo_mindlin
+from fretbem.contact.law import CoulombFriction
+from fretbem.scenes.reference import CattaneoMindlinScene, cattaneo_mindlin
 from fretbem.simulation import LoadStep, Simulation, run
-from fretbem.solver import SemiSmoothNewton, Solver
+from fretbem.solvers.newton import SemiSmoothNewton, Solver
+from fretbem.verification.closed_forms import MindlinDeresiewicz
 
 P = 100.0  # the reference scene's normal load, N/mm
 

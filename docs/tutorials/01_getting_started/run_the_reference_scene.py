@@ -29,7 +29,7 @@ contact zone to stay quick; ``fretbem demo`` uses 61.
 # from Python, so the output below is the command's real output:
 from pathlib import Path
 
-from fretbem import cli
+from fretbem.app import cli
 
 cli.main(["bases"])
 cli.main(["demo", "--pairs", "31", "--compare", "lagrange2", "--out", "quickstart-out"])
@@ -51,13 +51,13 @@ for path in sorted(OUT.rglob("*")):
 # From Python
 # -----------
 #
-# :func:`fretbem.scenes.cattaneo_mindlin` builds the scene as a
-# :class:`~fretbem.simulation.Simulation` (two :class:`~fretbem.bem_body.BemBody` objects, a
-# :class:`~fretbem.contact.NodeToNodePair`, five :class:`~fretbem.simulation.LoadStep`
-# records, the :class:`~fretbem.law.CoulombFriction` law and the analytical reference);
+# :func:`fretbem.scenes.reference.cattaneo_mindlin` builds the scene as a
+# :class:`~fretbem.simulation.Simulation` (two :class:`~fretbem.bem.body.BemBody` objects, a
+# :class:`~fretbem.contact.pairs.NodeToNodePair`, five :class:`~fretbem.simulation.LoadStep`
+# records, the :class:`~fretbem.contact.law.CoulombFriction` law and the analytical reference);
 # :func:`fretbem.simulation.run` assembles and condenses both bodies once, then steps
 # through the history.
-from fretbem.scenes import cattaneo_mindlin
+from fretbem.scenes.reference import cattaneo_mindlin
 from fretbem.simulation import run
 
 simulation = cattaneo_mindlin(basis="nurbs", pairs=31)
@@ -98,10 +98,10 @@ print(f"largest errors over the cycle: e_p {100 * E_P_MAX:.2f} %, e_q {100 * E_Q
 # The figures
 # -----------
 #
-# :mod:`fretbem.plot` draws the same figures the command saves: p and q against theory at
+# :mod:`fretbem.output.figures` draws the same figures the command saves: p and q against theory at
 # each step, and the state of every pair along the history with theory's stick zone ±c.
 # Pass several results to compare families on one figure.
-from fretbem import plot
+from fretbem.output import figures as plot
 
 plot.traction_figure(result, steps=("B", "C", "D", "E"))
 
@@ -118,7 +118,7 @@ plot.stick_slip_figure(result)
 # ``displacement``, ``traction`` and ``traction_magnitude``:
 import pyvista as pv
 
-from fretbem.output import write_results
+from fretbem.output.write import write_results
 
 write_results(result, OUT / "python")
 mesh = pv.read(OUT / "python" / "vtk" / "B_lower.vtp")
@@ -149,10 +149,10 @@ ax.set_title("B_lower.vtp, contact face")
 ax.legend()
 
 # %%
-# :func:`fretbem.vtk_.render_step` renders the same data off screen with pyvista: both
+# :func:`fretbem.output.vtk.render_step` renders the same data off screen with pyvista: both
 # bodies with magnified displacements, and the contact zone at true scale with the
 # traction arrows.
-from fretbem import vtk_
+from fretbem.output import vtk as vtk_
 
 picture = vtk_.render_step(result, "B", OUT / "step_B.png")
 fig, ax = plt.subplots(figsize=(10, 5), layout="constrained")

@@ -107,7 +107,7 @@ specimen_boundary = Boundary(
 # nearest the zone, in the segment's own parameter), and the sides, top and bottom toward
 # their corners, where the traction is singular.
 from fretbem.basis import Refinement
-from fretbem.bem_body import BemBody
+from fretbem.bem.body import BemBody
 from fretbem.conditions import Displacement, LoadingBlock
 from fretbem.material import Material
 
@@ -150,7 +150,7 @@ specimen = BemBody(
     name="specimen",
 )
 
-from fretbem import plot
+from fretbem.output import figures as plot
 
 fig, (whole, zoom) = plt.subplots(1, 2, figsize=(10, 4.5), layout="constrained")
 for body in (pad, specimen):
@@ -171,10 +171,10 @@ zoom.set_title("contact zone, y exaggerated: facing points")
 # first step must press the bodies together with Q = 0, and :math:`|Q|` must stay below f P
 # (else there is gross sliding). Here: press, then two cycles of ±15 N/mm with a partial
 # unloading to ±5 N/mm inside the first. The two contact faces are paired node to node
-# (:class:`~fretbem.contact.NodeToNodePair`), and friction is the contact law's
-# (:class:`~fretbem.law.CoulombFriction`), which the simulation holds.
-from fretbem.contact import NodeToNodePair
-from fretbem.law import CoulombFriction
+# (:class:`~fretbem.contact.pairs.NodeToNodePair`), and friction is the contact law's
+# (:class:`~fretbem.contact.law.CoulombFriction`), which the simulation holds.
+from fretbem.contact.law import CoulombFriction
+from fretbem.contact.pairs import NodeToNodePair
 from fretbem.simulation import LoadStep, Simulation, run
 
 P = 100.0
@@ -227,7 +227,7 @@ print(result.table())
 # :math:`2 f p(x; c')` with :math:`P(c') = P - |Q^* - Q|/(2f)`, as in Mindlin–Deresiewicz.
 from scipy.optimize import brentq
 
-from fretbem.analytical import effective_modulus
+from fretbem.verification.closed_forms import effective_modulus
 
 E_STAR = effective_modulus(E, NU, E, NU)
 
@@ -307,7 +307,7 @@ axes[0].legend(fontsize=8)
 # The state of every pair at every step (the thin lines mark the flat). Where a pair's
 # shear sits exactly on the friction bound, as after reloading to the same load (B3), it
 # may be reported as stick or as slip: the tractions are the same.
-from fretbem.contact import STICK
+from fretbem.contact.pairs import STICK
 
 fig = plot.stick_slip_figure(result)
 fig.axes[0].axvline(-FLAT, color="k", lw=0.5)

@@ -13,7 +13,8 @@ someone else's package. Adding an element type takes two steps:
    ``pyproject.toml``.
 
 Then ``pip install`` the package, and ``fretbem bases``, scene files,
-:class:`~fretbem.bem_body.BemBody` and :func:`~fretbem.scenes.cattaneo_mindlin` accept its name.
+:class:`~fretbem.bem.body.BemBody` and :func:`~fretbem.scenes.reference.cattaneo_mindlin`
+accept its name.
 This tutorial walks through ``examples/custom_basis/``, a complete plugin package that
 adds continuous cubic Lagrange elements (``lagrange3``), and runs it on the reference
 scene beside the built-in families. The :doc:`how-to page </how-to/add-element-type>`
@@ -59,7 +60,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from fretbem import bases
+from fretbem import registry as bases
 
 if "lagrange3" not in bases.available():
     # this script's folder (sphinx-gallery runs a script in its folder, without __file__)
@@ -74,7 +75,7 @@ if "lagrange3" not in bases.available():
 # %%
 # ``fretbem bases`` now lists it beside the built-in families (the registry reads the
 # installed packages' entry points; nothing in fretbem names ``lagrange3``):
-from fretbem import cli
+from fretbem.app import cli
 
 cli.main(["bases"])
 
@@ -85,29 +86,29 @@ print(CubicLagrangeBasis, "from", CubicLagrangeBasis.__module__)
 # Check it
 # --------
 #
-# :func:`fretbem.testing.check_basis` is the conformance suite every family passes, the
+# :func:`fretbem.testing.conformance.check_basis` is the conformance suite every family passes, the
 # built-in ones included: partition of unity, derivatives against finite differences,
 # element ends on the exact curve, a square non-singular E matrix, nodality for an
 # interpolatory family, nested spaces under refinement, on lines, arcs and a cubic
 # B-spline, uniform and graded. Put the same call in your package's tests
 # (``examples/custom_basis/tests/test_cubic.py``). It raises ``AssertionError`` naming
 # the curve, the refinement and the property that fails.
-from fretbem.testing import check_basis
+from fretbem.testing.conformance import check_basis
 
 check_basis(CubicLagrangeBasis)
 print("check_basis(CubicLagrangeBasis): all properties hold")
 
 # %%
-# A discretised segment is a frozen record of arrays; :func:`fretbem.plot.draw` draws it.
+# A discretised segment is a frozen record of arrays; :func:`fretbem.output.figures.draw` draws it.
 # Here a quarter circle in three cubic elements, against the exact arc:
 import math
 
 import matplotlib.pyplot as plt
 import numpy as np
 
-from fretbem import plot
 from fretbem.basis import Refinement
 from fretbem.geometry.nurbs import NurbsCurve
+from fretbem.output import figures as plot
 
 arc = NurbsCurve.arc([0.0, 0.0], 1.0, 0.0, math.pi / 2)
 segment = CubicLagrangeBasis.discretise(arc, Refinement(3))
@@ -126,7 +127,7 @@ ax.legend()
 # contact zone. A cubic continuous family has 3 k + 1 points on k elements, so the pair
 # count must be of that form; 61 suits all three families (``lagrange2`` needs an odd
 # number). Any other count is an error that says which counts work:
-from fretbem.scenes import cattaneo_mindlin
+from fretbem.scenes.reference import cattaneo_mindlin
 from fretbem.simulation import run
 
 try:
@@ -151,7 +152,7 @@ for name, result in results.items():
 E_Q_L2_61 = {name: r["C"].errors["e_q_l2"] for name, r in results.items()}
 
 # %%
-# :func:`fretbem.plot.traction_figure` draws several results on one figure. The Lagrange
+# :func:`fretbem.output.figures.traction_figure` draws several results on one figure. The Lagrange
 # families interpolate the circle through their nodes; the NURBS family carries the exact
 # arc, which shows in the pressure: the initial gap of a 70 mm radius over ±0.5 mm is only
 # a few micrometres, so a small geometric error is a visible pressure error.

@@ -191,7 +191,7 @@ plt.show()
 # and as the library has no strain-life constants for it, the report gives parameters and
 # critical-distance values but no life, and says which constants are missing.
 from fretbem.fatigue.from_simulation import SimulationStressHistory
-from fretbem.scenes import cattaneo_mindlin
+from fretbem.scenes.reference import cattaneo_mindlin
 from fretbem.simulation import run
 
 simulation = cattaneo_mindlin(basis="nurbs", pairs=31)

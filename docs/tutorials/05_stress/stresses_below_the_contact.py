@@ -21,7 +21,7 @@ cycle (61 pairs) and evaluates the stress tensor
 import matplotlib.pyplot as plt
 import numpy as np
 
-from fretbem.scenes import cattaneo_mindlin
+from fretbem.scenes.reference import cattaneo_mindlin
 from fretbem.simulation import run
 from fretbem.stress import StressEvaluator, run_stress_request, stress_request_from_dict
 from fretbem.stress import closed_form as cf

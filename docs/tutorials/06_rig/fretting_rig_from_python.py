@@ -19,11 +19,11 @@ here can be written as a file and the other way round.
 # --------------------
 import numpy as np
 
+from fretbem.contact.zones import zone_table
+from fretbem.geometry.shapes import CylinderPad, FlatSpecimen
 from fretbem.material import Material
-from fretbem.report import zone_table
-from fretbem.scene_build import build, hertz
-from fretbem.scene_spec import BodySpec, ContactSpec, LoadSpec, Scene
-from fretbem.shapes import CylinderPad, FlatSpecimen
+from fretbem.scenes.builder import build, hertz
+from fretbem.scenes.spec import BodySpec, ContactSpec, LoadSpec, Scene
 from fretbem.simulation import run
 
 aluminium = Material(E=72000.0, nu=0.33)

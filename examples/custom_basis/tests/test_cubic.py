@@ -5,7 +5,7 @@ from fretbem_cubic import CubicLagrangeBasis
 
 from fretbem.basis import Refinement
 from fretbem.geometry.nurbs import NurbsCurve
-from fretbem.testing import check_basis
+from fretbem.testing.conformance import check_basis
 
 
 def test_conforms():

@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+from fretbem.errors import InputError
+
 __all__ = ["FatigueInputError", "MissingFatigueDataError"]
 
 
-class FatigueInputError(ValueError):
+class FatigueInputError(InputError):
     """A stress history, request or table entry that the fatigue evaluation cannot use."""
 
 
-class MissingFatigueDataError(ValueError):
+class MissingFatigueDataError(InputError):
     """A life or critical-distance estimate needs a material constant that was not given."""

@@ -5,10 +5,12 @@ from __future__ import annotations
 import attrs
 import numpy as np
 
+from fretbem.errors import InputError
+
 from .nurbs import NurbsCurve
 
 
-class BoundaryError(ValueError):
+class BoundaryError(InputError):
     """A boundary that does not enclose a region properly (open, crossing or clockwise)."""
 
 

@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from fretbem.errors import InputError
 
-class KnotVectorError(ValueError):
+
+class KnotVectorError(InputError):
     """A knot vector that cannot define an open (clamped) spline curve."""
 
 

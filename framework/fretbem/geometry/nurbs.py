@@ -7,7 +7,8 @@ import math
 import attrs
 import numpy as np
 
-from .._validators import finite, float_array, shape
+from fretbem.validators import finite, float_array, shape
+
 from . import knots as kv
 
 

@@ -14,13 +14,14 @@ from collections.abc import Mapping
 import attrs
 import numpy as np
 
-from .. import bases
-from .._validators import positive
-from ..basis import Basis, Refinement
-from ..body import Body, ContactFace, ContactResponse
-from ..conditions import LoadingBlock
-from ..geometry.nurbs import NurbsCurve
-from ..material import Material
+from fretbem import registry as bases
+from fretbem.basis import Basis, Refinement
+from fretbem.body import Body, ContactFace, ContactResponse
+from fretbem.conditions import LoadingBlock
+from fretbem.geometry.nurbs import NurbsCurve
+from fretbem.material import Material
+from fretbem.validators import positive
+
 from .influence import DEFAULT_DATUM, HalfPlaneFaceError
 from .surface import HalfPlaneSurface
 

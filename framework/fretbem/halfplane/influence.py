@@ -20,10 +20,11 @@ import math
 import attrs
 import numpy as np
 
-from .._validators import positive
-from ..basis import Basis
-from ..material import Material
-from ..quadrature import QuadratureRule
+from fretbem.basis import Basis
+from fretbem.errors import InputError
+from fretbem.material import Material
+from fretbem.numerics.quadrature import QuadratureRule
+from fretbem.validators import positive
 
 SIDES = ("lower", "upper")
 
@@ -38,7 +39,7 @@ SMOOTH_POINTS = 12
 LOG_POINTS = 12
 
 
-class HalfPlaneFaceError(ValueError):
+class HalfPlaneFaceError(InputError):
     """A contact face that cannot be the surface of a half-plane."""
 
 

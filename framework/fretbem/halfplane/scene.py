@@ -10,10 +10,11 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from ..basis import Basis, Refinement
-from ..conditions import Condition, LoadingBlock
-from ..geometry.boundary import Boundary
-from ..material import Material
+from fretbem.basis import Basis, Refinement
+from fretbem.conditions import Condition, LoadingBlock
+from fretbem.geometry.boundary import Boundary
+from fretbem.material import Material
+
 from .body import HalfPlaneBody
 
 #: the name scenes use for this model

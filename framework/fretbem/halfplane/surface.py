@@ -11,9 +11,10 @@ from __future__ import annotations
 import attrs
 import numpy as np
 
-from .._validators import positive
-from ..basis import Basis
-from ..material import Material
+from fretbem.basis import Basis
+from fretbem.material import Material
+from fretbem.validators import positive
+
 from .influence import DEFAULT_DATUM, FlamantCompliance, check_face, side_sign, surface_integrals
 
 
@@ -134,7 +135,7 @@ class HalfPlaneSurface:
 
 def _shape_integrals(face: Basis) -> np.ndarray:
     """int phi_b dx over the projected face, for each shape function b."""
-    from ..quadrature import QuadratureRule
+    from fretbem.numerics.quadrature import QuadratureRule
 
     rule = QuadratureRule.gauss_legendre(12)
     elements = np.repeat(np.arange(face.n_elements), rule.points.size)

@@ -5,9 +5,10 @@ from __future__ import annotations
 import attrs
 import numpy as np
 
-from ..condensation import CondensedContact
-from ..law import ContactLaw, ContactState
-from ..solver import IncrementResult, SemiSmoothNewton, Solver, SolverConvergenceError
+from fretbem.contact.condensation import CondensedContact
+from fretbem.contact.law import ContactLaw, ContactState
+
+from .newton import IncrementResult, SemiSmoothNewton, Solver, SolverConvergenceError
 from .pivoting import LemkeSolver
 
 

@@ -12,8 +12,10 @@ from __future__ import annotations
 import attrs
 import numpy as np
 
+from fretbem.errors import ComputationError
 
-class LemkeError(RuntimeError):
+
+class LemkeError(ComputationError):
     """Lemke's method ended on a secondary ray or ran out of pivots: no solution found."""
 
 

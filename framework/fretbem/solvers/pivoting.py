@@ -10,19 +10,21 @@ from __future__ import annotations
 import attrs
 import numpy as np
 
-from .._blas import one_blas_thread
-from ..condensation import CondensedContact
-from ..law import ContactLaw, ContactState, CoulombFriction
-from ..solver import IncrementResult, Solver, SolverConvergenceError, SolverSettingsError
+from fretbem.contact.condensation import CondensedContact
+from fretbem.contact.law import ContactLaw, ContactState, CoulombFriction
+from fretbem.errors import InputError
+from fretbem.numerics.blas import one_blas_thread
+
 from .complementarity import CondensedArrays, solve_lcp_increment
 from .lemke import LemkeError
+from .newton import IncrementResult, Solver, SolverConvergenceError, SolverSettingsError
 
 
 class PivotingError(SolverConvergenceError):
     """Lemke's method found no solution of an increment (ray termination or pivot limit)."""
 
 
-class UnsupportedLawError(ValueError):
+class UnsupportedLawError(InputError):
     """A contact law the pivoting solver has no LCP form for."""
 
 

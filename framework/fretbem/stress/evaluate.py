@@ -84,7 +84,7 @@ class StressEvaluator:
         return self.problem.solutions(step.unknowns, step.loads)[self.body]
 
     def _build(self):
-        from ..halfplane import HalfPlaneBody
+        from fretbem.halfplane import HalfPlaneBody
 
         model = self.model
         material = model.material

@@ -17,10 +17,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..basis import Basis
-from ..quadrature import QuadratureRule
+from fretbem.basis import Basis
+from fretbem.numerics.graded import graded_rule
+from fretbem.numerics.quadrature import QuadratureRule
+
 from .errors import StressInputError
-from .somigliana import _graded_rule
 
 #: Gauss points per element (far) and per graded piece (near)
 FAR_POINTS = 8
@@ -142,7 +143,7 @@ def halfplane_stress_matrix(face: Basis, x, depth, *, chunk: int = 512) -> np.nd
         centre = 2.0 * frac - 1.0
         scale = 0.5 * np.abs(xe_hi - xe_lo)
         dist_local = np.maximum(np.hypot(horizontal[p_idx, e_idx], z[p_idx]) / scale, 1e-9)
-        loc, wt = _graded_rule(centre, dist_local, GRADED_POINTS, GRADED_RATIO)
+        loc, wt = graded_rule(centre, dist_local, GRADED_POINTS, GRADED_RATIO)
         q = loc.shape[1]
         xs, js, ph = _face_x(face, np.repeat(e_idx, q), loc.ravel())
         xs, ws, ph = xs.reshape(-1, q), (js.reshape(-1, q) * wt), ph.reshape(-1, q, n_loc)

@@ -2,7 +2,7 @@
 
 sigma_ij(x) = int D_kij(x, y) t_k(y) dGamma(y) - int S_kij(x, y) u_k(y) dGamma(y)
 
-for an interior point x; r = y - x (field minus source, as :mod:`fretbem.kernels`), n the
+for an interior point x; r = y - x (field minus source, as :mod:`fretbem.bem.kernels`), n the
 unit outward normal at y. Plane-strain form; plane stress uses nu / (1 + nu) (the material's
 ``kernel_nu``) with the same shear modulus. Formulas: C. A. Brebbia and J. Dominguez,
 Boundary Elements: An Introductory Course (1992), ch. 5. Components are returned in the order

@@ -207,7 +207,7 @@ def stress_request_from_dict(raw: Mapping) -> StressRequest:
 def surface_level(model, x: np.ndarray, side: str) -> np.ndarray:
     """y of the body's contact-side surface at abscissae x: the highest boundary crossing
     of the vertical line for the lower body, the lowest for the upper body."""
-    from ..halfplane import HalfPlaneBody
+    from fretbem.halfplane import HalfPlaneBody
 
     x = np.asarray(x, float)
     if isinstance(model, HalfPlaneBody):  # the straight surface line under the face

@@ -27,8 +27,10 @@ from collections.abc import Sequence
 import attrs
 import numpy as np
 
-from ..basis import Basis
-from ..quadrature import QuadratureRule
+from fretbem.basis import Basis
+from fretbem.numerics.graded import graded_rule
+from fretbem.numerics.quadrature import QuadratureRule
+
 from .boundary import boundary_state
 from .errors import StressInputError
 from .kernels import stress_kernels
@@ -217,25 +219,6 @@ def _closest_local(basis: Basis, elements, points, iterations: int = 4):
         eta = np.clip(eta - step, -1.0, 1.0)
     x = basis.geometry(elements, eta)[0]
     return eta, np.linalg.norm(x - points, axis=-1)
-
-
-def _graded_rule(centre, distance_local, n_points: int, ratio: float):
-    """Composite Gauss rule on [-1, 1] graded geometrically toward ``centre`` on both sides,
-    down to pieces about as long as the distance to the point (local units)."""
-    base = QuadratureRule.gauss_legendre(n_points)
-    local, weight = [], []
-    for side in (-1.0, 1.0):
-        length = np.where(side < 0, centre + 1.0, 1.0 - centre)
-        need = np.log(np.maximum(distance_local, 1e-14) / np.maximum(length, 1e-300))
-        levels = np.clip(np.ceil(need / np.log(ratio)) + 1, 1, 60).astype(int)
-        top = int(levels.max())
-        k = np.minimum(np.arange(top + 1)[None, :], levels[:, None])
-        edges = length[:, None] * ratio**k
-        edges = np.concatenate([edges, np.zeros((len(centre), 1))], axis=1)
-        t, w = base.mapped(edges[:, 1:], edges[:, :-1])
-        local.append((centre[:, None, None] + side * t).reshape(len(centre), -1))
-        weight.append(w.reshape(len(centre), -1))
-    return np.concatenate(local, axis=1), np.concatenate(weight, axis=1)
 
 
 def _closest_points(
@@ -455,7 +438,7 @@ def somigliana_operator(
             continue
         rows, el, centre = near_p[sel], elements.local_index[near_e[sel]], near_eta[sel]
         jac = basis.map(el, centre).jacobians
-        local, weight = _graded_rule(
+        local, weight = graded_rule(
             centre, near_d[sel] / jac, settings.graded_points, settings.graded_ratio
         )
         q = local.shape[1]

@@ -1,0 +1,384 @@
+"""Adaptive contact meshes: collocation points on the contact edges and stick-slip boundaries.
+
+A first, uniform solve of the whole history locates the contact edges (p falls to zero like
+a square root) and the stick-slip boundaries (q has a square-root cusp) of every step. The
+contact faces are re-meshed with a C0 knot, hence a collocation point, on each transition
+(:mod:`fretbem.accuracy.remesh`), the knots are moved onto the level's own discrete
+transitions (:mod:`fretbem.accuracy.knots`), and aligned levels repeat up to the pair budget
+or until the estimate from the last two (:mod:`fretbem.accuracy.estimate`) is below a tolerance.
+Why: docs/explanation/adaptive.rst.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import attrs
+import numpy as np
+
+from fretbem.basis import Refinement
+from fretbem.contact.pairs import SEPARATED
+
+from . import estimate
+from .knots import Transitions, knot_moves, knot_pressures, transitions
+from .remesh import AdaptiveError, aligned_breakpoints, elements_for, pairs_for, remesh
+
+__all__ = [
+    "AdaptiveError",
+    "AdaptiveResult",
+    "AdaptiveSettings",
+    "Transitions",
+    "aligned",
+    "aligned_breakpoints",
+    "elements_for",
+    "knot_moves",
+    "knot_pressures",
+    "pairs_for",
+    "remesh",
+    "run_adaptive",
+    "transitions",
+]
+
+
+def _budget(instance, attribute, value) -> None:
+    if isinstance(value, bool) or int(value) != value or value < 5:
+        raise AdaptiveError(
+            f"AdaptiveSettings.{attribute.name} must be a whole number of pairs >= 5, got {value!r}"
+        )
+
+
+#: (ratio, edge_peak) by whether the family is interpolatory (C0 at every element boundary:
+#: quadratic Lagrange) or smooth (NURBS); measured on the reference scene, budgets 31 to 61:
+#: Lagrange needs dense edges (edge_peak 0.5: e_p 1.3 %, 1.0 with ratio 20: 0.7 to 1.0 %),
+#: NURBS points that close to the edge see the finite bodies' edge (edge_peak 1.0: 2.3 %)
+FAMILY_GRADING = {False: (10.0, 0.5), True: (20.0, 1.0)}
+
+
+@attrs.frozen
+class AdaptiveSettings:
+    """What the user asks of the adaptive mode: a tolerance or a pair budget.
+
+    Attributes
+    ----------
+    tolerance : float
+        Stop when the estimated error (max over steps of e_p max and e_q max, fractions of
+        p0 and f p0) of two aligned levels is below this (default 2 %, the target for e_q).
+    budget : int
+        Most pairs in the candidate zone; the last level uses at most this many.
+    first : int
+        Pairs of the first, uniform level that finds the transitions.
+    ratio : float or None
+        Largest over smallest element of the graded levels (>= 1); None: the family's
+        (:data:`FAMILY_GRADING`).
+    grading : float
+        Distance (fraction of the face's parameter) over which elements grow to full size.
+    edge_peak : float or None
+        Element density at contact edges relative to stick-slip boundaries (0, 1]; None:
+        the family's (:data:`FAMILY_GRADING`).
+    edge_tolerance : float
+        A knot is settled when it would move by less than this fraction of the contact
+        half-width.
+    edge_iterations : int
+        Most re-solves that move the knots of the last level onto its own transitions
+        (:func:`settle`).
+    coarse_iterations : int
+        The same for the first aligned level (it hands on its transitions and its error).
+    coarse_tolerance : float
+        The first aligned level is settled when no knot would move by more than this
+        fraction of the contact half-width (with ``coarse_iterations`` = 2: a zone of 2 a
+        leaves c' 6 % of a off after the uniform level and its estimate at 2.6 % at 61
+        pairs, 0.6 % with a second pass; on the reference scene the second pass made e_p
+        at budget 36 1.19 % and the q estimate up to 4 times too large at 47 to 55, so the
+        default is one pass).
+    max_levels : int
+        Most aligned levels after the first.
+    """
+
+    tolerance: float = attrs.field(default=0.02, converter=float)
+    budget: int = attrs.field(default=61, validator=_budget)
+    first: int = attrs.field(default=31, validator=_budget)
+    ratio: float | None = attrs.field(default=None, converter=attrs.converters.optional(float))
+    max_levels: int = attrs.field(default=3, converter=int)
+    grading: float = attrs.field(default=0.06, converter=float)
+    edge_peak: float | None = attrs.field(default=None, converter=attrs.converters.optional(float))
+    edge_tolerance: float = attrs.field(default=2e-4, converter=float)
+    edge_iterations: int = attrs.field(default=4, converter=int)
+    coarse_iterations: int = attrs.field(default=1, converter=int)
+    coarse_tolerance: float = attrs.field(default=0.01, converter=float)
+
+    def for_family(self, family) -> AdaptiveSettings:
+        """These settings with ``ratio`` and ``edge_peak`` filled in for a basis family."""
+        ratio, peak = FAMILY_GRADING[bool(getattr(family, "interpolatory", False))]
+        return attrs.evolve(
+            self,
+            ratio=ratio if self.ratio is None else self.ratio,
+            edge_peak=peak if self.edge_peak is None else self.edge_peak,
+        )
+
+    def __attrs_post_init__(self) -> None:
+        if not (0.0 < self.tolerance < 1.0):
+            raise AdaptiveError(
+                f"AdaptiveSettings.tolerance is a fraction of p0, 0 < tolerance < 1; got "
+                f"{self.tolerance!r} (e.g. 0.005 for 0.5 %)"
+            )
+        peak = 1.0 if self.edge_peak is None else self.edge_peak
+        if not (0.0 < self.grading <= 1.0 and 0.0 < peak <= 1.0):
+            raise AdaptiveError(
+                f"AdaptiveSettings.grading and edge_peak must lie in (0, 1], got "
+                f"{self.grading!r} and {self.edge_peak!r}"
+            )
+        if self.ratio is not None and not (self.ratio >= 1.0 and math.isfinite(self.ratio)):
+            raise AdaptiveError(f"AdaptiveSettings.ratio must be >= 1, got {self.ratio!r}")
+        if self.max_levels < 2:
+            raise AdaptiveError(
+                f"AdaptiveSettings.max_levels must be >= 2 (two aligned levels give the "
+                f"estimate), got {self.max_levels!r}"
+            )
+
+
+# -- the loop -------------------------------------------------------------------------------
+@attrs.frozen(eq=False)
+class AdaptiveResult:
+    """Every level's result, the transitions found, the estimate and the time of it all.
+
+    Attributes
+    ----------
+    levels : tuple of SimulationResult
+        First (uniform) level first; the last is the answer.
+    transitions : tuple of Transitions
+        Transitions used to build each aligned level.
+    estimate : dict
+        Per step name, the estimated error of the last level (keys of StepResult.errors).
+    seconds : float
+        Wall time of all levels (assembly, condensation and solves).
+    """
+
+    levels: tuple
+    transitions: tuple
+    estimate: dict
+    seconds: float
+
+    @property
+    def result(self):
+        """The finest level's SimulationResult."""
+        return self.levels[-1]
+
+    def table(self) -> str:
+        """Per step: the finest level's errors (if a closed form exists) beside the estimate."""
+
+        def pct(value):
+            return "   n/a" if value is None else f"{100 * value:6.3f}"
+
+        lines = [
+            "levels (pairs): "
+            + ", ".join(str(r.steps[0].x.size) for r in self.levels)
+            + f"; all levels {self.seconds:.3f} s",
+            "step   e_p max%  est     e_q max%  est     e_p L2%   est     e_q L2%   est",
+        ]
+        for step in self.result.steps:
+            true, est = step.errors or {}, self.estimate[step.name]
+            cells = [
+                f"{pct(true.get(k))}  {pct(est[k])}"
+                for k in ("e_p_max", "e_q_max", "e_p_l2", "e_q_l2")
+            ]
+            lines.append(f"{step.name:<5s} " + "  ".join(cells))
+        return "\n".join(lines)
+
+    def summary(self) -> dict:
+        """Levels, transitions, timings and the per-step estimate, for summary.json."""
+        return {
+            "levels": [int(r.steps[0].x.size) for r in self.levels],
+            "transitions": [t.all.tolist() for t in self.transitions],
+            "seconds": self.seconds,
+            "estimate": {name: dict(e) for name, e in self.estimate.items()},
+        }
+
+    @property
+    def estimated_max(self) -> float:
+        """Largest estimated max error over steps, p and q."""
+        return max(max(e["e_p_max"], e["e_q_max"]) for e in self.estimate.values())
+
+
+def _solve(simulation):
+    from fretbem.simulation import run
+
+    return run(simulation)
+
+
+def _level_pairs(settings: AdaptiveSettings, family, degree) -> list[int]:
+    """Pair counts of the aligned levels: ``first`` doubled while below the budget, then it.
+
+    A budget below twice ``first`` gets half the budget as its first aligned level: the
+    estimate scales the coarse level's error by the pair ratio, best known near 2.
+    """
+
+    def fit(pairs: int) -> int:
+        return pairs_for(family, elements_for(family, pairs, degree), degree)
+
+    top = fit(settings.budget)
+    counts, n = [], settings.first
+    while fit(n) < top and len(counts) < settings.max_levels - 1:
+        counts.append(fit(n))
+        n = 2 * n - 1
+    if not counts or counts[0] > 0.55 * top:
+        counts = [fit((top + 1) // 2)]
+    return [*counts, top]
+
+
+def _half_width(result) -> float:
+    """Half-width of the widest contact of the history, along the face."""
+    along = estimate.positions(result)
+    widths = [np.ptp(along[s.states != SEPARATED]) for s in result.steps]
+    return 0.5 * max(widths)
+
+
+def aligned(simulation, found: Transitions, pairs: int, settings: AdaptiveSettings):
+    """The simulation re-meshed for ``found`` with at most ``pairs`` pairs (not solved)."""
+    settings = settings.for_family(simulation.pair.upper.family)
+    return remesh(
+        simulation,
+        found.boundaries,
+        pairs,
+        ratio=settings.ratio,
+        grading=settings.grading,
+        edges=found.edges,
+        edge_peak=settings.edge_peak,
+    )
+
+
+#: inward knot moves (from a gap or a slip increment) are damped by this factor until the
+#: knot's transition is bracketed: a knot inside its transition costs a square root of the
+#: distance, one outside a power 1.5 (docs/explanation/adaptive.rst)
+INWARD_DAMPING = 1.0
+
+#: most a knot moves in one re-solve, as a fraction of the contact half-width: the uniform
+#: first level finds the transitions within 1.5 % of a (6 % with a zone of 2 a), while a
+#: coarse aligned level's signals can send a knot 10 % of a off, onto another transition
+MAX_MOVE = 0.03
+
+
+def _next_positions(positions, moves, history) -> np.ndarray:
+    """Next position of every knot: the move (inward ones damped) until the knot's zero of
+    move(position) is bracketed by two tried positions, then regula falsi inside the bracket."""
+    out = positions + moves
+    for i, (e, m) in enumerate(zip(positions, moves, strict=True)):
+        tried = [(h[0][i], h[1][i]) for h in history] + [(e, m)]
+        plus = [t for t in tried if t[1] > 0]
+        minus = [t for t in tried if t[1] < 0]
+        if plus and minus:  # the knot wants +: its zero lies above; pick the closest pair
+            lo = max(plus, key=lambda t: t[0])
+            hi = min(minus, key=lambda t: t[0])
+            if lo[0] < hi[0]:
+                out[i] = lo[0] - lo[1] * (hi[0] - lo[0]) / (hi[1] - lo[1])
+                continue
+        inward = np.sign(m) != np.sign(e)
+        out[i] = e + (INWARD_DAMPING * m if inward else m)
+    return _keep_apart(positions, out)
+
+
+def _keep_apart(positions: np.ndarray, after: np.ndarray) -> np.ndarray:
+    """``after`` with no knot moved past the middle of the gap to its neighbour: a knot that
+    crossed another would leave a transition without a knot."""
+    order = np.argsort(positions)
+    ordered = positions[order]
+    middles = 0.5 * (ordered[1:] + ordered[:-1])
+    lo = np.concatenate([[-np.inf], middles])
+    hi = np.concatenate([middles, [np.inf]])
+    out = after.copy()
+    out[order] = np.clip(after[order], lo, hi)
+    return out
+
+
+#: weight of a knot that still has to move outward (its point inside the transition, where
+#: the error is a square root of the distance) against one that has to move inward
+INSIDE_WEIGHT = 2.0
+
+
+def _residual(positions: np.ndarray, moves: np.ndarray) -> float:
+    """How far a level's knots are from settled: the largest move, outward moves (knot point
+    inside its transition) weighted by :data:`INSIDE_WEIGHT`."""
+    if moves.size == 0:
+        return 0.0
+    centre = 0.5 * (positions.min() + positions.max())
+    outward = np.sign(moves) == np.sign(positions - centre)
+    return float(np.max(np.abs(moves) * np.where(outward, INSIDE_WEIGHT, 1.0)))
+
+
+def settle(
+    simulation,
+    found: Transitions,
+    pairs: int,
+    settings: AdaptiveSettings,
+    iterations: int,
+    tolerance: float | None = None,
+):
+    """Solve an aligned level and move its knots onto its own discrete transitions.
+
+    Returns the solved levels and the transitions of each, the settled level (the one whose
+    knots would move least, :func:`_residual`) last. Stops when no knot would move by more than
+    ``tolerance`` (default ``settings.edge_tolerance``) of the contact half-width, or after
+    ``iterations`` re-solves.
+    """
+    tolerance = settings.edge_tolerance if tolerance is None else tolerance
+    levels = [_solve(aligned(simulation, found, pairs, settings))]
+    used, history, residual = [found], [], []
+    for k in range(iterations + 1):
+        edge_moves, boundary_moves = knot_moves(levels[-1], used[-1])
+        moves = np.concatenate([edge_moves, boundary_moves])
+        residual.append(_residual(np.concatenate([used[-1].edges, used[-1].boundaries]), moves))
+        if residual[-1] <= tolerance * _half_width(levels[-1]) or k == iterations:
+            break
+        positions = np.concatenate([used[-1].edges, used[-1].boundaries])
+        cap = MAX_MOVE * _half_width(levels[-1])
+        after = _next_positions(positions, np.clip(moves, -cap, cap), history)
+        history.append((positions, moves))
+        n = used[-1].edges.size
+        used.append(Transitions(after[:n], after[n:]))
+        levels.append(_solve(aligned(simulation, used[-1], pairs, settings)))
+    best = int(np.argmin(residual))
+    order = [*(i for i in range(len(levels)) if i != best), best]
+    return [levels[i] for i in order], [used[i] for i in order]
+
+
+def run_adaptive(simulation, settings: AdaptiveSettings | None = None) -> AdaptiveResult:
+    """Solve, find the transitions, re-mesh aligned, and re-solve until tolerance or budget.
+
+    Levels: a uniform first level of ``settings.first`` pairs, then aligned levels of about
+    doubling pair counts up to the budget, each with its knots moved onto its own discrete
+    transitions (:func:`settle`) and handing them to the next; the run stops early when the
+    estimate from the last two aligned levels is below the tolerance.
+    """
+    start = time.perf_counter()
+    pair = simulation.pair
+    family = pair.upper.family
+    settings = (settings or AdaptiveSettings()).for_family(family)
+    degree = pair.upper.refinement.get(pair.upper_tag, Refinement()).degree
+    counts = _level_pairs(settings, family, degree)
+    first = remesh(simulation, np.array([]), min(settings.first, counts[-1]), ratio=1.0)
+    levels = [_solve(first)]
+    found = [transitions(levels[0])]
+    estimated: dict = {}
+    previous = None
+    for index, pairs in enumerate(counts):
+        # the first aligned level only hands on transitions and a coarse error; any later
+        # one may be the answer (the estimate can stop the run there)
+        if index == 0:
+            iterations, tolerance = settings.coarse_iterations, settings.coarse_tolerance
+        else:
+            iterations, tolerance = settings.edge_iterations, settings.edge_tolerance
+        solved, used = settle(simulation, found[-1], pairs, settings, iterations, tolerance)
+        levels += solved
+        found += used
+        if previous is not None:
+            estimated = estimate.estimate_errors(previous, solved[-1], at="coarse")
+            worst = max(max(e["e_p_max"], e["e_q_max"]) for e in estimated.values())
+            if worst < settings.tolerance:
+                break
+        previous = solved[-1]
+    return AdaptiveResult(
+        levels=tuple(levels),
+        transitions=tuple(found[1:]),
+        estimate=estimated,
+        seconds=time.perf_counter() - start,
+    )

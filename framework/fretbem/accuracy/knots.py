@@ -1,0 +1,324 @@
+"""Transition points of a contact history and the moves that put C0 knots on them.
+
+:func:`transitions` finds, from any solved level, the contact edges (p falls to zero like a
+square root) and the stick-slip boundaries (the traction reserve f p - abs(q) does). On an
+aligned level each transition carries a collocation point on a C0 knot; :func:`knot_moves`
+says how far each knot lies from the level's own discrete transition, from both sides
+(docs/explanation/adaptive.rst, "Moving the knots").
+"""
+
+from __future__ import annotations
+
+import math
+
+import attrs
+import numpy as np
+
+from fretbem.contact.pairs import SEPARATED, SLIP, STICK
+
+from . import estimate
+from .remesh import MERGE
+
+__all__ = [
+    "EDGE_MARGIN",
+    "KNOT_SLOPE",
+    "Transitions",
+    "knot_moves",
+    "knot_pressures",
+    "transitions",
+]
+
+#: knots aim this fraction of the contact half-width outside their discrete transition (on
+#: the separated or slip side): a collocation point just inside the exact transition sees a
+#: square root of the distance (an edge 0.05 % too far in costs 2 % of p0 at 61 pairs, a
+#: stick-slip knot 0.03 % into the stick zone 3.5 % of f p0) while one just outside costs
+#: little (0.2 % out: +0.6 %); measured on the reference scene, docs/explanation/adaptive.rst
+EDGE_MARGIN = 1e-3
+
+#: the traction (pressure, or reserve f p - abs(q)) at a collocation point on a C0 knot a
+#: distance d inside its discrete transition is about KNOT_SLOPE * A * d / sqrt(h) (A:
+#: amplitude of A sqrt(distance), h: the element inside); measured 1.4 to 1.9 on the
+#: reference scene at 31 to 61 pairs
+KNOT_SLOPE = 1.6
+
+#: the gap outside a contact edge and the slip increment outside a stick zone grow like
+#: distance^GROWTH from the transition (Hertz; Cattaneo-Mindlin)
+GROWTH = 1.5
+
+
+def _root_of_square(x: np.ndarray, values: np.ndarray, towards: float) -> float | None:
+    """Zero of a quadratic fit of values^2 (a square-root fall to zero) nearest ``towards``."""
+    if x.size < 2:
+        return None
+    # a square-root fall squared is quadratic (Hertz, exactly) and linear near its zero
+    coefficients = np.polyfit(x, values**2, 2 if x.size >= 4 else 1)
+    roots = np.roots(coefficients)
+    roots = roots[np.isreal(roots)].real
+    if roots.size == 0:
+        return None
+    return float(roots[np.argmin(np.abs(roots - towards))])
+
+
+def _edge(x, p, inside: np.ndarray, side: int, gap: float) -> float:
+    """Contact edge on one side: p^2 fitted over the outer contact nodes, else the midpoint."""
+    k = np.flatnonzero(inside)
+    last = k[-1] if side > 0 else k[0]
+    beyond = last + side
+    midpoint = (
+        x[last] + 0.5 * side * gap if not (0 <= beyond < x.size) else 0.5 * (x[last] + x[beyond])
+    )
+    width = x[k[-1]] - x[k[0]]
+    near = k[np.abs(x[k] - x[last]) <= 0.4 * width]
+    root = _root_of_square(x[near], p[near], x[last])
+    limit = x[beyond] if 0 <= beyond < x.size else x[last] + side * gap
+    if root is None or not (min(x[last], limit) - 1e-12 <= root <= max(x[last], limit) + 1e-12):
+        return float(midpoint)
+    return root
+
+
+def _stick_boundaries(x, p, q, states, friction) -> list[float]:
+    """Boundaries between a stick run and its slip neighbours, from the traction reserve."""
+    out = []
+    stick = states == 1
+    slip = states == 2
+    n = x.size
+    for i in range(n - 1):
+        a, b = i, i + 1
+        if not ((stick[a] and slip[b]) or (slip[a] and stick[b])):
+            continue
+        s, k = (a, b) if stick[a] else (b, a)  # s stick, k slip
+        direction = np.sign(q[k]) or 1.0
+        reserve = np.maximum(friction * p - direction * q, 0.0)
+        # the stick run that ends at s, toward the slip node k
+        step = -1 if k > s else 1
+        run = [s]
+        j = s + step
+        while 0 <= j < n and stick[j] and len(run) < 3:
+            run.append(j)
+            j += step
+        run = np.array(run)
+        root = _root_of_square(x[run], reserve[run], x[s])
+        lo, hi = sorted((x[s], x[k]))
+        if root is None or not (lo <= root <= hi):
+            root = 0.5 * (x[s] + x[k])
+        out.append(float(root))
+    return out
+
+
+def _merge(values: list[float], tolerance: float) -> np.ndarray:
+    """Sorted values with those closer than ``tolerance`` averaged into one."""
+    merged: list[float] = []
+    for value in np.sort(np.array(values, float)):
+        if merged and value - merged[-1] < tolerance:
+            merged[-1] = 0.5 * (merged[-1] + value)
+        else:
+            merged.append(float(value))
+    return np.array(merged)
+
+
+@attrs.frozen(eq=False)
+class Transitions:
+    """Transition points of a whole history, positions along the contact face.
+
+    Attributes
+    ----------
+    edges : ndarray
+        Contact edges of every step (moved out by :data:`EDGE_MARGIN`).
+    boundaries : ndarray
+        Stick-slip and reverse-slip boundaries of every step.
+    """
+
+    edges: np.ndarray
+    boundaries: np.ndarray
+
+    @property
+    def all(self) -> np.ndarray:
+        """Edges and boundaries together, sorted."""
+        return np.sort(np.concatenate([self.edges, self.boundaries]))
+
+
+def transitions(result) -> Transitions:
+    """Contact edges and stick-slip boundaries of every step of a result.
+
+    Edges from a quadratic fit of p^2 over the outer contact nodes (exact for a Hertzian
+    pressure); stick-slip boundaries from a linear fit of the squared traction reserve
+    f p - abs(q) over the three stick nodes next to the slip zone (a square-root fall squared
+    is linear near its zero). Falls back to the midpoint between the nodes on either side
+    where a fit is not possible.
+    """
+    along = estimate.positions(result)
+    order = np.argsort(along)
+    x = along[order]
+    gap = float(np.min(np.diff(x)))
+    friction = estimate.friction_of(result.simulation)
+    edges: list[float] = []
+    boundaries: list[float] = []
+    for step in result.steps:
+        p, q, states = step.pressure[order], step.shear[order], step.states[order]
+        inside = states != SEPARATED
+        if not inside.any():
+            continue
+        k = np.flatnonzero(inside)
+        margin = EDGE_MARGIN * 0.5 * (x[k[-1]] - x[k[0]])
+        for side in (-1, 1):
+            edges.append(_edge(x, p, inside, side, gap) + side * margin)
+        boundaries += _stick_boundaries(x, p, q, states, friction)
+    tolerance = MERGE * (x[-1] - x[0])
+    return Transitions(_merge(edges, tolerance), _merge(boundaries, tolerance))
+
+
+# -- knots on the transitions of an aligned level --------------------------------------------
+def _sorted_level(result):
+    """Positions along the face (sorted), the sort order and the smallest spacing."""
+    along = estimate.positions(result)
+    order = np.argsort(along)
+    x = along[order]
+    return x, order, float(np.min(np.diff(x)))
+
+
+def _knot_index(x: np.ndarray, knot: float, spacing: float) -> int | None:
+    """Index of the collocation point on ``knot``, None if no point is on it."""
+    k = int(np.argmin(np.abs(x - knot)))
+    return k if abs(x[k] - knot) <= 1e-3 * spacing else None
+
+
+def _inside_move(x, values, k: int, towards: int) -> float | None:
+    """Distance from point k (value > 0 on a C0 knot) out to the discrete zero, ``towards``
+    the zero: values = A sqrt(distance) fitted over three points behind k (KNOT_SLOPE)."""
+    near = [k - towards, k - 2 * towards, k - 3 * towards]
+    if min(near) < 0 or max(near) >= x.size or values[k] <= 0.0:
+        return None
+    slope = abs(np.polyfit(x[near], values[near] ** 2, 1)[0])
+    if slope <= 0.0:
+        return None
+    h = abs(x[k] - x[k - towards])
+    return float(values[k] * math.sqrt(h) / (KNOT_SLOPE * math.sqrt(slope)))
+
+
+def _outside_move(x, values, k: int, away: int) -> float | None:
+    """Distance from point k back to the transition behind it, from values growing like
+    distance^GROWTH at k and at the next point ``away`` from the transition."""
+    o = k + away
+    if not (0 <= o < x.size) or values[k] <= 0.0 or values[o] <= values[k]:
+        return None
+    r = (values[k] / values[o]) ** (1.0 / GROWTH)
+    return float(r * abs(x[o] - x[k]) / (1.0 - r))
+
+
+def _edge_move(x, order, knot, k, steps, gaps, margin: float) -> float | None:
+    """Move of an edge knot to ``margin`` outside the discrete edge, from the steps whose
+    contact ends at its point or just inside it."""
+    side = 1 if knot > 0.5 * (x[0] + x[-1]) else -1
+    inner, outer = k - side, k + side
+    if not (0 <= inner < x.size):
+        return None
+    out, into = [], []
+    for step, gap in zip(steps, gaps, strict=True):
+        states, p = step.states[order], step.pressure[order]
+        contact = states != SEPARATED
+        beyond = not (0 <= outer < x.size) or not contact[outer]
+        if contact[k] and beyond:  # the last contact point: pressure says how far out
+            move = _inside_move(x, p, k, side)
+            if move is not None:
+                reach = abs(x[outer] - x[k]) if 0 <= outer < x.size else move
+                out.append(min(move, 0.9 * reach))
+        elif not contact[k] and contact[inner]:  # first separated point: the gap says how far in
+            move = _outside_move(x, gap, k, side)
+            if move is not None:
+                into.append(min(move, 0.9 * abs(x[k] - x[inner])))
+    if out:
+        return side * (max(out) + margin)
+    if into:
+        return -side * (min(into) - margin)
+    return None
+
+
+def _boundary_move(x, order, k, steps, friction, margin: float) -> float | None:
+    """Move of a stick-slip knot to ``margin`` on the slip side of the discrete boundary: the
+    reserve on its point if stick, the slip increment if slip, averaged over the steps whose
+    stick-slip boundary is next to its point."""
+    moves = []
+    previous = np.zeros(x.size)
+    for step in steps:
+        states = step.states[order]
+        slip_now = step.tangential_displacement[order]
+        increment, previous = np.abs(slip_now - previous), slip_now
+        for t in (-1, 1):  # t: direction from the stick side to the slip side
+            j = k + t
+            if not (0 <= j < x.size and 0 <= k - t < x.size):
+                continue
+            p, q = step.pressure[order], step.shear[order]
+            if states[k] == STICK and states[j] == SLIP:
+                direction = np.sign(q[j]) or 1.0
+                reserve = np.maximum(friction * p - direction * q, 0.0)
+                move = _inside_move(x, reserve, k, t)
+                if move is not None:
+                    moves.append(t * (min(move, 0.9 * abs(x[j] - x[k])) + margin))
+            elif states[k] == SLIP and states[k - t] == STICK:
+                move = _outside_move(x, increment, k, t)
+                if move is not None:
+                    moves.append(-t * (min(move, 0.9 * abs(x[k] - x[k - t])) - margin))
+    return float(np.mean(moves)) if moves else None
+
+
+def knot_moves(result, found: Transitions) -> tuple[np.ndarray, np.ndarray]:
+    """Signed moves (along the face) of the edge and boundary knots onto the level's own
+    discrete transitions; 0 where a knot has no point or no transition next to it.
+
+    A knot point still inside its transition carries pressure (edges) or traction reserve
+    (stick-slip) that grows linearly with the distance (:data:`KNOT_SLOPE`); one outside it
+    carries a gap or a slip increment growing like distance^1.5 (:data:`GROWTH`). A knot
+    with no transition next to its point moves to the middle of the nearest one.
+    """
+    x, order, spacing = _sorted_level(result)
+    friction = estimate.friction_of(result.simulation)
+    initial = np.asarray(result.simulation.pair.pairing().gap, float)
+    gaps = [initial[order] + step.normal_displacement[order] for step in result.steps]
+    widths = [
+        np.ptp(x[step.states[order] != SEPARATED]) for step in result.steps if step.states.any()
+    ]
+    margin = EDGE_MARGIN * 0.5 * max(widths, default=0.0)
+    states = [step.states[order] for step in result.steps]
+    edges = np.zeros(found.edges.size)
+    for j, knot in enumerate(found.edges):
+        k = _knot_index(x, knot, spacing)
+        move = None if k is None else _edge_move(x, order, knot, k, result.steps, gaps, margin)
+        if move is None:
+            move = _nearest_change(x, states, knot, SEPARATED, (STICK, SLIP)) - knot
+        edges[j] = move
+    boundaries = np.zeros(found.boundaries.size)
+    for j, knot in enumerate(found.boundaries):
+        k = _knot_index(x, knot, spacing)
+        move = None if k is None else _boundary_move(x, order, k, result.steps, friction, margin)
+        if move is None:
+            move = _nearest_change(x, states, knot, SLIP, (STICK,)) - knot
+        boundaries[j] = move
+    return edges, boundaries
+
+
+def _nearest_change(x, states, knot: float, outer: int, inner: tuple) -> float:
+    """Midpoint of the two points where the state changes between ``inner`` and ``outer``
+    nearest ``knot`` over the steps; ``knot`` itself if there is none."""
+    best = knot
+    for st in states:
+        a, b = st[:-1], st[1:]
+        change = ((a == outer) & np.isin(b, inner)) | (np.isin(a, inner) & (b == outer))
+        for i in np.flatnonzero(change):
+            middle = 0.5 * float(x[i] + x[i + 1])
+            if best == knot or abs(middle - knot) < abs(best - knot):
+                best = middle
+    return best
+
+
+def knot_pressures(result, edges: np.ndarray) -> np.ndarray:
+    """Largest pressure over the steps at the point on each edge knot (0 if separated)."""
+    x, order, spacing = _sorted_level(result)
+    out = np.zeros(len(edges))
+    for j, edge in enumerate(edges):
+        k = _knot_index(x, edge, spacing)
+        if k is None:
+            continue
+        for step in result.steps:
+            if step.states[order][k] != SEPARATED:
+                out[j] = max(out[j], float(step.pressure[order][k]))
+    return out

@@ -1,0 +1,296 @@
+"""A run with its accuracy: fixed pairs or an adaptive contact mesh, every step with an estimate.
+
+:func:`solve` is the one call: ``Accuracy(mesh="fixed")`` solves the given pairs and a
+companion level of about half as many (uniform) and estimates each step's discretisation
+error from the two; ``Accuracy(mesh="adaptive")`` asks
+:func:`fretbem.accuracy.adaptive.run_adaptive`
+for a tolerance or a pair budget and keeps its estimate. The estimate is attached to the
+steps (``StepResult.estimate``) and the levels to the result (``SimulationResult.accuracy``);
+where no estimate can be formed the result says why instead of failing
+(docs/how-to/accuracy.rst).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+
+import attrs
+import numpy as np
+
+from fretbem.errors import InputError
+
+__all__ = [
+    "MESHES",
+    "UNIFORM_RATE",
+    "Accuracy",
+    "AccuracyError",
+    "companion_pairs",
+    "estimate_blocker",
+    "mode_of",
+    "solve",
+    "solve_scene",
+]
+
+MESHES = ("fixed", "adaptive")
+#: rate of the Richardson factor for the fixed mode's two uniform levels: 1, so the factor is
+#: 1 / (n / n_c - 1), about 1 for half the pairs (the change itself). The uniform error is a
+#: sawtooth in the pair count (where the contact edge falls between two points), not a power
+#: law; measured on the reference scene, pairs 31 to 81 (docs/how-to/accuracy.rst): the
+#: estimate is 0.73 to 39.5 times the true error (max of p and q), never below 0.73.
+UNIFORM_RATE = 1.0
+#: fewest pairs of the fixed mode's companion level
+MIN_COMPANION = 5
+#: pairs of the adaptive mode's first (uniform) level, or the budget if smaller
+FIRST_LEVEL = 31
+
+
+class AccuracyError(InputError):
+    """A mesh mode or its settings that cannot work for this run."""
+
+
+def _fraction(instance, attribute, value) -> None:
+    if not (isinstance(value, float) and 0.0 < value < 1.0):
+        raise AccuracyError(
+            f"tolerance is a fraction of p0 and f p0, 0 < tolerance < 1; got {value!r} "
+            "(e.g. 0.02 for 2 %)"
+        )
+
+
+def _budget(instance, attribute, value) -> None:
+    if isinstance(value, bool) or not isinstance(value, int) or value < MIN_COMPANION:
+        raise AccuracyError(
+            f"budget is the most pairs of the adaptive mode, a whole number >= {MIN_COMPANION}; "
+            f"got {value!r}"
+        )
+
+
+@attrs.frozen
+class Accuracy:
+    """How a run meets its accuracy: the mesh mode and whether to estimate.
+
+    Attributes
+    ----------
+    mesh : str
+        ``"fixed"`` (the simulation's own pairs) or ``"adaptive"`` (re-meshed contact faces).
+    estimate : bool
+        Fixed mode: also solve a companion level of about half the pairs for the estimate
+        (at 61 pairs about half the time of the main solve: the bodies are assembled again).
+        The adaptive mode always estimates (from its own levels).
+    tolerance : float
+        Adaptive: stop when the estimated max error (fraction of p0 and f p0) is below it.
+    budget : int
+        Adaptive: most pairs of the last level.
+    """
+
+    mesh: str = attrs.field(default="fixed")
+    estimate: bool = True
+    tolerance: float = attrs.field(default=0.02, converter=float, validator=_fraction)
+    budget: int = attrs.field(default=61, validator=_budget)
+
+    @mesh.validator
+    def _mesh(self, attribute, value) -> None:
+        if value not in MESHES:
+            raise AccuracyError(f"mesh must be one of {list(MESHES)}, got {value!r}")
+
+    def __attrs_post_init__(self) -> None:
+        if self.mesh == "adaptive" and not self.estimate:
+            raise AccuracyError(
+                "the adaptive mode always estimates its error (its levels give it); "
+                "estimate = false applies to mesh = 'fixed' only"
+            )
+
+
+def mode_of(scene) -> Accuracy:
+    """The :class:`Accuracy` a scene's ``[contact]`` table asks for."""
+    contact = scene.contact
+    return Accuracy(
+        mesh=contact.mesh,
+        estimate=contact.estimate,
+        tolerance=contact.tolerance,
+        budget=contact.budget,
+    )
+
+
+def _contact_family(simulation):
+    """(family, degree) of the upper body's contact face."""
+    from fretbem.basis import Refinement
+
+    pair = simulation.pair
+    refinement = getattr(pair.upper, "refinement", {}) or {}
+    degree = refinement.get(pair.upper_tag, Refinement()).degree
+    return pair.upper.family, degree
+
+
+def companion_pairs(simulation) -> int:
+    """Pairs of the fixed mode's companion level: half the contact elements, uniform."""
+    from .adaptive import elements_for, pairs_for
+
+    family, degree = _contact_family(simulation)
+    elements = elements_for(family, int(simulation.pair.n_pairs), degree)
+    return pairs_for(family, max(1, elements // 2), degree)
+
+
+def estimate_blocker(simulation) -> str | None:
+    """Why no two-level estimate can be formed for this simulation, or None if it can."""
+    from . import estimate
+
+    pair = simulation.pair
+    for body, tag in ((pair.lower, pair.lower_tag), (pair.upper, pair.upper_tag)):
+        if not hasattr(body, "boundary"):
+            model = body.describe().get("model", type(body).__name__)
+            return (
+                f"the {body.name} body is a {model} model; the estimate compares the traction "
+                "fields of a BEM body's contact segment"
+            )
+        try:
+            estimate.contact_segment(body, tag)
+        except estimate.EstimateInputError as err:
+            return str(err)
+    return None
+
+
+def _uniform(simulation):
+    """Companion factory of a bare simulation: its contact faces re-meshed uniformly."""
+    from .adaptive import remesh
+
+    def make(pairs: int):
+        return remesh(simulation, np.array([]), pairs, ratio=1.0)
+
+    return make
+
+
+def _attach(result, estimated: dict | None, accuracy: dict):
+    """The result with each step's estimate and the run's accuracy record."""
+    steps = result.steps
+    if estimated is not None:
+        steps = tuple(attrs.evolve(s, estimate=dict(estimated[s.name])) for s in steps)
+    return attrs.evolve(result, steps=steps, accuracy=accuracy)
+
+
+def _fixed(simulation, mode: Accuracy, coarse, run_kwargs) -> object:
+    from fretbem.simulation import run
+
+    from . import estimate
+
+    start = time.perf_counter()
+    result = run(simulation, **run_kwargs)
+    pairs = int(result.steps[0].x.size)
+    record = {"mesh": "fixed", "levels": [pairs], "estimate_reason": None}
+
+    def done(reason=None, estimated=None, levels=(pairs,)):
+        record.update(levels=list(levels), seconds=time.perf_counter() - start)
+        record["estimate_reason"] = reason
+        return _attach(result, estimated, record)
+
+    if not mode.estimate:
+        return done("not asked (estimate = false)")
+    reason = estimate_blocker(simulation)
+    if reason is not None:
+        return done(reason)
+    try:
+        n_coarse = companion_pairs(simulation)
+    except (ValueError, AttributeError) as err:
+        return done(f"no companion level: {err}")
+    if n_coarse < MIN_COMPANION or n_coarse >= pairs:
+        return done(
+            f"{pairs} pairs are too few for a companion level of about half as many "
+            f"(at least {MIN_COMPANION}); use more pairs"
+        )
+    try:
+        lower = run(coarse(n_coarse), check=run_kwargs.get("check", True))
+        estimated = estimate.estimate_errors(lower, result, rate=UNIFORM_RATE)
+    except Exception as err:  # the estimate never fails a run that succeeded
+        text = " ".join(str(err).split())
+        return done(f"the companion level of {n_coarse} pairs failed: {text}")
+    record.update(
+        rate=UNIFORM_RATE,
+        factor=estimate.richardson_factor(n_coarse, pairs, UNIFORM_RATE),
+    )
+    return done(None, estimated, (n_coarse, pairs))
+
+
+#: most pairs of an adaptive level whose error and estimate are verified: beyond it the
+#: reference scene's e_q max rose (1.7 % at 81, 3.1 % at 121 against 0.93 % at 61) while
+#: the estimate fell (docs/results.md, "The adaptive mode")
+VERIFIED_ADAPTIVE_PAIRS = 61
+
+
+def adaptive_blocker(simulation) -> str | None:
+    """Why the adaptive mode cannot re-mesh this simulation, or None if it can."""
+    reason = estimate_blocker(simulation)
+    if reason is None:
+        return None
+    return f"mesh = 'adaptive' cannot re-mesh this scene ({reason}); use mesh = 'fixed'"
+
+
+def _adaptive(simulation, mode: Accuracy) -> object:
+    from .adaptive import AdaptiveSettings, run_adaptive
+
+    reason = adaptive_blocker(simulation)
+    if reason is not None:
+        raise AccuracyError(reason)
+    settings = AdaptiveSettings(
+        tolerance=mode.tolerance, budget=mode.budget, first=min(FIRST_LEVEL, mode.budget)
+    )
+    out = run_adaptive(simulation, settings)
+    summary = out.summary()
+    record = {
+        "mesh": "adaptive",
+        "levels": summary["levels"],
+        "seconds": summary["seconds"],
+        "tolerance": mode.tolerance,
+        "budget": mode.budget,
+        "transitions": summary["transitions"],
+        "estimate_reason": None,
+    }
+    if max(summary["levels"]) > VERIFIED_ADAPTIVE_PAIRS:
+        record["caution"] = (
+            f"levels above {VERIFIED_ADAPTIVE_PAIRS} pairs are not verified: on the reference "
+            "scene the error rose there while the estimate fell (docs/how-to/accuracy); "
+            f"prefer budget <= {VERIFIED_ADAPTIVE_PAIRS}"
+        )
+    return _attach(out.result, out.estimate, record)
+
+
+def solve(
+    simulation,
+    mode: Accuracy | None = None,
+    *,
+    coarse: Callable[[int], object] | None = None,
+    progress=None,
+    check: bool = True,
+):
+    """Solve ``simulation`` in ``mode`` (default: fixed pairs with an estimate).
+
+    Returns the :class:`~fretbem.results.SimulationResult` of the finest level; each step's
+    ``estimate`` holds the estimated error (keys of ``StepResult.errors``) or None, and
+    ``result.accuracy`` the mode, the levels' pairs, their time and ``estimate_reason``
+    (why there is no estimate, else None). ``coarse(pairs)`` builds the fixed mode's
+    companion level (default: the contact faces re-meshed uniformly).
+    """
+    mode = mode or Accuracy()
+    if mode.mesh == "adaptive":
+        return _adaptive(simulation, mode)
+    kwargs = {"check": check}
+    if progress is not None:
+        kwargs["progress"] = progress
+    return _fixed(simulation, mode, coarse or _uniform(simulation), kwargs)
+
+
+def solve_scene(scene, mode: Accuracy | None = None, *, progress=None):
+    """Build and solve a :class:`~fretbem.scenes.spec.Scene` in its own mode (or ``mode``).
+
+    The fixed mode's companion level is the same scene with fewer ``pairs``. Returns
+    (result, reason): ``reason`` says why no closed form applies (None if one does).
+    """
+    from fretbem.scenes.builder import build
+
+    simulation, reason = build(scene)
+    result = solve(
+        simulation,
+        mode or mode_of(scene),
+        coarse=lambda pairs: build(scene, pairs=pairs)[0],
+        progress=progress,
+    )
+    return result, reason

@@ -1,0 +1,184 @@
+"""Aligned contact meshes: both contact faces re-meshed with C0 knots on given positions.
+
+Elements are graded toward the transition points (contact edges, stick-slip boundaries) and
+each becomes a breakpoint where the basis is only C0, which puts a collocation point on it
+(docs/explanation/adaptive.rst). Used by :mod:`fretbem.accuracy.adaptive`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import attrs
+import numpy as np
+
+from fretbem.basis import Refinement, face_points, points_per_element
+from fretbem.bem.body import discretised
+from fretbem.errors import InputError
+
+from . import estimate
+
+__all__ = ["AdaptiveError", "aligned_breakpoints", "elements_for", "pairs_for", "remesh"]
+
+#: smallest transition spacing kept apart, as a fraction of the face length
+MERGE = 2e-3
+
+
+class AdaptiveError(InputError):
+    """Settings, a face or a layout the adaptive mode cannot work with."""
+
+
+def aligned_breakpoints(
+    anchors: np.ndarray,
+    elements: int,
+    *,
+    ratio: float = 4.0,
+    grading: float = 0.15,
+    centred: bool = False,
+    peaks: np.ndarray | None = None,
+) -> np.ndarray:
+    """Breakpoints in [0, 1]: ``elements`` elements, graded toward ``anchors``.
+
+    Each anchor is a breakpoint, or with ``centred`` the centre of an element. Element
+    density falls linearly with the distance to an anchor, from ``peaks`` (default 1) at it
+    to 1 / ``ratio`` at ``grading`` (fraction of [0, 1]) and beyond; the gaps between
+    anchors get whole numbers of elements that equidistribute it.
+    """
+    anchors = np.asarray(anchors, float)
+    peaks = np.ones(anchors.size) if peaks is None else np.asarray(peaks, float)
+    order = np.argsort(anchors)
+    anchors, peaks = anchors[order], peaks[order]
+    keep = (anchors > MERGE) & (anchors < 1.0 - MERGE)
+    anchors, peaks = anchors[keep], peaks[keep]
+    if anchors.size > 1:  # coincident transitions share one anchor
+        keep = np.concatenate([[True], np.diff(anchors) > MERGE])
+        anchors, peaks = anchors[keep], peaks[keep]
+    m = anchors.size
+    fixed = m if centred else 0
+    if elements < m + 1 + fixed:
+        raise AdaptiveError(
+            f"{elements} elements cannot place {m} transitions with an element between "
+            "them; raise the pair budget"
+        )
+    if m == 0:
+        return np.linspace(0.0, 1.0, elements + 1)
+    slope = (ratio - 1.0) / grading
+    grid = np.linspace(0.0, 1.0, 8001)
+    distance = np.abs(grid[:, None] - anchors[None, :])
+    rho = np.maximum(1.0 / ratio, np.max(peaks / (1.0 + slope * distance), axis=1))
+    cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (rho[1:] + rho[:-1]) * np.diff(grid))])
+    spacing = np.diff(np.concatenate([[-anchors[0]], anchors, [2.0 - anchors[-1]]]))
+    room = 0.3 * np.minimum(spacing[:-1], spacing[1:])
+
+    def layout(h):
+        half = np.minimum(0.5 * h, room) if centred else np.zeros(m)
+        starts = np.concatenate([[0.0], anchors + half])
+        ends = np.concatenate([anchors - half, [1.0]])
+        work = (np.interp(ends, grid, cumulative) - np.interp(starts, grid, cumulative)) / h
+        return half, starts, ends, work
+
+    target = elements - fixed
+    lo_h, hi_h = 1e-7, 2.0
+    for _ in range(80):
+        h = math.sqrt(lo_h * hi_h)
+        total = np.maximum(layout(h)[3], 1.0).sum()
+        lo_h, hi_h = (h, hi_h) if total > target else (lo_h, h)
+    _, starts, ends, work = layout(math.sqrt(lo_h * hi_h))
+    counts = np.maximum(np.floor(work), 1).astype(int)
+    while counts.sum() < target:
+        counts[np.argmax(work - counts)] += 1
+    while counts.sum() > target:
+        spare = np.where(counts > 1, counts - work, -np.inf)
+        counts[np.argmax(spare)] -= 1
+    points = [np.array([0.0])]
+    for a, b, n in zip(starts, ends, counts, strict=True):
+        ca, cb = np.interp([a, b], grid, cumulative)
+        inner = np.interp(np.linspace(ca, cb, n + 1), cumulative, grid)
+        inner[0], inner[-1] = a, b
+        points.append(inner)
+    out = np.unique(np.concatenate(points))
+    out[0], out[-1] = 0.0, 1.0
+    return out
+
+
+#: pairs a family puts on a face of that many elements (the discretisation's own count)
+pairs_for = face_points
+
+
+def elements_for(family, pairs: int, degree: int | None = None) -> int:
+    """Most elements whose face has at most ``pairs`` collocation points."""
+    per, extra = points_per_element(family, degree)
+    return max(1, math.floor((pairs - extra) / per))
+
+
+def remesh(
+    simulation,
+    anchors: np.ndarray,
+    pairs: int,
+    *,
+    ratio: float = 4.0,
+    grading: float = 0.15,
+    centred: bool = False,
+    edges: np.ndarray | None = None,
+    edge_peak: float = 1.0,
+):
+    """The simulation with both contact faces re-meshed toward ``anchors``, <= ``pairs`` pairs.
+
+    ``anchors`` are positions along the pair tangent. Each becomes a breakpoint where the
+    basis is C0 (a collocation point on it for NURBS and Lagrange alike), or with
+    ``centred`` the centre of an element. Elements are laid out in the upper face's
+    parameter and carried to the lower face by position, so pairs still face each other.
+    Returns a new Simulation (nothing assembled yet).
+    """
+    pair = simulation.pair
+    tangent = estimate.pair_frame(pair)[1][0]
+    up_index, _ = estimate.contact_segment(pair.upper, pair.upper_tag)
+    low_index, _ = estimate.contact_segment(pair.lower, pair.lower_tag)
+    degree = pair.upper.refinement.get(pair.upper_tag, Refinement()).degree
+    family = pair.upper.family
+    # the segments' own curves (not the refined ones, whose knots would be kept)
+    up_segment = pair.upper.boundary.segments[up_index]
+    up_curve = up_segment.curve
+    low_curve = pair.lower.boundary.segments[low_index].curve
+    edges = np.zeros(0) if edges is None else np.asarray(edges, float)
+    peaks = np.concatenate([np.ones(np.size(anchors)), np.full(edges.size, edge_peak)])
+    anchors = np.concatenate([np.asarray(anchors, float).ravel(), edges])
+    sigma = estimate.parameter_of(up_curve, tangent)(anchors)
+    flip = bool((up_curve.points([1.0])[0] - up_curve.points([0.0])[0]) @ tangent < 0)
+    if flip:
+        sigma = 1.0 - sigma
+    low_inverse = estimate.parameter_of(low_curve, tangent)
+
+    def build(elements):
+        bounds = aligned_breakpoints(
+            sigma, elements, ratio=ratio, grading=grading, centred=centred, peaks=peaks
+        )
+        if flip:
+            bounds = (1.0 - bounds)[::-1]
+        marks = [] if centred else [bounds[np.argmin(np.abs(bounds - t))] for t in sigma]
+        marks = np.unique([t for t in marks if 0.0 < t < 1.0])
+        upper = Refinement.explicit(bounds, degree=degree, c0_at=marks)
+        along = up_curve.points(bounds) @ tangent
+        low_bounds = low_inverse(along)
+        low_marks = low_inverse(up_curve.points(marks) @ tangent) if marks.size else marks
+        order = np.argsort(low_bounds)
+        low_bounds = low_bounds[order]
+        low_bounds[0], low_bounds[-1] = 0.0, 1.0
+        snap = [low_bounds[np.argmin(np.abs(low_bounds - t))] for t in low_marks]
+        lower = Refinement.explicit(low_bounds, degree=degree, c0_at=snap)
+        return upper, lower, discretised(family, up_segment, upper).n_functions
+
+    elements = elements_for(family, pairs, degree)
+    while True:
+        upper_ref, lower_ref, count = build(elements)
+        if count <= pairs or elements <= 1:
+            break
+        per, _ = points_per_element(family, degree)
+        elements -= max(1, math.ceil((count - pairs) / per))
+    upper = attrs.evolve(
+        pair.upper, refinement={**pair.upper.refinement, pair.upper_tag: upper_ref}
+    )
+    lower = attrs.evolve(
+        pair.lower, refinement={**pair.lower.refinement, pair.lower_tag: lower_ref}
+    )
+    return attrs.evolve(simulation, pair=attrs.evolve(pair, upper=upper, lower=lower))

@@ -1,0 +1,298 @@
+"""The boundary element body: NURBS boundary, any basis family, conditions, linear solve.
+
+The body assembles H and G once (lazily) and factorises its collocation system once per set
+of contact segments, so repeated solves and load steps only do triangular solves; its
+contact response is that system condensed onto the contact face's node tractions.
+"""
+
+from __future__ import annotations
+
+import time
+import weakref
+from collections.abc import Mapping
+
+import attrs
+import numpy as np
+
+from fretbem import registry as bases
+from fretbem.basis import Basis, Refinement
+from fretbem.body import Body, ContactFace, ContactResponse, RigidMotionError
+from fretbem.conditions import Condition, LoadingBlock
+from fretbem.geometry.boundary import Boundary
+from fretbem.material import Material
+
+from . import layout as bem_layout
+from .integration import Assembler, Collocation, IntegrationSettings, offsets
+from .kernels import KelvinKernel
+from .layout import BLOCK, DISPLACEMENT, Layout
+from .system import BodySolution, BodySystem, contact_response, face_rows, face_values_matrix
+
+# BodySolution and BodySystem (fretbem.bem.system) are importable from here too
+__all__ = ["BemBody", "discretised"]
+
+
+#: discretised segments per boundary segment, by (family, refinement): bodies re-meshed on
+#: one boundary (adaptive levels, companion levels, sweeps) discretise only what changed.
+#: Keyed by the Segment, which no Basis refers to, so a dropped boundary frees its entries.
+_DISCRETISED: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def discretised(family: type[Basis], segment, refinement: Refinement) -> Basis:
+    """``family.discretise(segment.curve, refinement)``, once per segment and refinement."""
+    per_segment = _DISCRETISED.setdefault(segment, {})
+    key = (family, refinement)
+    if key not in per_segment:
+        per_segment[key] = family.discretise(segment.curve, refinement)
+    return per_segment[key]
+
+
+@attrs.frozen(eq=False)
+class BemBody(Body):
+    """A homogeneous elastic body described by its boundary: the boundary element model.
+
+    Attributes
+    ----------
+    boundary : Boundary
+    material : Material
+    conditions : tuple of Displacement, Traction or LoadingBlock
+        Segments and components no condition names are traction free.
+    basis : str or Basis subclass
+        Name of an installed family (see ``fretbem bases``) or a class.
+    refinement : mapping of tag to Refinement
+        Per-tag discretisation; tags not listed get ``Refinement()``.
+    name : str
+    integration : IntegrationSettings
+    """
+
+    boundary: Boundary = attrs.field(validator=attrs.validators.instance_of(Boundary))
+    material: Material = attrs.field(validator=attrs.validators.instance_of(Material))
+    conditions: tuple[Condition, ...] = attrs.field(default=(), converter=tuple)
+    basis: str | type[Basis] = "nurbs"
+    refinement: Mapping[str, Refinement] = attrs.field(factory=dict, converter=dict)
+    name: str = "body"
+    integration: IntegrationSettings = attrs.field(factory=IntegrationSettings)
+    _cache: dict = attrs.field(init=False, factory=dict, repr=False)
+
+    def __attrs_post_init__(self) -> None:
+        bases.get(self.basis)  # an unknown family is an error now, listing the installed ones
+        bem_layout.check_conditions(self)
+
+    def _indices(self, tag: str, used_by: str) -> list[int]:
+        try:
+            return self.boundary.indices(tag)
+        except KeyError as err:
+            raise KeyError(
+                f"body {self.name!r}: {used_by} refers to tag {tag!r}, but {err.args[0]}"
+            ) from None
+
+    # -- discretisation and matrices ------------------------------------------------------
+    @property
+    def family(self) -> type[Basis]:
+        """The basis family class (resolved through the registry)."""
+        return bases.get(self.basis)
+
+    @property
+    def segments(self) -> tuple[Basis, ...]:
+        """The discretised segments, one Basis per boundary segment (computed once)."""
+        if "segments" not in self._cache:
+            family = self.family
+            self._cache["segments"] = tuple(
+                discretised(family, s, self.refinement.get(s.tag, Refinement()))
+                for s in self.boundary.segments
+            )
+        return self._cache["segments"]
+
+    @property
+    def offsets(self) -> np.ndarray:
+        """First global function index of each segment, and the total at the end."""
+        return offsets(self.segments)
+
+    @property
+    def n_functions(self) -> int:
+        """Number of basis functions over the whole boundary."""
+        return int(self.offsets[-1])
+
+    @property
+    def dofs(self) -> int:
+        """Boundary unknowns of the discretised body: 2 coefficients per function."""
+        return 2 * self.n_functions
+
+    @property
+    def collocation(self) -> Collocation:
+        """Collocation points of every segment (computed once)."""
+        if "collocation" not in self._cache:
+            self._cache["collocation"] = Collocation.of(self.segments)
+        return self._cache["collocation"]
+
+    @property
+    def timings(self) -> dict[str, float]:
+        """Wall times (s) of the work done so far: assembly, factorisation."""
+        return self._cache.setdefault("timings", {})
+
+    def matrices(self) -> tuple[np.ndarray, np.ndarray]:
+        """H and G (2N x 2N), assembled on first request and cached."""
+        if "matrices" not in self._cache:
+            start = time.perf_counter()
+            kernel = KelvinKernel.of(self.material)
+            assembler = Assembler(self.segments, kernel, self.integration)
+            self._cache["matrices"] = assembler.assemble()
+            self.timings["assembly"] = time.perf_counter() - start
+        return self._cache["matrices"]
+
+    def function_slice(self, segment: int) -> slice:
+        """Global function indices of one segment."""
+        return slice(int(self.offsets[segment]), int(self.offsets[segment + 1]))
+
+    def resultant_weights(self) -> np.ndarray:
+        """int phi_a dGamma for every function: tractions coefficients to resultant force."""
+        if "resultant" not in self._cache:
+            from fretbem.numerics.quadrature import QuadratureRule
+
+            rule = QuadratureRule.gauss_legendre(8)
+            out = np.zeros(self.n_functions)
+            for k, basis in enumerate(self.segments):
+                elements = np.repeat(np.arange(basis.n_elements), rule.points.size)
+                local = np.tile(rule.points, basis.n_elements)
+                _, _, jac, _ = basis.geometry(elements, local)
+                values, _ = basis.shape_functions(elements, local)
+                weights = jac * np.tile(rule.weights, basis.n_elements)
+                np.add.at(
+                    out, self.offsets[k] + basis.connectivity[elements], values * weights[:, None]
+                )
+            self._cache["resultant"] = out
+        return self._cache["resultant"]
+
+    # -- boundary conditions --------------------------------------------------------------
+    def layout(self, contact_tags: tuple[str, ...] = ()) -> Layout:
+        """Kinds and known coefficients of every dof, computed once per set of contact tags.
+
+        The rigid-motion check and the factorised system both need it; arrays are read-only.
+        """
+        key = ("layout", tuple(sorted(contact_tags)))
+        if key not in self._cache:
+            self._cache[key] = bem_layout.layout(self, contact_tags)
+        return self._cache[key]
+
+    @property
+    def load_names(self) -> tuple[str, ...]:
+        """Named history loads scaling the body's tractions (``Traction(..., load=name)``)."""
+        return bem_layout.load_names(self)
+
+    @property
+    def loading_block(self) -> LoadingBlock | None:
+        """The body's loading block condition, if any."""
+        return next((c for c in self.conditions if isinstance(c, LoadingBlock)), None)
+
+    def free_rigid_motions(
+        self, contact_tags: tuple[str, ...] = (), *, block_translates: bool = True
+    ) -> list[str]:
+        """Rigid motions (x/y translation, rotation) the prescribed displacements leave free.
+
+        A loading block stops rotation; its translation is free under force control
+        (``block_translates``), which contact or the prescribed force must then determine.
+        """
+        kinds = self.layout(contact_tags).kinds
+        x, y = self.collocation.points.T
+        rows = []
+        for comp in range(2):
+            fixed = kinds[:, comp] == DISPLACEMENT
+            unit = np.zeros((fixed.sum(), 3))
+            unit[:, comp] = 1.0
+            unit[:, 2] = -y[fixed] if comp == 0 else x[fixed]
+            rows.append(unit)
+            block = kinds[:, comp] == BLOCK
+            if block.any():
+                arm = -(y[block] - y[block].mean()) if comp == 0 else x[block] - x[block].mean()
+                rows.append(np.column_stack([np.zeros((block.sum(), 2)), arm]))
+                if not block_translates:
+                    rows.append(np.eye(3)[comp][None])
+        matrix = np.concatenate(rows)
+        scale = max(np.ptp(self.collocation.points, axis=0).max(), 1e-300)
+        matrix[:, 2] /= scale
+        _, singular, vt = np.linalg.svd(matrix, full_matrices=True)
+        rank = int(np.sum(singular > 1e-8 * max(singular.max(initial=0.0), 1.0)))
+        free = []
+        for vector in vt[rank:]:
+            names = ["x translation", "y translation", "rotation"]
+            free.append(names[int(np.argmax(np.abs(vector)))])
+        return sorted(set(free))
+
+    def check_supported(self, contact_tags: tuple[str, ...] = (), *, in_contact=False) -> None:
+        """Raise RigidMotionError naming the free motions and how to remove them."""
+        free = self.free_rigid_motions(contact_tags, block_translates=not in_contact)
+        if free:
+            raise RigidMotionError(
+                f"body {self.name!r}: its boundary conditions leave rigid motion free "
+                f"({', '.join(free)}), so the problem has no unique solution; prescribe a "
+                "displacement on some segment (e.g. Displacement('bottom')) or, for a body "
+                "pressed into contact, load it through a LoadingBlock"
+            )
+
+    def system(self, contact_tags: tuple[str, ...] = ()) -> BodySystem:
+        """The factorised collocation system, with the given segments left to contact."""
+        key = ("system", tuple(sorted(contact_tags)))
+        if key not in self._cache:
+            self._cache[key] = BodySystem(self, tuple(contact_tags))
+            if contact_tags:
+                # the contact path needs neither H nor G again (every later solve is a
+                # product with the response): 2 N^2 floats, 512 MB at 1921 pairs; a later
+                # system for other contact faces re-assembles them
+                self.release_matrices()
+        return self._cache[key]
+
+    def release_matrices(self) -> None:
+        """Forget H and G (assembled again if asked for): they are the body's largest arrays."""
+        self._cache.pop("matrices", None)
+
+    def solve(self, loads: Mapping[str, float] | None = None) -> BodySolution:
+        """Solve the body on its own (no contact): a linear elastostatic problem.
+
+        ``loads`` gives the amplitude of each named load (``load_names``; missing ones 0).
+        """
+        self.check_supported()
+        system = self.system()
+        beta = self._amplitudes(loads or {})
+        delta = np.zeros(2)
+        if system.block_dofs.size:
+            r0, stiffness = system.resultant_map()
+            r0 = r0 + system.block_resultant(system.load_response) @ beta
+            delta = np.linalg.solve(stiffness, np.asarray(self.loading_block.force) - r0)
+        return system.solution(delta, np.zeros(0), beta)
+
+    def _amplitudes(self, loads: Mapping[str, float]) -> np.ndarray:
+        return np.array([float(loads.get(name, 0.0)) for name in self.load_names])
+
+    # -- the Body contract ------------------------------------------------------------------
+    def describe(self) -> dict:
+        """Model, basis family and the contact-face degree for the run summary."""
+        return {"model": "bem", "basis": self.family.name, "degree": self.segments[0].degree}
+
+    def contact_face(self, tag: str) -> ContactFace:
+        """Collocation points and normals of the segments tagged ``tag``, in boundary order."""
+        rows, _ = face_rows(self, tag)
+        colloc = self.collocation
+        return ContactFace(colloc.points[rows], colloc.normals[rows])
+
+    def contact_response(self, tag: str) -> ContactResponse:
+        """Displacement at the face's collocation points per unit node traction (cached).
+
+        Raises RigidMotionError if the body is not held with the face in contact.
+        """
+        key = ("response", tag)
+        if key not in self._cache:
+            self.check_supported((tag,), in_contact=True)
+            self._cache[key] = contact_response(self, tag)
+        return self._cache[key]
+
+    def solution(
+        self,
+        tag: str,
+        tractions: np.ndarray,
+        block: np.ndarray,
+        loads: Mapping[str, float],
+    ) -> BodySolution:
+        """Every boundary coefficient for node tractions (n, 2) on the face ``tag``."""
+        inverse_values = np.linalg.solve(face_values_matrix(self, tag), np.asarray(tractions))
+        return self.system((tag,)).solution(
+            np.asarray(block, float), inverse_values.ravel(), self._amplitudes(loads)
+        )

@@ -1,0 +1,184 @@
+"""Collocation assembly of H and G for one body (paper eq. 8-10), vectorised.
+
+Every (collocation point, element) pair falls in one of four classes, by the distance d
+from the point to the element over the element's length h:
+
+- far (d/h >= ``far_ratio``): a low-order Gauss rule;
+- mid: a high-order Gauss rule;
+- near (d/h < ``near_ratio``): a composite rule graded geometrically toward the element's
+  closest point (adaptive subdivision);
+- singular (the point lies on the element): the element is split at the point; G's
+  ln(1/r) term by log-weighted Gauss (exact for log x polynomial), H by singularity
+  subtraction with the rigid-body identity, which makes its integrand bounded.
+
+The H rows come out already containing the free term c(x) u(x): with
+H u = int T (u(x) - u(s)) dGamma, rigid translations give exactly zero (docs/theory.md).
+
+The distance is the minimum over 9 samples of the element, decided by a bounding circle
+of the samples wherever the circle is already far. :mod:`fretbem.bem.assembly` organises the
+work (one basis evaluation per segment for all fixed rules); the pair loops are either
+compiled (:mod:`fretbem.bem.compiled_loops`, numba: classify and integrate pair by pair straight
+into H and G) or numpy (:mod:`fretbem.bem.numpy_loops`); both give the same H and G to
+round-off. Loading numba costs about 0.45 s in a fresh process, so by default
+(``IntegrationSettings.compiled = None``) the choice is a ski rental: the numpy loops run
+until this process has spent on them ``COMPILED_MIN_PAIRS`` (collocation point, element)
+pairs, about what loading numba costs; from then on, or at once for a body that large, or
+once the compiled loops are loaded anyway, the compiled loops run. A one-off small run
+never pays for numba; a sweep, a study or an adaptive run of many small bodies switches
+after a few of them, and never loses more than twice the better choice
+(docs/performance.md).
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+from collections.abc import Sequence
+
+import attrs
+import numpy as np
+
+from fretbem.basis import Basis
+from fretbem.errors import ComputationError
+
+from .kernels import KelvinKernel
+
+
+@attrs.frozen
+class IntegrationSettings:
+    """Quadrature orders and distance thresholds (see module docstring).
+
+    ``compiled``: True for the compiled (numba) assembly, False for numpy, None to choose
+    by problem size (``COMPILED_MIN_PAIRS``); the two give the same H and G to round-off.
+    """
+
+    far_ratio: float = 4.0
+    far_points: int = 6
+    near_ratio: float = 0.5
+    mid_points: int = 16
+    graded_points: int = 10
+    graded_ratio: float = 0.5
+    singular_points: int = 16
+    log_points: int = 8
+    compiled: bool | None = attrs.field(
+        default=None, validator=attrs.validators.optional(attrs.validators.instance_of(bool))
+    )
+
+
+#: (collocation point, element) pairs from which the compiled path repays loading numba in
+#: a fresh process (about 0.45 s for the import and the cached kernels, against 1-2 us
+#: saved per pair; benchmarks/floor.py, docs/performance.md)
+COMPILED_MIN_PAIRS = 400_000
+
+#: (collocation point, element) pairs this process has assembled with the numpy loops
+_numpy_pairs_spent = 0
+
+
+class CompiledKernelsUnavailableError(ComputationError):
+    """``IntegrationSettings(compiled=True)`` was asked for but numba is not installed."""
+
+
+def _numba_installed() -> bool:
+    return importlib.util.find_spec("numba") is not None
+
+
+@attrs.frozen(eq=False)
+class Collocation:
+    """Where a body collocates: per point its segment, element, local coordinate, position.
+
+    Attributes
+    ----------
+    segment, element : ndarray of int
+    local, parameter : ndarray
+    points, normals : ndarray, shape (N, 2)
+    """
+
+    segment: np.ndarray
+    element: np.ndarray
+    local: np.ndarray
+    parameter: np.ndarray
+    points: np.ndarray
+    normals: np.ndarray
+
+    @classmethod
+    def of(cls, segments: Sequence[Basis]) -> Collocation:
+        """Collocation data of the discretised segments, in segment order."""
+        parts = []
+        for k, basis in enumerate(segments):
+            elements, local = basis.collocation()
+            points, _, _, normals = basis.geometry(elements, local)
+            parts.append(
+                (
+                    np.full(len(elements), k),
+                    elements,
+                    local,
+                    basis.collocation_parameters,
+                    points,
+                    normals,
+                )
+            )
+        return cls(*(np.concatenate(column) for column in zip(*parts, strict=True)))
+
+
+def offsets(segments: Sequence[Basis]) -> np.ndarray:
+    """First global function index of every segment, and the total at the end."""
+    return np.concatenate([[0], np.cumsum([b.n_functions for b in segments])])
+
+
+class Assembler:
+    """Builds H and G for a list of discretised segments of one homogeneous body.
+
+    ``kernel`` is the fundamental solution integrated (plane strain or plane stress).
+    """
+
+    def __init__(
+        self,
+        segments: Sequence[Basis],
+        kernel: KelvinKernel,
+        settings: IntegrationSettings | None = None,
+    ):
+        if not isinstance(kernel, KelvinKernel):
+            raise TypeError(
+                f"Assembler needs a KelvinKernel (e.g. KelvinKernel.of(material)), got {kernel!r}"
+            )
+        self.segments = tuple(segments)
+        self.kernel = kernel
+        self.mu, self.nu = kernel.shear_modulus, kernel.effective_nu
+        self.settings = settings or IntegrationSettings()
+        self.offsets = offsets(self.segments)
+        self.n = int(self.offsets[-1])
+        self.colloc = Collocation.of(self.segments)
+
+    @property
+    def point_element_pairs(self) -> int:
+        """Number of (collocation point, element) pairs: the assembly's work."""
+        return self.n * sum(basis.n_elements for basis in self.segments)
+
+    @property
+    def uses_compiled(self) -> bool:
+        """Whether :meth:`assemble` takes the compiled path (see the module docstring)."""
+        choice = self.settings.compiled
+        if choice is True and not _numba_installed():
+            raise CompiledKernelsUnavailableError(
+                "IntegrationSettings(compiled=True) needs numba, which is not installed; "
+                "pip install numba, or leave compiled=None to use it only when available"
+            )
+        if choice is not None:
+            return choice
+        if "fretbem.bem.compiled_loops" in sys.modules:  # loaded already: its cost is paid
+            return True
+        work = _numpy_pairs_spent + self.point_element_pairs
+        return work >= COMPILED_MIN_PAIRS and _numba_installed()
+
+    def assemble(self) -> tuple[np.ndarray, np.ndarray]:
+        """Dense H and G, rows 2 s + i (collocation point s), columns 2 b + j (function b)."""
+        global _numpy_pairs_spent
+        from . import assembly as _assembly
+
+        if self.uses_compiled:
+            from . import compiled_loops as loops
+        else:
+            from . import numpy_loops as loops
+
+            _numpy_pairs_spent += self.point_element_pairs
+        return _assembly.assemble(self, self.mu, self.nu, loops)

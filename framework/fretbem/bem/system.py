@@ -1,0 +1,291 @@
+"""The factorised collocation system of a BEM body and its condensed contact response.
+
+H u = G t with the prescribed data moved right is factorised once per set of contact
+segments; the loading-block displacement, the named load amplitudes and the contact
+traction coefficients stay parameters, so every later solve is a triangular solve and
+the contact response (:class:`~fretbem.body.ContactResponse`) is a few matrix products.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import TYPE_CHECKING
+
+import attrs
+import numpy as np
+import scipy.linalg as sla
+
+from fretbem.body import ContactResponse, RigidMotionError
+from fretbem.numerics.blas import one_blas_thread
+
+from .layout import BLOCK, CONTACT, DISPLACEMENT, TRACTION
+
+if TYPE_CHECKING:  # pragma: no cover
+    from fretbem.body import Body
+
+
+class BodySystem:
+    """H u = G t with prescribed data moved right, factorised once.
+
+    Unknowns z: u where traction is known (and on contact segments), t where displacement is
+    known (and on the loading block). The loading-block displacement delta, the load
+    amplitudes beta and the contact traction coefficients stay parameters:
+    z = z0 + Z_delta delta + Z_beta beta + Z_contact t_contact.
+    """
+
+    def __init__(self, body: Body, contact_tags: tuple[str, ...]):
+        self.body = body
+        h, g = body.matrices()
+        start = time.perf_counter()
+        layout = body.layout(contact_tags)
+        self.kinds, self.known = layout.kinds.ravel(), layout.known.ravel()
+        self.load_known = layout.loads.reshape(len(layout.loads), self.kinds.size)  # (k, 2N)
+        solves_u = (self.kinds == TRACTION) | (self.kinds == CONTACT)
+        self.solves_u = solves_u
+        self.block_dofs = np.flatnonzero(self.kinds == BLOCK)
+        self.contact_dofs = np.flatnonzero(self.kinds == CONTACT)
+        with one_blas_thread():  # a busy machine made threaded BLAS 60x slower here
+            response = _solve_parameters(h, g, self.kinds, self.known, self.load_known,
+                                         solves_u, self.block_dofs, self.contact_dofs)  # fmt: skip
+        del h, g  # the body releases its own copies once this system is cached
+        if not np.all(np.isfinite(response)):
+            raise RigidMotionError(
+                f"body {body.name!r}: the collocation system is singular; check that the "
+                "boundary conditions fix the rigid motions"
+            )
+        k = self.load_known.shape[0]
+        self.base = response[:, 0]
+        self.block_response = response[:, 1:3]
+        self.contact_response = response[:, 3 : response.shape[1] - k]
+        self.load_response = response[:, response.shape[1] - k :]
+        body.timings["factorisation"] = time.perf_counter() - start
+
+    def unknowns(self, delta, contact_tractions, loads=()) -> np.ndarray:
+        """z = z0 + Z_delta delta + Z_contact t_contact + Z_beta beta."""
+        beta = np.asarray(loads, float).reshape(-1)
+        return (
+            self.base
+            + self.block_response @ np.asarray(delta, float)
+            + self.contact_response @ np.asarray(contact_tractions, float)
+            + self.load_response @ beta
+        )
+
+    def block_selector(self) -> np.ndarray:
+        """(2, block dofs): the block's resultant force per unit of its traction unknowns."""
+        weights = np.repeat(self.body.resultant_weights(), 2)[self.block_dofs]
+        select = np.zeros((2, len(self.block_dofs)))
+        select[self.block_dofs % 2, np.arange(len(self.block_dofs))] = weights
+        return select
+
+    def block_resultant(self, z: np.ndarray) -> np.ndarray:
+        """Resultant force (2, ...) of the loading block's tractions in unknown vector(s) z."""
+        return self.block_selector() @ z[self.block_dofs]
+
+    def resultant_map(self) -> tuple[np.ndarray, np.ndarray]:
+        """Block resultant force as r0 + K delta (with zero contact traction and loads)."""
+        return self.block_resultant(self.base), self.block_resultant(self.block_response)
+
+    def solution(self, delta, contact_tractions, loads=()) -> BodySolution:
+        """Full displacement and traction coefficients for given block, contact and loads."""
+        beta = np.asarray(loads, float).reshape(-1)
+        delta = np.asarray(delta, float)
+        z = self.unknowns(delta, contact_tractions, beta)
+        known = self.known + beta @ self.load_known if beta.size else self.known
+        u = np.where(self.solves_u, z, known)
+        t = np.where(self.solves_u, known, z)
+        u[self.block_dofs] = delta[self.block_dofs % 2]
+        t[self.contact_dofs] = contact_tractions
+        return BodySolution(self.body, u.reshape(-1, 2), t.reshape(-1, 2), delta)
+
+
+def _solve_parameters(h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs):
+    """A^-1 [z0 rhs, block columns, contact columns, load columns], A the collocation matrix.
+
+    A and the parameters are built F-ordered (LAPACK's order) and factorised and solved in
+    place, so at the peak H, G, the LU and the parameters are alive and nothing else dense.
+    A is factorised with row pivoting, not as A^T (which moved the 961-pair unknowns by
+    1.4e-9: the condensed problem amplifies round-off). The LU is not kept (NaN if singular).
+    """
+    size = len(kinds)
+    fixed_u, fixed_t = kinds == DISPLACEMENT, kinds == TRACTION
+    k = load_known.shape[0]
+    parameters = np.empty((size, 3 + len(contact_dofs) + k), order="F")
+    parameters[:, 0] = g[:, fixed_t] @ known[fixed_t] - h[:, fixed_u] @ known[fixed_u]
+    for column in range(2):  # -h @ block columns: the block dofs of each direction summed
+        dofs = block_dofs[block_dofs % 2 == column]
+        parameters[:, 1 + column] = -h[:, dofs].sum(axis=1) if dofs.size else 0.0
+    contact = slice(3, 3 + len(contact_dofs))
+    if contact_dofs.size and np.all(np.diff(contact_dofs) == 1):
+        parameters[:, contact] = g[:, contact_dofs[0] : contact_dofs[-1] + 1]
+    else:
+        parameters[:, contact] = g[:, contact_dofs]
+    parameters[:, 3 + len(contact_dofs) :] = g[:, fixed_t] @ load_known[:, fixed_t].T
+    matrix = np.asfortranarray(h)
+    solves_t = np.flatnonzero(~solves_u)
+    matrix[:, solves_t] = -g[:, solves_t]
+    lu, piv, info = sla.lapack.dgetrf(matrix, overwrite_a=True)  # A = P L U
+    del matrix
+    if info != 0:
+        return np.full(parameters.shape, np.nan)
+    out, info = sla.lapack.dgetrs(lu, piv, parameters, overwrite_b=True)
+    return out if info == 0 else np.full(parameters.shape, np.nan)
+
+
+def face_rows(body: Body, tag: str) -> tuple[np.ndarray, np.ndarray]:
+    """Collocation rows and global function indices of the segments tagged ``tag``."""
+    segments = sorted(body._indices(tag, "the contact pair"))
+    rows = np.flatnonzero(np.isin(body.collocation.segment, segments))
+    functions = np.concatenate(
+        [np.arange(*body.function_slice(k).indices(body.n_functions)) for k in segments]
+    )
+    return rows, functions
+
+
+def face_values_matrix(body: Body, tag: str) -> np.ndarray:
+    """E of the contact face: coefficients to values at its collocation points (block diag)."""
+    segments = sorted(body._indices(tag, "the contact pair"))
+    sizes = [body.segments[k].n_functions for k in segments]
+    e_matrix = np.zeros((sum(sizes), sum(sizes)))
+    start = 0
+    for k, n in zip(segments, sizes, strict=True):
+        e_matrix[start : start + n, start : start + n] = body.segments[k].collocation_matrix()
+        start += n
+    return e_matrix
+
+
+def contact_response(body: Body, tag: str) -> ContactResponse:
+    """The face's displacement at its collocation points, affine in node tractions.
+
+    Node traction values t become coefficients C t (C = E^-1); the system gives the
+    face's displacement coefficients; E turns them back into node values. E is banded
+    (a basis function spans a few collocation points), so both are banded operations on
+    the face and block rows of the system's contact response only.
+    """
+    system = body.system((tag,))
+    band = _Band(face_values_matrix(body, tag))
+    n = band.size
+
+    def node_values(z: np.ndarray) -> np.ndarray:
+        """Displacement values (n, 2, cols) at the face nodes from unknown columns z."""
+        return band.left(z[system.contact_dofs].reshape(n, 2, z.shape[1]))
+
+    # Z (C x I2) on the face and block rows: solve E^T w = Z^T, Z^T with the node axis first;
+    # built, solved and multiplied in place, so two face-sized arrays at most are alive
+    rows = np.concatenate([system.contact_dofs, system.block_dofs])
+    by_node = system.contact_response.T.reshape(n, 2, -1)  # [node a, component j, row]
+    transposed = np.empty((len(rows), 2, n))  # [row, j, node a]: E^T's right-hand sides
+    for chunk in _chunks(len(rows)):
+        transposed[chunk] = by_node[:, :, rows[chunk]].transpose(2, 1, 0)
+    by_row = band.solve_transposed(transposed.reshape(-1, n).T).T.reshape(len(rows), 2, n)
+    block_rows = by_row[2 * n :].transpose(0, 2, 1).reshape(-1, 2 * n).copy()  # [row, (b, j)]
+    values = band.left(by_row[: 2 * n].reshape(n, 2, 2, n))  # [node b', j', j, node b]
+    del by_row
+    # the map goes into the right-hand sides' buffer (already in memory, at least as large)
+    traction_map = transposed.reshape(-1)[: 4 * n * n].reshape(n, 2, 2 * n)
+    traction_map.reshape(n, 2, n, 2)[...] = values.transpose(0, 1, 3, 2)
+    del values, transposed
+    face_weights = body.resultant_weights()[face_rows(body, tag)[1]]
+    weights = band.solve_transposed(face_weights[:, None].copy(order="F"))[:, 0]
+    contact_force = np.zeros((2, 2 * n))
+    contact_force[0, 0::2] = weights
+    contact_force[1, 1::2] = weights
+    k = system.load_response.shape[1]
+    has_block = bool(system.block_dofs.size)
+    if has_block:
+        r_base, r_block, r_load = (
+            system.block_resultant(z)
+            for z in (system.base, system.block_response, system.load_response)
+        )
+        r_traction = system.block_selector() @ block_rows
+    else:
+        r_base, r_traction = np.zeros(2), np.zeros((2, 2 * n))
+        r_block, r_load = np.zeros((2, 2)), np.zeros((2, k))
+    return ContactResponse(
+        base=node_values(system.base[:, None])[:, :, 0],
+        traction_map=traction_map,
+        block_map=node_values(system.block_response) if has_block else np.zeros((n, 2, 2)),
+        load_map=node_values(system.load_response),
+        r_base=r_base,
+        r_traction=r_traction,
+        r_block=r_block,
+        r_load=r_load.reshape(2, k),
+        contact_force=contact_force,
+        has_block=has_block,
+    )
+
+
+def _chunks(size: int, step: int = 512):
+    """Slices of ``step`` covering range(size)."""
+    return [slice(start, min(start + step, size)) for start in range(0, size, step)]
+
+
+class _Band:
+    """A banded square matrix E: products E @ x along the first axis and solves with E^T."""
+
+    def __init__(self, matrix: np.ndarray):
+        self.matrix = matrix
+        self.size = len(matrix)
+        rows, cols = np.nonzero(matrix)
+        self.lower = int(max(np.max(rows - cols, initial=0), 0))
+        self.upper = int(max(np.max(cols - rows, initial=0), 0))
+
+    def left(self, x: np.ndarray) -> np.ndarray:
+        """E @ x along the first axis, diagonal by diagonal, in column blocks (the products'
+        temporaries stay small)."""
+        n = self.size
+        shape, x = x.shape, x.reshape(n, -1)
+        out = np.zeros(x.shape)
+        for block in _chunks(x.shape[1]):
+            for d in range(-self.lower, self.upper + 1):  # E[i, i + d]
+                diagonal = np.diagonal(self.matrix, d)[:, None]
+                if d >= 0:
+                    out[: n - d, block] += diagonal * x[d:, block]
+                else:
+                    out[-d:, block] += diagonal * x[: n + d, block]
+        return out.reshape(shape)
+
+    def solve_transposed(self, rhs: np.ndarray) -> np.ndarray:
+        """E^-T rhs for rhs (n, cols), in place when rhs is F-ordered."""
+        lower, upper = self.upper, self.lower  # bandwidths of E^T
+        bands = np.zeros((lower + upper + 1, self.size))
+        for d in range(-lower, upper + 1):  # E^T[i, i + d] = E[i + d, i] into row upper - d
+            diagonal = np.diagonal(self.matrix, -d)
+            if d >= 0:
+                bands[upper - d, d:] = diagonal
+            else:
+                bands[upper - d, : self.size + d] = diagonal
+        return sla.solve_banded((lower, upper), bands, rhs, overwrite_b=True, check_finite=False)
+
+
+@attrs.frozen(eq=False)
+class BodySolution:
+    """Displacement and traction coefficients of a solved BEM body.
+
+    Attributes
+    ----------
+    body : Body
+    displacement_coefficients, traction_coefficients : ndarray, shape (N, 2)
+    block_displacement : ndarray, shape (2,)
+    """
+
+    body: Body
+    displacement_coefficients: np.ndarray
+    traction_coefficients: np.ndarray
+    block_displacement: np.ndarray
+
+    def _field(self, coefficients, segment: int, params) -> np.ndarray:
+        basis = self.body.segments[segment]
+        return basis.evaluation_matrix(params) @ coefficients[self.body.function_slice(segment)]
+
+    def displacement(self, segment: int, params) -> np.ndarray:
+        """Displacement (m, 2) at curve parameters of one segment."""
+        return self._field(self.displacement_coefficients, segment, params)
+
+    def traction(self, segment: int, params) -> np.ndarray:
+        """Traction (m, 2) at curve parameters of one segment."""
+        return self._field(self.traction_coefficients, segment, params)
+
+    def points(self, segment: int, params) -> np.ndarray:
+        """Positions (m, 2) of the discretised geometry at curve parameters."""
+        basis = self.body.segments[segment]
+        return basis.geometry(*basis.to_local(params))[0]

@@ -1,0 +1,1 @@
+"""Compatibility for one release: the module paths of the flat layout before the regrouping."""

@@ -1,0 +1,232 @@
+"""Both bodies of a contact pair condensed onto the pair unknowns x = (p, q, blocks).
+
+Each body gives its face displacement as an affine function of the face tractions, its
+block displacement and its named loads (:class:`~fretbem.body.ContactResponse`); the
+pairing maps pair tractions to face tractions and face displacements to the pair points.
+The result is the relative displacement (upper minus lower) in the pair frame and the
+block resultants as affine maps of x and of the load amplitudes beta: all a solver needs.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Any, Protocol
+
+import attrs
+import numpy as np
+
+from fretbem.numerics.blas import one_blas_thread
+
+from .unknowns import PairUnknowns, UnknownLayout
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .pairing import Pairing
+
+
+class PairedFaces(Protocol):
+    """What the condensation needs of a pair (a :class:`~fretbem.contact.pairs.ContactPair`)."""
+
+    def pairing(self) -> Pairing: ...
+
+    def side(self, label: str) -> tuple[Any, str]: ...
+
+SIDES = (("upper", 1.0), ("lower", -1.0))
+
+
+def _assembly_seconds(pair) -> float:
+    return sum(b.timings.get("assembly", 0.0) for b in (pair.upper, pair.lower))
+
+
+@attrs.frozen(eq=False)
+class CondensedContact:
+    """Relative displacements and block resultants as affine maps of x and the loads.
+
+    With beta the load amplitudes (in ``load_names`` order)::
+
+        relative normal     = normal_base + normal_load @ beta + normal_map @ x
+        relative tangential = tangential_base + tangential_load @ beta + tangential_map @ x
+        block resultants    = resultant_base + resultant_load @ beta + resultant_map @ x
+
+    Attributes
+    ----------
+    pair : ContactPair
+    pairing : Pairing
+    layout : UnknownLayout
+        The order of x.
+    normal_map, tangential_map : ndarray, shape (n, n_x)
+    normal_base, tangential_base : ndarray, shape (n,)
+    normal_load, tangential_load : ndarray, shape (n, k)
+    resultant_map : (2 m, n_x); resultant_base : (2 m,); resultant_load : (2 m, k)
+        Forces the loading blocks apply to their bodies (m bodies with a block).
+    lower_force_map : ndarray, shape (2, n_x)
+        Resultant force of the contact tractions on the lower body per unit x.
+    load_names : tuple of str
+    gap : ndarray
+        Initial normal gap of each pair.
+    seconds : float
+        Wall time of the condensation, the bodies' factorisation included (their assembly
+        excluded).
+    """
+
+    pair: PairedFaces
+    pairing: Pairing
+    layout: UnknownLayout
+    normal_map: np.ndarray
+    tangential_map: np.ndarray
+    normal_base: np.ndarray
+    tangential_base: np.ndarray
+    normal_load: np.ndarray
+    tangential_load: np.ndarray
+    resultant_map: np.ndarray
+    resultant_base: np.ndarray
+    resultant_load: np.ndarray
+    lower_force_map: np.ndarray
+    load_names: tuple[str, ...]
+    gap: np.ndarray
+    seconds: float
+
+    @classmethod
+    def build(cls, pair: PairedFaces) -> CondensedContact:
+        """Condense both bodies of ``pair`` through its pairing (timed), BLAS on one thread."""
+        with one_blas_thread():
+            return cls._build(pair)
+
+    @classmethod
+    def _build(cls, pair: PairedFaces) -> CondensedContact:
+        pairing = pair.pairing()
+        start, body_before = time.perf_counter(), _assembly_seconds(pair)
+        responses = {label: pair.side(label)[0].contact_response(pair.side(label)[1])
+                     for label, _ in SIDES}  # fmt: skip
+        n = pairing.n_pairs
+        blocks = tuple(label for label, _ in SIDES if responses[label].has_block)
+        layout = UnknownLayout(n, blocks)
+        names = tuple(
+            dict.fromkeys(name for label, _ in SIDES for name in pair.side(label)[0].load_names)
+        )
+        normals, tangents = pairing.normals, pairing.tangents
+        # traction per unit (p, q): on the lower body -p n + q t; on the upper the opposite
+        lower_frame = np.stack([-normals, tangents], axis=-1)  # (n, 2 components, (p, q))
+        normal_map = np.zeros((n, layout.size))
+        tangential_map = np.zeros((n, layout.size))
+        relative_base = np.zeros((n, 2))
+        relative_load = np.zeros((n, 2, len(names)))
+        resultant_map = np.zeros((2 * len(blocks), layout.size))
+        resultant_base = np.zeros(2 * len(blocks))
+        resultant_load = np.zeros((2 * len(blocks), len(names)))
+        lower_force_map = np.zeros((2, layout.size))
+        for label, sign in SIDES:
+            body = pair.side(label)[0]
+            response = responses[label]
+            frame = -lower_frame if label == "upper" else lower_frame
+            load_columns = [names.index(name) for name in body.load_names]
+            relative_base += sign * pairing.gather(label, response.base)
+            face_nodes = response.n_nodes
+            # pair-point rows first, projected on the pair frame, then the traction columns
+            gathered = pairing.gather(label, response.traction_map)  # (n, 2, 2 face nodes)
+            for target, direction in ((normal_map, normals), (tangential_map, tangents)):
+                projected = (sign * direction[:, 0, None]) * gathered[:, 0]
+                projected += (sign * direction[:, 1, None]) * gathered[:, 1]
+                columns = pairing.gather(label, projected.reshape(n, face_nodes, 2), axis=1)
+                target[:, layout.tractions] += _per_pair(columns, frame)
+            del gathered
+            relative_load[:, :, load_columns] += sign * pairing.gather(label, response.load_map)
+            force = pairing.gather(label, response.contact_force.reshape(2, face_nodes, 2), axis=1)
+            if label == "lower":
+                lower_force_map[:, layout.tractions] = _per_pair(force, frame)
+            if label in blocks:
+                cols = layout.block(label)
+                block_rows = slice(2 * blocks.index(label), 2 * blocks.index(label) + 2)
+                block = sign * pairing.gather(label, response.block_map)  # (n, 2, 2)
+                normal_map[:, cols] += np.einsum("pd,pdc->pc", normals, block)
+                tangential_map[:, cols] += np.einsum("pd,pdc->pc", tangents, block)
+                r_traction = pairing.gather(label, response.r_traction.reshape(2, face_nodes, 2), 1)
+                resultant_base[block_rows] = response.r_base
+                resultant_map[block_rows, layout.tractions] = _per_pair(r_traction, frame)
+                resultant_map[block_rows, cols] = response.r_block
+                resultant_load[block_rows, :] = _scatter_columns(
+                    response.r_load, load_columns, names
+                )
+        seconds = time.perf_counter() - start - (_assembly_seconds(pair) - body_before)
+        return cls(
+            pair=pair,
+            pairing=pairing,
+            layout=layout,
+            normal_map=normal_map,
+            tangential_map=tangential_map,
+            normal_base=np.einsum("pd,pd->p", normals, relative_base),
+            tangential_base=np.einsum("pd,pd->p", tangents, relative_base),
+            normal_load=np.einsum("pd,pdk->pk", normals, relative_load),
+            tangential_load=np.einsum("pd,pdk->pk", tangents, relative_load),
+            resultant_map=resultant_map,
+            resultant_base=resultant_base,
+            resultant_load=resultant_load,
+            lower_force_map=lower_force_map,
+            load_names=names,
+            gap=pairing.gap,
+            seconds=max(seconds, 0.0),
+        )
+
+    @property
+    def n_pairs(self) -> int:
+        """Number of pairs."""
+        return len(self.gap)
+
+    @property
+    def blocks(self) -> tuple[str, ...]:
+        """Labels of the bodies with a loading block, in the order of x."""
+        return self.layout.blocks
+
+    def amplitudes(self, loads: Mapping[str, float]) -> np.ndarray:
+        """beta: the load amplitudes in ``load_names`` order (0 for a load not given)."""
+        return np.array([float(loads.get(name, 0.0)) for name in self.load_names])
+
+    def bases(self, beta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Normal, tangential and resultant bases at load amplitudes beta."""
+        beta = np.asarray(beta, float)
+        if beta.size == 0:
+            return self.normal_base, self.tangential_base, self.resultant_base
+        return (
+            self.normal_base + self.normal_load @ beta,
+            self.tangential_base + self.tangential_load @ beta,
+            self.resultant_base + self.resultant_load @ beta,
+        )
+
+    def relative(self, x: np.ndarray, beta: np.ndarray = ()) -> tuple[np.ndarray, np.ndarray]:
+        """Relative normal and tangential displacement (upper minus lower) at x and beta."""
+        normal_base, tangential_base, _ = self.bases(beta)
+        return normal_base + self.normal_map @ x, tangential_base + self.tangential_map @ x
+
+    def unknowns(self, x: np.ndarray) -> PairUnknowns:
+        """x split by name."""
+        return PairUnknowns.from_vector(x, self.layout)
+
+    def solutions(self, x: np.ndarray, loads: Mapping[str, float]) -> dict[str, Any]:
+        """Each body's fields ("upper", "lower": ``Body.solution``) at pair unknowns x."""
+        unknowns = self.unknowns(x)
+        lower_frame = np.stack([-self.pairing.normals, self.pairing.tangents], axis=-1)
+        pair_traction = (
+            lower_frame @ np.stack([unknowns.pressure, unknowns.shear], axis=-1)[..., None]
+        )
+        out = {}
+        for label, _ in SIDES:
+            body, tag = self.pair.side(label)
+            on_body = pair_traction[..., 0] * (-1.0 if label == "upper" else 1.0)
+            face = self.pairing.scatter(label, on_body, body.contact_face(tag).n_nodes)
+            out[label] = body.solution(tag, face, unknowns.block(label), loads)
+        return out
+
+
+def _per_pair(operator: np.ndarray, frame: np.ndarray) -> np.ndarray:
+    """Operator (..., n, 2) per pair traction component -> (..., 2 n) per unit (p, q)."""
+    out = np.empty((*operator.shape[:-2], 2, operator.shape[-2]))
+    for s in range(2):  # out[..., s, k] = sum_j operator[..., k, j] frame[k, j, s]
+        np.multiply(operator[..., 0], frame[:, 0, s], out=out[..., s, :])
+        out[..., s, :] += operator[..., 1] * frame[:, 1, s]
+    return out.reshape(*operator.shape[:-2], -1)
+
+
+def _scatter_columns(values: np.ndarray, columns: list[int], names: tuple[str, ...]):
+    out = np.zeros((values.shape[0], len(names)))
+    out[:, columns] = values
+    return out

@@ -1,0 +1,79 @@
+"""The pairing record: which points of two contact faces face each other, frame and gap.
+
+Lowest layer of the contact package: the condensation and the solvers read a pairing
+through :meth:`Pairing.gather` and :meth:`Pairing.scatter` only, whatever made it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import attrs
+import numpy as np
+
+__all__ = ["Pairing"]
+
+
+def _frozen_array(value) -> np.ndarray:
+    array = np.array(value)
+    array.setflags(write=False)
+    return array
+
+
+@attrs.frozen(eq=False)
+class Pairing:
+    """Which points of the two faces face each other, in which frame, at which gap.
+
+    Pair k joins a point of the lower face and a point of the upper face. Node-to-node
+    pairings give the face nodes (``lower_nodes``, ``upper_nodes``, indices into each
+    body's :meth:`~fretbem.body.Body.contact_face`). A pairing whose points are not face
+    nodes (node to segment, mortar) also gives, per side, an interpolation matrix W
+    (n_pairs, n_face_nodes): the displacement at the pair points is W @ (node values),
+    and the pair tractions reach the face nodes through W.T; ``*_nodes`` then name the
+    nearest node, for reporting. The condensation uses only :meth:`gather` and
+    :meth:`scatter`, so it works unchanged for any pairing.
+
+    Attributes
+    ----------
+    lower_nodes, upper_nodes : ndarray of int, shape (n,)
+    points : ndarray, shape (n, 2)
+        Pair positions (on the lower face).
+    normals, tangents : ndarray, shape (n, 2)
+        The pair frame: the lower face's outward normal and the tangent (n_y, -n_x).
+    gap : ndarray, shape (n,)
+        Initial normal gap (>= 0).
+    interpolation : mapping of "lower"/"upper" to ndarray (n, n_face), optional
+    """
+
+    lower_nodes: np.ndarray = attrs.field(converter=_frozen_array)
+    upper_nodes: np.ndarray = attrs.field(converter=_frozen_array)
+    points: np.ndarray = attrs.field(converter=_frozen_array)
+    normals: np.ndarray = attrs.field(converter=_frozen_array)
+    tangents: np.ndarray = attrs.field(converter=_frozen_array)
+    gap: np.ndarray = attrs.field(converter=_frozen_array)
+    interpolation: Mapping[str, np.ndarray] = attrs.field(factory=dict)
+
+    @property
+    def n_pairs(self) -> int:
+        """Number of pairs."""
+        return len(self.gap)
+
+    def nodes(self, side: str) -> np.ndarray:
+        """Face node of each pair on ``side`` ("lower" or "upper")."""
+        return {"lower": self.lower_nodes, "upper": self.upper_nodes}[side]
+
+    def gather(self, side: str, values: np.ndarray, axis: int = 0) -> np.ndarray:
+        """Face-node values along ``axis`` -> values at the pair points (W @ values)."""
+        matrix = self.interpolation.get(side)
+        if matrix is None:
+            return np.take(values, self.nodes(side), axis=axis)
+        return np.moveaxis(np.tensordot(matrix, values, axes=([1], [axis])), 0, axis)
+
+    def scatter(self, side: str, pair_values: np.ndarray, n_nodes: int) -> np.ndarray:
+        """Pair-point values (n, ...) -> face-node values (n_nodes, ...) (W.T @ values)."""
+        matrix = self.interpolation.get(side)
+        if matrix is not None:
+            return np.tensordot(matrix.T, pair_values, axes=1)
+        out = np.zeros((n_nodes, *pair_values.shape[1:]))
+        out[self.nodes(side)] = pair_values
+        return out

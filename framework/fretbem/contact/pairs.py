@@ -1,0 +1,172 @@
+"""Contact pairs: which points of two contact faces face each other, their frame and gap.
+
+A :class:`ContactPair` knows two bodies and the tags of their faces that may touch; its
+:meth:`~ContactPair.pairing` says how the faces are paired (the :class:`Pairing` record).
+The pair's unknowns are the pressure p and shear q at each pair point (the traction the
+upper body exerts on the lower one, in the pair frame: t_lower = -p n + q t). The
+condensation (:class:`~fretbem.contact.condensation.CondensedContact`) and the solvers use only
+the Pairing, so a new pairing (node to segment, mortar) needs no change to either.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+
+import attrs
+import numpy as np
+
+from fretbem.body import Body
+from fretbem.errors import InputError
+
+from .condensation import CondensedContact
+from .law import STATE_NAMES, PairState
+from .pairing import Pairing
+
+#: pair states (kept as plain names for array comparisons)
+SEPARATED, STICK, SLIP = PairState.SEPARATED, PairState.STICK, PairState.SLIP
+
+__all__ = [
+    "SEPARATED",
+    "SLIP",
+    "STATE_NAMES",
+    "STICK",
+    "ContactDiscretisationError",
+    "ContactPair",
+    "NodeToNodePair",
+]
+
+
+class ContactDiscretisationError(InputError):
+    """The two sides of a contact pair cannot be paired as the pairing requires."""
+
+
+@attrs.frozen(eq=False)
+class ContactPair(ABC):
+    """Two bodies and the tagged faces that may touch; subclasses say how they pair.
+
+    Friction is not a property of the pair: it belongs to the contact law
+    (:class:`~fretbem.contact.law.CoulombFriction`) the Simulation holds.
+
+    Attributes
+    ----------
+    upper, lower : Body
+        The lower body's outward normal on its face defines the pair frame.
+    upper_tag, lower_tag : str
+        Tags of the faces that may touch.
+    """
+
+    upper: Body = attrs.field(validator=attrs.validators.instance_of(Body))
+    lower: Body = attrs.field(validator=attrs.validators.instance_of(Body))
+    upper_tag: str = "contact"
+    lower_tag: str = "contact"
+    _cache: dict = attrs.field(init=False, factory=dict, repr=False)
+
+    def __attrs_post_init__(self) -> None:
+        for body, tag in ((self.upper, self.upper_tag), (self.lower, self.lower_tag)):
+            body.contact_face(tag)  # an unknown tag is a KeyError naming it, now
+
+    @abstractmethod
+    def pairing(self) -> Pairing:
+        """The pairing of the two faces (compute it once and cache it in ``self._cache``).
+
+        Raises ContactDiscretisationError naming the cause if the faces cannot be paired.
+        """
+
+    def side(self, label: str) -> tuple[Body, str]:
+        """(body, face tag) of ``label`` ("upper" or "lower")."""
+        return {"upper": (self.upper, self.upper_tag), "lower": (self.lower, self.lower_tag)}[label]
+
+    @property
+    def n_pairs(self) -> int:
+        """Number of pairs."""
+        return self.pairing().n_pairs
+
+    def condensed(self) -> CondensedContact:
+        """Both bodies condensed onto the pair unknowns (computed once)."""
+        if "condensed" not in self._cache:
+            self._cache["condensed"] = CondensedContact.build(self)
+        return self._cache["condensed"]
+
+
+@attrs.frozen(eq=False)
+class NodeToNodePair(ContactPair):
+    """Face nodes paired one to one: the two faces are discretised alike, nodes facing.
+
+    Facing means the same position along the mean tangent of the lower face; all pairs
+    share one frame (the lower face's mean normal), the half-plane idealisation of a
+    non-conformal contact.
+    """
+
+    def pairing(self) -> Pairing:
+        """Face nodes paired by position along the lower face (computed once)."""
+        if "pairing" not in self._cache:
+            self._cache["pairing"] = self._pair_up()
+        return self._cache["pairing"]
+
+    def _pair_up(self) -> Pairing:
+        lower_face = self.lower.contact_face(self.lower_tag)
+        upper_face = self.upper.contact_face(self.upper_tag)
+        low_points, normals = lower_face.points, lower_face.normals
+        up_points, up_normals = upper_face.points, upper_face.normals
+        if len(low_points) != len(up_points):
+            raise ContactDiscretisationError(
+                f"contact pair: the lower segment {self.lower_tag!r} has {len(low_points)} "
+                f"collocation points but the upper {self.upper_tag!r} has {len(up_points)}; "
+                "discretise both contact segments alike (same family, degree and number of "
+                "elements, mirrored parameters) so their points face each other"
+            )
+        # facing = same position along the mean tangent (the direction the surfaces share)
+        mean_normal = normals.mean(axis=0) / np.linalg.norm(normals.mean(axis=0))
+        mean_tangent = np.array([mean_normal[1], -mean_normal[0]])
+        offsets = up_points[None, :, :] - low_points[:, None, :]
+        along = np.abs(offsets @ mean_tangent)
+        partner = np.argmin(along, axis=1)
+        spacing = np.min(np.linalg.norm(np.diff(low_points, axis=0), axis=1))
+        miss = along[np.arange(len(low_points)), partner]
+        bad = np.flatnonzero(miss > 1e-3 * spacing)
+        if bad.size or np.unique(partner).size != partner.size:
+            k = int(bad[0]) if bad.size else int(np.argmax(np.bincount(partner)))
+            raise ContactDiscretisationError(
+                f"contact pair: the lower collocation point at {low_points[k].round(6)} has no "
+                f"facing point on the upper segment {self.upper_tag!r} (nearest is "
+                f"{miss[k]:.3g} off along the surface, point spacing {spacing:.3g}); the "
+                "discretisations must match node to node: use the same family and refinement "
+                "on both contact segments, with facing parameters"
+            )
+        order = np.argsort(low_points[:, 0] if np.ptp(low_points[:, 0]) > 0 else low_points[:, 1])
+        low, up = order, partner[order]
+        # the faces must look at each other: the upper face's outward normal points back
+        # toward the lower face (a segment on the far side of the upper body would
+        # otherwise "touch" through that body after a rigid translation)
+        facing = up_normals[up] @ mean_normal
+        if np.any(facing >= 0.0):
+            k = int(np.argmax(facing))
+            raise ContactDiscretisationError(
+                f"contact pair: the contact segments do not face each other: at "
+                f"{up_points[up][k].round(6)} the outward normal of the upper segment "
+                f"{self.upper_tag!r} is {up_normals[up][k].round(6)}, pointing away from the "
+                f"lower segment {self.lower_tag!r} (whose mean outward normal is "
+                f"{mean_normal.round(6)}); tag the faces that touch, with the upper body on "
+                "the side the lower face's normal points to"
+            )
+        # one frame for all pairs: the mean normal, along which the points face each other
+        # (a per-point normal of one curved face would turn part of the normal approach
+        # into spurious slip)
+        pair_normals = np.tile(mean_normal, (len(low), 1))
+        pair_tangents = np.tile(mean_tangent, (len(low), 1))
+        gap = np.einsum("pd,pd->p", up_points[up] - low_points[low], pair_normals)
+        if np.any(gap < -1e-9 * max(spacing, 1e-300)):
+            k = int(np.argmin(gap))
+            raise ContactDiscretisationError(
+                f"contact pair: the bodies overlap at the start by {-gap[k]:.3g} at "
+                f"{low_points[low][k].round(6)}; move the upper body up so the surfaces touch "
+                "without interpenetration"
+            )
+        return Pairing(
+            lower_nodes=low,
+            upper_nodes=up,
+            points=low_points[low],
+            normals=pair_normals,
+            tangents=pair_tangents,
+            gap=np.maximum(gap, 0.0),
+        )

@@ -1,0 +1,305 @@
+"""A small library of pad and specimen shapes: exact NURBS boundaries with standard tags.
+
+A pad (the upper body) has its contact face at the bottom, lowest point at the origin, and a
+``top`` edge where the loading block acts. A specimen (the lower body) has its face at
+y = 0. Each face is split into ``flank_left``, ``contact`` and ``flank_right``: the
+``contact`` segments span the candidate zone (x from -zone to +zone) and hold the node
+pairs; the specimen's contact segments are built from the pad's (mirrored or flattened,
+keeping the pad's x(xi)), so equal refinement gives points that face each other.
+
+Tags: pad ``flank_left, contact, flank_right, side_right, top, side_left``; flat specimen
+``bottom, end_right, flank_right, contact, flank_left, end_left``; cylindrical specimen
+``bottom, side_right, flank_right, contact, flank_left, side_left``.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Sequence
+
+import attrs
+import numpy as np
+
+from fretbem.errors import InputError
+from fretbem.validators import positive
+
+from .boundary import Boundary, Segment
+from .nurbs import NurbsCurve
+
+__all__ = [
+    "CylinderPad",
+    "CylinderSpecimen",
+    "FlatSpecimen",
+    "NurbsShape",
+    "RoundedFlatPad",
+    "ShapeError",
+]
+
+
+class ShapeError(InputError):
+    """Dimensions that do not make the shape (e.g. a zone wider than the face)."""
+
+
+def _arcs(center: Sequence[float], radius: float, angles: Sequence[float]) -> list[NurbsCurve]:
+    return [NurbsCurve.arc(center, radius, a0, a1) for a0, a1 in itertools.pairwise(angles)]
+
+
+def _face_tags(curves_left_to_right: list[list[NurbsCurve]]) -> list[Segment]:
+    """Segments flank_left / contact / flank_right from curve groups ordered left to right."""
+    left, contact, right = curves_left_to_right
+    return (
+        [Segment("flank_left", c) for c in left]
+        + [Segment("contact", c) for c in contact]
+        + [Segment("flank_right", c) for c in right]
+    )
+
+
+def _pad_boundary(face: list[Segment], half_width: float, height: float) -> Boundary:
+    left = face[0].curve.points([0.0])[0]
+    right = face[-1].curve.points([1.0])[0]
+    return Boundary(
+        [
+            *face,
+            Segment("side_right", NurbsCurve.line(right, [half_width, height])),
+            Segment("top", NurbsCurve.line([half_width, height], [-half_width, height])),
+            Segment("side_left", NurbsCurve.line([-half_width, height], left)),
+        ]
+    )
+
+
+def _check_zone(zone: float, half_width: float, what: str) -> None:
+    if not 0.0 < zone < half_width:
+        raise ShapeError(
+            f"the candidate contact zone (half-width {zone:.4g} mm) must lie inside the "
+            f"{what} face (half-width {half_width:.4g} mm); lower 'zone' or widen the {what}"
+        )
+
+
+@attrs.frozen
+class CylinderPad:
+    """A pad whose face is a circular arc of radius R (lowest point at the origin).
+
+    Attributes
+    ----------
+    radius, width, height : float
+        R, the pad's width w (x from -w/2 to w/2) and height h (top edge at y = h), mm.
+    """
+
+    radius: float = attrs.field(converter=float, validator=positive)
+    width: float = attrs.field(converter=float, validator=positive)
+    height: float = attrs.field(converter=float, validator=positive)
+    kind = "cylinder"
+
+    def __attrs_post_init__(self) -> None:
+        if self.width / 2 >= self.radius:
+            raise ShapeError(
+                f"a cylinder pad of radius {self.radius:g} mm cannot be {self.width:g} mm wide "
+                "(the face would pass the arc's quarter point); make width < 2 radius"
+            )
+
+    @property
+    def curvature(self) -> float:
+        """1/R of the face at the first contact point (for Hertz)."""
+        return 1.0 / self.radius
+
+    def face(self, zone: float) -> list[Segment]:
+        """Face segments left to right, the contact segment spanning |x| <= zone."""
+        _check_zone(zone, self.width / 2, "pad")
+        r = self.radius
+        phi_w, phi_z = math.asin(self.width / 2 / r), math.asin(zone / r)
+        down = -math.pi / 2
+        arcs = _arcs([0.0, r], r, [down - phi_w, down - phi_z, down + phi_z, down + phi_w])
+        return _face_tags([[arcs[0]], [arcs[1]], [arcs[2]]])
+
+    def boundary(self, zone: float) -> Boundary:
+        """The closed pad boundary (face, sides, top)."""
+        return _pad_boundary(self.face(zone), self.width / 2, self.height)
+
+
+@attrs.frozen
+class RoundedFlatPad:
+    """A pad with a flat of half-width b and circular fillets of radius r on both sides.
+
+    The face is straight for |x| <= b and follows the fillets beyond (C1 at x = +-b), the
+    punch of Ciavarella, Hills and Monno (1998). The candidate zone must cover the flat.
+
+    Attributes
+    ----------
+    flat, edge_radius, width, height : float
+        b, r, the pad's width w and height h, mm.
+    """
+
+    flat: float = attrs.field(converter=float, validator=positive)
+    edge_radius: float = attrs.field(converter=float, validator=positive)
+    width: float = attrs.field(converter=float, validator=positive)
+    height: float = attrs.field(converter=float, validator=positive)
+    kind = "rounded-flat"
+
+    def __attrs_post_init__(self) -> None:
+        if not self.flat < self.width / 2 < self.flat + self.edge_radius:
+            raise ShapeError(
+                f"a rounded-flat pad needs flat < width/2 < flat + edge_radius (got flat "
+                f"{self.flat:g}, width/2 {self.width / 2:g}, edge_radius {self.edge_radius:g})"
+            )
+
+    @property
+    def curvature(self) -> float:
+        """Zero: the face is flat at the first contact (no Hertz reference)."""
+        return 0.0
+
+    def _fillet(self, side: float, x0: float, x1: float) -> NurbsCurve:
+        b, r = self.flat, self.edge_radius
+        down = -math.pi / 2
+        angles = [down + math.asin((abs(x) - b) / r) * side for x in (x0, x1)]
+        return NurbsCurve.arc([side * b, r], r, *angles)
+
+    def face(self, zone: float) -> list[Segment]:
+        """Fillet, flat, fillet: the contact segments span |x| <= zone (zone > flat)."""
+        _check_zone(zone, self.width / 2, "pad")
+        if zone <= self.flat:
+            raise ShapeError(
+                f"the candidate zone (half-width {zone:.4g} mm) must cover the flat "
+                f"(half-width {self.flat:g} mm): raise 'zone'"
+            )
+        w2, b = self.width / 2, self.flat
+        left = [self._fillet(-1.0, -w2, -zone)]
+        contact = [
+            self._fillet(-1.0, -zone, -b),
+            NurbsCurve.line([-b, 0.0], [b, 0.0]),
+            self._fillet(1.0, b, zone),
+        ]
+        right = [self._fillet(1.0, zone, w2)]
+        return _face_tags([left, contact, right])
+
+    def boundary(self, zone: float) -> Boundary:
+        """The closed pad boundary (face, sides, top)."""
+        return _pad_boundary(self.face(zone), self.width / 2, self.height)
+
+
+def _specimen_face(pad_face: list[Segment], transform, half_width: float) -> list[Segment]:
+    """Specimen face segments right to left (CCW), contact built from the pad's contact."""
+    contact = [transform(s.curve).reversed() for s in pad_face if s.tag == "contact"][::-1]
+    right_end = contact[0].points([0.0])[0]
+    left_end = contact[-1].points([1.0])[0]
+    return (
+        [Segment("flank_right", NurbsCurve.line([half_width, right_end[1]], right_end))]
+        + [Segment("contact", c) for c in contact]
+        + [Segment("flank_left", NurbsCurve.line(left_end, [-half_width, left_end[1]]))]
+    )
+
+
+@attrs.frozen
+class FlatSpecimen:
+    """A flat specimen of length L and thickness t, face at y = 0, held and pulled at its ends.
+
+    Attributes
+    ----------
+    length, thickness : float
+        L (x from -L/2 to L/2) and t (bottom at y = -t), mm.
+    """
+
+    length: float = attrs.field(converter=float, validator=positive)
+    thickness: float = attrs.field(converter=float, validator=positive)
+    kind = "flat"
+
+    @property
+    def curvature(self) -> float:
+        """Zero: a flat face."""
+        return 0.0
+
+    def boundary(self, pad_face: list[Segment], zone: float) -> Boundary:
+        """Bottom, the pulled +x end, the face (contact facing the pad's), the held -x end."""
+        half, t = self.length / 2, self.thickness
+        _check_zone(zone, half, "specimen")
+        face = _specimen_face(pad_face, lambda c: c.flattened(0.0), half)
+        # the flanks of a flat face are straight: make them exact lines from the contact ends
+        return Boundary(
+            [
+                Segment("bottom", NurbsCurve.line([-half, -t], [half, -t])),
+                Segment("end_right", NurbsCurve.line([half, -t], [half, 0.0])),
+                *face,
+                Segment("end_left", NurbsCurve.line([-half, 0.0], [-half, -t])),
+            ]
+        )
+
+
+@attrs.frozen
+class CylinderSpecimen:
+    """A specimen whose face is the mirror image of a cylinder pad (two similar cylinders).
+
+    Attributes
+    ----------
+    radius, width, height : float
+        R (equal to the pad's), width w and height h (bottom at y = -h), mm.
+    """
+
+    radius: float = attrs.field(converter=float, validator=positive)
+    width: float = attrs.field(converter=float, validator=positive)
+    height: float = attrs.field(converter=float, validator=positive)
+    kind = "cylinder"
+
+    @property
+    def curvature(self) -> float:
+        """1/R of the face at the first contact point."""
+        return 1.0 / self.radius
+
+    def boundary(self, pad_face: list[Segment], zone: float) -> Boundary:
+        """Bottom, sides and the arc face, the pad's face mirrored about y = 0."""
+        half, h, r = self.width / 2, self.height, self.radius
+        _check_zone(zone, half, "specimen")
+        if half >= r:
+            raise ShapeError(
+                f"a cylinder specimen of radius {r:g} mm cannot be {self.width:g} mm wide; "
+                "make width < 2 radius"
+            )
+        phi_w, phi_z = math.asin(half / r), math.asin(zone / r)
+        up = math.pi / 2
+        arcs = _arcs([0.0, -r], r, [up - phi_w, up - phi_z, up + phi_z, up + phi_w])
+        contact = [s.curve for s in pad_face if s.tag == "contact"]
+        samples = np.linspace(0.0, 1.0, 7)
+        if len(contact) != 1 or not np.allclose(
+            contact[0].points(samples)[:, 0], arcs[1].points(samples[::-1])[:, 0], atol=1e-9 * r
+        ):
+            raise ShapeError(
+                f"a cylinder specimen (radius {r:g} mm) faces node to node only a cylinder pad "
+                "of the same radius; for other pairs use a flat specimen or shape = 'nurbs'"
+            )
+        return Boundary(
+            [
+                Segment("bottom", NurbsCurve.line([-half, -h], [half, -h])),
+                Segment("side_right", NurbsCurve.line([half, -h], arcs[0].points([0.0])[0])),
+                Segment("flank_right", arcs[0]),
+                Segment("contact", arcs[1]),
+                Segment("flank_left", arcs[2]),
+                Segment("side_left", NurbsCurve.line(arcs[2].points([1.0])[0], [-half, -h])),
+            ]
+        )
+
+
+@attrs.frozen(eq=False)
+class NurbsShape:
+    """A body given segment by segment (for anything the library does not draw).
+
+    Attributes
+    ----------
+    segments : tuple of Segment
+        A closed CCW chain; tags as the library's ("contact", "top" for a pad's block,
+        "bottom" / "end_left" / "end_right" for a specimen's supports).
+    """
+
+    segments: tuple[Segment, ...] = attrs.field(converter=tuple)
+    kind = "nurbs"
+
+    @property
+    def curvature(self) -> float | None:
+        """Unknown: no Hertz reference for a user shape."""
+        return None
+
+    def face(self, zone: float | None = None) -> list[Segment]:
+        """The segments as given (a pad's face)."""
+        return list(self.segments)
+
+    def boundary(self, *args) -> Boundary:
+        """The closed boundary of the given segments."""
+        return Boundary(self.segments)

@@ -1,0 +1,1 @@
+"""Numerical building blocks shared by every layer: quadrature rules and BLAS threading."""

@@ -1,0 +1,224 @@
+"""Write a run's files so they cannot be lost or mixed: all or nothing, one run at a time.
+
+``write_results`` writes every file into a temporary directory beside the target and swaps
+it into place at the end, so an interruption, a full disk or a crash leaves either the old
+output or the new one. A marker file identifies a fretbem output, which is replaced whole;
+any other non-empty directory is refused unless ``overwrite=True``. A lock file beside the
+target stops two runs writing the same directory. File names derived from step names are
+sanitised (:func:`fretbem.verification.checks.safe_names`).
+Writers are pluggable: ``register_writer``.
+
+CSV cells whose text starts with ``= + - @`` (a formula to spreadsheet programs) are written
+with a leading ``'`` (OWASP "CSV injection"); numbers are written as numbers.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import os
+from collections.abc import Callable, Sequence
+from pathlib import Path
+
+import attrs
+import numpy as np
+
+from .staging import (  # noqa: F401 - re-exported: the output API of one release
+    MARKER,
+    SPACE_MARGIN,
+    OutputError,
+    OutputExistsError,
+    OutputLockedError,
+    check_free_space,
+    output_lock,
+    prepare_output,
+    staged_directory,
+)
+
+STATE_NAMES = ("separated", "stick", "slip")
+
+#: units and sign conventions of every results.csv column (written to units.json and the docs)
+CSV_COLUMNS = {
+    "step": ("", "load step name (text; cells starting with = + - @ are prefixed with ')"),
+    "x": ("mm", "pair position, x coordinate of the lower body's contact node"),
+    "p": ("MPa", "contact pressure on the lower body, > 0 in compression"),
+    "q": ("MPa", "shear traction of the upper body on the lower, along +x (the pair tangent)"),
+    "un": ("mm", "relative normal displacement, upper minus lower, along the lower normal"),
+    "ut": ("mm", "relative tangential displacement (accumulated slip), upper minus lower, +x"),
+    "state": ("", "separated, stick or slip"),
+}
+#: units of the per-step summary.json keys (errors are fractions: 0.01 is 1 %)
+SUMMARY_KEYS = {
+    "P": ("N/mm", "normal load per unit thickness, > 0 presses the upper body down"),
+    "Q": ("N/mm", "tangential load per unit thickness on the upper body, along +x"),
+    "e_p_max": ("fraction of p0", "max |p - p_exact| / p0 (Hertz peak pressure); null: no theory"),
+    "e_q_max": ("fraction of f p0", "max |q - q_exact| / (f p0); null without theory"),
+    "e_p_l2": ("fraction of p0", "RMS over the zone of p - p_exact, / p0"),
+    "e_q_l2": ("fraction of f p0", "RMS over the zone of q - q_exact, / (f p0)"),
+    "est_p_max, est_p_l2": (
+        "fraction of p0",
+        "estimated discretisation error of the step's p (max, RMS) from two levels of the "
+        "contact mesh; null: no estimate (accuracy.estimate_reason says why)",
+    ),
+    "est_q_max, est_q_l2": ("fraction of f p0", "the same for q, / (f p0)"),
+    "integral_p": ("N/mm", "integral of p over the contact face"),
+    "integral_q": ("N/mm", "integral of q over the contact face"),
+    "iterations": ("", "Newton iterations of the step"),
+    "residuals": ("", "Newton residual norms"),
+    "stick, slip, separated": ("", "pair counts"),
+    "seconds": ("s", "wall time of the step"),
+    "checks": ("", "per check: residual, limit, passed (see fretbem.verification.checks)"),
+    "accuracy": (
+        "",
+        "top level: mesh (fixed or adaptive), levels (pairs of every level solved, the last "
+        "is the result), seconds (all levels), estimate_reason (null, or why no estimate)",
+    ),
+}
+
+
+# -- writer registry ----------------------------------------------------------------------------
+@attrs.frozen
+class Writer:
+    """A named writer: ``write(result, directory, **options) -> list[Path]``."""
+
+    name: str
+    write: Callable
+    default: bool = True
+
+
+WRITERS: dict[str, Writer] = {}
+
+
+def register_writer(name: str, write: Callable, *, default: bool = True) -> Writer:
+    """Add a writer (e.g. stresses, fatigue) that ``write_results`` runs into the temp dir."""
+    writer = Writer(name, write, default)
+    WRITERS[name] = writer
+    return writer
+
+
+# -- the CSV and JSON files ---------------------------------------------------------------------
+def csv_cell(value) -> str | float:
+    """A CSV cell that spreadsheets read as text, never as a formula (OWASP CSV injection)."""
+    if isinstance(value, str) and value[:1] in ("=", "+", "-", "@", "\t", "\r"):
+        return "'" + value
+    return value
+
+
+def write_csv(result, path: Path) -> Path:
+    """results.csv: one row per pair per step: step, x, p, q, un, ut, state (see CSV_COLUMNS)."""
+    with open(path, "w", newline="") as handle:
+        writer = csv.writer(handle)
+        writer.writerow(list(CSV_COLUMNS))
+        for s in result.steps:
+            name = csv_cell(s.name)
+            columns = np.column_stack(
+                [s.x, s.pressure, s.shear, s.normal_displacement, s.tangential_displacement]
+            ).tolist()
+            states = np.asarray(s.states)
+            writer.writerows(
+                [name, *(repr(v) for v in row), STATE_NAMES[int(states[k])]]
+                for k, row in enumerate(columns)
+            )
+    return path
+
+
+def _json_default(value):
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    raise TypeError(f"cannot write {type(value).__name__} to JSON")
+
+
+def _finite(value):
+    """Replace NaN and infinities (not JSON) with None, recursively."""
+    if isinstance(value, float) and not np.isfinite(value):
+        return None
+    if isinstance(value, dict):
+        return {k: _finite(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite(v) for v in value]
+    return value
+
+
+def write_json(result, path: Path, checks: Sequence[dict] | None = None) -> Path:
+    """summary.json: ``result.summary()`` with a ``units`` table, ``"errors_are"`` and, per
+    step, the residual, limit and outcome of every result check (``checks``)."""
+    summary = dict(result.summary())
+    if checks is not None:
+        summary["steps"] = [
+            {**step, "checks": {k: r.as_dict() for k, r in records.items()}}
+            for step, records in zip(summary["steps"], checks, strict=True)
+        ]
+    summary["units"] = {k: v[0] for k, v in SUMMARY_KEYS.items()}
+    summary["errors_are"] = "fractions (0.01 = 1 %)"
+    text = json.dumps(_finite(summary), indent=2, default=_json_default, allow_nan=False)
+    path.write_text(text + "\n")
+    return path
+
+
+def write_units(path: Path) -> Path:
+    """units.json: unit and sign convention of every results.csv column and summary key."""
+    table = {
+        "system": "mm, N, MPa; forces per unit thickness (N/mm); plane strain unless the "
+        "scene sets plane_stress",
+        "results.csv": {k: {"unit": u, "meaning": m} for k, (u, m) in CSV_COLUMNS.items()},
+        "summary.json": {k: {"unit": u, "meaning": m} for k, (u, m) in SUMMARY_KEYS.items()},
+    }
+    path.write_text(json.dumps(table, indent=2) + "\n")
+    return path
+
+
+# -- the directory ------------------------------------------------------------------------------
+def write_results(
+    result,
+    directory: str | os.PathLike,
+    *,
+    figures: bool = True,
+    vtk: bool = True,
+    overwrite: bool = False,
+    compare: Sequence = (),
+    steps: Sequence[str] | None = None,
+    writers: Sequence[str] | None = None,
+    check: bool = True,
+    extra: Sequence[Callable] = (),
+) -> Path:
+    """Write results.csv, summary.json, units.json, figures and VTK files into ``directory``.
+
+    All files go to a temporary directory beside ``directory`` first; it replaces the target
+    whole at the end (old output or new, never a mix). ``compare`` are further results drawn
+    in the figures; ``steps`` chooses the steps drawn; ``writers`` names registered writers
+    to run (default: those registered with ``default=True``); ``extra`` are further
+    callables ``write(directory)`` of this run (stresses, fatigue). Returns the directory.
+    Every result check (:func:`fretbem.verification.checks.check_steps`) runs first and its
+    residuals go
+    to summary.json; a failed check raises its ResultCheckError and writes nothing
+    (``check=False`` skips them, for inspecting a failed run). Raises OutputError (one-line
+    message) when the directory cannot be used or written.
+    """
+    from fretbem.verification.checks import check_steps
+
+    target = prepare_output(directory, overwrite=overwrite)
+    records = check_steps(result) if check else None  # a failed check writes nothing
+    chosen = [w for w in WRITERS.values() if w.default] if writers is None else []
+    for name in writers or ():
+        if name not in WRITERS:
+            raise OutputError(f"no output writer {name!r}; registered: {sorted(WRITERS)}")
+        chosen.append(WRITERS[name])
+    with staged_directory(target, overwrite=overwrite) as staging:
+        write_csv(result, staging / "results.csv")
+        write_json(result, staging / "summary.json", records)
+        write_units(staging / "units.json")
+        if figures:
+            from . import figures as plot
+
+            plot.save_figures([result, *compare], staging, steps=steps)
+        if vtk:
+            from . import vtk as vtk_
+
+            vtk_.save_vtk(result, staging)
+        for writer in chosen:
+            writer.write(result, staging)
+        for write in extra:
+            write(staging)
+    return target

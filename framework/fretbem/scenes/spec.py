@@ -1,0 +1,628 @@
+"""A two-body contact scene as data: the records a scene file is read into, and its key table.
+
+A scene is a pad (the upper body) on a specimen (the lower body), the contact between them
+and a load history whose steps give the normal load P, the tangential load Q and the
+specimen's bulk stress sigma_B. Every key of the file is one row of :data:`KEYS` (table,
+key, unit, default, meaning); the reader, the error messages and the documentation's table
+(docs/scene-format.md, checked against :func:`markdown_table` by the tests) all come from it,
+and the Python records use the same names as the file's keys.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import Any
+
+import attrs
+
+from fretbem.geometry.boundary import Segment
+from fretbem.geometry.nurbs import NurbsCurve
+from fretbem.geometry.shapes import (
+    CylinderPad,
+    CylinderSpecimen,
+    FlatSpecimen,
+    NurbsShape,
+    RoundedFlatPad,
+)
+from fretbem.material import Material
+
+from .errors import SceneFileError
+
+__all__ = [
+    "KEYS",
+    "BodySpec",
+    "ContactSpec",
+    "LoadSpec",
+    "MeshSpec",
+    "Scene",
+    "SceneFileError",
+    "markdown_table",
+    "scene_from_dict",
+]
+
+
+NUMBER = (int, float)
+
+
+@attrs.frozen
+class Key:
+    """One documented key of the scene file."""
+
+    table: str
+    name: str
+    kind: tuple[type, ...]
+    unit: str
+    default: Any
+    meaning: str
+    shapes: tuple[str, ...] = ()  # the body shapes the key belongs to (empty: all)
+
+
+PAD_SHAPES = {"cylinder": CylinderPad, "rounded-flat": RoundedFlatPad, "nurbs": NurbsShape}
+SPECIMEN_SHAPES = {"cylinder": CylinderSpecimen, "flat": FlatSpecimen, "nurbs": NurbsShape}
+MODELS = ("bem", "half-plane")
+SUPPORTS = ("clamped-bottom", "ends")
+
+#: every key of the scene file, in the order of the documentation's table
+KEYS: tuple[Key, ...] = (
+    Key("pad", "shape", (str,), "", "cylinder", "`cylinder`, `rounded-flat` or `nurbs`"),
+    Key("pad", "radius", NUMBER, "mm", 70.0, "radius R of the face", ("cylinder",)),
+    Key("pad", "flat", NUMBER, "mm", None, "half-width b of the flat", ("rounded-flat",)),
+    Key("pad", "edge_radius", NUMBER, "mm", None, "radius r of the fillets", ("rounded-flat",)),
+    Key(
+        "pad",
+        "width",
+        NUMBER,
+        "mm",
+        6.5,
+        "width w (x from -w/2 to w/2)",
+        ("cylinder", "rounded-flat"),
+    ),
+    Key(
+        "pad",
+        "height",
+        NUMBER,
+        "mm",
+        16.25,
+        "height h (loading block on the top edge)",
+        ("cylinder", "rounded-flat"),
+    ),
+    Key("pad", "model", (str,), "", "bem", "`bem` (finite body) or `half-plane`"),
+    Key(
+        "pad",
+        "segments",
+        (list,),
+        "",
+        None,
+        "explicit NURBS segments (`[[pad.segments]]`)",
+        ("nurbs",),
+    ),
+    Key(
+        "specimen",
+        "shape",
+        (str,),
+        "",
+        "cylinder",
+        "`cylinder` (the pad's mirror image), `flat` or `nurbs`",
+    ),
+    Key("specimen", "radius", NUMBER, "mm", 70.0, "radius of the face (the pad's)", ("cylinder",)),
+    Key("specimen", "width", NUMBER, "mm", 6.5, "width", ("cylinder",)),
+    Key(
+        "specimen",
+        "height",
+        NUMBER,
+        "mm",
+        16.25,
+        "height (clamped bottom at y = -h)",
+        ("cylinder",),
+    ),
+    Key("specimen", "length", NUMBER, "mm", 40.0, "length L (x from -L/2 to L/2)", ("flat",)),
+    Key("specimen", "thickness", NUMBER, "mm", 13.0, "thickness t (bottom at y = -t)", ("flat",)),
+    Key(
+        "specimen",
+        "support",
+        (str,),
+        "",
+        "see meaning",
+        "`clamped-bottom` (default of `cylinder`) or `ends` (default of `flat`: -x end "
+        "held in x, bottom on rollers, bulk stress on the +x end)",
+    ),
+    Key("specimen", "model", (str,), "", "bem", "`bem` (finite body) or `half-plane`"),
+    Key(
+        "specimen",
+        "segments",
+        (list,),
+        "",
+        None,
+        "explicit NURBS segments (`[[specimen.segments]]`)",
+        ("nurbs",),
+    ),
+    Key("material", "E", NUMBER, "MPa", 73400.0, "Young's modulus of both bodies"),
+    Key("material", "nu", NUMBER, "", 0.33, "Poisson's ratio of both bodies"),
+    Key("material", "plane", (str,), "", "strain", "`strain` or `stress`"),
+    Key("contact", "friction", NUMBER, "", 0.3, "Coulomb coefficient f"),
+    Key("contact", "basis", (str,), "", "nurbs", "basis family (`fretbem bases`)"),
+    Key("contact", "degree", (int,), "", None, "basis degree; omitted: the family's default"),
+    Key("contact", "pairs", (int,), "", 61, "node pairs in the candidate contact zone (`fixed`)"),
+    Key(
+        "contact",
+        "mesh",
+        (str,),
+        "",
+        "fixed",
+        "`fixed` (uniform, `pairs`) or `adaptive` (re-meshed on the contact edges and "
+        "stick-slip boundaries until `tolerance` or `budget`)",
+    ),
+    Key(
+        "contact",
+        "tolerance",
+        NUMBER,
+        "",
+        0.02,
+        "`adaptive`: stop when the estimated max error is below this fraction of p0 and f p0",
+    ),
+    Key("contact", "budget", (int,), "", 61, "`adaptive`: most node pairs of the last level"),
+    Key(
+        "contact",
+        "estimate",
+        (bool,),
+        "",
+        True,
+        "`fixed`: also solve about half the pairs and estimate each step's error from the "
+        "two levels (`adaptive` always estimates)",
+    ),
+    Key(
+        "contact", "zone", NUMBER, "", 1.5, "candidate zone half-width over the Hertz half-width a"
+    ),
+    Key(
+        "contact",
+        "zone_width",
+        NUMBER,
+        "mm",
+        None,
+        "candidate zone half-width in mm (instead of `zone`; required without a Hertz estimate)",
+    ),
+    Key(
+        "contact", "solver", (str,), "", "newton", "contact solver (`fretbem.solvers.available()`)"
+    ),
+    Key("mesh", "flank_elements", (int,), "", 16, "elements on each face part outside the zone"),
+    Key(
+        "mesh",
+        "side_elements",
+        (int,),
+        "",
+        12,
+        "elements on each side or end, graded toward the corners",
+    ),
+    Key(
+        "mesh",
+        "top_elements",
+        (int,),
+        "",
+        12,
+        "elements on the pad's top and the specimen's bottom",
+    ),
+    Key("load", "steps", (list,), "", ["A", "B", "C", "D", "E"], "step names (unique)"),
+    Key(
+        "load",
+        "P",
+        (*NUMBER, list),
+        "N/mm",
+        100.0,
+        "normal load at the end of each step (a number: constant)",
+    ),
+    Key(
+        "load",
+        "Q",
+        (*NUMBER, list),
+        "N/mm",
+        [0.0, 18.0, 0.0, -18.0, 0.0],
+        "tangential load on the pad, +x",
+    ),
+    Key(
+        "load",
+        "bulk",
+        (*NUMBER, list),
+        "MPa",
+        0.0,
+        "bulk stress sigma_B on the specimen's +x end, tension > 0",
+    ),
+    Key("load", "increments", (int, list), "", 1, "equal sub-increments per step"),
+)
+
+#: tables whose content another module reads (stress evaluation, fatigue)
+EXTRA_TABLES = ("stress", "fatigue")
+SEGMENT_KEYS = {"tag", "degree", "knots", "points", "weights"}
+
+
+@attrs.frozen(eq=False)
+class BodySpec:
+    """One body: its shape, material and model (and the specimen's support).
+
+    Attributes
+    ----------
+    shape : CylinderPad, RoundedFlatPad, CylinderSpecimen, FlatSpecimen or NurbsShape
+    material : Material
+    model : str
+        ``"bem"`` or ``"half-plane"``.
+    support : str
+        Specimen only: ``"clamped-bottom"`` or ``"ends"``.
+    """
+
+    shape: Any
+    material: Material
+    model: str = attrs.field(default="bem", validator=attrs.validators.in_(MODELS))
+    support: str = attrs.field(default="clamped-bottom", validator=attrs.validators.in_(SUPPORTS))
+
+
+@attrs.frozen
+class ContactSpec:
+    """Friction, discretisation of the contact faces and the solver."""
+
+    friction: float = 0.3
+    basis: str = "nurbs"
+    degree: int | None = None
+    pairs: int = 61
+    zone: float = 1.5
+    zone_width: float | None = None
+    solver: str = "newton"
+    mesh: str = "fixed"
+    tolerance: float = 0.02
+    budget: int = 61
+    estimate: bool = True
+
+
+@attrs.frozen
+class MeshSpec:
+    """Element counts away from the contact zone."""
+
+    flank_elements: int = 16
+    side_elements: int = 12
+    top_elements: int = 12
+
+
+@attrs.frozen
+class LoadSpec:
+    """The load history: one entry per step in every tuple."""
+
+    steps: tuple[str, ...]
+    P: tuple[float, ...]
+    Q: tuple[float, ...]
+    bulk: tuple[float, ...]
+    increments: tuple[int, ...]
+
+    def __attrs_post_init__(self) -> None:
+        n = len(self.steps)
+        for name in ("P", "Q", "bulk", "increments"):
+            if len(getattr(self, name)) != n:
+                raise SceneFileError(
+                    f"[load] {name} has {len(getattr(self, name))} values for {n} steps; give "
+                    "one value per step (or a single number for all)"
+                )
+        seen = set()
+        for name in self.steps:
+            if name in seen:
+                raise SceneFileError(
+                    f"[load] steps: the name {name!r} is used twice; names must be unique"
+                )
+            seen.add(name)
+
+
+@attrs.frozen(eq=False)
+class Scene:
+    """A two-body fretting scene: pad, specimen, contact, mesh and load history.
+
+    ``extras`` keeps the raw ``[stress]`` and ``[fatigue]`` tables for the modules that
+    read them; ``legacy`` is True for a file in the round-1 format (translated on reading).
+    """
+
+    pad: BodySpec
+    specimen: BodySpec
+    contact: ContactSpec = attrs.field(factory=ContactSpec)
+    mesh: MeshSpec = attrs.field(factory=MeshSpec)
+    load: LoadSpec | None = None
+    extras: Mapping[str, Any] = attrs.field(factory=dict)
+    legacy: bool = False
+
+
+# --------------------------------------------------------------------------- reading
+
+
+def _type_name(kind) -> str:
+    names = {
+        int: "an integer",
+        float: "a number",
+        str: "a string",
+        list: "a list",
+        bool: "true or false",
+    }
+    return " or ".join(dict.fromkeys(names[k] for k in kind))
+
+
+def _check(where: str, value: Any, kind: tuple[type, ...]) -> Any:
+    if (isinstance(value, bool) and bool not in kind) or not isinstance(value, kind):
+        raise SceneFileError(f"{where} must be {_type_name(kind)}, got {value!r}")
+    if isinstance(value, float) and not math.isfinite(value):
+        raise SceneFileError(f"{where} must be a finite number, got {value!r}")
+    return value
+
+
+def _unknown(where: str, keys, known) -> None:
+    extra = sorted(set(keys) - set(known))
+    if extra:
+        raise SceneFileError(
+            f"unknown key{'s' if len(extra) > 1 else ''} {extra} in {where}; the keys there are "
+            f"{sorted(known)} (docs/scene-format.md lists them all)"
+        )
+
+
+def _table(data: Mapping, name: str) -> dict:
+    section = data.get(name, {})
+    if not isinstance(section, dict):
+        raise SceneFileError(f"[{name}] must be a table, got {section!r}")
+    return section
+
+
+def _keys(table: str) -> dict[str, Key]:
+    return {k.name: k for k in KEYS if k.table == table}
+
+
+def _segments(where: str, items: Any) -> tuple[Segment, ...]:
+    if not isinstance(items, list) or not items:
+        raise SceneFileError(f"{where} must be a non-empty list of segment tables")
+    out = []
+    for i, item in enumerate(items):
+        here = f"{where}[{i}]"
+        if not isinstance(item, dict):
+            raise SceneFileError(f"{here} must be a table with {sorted(SEGMENT_KEYS)}")
+        _unknown(here, item, SEGMENT_KEYS)
+        missing = sorted({"tag", "degree", "knots", "points"} - set(item))
+        if missing:
+            raise SceneFileError(f"{here} needs {missing}")
+        _check(f"{here} tag", item["tag"], (str,))
+        _check(f"{here} degree", item["degree"], (int,))
+        for key in ("knots", "weights"):
+            for j, v in enumerate(item.get(key, [])):
+                _check(f"{here} {key}[{j}]", v, NUMBER)
+        points = item["points"]
+        if not isinstance(points, list) or not all(
+            isinstance(p, list) and len(p) == 2 for p in points
+        ):
+            raise SceneFileError(f"{here} points must be a list of [x, y] pairs")
+        for j, p in enumerate(points):
+            for v in p:
+                _check(f"{here} points[{j}]", v, NUMBER)
+        weights = item.get("weights", [1.0] * len(points))
+        try:
+            curve = NurbsCurve(item["degree"], item["knots"], points, weights)
+        except (TypeError, ValueError) as err:
+            raise SceneFileError(f"{here}: {err}") from None
+        out.append(Segment(item["tag"], curve))
+    return tuple(out)
+
+
+def _material(data: Mapping, body: str) -> Material:
+    shared = _table(data, "material")
+    own = _table(_table(data, body), "material") if isinstance(data.get(body), dict) else {}
+    keys = _keys("material")
+    _unknown("[material]", shared, keys)
+    _unknown(f"[{body}.material]", own, keys)
+    values = {k.name: k.default for k in keys.values()}
+    for source, where in ((shared, "[material]"), (own, f"[{body}.material]")):
+        for name, value in source.items():
+            values[name] = _check(f"{where} {name}", value, keys[name].kind)
+    if values["plane"] not in ("strain", "stress"):
+        raise SceneFileError(
+            f"[{body}.material] plane must be 'strain' or 'stress', got {values['plane']!r}"
+        )
+    try:
+        return Material(values["E"], values["nu"], plane_stress=values["plane"] == "stress")
+    except ValueError as err:
+        raise SceneFileError(f"[{body}.material]: {err}") from None
+
+
+def _body(data: Mapping, body: str, library: Mapping[str, type]) -> BodySpec:
+    section = _table(data, body)
+    keys = _keys(body)
+    _unknown(f"[{body}]", set(section) - {"material"}, keys)
+    for name, value in section.items():
+        if name != "material":
+            _check(f"[{body}] {name}", value, keys[name].kind)
+    shape_name = section.get("shape", keys["shape"].default)
+    if shape_name not in library:
+        raise SceneFileError(f"[{body}] shape must be one of {sorted(library)}, got {shape_name!r}")
+    for name in section:
+        key = keys.get(name)
+        if key is not None and key.shapes and shape_name not in key.shapes:
+            raise SceneFileError(
+                f"[{body}] {name} does not apply to a {shape_name!r} {body} (it is a key of "
+                f"{', '.join(repr(s) for s in key.shapes)}); remove it"
+            )
+    model = section.get("model", "bem")
+    if model not in MODELS:
+        raise SceneFileError(f"[{body}] model must be one of {list(MODELS)}, got {model!r}")
+    if shape_name == "nurbs":
+        if "segments" not in section:
+            raise SceneFileError(f"[{body}] shape = 'nurbs' needs [[{body}.segments]]")
+        shape = NurbsShape(_segments(f"[[{body}.segments]]", section["segments"]))
+    else:
+        fields = {}
+        for key in keys.values():
+            if key.shapes and shape_name in key.shapes and key.name != "segments":
+                value = section.get(key.name, key.default)
+                if value is None:
+                    raise SceneFileError(f"[{body}] a {shape_name!r} {body} needs {key.name!r}")
+                fields[key.name] = float(value)
+        if shape_name == "flat":
+            fields = {"length": fields["length"], "thickness": fields["thickness"]}
+        try:
+            shape = library[shape_name](**fields)
+        except ValueError as err:
+            raise SceneFileError(f"[{body}]: {err}") from None
+    extra = {}
+    if body == "specimen":
+        support = section.get("support", "ends" if shape_name == "flat" else "clamped-bottom")
+        if support not in SUPPORTS:
+            raise SceneFileError(
+                f"[specimen] support must be one of {list(SUPPORTS)}, got {support!r}"
+            )
+        extra["support"] = support
+    return BodySpec(shape, _material(data, body), model, **extra)
+
+
+def _per_step(name: str, value: Any, n: int | None, item: tuple[type, ...]) -> list:
+    if isinstance(value, list):
+        for i, v in enumerate(value):
+            _check(f"[load] {name}[{i}]", v, item)
+        return list(value)
+    _check(f"[load] {name}", value, item)
+    return [value] * (n if n is not None else 1)
+
+
+def _load(data: Mapping) -> LoadSpec:
+    section = _table(data, "load")
+    keys = _keys("load")
+    _unknown("[load]", section, keys)
+    for name, value in section.items():
+        _check(f"[load] {name}", value, keys[name].kind)
+    lists = {
+        k: section[k]
+        for k in ("steps", "P", "Q", "bulk", "increments")
+        if isinstance(section.get(k), list)
+    }
+    if "steps" in section:
+        n = len(section["steps"])
+    elif lists:
+        n = max(len(v) for v in lists.values())
+    else:
+        n = len(keys["steps"].default)
+    values = {}
+    for name in ("P", "Q", "bulk"):
+        default = keys[name].default
+        raw = section.get(name, default if name != "Q" or n == len(default) else 0.0)
+        values[name] = tuple(float(v) for v in _per_step(name, raw, n, NUMBER))
+    values["increments"] = tuple(_per_step("increments", section.get("increments", 1), n, (int,)))
+    if any(k < 1 for k in values["increments"]):
+        raise SceneFileError(f"[load] increments must be >= 1, got {list(values['increments'])}")
+    if "steps" in section:
+        steps = tuple(_per_step("steps", section["steps"], n, (str,)))
+    elif n == len(keys["steps"].default):
+        steps = tuple(keys["steps"].default)
+    else:
+        steps = tuple(f"step{k + 1}" for k in range(n))
+    return LoadSpec(steps, **values)
+
+
+#: [contact] keys that belong to one mesh mode only
+MODE_KEYS = {"pairs": "fixed", "tolerance": "adaptive", "budget": "adaptive", "estimate": "fixed"}
+
+
+def _mesh_mode(contact: dict) -> None:
+    """[contact] mesh and the keys of its mode: a key of the other mode is refused."""
+    mode = contact.get("mesh", "fixed")
+    if mode not in ("fixed", "adaptive"):
+        raise SceneFileError(
+            f"[contact] mesh must be 'fixed' (pairs) or 'adaptive' (tolerance, budget), got "
+            f"{mode!r}"
+        )
+    for name, owner in MODE_KEYS.items():
+        if name in contact and owner != mode:
+            raise SceneFileError(
+                f"[contact] {name} does not apply to mesh = {mode!r} (it is a key of "
+                f"mesh = {owner!r}); remove it or set mesh = {owner!r}"
+            )
+    if "tolerance" in contact and not 0.0 < contact["tolerance"] < 1.0:
+        raise SceneFileError(
+            f"[contact] tolerance is a fraction of p0 and f p0, 0 < tolerance < 1; got "
+            f"{contact['tolerance']!r} (e.g. 0.02 for 2 %)"
+        )
+    if "budget" in contact and contact["budget"] < 5:
+        raise SceneFileError(f"[contact] budget must be >= 5 pairs, got {contact['budget']}")
+    if "tolerance" in contact:
+        contact["tolerance"] = float(contact["tolerance"])
+
+
+def is_legacy(data: Mapping) -> bool:
+    """True for a scene table in the round-1 format ([scene], [geometry], upper/lower materials)."""
+    return bool({"scene", "geometry"} & set(data)) or bool(
+        "material" in data
+        and isinstance(data["material"], Mapping)
+        and {"upper", "lower"} & set(data["material"])
+    )
+
+
+def scene_from_dict(data: Mapping) -> Scene:
+    """Validate a parsed scene file (new format, or the round-1 format translated)."""
+    if not isinstance(data, Mapping):
+        raise SceneFileError("a scene file must be a TOML table")
+    if is_legacy(data):
+        raise SceneFileError(
+            "this table is in the round-1 format ([scene], [geometry]); read it with"
+            " fretbem.scenes.file.load_scene or scene_from_data, which translate it"
+        )
+    _unknown(
+        "the scene file",
+        data,
+        {"pad", "specimen", "material", "contact", "mesh", "load", *EXTRA_TABLES},
+    )
+    contact_section = _table(data, "contact")
+    _unknown("[contact]", contact_section, _keys("contact"))
+    contact = {}
+    for name, value in contact_section.items():
+        key = _keys("contact")[name]
+        contact[name] = _check(f"[contact] {name}", value, key.kind)
+    _mesh_mode(contact)
+    mesh_section = _table(data, "mesh")
+    _unknown("[mesh]", mesh_section, _keys("mesh"))
+    mesh = {n: _check(f"[mesh] {n}", v, _keys("mesh")[n].kind) for n, v in mesh_section.items()}
+    for name, value in {**contact, **mesh}.items():
+        if name in ("pairs", "flank_elements", "side_elements", "top_elements") and value < 1:
+            raise SceneFileError(f"{name} must be >= 1, got {value}")
+        if name in ("zone", "zone_width") and not value > 0:
+            raise SceneFileError(f"[contact] {name} must be > 0, got {value}")
+        if name == "friction" and not value > 0:
+            raise SceneFileError(
+                f"[contact] friction must be > 0 (a frictionless contact cannot hold the pad "
+                f"under a tangential force), got {value}"
+            )
+    extras = {name: data[name] for name in EXTRA_TABLES if name in data}
+    return Scene(
+        pad=_body(data, "pad", PAD_SHAPES),
+        specimen=_body(data, "specimen", SPECIMEN_SHAPES),
+        contact=ContactSpec(**contact),
+        mesh=MeshSpec(**mesh),
+        load=_load(data),
+        extras=extras,
+    )
+
+
+def markdown_table() -> str:
+    """The documentation's key table (docs/scene-format.md), generated from :data:`KEYS`."""
+
+    def show(value: Any) -> str:
+        if value is None:
+            return "—"
+        if isinstance(value, str) and value != "see meaning":
+            return f'`"{value}"`'
+        if isinstance(value, list):
+            return (
+                "`[" + ", ".join(f'"{v}"' if isinstance(v, str) else f"{v:g}" for v in value) + "]`"
+            )
+        if isinstance(value, bool):
+            return f"`{str(value).lower()}`"
+        if isinstance(value, float):
+            return f"`{value:g}`"
+        return f"`{value}`" if value != "see meaning" else "see meaning"
+
+    rows = ["| table | key | unit | default | meaning |", "|---|---|---|---|---|"]
+    for key in KEYS:
+        table = (
+            "[material], [pad.material], [specimen.material]"
+            if key.table == "material"
+            else f"[{key.table}]"
+        )
+        meaning = key.meaning + (f" (shape {', '.join(key.shapes)})" if key.shapes else "")
+        rows.append(
+            f"| `{table}` | `{key.name}` | {key.unit or '—'} | {show(key.default)} | {meaning} |"
+        )
+    return "\n".join(rows)

@@ -1,0 +1,342 @@
+"""Solvers of one load increment of the condensed contact problem.
+
+A :class:`Solver` finds the pair unknowns x = (p, q, block displacements) at which the
+contact law holds at every pair and the loading blocks carry the prescribed forces; the
+:class:`~fretbem.simulation.Simulation` calls :meth:`Solver.solve_increment` once per
+increment, halving a failing increment up to ``max_substeps`` times.
+
+:class:`SemiSmoothNewton` is the generalised Newton method on the Alart-Curnier functions
+of the law: they are piecewise linear, so each step solves the exact linear problem of its
+separated/stick/slip pattern, and the iteration ends when the residual is below the
+tolerance, which happens once the pattern is right (docs/theory.md).
+docs/how-to/new-solver.rst shows how to add a solver.
+"""
+
+from __future__ import annotations
+
+import weakref
+from abc import ABC, abstractmethod
+
+import attrs
+import numpy as np
+
+from fretbem.contact.condensation import CondensedContact
+from fretbem.contact.law import STATE_NAMES, ContactLaw, ContactState, CoulombFriction, PairState
+from fretbem.errors import ComputationError, SolverSettingsError
+from fretbem.numerics.blas import one_blas_thread
+
+from .newton_linear import NewtonLinear
+
+#: factor applied to the normal augmentation r_n when the Newton iteration cycles
+CYCLE_SOFTENING = 0.1
+
+#: the Newton linear solver (an LU of a recent pattern) of each condensed problem, kept
+#: between increments: an increment starts on the previous one's final pattern
+_LINEAR: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _newton_linear(problem: CondensedContact, law: ContactLaw, r_n: float, r_t: float):
+    """The problem's kept Newton linear solver for Coulomb friction (None for other laws)."""
+    if not isinstance(law, CoulombFriction):
+        return None
+    linear = _LINEAR.get(problem)
+    if linear is None or not linear.matches(r_n, r_t, law.friction):
+        linear = NewtonLinear(problem.normal_map, problem.tangential_map,
+                              problem.resultant_map, law.friction, r_n, r_t)  # fmt: skip
+        _LINEAR[problem] = linear
+    return linear
+
+
+class SolverConvergenceError(ComputationError):
+    """A solver did not converge on an increment; the Simulation may then sub-step.
+
+    Attributes
+    ----------
+    residuals : list of float
+        The residual history of the failed attempt.
+    """
+
+    def __init__(self, message: str, residuals=()):
+        super().__init__(message)
+        self.residuals = list(residuals)
+
+
+class NewtonConvergenceError(SolverConvergenceError):
+    """The Newton iteration did not converge; carries the residual history and culprits.
+
+    Attributes
+    ----------
+    residuals : list of float
+    changing_pairs : ndarray of int
+        Pairs whose contact state changed during the last iterations.
+    """
+
+    def __init__(self, message: str, residuals, changing_pairs):
+        super().__init__(message, residuals)
+        self.changing_pairs = np.asarray(changing_pairs)
+
+
+@attrs.frozen(eq=False)
+class IncrementResult:
+    """Converged pair unknowns x = (p, q, deltas), pair states and iteration history."""
+
+    x: np.ndarray
+    states: np.ndarray
+    iterations: int
+    residuals: tuple[float, ...]
+
+
+class Solver(ABC):
+    """Solves one load increment of a condensed contact problem under a contact law.
+
+    Attributes
+    ----------
+    max_substeps : int
+        Times the Simulation may halve an increment this solver failed on
+        (:class:`SolverConvergenceError`); 0 disables sub-stepping.
+    """
+
+    max_substeps: int = 0
+
+    @abstractmethod
+    def solve_increment(
+        self,
+        problem: CondensedContact,
+        law: ContactLaw,
+        *,
+        forces: np.ndarray,
+        loads: np.ndarray,
+        previous: ContactState,
+        start: ContactState | None,
+    ) -> IncrementResult:
+        """The pair unknowns at the end of one increment.
+
+        Parameters
+        ----------
+        problem : CondensedContact
+            Relative displacements and block resultants as affine maps of x and loads.
+        law : ContactLaw
+            The contact law to satisfy at every pair.
+        forces : ndarray, shape (2 m,)
+            Forces the loading blocks must apply (problem.blocks order).
+        loads : ndarray, shape (k,)
+            Load amplitudes beta at the end of the increment (problem.load_names order).
+        previous : ContactState
+            The state at the start of the increment: its ``slip`` is the stick reference.
+        start : ContactState or None
+            Initial guess (None: the gap-only start, nothing known yet).
+
+        Raises
+        ------
+        SolverConvergenceError
+            If the increment could not be solved (the Simulation may then sub-step).
+        """
+
+
+def _tolerance(instance, attribute, value) -> None:
+    if not (0.0 < value <= 1e-3):
+        raise SolverSettingsError(
+            f"{type(instance).__name__}.tolerance must lie in (0, 1e-3] (a relative residual; "
+            f"the default 1e-10 reproduces the published numbers), got {value!r}"
+        )
+
+
+def _whole(value):
+    """A count given as a whole number (2.0 is 2; 2.5 or True is refused by the validator)."""
+    if isinstance(value, bool):
+        return value
+    try:
+        as_float = float(value)
+    except (TypeError, ValueError):
+        return value
+    return int(as_float) if as_float.is_integer() else value
+
+
+def _at_least(minimum: int):
+    def check(instance, attribute, value) -> None:
+        if isinstance(value, bool) or not isinstance(value, int) or not value >= minimum:
+            raise SolverSettingsError(
+                f"{type(instance).__name__}.{attribute.name} must be a whole number >= "
+                f"{minimum}, got {value!r}"
+            )
+
+    return check
+
+
+@attrs.frozen
+class SemiSmoothNewton(Solver):
+    """Semi-smooth (generalised) Newton method on the law's complementarity functions.
+
+    Attributes
+    ----------
+    tolerance : float
+        Relative tolerance on the complementarity and equilibrium residuals, in (0, 1e-3].
+    max_iterations : int
+        Newton iterations per increment before giving up (or sub-stepping), >= 1.
+    max_substeps : int
+        Times a failing increment may be halved automatically (0 disables sub-stepping).
+    """
+
+    tolerance: float = attrs.field(default=1e-10, converter=float, validator=_tolerance)
+    max_iterations: int = attrs.field(default=50, converter=_whole, validator=_at_least(1))
+    max_substeps: int = attrs.field(default=4, converter=_whole, validator=_at_least(0))
+
+    def solve_increment(
+        self,
+        problem: CondensedContact,
+        law: ContactLaw,
+        *,
+        forces: np.ndarray,
+        loads: np.ndarray,
+        previous: ContactState,
+        start: ContactState | None,
+    ) -> IncrementResult:
+        """Solve one load increment from ``start`` (the gap-only start x = 0 if None).
+
+        BLAS runs single-threaded here: the Newton systems are small (2 n + 2 unknowns), and
+        threads competing for the cores of a busy machine made each solve 10-40x slower
+        (benchmarks/performance.py: 1.65 s against 0.29 s for the 61-pair cycle).
+        """
+        with one_blas_thread():
+            return self._solve_increment(problem, law, forces, loads, previous, start)
+
+    @staticmethod
+    def _kinematics(problem, bases, reference_slip, x):
+        """Deformed gap and slip increment of every pair at ``x``."""
+        normal_base, tangential_base, _ = bases
+        gap = problem.gap + normal_base + problem.normal_map @ x
+        slip = tangential_base + problem.tangential_map @ x - reference_slip
+        return gap, slip
+
+    @staticmethod
+    def _evaluate(problem, law, bases, forces, reference_slip, x, r_n, r_t):
+        resultant_base = bases[2]
+        layout = problem.layout
+        gap, slip = SemiSmoothNewton._kinematics(problem, bases, reference_slip, x)
+        evaluation = law.evaluate(x[layout.pressure], x[layout.shear], gap, slip, r_n, r_t)
+        f_b = resultant_base + problem.resultant_map @ x - forces
+        residual = np.concatenate([evaluation.normal, evaluation.tangential, f_b])
+        return residual, evaluation
+
+    @staticmethod
+    def _newton_step(problem, law, evaluation, residual, r_n, r_t, linear) -> np.ndarray:
+        """Solve J dx = -F: for Coulomb friction on the active rows only (separated and slip
+        rows eliminated, through the LU of a nearby pattern: fretbem.solvers.newton_linear), else
+        densely; lstsq if J is singular."""
+        if linear is not None:
+            try:
+                return linear.step(residual, evaluation.states, evaluation.direction)
+            except np.linalg.LinAlgError:
+                pass
+        jac = np.concatenate(
+            [
+                law.jacobian_rows(evaluation, problem.normal_map, problem.tangential_map, r_n, r_t),
+                problem.resultant_map,
+            ]
+        )
+        try:
+            return np.linalg.solve(jac, -residual)
+        except np.linalg.LinAlgError:
+            return np.linalg.lstsq(jac, -residual, rcond=None)[0]
+
+    def _start_on_previous_pattern(
+        self, problem, law, bases, forces, reference_slip, x, r_n, r_t, start
+    ):
+        """Residual and pattern of the first iteration: the previous increment's pattern.
+
+        The first Newton step then solves that pattern's linear problem exactly. Its
+        residual must be the same pattern's (not the pattern the start point falls in,
+        which a load that moves every pair, like a bulk stress, changes wholesale).
+        """
+        residual, evaluation = self._evaluate(problem, law, bases, forces, reference_slip,
+                                              x, r_n, r_t)  # fmt: skip
+        states = np.asarray(start.states)
+        layout = problem.layout
+        q = x[layout.shear]
+        direction = np.where(q != 0.0, np.sign(q), evaluation.direction)
+        gap, slip = self._kinematics(problem, bases, reference_slip, x)
+        try:
+            pattern = law.evaluate_on(states, direction, x[layout.pressure], q, gap, slip, r_n, r_t)
+        except NotImplementedError:
+            return residual, attrs.evolve(evaluation, states=states)
+        n = problem.n_pairs
+        residual = np.concatenate([pattern.normal, pattern.tangential, residual[2 * n :]])
+        return residual, pattern
+
+    def _solve_increment(self, problem, law, forces, loads, previous, start) -> IncrementResult:
+        """The Newton iteration of :meth:`solve_increment`.
+
+        From the gap-only start every pair is first taken closed and sticking, which makes
+        the first linear system non-singular even for a body held only by contact.
+        """
+        n = problem.n_pairs
+        layout = problem.layout
+        r_n = 1.0 / np.mean(np.abs(np.diag(problem.normal_map[:, layout.pressure])))
+        r_t = 1.0 / np.mean(np.abs(np.diag(problem.tangential_map[:, layout.shear])))
+        bases = problem.bases(loads)
+        forces = np.asarray(forces, float)
+        reference_slip = previous.slip
+        x = np.zeros(layout.size) if start is None else np.array(start.x, dtype=float)
+        args = (problem, law, bases, forces, reference_slip)
+        residual, evaluation = self._evaluate(*args, x, r_n, r_t)
+        if start is None:
+            evaluation = attrs.evolve(evaluation, states=np.full(n, PairState.STICK, dtype=int))
+        else:
+            residual, evaluation = self._start_on_previous_pattern(*args, x, r_n, r_t, start)
+        history, state_history, seen = [], [evaluation.states.copy()], set()
+        force_scale = max(np.max(np.abs(forces), initial=0.0), 1e-300)
+        for iteration in range(1, self.max_iterations + 1):
+            linear = _newton_linear(problem, law, r_n, r_t)
+            step = self._newton_step(problem, law, evaluation, residual, r_n, r_t, linear)
+            x = x + step
+            residual, evaluation = self._evaluate(*args, x, r_n, r_t)
+            traction_scale = max(np.max(np.abs(x[layout.tractions])), 1e-300)
+            norm = max(
+                np.max(np.abs(residual[: 2 * n])) / traction_scale,
+                np.max(np.abs(residual[2 * n :]), initial=0.0) / force_scale,
+            )
+            history.append(float(norm))
+            states = evaluation.states
+            state_history.append(states.copy())
+            if force_scale > 1e-300 and np.all(states == PairState.SEPARATED) and n:
+                # nothing touches but the blocks must carry a force: the next step would
+                # move a block held by nothing (a near-singular system); give up so the
+                # Simulation can sub-step the increment
+                raise NewtonConvergenceError(
+                    f"the contact Newton iteration separated every pair at iteration "
+                    f"{iteration} although the loading blocks carry a force; split the load "
+                    "step into sub-increments (LoadStep(increments=...)) or allow automatic "
+                    "sub-stepping (SemiSmoothNewton(max_substeps=...))",
+                    history,
+                    np.arange(n),
+                )
+            # F is continuous across the separated/stick/slip boundaries, so a small residual
+            # is a solution whichever side round-off puts a pair on. Pairs exactly at a limit
+            # (|q| = f p with zero slip increment) flip state at round-off; requiring the
+            # pattern to stop changing exhausted the iterations on dissimilar bodies.
+            if norm <= self.tolerance:
+                return IncrementResult(x, states, iteration, tuple(history))
+            # F is affine on each pattern (states, slip directions), so the Newton iterate
+            # depends on the pattern only: a pattern seen before means an endless cycle.
+            # Break it by softening the normal augmentation r_n (F keeps the same roots).
+            slipping = states == PairState.SLIP
+            pattern = (states.tobytes(), np.where(slipping, evaluation.direction, 0.0).tobytes())
+            if pattern in seen:
+                seen.clear()
+                r_n *= CYCLE_SOFTENING
+                residual, evaluation = self._evaluate(*args, x, r_n, r_t)
+            else:
+                seen.add(pattern)
+        recent = np.array(state_history[-6:])
+        changing = np.flatnonzero(np.any(recent != recent[-1], axis=0))
+        raise NewtonConvergenceError(
+            f"the contact Newton iteration did not converge in {self.max_iterations} iterations "
+            f"(last residual {history[-1]:.3g}, tolerance {self.tolerance:.1g}); pairs "
+            f"{changing.tolist()} kept changing state "
+            f"({', '.join(STATE_NAMES[s] for s in np.unique(recent[:, changing]))}). Split the "
+            "load step into sub-increments (LoadStep(increments=...)), allow automatic "
+            "sub-stepping (SemiSmoothNewton(max_substeps=...)), or refine the contact "
+            "discretisation",
+            history,
+            changing,
+        )

@@ -1,0 +1,319 @@
+"""Solving a batch of sweep cases that share one condensed contact problem.
+
+The group's bodies are built once from a *representative* scene: the first case's scene
+with the largest normal load of the group (the candidate contact zone is sized from the Hertz
+half-width of that load, so every case's contact lies inside it), zero tangential load and a
+bulk load column if any case loads one. Each case then only swaps the load steps, the
+friction and the analytical reference on the same contact pair, so its cost is the Newton
+solve alone. Workers keep the last groups they built, so batches of one group that land on
+the same worker assemble once.
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import time
+from collections import OrderedDict
+from collections.abc import Callable, Mapping, Sequence
+from typing import Any
+
+import attrs
+import numpy as np
+
+from fretbem.errors import ComputationError
+
+#: worst first: the regime of a cycle is the worst regime of its steps
+REGIMES = ("full stick", "partial slip", "gross slip")
+
+#: per-step output columns, named ``<quantity>.<step>``
+STEP_COLUMNS = ("regime", "stick_width", "contact_width", "p_max", "q_max", "iterations")
+
+#: columns that differ from run to run (timings, worker names): not part of the result
+TIMING_COLUMNS = ("solve_seconds", "solve_cpu_seconds", "assembly_seconds", "worker")
+
+
+class GroupBuildError(ComputationError):
+    """The bodies of a condensation group could not be built or condensed."""
+
+
+@attrs.frozen
+class Loading:
+    """What a case changes on a shared problem: steps, friction, reference, solver."""
+
+    steps: tuple
+    friction: float
+    reference: Any = None
+    solver: Any = None  #: None keeps the group's solver
+
+
+def parse_scene(scene: Mapping):
+    """The scene record of a scene dict (the round-1 format translated by the file reader)."""
+    from fretbem.scenes.file import scene_from_data
+
+    return scene_from_data(dict(scene))
+
+
+def _round_one(record) -> bool:
+    from fretbem.scenes.reference import CattaneoMindlinScene
+
+    return isinstance(record, CattaneoMindlinScene)
+
+
+def build_simulation(scene: Mapping):
+    """The Simulation a scene dict describes (round-1 format or the two-body format)."""
+    record = parse_scene(scene)
+    if _round_one(record):
+        from fretbem.scenes.reference import cattaneo_mindlin
+
+        return cattaneo_mindlin(record)
+    from fretbem.scenes import builder as scene_build
+
+    simulation, _ = scene_build.build(record)
+    return simulation
+
+
+def case_loading(scene: Mapping) -> Loading:
+    """The load steps, friction, reference and solver of a scene dict, without bodies."""
+    from fretbem.simulation import LoadStep
+
+    record = parse_scene(scene)
+    if _round_one(record):
+        steps = tuple(
+            LoadStep(name, record.normal, q, record.increments)
+            for name, q in zip(record.names, record.tangential, strict=True)
+        )
+        return Loading(steps, float(record.friction), record.reference())
+    from fretbem.scenes import builder as scene_build
+
+    load = record.load
+    steps = tuple(
+        LoadStep(name, P, Q, increments, loads={"bulk": bulk} if any(load.bulk) else {})
+        for name, P, Q, bulk, increments in zip(
+            load.steps, load.P, load.Q, load.bulk, load.increments, strict=True
+        )
+    )
+    return Loading(
+        steps,
+        float(record.contact.friction),
+        scene_build.reference(record)[0],
+        scene_build.solver(record.contact.solver),
+    )
+
+
+def representative(scenes: Sequence[Mapping]) -> dict:
+    """The scene a group's bodies are built from (see the module docstring).
+
+    Computed from the whole group before it is split into batches, so every batch of a
+    group solves on the same discretisation.
+    """
+    scene = copy.deepcopy(dict(scenes[0]))
+    loads = [s.get("load", {}) for s in scenes]
+    normal = [abs(float(v)) for ld in loads for v in np.ravel(ld.get("P", []))]
+    load = scene.setdefault("load", {})
+    if normal:
+        load["P"] = max(normal)
+
+    def zeros(value, fill):
+        return [fill] * len(value) if isinstance(value, list) else fill
+
+    if "Q" in load:
+        load["Q"] = zeros(load["Q"], 0.0)
+    if any("bulk" in ld for ld in loads):
+        loaded = any(float(v) != 0 for ld in loads for v in np.ravel(ld.get("bulk", 0.0)))
+        load["bulk"] = zeros(load.get("bulk", 0.0), 1.0 if loaded else 0.0)
+    scene.setdefault("contact", {})["friction"] = 1.0
+    return scene
+
+
+def _has_law(simulation) -> bool:
+    return "law" in attrs.fields_dict(type(simulation))
+
+
+def with_loading(simulation, loading: Loading):
+    """``simulation`` on the same (already condensed) pair with another loading."""
+    if _has_law(simulation):
+        from fretbem.contact.law import CoulombFriction
+
+        return attrs.evolve(
+            simulation,
+            steps=loading.steps,
+            law=CoulombFriction(loading.friction),
+            reference=loading.reference,
+            solver=simulation.solver if loading.solver is None else loading.solver,
+        )
+    # round-1 API: the friction sits on the pair; share its cached condensation
+    pair = simulation.pair
+    if pair.friction != loading.friction:
+        shared = pair
+        pair = attrs.evolve(shared, friction=loading.friction)
+        pair._cache.update(shared._cache)
+    return attrs.evolve(simulation, pair=pair, steps=loading.steps, reference=loading.reference)
+
+
+def refused_steps(loading: Loading) -> list[str]:
+    """Steps with ``|Q| >= f P``: gross slip, refused under force control."""
+    return [s.name for s in loading.steps if abs(s.tangential) >= loading.friction * s.normal]
+
+
+def _extent(x: np.ndarray, mask: np.ndarray) -> float:
+    return float(x[mask].max() - x[mask].min()) if mask.any() else 0.0
+
+
+def step_metrics(step) -> dict[str, Any]:
+    """Regime, stick and contact widths, peak p and ``|q|``, iterations of one solved step."""
+    try:  # the pair states moved to the contact-law module (issue 9)
+        from fretbem.contact.law import PairState
+
+        SEPARATED, STICK, SLIP = PairState.SEPARATED, PairState.STICK, PairState.SLIP
+    except ImportError:
+        from fretbem.contact.pairs import SEPARATED, SLIP, STICK
+
+    states = np.asarray(step.states)
+    stick, slip = states == STICK, states == SLIP
+    if not slip.any():
+        regime = "full stick"
+    elif stick.any():
+        regime = "partial slip"
+    else:
+        regime = "gross slip"
+    return {
+        "regime": regime,
+        "stick_width": _extent(step.x, stick),
+        "contact_width": _extent(step.x, states != SEPARATED),
+        "p_max": float(np.max(step.pressure)),
+        "q_max": float(np.max(np.abs(step.shear))),
+        "iterations": int(step.iterations),
+    }
+
+
+def worst(regimes: Sequence[str]) -> str:
+    """The most severe regime of a cycle (gross slip > partial slip > full stick)."""
+    return max(regimes, key=REGIMES.index)
+
+
+_GROUPS: OrderedDict[str, Any] = OrderedDict()
+_KEEP = 2
+
+
+def _group_simulation(key: str, scene: dict) -> tuple[Any, float]:
+    """The group's condensed simulation, built here or taken from this process's cache."""
+    if key in _GROUPS:
+        _GROUPS.move_to_end(key)
+        return _GROUPS[key], 0.0
+    start = time.perf_counter()
+    simulation = build_simulation(scene)
+    simulation.prepare()
+    seconds = time.perf_counter() - start
+    _GROUPS[key] = simulation
+    while len(_GROUPS) > _KEEP:
+        _GROUPS.popitem(last=False)
+    return simulation, seconds
+
+
+def _error(err: BaseException) -> str:
+    return f"{type(err).__name__}: {err}"
+
+
+def solve_case(simulation, loading: Loading, outputs=(), scene=None) -> dict[str, Any]:
+    """Solve one case on the group's problem; returns its output columns.
+
+    ``outputs`` are extra column functions (see ``sweep_outputs``) called with the result
+    and the case's ``scene`` dict.
+    """
+    from fretbem.simulation import run
+
+    row: dict[str, Any] = {
+        "friction": loading.friction,
+        "P_max": max(abs(s.normal) for s in loading.steps),
+        "Q_peak": max(abs(s.tangential) for s in loading.steps),
+    }
+    refused = refused_steps(loading)
+    if refused:
+        row.update(status="refused", error=f"|Q| >= f P in steps {refused}")
+        row["regime"] = "gross slip"
+        for step in loading.steps:
+            row[f"regime.{step.name}"] = "gross slip" if step.name in refused else "not run"
+        return row
+    tic, cpu = time.perf_counter(), time.process_time()
+    result = run(with_loading(simulation, loading))
+    row["solve_seconds"] = time.perf_counter() - tic
+    row["solve_cpu_seconds"] = time.process_time() - cpu
+    regimes = []
+    for step in result.steps:
+        for key, value in step_metrics(step).items():
+            row[f"{key}.{step.name}"] = value
+        regimes.append(row[f"regime.{step.name}"])
+    for function in outputs:
+        row.update(function(result, scene))
+    row.update(status="ok", error="", regime=worst(regimes))
+    return row
+
+
+def run_batch(
+    scene: dict,
+    cases: Sequence[tuple[int, dict, dict]],
+    builder: Callable[[Mapping], Any] | None = None,
+    outputs: Sequence[str] = (),
+    extras: Mapping[str, Any] | None = None,
+) -> list[dict[str, Any]]:
+    """Solve ``cases`` (index, parameter values, scene dict) on the bodies of ``scene``.
+
+    ``scene`` is the group's representative scene; ``outputs`` names extra column functions
+    ("module:function"), called with the result and the case's scene plus ``extras`` (tables
+    of the sweep file such as ``fatigue``). Never raises for a case: a failing case becomes a
+    row with status "error" and the message; a group whose bodies cannot be built fails every
+    one of its cases that way.
+    """
+    import os
+    import socket
+
+    from .outputs import resolve_all
+
+    worker = f"{socket.gethostname()}:{os.getpid()}"
+    simulation, assembly, failure = None, 0.0, None
+    try:
+        functions = resolve_all(outputs)
+        if builder is None:
+            simulation, assembly = _group_simulation(json.dumps(scene, sort_keys=True), scene)
+        else:
+            tic = time.perf_counter()
+            simulation = builder(scene)
+            simulation.prepare()
+            assembly = time.perf_counter() - tic
+    except Exception as err:  # recorded on every case of the group, not fatal
+        failure = _error(err)
+    rows = []
+    for index, values, case_scene in cases:
+        row: dict[str, Any] = {"case": index, **values, "worker": worker}
+        try:
+            loading = case_loading(case_scene)
+            if failure is not None:
+                raise GroupBuildError(f"the group's bodies could not be built: {failure}")
+            context = {**case_scene, **(extras or {})}
+            row.update(solve_case(simulation, loading, functions, context))
+        except Exception as err:
+            row.update(status="error", error=_error(err), regime="")
+        row["assembly_seconds"] = assembly
+        assembly = 0.0  # paid once per batch: charged to its first case
+        rows.append(row)
+    return rows
+
+
+__all__ = [
+    "REGIMES",
+    "STEP_COLUMNS",
+    "TIMING_COLUMNS",
+    "GroupBuildError",
+    "Loading",
+    "build_simulation",
+    "case_loading",
+    "parse_scene",
+    "refused_steps",
+    "representative",
+    "run_batch",
+    "solve_case",
+    "step_metrics",
+    "with_loading",
+    "worst",
+]

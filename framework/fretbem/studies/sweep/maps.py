@@ -1,0 +1,162 @@
+"""Fretting maps: the regime, or any output column, over two varied parameters of a sweep.
+
+The regime map colours each case full stick, partial slip or gross slip (refused) and draws
+the line where the peak tangential load equals f times the normal load (interpolated from
+the cases' own Q_peak - f P_max, so it works on any pair of axes: P-Q, f-Q, P-f...).
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .cases import REGIMES
+from .spec import SweepSpecError
+
+REGIME_COLOURS = {"full stick": "#4477aa", "partial slip": "#ddaa33", "gross slip": "#bb5566"}
+
+
+def _select(table, x: str, y: str, where: Mapping[str, Any] | None):
+    """Rows with the ``where`` values; each (x, y) must then be one case."""
+    for column in (x, y, *(where or {})):
+        if column not in table:
+            raise SweepSpecError(
+                f"the sweep table has no column {column!r}; map over varied parameters "
+                f"(columns {[c for c in table.columns if '.' in c or c == 'friction'][:12]}...)"
+            )
+    rows = table
+    for column, value in (where or {}).items():
+        rows = rows[np.isclose(rows[column].astype(float), float(value))]
+    if rows.duplicated([x, y]).any():
+        raise SweepSpecError(
+            f"several cases share each ({x}, {y}): fix the other varied parameters with "
+            "where = {path = value}"
+        )
+    return rows
+
+
+def _grid(rows, x: str, y: str, values) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    xs = np.unique(rows[x].to_numpy(dtype=float))
+    ys = np.unique(rows[y].to_numpy(dtype=float))
+    grid = np.full((len(ys), len(xs)), np.nan)
+    i = np.searchsorted(xs, rows[x].to_numpy(dtype=float))
+    j = np.searchsorted(ys, rows[y].to_numpy(dtype=float))
+    grid[j, i] = values
+    return xs, ys, grid
+
+
+def _boundary(ax, rows, x: str, y: str) -> bool:
+    """Contour ``Q_peak = f P_max`` over the cases (the gross-slip boundary); False if absent."""
+    if not {"Q_peak", "P_max", "friction"} <= set(rows.columns):
+        return False
+    g = rows["Q_peak"].to_numpy(float) - rows["friction"].to_numpy(float) * rows["P_max"].to_numpy(
+        float
+    )
+    xs, ys, grid = _grid(rows, x, y, g)
+    if len(xs) < 2 or len(ys) < 2 or not (np.nanmin(grid) < 0 < np.nanmax(grid)):
+        return False
+    ax.contour(xs, ys, grid, levels=[0.0], colors="k", linewidths=1.5, linestyles="--")
+    ax.plot([], [], "k--", label="|Q| = f P")
+    return True
+
+
+def _axes():
+    """Axes on a new Figure, without pyplot (no backend switch, nothing left open)."""
+    from matplotlib.figure import Figure
+
+    return Figure(figsize=(6.4, 4.8), layout="constrained").add_subplot()
+
+
+def regime_map(table, x: str, y: str, *, where=None, ax=None, title: str | None = None):
+    """Fretting map: regime of each case over parameters ``x`` and ``y`` (matplotlib Axes)."""
+    from matplotlib.colors import ListedColormap
+    from matplotlib.patches import Patch
+
+    rows = _select(table, x, y, where)
+    codes = np.array([REGIMES.index(r) if r in REGIMES else np.nan for r in rows["regime"]])
+    xs, ys, grid = _grid(rows, x, y, codes)
+    if ax is None:
+        ax = _axes()
+    cmap = ListedColormap([REGIME_COLOURS[r] for r in REGIMES])
+    ax.pcolormesh(
+        xs, ys, np.ma.masked_invalid(grid), cmap=cmap, vmin=-0.5, vmax=2.5, shading="nearest"
+    )
+    handles = [Patch(color=REGIME_COLOURS[r], label=r) for r in REGIMES]
+    if np.isnan(grid).any():
+        handles.append(Patch(facecolor="white", edgecolor="grey", label="failed / missing"))
+    _boundary(ax, rows, x, y)
+    line, label = ax.get_legend_handles_labels()
+    ax.legend(
+        handles=handles + line,
+        labels=[h.get_label() for h in handles] + label,
+        loc="upper left",
+        bbox_to_anchor=(1.02, 1.0),
+        borderaxespad=0.0,
+    )
+    ax.set_xlabel(x)
+    ax.set_ylabel(y)
+    ax.set_title(title or f"fretting regime ({len(rows)} cases)")
+    return ax
+
+
+def column_map(table, column: str, x: str, y: str, *, where=None, ax=None, title=None):
+    """Map of a numeric output ``column`` (e.g. ``stick_width.B``, life) over ``x`` and ``y``."""
+
+    rows = _select(table, x, y, where)
+    if column not in rows:
+        outputs = sorted(c for c in rows.columns if "." in c and c not in (x, y))
+        raise SweepSpecError(f"no output column {column!r}; columns include {outputs[:16]}")
+    values = rows[column].to_numpy(dtype=float)
+    xs, ys, grid = _grid(rows, x, y, values)
+    if ax is None:
+        ax = _axes()
+    mesh = ax.pcolormesh(xs, ys, np.ma.masked_invalid(grid), shading="nearest", cmap="viridis")
+    ax.figure.colorbar(mesh, ax=ax, label=column)
+    if _boundary(ax, rows, x, y):
+        ax.legend(loc="upper left", framealpha=0.9)
+    ax.set_xlabel(x)
+    ax.set_ylabel(y)
+    ax.set_title(title or f"{column} (blank: gross slip or failed)")
+    return ax
+
+
+def _name(*parts: str) -> str:
+    return "map-" + "-".join(re.sub(r"[^A-Za-z0-9_]+", "_", p).strip("_") for p in parts) + ".png"
+
+
+def default_maps(paths: Sequence[str]) -> list[dict]:
+    """With two or more varied parameters: the regime over the first two."""
+    return [{"x": paths[0], "y": paths[1], "column": "regime"}] if len(paths) >= 2 else []
+
+
+def draw_maps(table, spec, directory: str | Path) -> list[Path]:
+    """Draw the sweep's ``[[maps]]`` (x, y, column, optional where) into ``directory``."""
+    maps = spec.options.get("maps", default_maps(spec.paths))
+    if isinstance(maps, Mapping):
+        maps = [maps]
+    figures = []
+    for entry in maps:
+        if not isinstance(entry, Mapping) or not {"x", "y"} <= set(entry):
+            raise SweepSpecError(f"each [[maps]] entry needs x and y (key paths), got {entry!r}")
+        unknown = set(entry) - {"x", "y", "column", "where", "title"}
+        if unknown:
+            raise SweepSpecError(f"unknown keys {sorted(unknown)} in a [[maps]] entry")
+        column = entry.get("column", "regime")
+        where = entry.get("where")
+        if column == "regime":
+            ax = regime_map(table, entry["x"], entry["y"], where=where, title=entry.get("title"))
+        else:
+            ax = column_map(
+                table, column, entry["x"], entry["y"], where=where, title=entry.get("title")
+            )
+        path = Path(directory) / _name(column, entry["x"], entry["y"])
+        ax.figure.savefig(path, dpi=120)
+        figures.append(path)
+    return figures
+
+
+__all__ = ["REGIME_COLOURS", "column_map", "default_maps", "draw_maps", "regime_map"]

@@ -1,0 +1,565 @@
+"""Parameter sweeps: many cases of one scene, grouped for reuse, run serially or on Dask.
+
+``sweep(scene, parameters, out=...)`` (or ``fretbem sweep SWEEP.toml``) expands the
+parameters into cases, groups them by what changes the condensed problem, splits the groups
+into batches, and solves the batches in this process (``serial=True``) or as tasks of a
+Dask cluster: a ``LocalCluster`` sized to the machine by default, any scheduler address, or
+a ``Client`` passed in. Every finished batch is stored at once (see ``sweep_store``), so an
+interrupted sweep re-run with the same description solves only the missing cases.
+Dask, pandas and pyarrow are imported only here, when a sweep runs.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import statistics
+import sys
+import time
+from collections import Counter
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import attrs
+
+from fretbem.errors import ComputationError
+
+from .cases import REGIMES, representative, run_batch
+from .outputs import resolve_all
+from .spec import SweepSpec, SweepSpecError, load_sweep
+from .store import SweepStore
+
+#: environment of the local cluster's workers: one BLAS thread per process
+BLAS_ENV = {
+    "OMP_NUM_THREADS": "1",
+    "OPENBLAS_NUM_THREADS": "1",
+    "MKL_NUM_THREADS": "1",
+    "BLIS_NUM_THREADS": "1",
+    "VECLIB_MAXIMUM_THREADS": "1",
+    "NUMEXPR_NUM_THREADS": "1",
+}
+
+#: tables of a sweep file passed to the output functions (e.g. [fatigue]), not to the scene
+POST_TABLES = ("fatigue", "stress")
+
+#: most cases in one task (and one stored chunk)
+MAX_BATCH = 250
+#: default tasks per worker: small enough to balance the last round, large enough that the
+#: per-task cost (scheduling, one Parquet chunk) stays below 1 % of the solves
+TASKS_PER_WORKER = 8
+
+
+class SweepError(ComputationError):
+    """A sweep that cannot run (no scheduler reachable, bad execution options)."""
+
+
+def machine_cores() -> int:
+    """Cores this process may use (affinity-aware)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # pragma: no cover - not on Linux
+        return os.cpu_count() or 1
+
+
+@attrs.frozen
+class Task:
+    """A batch of cases of one group, solved on the group's representative scene."""
+
+    scene: dict
+    cases: tuple[tuple[int, dict, dict], ...]
+
+
+def plan(spec: SweepSpec, done: set[int], workers: int, batch: int | None = None) -> list[Task]:
+    """Batches of the cases not yet done: enough tasks to keep ``workers`` busy.
+
+    The representative scene of a group is taken over all its cases (done or not), so a
+    resumed sweep solves on exactly the bodies of an uninterrupted one.
+    """
+    groups = spec.groups()
+    remaining = sum(1 for cases in groups.values() for c in cases if c.index not in done)
+    if batch is None:
+        per_worker = TASKS_PER_WORKER * max(1, workers)
+        batch = max(1, min(MAX_BATCH, math.ceil(remaining / per_worker)))
+    elif isinstance(batch, bool) or not isinstance(batch, int) or batch < 1:
+        raise SweepError(f"batch size must be an integer >= 1, got {batch!r}")
+    tasks = []
+    for cases in groups.values():
+        todo = [(c.index, c.values, c.scene) for c in cases if c.index not in done]
+        if not todo:
+            continue
+        scene = representative([c.scene for c in cases])
+        for k in range(0, len(todo), batch):
+            tasks.append(Task(scene, tuple(todo[k : k + batch])))
+    return tasks
+
+
+class _Progress:
+    """A one-line progress bar on a terminal (silent elsewhere until the summary)."""
+
+    def __init__(self, tasks: int, cases: int, enabled: bool, stream=None) -> None:
+        self.stream = stream or sys.stderr
+        self.enabled = enabled and self.stream.isatty()
+        self.tasks, self.cases = tasks, cases
+        self.done_tasks = self.done_cases = 0
+        self.start = time.perf_counter()
+        self._draw()
+
+    def update(self, cases: int) -> None:
+        self.done_tasks += 1
+        self.done_cases += cases
+        self._draw()
+
+    def _draw(self) -> None:
+        if not self.enabled:
+            return
+        width = 30
+        filled = int(width * self.done_cases / max(1, self.cases))
+        bar = "#" * filled + "." * (width - filled)
+        self.stream.write(
+            f"\r[{bar}] {self.done_cases}/{self.cases} cases, {self.done_tasks}/{self.tasks} "
+            f"tasks, {time.perf_counter() - self.start:.1f} s"
+        )
+        self.stream.flush()
+
+    def close(self) -> None:
+        if self.enabled:
+            self.stream.write("\n")
+            self.stream.flush()
+
+
+@attrs.frozen
+class SweepSummary:
+    """What a sweep run did and what the store now holds."""
+
+    directory: Path
+    cases: int
+    stored: int
+    solved_now: int
+    skipped: int
+    groups: int
+    tasks: int
+    workers: int
+    mode: str
+    wall: float
+    status: dict
+    regimes: dict
+    assembly_seconds: float | None
+    solve_seconds: float | None
+    stopped: bool
+    lost: tuple[str, ...] = ()
+
+    def __str__(self) -> str:
+        def fmt(value, unit=" s"):
+            return "n/a" if value is None else f"{value:.4g}{unit}"
+
+        if self.tasks:
+            run = (
+                f"  this run: {self.solved_now} cases in {self.tasks} tasks on {self.workers} "
+                f"{self.mode} worker(s), {self.wall:.2f} s wall; {self.skipped} already stored"
+            )
+        else:
+            run = f"  this run: nothing to solve, all {self.skipped} cases already stored"
+        lines = [
+            f"sweep: {self.cases} cases in {self.groups} condensation groups -> {self.directory}",
+            run,
+            "  stored: "
+            + ", ".join(f"{n} {k}" for k, n in sorted(self.status.items()))
+            + f" ({self.stored}/{self.cases})",
+            "  regimes: " + ", ".join(f"{n} {k}" for k, n in self.regimes.items() if n),
+            f"  median assembly + condensation {fmt(self.assembly_seconds)} (per group and "
+            f"worker), median solve {fmt(self.solve_seconds)} per case",
+        ]
+        if self.assembly_seconds and self.solve_seconds:
+            ratio = self.assembly_seconds / self.solve_seconds
+            lines[-1] += f": one assembly costs {ratio:.0f} case solves"
+        if self.lost:
+            lines.append(
+                f"  {len(self.lost)} task(s) lost by the cluster (first: {self.lost[0]}); "
+                "their cases are not stored: re-run the same command to complete the sweep"
+            )
+        if self.stopped:
+            lines.append("  stopped early: re-run the same command to complete the sweep")
+        elif self.status.get("error"):
+            lines.append("  failed cases are in the table with their error (column 'error')")
+        return "\n".join(lines)
+
+
+@attrs.frozen(eq=False)
+class SweepResult:
+    """The store's table (pandas DataFrame, one row per case) and the run's summary."""
+
+    table: Any
+    summary: SweepSummary
+    spec: SweepSpec
+
+
+def _summarise(table, spec, directory, stats) -> SweepSummary:
+    status = Counter(table["status"]) if "status" in table else Counter()
+    regimes = Counter(table["regime"]) if "regime" in table else Counter()
+
+    def median(column, positive=False):
+        if column not in table:
+            return None
+        values = [float(v) for v in table[column].dropna() if not positive or v > 0]
+        return statistics.median(values) if values else None
+
+    return SweepSummary(
+        directory=Path(directory),
+        cases=len(spec.combinations()),
+        stored=len(table),
+        status=dict(status),
+        regimes={k: regimes.get(k, 0) for k in REGIMES},
+        groups=len(spec.groups()),
+        assembly_seconds=median("assembly_seconds", positive=True),
+        solve_seconds=median("solve_seconds"),
+        **stats,
+    )
+
+
+def _local_cluster(workers: int):
+    import logging
+
+    from dask.distributed import LocalCluster
+
+    return LocalCluster(
+        n_workers=workers,
+        threads_per_worker=1,
+        processes=True,
+        env=dict(BLAS_ENV),
+        dashboard_address=":0",
+        silence_logs=logging.ERROR,
+    )
+
+
+def _connect(scheduler: str | None, workers: int):
+    """(cluster or None, client): a new LocalCluster, or a client of ``scheduler``."""
+    from dask.distributed import Client
+
+    try:
+        if scheduler is not None:
+            return None, Client(scheduler, timeout="20s")
+        cluster = _local_cluster(workers)
+        return cluster, Client(cluster)
+    except (OSError, TimeoutError) as err:
+        raise SweepError(
+            f"cannot reach the Dask scheduler {scheduler!r}: {err}; start one "
+            "(`dask scheduler`, or dask-jobqueue on a cluster) or run with --serial"
+        ) from err
+
+
+def _cluster_threads(client) -> int:
+    """Worker threads of a client's cluster now (0 without a client or workers)."""
+    if client is None:
+        return 0
+    workers = client.scheduler_info().get("workers", {})
+    return sum(int(w.get("nthreads", 1)) for w in workers.values())
+
+
+def _run_dask(tasks, client, scheduler, workers, builder, outputs, on_rows, limit, extras=None):
+    """Run the tasks on Dask, storing each batch as it completes.
+
+    Returns (workers, stopped early, errors of tasks lost to the cluster): a lost task's
+    cases stay unstored, for the next run.
+
+    Without a client, the cluster starts (or the scheduler is reached) in a thread while
+    this process solves the first tasks itself: the seconds a cluster takes to start are
+    not lost.
+    """
+    import concurrent.futures
+
+    try:
+        from dask.distributed import as_completed
+    except ImportError as err:  # pragma: no cover - dask is a dependency
+        raise SweepError("the Dask mode needs dask[distributed]; use serial=True") from err
+    queue = list(tasks)
+    finished = 0
+    lost: list[str] = []
+    cluster = own_client = None
+    if client is None:
+        with concurrent.futures.ThreadPoolExecutor(1) as pool:
+            starting = pool.submit(_connect, scheduler, workers)
+            while queue and not starting.done() and (limit is None or finished < limit):
+                # case by case, so the cluster never waits for this process to finish a task
+                task, rows = queue.pop(0), []
+                for k, case in enumerate(task.cases):
+                    rows += run_batch(task.scene, [case], builder, outputs, extras)
+                    if starting.done() and k + 1 < len(task.cases):
+                        queue.insert(0, Task(task.scene, task.cases[k + 1 :]))
+                        break
+                on_rows(rows)
+                finished += 1
+            cluster, own_client = starting.result()
+        client = own_client
+    stopped = False
+    try:
+        n_workers = len(client.scheduler_info().get("workers", {})) or workers
+        if limit is not None and finished >= limit:
+            return n_workers, bool(queue), lost
+        total = finished + len(queue)
+        futures = [
+            client.submit(run_batch, t.scene, t.cases, builder, outputs, extras, pure=False)
+            for t in queue
+        ]
+        for future in as_completed(futures):
+            try:
+                rows = future.result()
+            except Exception as err:  # a lost worker or a cancelled task, not a failing case
+                lost.append(f"{type(err).__name__}: {err}")
+                continue
+            on_rows(rows)
+            finished += 1
+            if limit is not None and finished >= limit and finished < total:
+                stopped = True
+                client.cancel(futures)
+                break
+    finally:
+        if own_client is not None:
+            own_client.close()
+        if cluster is not None:
+            cluster.close()
+    return n_workers, stopped, lost
+
+
+def run_sweep(
+    spec: SweepSpec,
+    out: str | Path,
+    *,
+    client=None,
+    scheduler: str | None = None,
+    serial: bool = False,
+    workers: int | None = None,
+    batch: int | None = None,
+    limit: int | None = None,
+    progress: bool = True,
+    builder: Callable[[Mapping], Any] | None = None,
+) -> SweepResult:
+    """Run (or complete) ``spec`` into the store at ``out``; see ``sweep`` for the options."""
+    if workers is not None and (isinstance(workers, bool) or workers < 1):
+        raise SweepError(f"workers must be >= 1, got {workers!r}")
+    if serial and (client is not None or scheduler is not None):
+        raise SweepError("serial mode runs in this process: drop the client/scheduler")
+    if limit is not None and limit < 1:
+        raise SweepError(f"limit (tasks to run before stopping) must be >= 1, got {limit!r}")
+    outputs = spec.options.get("outputs", ())
+    outputs = (outputs,) if isinstance(outputs, str) else tuple(outputs)
+    resolve_all(outputs)  # a bad name fails here, not on every case
+    #: post-processing tables of the sweep file, handed to the output functions with the scene
+    extras = {k: v for k, v in spec.options.items() if k in POST_TABLES}
+    start = time.perf_counter()
+    store = SweepStore(
+        out,
+        {
+            "fingerprint": spec.fingerprint(),
+            "paths": list(spec.paths),
+            "patterns": {p.path: p.pattern for p in spec.parameters if p.pattern},
+            "mode": spec.mode,
+            "cases": len(spec.combinations()),
+            "scene": spec.scene,
+            "options": spec.options,
+        },
+    )
+    done = store.done()
+    connected = None
+    if not serial and client is None and scheduler is not None:
+        _, connected = _connect(scheduler, 0)  # first, so the batches fit its workers
+        client = connected
+    n_workers = 1 if serial else (workers or _cluster_threads(client) or machine_cores())
+    tasks = plan(spec, done, n_workers, batch)
+    bar = _Progress(len(tasks), sum(len(t.cases) for t in tasks), progress)
+    solved = 0
+
+    def on_rows(rows):
+        nonlocal solved
+        store.write(rows)
+        solved += len(rows)
+        bar.update(len(rows))
+
+    stopped, lost = False, []
+    try:
+        if not tasks:
+            mode = "none"
+        elif serial:
+            mode = "serial"
+            for k, task in enumerate(tasks):
+                if limit is not None and k >= limit:
+                    stopped = True
+                    break
+                on_rows(run_batch(task.scene, task.cases, builder, outputs, extras))
+        else:
+            mode = "dask"
+            n_workers, stopped, lost = _run_dask(
+                tasks, client, scheduler, n_workers, builder, outputs, on_rows, limit, extras
+            )
+    finally:
+        bar.close()
+        if connected is not None:
+            connected.close()
+    table = store.table()
+    stats = {
+        "solved_now": solved,
+        "skipped": len(done),
+        "tasks": len(tasks),
+        "workers": n_workers,
+        "mode": mode,
+        "wall": time.perf_counter() - start,
+        "stopped": stopped,
+        "lost": tuple(lost),
+    }
+    return SweepResult(table, _summarise(table, spec, store.directory, stats), spec)
+
+
+def sweep(
+    scene: Mapping,
+    parameters: Mapping[str, Any],
+    *,
+    out: str | Path,
+    mode: str = "product",
+    client=None,
+    scheduler: str | None = None,
+    serial: bool = False,
+    workers: int | None = None,
+    batch: int | None = None,
+    limit: int | None = None,
+    progress: bool = True,
+    builder: Callable[[Mapping], Any] | None = None,
+    outputs: Sequence[str] = (),
+    options: Mapping[str, Any] | None = None,
+) -> SweepResult:
+    """Solve ``scene`` for every combination of ``parameters`` and store one row per case.
+
+    Parameters
+    ----------
+    scene : mapping
+        A scene as a nested dict (a parsed scene file).
+    parameters : mapping
+        Key path (``"load.Q"``, ``"contact.friction"``, ``"geometry.radius"``...) to a list of
+        values, a range ``{"start", "stop", "num"}`` or ``{"values": [...]}``; either may
+        carry a ``"pattern"`` the value scales (e.g. a load history).
+    out : path
+        The store directory; re-running into it completes an interrupted sweep.
+    mode : "product" or "zip"
+    client : dask.distributed.Client, optional
+        Run on this client's cluster.
+    scheduler : str, optional
+        Address of a running scheduler (``tcp://host:8786``); else a LocalCluster.
+    serial : bool
+        Solve in this process, without Dask.
+    workers : int, optional
+        Local cluster processes (default: the machine's cores).
+    batch : int, optional
+        Cases per task (default: ``TASKS_PER_WORKER`` tasks per worker, at most ``MAX_BATCH``
+        cases each).
+    limit : int, optional
+        Stop after this many tasks (the store keeps them; re-run to complete).
+    progress : bool
+        Progress bar on a terminal.
+    builder : callable, optional
+        Scene dict -> Simulation (default: the scene-file reader of the scene's format).
+    outputs : sequence of str
+        Extra column functions, ``"package.module:function"`` (see ``sweep_outputs``).
+    options : mapping, optional
+        Extra settings stored with the sweep (part of its identity).
+    """
+    options = dict(options or {})
+    if outputs:
+        options["outputs"] = [outputs] if isinstance(outputs, str) else list(outputs)
+    spec = SweepSpec.from_mapping(scene, parameters, mode=mode, **options)
+    return run_sweep(
+        spec,
+        out,
+        client=client,
+        scheduler=scheduler,
+        serial=serial,
+        workers=workers,
+        batch=batch,
+        limit=limit,
+        progress=progress,
+        builder=builder,
+    )
+
+
+def sweep_command(argv: Sequence[str] | None = None) -> int:
+    """``fretbem sweep SWEEP.toml [--scheduler ADDRESS] [--serial] [--out DIR] [--workers N]``."""
+    import argparse
+
+    parser = argparse.ArgumentParser(
+        prog="fretbem sweep",
+        description="Run a parameter sweep (fretting map) described in a sweep TOML file.",
+    )
+    add_arguments(parser)
+    return run_command(parser.parse_args(argv))
+
+
+def add_arguments(parser) -> None:
+    """The sweep subcommand's arguments (for the fretbem CLI's subparser)."""
+    parser.add_argument("sweep_file", metavar="SWEEP.toml", help="sweep description")
+    parser.add_argument(
+        "--scheduler", metavar="ADDRESS", help="Dask scheduler address, e.g. tcp://host:8786"
+    )
+    parser.add_argument("--serial", action="store_true", help="solve in this process, no Dask")
+    parser.add_argument(
+        "--out", metavar="DIR", help="store directory (default: [sweep] out, or <name>-sweep)"
+    )
+    parser.add_argument(
+        "--workers", type=int, metavar="N", help="local cluster processes (default: cores)"
+    )
+    parser.add_argument("--batch", type=int, metavar="N", help="cases per task (default: auto)")
+    parser.add_argument(
+        "--limit", type=int, metavar="N", help="stop after N tasks (re-run to complete)"
+    )
+    parser.add_argument("--no-figures", action="store_true", help="skip the fretting maps")
+
+
+def run_command(args) -> int:
+    """Run a parsed ``fretbem sweep`` command line; returns the exit status."""
+    from .store import SweepStoreError
+
+    try:
+        spec = load_sweep(args.sweep_file)
+        path = Path(args.sweep_file)
+        out = args.out or spec.options.get("out")
+        out = Path(out) if out else Path(f"{path.stem}-sweep")
+        result = run_sweep(
+            spec,
+            out,
+            scheduler=args.scheduler,
+            serial=args.serial,
+            workers=args.workers,
+            batch=args.batch,
+            limit=args.limit,
+        )
+        print(result.summary)
+        if not args.no_figures and not result.summary.stopped:
+            from .maps import draw_maps
+
+            for figure in draw_maps(result.table, spec, out):
+                print(f"  figure: {figure}")
+    except (SweepSpecError, SweepError, SweepStoreError, ValueError, OSError) as err:
+        print(f"fretbem sweep: error: {err}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print(
+            "fretbem sweep: interrupted; the finished batches are stored, re-run the same "
+            "command to complete the sweep",
+            file=sys.stderr,
+        )
+        return 130
+    return 0
+
+
+__all__ = [
+    "BLAS_ENV",
+    "POST_TABLES",
+    "SweepError",
+    "SweepResult",
+    "SweepSummary",
+    "Task",
+    "add_arguments",
+    "machine_cores",
+    "plan",
+    "run_command",
+    "run_sweep",
+    "sweep",
+    "sweep_command",
+]

@@ -1,0 +1,1 @@
+"""Closed forms, Nowell-Hills, and the result checks applied to every step."""

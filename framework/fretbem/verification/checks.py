@@ -1,0 +1,322 @@
+"""Checks every result must pass before it is reported, and up-front input and resource checks.
+
+Each check is a pure function of arrays (no solver or body objects), returns a
+:class:`CheckRecord` with its residual so runs can record it in ``summary.json``, and raises
+a named :class:`ResultCheckError` subclass whose message names the cause and the fix.
+Errors and tolerances are *fractions* (0.01 means 1 %), as everywhere in fretbem's files.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Iterable, Sequence
+
+import attrs
+import numpy as np
+
+from fretbem.errors import InputError, ResultCheckError, SolverSettingsError
+
+SEPARATED, STICK, SLIP = 0, 1, 2
+
+#: |integral of p - P| / P and |integral of q - Q| / P allowed after an increment. Measured:
+#: 5e-5 (p) and 7e-5 (q) on the reference scene with 31 nurbs pairs; 1e-3 leaves a margin.
+EQUILIBRIUM_TOLERANCE = 1e-3
+#: a pad displaced tangentially by more than this many contact-zone widths is not held
+RUNAWAY_FACTOR = 10.0
+#: Newton systems with a larger condition number do not determine the block position
+MAX_CONDITION = 1e12
+#: largest accepted Newton tolerance: a looser one reports unconverged tractions as results
+MAX_SOLVER_TOLERANCE = 1e-3
+
+
+class EquilibriumError(ResultCheckError):
+    """The contact tractions do not balance the applied loads."""
+
+    check = "equilibrium"
+
+
+class ContactZoneError(ResultCheckError):
+    """The outermost pairs of the candidate zone are in contact: the zone is too small."""
+
+    check = "zone_edge"
+
+
+class TangentialIndeterminacyError(ResultCheckError):
+    """Nothing holds the body tangentially (no stick pair, or a singular Newton system)."""
+
+    check = "tangential_hold"
+
+
+class StepNameError(InputError):
+    """Load step names that are missing, duplicated or not text."""
+
+
+@attrs.frozen
+class CheckRecord:
+    """Outcome of one check: name, measured residual, allowed limit, and whether it passed."""
+
+    check: str
+    residual: float
+    limit: float
+    passed: bool
+
+    def as_dict(self) -> dict:
+        """JSON-ready form (residual and limit as floats; NaN becomes None)."""
+
+        def clean(v: float):
+            return None if math.isnan(v) else v
+
+        return {"residual": clean(self.residual), "limit": clean(self.limit), "passed": self.passed}
+
+
+def _spacing(x: np.ndarray) -> float:
+    """Typical pair spacing: the median distance between neighbouring pairs."""
+    return float(np.median(np.diff(np.sort(x)))) if len(x) > 1 else math.nan
+
+
+# -- result checks: call after every increment, before anything is written -------------------
+def equilibrium(
+    integral_p: float,
+    integral_q: float,
+    normal: float,
+    tangential: float,
+    *,
+    step: str = "",
+    tolerance: float = EQUILIBRIUM_TOLERANCE,
+    raise_error: bool = True,
+) -> CheckRecord:
+    """Integral of p equals P and of q equals Q, within ``tolerance`` x P.
+
+    Both residuals are scaled by P (the load that sets the contact size), so Q = 0 steps are
+    checked as strictly as loaded ones. Raises :class:`EquilibriumError` when violated.
+    """
+    scale = abs(float(normal))
+    values = (integral_p, integral_q, normal, tangential)
+    if not all(math.isfinite(float(v)) for v in values) or scale == 0:
+        residual = math.inf
+    else:
+        residual = max(abs(integral_p - normal), abs(integral_q - tangential)) / scale
+    record = CheckRecord("equilibrium", residual, tolerance, residual <= tolerance)
+    if raise_error and not record.passed:
+        raise EquilibriumError(
+            f"step {step!r}: the contact tractions do not balance the loads: integral of p = "
+            f"{integral_p:.6g} for P = {normal:.6g}, integral of q = {integral_q:.6g} for "
+            f"Q = {tangential:.6g} (residual {residual:.3g} x P, allowed {tolerance:.3g}); refine "
+            "the contact zone (more pairs) or the mesh, or check that E and the loads are of "
+            "comparable magnitude (units mm, N, MPa)",
+            residual,
+        )
+    return record
+
+
+def resultant_balance(
+    resultants: Sequence[Sequence[float]],
+    scale: float,
+    *,
+    step: str = "",
+    tolerance: float = EQUILIBRIUM_TOLERANCE,
+    raise_error: bool = True,
+) -> CheckRecord:
+    """Each body's force resultants (contact + supports + loads, one (2,) per body) sum to 0.
+
+    ``scale`` is the load magnitude (P). Raises :class:`EquilibriumError` when violated.
+    """
+    forces = np.asarray(resultants, dtype=float).reshape(-1, 2)
+    if scale <= 0 or not np.all(np.isfinite(forces)):
+        residual = math.inf
+    else:
+        residual = float(np.max(np.abs(forces))) / scale if len(forces) else 0.0
+    record = CheckRecord("body_balance", residual, tolerance, residual <= tolerance)
+    if raise_error and not record.passed:
+        worst = int(np.argmax(np.abs(forces).max(axis=1))) if len(forces) else 0
+        raise EquilibriumError(
+            f"step {step!r}: body {worst}'s forces do not balance (largest unbalanced component "
+            f"{residual:.3g} x P, allowed {tolerance:.3g}); refine the mesh near the supports "
+            "and the contact, or tighten the solver tolerance",
+            residual,
+        )
+    return record
+
+
+def zone_edge(
+    x: np.ndarray,
+    states: np.ndarray,
+    pressure: np.ndarray | None = None,
+    *,
+    step: str = "",
+    raise_error: bool = True,
+) -> CheckRecord:
+    """The outermost pair at each end of the candidate zone must be separated.
+
+    If it is in contact, the true contact may extend beyond the zone and the pressure there
+    is an artefact of the truncation. The residual is the number of in-contact end pairs.
+    Raises :class:`ContactZoneError` naming ``zone``.
+    """
+    x, states = np.asarray(x, float), np.asarray(states)
+    if len(states) == 0:
+        return CheckRecord("zone_edge", 0.0, 0.0, True)
+    order = np.argsort(x)
+    ends = order[[0, -1]]
+    touching = [int(k) for k in ends if states[k] != SEPARATED]
+    record = CheckRecord("zone_edge", float(len(set(touching))), 0.0, not touching)
+    if raise_error and not record.passed:
+        where = ", ".join(
+            f"x = {x[k]:.4g} mm"
+            + (f" (p = {float(pressure[k]):.4g} MPa)" if pressure is not None else "")
+            for k in sorted(set(touching))
+        )
+        raise ContactZoneError(
+            f"step {step!r}: the outermost pair of the candidate contact zone is in contact at "
+            f"{where}, so the real contact may be wider than the zone; enlarge the scene's "
+            "`zone` (the candidate zone half-width) until its end pairs are separated",
+            record.residual,
+        )
+    return record
+
+
+def tangential_hold(
+    x: np.ndarray,
+    states: np.ndarray,
+    normal: float,
+    tangential: float,
+    friction: float,
+    *,
+    block_displacement: float = 0.0,
+    condition: float | None = None,
+    step: str = "",
+    raise_error: bool = True,
+) -> CheckRecord:
+    """Something must hold the loaded body tangentially: a stick pair and a bounded block move.
+
+    Near gross sliding (``|Q| -> f P``) the stick zone shrinks below one pair spacing; the
+    tangential position is then undetermined and Newton may return an arbitrary (e.g. 1e9 mm)
+    block displacement. The residual is the block displacement in contact-zone widths.
+    Raises :class:`TangentialIndeterminacyError` with the stick-zone width and the fixes.
+    """
+    x, states = np.asarray(x, float), np.asarray(states)
+    in_contact = states != SEPARATED
+    stick = states == STICK
+    spacing = _spacing(x)
+    width = float(np.ptp(x[in_contact])) if np.count_nonzero(in_contact) > 1 else spacing
+    width = width if width > 0 else (spacing if math.isfinite(spacing) else 1.0)
+    runaway = abs(float(block_displacement)) / width
+    if not math.isfinite(runaway):
+        runaway = math.inf
+    stick_width = float(np.ptp(x[stick])) if np.count_nonzero(stick) > 1 else 0.0
+    no_stick = bool(np.any(in_contact)) and not np.any(stick)
+    singular = condition is not None and not (condition <= MAX_CONDITION)
+    ok = not no_stick and runaway <= RUNAWAY_FACTOR and not singular
+    record = CheckRecord("tangential_hold", runaway, RUNAWAY_FACTOR, ok)
+    if raise_error and not ok:
+        ratio = abs(tangential) / (friction * normal) if friction * normal > 0 else math.inf
+        cause = (
+            "no pair sticks"
+            if no_stick
+            else f"the Newton system is singular (condition number {condition:.3g})"
+            if singular
+            else f"the block moved {block_displacement:.3g} mm ({runaway:.3g} contact widths)"
+        )
+        raise TangentialIndeterminacyError(
+            f"step {step!r}: nothing holds the body tangentially ({cause}): |Q| / (f P) = "
+            f"{ratio:.6g}, stick-zone width {stick_width:.4g} mm against a pair spacing of "
+            f"{spacing:.4g} mm; use more pairs (so the stick zone spans several of them) or "
+            "keep |Q| further below f P",
+            runaway,
+        )
+    return record
+
+
+# -- input checks: call before any computation -----------------------------------------------
+def solver_settings(tolerance: float, max_iterations: int, max_substeps: int = 0) -> None:
+    """Newton tolerance in (0, 1e-3], whole iteration and substep counts (iterations >= 1)."""
+    try:
+        tol = float(tolerance)
+    except (TypeError, ValueError):
+        raise SolverSettingsError(f"solver tolerance must be a number, got {tolerance!r}") from None
+    if not (0 < tol <= MAX_SOLVER_TOLERANCE):
+        raise SolverSettingsError(
+            f"solver tolerance {tolerance!r} is outside (0, {MAX_SOLVER_TOLERANCE:g}]: a looser "
+            "one reports unconverged tractions; use e.g. 1e-10 (the default)"
+        )
+    for name, value, least in (
+        ("max_iterations", max_iterations, 1),
+        ("max_substeps", max_substeps, 0),
+    ):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < least:
+            raise SolverSettingsError(
+                f"solver {name} must be a whole number >= {least}, got {value!r}"
+            )
+
+
+def step_names(names: Iterable[object]) -> tuple[str, ...]:
+    """Step names must be non-empty text without NUL and unique; returns them as a tuple."""
+    names = tuple(names)
+    for name in names:
+        if not isinstance(name, str) or not name.strip() or "\0" in name:
+            raise StepNameError(
+                f"load step name {name!r} must be non-empty text without NUL characters"
+            )
+    seen: set[str] = set()
+    duplicates = sorted({n for n in names if n in seen or seen.add(n)})
+    if duplicates:
+        raise StepNameError(
+            f"load step names must be unique (results and files are keyed by them); repeated: "
+            f"{duplicates}; rename the steps, e.g. B1, B2"
+        )
+    return names
+
+
+# -- file names ---------------------------------------------------------------------------------
+_UNSAFE = re.compile(r"[^A-Za-z0-9._-]+")
+MAX_NAME = 64
+
+
+def safe_names(names: Sequence[str]) -> list[str]:
+    """File-name stems for user names: only ``[A-Za-z0-9._-]``, no leading dot, <= 64 chars, unique.
+
+    ``../../x`` -> ``x``, ``/abs/path`` -> ``abs_path``, ``B/1`` -> ``B_1``; collisions get
+    ``-2``, ``-3`` suffixes, so a stem can never leave its directory or overwrite a sibling.
+    """
+    out: list[str] = []
+    used: set[str] = set()
+    for k, name in enumerate(names):
+        stem = _UNSAFE.sub("_", str(name)).strip("._-")
+        stem = re.sub(r"\.{2,}", ".", stem)[:MAX_NAME] or f"step{k}"
+        candidate, n = stem, 1
+        while candidate.lower() in used:
+            n += 1
+            candidate = f"{stem[: MAX_NAME - len(str(n)) - 1]}-{n}"
+        used.add(candidate.lower())
+        out.append(candidate)
+    return out
+
+
+# -- all result checks of a finished run ------------------------------------------------------
+def check_steps(result, *, raise_error: bool = True) -> list[dict[str, CheckRecord]]:
+    """Run every result check on every step of ``result`` (a SimulationResult).
+
+    Returns per step {check name: CheckRecord}; raises the first failure's named error when
+    ``raise_error``. Used before any output is written (fretbem.output) and by the CLI.
+    """
+    friction = float(result.describe().get("friction", math.nan))
+    return [check_step(s, friction, raise_error=raise_error) for s in result.steps]
+
+
+def check_step(step, friction: float, *, raise_error: bool = True) -> dict[str, CheckRecord]:
+    """Every result check of one StepResult: equilibrium, zone edge, tangential hold."""
+    blocks = np.concatenate([np.zeros(0), *step.pair_unknowns.blocks.values()])
+    block = float(np.max(np.abs(blocks))) if blocks.size else 0.0
+    return {
+        "equilibrium": equilibrium(
+            step.resultant[0], step.resultant[1], step.normal, step.tangential, step=step.name,
+            raise_error=raise_error,
+        ),
+        "zone_edge": zone_edge(
+            step.x, step.states, step.pressure, step=step.name, raise_error=raise_error
+        ),
+        "tangential_hold": tangential_hold(
+            step.x, step.states, step.normal, step.tangential, friction,
+            block_displacement=block, step=step.name, raise_error=raise_error,
+        ),
+    }  # fmt: skip

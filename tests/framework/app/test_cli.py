@@ -1,0 +1,84 @@
+"""The fretbem command: bases, run and demo, as a user calls them."""
+
+import csv
+import json
+import subprocess
+import sys
+
+import pytest
+
+from fretbem.app import cli
+
+
+def test_bases_lists_both_families(capsys):
+    """`fretbem bases` lists nurbs and lagrange2 with a one-line description each."""
+    assert cli.main(["bases"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    names = [line.split()[0] for line in lines]
+    assert {"nurbs", "lagrange2"} <= set(names)
+    assert all(len(line.split(maxsplit=1)) == 2 for line in lines)
+
+
+def test_run_scene_file(tmp_path, capsys):
+    """`fretbem run` prints the per-step table and writes results.csv and summary.json."""
+    code = cli.main(
+        [
+            "run",
+            "examples/cattaneo_mindlin.toml",
+            "--pairs",
+            "31",
+            "--out",
+            str(tmp_path),
+            "--no-figures",
+            "--no-vtk",
+        ]
+    )
+    assert code == 0
+    out = capsys.readouterr().out
+    assert "e_q max%     est" in out and "assembly" in out
+    assert "fixed mesh, levels 16, 31 pairs" in out  # the companion level gives the estimate
+    rows = list(csv.reader(open(tmp_path / "results.csv")))
+    assert rows[0] == ["step", "x", "p", "q", "un", "ut", "state"]
+    assert len(rows) == 1 + 5 * 31
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert [s["step"] for s in summary["steps"]] == list("ABCDE")
+    assert summary["steps"][2]["e_q_max"] < 0.1
+    assert summary["accuracy"]["levels"] == [16, 31]
+    assert 0 < summary["steps"][2]["est_q_max"] < 1
+
+
+def test_unknown_basis_is_a_clear_error(capsys):
+    """An uninstalled family exits 2 and names the installed ones."""
+    assert cli.main(["demo", "--basis", "hermite", "--no-figures", "--no-vtk"]) == 2
+    err = capsys.readouterr().err
+    assert "hermite" in err and "nurbs" in err and "lagrange2" in err
+
+
+def test_console_script_runs_demo(tmp_path):
+    """The installed console script runs the reference demo end to end."""
+    done = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "fretbem.app.cli",
+            "demo",
+            "--out",
+            str(tmp_path),
+            "--no-figures",
+            "--no-vtk",
+        ],
+        capture_output=True,
+        text=True,
+        check=False,
+        timeout=120,
+    )
+    assert done.returncode == 0, done.stderr
+    assert "nurbs (degree 2), 61 node pairs" in done.stdout
+    assert (tmp_path / "results.csv").exists()
+
+
+@pytest.mark.parametrize("pairs", ["60"])
+def test_impossible_pair_count(pairs, capsys):
+    """lagrange2 cannot place an even number of nodes: the error says which counts work."""
+    assert cli.main(["demo", "--basis", "lagrange2", "--pairs", pairs, "--no-figures"]) == 2
+    assert "choose pairs = 2 k + 1" in capsys.readouterr().err

@@ -1,0 +1,124 @@
+"""The reduced Newton step equals the full dense Jacobian solve (solver.py's system)."""
+
+import numpy as np
+import pytest
+
+from fretbem.solvers.newton_linear import NewtonLinear, reduced_newton_step
+
+SEPARATED, STICK, SLIP = 0, 1, 2
+
+
+def full_jacobian(normal_map, tangential_map, resultant_map, states, direction, f, r_n, r_t):
+    """The generalised Jacobian exactly as the semi-smooth Newton solver builds it."""
+    n, n_x = normal_map.shape
+    jac = np.zeros((n_x, n_x))
+    rows = np.arange(n)
+    separated, stick, slip = (states == s for s in (SEPARATED, STICK, SLIP))
+    contact = ~separated
+    jac[rows[separated], rows[separated]] = 1.0
+    jac[rows[contact]] = r_n * normal_map[contact]
+    jac[n + rows[separated], n + rows[separated]] = 1.0
+    jac[n + rows[stick]] = -r_t * tangential_map[stick]
+    slip_rows = n + rows[slip]
+    coeff = (f * direction[slip])[:, None]
+    jac[slip_rows] = coeff * r_n * normal_map[slip]
+    jac[slip_rows, rows[slip]] -= coeff[:, 0]
+    jac[slip_rows, slip_rows] += 1.0
+    jac[2 * n :] = resultant_map
+    return jac
+
+
+def problem(rng, n, m, states):
+    """Maps like a condensed contact: dominant diagonals, dense coupling, m block columns."""
+    n_x = 2 * n + m
+    normal = 0.05 * rng.standard_normal((n, n_x))
+    tangential = 0.05 * rng.standard_normal((n, n_x))
+    normal[:, :n] += np.eye(n)
+    tangential[:, n : 2 * n] += np.eye(n)
+    normal[:, 2 * n :] += 1.0
+    tangential[:, 2 * n :] += rng.standard_normal(m)
+    resultant = np.zeros((m, n_x))
+    resultant[:, :n] = rng.uniform(0.5, 1.5, (m, n))
+    resultant[:, n : 2 * n] = rng.uniform(0.5, 1.5, (m, n))
+    resultant[:, 2 * n :] = rng.standard_normal((m, m))
+    direction = rng.choice([-1.0, 1.0], n)
+    residual = rng.standard_normal(n_x)
+    return normal, tangential, resultant, states, direction, residual
+
+
+@pytest.mark.parametrize("seed", range(8))
+@pytest.mark.parametrize("m", [0, 2])
+def test_reduced_step_equals_full_solve(seed, m):
+    rng = np.random.default_rng(seed)
+    n = 40
+    states = rng.choice([SEPARATED, STICK, SLIP], n)
+    if m == 0:  # without a block the stick pairs alone must make the system regular
+        states[: n // 2] = STICK
+    normal, tangential, resultant, states, direction, residual = problem(rng, n, m, states)
+    f, r_n, r_t = 0.3, 1.7, 0.8
+    jac = full_jacobian(normal, tangential, resultant, states, direction, f, r_n, r_t)
+    expected = np.linalg.solve(jac, -residual)
+    step = reduced_newton_step(
+        normal, tangential, resultant, residual, states, direction, f, r_n, r_t
+    )
+    assert np.max(np.abs(step - expected)) <= 1e-12 * np.max(np.abs(expected))
+    # and it solves the full system
+    assert np.max(np.abs(jac @ step + residual)) <= 1e-12 * np.max(np.abs(jac) @ np.abs(step))
+
+
+@pytest.mark.parametrize("kind", [SEPARATED, STICK, SLIP])
+def test_single_state_patterns(kind):
+    rng = np.random.default_rng(3)
+    n, m = 12, 2
+    states = np.full(n, kind)
+    normal, tangential, resultant, states, direction, residual = problem(rng, n, m, states)
+    if kind == SEPARATED:  # no pair touches: only the blocks' own stiffness is left
+        resultant[:, 2 * n :] = np.array([[2.0, 0.3], [0.1, 1.5]])
+    jac = full_jacobian(normal, tangential, resultant, states, direction, 0.4, 1.0, 1.0)
+    expected = np.linalg.solve(jac, -residual)
+    step = reduced_newton_step(
+        normal, tangential, resultant, residual, states, direction, 0.4, 1.0, 1.0
+    )
+    assert np.max(np.abs(step - expected)) <= 1e-12 * np.max(np.abs(expected))
+
+
+def test_singular_reduced_system_raises():
+    n = 4
+    normal = np.zeros((n, 2 * n))
+    tangential = np.zeros((n, 2 * n))
+    states = np.full(n, STICK)
+    with pytest.raises(np.linalg.LinAlgError):
+        reduced_newton_step(
+            normal, tangential, np.zeros((0, 2 * n)), np.ones(2 * n), states, np.ones(n),
+            0.3, 1.0, 1.0,
+        )  # fmt: skip
+
+
+@pytest.mark.parametrize("seed", range(6))
+@pytest.mark.parametrize("m", [0, 2])
+def test_successive_patterns_through_one_factorisation(seed, m):
+    """A pattern a few pairs away is solved through the kept LU, bordered by the rows that
+    differ, and still equals the full dense solve; a far pattern refactorises."""
+    rng = np.random.default_rng(100 + seed)
+    n = 60
+    states = rng.choice([SEPARATED, STICK, SLIP], n)
+    states[: n // 2] = STICK
+    normal, tangential, resultant, states, direction, residual = problem(rng, n, m, states)
+    f, r_n, r_t = 0.3, 1.7, 0.8
+    linear = NewtonLinear(normal, tangential, resultant, f, r_n, r_t)
+    for change in (0, 1, 2, 3, 1, 25):  # pairs changed from the previous pattern
+        states = states.copy()
+        moved = rng.choice(np.arange(n // 2, n), change, replace=False)
+        states[moved] = rng.choice([SEPARATED, STICK, SLIP], change)
+        direction = np.where(rng.random(n) < 0.1, -direction, direction)
+        residual = rng.standard_normal(2 * n + m)
+        jac = full_jacobian(normal, tangential, resultant, states, direction, f, r_n, r_t)
+        expected = np.linalg.solve(jac, -residual)
+        step = linear.step(residual, states, direction)
+        assert np.max(np.abs(step - expected)) <= 1e-12 * np.max(np.abs(expected))
+        # a separated pair's step is exactly -F (its p lands on exactly 0), as in the
+        # reduced solve: results count pairs with p > 0
+        separated = np.flatnonzero(states == SEPARATED)
+        assert np.array_equal(step[separated], -residual[separated])
+        assert np.array_equal(step[n + separated], -residual[n + separated])
+    assert linear.factorisations <= 2  # the near patterns went through the border
