@@ -22,6 +22,9 @@ from typing import Protocol, runtime_checkable
 import attrs
 import numpy as np
 
+from fretbem.stress.closed_form import elliptical_pressure_stress, elliptical_shear_stress
+
+from .cycle import turning_points
 from .errors import FatigueInputError
 
 __all__ = [
@@ -163,8 +166,6 @@ class CattaneoMindlinCycle:
 
     @staticmethod
     def _turning_values(h: np.ndarray) -> list[float]:
-        from .cycle import turning_points
-
         return [float(h[i]) for i in turning_points(h)[1:]]
 
     @property
@@ -213,8 +214,6 @@ class CattaneoMindlinCycle:
         (Q_max, sigma_max): - 2 f p0 [E_a - (c'/a) E_c'(x - e')], c'/a = sqrt(1 - dQ/(2fP)),
         e' = a d(sigma)/(8 f p0) (Hills and Nowell 1994, ch. 5).
         """
-        from .cycle import turning_points
-
         h = self.tangential_history
         k = self.sigma_bulk_max / self.tangential_ratio
         turns = [int(i) for i in turning_points(h[: step + 1])] if step > 0 else [0]
@@ -227,8 +226,6 @@ class CattaneoMindlinCycle:
 
     def stress_at(self, points: np.ndarray) -> np.ndarray:
         """Stress history (n_steps, n, 4) at points (n, 2) = [x, depth]."""
-        from fretbem.stress.closed_form import elliptical_pressure_stress, elliptical_shear_stress
-
         pts = np.asarray(points, dtype=float).reshape(-1, 2)
         x, z = pts[:, 0], pts[:, 1]
         kw = {"nu": self.nu, "plane_strain": self.plane_strain}

@@ -13,6 +13,7 @@ import numpy as np
 
 from fretbem.basis import Basis
 from fretbem.material import Material
+from fretbem.numerics.quadrature import QuadratureRule
 from fretbem.validators import positive
 
 from .influence import DEFAULT_DATUM, FlamantCompliance, check_face, side_sign, surface_integrals
@@ -135,8 +136,6 @@ class HalfPlaneSurface:
 
 def _shape_integrals(face: Basis) -> np.ndarray:
     """int phi_b dx over the projected face, for each shape function b."""
-    from fretbem.numerics.quadrature import QuadratureRule
-
     rule = QuadratureRule.gauss_legendre(12)
     elements = np.repeat(np.arange(face.n_elements), rule.points.size)
     local = np.tile(rule.points, face.n_elements)

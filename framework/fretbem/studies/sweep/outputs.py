@@ -14,6 +14,11 @@ from typing import Any
 
 import numpy as np
 
+from fretbem.fatigue.from_simulation import SimulationStressHistory
+from fretbem.fatigue.request import fatigue_request_from_dict
+from fretbem.fatigue.run import run_fatigue
+from fretbem.stress.evaluate import StressEvaluator
+
 from .spec import SweepSpecError
 
 OutputFunction = Callable[[Any, Mapping], Mapping[str, Any]]
@@ -63,8 +68,6 @@ _EVALUATORS: dict[int, Any] = {}
 
 
 def _surface_evaluator(result):
-    from fretbem.stress.evaluate import StressEvaluator
-
     pair = result.simulation.pair
     evaluator = _EVALUATORS.get(id(pair))
     if evaluator is None or evaluator.result.simulation.pair is not pair:
@@ -102,10 +105,6 @@ def fatigue(result, scene: Mapping) -> dict[str, Any]:
     in ``<method>.life_note``), ``<method>.x`` and ``<method>.depth`` (hot spot, mm). The
     fatigue evaluation (stress map and plane search) costs far more than the contact solve.
     """
-    from fretbem.fatigue.from_simulation import SimulationStressHistory
-    from fretbem.fatigue.request import fatigue_request_from_dict
-    from fretbem.fatigue.run import run_fatigue
-
     table = scene.get("fatigue")
     if not isinstance(table, Mapping):
         raise SweepSpecError(

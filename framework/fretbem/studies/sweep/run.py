@@ -11,6 +11,9 @@ Dask, pandas and pyarrow are imported only here, when a sweep runs.
 
 from __future__ import annotations
 
+import argparse
+import concurrent.futures
+import logging
 import math
 import os
 import statistics
@@ -26,9 +29,10 @@ import attrs
 from fretbem.errors import ComputationError
 
 from .cases import REGIMES, representative, run_batch
+from .maps import draw_maps
 from .outputs import resolve_all
 from .spec import SweepSpec, SweepSpecError, load_sweep
-from .store import SweepStore
+from .store import SweepStore, SweepStoreError
 
 #: environment of the local cluster's workers: one BLAS thread per process
 BLAS_ENV = {
@@ -218,8 +222,6 @@ def _summarise(table, spec, directory, stats) -> SweepSummary:
 
 
 def _local_cluster(workers: int):
-    import logging
-
     from dask.distributed import LocalCluster
 
     return LocalCluster(
@@ -266,8 +268,6 @@ def _run_dask(tasks, client, scheduler, workers, builder, outputs, on_rows, limi
     this process solves the first tasks itself: the seconds a cluster takes to start are
     not lost.
     """
-    import concurrent.futures
-
     try:
         from dask.distributed import as_completed
     except ImportError as err:  # pragma: no cover - dask is a dependency
@@ -481,8 +481,6 @@ def sweep(
 
 def sweep_command(argv: Sequence[str] | None = None) -> int:
     """``fretbem sweep SWEEP.toml [--scheduler ADDRESS] [--serial] [--out DIR] [--workers N]``."""
-    import argparse
-
     parser = argparse.ArgumentParser(
         prog="fretbem sweep",
         description="Run a parameter sweep (fretting map) described in a sweep TOML file.",
@@ -513,8 +511,6 @@ def add_arguments(parser) -> None:
 
 def run_command(args) -> int:
     """Run a parsed ``fretbem sweep`` command line; returns the exit status."""
-    from .store import SweepStoreError
-
     try:
         spec = load_sweep(args.sweep_file)
         path = Path(args.sweep_file)
@@ -531,8 +527,6 @@ def run_command(args) -> int:
         )
         print(result.summary)
         if not args.no_figures and not result.summary.stopped:
-            from .maps import draw_maps
-
             for figure in draw_maps(result.table, spec, out):
                 print(f"  figure: {figure}")
     except (SweepSpecError, SweepError, SweepStoreError, ValueError, OSError) as err:

@@ -18,6 +18,8 @@ from typing import Any
 
 from fretbem.errors import ComputationError
 
+from .cases import TIMING_COLUMNS
+
 FORMAT = "fretbem-sweep/1"
 MANIFEST = "manifest.json"
 
@@ -124,8 +126,6 @@ def read_table(directory: str | Path):
 
 def _column_order(columns, paths: Sequence[str]) -> list[str]:
     """case, parameters, status and regime, outputs (sorted), then timings: run-independent."""
-    from .cases import TIMING_COLUMNS
-
     front = ["case", *paths, "status", "error", "regime", "friction"]
     front = [c for c in dict.fromkeys(front) if c in columns]
     last = [c for c in TIMING_COLUMNS if c in columns]
