@@ -16,9 +16,11 @@ from typing import Any
 import attrs
 import numpy as np
 
-from fretbem.errors import InputError
+from fretbem.errors import InputError, UnsupportedError
 
+from .basis import Basis, Refinement
 from .conditions import LoadingBlock
+from .geometry.nurbs import NurbsCurve
 from .material import Material
 
 
@@ -155,4 +157,109 @@ class Body(ABC):
     def solution(
         self, tag: str, tractions: np.ndarray, block: np.ndarray, loads: Mapping[str, float]
     ) -> Any:
-        """The body's fields for face node tractions (n, 2), block delta (2,) and loads."""
+        """The body's fields for face node tractions (n, 2), block delta (2,) and loads.
+
+        The returned object gives ``displacement(k, params)`` and ``traction(k, params)``
+        (n, 2) on segment k of :attr:`segments` at curve parameters, and
+        ``block_displacement``; the outputs read it through these only.
+        """
+
+    # -- what the outputs ask of a body (VTK, figures, stresses, estimate, re-mesh) ----------
+    # Each has a default that says the model does not provide it (UnsupportedError), so an
+    # output that cannot apply to a model is skipped with one line instead of crashing.
+    @property
+    def segments(self) -> tuple[Basis, ...]:
+        """The discretised segments whose fields the body reports (drawn and sampled)."""
+        return ()
+
+    @property
+    def segment_tags(self) -> tuple[str, ...]:
+        """The tag of each of :attr:`segments`."""
+        return ()
+
+    @property
+    def outline_complete(self) -> bool:
+        """True when :attr:`segments` outline the whole body (a half-plane has only its face)."""
+        return True
+
+    @property
+    def family(self) -> type[Basis]:
+        """The basis family of the contact face (the estimate and re-mesh refine with it)."""
+        raise UnsupportedError(
+            f"the {self.describe().get('model', type(self).__name__)} body {self.name!r} "
+            "has no basis family to refine"
+        )
+
+    def face_segment(self, tag: str) -> tuple[int, Basis]:
+        """Index and discretised segment of the one segment tagged ``tag`` (a contact face)."""
+        indices = [k for k, t in enumerate(self.segment_tags) if t == tag]
+        if not self.segments:
+            raise UnsupportedError(
+                f"the {self.describe().get('model', type(self).__name__)} body {self.name!r} "
+                "has no discretised segments"
+            )
+        if len(indices) != 1:
+            raise InputError(
+                f"body {self.name!r}: the contact tag {tag!r} names {len(indices)} segments; the "
+                "error estimate and adaptive refinement need the contact face as one segment"
+            )
+        return indices[0], self.segments[indices[0]]
+
+    def face_curve(self, tag: str) -> NurbsCurve:
+        """The exact geometry of the face ``tag``, before any refinement."""
+        raise UnsupportedError(
+            f"the {self.describe().get('model', type(self).__name__)} body {self.name!r} "
+            "has no exact face curve"
+        )
+
+    def face_refinement(self, tag: str) -> Refinement:
+        """How the face ``tag`` is discretised now."""
+        raise UnsupportedError(
+            f"the {self.describe().get('model', type(self).__name__)} body {self.name!r} "
+            "has no face refinement"
+        )
+
+    def with_face_refinement(self, tag: str, refinement: Refinement) -> Body:
+        """The same body with the face ``tag`` discretised at ``refinement`` (a new body)."""
+        raise UnsupportedError(
+            f"the {self.describe().get('model', type(self).__name__)} body {self.name!r} "
+            "cannot be re-meshed"
+        )
+
+    def surface_level(self, x: np.ndarray, side: str) -> np.ndarray:
+        """y of the contact-side surface at abscissae x (where stress lines start): the
+        highest boundary crossing of the vertical line for the lower body (``side`` "lower"),
+        the lowest for the upper body; +-inf where the line misses the body."""
+        x = np.asarray(x, float)
+        best = np.full(x.shape, -np.inf if side == "lower" else np.inf)
+        t = np.linspace(0.0, 1.0, 401)
+        for basis in self.segments:
+            pts = basis.curve.points(t)
+            for k in range(len(t) - 1):
+                x0, x1 = pts[k, 0], pts[k + 1, 0]
+                lo, hi = min(x0, x1), max(x0, x1)
+                hit = (x >= lo) & (x <= hi) & (hi > lo)
+                if not hit.any():
+                    continue
+                # refine the crossing on the exact curve by bisection in the parameter
+                a, b = np.full(hit.sum(), t[k]), np.full(hit.sum(), t[k + 1])
+                target, increasing = x[hit], x1 > x0
+                for _ in range(50):
+                    mid = 0.5 * (a + b)
+                    move = (basis.curve.points(mid)[:, 0] > target) == increasing
+                    b = np.where(move, mid, b)
+                    a = np.where(move, a, mid)
+                y = basis.curve.points(0.5 * (a + b))[:, 1]
+                if side == "lower":
+                    best[hit] = np.maximum(best[hit], y)
+                else:
+                    best[hit] = np.minimum(best[hit], y)
+        return best
+
+    def stress_operator(self, points: np.ndarray, settings: Any = None) -> Any:
+        """Stresses at interior ``points`` (m, 2) as an object with ``evaluate(solution)``
+        -> (m, 4) [sxx, syy, sxy, szz]; built once, applied to every step's solution."""
+        raise UnsupportedError(
+            f"the {self.describe().get('model', type(self).__name__)} body {self.name!r} "
+            "provides no stress evaluation"
+        )

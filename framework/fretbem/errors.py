@@ -20,6 +20,8 @@ __all__ = [
     "ResourceLimitError",
     "ResultCheckError",
     "SolverSettingsError",
+    "StressInputError",
+    "UnsupportedError",
 ]
 
 
@@ -59,6 +61,14 @@ class ResultCheckError(FretbemError, RuntimeError):
 
 class OutputError(FretbemError, RuntimeError):
     """The output directory cannot be used or written; nothing at the target was changed."""
+
+
+class StressInputError(InputError):
+    """A stress request has a bad argument (the message names it and the fix)."""
+
+
+class UnsupportedError(InputError):
+    """A body model does not provide what an output asks of it (the message says what)."""
 
 
 class SolverSettingsError(InputError):

@@ -17,7 +17,6 @@ import time
 import attrs
 import numpy as np
 
-from fretbem.basis import Refinement
 from fretbem.contact.pairs import SEPARATED
 
 from . import estimate
@@ -353,7 +352,7 @@ def run_adaptive(simulation, settings: AdaptiveSettings | None = None) -> Adapti
     pair = simulation.pair
     family = pair.upper.family
     settings = (settings or AdaptiveSettings()).for_family(family)
-    degree = pair.upper.refinement.get(pair.upper_tag, Refinement()).degree
+    degree = pair.upper.face_refinement(pair.upper_tag).degree
     counts = _level_pairs(settings, family, degree)
     first = remesh(simulation, np.array([]), min(settings.first, counts[-1]), ratio=1.0)
     levels = [_solve(first)]

@@ -58,11 +58,8 @@ class TractionField:
 
 def pair_frame(pair) -> tuple[np.ndarray, np.ndarray]:
     """Pair positions (n, 2) and tangents (n, 2) of a contact pair's pairing."""
-    if hasattr(pair, "pairing"):
-        pairing = pair.pairing()
-        return np.asarray(pairing.points, float), np.asarray(pairing.tangents, float)
-    geometry = pair.geometry
-    return np.asarray(geometry["points"], float), np.asarray(geometry["tangents"], float)
+    pairing = pair.pairing()
+    return np.asarray(pairing.points, float), np.asarray(pairing.tangents, float)
 
 
 def friction_of(simulation) -> float:
@@ -72,14 +69,11 @@ def friction_of(simulation) -> float:
 
 
 def contact_segment(body, tag: str):
-    """The single discretised segment of ``body`` tagged ``tag`` (the contact face)."""
-    indices = body.boundary.indices(tag)
-    if len(indices) != 1:
-        raise EstimateInputError(
-            f"body {body.name!r}: the contact tag {tag!r} names {len(indices)} segments; the "
-            "error estimate and adaptive refinement need the contact face as one segment"
-        )
-    return int(indices[0]), body.segments[int(indices[0])]
+    """Index and discretised segment of ``body``'s contact face (:meth:`Body.face_segment`)."""
+    try:
+        return body.face_segment(tag)
+    except InputError as err:
+        raise EstimateInputError(str(err)) from None
 
 
 def parameter_of(curve, tangent: np.ndarray, samples: int = 2001):

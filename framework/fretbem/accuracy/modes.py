@@ -114,12 +114,8 @@ def mode_of(scene) -> Accuracy:
 
 def _contact_family(simulation):
     """(family, degree) of the upper body's contact face."""
-    from fretbem.basis import Refinement
-
     pair = simulation.pair
-    refinement = getattr(pair.upper, "refinement", {}) or {}
-    degree = refinement.get(pair.upper_tag, Refinement()).degree
-    return pair.upper.family, degree
+    return pair.upper.family, pair.upper.face_refinement(pair.upper_tag).degree
 
 
 def companion_pairs(simulation) -> int:
@@ -137,15 +133,10 @@ def estimate_blocker(simulation) -> str | None:
 
     pair = simulation.pair
     for body, tag in ((pair.lower, pair.lower_tag), (pair.upper, pair.upper_tag)):
-        if not hasattr(body, "boundary"):
-            model = body.describe().get("model", type(body).__name__)
-            return (
-                f"the {body.name} body is a {model} model; the estimate compares the traction "
-                "fields of a BEM body's contact segment"
-            )
         try:
             estimate.contact_segment(body, tag)
-        except estimate.EstimateInputError as err:
+            body.face_refinement(tag)  # the companion level re-meshes the face
+        except InputError as err:  # UnsupportedError and EstimateInputError among them
             return str(err)
     return None
 

@@ -13,7 +13,6 @@ import attrs
 import numpy as np
 
 from fretbem.basis import Refinement, face_points, points_per_element
-from fretbem.bem.body import discretised
 from fretbem.errors import InputError
 
 from . import estimate
@@ -132,14 +131,13 @@ def remesh(
     """
     pair = simulation.pair
     tangent = estimate.pair_frame(pair)[1][0]
-    up_index, _ = estimate.contact_segment(pair.upper, pair.upper_tag)
-    low_index, _ = estimate.contact_segment(pair.lower, pair.lower_tag)
-    degree = pair.upper.refinement.get(pair.upper_tag, Refinement()).degree
+    for body, tag in ((pair.upper, pair.upper_tag), (pair.lower, pair.lower_tag)):
+        estimate.contact_segment(body, tag)  # each face one segment, or a clear error
+    degree = pair.upper.face_refinement(pair.upper_tag).degree
     family = pair.upper.family
-    # the segments' own curves (not the refined ones, whose knots would be kept)
-    up_segment = pair.upper.boundary.segments[up_index]
-    up_curve = up_segment.curve
-    low_curve = pair.lower.boundary.segments[low_index].curve
+    # the faces' own curves (not the refined ones, whose knots would be kept)
+    up_curve = pair.upper.face_curve(pair.upper_tag)
+    low_curve = pair.lower.face_curve(pair.lower_tag)
     edges = np.zeros(0) if edges is None else np.asarray(edges, float)
     peaks = np.concatenate([np.ones(np.size(anchors)), np.full(edges.size, edge_peak)])
     anchors = np.concatenate([np.asarray(anchors, float).ravel(), edges])
@@ -166,7 +164,8 @@ def remesh(
         low_bounds[0], low_bounds[-1] = 0.0, 1.0
         snap = [low_bounds[np.argmin(np.abs(low_bounds - t))] for t in low_marks]
         lower = Refinement.explicit(low_bounds, degree=degree, c0_at=snap)
-        return upper, lower, discretised(family, up_segment, upper).n_functions
+        refined = pair.upper.with_face_refinement(pair.upper_tag, upper)
+        return upper, lower, refined.face_segment(pair.upper_tag)[1].n_functions
 
     elements = elements_for(family, pairs, degree)
     while True:
@@ -175,10 +174,6 @@ def remesh(
             break
         per, _ = points_per_element(family, degree)
         elements -= max(1, math.ceil((count - pairs) / per))
-    upper = attrs.evolve(
-        pair.upper, refinement={**pair.upper.refinement, pair.upper_tag: upper_ref}
-    )
-    lower = attrs.evolve(
-        pair.lower, refinement={**pair.lower.refinement, pair.lower_tag: lower_ref}
-    )
+    upper = pair.upper.with_face_refinement(pair.upper_tag, upper_ref)
+    lower = pair.lower.with_face_refinement(pair.lower_tag, lower_ref)
     return attrs.evolve(simulation, pair=attrs.evolve(pair, upper=upper, lower=lower))

@@ -19,12 +19,14 @@ from fretbem.basis import Basis, Refinement
 from fretbem.body import Body, ContactFace, ContactResponse, RigidMotionError
 from fretbem.conditions import Condition, LoadingBlock
 from fretbem.geometry.boundary import Boundary
+from fretbem.geometry.nurbs import NurbsCurve
 from fretbem.material import Material
 
 from . import layout as bem_layout
 from .integration import Assembler, Collocation, IntegrationSettings, offsets
 from .kernels import KelvinKernel
 from .layout import BLOCK, DISPLACEMENT, Layout
+from .stresses import StressSettings, somigliana_operator
 from .system import BodySolution, BodySystem, contact_response, face_rows, face_values_matrix
 
 # BodySolution and BodySystem (fretbem.bem.system) are importable from here too
@@ -263,6 +265,36 @@ class BemBody(Body):
         return np.array([float(loads.get(name, 0.0)) for name in self.load_names])
 
     # -- the Body contract ------------------------------------------------------------------
+    @property
+    def segment_tags(self) -> tuple[str, ...]:
+        """The tag of each boundary segment."""
+        return self.boundary.tags
+
+    def face_curve(self, tag: str) -> NurbsCurve:
+        """The exact curve of the one segment tagged ``tag``, before refinement."""
+        index, _ = self.face_segment(tag)
+        return self.boundary.segments[index].curve
+
+    def face_refinement(self, tag: str) -> Refinement:
+        """The refinement of the segment ``tag`` (the default one if none is given)."""
+        return self.refinement.get(tag, Refinement())
+
+    def with_face_refinement(self, tag: str, refinement: Refinement) -> BemBody:
+        """A new body with the segment ``tag`` at ``refinement`` (other segments shared)."""
+        return attrs.evolve(self, refinement={**self.refinement, tag: refinement})
+
+    def stress_operator(self, points: np.ndarray, settings: StressSettings | None = None):
+        """Somigliana's identity at interior ``points``, as a matrix over the boundary data."""
+        material = self.material
+        return somigliana_operator(
+            self.segments,
+            points,
+            shear_modulus=material.shear_modulus,
+            nu=material.nu,
+            plane_stress=material.plane_stress,
+            settings=settings,
+        )
+
     def describe(self) -> dict:
         """Model, basis family and the contact-face degree for the run summary."""
         return {"model": "bem", "basis": self.family.name, "degree": self.segments[0].degree}

@@ -23,6 +23,7 @@ from fretbem.material import Material
 from fretbem.validators import positive
 
 from .influence import DEFAULT_DATUM, HalfPlaneFaceError
+from .stresses import HalfPlaneStressOperator
 from .surface import HalfPlaneSurface
 
 #: the history-driven load a half-plane specimen (no loading block) responds to
@@ -157,6 +158,45 @@ class HalfPlaneBody(Body):
     def segments(self) -> tuple[Basis, ...]:
         """The discretised boundary a writer can draw: the contact face only."""
         return (self.surface.face,)
+
+    @property
+    def segment_tags(self) -> tuple[str, ...]:
+        """The face's tag."""
+        return (self.tag,)
+
+    @property
+    def outline_complete(self) -> bool:
+        """False: a half-plane has no far boundary to draw, only its face."""
+        return False
+
+    @property
+    def family(self) -> type[Basis]:
+        """The face's basis family (resolved through the registry)."""
+        return bases.get(self.basis)
+
+    def face_curve(self, tag: str) -> NurbsCurve:
+        """The face's exact curve."""
+        self._check_tag(tag)
+        return self.face
+
+    def face_refinement(self, tag: str) -> Refinement:
+        """The face's refinement."""
+        self._check_tag(tag)
+        return self.refinement
+
+    def with_face_refinement(self, tag: str, refinement: Refinement) -> HalfPlaneBody:
+        """A new half-plane body with its face at ``refinement``."""
+        self._check_tag(tag)
+        return attrs.evolve(self, refinement=refinement)
+
+    def surface_level(self, x: np.ndarray, side: str) -> np.ndarray:
+        """The straight surface line under the face (the half-plane's boundary)."""
+        y = self.surface.points[:, 1]
+        return np.full(np.shape(x), y.min() if side == "upper" else y.max())
+
+    def stress_operator(self, points: np.ndarray, settings=None) -> HalfPlaneStressOperator:
+        """Integrated Flamant line loads of the face tractions, plus the bulk stress."""
+        return HalfPlaneStressOperator.of(self, np.asarray(points, float))
 
     @property
     def load_names(self) -> tuple[str, ...]:

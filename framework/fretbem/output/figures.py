@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from fretbem.basis import Basis
-from fretbem.bem.body import BemBody
+from fretbem.body import Body
 from fretbem.contact.pairs import STATE_NAMES, ContactPair
 from fretbem.errors import InputError
 from fretbem.geometry.boundary import Boundary
@@ -428,12 +428,13 @@ def _(obj: Basis, ax=None, points_per_element: int = 8, **style):
 
 
 @draw.register
-def _(obj: BemBody, ax=None, **style):
+def _(obj: Body, ax=None, **style):
     """Every discretised segment of the body and its collocation points."""
     ax = _axes(ax)
     for basis in obj.segments:
         draw(basis, ax, **style)
-    ax.plot(*obj.collocation.points.T, ".", color="k", ms=2)
+        points = basis.geometry(*basis.collocation())[0]
+        ax.plot(*points.T, ".", color="k", ms=2)
     return ax
 
 

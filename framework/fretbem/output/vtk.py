@@ -23,8 +23,7 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
-from fretbem.bem.body import BemBody as Body
-from fretbem.bem.body import BodySolution
+from fretbem.body import Body
 from fretbem.results import SimulationResult, StepResult
 from fretbem.verification.checks import safe_names
 
@@ -51,7 +50,7 @@ def _as_3d(values: np.ndarray) -> np.ndarray:
 
 
 def boundary_arrays(
-    body: Body, solution: BodySolution | None = None, points_per_element: int = POINTS_PER_ELEMENT
+    body: Body, solution=None, points_per_element: int = POINTS_PER_ELEMENT
 ) -> dict:
     """The discretised boundary as arrays: points (N, 3), lines (point index arrays, one per
     segment), point_data, cell_data and field_data dictionaries (the solution's fields)."""
@@ -67,7 +66,7 @@ def boundary_arrays(
             fields["displacement"].append(solution.displacement(k, params))
             fields["traction"].append(solution.traction(k, params))
     point_data = {"segment": np.concatenate(segment)}
-    field_data = {"tags": np.array(body.boundary.tags), "body": np.array([body.name])}
+    field_data = {"tags": np.array(body.segment_tags), "body": np.array([body.name])}
     if solution is not None:
         for name, values in fields.items():
             point_data[name] = _as_3d(np.concatenate(values))
@@ -95,7 +94,7 @@ def to_polydata(arrays: dict) -> pv.PolyData:
 
 
 def boundary_mesh(
-    body: Body, solution: BodySolution | None = None, points_per_element: int = POINTS_PER_ELEMENT
+    body: Body, solution=None, points_per_element: int = POINTS_PER_ELEMENT
 ) -> pv.PolyData:
     """The discretised boundary as pyvista polylines (one per segment), with the fields."""
     return to_polydata(boundary_arrays(body, solution, points_per_element))
@@ -162,9 +161,24 @@ def write_vtp(path: str | Path, arrays: dict) -> Path:
     return path
 
 
-def body_solutions(result: SimulationResult, step: StepResult) -> dict[str, BodySolution]:
+def body_solutions(result: SimulationResult, step: StepResult) -> dict:
     """Each body's full boundary solution at ``step`` ("upper" and "lower")."""
     return result.simulation.pair.condensed().solutions(step.unknowns, step.loads)
+
+
+def drawable_bodies(result: SimulationResult, say=print) -> list[str]:
+    """Labels of the bodies with a boundary to draw; one line said for each that has less."""
+    pair = result.simulation.pair
+    out = []
+    for label, body in (("upper", pair.upper), ("lower", pair.lower)):
+        model = body.describe().get("model", type(body).__name__)
+        if not body.segments:
+            say(f"skipped: VTK of the {model} body {body.name!r}: it has no boundary segments")
+            continue
+        if not body.outline_complete:
+            say(f"VTK of the {model} body {body.name!r}: its face only (it has no far boundary)")
+        out.append(label)
+    return out
 
 
 def step_arrays(
@@ -175,6 +189,8 @@ def step_arrays(
     bodies = {"upper": pair.upper, "lower": pair.lower}
     out = {}
     for label, solution in body_solutions(result, step).items():
+        if not bodies[label].segments:  # nothing to draw (said once by drawable_bodies)
+            continue
         arrays = boundary_arrays(bodies[label], solution, points_per_element)
         arrays["field_data"]["step"] = np.array([step.name])
         arrays["field_data"]["loads"] = np.array([step.normal, step.tangential])
@@ -251,6 +267,8 @@ def save_vtk(
     folder = directory / "vtk"
     folder.mkdir(parents=True, exist_ok=True)
     stems = safe_names([s.name for s in result.steps])
+    if not drawable_bodies(result):
+        return []
     steps = [step_arrays(result, s, points_per_element) for s in result.steps]
     every = [m for meshes in steps for m in meshes.values()]
     check_free_space(folder, 2 * sum(_size_estimate(m) for m in every), "VTK files")
@@ -316,7 +334,8 @@ def render_step(
 
     step = result[step_name]
     pair = result.simulation.pair
-    meshes = list(step_meshes(result, step).values())  # upper, lower
+    by_label = step_meshes(result, step)
+    meshes = list(by_label.values())
     scale = deformation_scale(meshes)
     shapes = [deformed(m, scale) for m in meshes]
     zone = float(np.abs(step.x).max())
@@ -333,11 +352,12 @@ def render_step(
     plotter.subplot(0, 1)
     true_shapes = [deformed(m, 1.0) for m in meshes]
     _add_boundaries(plotter, true_shapes, clim, scalar_bar=True)
-    segments = pair.lower.boundary.indices(pair.lower_tag)
-    _add_traction_arrows(plotter, meshes[1], true_shapes[1], segments, 0.5 * zone)
+    lower = list(by_label).index("lower") if "lower" in by_label else len(meshes) - 1
+    segments = [k for k, tag in enumerate(pair.lower.segment_tags) if tag == pair.lower_tag]
+    _add_traction_arrows(plotter, meshes[lower], true_shapes[lower], segments, 0.5 * zone)
     plotter.add_text("contact zone, true scale; arrows: traction on the lower body", font_size=8)
     plotter.view_xy()
-    centre = _contact_centre(meshes[1], true_shapes[1], zone)
+    centre = _contact_centre(meshes[lower], true_shapes[lower], zone)
     aspect = window_size[0] * weights[1] / sum(weights) / window_size[1]
     camera = plotter.camera
     camera.parallel_projection = True

@@ -5,11 +5,12 @@ evaluation matrix over the steps; :func:`run_stress_request` for a scene file's
 ``[stress]`` table; :mod:`fretbem.stress.closed_form` for the half-plane closed forms.
 """
 
+from fretbem.bem.stresses import StressOperator, StressSettings, somigliana_operator
+
 from .errors import StressInputError, StressRequestError
 from .evaluate import StressEvaluator, stresses
 from .request import StressGrid, StressLine, StressRequest, stress_request_from_dict
 from .run import run_stress_request
-from .somigliana import StressOperator, StressSettings, somigliana_operator
 
 __all__ = [
     "StressEvaluator",

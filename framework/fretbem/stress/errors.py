@@ -2,11 +2,9 @@
 
 from __future__ import annotations
 
-from fretbem.errors import InputError
+from fretbem.errors import InputError, StressInputError
 
-
-class StressInputError(InputError):
-    """A stress request has a bad argument (the message names it and the fix)."""
+__all__ = ["StressInputError", "StressRequestError"]
 
 
 class StressRequestError(InputError):

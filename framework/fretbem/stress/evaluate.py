@@ -1,9 +1,10 @@
 """Stresses of a solved simulation at user points, for one step or every step.
 
-Each body model supplies its own evaluation matrix (linear in the body's boundary data):
-Somigliana's identity for a boundary-element body, integrated Flamant line loads for a
-half-plane. The matrix is built once per (body, points) and every load step is then a
-matrix product, so a whole cycle costs about as much as one step.
+Each body model supplies its own evaluation matrix (linear in the body's boundary data,
+:meth:`fretbem.body.Body.stress_operator`): Somigliana's identity for a boundary-element
+body, integrated Flamant line loads for a half-plane. The matrix is built once per (body,
+points) and every load step is then a matrix product, so a whole cycle costs about as much
+as one step.
 """
 
 from __future__ import annotations
@@ -13,9 +14,9 @@ from collections.abc import Sequence
 import attrs
 import numpy as np
 
+from fretbem.bem.stresses import StressSettings
+
 from .errors import StressInputError
-from .halfplane import halfplane_stress_matrix
-from .somigliana import StressSettings, somigliana_operator
 
 __all__ = ["StressEvaluator", "stresses"]
 
@@ -84,25 +85,7 @@ class StressEvaluator:
         return self.problem.solutions(step.unknowns, step.loads)[self.body]
 
     def _build(self):
-        from fretbem.halfplane import HalfPlaneBody
-
-        model = self.model
-        material = model.material
-        if isinstance(model, HalfPlaneBody):
-            return _HalfPlaneOperator.of(model, self.points)
-        if hasattr(model, "segments"):  # a boundary-element body
-            return somigliana_operator(
-                model.segments,
-                self.points,
-                shear_modulus=material.shear_modulus,
-                nu=material.nu,
-                plane_stress=material.plane_stress,
-                settings=self.settings,
-            )
-        raise StressInputError(
-            f"body {self.body!r} is a {type(model).__name__}, which has no stress evaluation; "
-            "stresses exist for boundary-element and half-plane bodies"
-        )
+        return self.model.stress_operator(self.points, self.settings)
 
     @property
     def operator(self):
@@ -119,54 +102,6 @@ class StressEvaluator:
         """(n_steps, m, 4) for the given steps (all by default)."""
         steps = range(len(self.result.steps)) if steps is None else steps
         return np.stack([self.step(s) for s in steps])
-
-
-@attrs.frozen(eq=False)
-class _HalfPlaneOperator:
-    """Half-plane stresses as a matrix over the face traction coefficients, plus the bulk."""
-
-    matrix: np.ndarray  # (m, 3, N, 2)
-    collocation: np.ndarray  # E: coefficients -> node values
-    mirror: bool
-    nu: float
-    plane_stress: bool
-    bulk: bool
-
-    @classmethod
-    def of(cls, model, points: np.ndarray) -> _HalfPlaneOperator:
-        surface = model.surface
-        face_y = surface.points[:, 1]
-        upper = model.side == "upper"
-        level = face_y.min() if upper else face_y.max()
-        depth = (points[:, 1] - level) if upper else (level - points[:, 1])
-        if np.any(depth < -1e-9 * max(np.ptp(surface.points[:, 0]), 1.0)):
-            i = int(np.argmin(depth))
-            raise StressInputError(
-                f"point {points[i].tolist()} lies outside the half-plane "
-                f"({'above' if not upper else 'below'} its surface y = {level:g})"
-            )
-        matrix = halfplane_stress_matrix(surface.face, points[:, 0], np.maximum(depth, 0.0))
-        return cls(
-            matrix,
-            surface.collocation_matrix,
-            upper,
-            model.material.nu,
-            model.material.plane_stress,
-            "bulk" in model.load_names,
-        )
-
-    def evaluate(self, solution) -> np.ndarray:
-        tractions = np.asarray(solution.tractions, float)
-        if self.mirror:  # the upper body is the lower one reflected in its surface line
-            tractions = tractions * np.array([1.0, -1.0])
-        coefficients = np.linalg.solve(self.collocation, tractions)
-        stress = np.einsum("pcnk,nk->pc", self.matrix, coefficients)
-        if self.mirror:
-            stress[:, 2] *= -1.0
-        if self.bulk:
-            stress[:, 0] += float(solution.loads.get("bulk", 0.0))
-        szz = 0.0 if self.plane_stress else self.nu * (stress[:, 0] + stress[:, 1])
-        return np.column_stack([stress, np.broadcast_to(szz, len(stress))])
 
 
 def stresses(result, step: int | str, points, body: str = "lower") -> np.ndarray:

@@ -205,40 +205,9 @@ def stress_request_from_dict(raw: Mapping) -> StressRequest:
 
 
 def surface_level(model, x: np.ndarray, side: str) -> np.ndarray:
-    """y of the body's contact-side surface at abscissae x: the highest boundary crossing
-    of the vertical line for the lower body, the lowest for the upper body."""
-    from fretbem.halfplane import HalfPlaneBody
-
+    """y of the body's contact-side surface at abscissae x (:meth:`Body.surface_level`)."""
     x = np.asarray(x, float)
-    if isinstance(model, HalfPlaneBody):  # the straight surface line under the face
-        y = model.surface.points[:, 1]
-        return np.full(x.shape, y.min() if side == "upper" else y.max())
-    best = np.full(x.shape, -np.inf if side == "lower" else np.inf)
-    t = np.linspace(0.0, 1.0, 401)
-    for basis in model.segments:
-        pts = basis.curve.points(t)
-        for k in range(len(t) - 1):
-            x0, x1 = pts[k, 0], pts[k + 1, 0]
-            lo, hi = min(x0, x1), max(x0, x1)
-            hit = (x >= lo) & (x <= hi) & (hi > lo)
-            if not hit.any():
-                continue
-            # refine the crossing on the exact curve by bisection in the parameter
-            a = np.full(hit.sum(), t[k])
-            b = np.full(hit.sum(), t[k + 1])
-            target = x[hit]
-            increasing = x1 > x0
-            for _ in range(50):
-                mid = 0.5 * (a + b)
-                above = basis.curve.points(mid)[:, 0] > target
-                move = above == increasing
-                b = np.where(move, mid, b)
-                a = np.where(move, a, mid)
-            y = basis.curve.points(0.5 * (a + b))[:, 1]
-            if side == "lower":
-                best[hit] = np.maximum(best[hit], y)
-            else:
-                best[hit] = np.minimum(best[hit], y)
+    best = model.surface_level(x, side)
     if not np.all(np.isfinite(best)):
         bad = x[~np.isfinite(best)][0]
         raise StressRequestError(f"x = {bad:g} mm is outside the body's extent; shorten the grid")

@@ -176,20 +176,30 @@ def test_a_failed_companion_level_is_a_reason():
     assert f"no estimate: {reason}" in result.table()
 
 
-def test_half_plane_specimen_runs_without_estimate(tmp_path, capsys):
-    data = example("cattaneo_mindlin.toml", pairs=31)
-    data["specimen"]["model"] = "half-plane"
+@pytest.mark.parametrize("models", [("bem", "half-plane"), ("half-plane", "half-plane")])
+def test_half_plane_bodies_get_the_estimate_and_the_adaptive_mode(tmp_path, capsys, models):
+    """The estimate and the adaptive re-mesh reach a body through the Body contract only, so a
+    half-plane pad or specimen gets them as a BEM body does (it once had "no estimate")."""
+    data = example("cattaneo_mindlin.toml", pairs=61)
+    data["pad"]["model"], data["specimen"]["model"] = models
     path = write_scene(tmp_path, data)
     assert cli.main(["run", path, "--out", str(tmp_path / "out"), *FAST]) == 0
-    assert "no estimate: the specimen body is a half-plane model" in capsys.readouterr().out
-    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
-    assert "half-plane" in summary["accuracy"]["estimate_reason"]
-    assert summary["steps"][1]["est_p_max"] is None
+    assert "est from the companion level of 31 pairs" in capsys.readouterr().out
+    steps = json.loads((tmp_path / "out" / "summary.json").read_text())["steps"]
+    exact_model = models == ("half-plane", "half-plane")  # the closed form's own model
+    for step in steps[1:]:
+        assert step["est_q_max"] > 0
+        if exact_model:  # the fixed-mode estimate is a rarely-low bound (measured 2.3-2.6x)
+            assert step["est_q_max"] >= 0.5 * step["e_q_max"]
+    if not exact_model:
+        return  # adaptive on a BEM pad over a half-plane: the open issue on non-matching faces
     data["contact"] = {"friction": 0.3, "mesh": "adaptive", "budget": 41}
     path = write_scene(tmp_path, data)
-    assert cli.main(["run", path, "--out", str(tmp_path / "out2"), *FAST]) == 2
-    err = capsys.readouterr().err
-    assert "mesh = 'adaptive' cannot re-mesh this scene" in err and "use mesh = 'fixed'" in err
+    assert cli.main(["run", path, "--out", str(tmp_path / "out2"), *FAST]) == 0
+    steps = json.loads((tmp_path / "out2" / "summary.json").read_text())["steps"]
+    for step in steps[1:]:  # measured 0.46 % against an estimate of 0.31 %
+        assert step["e_q_max"] < 0.01
+        assert 0.3 * step["e_q_max"] <= step["est_q_max"] <= 3.0 * step["e_q_max"]
 
 
 def test_rig_scene_reports_the_estimate(tmp_path, capsys):

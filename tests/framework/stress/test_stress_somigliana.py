@@ -10,12 +10,12 @@ import pytest
 
 from fretbem import registry as bases
 from fretbem.basis import Refinement
+from fretbem.bem.stress_kernels import stress_kernels
 from fretbem.conditions import Displacement, Traction
 from fretbem.geometry.boundary import Boundary, Segment
 from fretbem.geometry.nurbs import NurbsCurve
 from fretbem.material import Material
 from fretbem.stress import StressInputError, StressSettings, somigliana_operator
-from fretbem.stress.kernels import stress_kernels
 
 try:  # the boundary-element body class (named Body before the body-model refactor)
     from fretbem.bem.body import BemBody

@@ -15,13 +15,13 @@ evaluation is linear in the traction coefficients: a (3 m, 2 N) matrix built onc
 
 from __future__ import annotations
 
+import attrs
 import numpy as np
 
 from fretbem.basis import Basis
+from fretbem.errors import StressInputError
 from fretbem.numerics.graded import graded_rule
 from fretbem.numerics.quadrature import QuadratureRule
-
-from .errors import StressInputError
 
 #: Gauss points per element (far) and per graded piece (near)
 FAR_POINTS = 8
@@ -179,3 +179,51 @@ def _scatter(out, rows: slice, columns: np.ndarray, comp: int, block: np.ndarray
     onehot = np.zeros((e, n_fun))
     onehot[np.arange(e), columns] = 1.0
     out[rows, :, :, comp] += block @ onehot
+
+
+@attrs.frozen(eq=False)
+class HalfPlaneStressOperator:
+    """Half-plane stresses as a matrix over the face traction coefficients, plus the bulk."""
+
+    matrix: np.ndarray  # (m, 3, N, 2)
+    collocation: np.ndarray  # E: coefficients -> node values
+    mirror: bool
+    nu: float
+    plane_stress: bool
+    bulk: bool
+
+    @classmethod
+    def of(cls, model, points: np.ndarray) -> HalfPlaneStressOperator:
+        surface = model.surface
+        face_y = surface.points[:, 1]
+        upper = model.side == "upper"
+        level = face_y.min() if upper else face_y.max()
+        depth = (points[:, 1] - level) if upper else (level - points[:, 1])
+        if np.any(depth < -1e-9 * max(np.ptp(surface.points[:, 0]), 1.0)):
+            i = int(np.argmin(depth))
+            raise StressInputError(
+                f"point {points[i].tolist()} lies outside the half-plane "
+                f"({'above' if not upper else 'below'} its surface y = {level:g})"
+            )
+        matrix = halfplane_stress_matrix(surface.face, points[:, 0], np.maximum(depth, 0.0))
+        return cls(
+            matrix,
+            surface.collocation_matrix,
+            upper,
+            model.material.nu,
+            model.material.plane_stress,
+            "bulk" in model.load_names,
+        )
+
+    def evaluate(self, solution) -> np.ndarray:
+        tractions = np.asarray(solution.tractions, float)
+        if self.mirror:  # the upper body is the lower one reflected in its surface line
+            tractions = tractions * np.array([1.0, -1.0])
+        coefficients = np.linalg.solve(self.collocation, tractions)
+        stress = np.einsum("pcnk,nk->pc", self.matrix, coefficients)
+        if self.mirror:
+            stress[:, 2] *= -1.0
+        if self.bulk:
+            stress[:, 0] += float(solution.loads.get("bulk", 0.0))
+        szz = 0.0 if self.plane_stress else self.nu * (stress[:, 0] + stress[:, 1])
+        return np.column_stack([stress, np.broadcast_to(szz, len(stress))])

@@ -1,10 +1,10 @@
 """Compiled (numba) far-field loop of the stress evaluation matrix.
 
 One pass over (point, element, quadrature point): the Kelvin stress kernels of
-:mod:`fretbem.stress.kernels` (same formulas, written per component) times the shape
+:mod:`fretbem.bem.stress_kernels` (same formulas, written per component) times the shape
 functions, added straight into the matrices, and the moments of the linear field for the
 points that use singularity subtraction. Importing this module imports numba; the numpy
-path in :mod:`fretbem.stress.somigliana` gives the same numbers without it.
+path in :mod:`fretbem.bem.stresses` gives the same numbers without it.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ _JIT = {"cache": True, "nogil": True, "error_model": "numpy", "fastmath": True}
 @numba.njit(**_JIT)
 def _kernels(rx, ry, nx, ny, nu, mu, d, s):
     """Fill d[k, c] and s[k, c] (c = xx, yy, xy) for offset r = y - x and normal n at y:
-    the formulas of :func:`fretbem.stress.kernels.stress_kernels`, expanded by component."""
+    the formulas of :func:`fretbem.bem.stress_kernels.stress_kernels`, expanded by component."""
     inv_r = 1.0 / math.sqrt(rx * rx + ry * ry)
     gx = rx * inv_r
     gy = ry * inv_r

@@ -28,12 +28,12 @@ import attrs
 import numpy as np
 
 from fretbem.basis import Basis
+from fretbem.errors import StressInputError
 from fretbem.numerics.graded import graded_rule
 from fretbem.numerics.quadrature import QuadratureRule
 
-from .boundary import boundary_state
-from .errors import StressInputError
-from .kernels import stress_kernels
+from .boundary_state import boundary_state
+from .stress_kernels import stress_kernels
 
 #: Gauss points of the rule used where a point is farther than ``coarse_factor`` element
 #: lengths from an element
@@ -298,7 +298,7 @@ def _scatter_local(mt, mu_, rows, cols, coefficients):
 def _far_field_compiled():
     """The numba loop, or None where numba is not installed."""
     try:
-        from ._compiled import far_field
+        from .stress_compiled import far_field
     except ImportError:
         return None
     return far_field
