@@ -1,19 +1,28 @@
-"""Registry of basis families, discovered from the ``fretbem.bases`` entry-point group.
+"""One registry for every named choice, discovered from entry-point groups.
 
-Built-in families (``nurbs``, ``lagrange2``) are declared in fretbem's own ``pyproject.toml``
-exactly as a third-party package declares its own, so there is one registration path.
-Discovery is lazy: nothing is imported until :func:`available`, :func:`describe` or :func:`get`
-is first called, and the result is cached until :func:`refresh`.
+Each group names one kind of plugin: basis families (``fretbem.bases``), body models
+(``fretbem.bodies``), contact solvers (``fretbem.solvers``) and contact laws
+(``fretbem.laws``); a new kind is one :class:`Group` line in :data:`GROUPS`. fretbem's own
+choices are declared in its ``pyproject.toml`` exactly as a third-party package declares
+its own, so there is one registration path. Discovery is lazy: nothing is imported until a
+group is first asked for, and the result is cached until :func:`refresh`. A plugin that
+fails to load gives a warning naming it and is skipped; a duplicate name, or a built-in
+name claimed by another package, is an error; an unknown name is an error listing the
+installed ones and what to install. The model is xarray's backend registry
+(``xarray/backends/plugins.py``).
 """
 
 from __future__ import annotations
 
 import functools
+import importlib
 import importlib.metadata
 import re
 import warnings
 from collections.abc import Iterable
 from typing import Any, Protocol
+
+import attrs
 
 from fretbem.errors import ComputationError, InputError
 
@@ -21,30 +30,95 @@ from .basis import Basis
 
 __all__ = [
     "GROUP",
+    "GROUPS",
     "KNOWN_FAMILIES",
     "BasisRegistrationError",
+    "Group",
+    "PluginRegistrationError",
     "UnknownBasisError",
+    "UnknownPluginError",
     "available",
     "describe",
+    "entries",
     "families_from_entry_points",
     "get",
+    "load_group",
     "refresh",
 ]
 
-GROUP = "fretbem.bases"
 BUILTIN_DISTRIBUTION = "fretbem"
-BUILTIN_FAMILIES: frozenset[str] = frozenset({"lagrange2", "nurbs"})
-
-KNOWN_FAMILIES: dict[str, str] = {name: BUILTIN_DISTRIBUTION for name in sorted(BUILTIN_FAMILIES)}
-"""Family name -> pip package that provides it, used to say what to install."""
 
 
-class UnknownBasisError(InputError):
+class UnknownPluginError(InputError):
+    """A name that no installed distribution registers in its group."""
+
+
+class UnknownBasisError(UnknownPluginError):
     """A basis family name that no installed distribution registers."""
 
 
-class BasisRegistrationError(ComputationError):
+class PluginRegistrationError(ComputationError):
     """Conflicting entry points: a duplicate name, or a built-in name claimed by another package."""
+
+
+class BasisRegistrationError(PluginRegistrationError):
+    """Conflicting basis-family entry points."""
+
+
+@attrs.frozen
+class Group:
+    """One kind of plugin.
+
+    Attributes
+    ----------
+    key : str
+        Short name used in code and by ``fretbem plugins`` ("bases", "bodies", ...).
+    entry_points : str
+        The entry-point group.
+    what : str
+        What one plugin is, for messages ("basis family", "body model", ...).
+    base : str
+        ``module:Class`` that every plugin must subclass (imported when the group loads, so
+        the registry depends on no higher layer).
+    builtins : frozenset of str
+        Names only fretbem itself may register.
+    plural : str
+        "installed <plural>: ..." in messages.
+    known : mapping of str to str
+        Name -> pip package providing it, so a missing one says what to install.
+    """
+
+    key: str
+    entry_points: str
+    what: str
+    base: str
+    builtins: frozenset = attrs.field(converter=frozenset)
+    plural: str = ""
+    known: dict = attrs.field(factory=dict)
+
+    def base_class(self) -> type:
+        module, _, name = self.base.partition(":")
+        return getattr(importlib.import_module(module), name)
+
+
+KNOWN_FAMILIES: dict[str, str] = {"lagrange2": BUILTIN_DISTRIBUTION, "nurbs": BUILTIN_DISTRIBUTION}
+"""Family name -> pip package that provides it, used to say what to install."""
+
+GROUPS: dict[str, Group] = {
+    g.key: g
+    for g in (
+        Group("bases", "fretbem.bases", "basis family", "fretbem.basis:Basis",
+              {"lagrange2", "nurbs"}, "families", KNOWN_FAMILIES),
+        Group("bodies", "fretbem.bodies", "body model", "fretbem.scenes.models:BodyModel",
+              {"bem", "half-plane"}, "body models"),
+        Group("solvers", "fretbem.solvers", "contact solver", "fretbem.solvers.newton:Solver",
+              {"newton", "lemke"}, "solvers"),
+        Group("laws", "fretbem.laws", "contact law", "fretbem.contact.law:ContactLaw",
+              {"coulomb"}, "laws"),
+    )
+}  # fmt: skip
+#: the basis families' entry-point group (kept under its first name)
+GROUP = GROUPS["bases"].entry_points
 
 
 class _EntryPointLike(Protocol):
@@ -74,22 +148,29 @@ def _label(entry_point: _EntryPointLike) -> str:
     return f"'{entry_point.name} = {entry_point.value}' (from {dist})"
 
 
-def _install_hint(family: str) -> str:
-    """Return what to install for a family in :data:`KNOWN_FAMILIES`, else ``""``."""
-    package = KNOWN_FAMILIES.get(family)
+def _package(group: Group, name: str) -> str | None:
+    package = group.known.get(name)
+    if package is None and name in group.builtins:
+        package = BUILTIN_DISTRIBUTION
+    return package
+
+
+def _install_hint(group: Group, name: str) -> str:
+    """What to install for a known name that is missing, else ``""``."""
+    package = _package(group, name)
     if package is None:
         return ""
     if _normalize(package) == BUILTIN_DISTRIBUTION:
         return (
-            f" {family!r} is built into fretbem: install it (pip install fretbem, or"
+            f" {name!r} is built into fretbem: install it (pip install fretbem, or"
             " pip install -e . in a checkout; PYTHONPATH alone registers no entry points)."
         )
-    return f" {family!r} is provided by the {package!r} package (pip install {package})."
+    return f" {name!r} is provided by the {package!r} package (pip install {package})."
 
 
-def _load_failure_hint(family: str) -> str:
-    """Return advice for a family in :data:`KNOWN_FAMILIES` whose plugin fails to import."""
-    package = KNOWN_FAMILIES.get(family)
+def _load_failure_hint(group: Group, name: str) -> str:
+    """Advice for a known plugin whose import fails."""
+    package = _package(group, name)
     if package is None:
         return ""
     if _normalize(package) == BUILTIN_DISTRIBUTION:
@@ -97,19 +178,28 @@ def _load_failure_hint(family: str) -> str:
     return f" Check that {package!r} and its dependencies are installed (pip install {package})."
 
 
-def _unique_entry_points(entry_points: Iterable[_EntryPointLike]) -> list[_EntryPointLike]:
-    """Return one entry point per name, sorted by name, raising on conflicts.
+def _errors(group: Group) -> tuple[type, type]:
+    if group.key == "bases":
+        return UnknownBasisError, BasisRegistrationError
+    return UnknownPluginError, PluginRegistrationError
+
+
+def _unique_entry_points(
+    entry_points: Iterable[_EntryPointLike], group: Group
+) -> list[_EntryPointLike]:
+    """One entry point per name, sorted by name, raising on conflicts.
 
     The same (distribution, value) seen twice is collapsed; anything else sharing a name is a
     duplicate, and a built-in name declared by another distribution shadows a built-in.
     """
+    conflict = _errors(group)[1]
     by_name: dict[str, dict[tuple[str | None, str], _EntryPointLike]] = {}
     for ep in entry_points:
-        if ep.name in BUILTIN_FAMILIES and _distribution_of(ep) != BUILTIN_DISTRIBUTION:
-            raise BasisRegistrationError(
-                f"entry point {_label(ep)} in group {GROUP!r} shadows the built-in basis family"
-                f" {ep.name!r}, which only the {BUILTIN_DISTRIBUTION!r} distribution may"
-                " register; rename the family in that package's entry points"
+        if ep.name in group.builtins and _distribution_of(ep) != BUILTIN_DISTRIBUTION:
+            raise conflict(
+                f"entry point {_label(ep)} in group {group.entry_points!r} shadows the built-in"
+                f" {group.what} {ep.name!r}, which only the {BUILTIN_DISTRIBUTION!r} distribution"
+                " may register; rename it in that package's entry points"
             )
         by_name.setdefault(ep.name, {}).setdefault((_distribution_of(ep), ep.value), ep)
     unique = []
@@ -117,93 +207,131 @@ def _unique_entry_points(entry_points: Iterable[_EntryPointLike]) -> list[_Entry
         matches = list(by_name[name].values())
         if len(matches) > 1:
             declared = "; ".join(_label(ep) for ep in matches)
-            raise BasisRegistrationError(
-                f"basis family {name!r} is registered more than once in group {GROUP!r}:"
-                f" {declared}; uninstall or rename all but one"
+            raise conflict(
+                f"{group.what} {name!r} is registered more than once in group"
+                f" {group.entry_points!r}: {declared}; uninstall or rename all but one"
             )
         unique.append(matches[0])
     return unique
 
 
-def families_from_entry_points(
-    entry_points: Iterable[_EntryPointLike],
-) -> dict[str, type[Basis]]:
-    """Load ``entry_points`` into a name -> class dict sorted by name (no caching, no discovery).
+def load_entry_points(entry_points: Iterable[_EntryPointLike], group: Group) -> dict[str, Any]:
+    """Load ``entry_points`` of ``group`` into a name -> class dict (no caching, no discovery).
 
-    A plugin that fails to import, or that does not load to a :class:`Basis` subclass, gives a
-    ``RuntimeWarning`` and is skipped; conflicts raise :class:`BasisRegistrationError`.
+    A plugin that fails to import, or that does not load to a subclass of the group's base,
+    gives a ``RuntimeWarning`` naming it and is skipped; conflicts raise.
     """
-    families: dict[str, type[Basis]] = {}
-    for ep in _unique_entry_points(entry_points):
+    base = group.base_class()
+    loaded: dict[str, Any] = {}
+    for ep in _unique_entry_points(entry_points, group):
         try:
             obj = ep.load()
         except Exception as exc:
-            hint = _load_failure_hint(ep.name) if isinstance(exc, ImportError) else ""
+            hint = _load_failure_hint(group, ep.name) if isinstance(exc, ImportError) else ""
             warnings.warn(
-                f"basis family entry point {_label(ep)} failed to load and is skipped:"
+                f"{group.what} entry point {_label(ep)} failed to load and is skipped:"
                 f" {type(exc).__name__}: {exc}.{hint}",
                 RuntimeWarning,
                 stacklevel=2,
             )
             continue
-        if not (isinstance(obj, type) and issubclass(obj, Basis)) or obj is Basis:
+        if not (isinstance(obj, type) and issubclass(obj, base)) or obj is base:
             warnings.warn(
-                f"basis family entry point {_label(ep)} loaded {obj!r}, which is not a subclass"
-                " of fretbem.basis.Basis; it is skipped",
+                f"{group.what} entry point {_label(ep)} loaded {obj!r}, which is not a subclass"
+                f" of {group.base.replace(':', '.')}; it is skipped",
                 RuntimeWarning,
                 stacklevel=2,
             )
             continue
-        families[ep.name] = obj
-    return families
+        loaded[ep.name] = obj
+    return loaded
 
 
-@functools.lru_cache(maxsize=1)
-def _discover() -> dict[str, type[Basis]]:
-    """Discover and load the installed families once; :func:`refresh` clears the cache."""
-    return families_from_entry_points(importlib.metadata.entry_points(group=GROUP))
+def families_from_entry_points(entry_points: Iterable[_EntryPointLike]) -> dict[str, type[Basis]]:
+    """Basis families of ``entry_points`` (:func:`load_entry_points` for "bases")."""
+    return load_entry_points(entry_points, GROUPS["bases"])
 
 
-def available() -> dict[str, type[Basis]]:
-    """Return name -> class for every installed basis family, sorted by name."""
-    return dict(_discover())
+@functools.cache
+def load_group(key: str) -> dict[str, Any]:
+    """Discover and load a group once (name -> class, sorted); :func:`refresh` forgets it."""
+    group = _group(key)
+    return load_entry_points(importlib.metadata.entry_points(group=group.entry_points), group)
 
 
-def describe() -> dict[str, str]:
-    """Return name -> one-line description for every installed basis family."""
-    descriptions = {}
-    for name, cls in _discover().items():
-        lines = str(getattr(cls, "description", "") or "").strip().splitlines()
-        descriptions[name] = lines[0] if lines else ""
-    return descriptions
+def _group(key: str) -> Group:
+    if key not in GROUPS:
+        raise UnknownPluginError(f"no plugin group {key!r}; the groups are {sorted(GROUPS)}")
+    return GROUPS[key]
 
 
-def get(family: str | type[Basis]) -> type[Basis]:
-    """Return the basis class registered as ``family``; a :class:`Basis` subclass passes through.
+def available(group: str = "bases") -> dict[str, Any]:
+    """Name -> class for every installed plugin of ``group``, sorted by name."""
+    return dict(load_group(group))
 
-    Raises :class:`UnknownBasisError` listing the installed names if ``family`` is not one of them.
+
+def describe(group: str = "bases") -> dict[str, str]:
+    """Name -> one-line description (the class's ``description`` or docstring) of a group."""
+    out = {}
+    for name, cls in load_group(group).items():
+        text = str(getattr(cls, "description", "") or cls.__doc__ or "").strip()
+        out[name] = text.splitlines()[0] if text else ""
+    return out
+
+
+def get(name: str | type, group: str = "bases") -> Any:
+    """The class registered as ``name`` in ``group``; a class of the group passes through.
+
+    Raises :class:`UnknownPluginError` (:class:`UnknownBasisError` for bases) listing the
+    installed names if ``name`` is not one of them.
     """
-    if isinstance(family, type) and issubclass(family, Basis):
-        return family
-    if not isinstance(family, str):
-        raise TypeError(f"family must be a name or a fretbem.basis.Basis subclass, not {family!r}")
-    families = _discover()
-    if family in families:
-        return families[family]
-    installed = ", ".join(repr(name) for name in families) or "none"
-    hint = _install_hint(family)
+    spec = _group(group)
+    base = spec.base.replace(":", ".")
+    if isinstance(name, type) and issubclass(name, spec.base_class()):
+        return name
+    if not isinstance(name, str):
+        raise TypeError(f"a {spec.what} is a name or a {base} subclass, not {name!r}")
+    plugins = load_group(group)
+    if name in plugins:
+        return plugins[name]
+    installed = ", ".join(repr(n) for n in plugins) or "none"
+    hint = _install_hint(spec, name)
     if hint:
         hint += " If it is installed, its plugin failed to load: see the RuntimeWarning."
     else:
         hint = (
-            " Pass a Basis subclass directly, or install a package that registers it in the"
-            f" {GROUP!r} entry-point group."
+            f" Pass a class directly, or install a package that registers it in the"
+            f" {spec.entry_points!r} entry-point group."
         )
-    raise UnknownBasisError(
-        f"unknown basis family {family!r}; installed families: {installed}.{hint}"
-    )
+    unknown = _errors(spec)[0]
+    raise unknown(f"unknown {spec.what} {name!r}; installed {spec.plural}: {installed}.{hint}")
+
+
+def entries(group: str) -> list[dict[str, str]]:
+    """Every entry point of ``group`` as name, distribution, version, object and status
+    ("ok", or why it does not load), for ``fretbem plugins``; never raises for one plugin."""
+    spec = _group(group)
+    rows = []
+    found = importlib.metadata.entry_points(group=spec.entry_points)
+    for ep in sorted(found, key=lambda e: e.name):
+        dist = getattr(ep, "dist", None)
+        row = {
+            "name": ep.name,
+            "distribution": dist.name if dist is not None else "?",
+            "version": dist.version if dist is not None else "?",
+            "object": ep.value,
+        }
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                loaded = load_group(group)
+            row["status"] = "ok" if ep.name in loaded else "does not load (see the warning)"
+        except PluginRegistrationError as err:
+            row["status"] = str(err)
+        rows.append(row)
+    return rows
 
 
 def refresh() -> None:
-    """Forget the discovered families, so the next call rediscovers installed packages."""
-    _discover.cache_clear()
+    """Forget every discovered group, so the next call rediscovers installed packages."""
+    load_group.cache_clear()

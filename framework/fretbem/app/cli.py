@@ -24,6 +24,22 @@ def _bases(args: argparse.Namespace) -> int:
     return 0
 
 
+def _plugins(args: argparse.Namespace) -> int:
+    """Every plugin group: name, distribution, version, object, and whether it loads."""
+    for key, group in bases.GROUPS.items():
+        rows = bases.entries(key)
+        print(f"{group.entry_points} ({group.what}):")
+        if not rows:
+            print("  (none installed)")
+        for row in rows:
+            status = "" if row["status"] == "ok" else f"  [{row['status']}]"
+            print(
+                f"  {row['name']:<12} {row['distribution']} {row['version']:<8} "
+                f"{row['object']}{status}"
+            )
+    return 0
+
+
 def _progress(message: str) -> None:
     """A short status line on stderr (stdout keeps the table)."""
     print(f"fretbem: {message}", file=sys.stderr, flush=True)
@@ -362,6 +378,10 @@ def parser() -> argparse.ArgumentParser:
     main.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
     sub = main.add_subparsers(dest="command")
     sub.add_parser("bases", help="list the installed basis families").set_defaults(func=_bases)
+    sub.add_parser(
+        "plugins",
+        help="list every plugin group (bases, body models, solvers, laws) with its packages",
+    ).set_defaults(func=_plugins)
     run_ = sub.add_parser("run", help="run a scene file (TOML)")
     run_.add_argument("scene", help="scene file, e.g. examples/cattaneo_mindlin.toml")
     run_.add_argument("--basis", help="basis family (overrides the file)")

@@ -13,8 +13,11 @@ import math
 
 import attrs
 
-from fretbem import registry as bases
+from fretbem import registry
 from fretbem.basis import Basis, Refinement, points_per_element
+from fretbem.conditions import Displacement, LoadingBlock, Traction
+from fretbem.contact.pairs import NodeToNodePair
+from fretbem.simulation import LoadStep, Simulation
 from fretbem.verification.closed_forms import HertzLineContact, MindlinDeresiewicz, dundurs_beta
 from fretbem.verification.nowell_hills import NowellHills
 
@@ -189,8 +192,6 @@ def _face(scene: Scene, zone: float, pad: bool):
 
 def build(scene: Scene, **contact_overrides):
     """The Simulation of ``scene`` (``contact_overrides`` replace [contact] keys, e.g. pairs)."""
-    from fretbem.simulation import LoadStep, Simulation
-
     if contact_overrides:
         scene = attrs.evolve(
             scene,
@@ -198,14 +199,12 @@ def build(scene: Scene, **contact_overrides):
                 scene.contact, **{k: v for k, v in contact_overrides.items() if v is not None}
             ),
         )
-    family = bases.get(scene.contact.basis)
+    family = registry.get(scene.contact.basis)
     zone = zone_half_width(scene)
     pad = body_model(scene, "pad", family, zone, refinements(scene, family, zone, pad=True))
     specimen = body_model(
         scene, "specimen", family, zone, refinements(scene, family, zone, pad=False)
     )
-    from fretbem.contact.law import CoulombFriction
-    from fretbem.contact.pairs import NodeToNodePair
 
     load = scene.load
     steps = tuple(
@@ -219,38 +218,30 @@ def build(scene: Scene, **contact_overrides):
         NodeToNodePair(pad, specimen),
         steps,
         solver=solver(scene.contact.solver),
-        law=CoulombFriction(scene.contact.friction),
+        law=law(scene.contact.law, scene.contact.friction),
         reference=closed_form,
         name="scene",
     ), reason
 
 
-def _newton():
-    from fretbem.solvers.newton import SemiSmoothNewton
-
-    return SemiSmoothNewton()
-
-
-def _lemke():
-    from fretbem.solvers import LemkeSolver
-
-    return LemkeSolver()
-
-
-#: solver name of the scene file -> factory (add an entry to offer another solver by name)
-SOLVERS = {"newton": _newton, "lemke": _lemke}
-
-
 def solver(name: str):
-    """The contact solver a scene names (``[contact] solver``)."""
-    if name not in SOLVERS:
-        raise SceneFileError(f"[contact] solver must be one of {sorted(SOLVERS)}, got {name!r}")
-    return SOLVERS[name]()
+    """The contact solver a scene names (``[contact] solver``, a ``fretbem.solvers`` plugin)."""
+    try:
+        return registry.get(name, "solvers")()
+    except registry.UnknownPluginError as err:
+        raise SceneFileError(f"[contact] solver: {err}") from None
+
+
+def law(name: str, friction: float):
+    """The contact law a scene names (``[contact] law``), with the scene's friction."""
+    try:
+        return registry.get(name, "laws")(friction)
+    except registry.UnknownPluginError as err:
+        raise SceneFileError(f"[contact] law: {err}") from None
 
 
 def body_model(scene: Scene, role: str, family: type[Basis], zone: float, refinement: dict):
     """The pad or the specimen as a body of its model (``bem`` or ``half-plane``)."""
-    from fretbem.conditions import Displacement, LoadingBlock, Traction
 
     spec = getattr(scene, role)
     pad_face = scene.pad.shape.face(zone)
@@ -272,21 +263,8 @@ def body_model(scene: Scene, role: str, family: type[Basis], zone: float, refine
             )
         conditions = [Displacement("bottom")]
     boundary = spec.shape.boundary(zone) if role == "pad" else spec.shape.boundary(pad_face, zone)
-    if spec.model == "half-plane":
-        from fretbem.halfplane.scene import half_plane_model
-
-        body = half_plane_model(
-            "upper" if role == "pad" else "lower",
-            scene=scene,
-            boundary=boundary,
-            material=spec.material,
-            conditions=conditions,
-            family=family,
-            refinement=refinement,
-        )
-        return attrs.evolve(body, name=role)
-    from fretbem.bem.body import BemBody
-
-    return BemBody(
-        boundary, spec.material, conditions, basis=family, refinement=refinement, name=role
-    )
+    try:
+        model = registry.get(spec.model, "bodies")()
+    except registry.UnknownPluginError as err:
+        raise SceneFileError(f"[{role}] model: {err}") from None
+    return model.build(scene, role, boundary, spec.material, conditions, family, refinement)

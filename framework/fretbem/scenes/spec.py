@@ -16,6 +16,7 @@ from typing import Any
 
 import attrs
 
+from fretbem import registry
 from fretbem.geometry.boundary import Segment
 from fretbem.geometry.nurbs import NurbsCurve
 from fretbem.geometry.shapes import (
@@ -60,6 +61,7 @@ class Key:
 
 PAD_SHAPES = {"cylinder": CylinderPad, "rounded-flat": RoundedFlatPad, "nurbs": NurbsShape}
 SPECIMEN_SHAPES = {"cylinder": CylinderSpecimen, "flat": FlatSpecimen, "nurbs": NurbsShape}
+#: the built-in body models (any name registered in the ``fretbem.bodies`` group is accepted)
 MODELS = ("bem", "half-plane")
 SUPPORTS = ("clamped-bottom", "ends")
 
@@ -87,7 +89,7 @@ KEYS: tuple[Key, ...] = (
         "height h (loading block on the top edge)",
         ("cylinder", "rounded-flat"),
     ),
-    Key("pad", "model", (str,), "", "bem", "`bem` (finite body) or `half-plane`"),
+    Key("pad", "model", (str,), "", "bem", "`bem` (finite body), `half-plane` or a plugin's"),
     Key(
         "pad",
         "segments",
@@ -127,7 +129,7 @@ KEYS: tuple[Key, ...] = (
         "`clamped-bottom` (default of `cylinder`) or `ends` (default of `flat`: -x end "
         "held in x, bottom on rollers, bulk stress on the +x end)",
     ),
-    Key("specimen", "model", (str,), "", "bem", "`bem` (finite body) or `half-plane`"),
+    Key("specimen", "model", (str,), "", "bem", "`bem` (finite body), `half-plane` or a plugin's"),
     Key(
         "specimen",
         "segments",
@@ -182,9 +184,8 @@ KEYS: tuple[Key, ...] = (
         None,
         "candidate zone half-width in mm (instead of `zone`; required without a Hertz estimate)",
     ),
-    Key(
-        "contact", "solver", (str,), "", "newton", "contact solver (`fretbem.solvers.available()`)"
-    ),
+    Key("contact", "solver", (str,), "", "newton", "contact solver (`fretbem plugins`)"),
+    Key("contact", "law", (str,), "", "coulomb", "contact law (`fretbem plugins`)"),
     Key("mesh", "flank_elements", (int,), "", 16, "elements on each face part outside the zone"),
     Key(
         "mesh",
@@ -251,7 +252,7 @@ class BodySpec:
 
     shape: Any
     material: Material
-    model: str = attrs.field(default="bem", validator=attrs.validators.in_(MODELS))
+    model: str = "bem"
     support: str = attrs.field(default="clamped-bottom", validator=attrs.validators.in_(SUPPORTS))
 
 
@@ -266,6 +267,7 @@ class ContactSpec:
     zone: float = 1.5
     zone_width: float | None = None
     solver: str = "newton"
+    law: str = "coulomb"
     mesh: str = "fixed"
     tolerance: float = 0.02
     budget: int = 61
@@ -367,6 +369,16 @@ def _keys(table: str) -> dict[str, Key]:
     return {k.name: k for k in KEYS if k.table == table}
 
 
+def _plugin(where: str, name: str, group: str) -> str:
+    """``name`` if the registry has it in ``group``, else the error listing what is installed."""
+    _check(where, name, (str,))
+    try:
+        registry.get(name, group)
+    except registry.UnknownPluginError as err:
+        raise SceneFileError(f"{where}: {err}") from None
+    return name
+
+
 def _segments(where: str, items: Any) -> tuple[Segment, ...]:
     if not isinstance(items, list) or not items:
         raise SceneFileError(f"{where} must be a non-empty list of segment tables")
@@ -438,9 +450,7 @@ def _body(data: Mapping, body: str, library: Mapping[str, type]) -> BodySpec:
                 f"[{body}] {name} does not apply to a {shape_name!r} {body} (it is a key of "
                 f"{', '.join(repr(s) for s in key.shapes)}); remove it"
             )
-    model = section.get("model", "bem")
-    if model not in MODELS:
-        raise SceneFileError(f"[{body}] model must be one of {list(MODELS)}, got {model!r}")
+    model = _plugin(f"[{body}] model", section.get("model", "bem"), "bodies")
     if shape_name == "nurbs":
         if "segments" not in section:
             raise SceneFileError(f"[{body}] shape = 'nurbs' needs [[{body}.segments]]")
@@ -572,6 +582,9 @@ def scene_from_dict(data: Mapping) -> Scene:
         key = _keys("contact")[name]
         contact[name] = _check(f"[contact] {name}", value, key.kind)
     _mesh_mode(contact)
+    for name, group in (("solver", "solvers"), ("law", "laws")):
+        if name in contact:
+            _plugin(f"[contact] {name}", contact[name], group)
     mesh_section = _table(data, "mesh")
     _unknown("[mesh]", mesh_section, _keys("mesh"))
     mesh = {n: _check(f"[mesh] {n}", v, _keys("mesh")[n].kind) for n, v in mesh_section.items()}

@@ -1,0 +1,74 @@
+"""Body models a scene names (``[pad] model``, ``[specimen] model``): how each builds a Body.
+
+A body model is a plugin of the ``fretbem.bodies`` entry-point group: a :class:`BodyModel`
+subclass whose :meth:`~BodyModel.build` makes the pad or the specimen of a scene from the
+boundary, material, conditions and face discretisation the scene builder prepared. The
+built-in ones are ``bem`` (:class:`~fretbem.bem.body.BemBody`) and ``half-plane``
+(:class:`~fretbem.halfplane.body.HalfPlaneBody`).
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from collections.abc import Mapping, Sequence
+from typing import ClassVar
+
+import attrs
+
+from fretbem.basis import Basis, Refinement
+from fretbem.bem.body import BemBody
+from fretbem.body import Body
+from fretbem.conditions import Condition
+from fretbem.geometry.boundary import Boundary
+from fretbem.halfplane.scene import half_plane_model
+from fretbem.material import Material
+
+__all__ = ["BemModel", "BodyModel", "HalfPlaneModel"]
+
+
+class BodyModel(ABC):
+    """Builds a scene's pad (``role`` "pad") or specimen ("specimen") as a :class:`Body`."""
+
+    #: one line for ``fretbem plugins``
+    description: ClassVar[str] = ""
+
+    @abstractmethod
+    def build(
+        self,
+        scene,
+        role: str,
+        boundary: Boundary,
+        material: Material,
+        conditions: Sequence[Condition],
+        family: type[Basis],
+        refinement: Mapping[str, Refinement],
+    ) -> Body:
+        """The body; ``refinement`` maps boundary tags to their discretisation."""
+
+
+class BemModel(BodyModel):
+    """A finite elastic body discretised by boundary elements on its whole boundary."""
+
+    description = "finite elastic body, boundary elements on its whole NURBS boundary"
+
+    def build(self, scene, role, boundary, material, conditions, family, refinement) -> Body:
+        return BemBody(boundary, material, conditions, basis=family, refinement=refinement,
+                       name=role)  # fmt: skip
+
+
+class HalfPlaneModel(BodyModel):
+    """An elastic half-plane under the contact face (closed-form surface response)."""
+
+    description = "elastic half-plane below the contact face (Flamant influence functions)"
+
+    def build(self, scene, role, boundary, material, conditions, family, refinement) -> Body:
+        body = half_plane_model(
+            "upper" if role == "pad" else "lower",
+            scene=scene,
+            boundary=boundary,
+            material=material,
+            conditions=conditions,
+            family=family,
+            refinement=refinement,
+        )
+        return attrs.evolve(body, name=role)
