@@ -21,5 +21,5 @@ def _fresh_assembly_budget():
     """
     from fretbem.bem import integration
 
-    integration._numpy_pairs_spent = 0
+    integration.LOOP_CHOICE.reset()
     yield

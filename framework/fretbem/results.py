@@ -166,13 +166,6 @@ class SimulationResult:
             "friction": getattr(self.simulation.law, "friction", None),
         }
 
-    def stresses(self, step: int | str, points, body: str = "lower"):
-        """Stress tensors (m, 4) [sxx, syy, sxy, szz], MPa, global frame, at ``points`` of
-        ``body`` ("lower" or "upper") at ``step`` (see :mod:`fretbem.stress`)."""
-        from .stress import stresses
-
-        return stresses(self, step, points, body)
-
     def table(self) -> str:
         """Per-step table of errors beside their estimates ("est"), iterations and times."""
 

@@ -8,7 +8,6 @@ contact response is that system condensed onto the contact face's node tractions
 from __future__ import annotations
 
 import time
-import weakref
 from collections.abc import Mapping
 
 import attrs
@@ -33,19 +32,9 @@ from .system import BodySolution, BodySystem, contact_response, face_rows, face_
 __all__ = ["BemBody", "discretised"]
 
 
-#: discretised segments per boundary segment, by (family, refinement): bodies re-meshed on
-#: one boundary (adaptive levels, companion levels, sweeps) discretise only what changed.
-#: Keyed by the Segment, which no Basis refers to, so a dropped boundary frees its entries.
-_DISCRETISED: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
-
-
 def discretised(family: type[Basis], segment, refinement: Refinement) -> Basis:
-    """``family.discretise(segment.curve, refinement)``, once per segment and refinement."""
-    per_segment = _DISCRETISED.setdefault(segment, {})
-    key = (family, refinement)
-    if key not in per_segment:
-        per_segment[key] = family.discretise(segment.curve, refinement)
-    return per_segment[key]
+    """``segment.discretised(family, refinement)`` (the segment keeps its discretisations)."""
+    return segment.discretised(family, refinement)
 
 
 @attrs.frozen(eq=False)

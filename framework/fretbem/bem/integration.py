@@ -41,6 +41,7 @@ import numpy as np
 from fretbem.basis import Basis
 from fretbem.errors import ComputationError
 
+from . import assembly, numpy_loops
 from .kernels import KelvinKernel
 
 
@@ -70,8 +71,33 @@ class IntegrationSettings:
 #: saved per pair; benchmarks/floor.py, docs/performance.md)
 COMPILED_MIN_PAIRS = 400_000
 
-#: (collocation point, element) pairs this process has assembled with the numpy loops
-_numpy_pairs_spent = 0
+
+
+class LoopChoice:
+    """The ski rental between the numpy and the compiled (numba) assembly loops.
+
+    Loading numba is paid once per process, so the record of numpy work that decides when
+    to pay it is the process's: one instance, :data:`LOOP_CHOICE`, held here beside the
+    loops it chooses between. ``reset()`` starts the count again (tests, benchmarks).
+    """
+
+    def __init__(self) -> None:
+        #: (collocation point, element) pairs this process has assembled with numpy loops
+        self.spent = 0
+
+    def compiled(self, pairs: int) -> bool:
+        """Whether an assembly of ``pairs`` more pairs should use the compiled loops."""
+        if "fretbem.bem.compiled_loops" in sys.modules:  # loaded already: its cost is paid
+            return True
+        return self.spent + pairs >= COMPILED_MIN_PAIRS and _numba_installed()
+
+    def record(self, pairs: int) -> None:
+        """Count an assembly done with the numpy loops."""
+        self.spent += pairs
+
+    def reset(self) -> None:
+        """Forget the numpy work done so far."""
+        self.spent = 0
 
 
 class CompiledKernelsUnavailableError(ComputationError):
@@ -80,6 +106,10 @@ class CompiledKernelsUnavailableError(ComputationError):
 
 def _numba_installed() -> bool:
     return importlib.util.find_spec("numba") is not None
+
+
+#: the process's choice of assembly loops (see :class:`LoopChoice`)
+LOOP_CHOICE = LoopChoice()
 
 
 @attrs.frozen(eq=False)
@@ -165,20 +195,13 @@ class Assembler:
             )
         if choice is not None:
             return choice
-        if "fretbem.bem.compiled_loops" in sys.modules:  # loaded already: its cost is paid
-            return True
-        work = _numpy_pairs_spent + self.point_element_pairs
-        return work >= COMPILED_MIN_PAIRS and _numba_installed()
+        return LOOP_CHOICE.compiled(self.point_element_pairs)
 
     def assemble(self) -> tuple[np.ndarray, np.ndarray]:
         """Dense H and G, rows 2 s + i (collocation point s), columns 2 b + j (function b)."""
-        global _numpy_pairs_spent
-        from . import assembly as _assembly
-
         if self.uses_compiled:
-            from . import compiled_loops as loops
+            from . import compiled_loops as loops  # numba: loaded only when chosen
         else:
-            from . import numpy_loops as loops
-
-            _numpy_pairs_spent += self.point_element_pairs
-        return _assembly.assemble(self, self.mu, self.nu, loops)
+            loops = numpy_loops
+            LOOP_CHOICE.record(self.point_element_pairs)
+        return assembly.assemble(self, self.mu, self.nu, loops)

@@ -132,6 +132,13 @@ class ContactLaw(ABC):
         """Generalised Jacobian (2n, n_x) of (F_n, F_t) with respect to x, on the pattern of
         ``evaluation``; g and s are affine in x through ``normal_map`` / ``tangential_map``."""
 
+    def coulomb_form(self) -> float | None:
+        """The friction coefficient f when this law is Coulomb's cone with unilateral normal
+        contact, else None. Solvers use it to reach their fast paths (the reduced Newton
+        step, the LCP form of Lemke's method); a new law that is Coulomb's in disguise gets
+        them by returning its f, any other law takes the general path."""
+        return None
+
     def check_history(self, steps: Sequence[Any]) -> None:  # noqa: B027 - optional hook
         """Reject a load history this law cannot equilibrate (default: accept any)."""
 
@@ -167,6 +174,10 @@ class CoulombFriction(ContactLaw):
     """
 
     friction: float = attrs.field(converter=float, validator=non_negative)
+
+    def coulomb_form(self) -> float:
+        """f: this law is the Coulomb cone the solvers' fast paths are written for."""
+        return self.friction
 
     def evaluate(self, p, q, gap, slip, r_n, r_t) -> LawEvaluation:
         """F_n, F_t (module docstring), states and slip directions."""

@@ -32,6 +32,16 @@ class Segment:
         converter=lambda c: c.reparametrised((0.0, 1.0)),
         validator=attrs.validators.instance_of(NurbsCurve),
     )
+    #: discretisations of this segment by (family, refinement): bodies re-meshed on one
+    #: boundary (adaptive and companion levels, sweeps) discretise only what changed
+    _discretised: dict = attrs.field(init=False, factory=dict, repr=False, eq=False)
+
+    def discretised(self, family, refinement):
+        """``family.discretise(curve, refinement)``, computed once per family and refinement."""
+        key = (family, refinement)
+        if key not in self._discretised:
+            self._discretised[key] = family.discretise(self.curve, refinement)
+        return self._discretised[key]
 
 
 def _samples(curve: NurbsCurve, count: int) -> np.ndarray:

@@ -21,7 +21,7 @@ import attrs
 import numpy as np
 
 from fretbem.contact.condensation import CondensedContact
-from fretbem.contact.law import STATE_NAMES, ContactLaw, ContactState, CoulombFriction, PairState
+from fretbem.contact.law import STATE_NAMES, ContactLaw, ContactState, PairState
 from fretbem.errors import ComputationError, SolverSettingsError
 from fretbem.numerics.blas import one_blas_thread
 
@@ -30,20 +30,20 @@ from .newton_linear import NewtonLinear
 #: factor applied to the normal augmentation r_n when the Newton iteration cycles
 CYCLE_SOFTENING = 0.1
 
-#: the Newton linear solver (an LU of a recent pattern) of each condensed problem, kept
-#: between increments: an increment starts on the previous one's final pattern
-_LINEAR: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
-
-
-def _newton_linear(problem: CondensedContact, law: ContactLaw, r_n: float, r_t: float):
-    """The problem's kept Newton linear solver for Coulomb friction (None for other laws)."""
-    if not isinstance(law, CoulombFriction):
+def _newton_linear(
+    kept: weakref.WeakKeyDictionary, problem: CondensedContact, law: ContactLaw, r_n, r_t
+):
+    """The reduced Newton linear solver of ``problem`` for a Coulomb law (None for others),
+    kept in ``kept`` (the solver's own) between increments: an increment starts on the
+    previous one's final pattern."""
+    friction = law.coulomb_form()
+    if friction is None:
         return None
-    linear = _LINEAR.get(problem)
-    if linear is None or not linear.matches(r_n, r_t, law.friction):
+    linear = kept.get(problem)
+    if linear is None or not linear.matches(r_n, r_t, friction):
         linear = NewtonLinear(problem.normal_map, problem.tangential_map,
-                              problem.resultant_map, law.friction, r_n, r_t)  # fmt: skip
-        _LINEAR[problem] = linear
+                              problem.resultant_map, friction, r_n, r_t)  # fmt: skip
+        kept[problem] = linear
     return linear
 
 
@@ -180,6 +180,11 @@ class SemiSmoothNewton(Solver):
     tolerance: float = attrs.field(default=1e-10, converter=float, validator=_tolerance)
     max_iterations: int = attrs.field(default=50, converter=_whole, validator=_at_least(1))
     max_substeps: int = attrs.field(default=4, converter=_whole, validator=_at_least(0))
+    #: the reduced Newton linear solver kept per condensed problem (weakly: a dropped
+    #: problem frees it); the solver's own state, not the process's
+    _linear: weakref.WeakKeyDictionary = attrs.field(
+        init=False, factory=weakref.WeakKeyDictionary, repr=False, eq=False
+    )
 
     def solve_increment(
         self,
@@ -286,7 +291,7 @@ class SemiSmoothNewton(Solver):
         history, state_history, seen = [], [evaluation.states.copy()], set()
         force_scale = max(np.max(np.abs(forces), initial=0.0), 1e-300)
         for iteration in range(1, self.max_iterations + 1):
-            linear = _newton_linear(problem, law, r_n, r_t)
+            linear = _newton_linear(self._linear, problem, law, r_n, r_t)
             step = self._newton_step(problem, law, evaluation, residual, r_n, r_t, linear)
             x = x + step
             residual, evaluation = self._evaluate(*args, x, r_n, r_t)

@@ -11,7 +11,7 @@ import attrs
 import numpy as np
 
 from fretbem.contact.condensation import CondensedContact
-from fretbem.contact.law import ContactLaw, ContactState, CoulombFriction
+from fretbem.contact.law import ContactLaw, ContactState
 from fretbem.errors import InputError
 from fretbem.numerics.blas import one_blas_thread
 
@@ -72,11 +72,12 @@ class LemkeSolver(Solver):
         start: ContactState | None,
     ) -> IncrementResult:
         """Solve one increment from scratch (``start`` is not needed by a pivoting method)."""
-        if not isinstance(law, CoulombFriction):
+        friction = law.coulomb_form()
+        if friction is None:
             raise UnsupportedLawError(
-                f"the Lemke solver has the LCP form of Coulomb friction only, but the law is "
-                f"{type(law).__name__}; use CoulombFriction, or the SemiSmoothNewton solver "
-                "for other laws"
+                f"the Lemke solver has the LCP form of Coulomb friction only (CoulombFriction, "
+                f"or a law whose coulomb_form() gives f), but the law {type(law).__name__} "
+                "gives none; use [contact] solver = 'newton' for other laws"
             )
         normal_base, tangential_base, resultant_base = problem.bases(loads)
         arrays = CondensedArrays(
@@ -92,7 +93,7 @@ class LemkeSolver(Solver):
             with one_blas_thread():
                 result = solve_lcp_increment(
                     arrays,
-                    friction=law.friction,
+                    friction=friction,
                     forces=forces,
                     reference_slip=previous.slip,
                     max_pivots=self.max_pivots,

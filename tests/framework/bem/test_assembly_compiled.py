@@ -126,7 +126,7 @@ def test_automatic_choice_by_size(monkeypatch):
     except (ImportError, TypeError):
         assembler = integration.Assembler(segments, SHEAR_MODULUS, NU)
     monkeypatch.delitem(sys.modules, "fretbem.bem.compiled_loops", raising=False)
-    monkeypatch.setattr(integration, "_numpy_pairs_spent", 0)
+    monkeypatch.setattr(integration.LOOP_CHOICE, "spent", 0)
     assert assembler.point_element_pairs < integration.COMPILED_MIN_PAIRS
     assert not assembler.uses_compiled
     monkeypatch.setattr(integration, "COMPILED_MIN_PAIRS", assembler.point_element_pairs)
@@ -137,7 +137,7 @@ def test_numpy_loops_until_their_cost_matches_loading_numba(monkeypatch):
     """Ski rental: repeated small assemblies switch to compiled once numpy spent the budget."""
     monkeypatch.delitem(sys.modules, "fretbem.bem.compiled_loops", raising=False)
     monkeypatch.setattr(integration, "_numba_installed", lambda: True)
-    monkeypatch.setattr(integration, "_numpy_pairs_spent", 0)
+    monkeypatch.setattr(integration.LOOP_CHOICE, "spent", 0)
     from fretbem.bem.kernels import KelvinKernel
 
     assembler = integration.Assembler(
@@ -150,10 +150,10 @@ def test_numpy_loops_until_their_cost_matches_loading_numba(monkeypatch):
         choices.append(assembler.uses_compiled)
         if not choices[-1]:
             monkeypatch.setattr(
-                integration, "_numpy_pairs_spent", integration._numpy_pairs_spent + work
+                integration.LOOP_CHOICE, "spent", integration.LOOP_CHOICE.spent + work
             )
     assert choices == [False, False, True, True]
-    monkeypatch.setattr(integration, "_numpy_pairs_spent", 0)  # the numpy path counts its work
+    monkeypatch.setattr(integration.LOOP_CHOICE, "spent", 0)  # the numpy path counts its work
     monkeypatch.setattr(integration, "COMPILED_MIN_PAIRS", 10 * work)
     assembler.assemble()
-    assert integration._numpy_pairs_spent == work
+    assert integration.LOOP_CHOICE.spent == work
