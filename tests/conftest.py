@@ -23,3 +23,19 @@ def _fresh_assembly_budget():
 
     integration.LOOP_CHOICE.reset()
     yield
+
+
+@pytest.fixture
+def patch_run(monkeypatch):
+    """Replace fretbem.simulation.run everywhere it is bound (modules import it by name)."""
+    import sys
+
+    from fretbem import simulation
+
+    def patch(fake):
+        original = simulation.run
+        for name, module in list(sys.modules.items()):
+            if name.startswith("fretbem") and getattr(module, "run", None) is original:
+                monkeypatch.setattr(module, "run", fake)
+
+    return patch

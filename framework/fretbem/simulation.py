@@ -14,11 +14,13 @@ from collections.abc import Mapping
 import attrs
 import numpy as np
 
+from fretbem.bem.resources import check_resources
 from fretbem.contact.condensation import CondensedContact
 from fretbem.contact.law import STATE_NAMES, ContactLaw, ContactState, GrossSlidingError
 from fretbem.contact.pairs import ContactPair
 from fretbem.errors import InputError
 from fretbem.solvers.newton import IncrementResult, SemiSmoothNewton, Solver, SolverConvergenceError
+from fretbem.verification.checks import check_step, step_names
 from fretbem.verification.closed_forms import MindlinDeresiewicz
 
 from .results import SimulationResult, StepResult
@@ -101,7 +103,6 @@ class Simulation:
             )
         if not self.steps:
             raise LoadHistoryError("a simulation needs at least one load step")
-        from fretbem.verification.checks import step_names
 
         step_names([step.name for step in self.steps])
         first = self.steps[0]
@@ -214,8 +215,6 @@ def run(simulation: Simulation, *, progress=None, check: bool = True) -> Simulat
     the next step starts; a failure raises its named ResultCheckError (``check=False``
     skips them, to inspect a failed run). ``progress(k, n, step)`` is called after each step.
     """
-    from fretbem.bem.resources import check_resources
-    from fretbem.verification.checks import check_step
 
     start = time.perf_counter()
     pair = simulation.pair

@@ -18,6 +18,7 @@ import attrs
 import numpy as np
 
 from fretbem.contact.pairs import SEPARATED
+from fretbem.simulation import run
 
 from . import estimate
 from .knots import Transitions, knot_moves, knot_pressures, transitions
@@ -200,8 +201,6 @@ class AdaptiveResult:
 
 
 def _solve(simulation):
-    from fretbem.simulation import run
-
     return run(simulation)
 
 

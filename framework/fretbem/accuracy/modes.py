@@ -18,7 +18,17 @@ from collections.abc import Callable
 import attrs
 import numpy as np
 
+from fretbem.accuracy import estimate
+from fretbem.accuracy.adaptive import (
+    AdaptiveSettings,
+    elements_for,
+    pairs_for,
+    remesh,
+    run_adaptive,
+)
 from fretbem.errors import InputError
+from fretbem.scenes.builder import build
+from fretbem.simulation import run
 
 __all__ = [
     "MESHES",
@@ -120,7 +130,6 @@ def _contact_family(simulation):
 
 def companion_pairs(simulation) -> int:
     """Pairs of the fixed mode's companion level: half the contact elements, uniform."""
-    from .adaptive import elements_for, pairs_for
 
     family, degree = _contact_family(simulation)
     elements = elements_for(family, int(simulation.pair.n_pairs), degree)
@@ -129,7 +138,6 @@ def companion_pairs(simulation) -> int:
 
 def estimate_blocker(simulation) -> str | None:
     """Why no two-level estimate can be formed for this simulation, or None if it can."""
-    from . import estimate
 
     pair = simulation.pair
     for body, tag in ((pair.lower, pair.lower_tag), (pair.upper, pair.upper_tag)):
@@ -143,7 +151,6 @@ def estimate_blocker(simulation) -> str | None:
 
 def _uniform(simulation):
     """Companion factory of a bare simulation: its contact faces re-meshed uniformly."""
-    from .adaptive import remesh
 
     def make(pairs: int):
         return remesh(simulation, np.array([]), pairs, ratio=1.0)
@@ -160,10 +167,6 @@ def _attach(result, estimated: dict | None, accuracy: dict):
 
 
 def _fixed(simulation, mode: Accuracy, coarse, run_kwargs) -> object:
-    from fretbem.simulation import run
-
-    from . import estimate
-
     start = time.perf_counter()
     result = run(simulation, **run_kwargs)
     pairs = int(result.steps[0].x.size)
@@ -216,8 +219,6 @@ def adaptive_blocker(simulation) -> str | None:
 
 
 def _adaptive(simulation, mode: Accuracy) -> object:
-    from .adaptive import AdaptiveSettings, run_adaptive
-
     reason = adaptive_blocker(simulation)
     if reason is not None:
         raise AccuracyError(reason)
@@ -275,7 +276,6 @@ def solve_scene(scene, mode: Accuracy | None = None, *, progress=None):
     The fixed mode's companion level is the same scene with fewer ``pairs``. Returns
     (result, reason): ``reason`` says why no closed form applies (None if one does).
     """
-    from fretbem.scenes.builder import build
 
     simulation, reason = build(scene)
     result = solve(

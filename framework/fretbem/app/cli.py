@@ -4,13 +4,34 @@ from __future__ import annotations
 
 import argparse
 import gc
+import inspect
 import signal
 import sys
 import time
+from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
+import attrs
+
 from fretbem import registry as bases
-from fretbem.errors import InputError
+from fretbem.accuracy import modes as accuracy
+from fretbem.accuracy.modes import Accuracy, mode_of
+from fretbem.bem.resources import check_resources
+from fretbem.contact.zones import zone_table
+from fretbem.errors import FretbemError, InputError, ResultCheckError
+from fretbem.fatigue import fatigue_request_from_dict, format_report, run_fatigue, write_fatigue
+from fretbem.fatigue.from_simulation import SimulationStressHistory
+from fretbem.output.write import prepare_output, write_results
+from fretbem.scenes.builder import build
+from fretbem.scenes.file import load_scene
+from fretbem.scenes.reference import CattaneoMindlinScene, cattaneo_mindlin
+from fretbem.simulation import run
+from fretbem.stress.request import stress_request_from_dict
+from fretbem.stress.run import run_stress_request
+from fretbem.studies.convergence.study import main as study
+from fretbem.studies.sweep.run import add_arguments as sweep_arguments
+from fretbem.studies.sweep.run import run_command as sweep_command
+from fretbem.verification.checks import check_steps, step_names
 
 
 def _bases(args: argparse.Namespace) -> int:
@@ -62,7 +83,6 @@ class StepProgress:
 
 def _progress_option(run, simulation, estimate) -> dict:
     """``progress=`` for run() when it takes the hook and the run is long (> 2 s or > 20 steps)."""
-    import inspect
 
     long = estimate.seconds > 2.0 or len(simulation.steps) > 20
     if long and "progress" in inspect.signature(run).parameters:
@@ -84,7 +104,6 @@ def _check_compare(names) -> list[str]:
 
 def _check_steps(simulation, steps) -> None:
     names = [step.name for step in simulation.steps]
-    from fretbem.verification.checks import step_names
 
     step_names(names)
     if steps:
@@ -101,8 +120,6 @@ def _dofs(pair) -> int:
 
 def _prepare(make, args: argparse.Namespace):
     """Everything checkable before computing: output directory, options, size, step names."""
-    from fretbem.bem.resources import check_resources
-    from fretbem.output.write import prepare_output
 
     prepare_output(args.out, overwrite=args.overwrite)
     compare = _check_compare(args.compare) if not args.no_figures else []
@@ -119,12 +136,8 @@ def _requests(extras) -> list:
     """The [stress] and [fatigue] requests of a scene, parsed before any computation."""
     requests = []
     if "stress" in extras:
-        from fretbem.stress.request import stress_request_from_dict
-
         requests.append(("stress", stress_request_from_dict(extras["stress"])))
     if "fatigue" in extras:
-        from fretbem.fatigue import fatigue_request_from_dict
-
         requests.append(("fatigue", fatigue_request_from_dict(extras["fatigue"])))
     return requests
 
@@ -134,14 +147,9 @@ def _postprocess(result, requests, figures: bool) -> list:
     writers = []
     for kind, request in requests:
         if kind == "stress":
-            from fretbem.stress.run import run_stress_request
-
             _progress("evaluating the stresses")
             writers.append(lambda d, r=request: run_stress_request(result, r, d))
         else:
-            from fretbem.fatigue import format_report, run_fatigue, write_fatigue
-            from fretbem.fatigue.from_simulation import SimulationStressHistory
-
             _progress("fatigue assessment")
             report = run_fatigue(SimulationStressHistory(result), request)
             print(format_report(report))
@@ -151,7 +159,6 @@ def _postprocess(result, requests, figures: bool) -> list:
 
 def _mode(args: argparse.Namespace, base):
     """The accuracy mode: the scene's (``base``) with the command's options over it."""
-    from fretbem.accuracy.modes import Accuracy
 
     mesh = args.mesh or base.mesh
     if mesh != "adaptive":
@@ -182,11 +189,6 @@ def _mode(args: argparse.Namespace, base):
 def _simulate(make, args: argparse.Namespace, extras=None, mode=None, companion=None) -> int:
     """Solve in ``mode`` (``companion(pairs)``: the fixed mode's coarser level), print the
     tables with the estimate, post-process and write the output."""
-    from fretbem.accuracy import modes as accuracy
-    from fretbem.contact.zones import zone_table
-    from fretbem.output.write import write_results
-    from fretbem.simulation import run
-    from fretbem.verification.checks import check_steps
 
     start = time.perf_counter()
     mode = mode or accuracy.Accuracy()
@@ -236,10 +238,6 @@ def _simulate(make, args: argparse.Namespace, extras=None, mode=None, companion=
 
 
 def _run(args: argparse.Namespace) -> int:
-    from fretbem.accuracy.modes import mode_of
-    from fretbem.scenes.builder import build
-    from fretbem.scenes.file import load_scene
-
     scene_path, out = Path(args.scene).resolve(), Path(args.out).resolve()
     if scene_path.is_relative_to(out):
         raise CommandError(
@@ -263,11 +261,6 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def _demo(args: argparse.Namespace) -> int:
-    import attrs
-
-    from fretbem.accuracy.modes import Accuracy
-    from fretbem.scenes.reference import CattaneoMindlinScene, cattaneo_mindlin
-
     mode = _mode(args, Accuracy())
     scene = CattaneoMindlinScene(basis=args.basis, pairs=args.pairs or 61)
     if args.compare is None and not args.no_figures:
@@ -292,8 +285,6 @@ def _demo(args: argparse.Namespace) -> int:
 
 
 def _convergence(args: argparse.Namespace) -> int:
-    from fretbem.studies.convergence.study import main as study
-
     return study(quick=args.quick, out=args.out)
 
 
@@ -405,8 +396,6 @@ def parser() -> argparse.ArgumentParser:
     )
     convergence.add_argument("--out", default="convergence-out", help="output directory")
     convergence.set_defaults(func=_convergence)
-    from fretbem.studies.sweep.run import add_arguments as sweep_arguments
-    from fretbem.studies.sweep.run import run_command as sweep_command
 
     sweep = sub.add_parser(
         "sweep", help="parameter sweep and fretting maps from a sweep file (TOML), on Dask"
@@ -417,8 +406,6 @@ def parser() -> argparse.ArgumentParser:
 
 
 def _version() -> str:
-    from importlib.metadata import PackageNotFoundError, version
-
     try:
         return version("fretbem")
     except PackageNotFoundError:  # pragma: no cover - not installed
@@ -444,7 +431,6 @@ def main(argv: list[str] | None = None) -> int:
     Exit codes: 0 success, 1 a result check failed (nothing written), 2 bad input or an
     output/system error (one line on stderr), 130 interrupted.
     """
-    from fretbem.errors import FretbemError, ResultCheckError
 
     main_parser = parser()
     args = main_parser.parse_args(argv)

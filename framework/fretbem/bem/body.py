@@ -20,6 +20,7 @@ from fretbem.conditions import Condition, LoadingBlock
 from fretbem.geometry.boundary import Boundary
 from fretbem.geometry.nurbs import NurbsCurve
 from fretbem.material import Material
+from fretbem.numerics.quadrature import QuadratureRule
 
 from . import layout as bem_layout
 from .integration import Assembler, Collocation, IntegrationSettings, offsets
@@ -137,8 +138,6 @@ class BemBody(Body):
     def resultant_weights(self) -> np.ndarray:
         """int phi_a dGamma for every function: tractions coefficients to resultant force."""
         if "resultant" not in self._cache:
-            from fretbem.numerics.quadrature import QuadratureRule
-
             rule = QuadratureRule.gauss_legendre(8)
             out = np.zeros(self.n_functions)
             for k, basis in enumerate(self.segments):

@@ -13,6 +13,9 @@ from __future__ import annotations
 import attrs
 import numpy as np
 
+from fretbem.stress.evaluate import StressEvaluator
+from fretbem.stress.request import surface_level
+
 from .errors import FatigueInputError
 from .providers import SurfaceHistory
 
@@ -60,7 +63,6 @@ class SimulationStressHistory:
     def elastic_constants(self) -> tuple[float, float]:
         """(E, nu) of the evaluated body: the strains of the fatigue parameters use them
         when the fatigue material does not give its own."""
-        from fretbem.stress.evaluate import StressEvaluator
 
         material = StressEvaluator(self.result, np.zeros((1, 2)), self.body).model.material
         return float(material.E), float(material.nu)
@@ -78,9 +80,6 @@ class SimulationStressHistory:
         return float(max(widths))
 
     def _global(self, points: np.ndarray) -> np.ndarray:
-        from fretbem.stress.evaluate import StressEvaluator
-        from fretbem.stress.request import surface_level
-
         model = StressEvaluator(self.result, np.zeros((1, 2)), self.body).model
         x, depth = points[:, 0], points[:, 1]
         level = surface_level(model, x, self.body)
@@ -89,7 +88,6 @@ class SimulationStressHistory:
 
     def stress_at(self, points: np.ndarray) -> np.ndarray:
         """Stress (n_steps, n, 4) at points (n, 2) = [x, depth], global frame."""
-        from fretbem.stress.evaluate import StressEvaluator
 
         pts = np.asarray(points, dtype=float).reshape(-1, 2)
         if np.any(pts[:, 1] < 0):

@@ -23,6 +23,10 @@ from pathlib import Path
 import attrs
 import numpy as np
 
+from fretbem.output import figures as plot
+from fretbem.output import vtk as vtk_
+from fretbem.verification.checks import check_steps
+
 from .staging import (  # noqa: F401 - re-exported: the output API of one release
     MARKER,
     SPACE_MARGIN,
@@ -196,7 +200,6 @@ def write_results(
     (``check=False`` skips them, for inspecting a failed run). Raises OutputError (one-line
     message) when the directory cannot be used or written.
     """
-    from fretbem.verification.checks import check_steps
 
     target = prepare_output(directory, overwrite=overwrite)
     records = check_steps(result) if check else None  # a failed check writes nothing
@@ -210,12 +213,8 @@ def write_results(
         write_json(result, staging / "summary.json", records)
         write_units(staging / "units.json")
         if figures:
-            from . import figures as plot
-
             plot.save_figures([result, *compare], staging, steps=steps)
         if vtk:
-            from . import vtk as vtk_
-
             vtk_.save_vtk(result, staging)
         for writer in chosen:
             writer.write(result, staging)

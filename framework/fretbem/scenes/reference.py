@@ -23,6 +23,7 @@ from fretbem.contact.law import CoulombFriction
 from fretbem.contact.pairs import NodeToNodePair
 from fretbem.geometry.boundary import Boundary, Segment
 from fretbem.geometry.nurbs import NurbsCurve
+from fretbem.halfplane.scene import half_plane_model
 from fretbem.material import Material
 from fretbem.simulation import LoadStep, Simulation
 from fretbem.solvers.newton import SemiSmoothNewton, Solver
@@ -245,7 +246,6 @@ def cattaneo_mindlin(
 
 def _half_plane(label: str, **description) -> Body:
     """The half-plane model (imported on first use)."""
-    from fretbem.halfplane.scene import half_plane_model
 
     return half_plane_model(label, **description)
 

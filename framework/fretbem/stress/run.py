@@ -6,6 +6,8 @@ from pathlib import Path
 
 import numpy as np
 
+from fretbem.stress.figures import plot_contour_maps, plot_surface_sigma_xx
+
 from .errors import StressRequestError
 from .evaluate import StressEvaluator
 from .output import write_grid_vtk, write_stress_csv
@@ -65,8 +67,6 @@ def run_stress_request(result, request: StressRequest, directory: str | Path) ->
         if request.vtk:
             written["grid_vtk"] = write_grid_vtk(directory, "stress_grid", steps, pts, stress)
         if request.figures:
-            from .figures import plot_contour_maps
-
             loaded = most_loaded_step(result)
             name = result.steps[loaded].name
             if name in steps:
@@ -77,8 +77,6 @@ def run_stress_request(result, request: StressRequest, directory: str | Path) ->
                     title=f"{side} body, step {name} (Q = {step.tangential:g} N/mm)",
                 )  # fmt: skip
     if request.figures:
-        from .figures import plot_surface_sigma_xx
-
         x = np.asarray(result.steps[0].x)
         xs = np.linspace(x.min(), x.max(), 201)
         pts = np.column_stack([xs, surface_level(model, xs, side)])

@@ -9,10 +9,14 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+import attrs
 import numpy as np
 
 from fretbem.body import Body, ContactFace, ContactResponse
+from fretbem.contact.law import ContactState, PairState
 from fretbem.material import Material
+from fretbem.scenes.reference import cattaneo_mindlin
+from fretbem.solvers.newton import IncrementResult, Solver
 
 #: relative tolerance of the solver checks (on p and q against f p0, on forces against P)
 SOLVER_TOL = 1e-8
@@ -152,16 +156,10 @@ def check_solver(solver, *, simulation=None) -> None:
     separated ones; and the loading blocks carrying the prescribed forces. The reported
     states must be PairState values consistent with the tractions.
     """
-    import attrs
-
-    from fretbem.contact.law import ContactState, PairState
-    from fretbem.solvers.newton import IncrementResult, Solver
 
     who = type(solver).__name__
     _require(isinstance(solver, Solver), who, "the solver is a Solver")
     if simulation is None:
-        from fretbem.scenes.reference import cattaneo_mindlin
-
         simulation = cattaneo_mindlin(pairs=21)
     simulation = attrs.evolve(simulation, solver=solver)
     problem = simulation.prepare()

@@ -263,12 +263,13 @@ def test_run_options_override_the_scene(tmp_path, capsys):
         (["--mesh", "adaptive", "--no-estimate"], "--no-estimate applies to the fixed mesh"),
     ],
 )
-def test_conflicting_options_are_refused_before_running(args, message, tmp_path, monkeypatch,
-                                                        capsys):  # fmt: skip
+def test_conflicting_options_are_refused_before_running(
+    patch_run, args, message, tmp_path, monkeypatch, capsys
+):
     def forbidden(*a, **k):
         raise AssertionError("the run started before the bad option was refused")
 
-    monkeypatch.setattr(simulation, "run", forbidden)
+    patch_run(forbidden)
     path = str(EXAMPLES / "cattaneo_mindlin.toml")
     assert cli.main(["run", path, *args, "--out", str(tmp_path / "o"), *FAST]) == 2
     err = capsys.readouterr().err.strip().splitlines()

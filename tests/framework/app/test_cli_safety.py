@@ -10,7 +10,6 @@ from pathlib import Path
 
 import pytest
 
-from fretbem import simulation
 from fretbem.app import cli
 from fretbem.bem import resources
 from fretbem.output import write as output
@@ -31,13 +30,13 @@ def scene(tmp_path: Path, **lines: str) -> str:
 
 
 @pytest.fixture
-def no_run(monkeypatch):
+def no_run(patch_run):
     """Fail the test if a simulation is started (the option must be refused before)."""
 
     def forbidden(*args, **kwargs):
         raise AssertionError("the run started before the bad option was refused")
 
-    monkeypatch.setattr(simulation, "run", forbidden)
+    patch_run(forbidden)
 
 
 def one_line_error(capsys) -> str:
@@ -136,7 +135,7 @@ def test_extreme_materials_balance_or_refuse(tmp_path, capsys, lines):
         assert code == 0
 
 
-def test_os_and_memory_errors_end_in_one_line(tmp_path, monkeypatch, capsys):
+def test_os_and_memory_errors_end_in_one_line(patch_run, tmp_path, monkeypatch, capsys):
     """A full disk while writing and a MemoryError while solving: one line each, exit 2."""
 
     def full(result, path):
@@ -150,16 +149,16 @@ def test_os_and_memory_errors_end_in_one_line(tmp_path, monkeypatch, capsys):
     def oom(*args, **kwargs):
         raise MemoryError
 
-    monkeypatch.setattr(simulation, "run", oom)
+    patch_run(oom)
     assert cli.main(["demo", "--pairs", "21", "--out", str(tmp_path / "o"), *FAST]) == 2
     assert "out of memory" in one_line_error(capsys)
 
 
-def test_interrupt_is_exit_130_without_traceback(tmp_path, monkeypatch, capsys):
+def test_interrupt_is_exit_130_without_traceback(patch_run, tmp_path, monkeypatch, capsys):
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(simulation, "run", interrupted)
+    patch_run(interrupted)
     assert cli.main(["demo", "--out", str(tmp_path / "o"), *FAST]) == 130
     assert "interrupted" in capsys.readouterr().err
 
@@ -215,7 +214,7 @@ def test_out_containing_the_scene_is_refused_even_with_overwrite(no_run, tmp_pat
     assert Path(path).is_file()
 
 
-def test_sigterm_cleans_up_like_ctrl_c(tmp_path, monkeypatch, capsys):
+def test_sigterm_cleans_up_like_ctrl_c(patch_run, tmp_path, monkeypatch, capsys):
     """kill (SIGTERM) during a run: exit 130, no output, no temporary directory."""
     import os
     import signal
@@ -223,7 +222,7 @@ def test_sigterm_cleans_up_like_ctrl_c(tmp_path, monkeypatch, capsys):
     def killed(*args, **kwargs):
         os.kill(os.getpid(), signal.SIGTERM)
 
-    monkeypatch.setattr(simulation, "run", killed)
+    patch_run(killed)
     before = signal.getsignal(signal.SIGTERM)
     assert cli.main(["demo", "--pairs", "21", "--out", str(tmp_path / "o"), *FAST]) == 130
     assert signal.getsignal(signal.SIGTERM) is before

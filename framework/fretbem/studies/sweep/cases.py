@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import copy
 import json
+import os
+import socket
 import time
 from collections import OrderedDict
 from collections.abc import Callable, Mapping, Sequence
@@ -21,7 +23,14 @@ from typing import Any
 import attrs
 import numpy as np
 
+from fretbem.contact.law import CoulombFriction
+from fretbem.contact.pairs import SEPARATED, SLIP, STICK
 from fretbem.errors import ComputationError
+from fretbem.scenes import builder as scene_build
+from fretbem.scenes.file import scene_from_data
+from fretbem.scenes.reference import CattaneoMindlinScene, cattaneo_mindlin
+from fretbem.simulation import LoadStep, run
+from fretbem.studies.sweep.outputs import resolve_all
 
 #: worst first: the regime of a cycle is the worst regime of its steps
 REGIMES = ("full stick", "partial slip", "gross slip")
@@ -49,14 +58,11 @@ class Loading:
 
 def parse_scene(scene: Mapping):
     """The scene record of a scene dict (the round-1 format translated by the file reader)."""
-    from fretbem.scenes.file import scene_from_data
 
     return scene_from_data(dict(scene))
 
 
 def _round_one(record) -> bool:
-    from fretbem.scenes.reference import CattaneoMindlinScene
-
     return isinstance(record, CattaneoMindlinScene)
 
 
@@ -64,10 +70,7 @@ def build_simulation(scene: Mapping):
     """The Simulation a scene dict describes (round-1 format or the two-body format)."""
     record = parse_scene(scene)
     if _round_one(record):
-        from fretbem.scenes.reference import cattaneo_mindlin
-
         return cattaneo_mindlin(record)
-    from fretbem.scenes import builder as scene_build
 
     simulation, _ = scene_build.build(record)
     return simulation
@@ -75,7 +78,6 @@ def build_simulation(scene: Mapping):
 
 def case_loading(scene: Mapping) -> Loading:
     """The load steps, friction, reference and solver of a scene dict, without bodies."""
-    from fretbem.simulation import LoadStep
 
     record = parse_scene(scene)
     if _round_one(record):
@@ -84,7 +86,6 @@ def case_loading(scene: Mapping) -> Loading:
             for name, q in zip(record.names, record.tangential, strict=True)
         )
         return Loading(steps, float(record.friction), record.reference())
-    from fretbem.scenes import builder as scene_build
 
     load = record.load
     steps = tuple(
@@ -133,8 +134,6 @@ def _has_law(simulation) -> bool:
 def with_loading(simulation, loading: Loading):
     """``simulation`` on the same (already condensed) pair with another loading."""
     if _has_law(simulation):
-        from fretbem.contact.law import CoulombFriction
-
         return attrs.evolve(
             simulation,
             steps=loading.steps,
@@ -162,13 +161,6 @@ def _extent(x: np.ndarray, mask: np.ndarray) -> float:
 
 def step_metrics(step) -> dict[str, Any]:
     """Regime, stick and contact widths, peak p and ``|q|``, iterations of one solved step."""
-    try:  # the pair states moved to the contact-law module (issue 9)
-        from fretbem.contact.law import PairState
-
-        SEPARATED, STICK, SLIP = PairState.SEPARATED, PairState.STICK, PairState.SLIP
-    except ImportError:
-        from fretbem.contact.pairs import SEPARATED, SLIP, STICK
-
     states = np.asarray(step.states)
     stick, slip = states == STICK, states == SLIP
     if not slip.any():
@@ -221,7 +213,6 @@ def solve_case(simulation, loading: Loading, outputs=(), scene=None) -> dict[str
     ``outputs`` are extra column functions (see ``sweep_outputs``) called with the result
     and the case's ``scene`` dict.
     """
-    from fretbem.simulation import run
 
     row: dict[str, Any] = {
         "friction": loading.friction,
@@ -265,10 +256,6 @@ def run_batch(
     row with status "error" and the message; a group whose bodies cannot be built fails every
     one of its cases that way.
     """
-    import os
-    import socket
-
-    from .outputs import resolve_all
 
     worker = f"{socket.gethostname()}:{os.getpid()}"
     simulation, assembly, failure = None, 0.0, None
