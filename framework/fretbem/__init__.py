@@ -37,6 +37,8 @@ _EXPORTS = {
     "LoadStep": "simulation",
     "Simulation": "simulation",
     "run": "simulation",
+    "run_scene": "app.pipeline",
+    "RunResult": "app.pipeline",
 }
 
 __all__ = ["__version__", *_EXPORTS]

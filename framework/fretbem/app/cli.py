@@ -16,22 +16,19 @@ import attrs
 from fretbem import registry as bases
 from fretbem.accuracy import modes as accuracy
 from fretbem.accuracy.modes import Accuracy, mode_of
+from fretbem.app import pipeline
 from fretbem.bem.resources import check_resources
 from fretbem.contact.zones import zone_table
 from fretbem.errors import FretbemError, InputError, ResultCheckError
-from fretbem.fatigue import fatigue_request_from_dict, format_report, run_fatigue, write_fatigue
-from fretbem.fatigue.from_simulation import SimulationStressHistory
-from fretbem.output.write import prepare_output, write_results
+from fretbem.fatigue import format_report
+from fretbem.output.write import prepare_output
 from fretbem.scenes.builder import build
 from fretbem.scenes.file import load_scene
 from fretbem.scenes.reference import CattaneoMindlinScene, cattaneo_mindlin
-from fretbem.simulation import run
-from fretbem.stress.request import stress_request_from_dict
-from fretbem.stress.run import run_stress_request
 from fretbem.studies.convergence.study import main as study
 from fretbem.studies.sweep.run import add_arguments as sweep_arguments
 from fretbem.studies.sweep.run import run_command as sweep_command
-from fretbem.verification.checks import check_steps, step_names
+from fretbem.verification.checks import step_names
 
 
 def _bases(args: argparse.Namespace) -> int:
@@ -132,31 +129,6 @@ def _prepare(make, args: argparse.Namespace):
     return simulation, reason, compare, estimate
 
 
-def _requests(extras) -> list:
-    """The [stress] and [fatigue] requests of a scene, parsed before any computation."""
-    requests = []
-    if "stress" in extras:
-        requests.append(("stress", stress_request_from_dict(extras["stress"])))
-    if "fatigue" in extras:
-        requests.append(("fatigue", fatigue_request_from_dict(extras["fatigue"])))
-    return requests
-
-
-def _postprocess(result, requests, figures: bool) -> list:
-    """Run the stress and fatigue requests; returns writers for the output directory."""
-    writers = []
-    for kind, request in requests:
-        if kind == "stress":
-            _progress("evaluating the stresses")
-            writers.append(lambda d, r=request: run_stress_request(result, r, d))
-        else:
-            _progress("fatigue assessment")
-            report = run_fatigue(SimulationStressHistory(result), request)
-            print(format_report(report))
-            writers.append(lambda d, r=report: write_fatigue(d, r, figures=figures))
-    return writers
-
-
 def _mode(args: argparse.Namespace, base):
     """The accuracy mode: the scene's (``base``) with the command's options over it."""
 
@@ -187,26 +159,22 @@ def _mode(args: argparse.Namespace, base):
 
 
 def _simulate(make, args: argparse.Namespace, extras=None, mode=None, companion=None) -> int:
-    """Solve in ``mode`` (``companion(pairs)``: the fixed mode's coarser level), print the
-    tables with the estimate, post-process and write the output."""
-
+    """Solve in ``mode`` (``companion(pairs)``: the fixed mode's coarser level) through the
+    run pipeline, print the tables with the estimate, and write the output."""
     start = time.perf_counter()
-    mode = mode or accuracy.Accuracy()
     simulation, reason, compare, estimate = _prepare(make, args)
-    if mode.mesh == "adaptive":
-        blocker = accuracy.adaptive_blocker(simulation)
-        if blocker is not None:
-            raise CommandError(blocker)
-        _progress(
-            f"adaptive mesh: tolerance {100 * mode.tolerance:g} %, at most {mode.budget} pairs"
-        )
-    requests = _requests(extras or {})
-    result = accuracy.solve(
+    stress, fatigue = pipeline.requests(extras)  # bad tables are refused before solving
+    done = pipeline.run_simulation(
         simulation,
-        mode,
-        coarse=companion,
-        **_progress_option(accuracy.solve, simulation, estimate),
+        mode=mode or accuracy.Accuracy(),
+        extras=extras,
+        reason=reason,
+        companion=companion,
+        compare=[make(name)[0] for name in compare],
+        progress=_progress_option(accuracy.solve, simulation, estimate).get("progress"),
+        say=_progress,
     )
+    result = done.result
     info = result.describe()
     print(
         f"{info['basis']} (degree {info['degree']}), {info['pairs']} node pairs, "
@@ -214,24 +182,21 @@ def _simulate(make, args: argparse.Namespace, extras=None, mode=None, companion=
     )
     print(result.table())
     print(zone_table(result, reason))
-    check_steps(result)  # a failed check ends here: exit 1, nothing written
-    others = []
-    for name in compare:
-        _progress(f"running {name} for the comparison figures")
-        other = run(make(name)[0])
-        check_steps(other)
-        others.append(other)
-    extra = _postprocess(result, requests, not args.no_figures)
+    if done.fatigue is not None:
+        print(format_report(done.fatigue))
+    if stress is not None:
+        _progress("evaluating the stresses")
     if not args.no_figures or not args.no_vtk:
         _progress("writing figures and files")
-    out = write_results(
-        result, args.out, figures=not args.no_figures, vtk=not args.no_vtk,
-        overwrite=args.overwrite, compare=others, steps=args.steps, extra=extra,
+    out = done.write(
+        args.out, overwrite=args.overwrite, steps=args.steps,
+        figures=not args.no_figures, vtk=not args.no_vtk,
     )  # fmt: skip
+    kinds = [k for k, v in (("stress", stress), ("fatigue", fatigue)) if v is not None]
     print(
         f"wrote {out}/ (results.csv, summary.json, units.json"
         f"{', VTK' if not args.no_vtk else ''}{', figures' if not args.no_figures else ''}"
-        f"{''.join(', ' + kind for kind, _ in requests)}) "
+        f"{''.join(', ' + kind for kind in kinds)}) "
         f"in {time.perf_counter() - start:.2f} s; all result checks passed"
     )
     return 0

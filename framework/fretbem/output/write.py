@@ -23,8 +23,11 @@ from pathlib import Path
 import attrs
 import numpy as np
 
+from fretbem.errors import InputError
+from fretbem.fatigue.output import write_fatigue
 from fretbem.output import figures as plot
 from fretbem.output import vtk as vtk_
+from fretbem.stress.run import run_stress_request
 from fretbem.verification.checks import check_steps
 
 from .staging import (  # noqa: F401 - re-exported: the output API of one release
@@ -81,26 +84,71 @@ SUMMARY_KEYS = {
 
 
 # -- writer registry ----------------------------------------------------------------------------
+@attrs.frozen(eq=False)
+class WriteContext:
+    """What the writers of one run read: the result and what was computed beside it.
+
+    Attributes
+    ----------
+    result : SimulationResult
+    checks : list of dict, optional
+        The result checks' records (summary.json).
+    compare : tuple of SimulationResult
+        Further results drawn in the figures.
+    steps : sequence of str, optional
+        The steps the figures draw.
+    stress : StressRequest, optional
+        A ``[stress]`` request, evaluated by the "stress" writer.
+    fatigue : FatigueReport, optional
+        A fatigue assessment, written by the "fatigue" writer.
+    writers : tuple of str
+        The names of every writer of this run (a writer may add figures only when
+        "figures" is among them).
+    """
+
+    result: object
+    checks: Sequence[dict] | None = None
+    compare: tuple = ()
+    steps: Sequence[str] | None = None
+    stress: object = None
+    fatigue: object = None
+    writers: tuple[str, ...] = ()
+
+
 @attrs.frozen
 class Writer:
-    """A named writer: ``write(result, directory, **options) -> list[Path]``."""
+    """A named output: ``write(context, directory)`` (or ``write(result, directory)`` for a
+    writer registered with ``context=False``), run into the run's staging directory.
+
+    ``default`` writers run unless ``writers=`` names others; ``needs`` ("stress",
+    "fatigue") makes a default writer run only when the run carries that result.
+    """
 
     name: str
     write: Callable
     default: bool = True
+    context: bool = True
+    needs: str = ""
+
+    def __call__(self, context: WriteContext, directory: Path):
+        if self.context:
+            return self.write(context, directory)
+        return self.write(context.result, directory)
 
 
 WRITERS: dict[str, Writer] = {}
 
 
-def register_writer(name: str, write: Callable, *, default: bool = True) -> Writer:
-    """Add a writer (e.g. stresses, fatigue) that ``write_results`` runs into the temp dir."""
-    writer = Writer(name, write, default)
+def register_writer(
+    name: str, write: Callable, *, default: bool = True, context: bool = False, needs: str = ""
+) -> Writer:
+    """Add a writer that ``write_results`` can run (``write(result, directory)`` unless
+    ``context=True``, then ``write(WriteContext, directory)``)."""
+    writer = Writer(name, write, default, context, needs)
     WRITERS[name] = writer
     return writer
 
 
-# -- the CSV and JSON files ---------------------------------------------------------------------
 def csv_cell(value) -> str | float:
     """A CSV cell that spreadsheets read as text, never as a formula (OWASP CSV injection)."""
     if isinstance(value, str) and value[:1] in ("=", "+", "-", "@", "\t", "\r"):
@@ -173,51 +221,106 @@ def write_units(path: Path) -> Path:
     return path
 
 
+# -- the built-in writers -----------------------------------------------------------------------
+def _write_csv(context: WriteContext, directory: Path) -> Path:
+    return write_csv(context.result, directory / "results.csv")
+
+
+def _write_json(context: WriteContext, directory: Path) -> Path:
+    return write_json(context.result, directory / "summary.json", context.checks)
+
+
+def _write_units(context: WriteContext, directory: Path) -> Path:
+    return write_units(directory / "units.json")
+
+
+def _write_figures(context: WriteContext, directory: Path):
+    return plot.save_figures([context.result, *context.compare], directory, steps=context.steps)
+
+
+def _write_vtk(context: WriteContext, directory: Path):
+    return vtk_.save_vtk(context.result, directory)
+
+
+def _write_stress(context: WriteContext, directory: Path):
+    return run_stress_request(context.result, context.stress, directory)
+
+
+def _write_fatigue(context: WriteContext, directory: Path):
+    return write_fatigue(directory, context.fatigue, figures="figures" in context.writers)
+
+
+for _name, _function, _needs in (
+    ("csv", _write_csv, ""),
+    ("json", _write_json, ""),
+    ("units", _write_units, ""),
+    ("figures", _write_figures, ""),
+    ("vtk", _write_vtk, ""),
+    ("stress", _write_stress, "stress"),
+    ("fatigue", _write_fatigue, "fatigue"),
+):
+    register_writer(_name, _function, context=True, needs=_needs)
+
+
+def chosen_writers(
+    names: Sequence[str] | None, context: WriteContext, *, figures=None, vtk=None
+) -> list[Writer]:
+    """The writers to run: ``names`` (each must be registered), else every default writer
+    whose ``needs`` the run carries; the flags ``figures``/``vtk`` = False drop those two."""
+    if names is None:
+        chosen = [w for w in WRITERS.values() if w.default and (
+            not w.needs or getattr(context, w.needs) is not None)]  # fmt: skip
+    else:
+        unknown = [n for n in names if n not in WRITERS]
+        if unknown:
+            raise InputError(
+                f"no output writer {unknown[0]!r}; the registered writers are {sorted(WRITERS)}"
+            )
+        chosen = [WRITERS[n] for n in dict.fromkeys(names)]
+    dropped = {n for n, flag in (("figures", figures), ("vtk", vtk)) if flag is False}
+    return [w for w in chosen if w.name not in dropped]
+
+
 # -- the directory ------------------------------------------------------------------------------
 def write_results(
     result,
     directory: str | os.PathLike,
     *,
-    figures: bool = True,
-    vtk: bool = True,
+    writers: Sequence[str] | None = None,
     overwrite: bool = False,
     compare: Sequence = (),
     steps: Sequence[str] | None = None,
-    writers: Sequence[str] | None = None,
+    stress=None,
+    fatigue=None,
     check: bool = True,
+    figures: bool | None = None,
+    vtk: bool | None = None,
     extra: Sequence[Callable] = (),
 ) -> Path:
-    """Write results.csv, summary.json, units.json, figures and VTK files into ``directory``.
+    """Write a run into ``directory`` through its writers: the one output mechanism.
 
+    ``writers`` names the registered writers to run (``WRITERS``: csv, json, units, figures,
+    vtk, stress, fatigue, and any registered by a plugin); by default every default writer
+    whose input the run carries (``stress``: a StressRequest, ``fatigue``: a FatigueReport).
+    ``compare`` are further results drawn in the figures; ``steps`` chooses the steps drawn.
     All files go to a temporary directory beside ``directory`` first; it replaces the target
-    whole at the end (old output or new, never a mix). ``compare`` are further results drawn
-    in the figures; ``steps`` chooses the steps drawn; ``writers`` names registered writers
-    to run (default: those registered with ``default=True``); ``extra`` are further
-    callables ``write(directory)`` of this run (stresses, fatigue). Returns the directory.
-    Every result check (:func:`fretbem.verification.checks.check_steps`) runs first and its
-    residuals go
-    to summary.json; a failed check raises its ResultCheckError and writes nothing
-    (``check=False`` skips them, for inspecting a failed run). Raises OutputError (one-line
-    message) when the directory cannot be used or written.
-    """
+    whole at the end (old output or new, never a mix). Returns the directory.
 
+    Every result check (:func:`fretbem.verification.checks.check_steps`) runs first and its
+    residuals go to summary.json; a failed check raises its ResultCheckError and writes
+    nothing (``check=False`` skips them, for inspecting a failed run). Raises OutputError
+    (one-line message) when the directory cannot be used or written. ``figures=False`` and
+    ``vtk=False`` drop those writers, and ``extra`` callables ``write(directory)`` run last
+    (both kept for one release: name the writers instead).
+    """
     target = prepare_output(directory, overwrite=overwrite)
     records = check_steps(result) if check else None  # a failed check writes nothing
-    chosen = [w for w in WRITERS.values() if w.default] if writers is None else []
-    for name in writers or ():
-        if name not in WRITERS:
-            raise OutputError(f"no output writer {name!r}; registered: {sorted(WRITERS)}")
-        chosen.append(WRITERS[name])
+    context = WriteContext(result, records, tuple(compare), steps, stress, fatigue)
+    chosen = chosen_writers(writers, context, figures=figures, vtk=vtk)
+    context = attrs.evolve(context, writers=tuple(w.name for w in chosen))
     with staged_directory(target, overwrite=overwrite) as staging:
-        write_csv(result, staging / "results.csv")
-        write_json(result, staging / "summary.json", records)
-        write_units(staging / "units.json")
-        if figures:
-            plot.save_figures([result, *compare], staging, steps=steps)
-        if vtk:
-            vtk_.save_vtk(result, staging)
         for writer in chosen:
-            writer.write(result, staging)
+            writer(context, staging)
         for write in extra:
             write(staging)
     return target

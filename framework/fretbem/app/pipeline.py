@@ -1,0 +1,135 @@
+"""The public run pipeline: a scene (or a simulation) solved, checked and post-processed.
+
+``run_scene`` is what ``fretbem run`` does before it writes: build the simulation, solve it
+in the scene's accuracy mode (fixed with an estimate, or adaptive), check every step, solve
+the comparison families, and carry out the ``[stress]`` and ``[fatigue]`` requests. The
+returned :class:`RunResult` writes itself through the writers of
+:func:`fretbem.output.write.write_results`. Nothing here prints; ``say`` receives the
+progress lines.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
+
+import attrs
+
+from fretbem.accuracy import modes as accuracy
+from fretbem.errors import InputError
+from fretbem.fatigue import fatigue_request_from_dict, run_fatigue
+from fretbem.fatigue.from_simulation import SimulationStressHistory
+from fretbem.output.write import write_results
+from fretbem.scenes.builder import build
+from fretbem.simulation import run
+from fretbem.stress.request import stress_request_from_dict
+from fretbem.verification.checks import check_steps
+
+__all__ = ["RunResult", "run_scene", "run_simulation"]
+
+
+def _quiet(message: str) -> None:
+    """Progress lines go nowhere unless a caller asks for them."""
+
+
+@attrs.frozen(eq=False)
+class RunResult:
+    """One run: the solved result and what was computed beside it.
+
+    Attributes
+    ----------
+    result : SimulationResult
+        The finest level, with its accuracy record and each step's estimate.
+    reason : str or None
+        Why no closed form applies (None when one does).
+    stress : StressRequest or None
+        The ``[stress]`` request (evaluated when written).
+    fatigue : FatigueReport or None
+        The fatigue assessment of the ``[fatigue]`` request.
+    compare : tuple of SimulationResult
+        The other families' results drawn beside it in the figures.
+    """
+
+    result: object
+    reason: str | None = None
+    stress: object = None
+    fatigue: object = None
+    compare: tuple = ()
+
+    def write(self, out, **options) -> Path:
+        """``write_results`` of this run (options: writers, overwrite, steps, figures, vtk)."""
+        return write_results(
+            self.result, out, compare=self.compare, stress=self.stress, fatigue=self.fatigue,
+            **options,
+        )  # fmt: skip
+
+
+def requests(extras: Mapping | None) -> tuple:
+    """The scene's ``[stress]`` and ``[fatigue]`` requests, parsed before any computation."""
+    extras = extras or {}
+    stress = stress_request_from_dict(extras["stress"]) if "stress" in extras else None
+    fatigue = fatigue_request_from_dict(extras["fatigue"]) if "fatigue" in extras else None
+    return stress, fatigue
+
+
+def run_simulation(
+    simulation,
+    *,
+    mode: accuracy.Accuracy | None = None,
+    extras: Mapping | None = None,
+    reason: str | None = None,
+    companion: Callable[[int], object] | None = None,
+    compare: Sequence = (),
+    progress=None,
+    say: Callable[[str], None] = _quiet,
+) -> RunResult:
+    """Solve ``simulation`` in ``mode``, check it, solve ``compare`` (simulations), and carry
+    out the ``extras``' stress and fatigue requests. Raises the failed check's error."""
+    mode = mode or accuracy.Accuracy()
+    if mode.mesh == "adaptive":
+        blocker = accuracy.adaptive_blocker(simulation)
+        if blocker is not None:
+            raise InputError(blocker)
+        say(f"adaptive mesh: tolerance {100 * mode.tolerance:g} %, at most {mode.budget} pairs")
+    stress, fatigue_request = requests(extras)
+    options = {} if progress is None else {"progress": progress}
+    result = accuracy.solve(simulation, mode, coarse=companion, **options)
+    check_steps(result)  # a failed check ends here: nothing is post-processed or written
+    others = []
+    for other in compare:
+        say("running a comparison family")
+        others.append(run(other))
+        check_steps(others[-1])
+    fatigue = None
+    if fatigue_request is not None:
+        say("fatigue assessment")
+        fatigue = run_fatigue(SimulationStressHistory(result), fatigue_request)
+    return RunResult(result, reason, stress, fatigue, tuple(others))
+
+
+def run_scene(
+    scene,
+    *,
+    mode: accuracy.Accuracy | None = None,
+    compare: Sequence[str] = (),
+    progress=None,
+    say: Callable[[str], None] = _quiet,
+    **contact,
+) -> RunResult:
+    """Run a :class:`~fretbem.scenes.spec.Scene` as ``fretbem run`` does (before writing).
+
+    ``mode`` defaults to the scene's (``[contact] mesh``, tolerance, budget, estimate);
+    ``compare`` names other basis families solved for the figures; ``contact`` overrides
+    ``[contact]`` keys (e.g. ``pairs=121``).
+    """
+    simulation, reason = build(scene, **contact)
+    return run_simulation(
+        simulation,
+        mode=mode or accuracy.mode_of(scene),
+        extras=scene.extras,
+        reason=reason,
+        companion=lambda pairs: build(scene, **{**contact, "pairs": pairs})[0],
+        compare=[build(scene, **{**contact, "basis": name})[0] for name in compare],
+        progress=progress,
+        say=say,
+    )
