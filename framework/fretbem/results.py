@@ -1,20 +1,28 @@
-"""Per-step results of a contact simulation, their errors against theory, and their files."""
+"""Per-step results of a contact simulation (read-only arrays) and the run's result.
+
+The errors against theory are computed by :mod:`fretbem.verification.errors`."""
 
 from __future__ import annotations
-
-import math
 
 import attrs
 import numpy as np
 
 from fretbem.contact.law import STATE_NAMES
 from fretbem.contact.unknowns import PairUnknowns, UnknownLayout
+from fretbem.verification.errors import ERROR_KEYS, errors_against_theory
 
 
-def _l2(values: np.ndarray, x: np.ndarray) -> float:
-    """Root mean square over the zone, trapezoidal in x."""
-    width = x[-1] - x[0]
-    return float(np.sqrt(np.trapezoid(values**2, x) / width)) if width > 0 else math.nan
+def _frozen(values) -> np.ndarray:
+    """A read-only copy: a result reports what was computed, and cannot be edited in place."""
+    out = np.array(values, dtype=float)
+    out.setflags(write=False)
+    return out
+
+
+def _frozen_states(values) -> np.ndarray:
+    out = np.array(values)
+    out.setflags(write=False)
+    return out
 
 
 @attrs.frozen(eq=False)
@@ -56,16 +64,16 @@ class StepResult:
     name: str
     normal: float
     tangential: float
-    x: np.ndarray
-    pressure: np.ndarray
-    shear: np.ndarray
-    normal_displacement: np.ndarray
-    tangential_displacement: np.ndarray
-    states: np.ndarray
+    x: np.ndarray = attrs.field(converter=_frozen)
+    pressure: np.ndarray = attrs.field(converter=_frozen)
+    shear: np.ndarray = attrs.field(converter=_frozen)
+    normal_displacement: np.ndarray = attrs.field(converter=_frozen)
+    tangential_displacement: np.ndarray = attrs.field(converter=_frozen)
+    states: np.ndarray = attrs.field(converter=_frozen_states)
     iterations: int
     residuals: tuple[float, ...]
     seconds: float
-    unknowns: np.ndarray
+    unknowns: np.ndarray = attrs.field(converter=_frozen)
     resultant: tuple[float, float]
     errors: dict | None
     exact: tuple[np.ndarray, np.ndarray] | None
@@ -89,19 +97,8 @@ class StepResult:
         normal, tangent = simulation.frame()
         resultant = (float(-force @ normal), float(force @ tangent))
         errors, exact = None, None
-        reference = simulation.reference
-        if reference is not None:
-            p_exact = reference.hertz.pressure(x)
-            q_exact = reference.shear_traction(x, np.asarray(history))
-            p0 = reference.hertz.peak_pressure
-            fp0 = reference.friction * p0
-            errors = {
-                "e_p_max": float(np.max(np.abs(p - p_exact)) / p0),
-                "e_q_max": float(np.max(np.abs(q - q_exact)) / fp0),
-                "e_p_l2": _l2(p - p_exact, x) / p0,
-                "e_q_l2": _l2(q - q_exact, x) / fp0,
-            }
-            exact = (p_exact, q_exact)
+        if simulation.reference is not None:
+            errors, exact = errors_against_theory(simulation.reference, x, p, q, history)
         return cls(
             name=load.name,
             normal=load.normal,
@@ -128,7 +125,6 @@ class StepResult:
         return int(np.sum(self.states == STATE_NAMES.index(state)))
 
 
-ERROR_KEYS = ("e_p_max", "e_q_max", "e_p_l2", "e_q_l2")
 #: summary.json key of each estimate, beside the error key it estimates
 ESTIMATE_KEYS = {k: "est" + k[1:] for k in ERROR_KEYS}
 

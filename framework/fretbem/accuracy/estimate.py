@@ -10,12 +10,11 @@ level's points (that level's own error) carried by the pair ratio to the finer l
 
 from __future__ import annotations
 
-import math
-
 import attrs
 import numpy as np
 
 from fretbem.errors import InputError
+from fretbem.verification.errors import l2
 
 #: assumed rate of the error in the number of contact pairs for the Richardson factor of
 #: :func:`estimate_errors` compared at the fine level's points (the fixed mode's default)
@@ -129,11 +128,6 @@ def positions(result) -> np.ndarray:
     return points @ tangents[0]
 
 
-def _l2(values: np.ndarray, x: np.ndarray) -> float:
-    width = x[-1] - x[0]
-    return float(np.sqrt(np.trapezoid(values**2, x) / width)) if width > 0 else math.nan
-
-
 def scales(result) -> tuple[float, float]:
     """Normalising tractions (p0, f p0): the reference's, else the peak pressure of the run."""
     reference = result.simulation.reference
@@ -171,8 +165,8 @@ def difference(coarse, fine, *, at: str = "fine") -> list[dict[str, float]]:
             {
                 "p_max": float(dp.max() / p0),
                 "q_max": float(dq.max() / fp0),
-                "p_l2": _l2(dp, x[order]) / p0,
-                "q_l2": _l2(dq, x[order]) / fp0,
+                "p_l2": l2(dp, x[order]) / p0,
+                "q_l2": l2(dq, x[order]) / fp0,
             }
         )
     return out

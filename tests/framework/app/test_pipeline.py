@@ -13,6 +13,7 @@ from fretbem.app import cli
 from fretbem.errors import InputError
 from fretbem.output.write import WRITERS, write_results
 from fretbem.scenes.file import load_scene
+from fretbem.scenes.reference import cattaneo_mindlin
 
 EXAMPLES = Path(__file__).resolve().parents[3] / "examples"
 
@@ -52,3 +53,14 @@ def test_writers_choose_the_files(tmp_path):
     rows = np.genfromtxt(out / "results.csv", delimiter=",", names=True, dtype=None,
                          encoding="utf-8")  # fmt: skip
     assert np.allclose(rows["p"][rows["step"] == "B"], done.result["B"].pressure)
+
+
+def test_result_arrays_cannot_be_edited_in_place():
+    """A result reports what was computed: editing it in place (which once wrote a doubled
+    pressure beside a summary whose check had passed) raises instead."""
+    result = fretbem.run(cattaneo_mindlin(pairs=21))
+    step = result.steps[1]
+    for name in ("x", "pressure", "shear", "normal_displacement", "tangential_displacement",
+                 "states", "unknowns"):  # fmt: skip
+        with pytest.raises(ValueError, match="read-only"):
+            getattr(step, name)[:] *= 2
