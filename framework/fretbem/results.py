@@ -25,6 +25,97 @@ def _frozen_states(values) -> np.ndarray:
     return out
 
 
+class _Mapping:
+    """Read access by key (``record["levels"]``, ``.get``, ``in``) for one release: these
+    records were string-keyed dicts."""
+
+    def as_dict(self) -> dict:
+        raise NotImplementedError
+
+    def __getitem__(self, key: str):
+        data = self.as_dict()
+        if key not in data:
+            raise KeyError(key)
+        return data[key]
+
+    def get(self, key: str, default=None):
+        return self.as_dict().get(key, default)
+
+    def __contains__(self, key: str) -> bool:
+        return key in self.as_dict()
+
+    def keys(self):
+        return self.as_dict().keys()
+
+    def __iter__(self):
+        return iter(self.as_dict())
+
+
+@attrs.frozen
+class Estimate(_Mapping):
+    """Estimated discretisation error of one step, fractions of p0 and f p0 (the keys of
+    the errors against theory: e_p_max, e_q_max, e_p_l2, e_q_l2)."""
+
+    e_p_max: float
+    e_q_max: float
+    e_p_l2: float
+    e_q_l2: float
+
+    @classmethod
+    def of(cls, values) -> Estimate:
+        """From a mapping with the four keys."""
+        return cls(**{k: float(values[k]) for k in ERROR_KEYS})
+
+    def as_dict(self) -> dict:
+        return {k: getattr(self, k) for k in ERROR_KEYS}
+
+
+@attrs.frozen
+class AccuracyRecord(_Mapping):
+    """How a run's accuracy was obtained (summary.json's ``accuracy``).
+
+    Attributes
+    ----------
+    mesh : str
+        "fixed" or "adaptive".
+    levels : tuple of int
+        Pairs of every level solved; the last is the result.
+    seconds : float or None
+        Time of all levels.
+    estimate_reason : str or None
+        Why there is no estimate (None when there is one).
+    rate, factor : float or None
+        The fixed mode's assumed convergence rate and its Richardson factor.
+    tolerance, budget, transitions : optional
+        The adaptive mode's settings and the transitions it found.
+    caution : str or None
+        A warning that the result lies outside what was verified.
+    """
+
+    mesh: str
+    levels: tuple = attrs.field(converter=lambda v: tuple(int(n) for n in v))
+    seconds: float | None = None
+    estimate_reason: str | None = None
+    rate: float | None = None
+    factor: float | None = None
+    tolerance: float | None = None
+    budget: int | None = None
+    transitions: object = None
+    caution: str | None = None
+
+    def as_dict(self) -> dict:
+        """The summary.json table: optional entries only where they apply."""
+        out = {"mesh": self.mesh, "levels": list(self.levels)}
+        for name in ("seconds", "tolerance", "budget", "transitions"):
+            if getattr(self, name) is not None:
+                out[name] = getattr(self, name)
+        out["estimate_reason"] = self.estimate_reason
+        for name in ("rate", "factor", "caution"):
+            if getattr(self, name) is not None:
+                out[name] = getattr(self, name)
+        return out
+
+
 @attrs.frozen(eq=False)
 class StepResult:
     """Everything reported for one load step.
@@ -80,7 +171,7 @@ class StepResult:
     layout: UnknownLayout | None = None
     loads: dict = attrs.field(factory=dict)
     checks: dict | None = None
-    estimate: dict | None = None
+    estimate: Estimate | None = None
 
     @property
     def pair_unknowns(self) -> PairUnknowns:
@@ -140,7 +231,7 @@ class SimulationResult:
     simulation: object
     steps: tuple[StepResult, ...]
     timings: dict[str, float]
-    accuracy: dict | None = None
+    accuracy: AccuracyRecord | None = None
 
     def __getitem__(self, name: str) -> StepResult:
         for step in self.steps:
@@ -234,7 +325,7 @@ class SimulationResult:
                     "seconds": s.seconds,
                 }
             )
-        accuracy = dict(self.accuracy) if self.accuracy is not None else {
+        accuracy = self.accuracy.as_dict() if self.accuracy is not None else {
             "mesh": "fixed", "levels": [int(self.steps[0].x.size)],
             "estimate_reason": "one level solved (fretbem.accuracy.modes.solve adds the estimate)",
         }  # fmt: skip

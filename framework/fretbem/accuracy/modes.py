@@ -27,6 +27,7 @@ from fretbem.accuracy.adaptive import (
     run_adaptive,
 )
 from fretbem.errors import InputError
+from fretbem.results import AccuracyRecord, Estimate
 from fretbem.scenes.builder import build
 from fretbem.simulation import run
 
@@ -162,8 +163,8 @@ def _attach(result, estimated: dict | None, accuracy: dict):
     """The result with each step's estimate and the run's accuracy record."""
     steps = result.steps
     if estimated is not None:
-        steps = tuple(attrs.evolve(s, estimate=dict(estimated[s.name])) for s in steps)
-    return attrs.evolve(result, steps=steps, accuracy=accuracy)
+        steps = tuple(attrs.evolve(s, estimate=Estimate.of(estimated[s.name])) for s in steps)
+    return attrs.evolve(result, steps=steps, accuracy=AccuracyRecord(**accuracy))
 
 
 def _fixed(simulation, mode: Accuracy, coarse, run_kwargs) -> object:

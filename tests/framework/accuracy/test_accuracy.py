@@ -121,8 +121,8 @@ def test_fixed_mode_keeps_the_unknowns_and_adds_the_estimate():
     result = accuracy.solve(cattaneo_mindlin(pairs=41))
     for a, b in zip(plain.steps, result.steps, strict=True):
         assert np.array_equal(a.unknowns, b.unknowns) and a.iterations == b.iterations
-        assert set(b.estimate) == set(KEYS)
-    assert result.accuracy["levels"] == [21, 41] and result.accuracy["estimate_reason"] is None
+        assert set(b.estimate.as_dict()) == set(KEYS)
+    assert result.accuracy.levels == (21, 41) and result.accuracy.estimate_reason is None
     assert plain.steps[1].estimate is None and "no estimate: one level" in plain.table()
 
 
