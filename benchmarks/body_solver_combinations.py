@@ -21,7 +21,6 @@ import platform
 import statistics
 import time
 
-from fretbem.halfplane.scene import MODEL, half_plane_model
 from fretbem.scenes import reference as scenes
 from fretbem.simulation import Simulation, run
 from fretbem.solvers import LemkeSolver
@@ -35,7 +34,6 @@ MODELS = {
 SOLVERS = {"Newton": SemiSmoothNewton, "Lemke": LemkeSolver}
 
 # the half-plane through the scene factory's body-model hook (kept if already registered)
-scenes.BODY_MODELS.setdefault(MODEL, half_plane_model)
 
 
 def _cycle(pairs: int, models: dict, solver) -> tuple[float, float, object]:

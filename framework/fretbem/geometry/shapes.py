@@ -297,9 +297,23 @@ class NurbsShape:
         return None
 
     def face(self, zone: float | None = None) -> list[Segment]:
-        """The segments as given (a pad's face)."""
-        return list(self.segments)
+        """A pad's face: the segments tagged ``flank_left``, ``contact`` or ``flank_right``,
+        in their order (a library specimen facing it mirrors these)."""
+        face = [s for s in self.segments if s.tag in ("flank_left", "contact", "flank_right")]
+        if not any(s.tag == "contact" for s in face):
+            raise ShapeError(
+                f"a 'nurbs' body needs a segment tagged 'contact' (the face that touches); its "
+                f"tags are {sorted({s.tag for s in self.segments})}: tag the contact segment"
+            )
+        return face
+
+    @property
+    def width(self) -> float:
+        """Extent in x of the given segments (the flanks are graded over it)."""
+        x = np.concatenate([s.curve.points(np.linspace(0.0, 1.0, 33))[:, 0] for s in self.segments])
+        return float(x.max() - x.min())
 
     def boundary(self, *args) -> Boundary:
-        """The closed boundary of the given segments."""
+        """The closed boundary of the given segments (with a 'contact' segment)."""
+        self.face()
         return Boundary(self.segments)

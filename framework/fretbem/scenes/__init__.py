@@ -1,26 +1,9 @@
-"""Scenes: the scene-file record, its reader and legacy translation, the builder,
-the reference scene.
+"""Scenes: the scene record, its file reader and round-1 translation, the one builder, the
+body models a scene names, and the reference scene.
 
 The names of :mod:`.reference` are re-exported here.
 """
 
+from .reference import REFERENCE_STEPS, CattaneoMindlinScene, cattaneo_mindlin
 
-from .reference import (
-    FACE_TAGS,
-    REFERENCE_STEPS,
-    CattaneoMindlinScene,
-    body_model,
-    cattaneo_mindlin,
-    lower_boundary,
-    upper_boundary,
-)
-
-__all__ = [
-    "FACE_TAGS",
-    "REFERENCE_STEPS",
-    "CattaneoMindlinScene",
-    "body_model",
-    "cattaneo_mindlin",
-    "lower_boundary",
-    "upper_boundary",
-]
+__all__ = ["REFERENCE_STEPS", "CattaneoMindlinScene", "cattaneo_mindlin"]

@@ -1,36 +1,28 @@
-"""Scene factories: the reference Cattaneo-Mindlin fretting cycle (docs/theory.md).
+"""The reference Cattaneo-Mindlin fretting cycle (docs/theory.md) as a Scene record.
 
-Each body's face is split into three segments: a candidate contact zone of half-width
-``zone`` x (Hertz half-width) holding exactly ``pairs`` collocation points, and two flanks
-graded away from it; sides, top and bottom are coarse.
+:class:`CattaneoMindlinScene` names the reference scene's parameters;
+:func:`cattaneo_mindlin` turns them into the general :class:`~fretbem.scenes.spec.Scene`
+(the record examples/cattaneo_mindlin.toml reads to) and builds it with the one scene
+builder, :func:`fretbem.scenes.builder.build`, like any scene file.
 """
 
 from __future__ import annotations
 
-import itertools
 import math
 from collections.abc import Mapping, Sequence
 
 import attrs
-import numpy as np
 
-from fretbem import registry as bases
-from fretbem.basis import Basis, Refinement
-from fretbem.bem.body import BemBody
-from fretbem.body import Body
-from fretbem.conditions import Condition, Displacement, LoadingBlock
-from fretbem.contact.law import CoulombFriction
-from fretbem.contact.pairs import NodeToNodePair
-from fretbem.geometry.boundary import Boundary, Segment
-from fretbem.geometry.nurbs import NurbsCurve
-from fretbem.halfplane.scene import half_plane_model
+from fretbem.basis import Basis
+from fretbem.geometry.shapes import CylinderPad, CylinderSpecimen, FlatSpecimen
 from fretbem.material import Material
-from fretbem.simulation import LoadStep, Simulation
-from fretbem.solvers.newton import SemiSmoothNewton, Solver
+from fretbem.simulation import Simulation
+from fretbem.solvers.newton import Solver
 from fretbem.validators import count, finite, non_negative, poisson, positive
 from fretbem.verification.closed_forms import HertzLineContact, MindlinDeresiewicz, dundurs_beta
 
-from .builder import CORNER_RATIO, grading_ratio, zone_elements
+from .builder import build, zone_elements
+from .spec import BodySpec, ContactSpec, LoadSpec, MeshSpec, Scene
 
 REFERENCE_STEPS = ("A", "B", "C", "D", "E")
 
@@ -64,7 +56,8 @@ class CattaneoMindlinScene:
     flank_elements, side_elements, top_elements : int
         Elements on each flank, side and top/bottom.
     models : mapping of "upper"/"lower" to str
-        Body model per body: "bem" (default) or a name registered in ``BODY_MODELS``.
+        Body model per body ("upper", "lower"): "bem" (default) or any name of the
+        ``fretbem.bodies`` plugin group (``fretbem plugins``).
     """
 
     basis: str | type[Basis] = "nurbs"
@@ -121,78 +114,27 @@ class CattaneoMindlinScene:
         """Elements on the zone segment giving exactly ``pairs`` collocation points."""
         return zone_elements(family, self.pairs, self.degree)
 
-
-def _arcs(center_y: float, radius: float, angles: Sequence[float]) -> list[NurbsCurve]:
-    center = np.array([0.0, center_y])
-    return [NurbsCurve.arc(center, radius, a0, a1) for a0, a1 in itertools.pairwise(angles)]
-
-
-FACE_TAGS = ("flank_left", "contact", "flank_right")
-
-
-def upper_boundary(radius: float, half_width: float, height: float, zone: float) -> Boundary:
-    """The pad: arc face (lowest point at the origin) split at +-zone, sides, top at y = h."""
-    phi_w, phi_z = math.asin(half_width / radius), math.asin(zone / radius)
-    down = -math.pi / 2
-    face = _arcs(radius, radius, [down - phi_w, down - phi_z, down + phi_z, down + phi_w])
-    left, right = face[0].points([0.0])[0], face[-1].points([1.0])[0]
-    return Boundary(
-        [Segment(tag, c) for tag, c in zip(FACE_TAGS, face, strict=True)]
-        + [
-            Segment("side_right", NurbsCurve.line(right, [half_width, height])),
-            Segment("top", NurbsCurve.line([half_width, height], [-half_width, height])),
-            Segment("side_left", NurbsCurve.line([-half_width, height], left)),
-        ]
-    )
-
-
-def lower_boundary(
-    radius: float, half_width: float, height: float, zone: float, flat: bool = False
-) -> Boundary:
-    """The specimen: mirror image of the pad about y = 0, or with a flat face (same x(xi))."""
-    phi_w, phi_z = math.asin(half_width / radius), math.asin(zone / radius)
-    up = math.pi / 2
-    face = _arcs(-radius, radius, [up - phi_w, up - phi_z, up + phi_z, up + phi_w])
-    if flat:
-        face = [c.flattened(0.0) for c in face]
-    right, left = face[0].points([0.0])[0], face[-1].points([1.0])[0]
-    tags = FACE_TAGS[::-1]  # the top face runs right to left
-    return Boundary(
-        [
-            Segment("bottom", NurbsCurve.line([-half_width, -height], [half_width, -height])),
-            Segment("side_right", NurbsCurve.line([half_width, -height], right)),
-        ]
-        + [Segment(tag, c) for tag, c in zip(tags, face, strict=True)]
-        + [Segment("side_left", NurbsCurve.line(left, [-half_width, -height]))]
-    )
-
-
-def _refinements(scene: CattaneoMindlinScene, family: type[Basis], upper: bool) -> dict:
-    """Zone uniform; flanks graded toward the zone; sides, top and bottom toward corners.
-
-    The loaded/fixed edge meets the free sides at corners where the traction is singular;
-    grading toward them keeps each body's equilibrium error near 0.01 % of the load.
-    """
-    zone = scene.zone * scene.hertz().half_width
-    zone_elements = scene.zone_elements(family)
-    zone_size = 2 * zone / zone_elements
-    flank = grading_ratio(scene.width / 2 - zone, scene.flank_elements, 2 * zone_size)
-    # parameter end of each flank nearest the zone (the lower face runs right to left)
-    near_zone = {"flank_left": 1.0, "flank_right": 0.0}
-    if not upper:
-        near_zone = {tag: 1.0 - end for tag, end in near_zone.items()}
-    coarse = Refinement.graded(scene.top_elements, (0.0, 1.0), CORNER_RATIO, degree=scene.degree)
-    levels = {
-        "contact": Refinement(elements=zone_elements, degree=scene.degree),
-        "top" if upper else "bottom": coarse,
-        "side_left": Refinement.graded(
-            scene.side_elements, (0.0, 1.0), CORNER_RATIO, degree=scene.degree
-        ),
-    }
-    levels["side_right"] = levels["side_left"]
-    for tag, end in near_zone.items():
-        levels[tag] = Refinement.graded(scene.flank_elements, end, flank, degree=scene.degree)
-    return levels
+    def to_scene(self) -> Scene:
+        """The same scene as the general :class:`~fretbem.scenes.spec.Scene` record (what
+        examples/cattaneo_mindlin.toml reads to), which the one scene builder builds."""
+        n = len(self.names)
+        models = dict(self.models)
+        shape = (
+            CylinderSpecimen(self.radius, self.width, self.height)
+            if self.lower == "arc"
+            else FlatSpecimen(self.width, self.height)
+        )
+        return Scene(
+            pad=BodySpec(CylinderPad(self.radius, self.width, self.height),
+                         Material(self.E_upper, self.nu_upper), models.get("upper", "bem")),
+            specimen=BodySpec(shape, Material(self.E_lower, self.nu_lower),
+                              models.get("lower", "bem"), support="clamped-bottom"),
+            contact=ContactSpec(friction=self.friction, basis=self.basis, degree=self.degree,
+                                pairs=self.pairs, zone=self.zone),
+            mesh=MeshSpec(self.flank_elements, self.side_elements, self.top_elements),
+            load=LoadSpec(tuple(self.names), (self.normal,) * n, tuple(self.tangential),
+                          (0.0,) * n, (self.increments,) * n),
+        )  # fmt: skip
 
 
 def cattaneo_mindlin(
@@ -204,89 +146,14 @@ def cattaneo_mindlin(
     models come from ``scene.models`` (see :func:`body_model`).
     """
     scene = attrs.evolve(scene or CattaneoMindlinScene(), **overrides)
-    family = bases.get(scene.basis)
     zone = scene.zone * scene.hertz().half_width
     if not 0 < zone < scene.width / 2:
         raise ValueError(
             f"the candidate zone half-width {zone:.4g} mm must lie inside the face (half-width "
             f"{scene.width / 2:g} mm); lower 'zone' or widen the bodies"
         )
-    w2, h, radius = scene.width / 2, scene.height, scene.radius
-    upper = body_model(
-        "upper",
-        scene=scene,
-        boundary=upper_boundary(radius, w2, h, zone),
-        material=Material(scene.E_upper, scene.nu_upper),
-        conditions=[LoadingBlock("top", (0.0, -scene.normal))],
-        family=family,
-        refinement=_refinements(scene, family, upper=True),
-    )
-    lower = body_model(
-        "lower",
-        scene=scene,
-        boundary=lower_boundary(radius, w2, h, zone, flat=scene.lower == "flat"),
-        material=Material(scene.E_lower, scene.nu_lower),
-        conditions=[Displacement("bottom")],
-        family=family,
-        refinement=_refinements(scene, family, upper=False),
-    )
-    steps = tuple(
-        LoadStep(name, scene.normal, q, scene.increments)
-        for name, q in zip(scene.names, scene.tangential, strict=True)
-    )
-    return Simulation(
-        NodeToNodePair(upper, lower),
-        steps,
-        solver or SemiSmoothNewton(),
-        law=CoulombFriction(scene.friction),
-        reference=scene.reference(),
-        name="cattaneo-mindlin",
-    )
-
-
-def _half_plane(label: str, **description) -> Body:
-    """The half-plane model (imported on first use)."""
-
-    return half_plane_model(label, **description)
-
-
-#: body models a scene can choose per body: name -> factory (see :func:`body_model`)
-BODY_MODELS: dict = {"half-plane": _half_plane}
-
-
-def body_model(
-    label: str,
-    *,
-    scene: CattaneoMindlinScene,
-    boundary: Boundary,
-    material: Material,
-    conditions: Sequence[Condition],
-    family: type[Basis],
-    refinement: dict,
-) -> Body:
-    """The body ``label`` ("upper" or "lower") in the model the scene chooses for it.
-
-    ``scene.models[label]`` names the model: "bem" (the default, :class:`BemBody`) or a
-    model registered in :data:`BODY_MODELS` (a factory taking the same keywords).
-    """
-    model = dict(scene.models).get(label, "bem")
-    if model == "bem":
-        return BemBody(
-            boundary, material, conditions, basis=family, refinement=refinement, name=label
-        )
-    try:
-        factory = BODY_MODELS[model]
-    except KeyError:
-        raise ValueError(
-            f"unknown body model {model!r} for the {label} body; choose 'bem' or one of "
-            f"{sorted(BODY_MODELS)}"
-        ) from None
-    return factory(
-        label,
-        scene=scene,
-        boundary=boundary,
-        material=material,
-        conditions=conditions,
-        family=family,
-        refinement=refinement,
-    )
+    simulation, _ = build(scene.to_scene())
+    changes = {"name": "cattaneo-mindlin"}
+    if solver is not None:
+        changes["solver"] = solver
+    return attrs.evolve(simulation, **changes)

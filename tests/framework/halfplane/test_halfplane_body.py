@@ -13,7 +13,7 @@ from fretbem.contact.law import CoulombFriction
 from fretbem.contact.pairs import NodeToNodePair
 from fretbem.geometry.nurbs import NurbsCurve
 from fretbem.halfplane import FlamantCompliance, HalfPlaneBody
-from fretbem.halfplane.scene import MODEL, half_plane_model
+from fretbem.halfplane.scene import half_plane_model
 from fretbem.material import Material
 from fretbem.scenes import reference as scenes
 from fretbem.simulation import LoadStep, Simulation, run
@@ -24,7 +24,6 @@ MATERIAL = Material(73400.0, 0.33)
 HALF_PLANES = {"upper": "half-plane", "lower": "half-plane"}
 
 # the half-plane through the scene factory's body-model hook (kept if already registered)
-scenes.BODY_MODELS.setdefault(MODEL, half_plane_model)
 
 
 def _errors(result) -> dict[str, float]:

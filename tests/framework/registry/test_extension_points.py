@@ -209,9 +209,9 @@ def test_history_drives_a_named_load():
         return attrs.evolve(sim, pair=type(sim.pair)(sim.pair.upper, lower), steps=steps)
 
     sigma = 3.0
-    rollers = [Displacement("bottom", x=None, y=0.0), Displacement("side_left", y=None)]
-    fixed = scene([*rollers, Traction("side_right", x=sigma, y=0.0)])
-    bulk = [*rollers, Traction("side_right", x=1.0, y=0.0, load="bulk")]
+    rollers = [Displacement("bottom", x=None, y=0.0), Displacement("end_left", y=None)]
+    fixed = scene([*rollers, Traction("end_right", x=sigma, y=0.0)])
+    bulk = [*rollers, Traction("end_right", x=1.0, y=0.0, load="bulk")]
     loaded = scene(bulk, [LoadStep("A", 100.0, 0.0, loads={"bulk": sigma})])
     a, b = run(fixed)["A"], run(loaded)["A"]
     p0 = np.max(a.pressure)

@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 
 from fretbem.contact.law import ContactLaw, CoulombFriction
-from fretbem.halfplane.scene import MODEL, half_plane_model
 from fretbem.scenes import reference as scenes
 from fretbem.simulation import Simulation, run
 from fretbem.solvers import LemkeSolver, PivotingError, UnsupportedLawError
@@ -18,7 +17,6 @@ from fretbem.solvers.newton import SemiSmoothNewton, SolverSettingsError
 AGREEMENT = 1e-8
 
 # the half-plane through the scene factory's body-model hook (kept if already registered)
-scenes.BODY_MODELS.setdefault(MODEL, half_plane_model)
 
 
 @functools.cache
