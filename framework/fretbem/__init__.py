@@ -37,8 +37,8 @@ _EXPORTS = {
     "LoadStep": "simulation",
     "Simulation": "simulation",
     "run": "simulation",
-    "run_scene": "app.pipeline",
-    "RunResult": "app.pipeline",
+    "run_scene": "pipeline",
+    "RunResult": "pipeline",
 }
 
 __all__ = ["__version__", *_EXPORTS]

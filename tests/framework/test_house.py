@@ -29,6 +29,7 @@ LAYERS = (
     ("stress",),
     ("fatigue",),
     ("output",),
+    ("pipeline",),
     ("studies",),
     ("app",),
     ("testing",),

@@ -13,10 +13,10 @@ from pathlib import Path
 
 import attrs
 
+from fretbem import pipeline
 from fretbem import registry as bases
 from fretbem.accuracy import modes as accuracy
 from fretbem.accuracy.modes import Accuracy, mode_of
-from fretbem.app import pipeline
 from fretbem.bem.resources import check_resources
 from fretbem.contact.zones import zone_table
 from fretbem.errors import FretbemError, InputError, ResultCheckError
