@@ -23,6 +23,7 @@ from pathlib import Path
 import attrs
 import numpy as np
 
+from fretbem.contact.law import STATE_NAMES
 from fretbem.errors import InputError
 from fretbem.fatigue.output import write_fatigue
 from fretbem.output import figures as plot
@@ -41,8 +42,6 @@ from .staging import (  # noqa: F401 - re-exported: the output API of one releas
     prepare_output,
     staged_directory,
 )
-
-STATE_NAMES = ("separated", "stick", "slip")
 
 #: units and sign conventions of every results.csv column (written to units.json and the docs)
 CSV_COLUMNS = {
