@@ -12,6 +12,7 @@ from __future__ import annotations
 import contextlib
 import ctypes
 import ctypes.util
+import glob
 import json
 import os
 import shutil
@@ -189,8 +190,9 @@ def staged_directory(directory: str | os.PathLike, *, overwrite: bool = False) -
     """
     target = prepare_output(directory, overwrite=overwrite)
     with output_lock(target):
-        for stale in (*target.parent.glob(f".{target.name}.tmp-*"),
-                      *target.parent.glob(f".{target.name}.old-*")):  # fmt: skip
+        name = glob.escape(target.name)  # 'r*' or 'results[1]' must not match other runs
+        for stale in (*target.parent.glob(f".{name}.tmp-*"),
+                      *target.parent.glob(f".{name}.old-*")):  # fmt: skip
             shutil.rmtree(stale, ignore_errors=True)  # left by a killed run; we hold the lock
         staging = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-", dir=target.parent))
         try:

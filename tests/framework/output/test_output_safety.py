@@ -229,3 +229,16 @@ def test_staging_left_by_a_killed_run_is_removed(result, tmp_path):
     (tmp_path / ".out.tmp-killed" / "results.csv").write_text("partial")
     write_results(result, tmp_path / "out", figures=False, vtk=False)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+
+
+@pytest.mark.parametrize(("name", "other"), [("results[1]", "results1"), ("r*", "rx"),
+                                             ("a?c", "abc")])  # fmt: skip
+def test_glob_characters_in_out_leave_other_runs_staging_alone(result, tmp_path, name, other):
+    """Reproducer: --out 'results[1]' or 'r*' deleted another run's staging directory in the
+    same folder (the stale-staging cleanup globbed the name unescaped)."""
+    theirs = tmp_path / f".{other}.tmp-abc123"
+    theirs.mkdir()
+    (theirs / "results.csv").write_text("another run's file")
+    write_results(result, tmp_path / name, figures=False, vtk=False)
+    assert (theirs / "results.csv").read_text() == "another run's file"
+    assert (tmp_path / name / "results.csv").exists()
