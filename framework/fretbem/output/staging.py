@@ -54,6 +54,40 @@ def _protected(path: Path) -> bool:
     return path == Path(path.anchor) or path == Path.home().resolve() or path in (cwd, *cwd.parents)
 
 
+def _written_files(directory: Path) -> list[str]:
+    """Every file below ``directory`` (relative, sorted), the marker excepted."""
+    return sorted(
+        p.relative_to(directory).as_posix()
+        for p in directory.rglob("*")
+        if p.is_file() and p.name != MARKER
+    )
+
+
+def _not_replaceable(target: Path) -> str:
+    """Why the non-empty ``target`` is not a fretbem output that may be replaced whole ("" if
+    it is): the marker must name this directory and list every file in it, so a copied
+    marker or a file a user added is never deleted without --overwrite."""
+    marker = target / MARKER
+    if not marker.is_file():
+        return "is not empty and is not a previous fretbem output"
+    try:
+        record = json.loads(marker.read_text())
+    except (OSError, ValueError):
+        return f"has an unreadable {MARKER} file"
+    if not isinstance(record, dict) or "files" not in record or "directory" not in record:
+        return "was written by an older fretbem (its marker lists no files)"
+    if record["directory"] != str(target):
+        return (
+            f"holds a fretbem marker written for {record['directory']} (copied or moved), so its "
+            "files cannot be told from yours"
+        )
+    extra = sorted(set(_written_files(target)) - set(record["files"]))
+    if extra:
+        shown = ", ".join(extra[:3]) + (f" and {len(extra) - 3} more" if len(extra) > 3 else "")
+        return f"holds files fretbem did not write ({shown}); move them out first"
+    return ""
+
+
 def prepare_output(directory: str | os.PathLike, *, overwrite: bool = False) -> Path:
     """Check, before any computation, that ``directory`` may be (re)written; returns its path.
 
@@ -71,11 +105,12 @@ def prepare_output(directory: str | os.PathLike, *, overwrite: bool = False) -> 
             f"refusing to replace {target} (the root, home or working directory, or one of its "
             "parents); choose a new directory for --out"
         )
-    if target.is_dir() and not (target / MARKER).is_file() and any(target.iterdir()):
-        if not overwrite:
+    if target.is_dir() and any(target.iterdir()) and not overwrite:
+        why = _not_replaceable(target)
+        if why:
             raise OutputExistsError(
-                f"output directory {target} is not empty and is not a previous fretbem output; "
-                "choose another --out, empty it, or pass --overwrite to replace it whole"
+                f"output directory {target} {why}; choose another --out, or pass --overwrite to "
+                "replace it whole"
             )
     parent = target.parent
     try:
@@ -155,12 +190,23 @@ def _move_into_place(staging: Path, target: Path) -> None:
         os.rename(staging, target)
         return
     if _exchange(staging, target):
-        shutil.rmtree(staging)  # now holds the old output
+        _remove_previous(staging, target)  # staging now holds the old output
         return
     old = Path(tempfile.mkdtemp(prefix=f".{target.name}.old-", dir=target.parent))
     os.rename(target, old / "previous")  # the old output stays whole until the new one is in
     os.rename(staging, target)
-    shutil.rmtree(old)
+    _remove_previous(old, target)
+
+
+def _remove_previous(previous: Path, target: Path) -> None:
+    """Delete the swapped-out old output; the new one is in place whatever happens here."""
+    try:
+        shutil.rmtree(previous)
+    except OSError as err:
+        raise OutputError(
+            f"the new output is in {target}, but the previous one could not be removed from "
+            f"{previous} ({err.strerror or err}); delete it by hand"
+        ) from None
 
 
 def _umask() -> int:
@@ -197,10 +243,14 @@ def staged_directory(directory: str | os.PathLike, *, overwrite: bool = False) -
         staging = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-", dir=target.parent))
         try:
             os.chmod(staging, 0o777 & ~_umask())  # mkdtemp makes it private (0700)
-            (staging / MARKER).write_text(
-                json.dumps({"fretbem_output": 1, "written": time.strftime("%Y-%m-%dT%H:%M:%S")})
-            )
             yield staging
+            record = {
+                "fretbem_output": 2,
+                "written": time.strftime("%Y-%m-%dT%H:%M:%S"),
+                "directory": str(target),
+                "files": _written_files(staging),
+            }
+            (staging / MARKER).write_text(json.dumps(record, indent=1))
             _move_into_place(staging, target)
         except OSError as err:
             shutil.rmtree(staging, ignore_errors=True)

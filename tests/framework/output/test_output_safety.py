@@ -76,10 +76,34 @@ def test_foreign_non_empty_directory_is_refused_unless_overwrite(result, tmp_pat
 def test_previous_output_is_replaced_whole(result, tmp_path):
     """Reproducer: stale VTK files of an older run stayed beside the new ones."""
     out = write_results(result, tmp_path / "out", figures=False)
-    (out / "vtk" / "OLD_upper.vtp").write_text("stale")
-    write_results(result, out, figures=False)
-    assert "vtk/OLD_upper.vtp" not in _files(out)
-    assert {"results.csv", "summary.json", "vtk/B_upper.vtp"} <= _files(out)
+    assert "vtk/B_upper.vtp" in _files(out)
+    write_results(result, out, figures=False, vtk=False)
+    assert not any(name.startswith("vtk/") for name in _files(out))
+    assert {"results.csv", "summary.json"} <= _files(out)
+
+
+@pytest.mark.parametrize("where", ["notes.txt", "vtk/my_view.pvsm"])
+def test_a_file_the_user_added_is_never_deleted_silently(result, tmp_path, where):
+    """Reproducer: files a user put inside a previous output were deleted on the next run."""
+    out = write_results(result, tmp_path / "out", figures=False)
+    (out / where).write_text("mine")
+    with pytest.raises(OutputExistsError, match=r"holds files fretbem did not write \(" + where):
+        write_results(result, out, figures=False)
+    assert (out / where).read_text() == "mine"
+    write_results(result, out, figures=False, overwrite=True)  # said explicitly: replaced
+    assert not (out / where).exists()
+
+
+def test_a_copied_marker_does_not_make_a_folder_replaceable(result, tmp_path):
+    """Reproducer: copying the marker file into any folder made fretbem replace it."""
+    out = write_results(result, tmp_path / "out", figures=False, vtk=False)
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "thesis.tex").write_text("precious")
+    (mine / ".fretbem-output").write_bytes((out / ".fretbem-output").read_bytes())
+    with pytest.raises(OutputExistsError, match="marker written for"):
+        write_results(result, mine, figures=False, vtk=False)
+    assert (mine / "thesis.tex").read_text() == "precious"
 
 
 @pytest.mark.parametrize(
@@ -216,10 +240,9 @@ def test_docs_list_every_column_with_its_unit():
 def test_replacement_without_atomic_exchange_is_whole(result, tmp_path, monkeypatch):
     """Where renameat2 is missing the old output is renamed aside, then the new one in."""
     monkeypatch.setattr(staging, "_exchange", lambda a, b: False)
-    out = write_results(result, tmp_path / "out", figures=False, vtk=False)
-    (out / "stale.txt").write_text("old")
+    out = write_results(result, tmp_path / "out", figures=False)
     write_results(result, out, figures=False, vtk=False)
-    assert "stale.txt" not in _files(out)
+    assert not any(name.startswith("vtk/") for name in _files(out))
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
 
 
@@ -242,3 +265,19 @@ def test_glob_characters_in_out_leave_other_runs_staging_alone(result, tmp_path,
     write_results(result, tmp_path / name, figures=False, vtk=False)
     assert (theirs / "results.csv").read_text() == "another run's file"
     assert (tmp_path / name / "results.csv").exists()
+
+
+def test_a_failed_removal_of_the_old_output_says_the_new_one_is_in(result, tmp_path, monkeypatch):
+    """Reproducer: when removing the swapped-out old output failed, the message said the old
+    output 'was left as it was' although the new one had replaced it."""
+    out = write_results(result, tmp_path / "out", figures=False, vtk=False)
+
+    def refuse(path, ignore_errors=False, **kwargs):
+        if not ignore_errors:
+            raise PermissionError(13, "Permission denied", str(path))
+
+    monkeypatch.setattr(staging.shutil, "rmtree", refuse)
+    with pytest.raises(OutputError, match=r"the new output is in .*delete it by hand") as info:
+        write_results(result, out, figures=False, vtk=False)
+    assert "left as it was" not in str(info.value)
+    assert (out / "results.csv").exists()
