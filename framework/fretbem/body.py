@@ -231,30 +231,32 @@ class Body(ABC):
         highest boundary crossing of the vertical line for the lower body (``side`` "lower"),
         the lowest for the upper body; +-inf where the line misses the body."""
         x = np.asarray(x, float)
-        best = np.full(x.shape, -np.inf if side == "lower" else np.inf)
+        flat = x.ravel()
+        best = np.full(flat.shape, -np.inf if side == "lower" else np.inf)
         t = np.linspace(0.0, 1.0, 401)
         for basis in self.segments:
             pts = basis.curve.points(t)
-            for k in range(len(t) - 1):
-                x0, x1 = pts[k, 0], pts[k + 1, 0]
-                lo, hi = min(x0, x1), max(x0, x1)
-                hit = (x >= lo) & (x <= hi) & (hi > lo)
-                if not hit.any():
-                    continue
-                # refine the crossing on the exact curve by bisection in the parameter
-                a, b = np.full(hit.sum(), t[k]), np.full(hit.sum(), t[k + 1])
-                target, increasing = x[hit], x1 > x0
-                for _ in range(50):
-                    mid = 0.5 * (a + b)
-                    move = (basis.curve.points(mid)[:, 0] > target) == increasing
-                    b = np.where(move, mid, b)
-                    a = np.where(move, a, mid)
-                y = basis.curve.points(0.5 * (a + b))[:, 1]
-                if side == "lower":
-                    best[hit] = np.maximum(best[hit], y)
-                else:
-                    best[hit] = np.minimum(best[hit], y)
-        return best
+            x0, x1 = pts[:-1, 0], pts[1:, 0]
+            lo, hi = np.minimum(x0, x1), np.maximum(x0, x1)
+            # every (abscissa, chord) crossing at once: one batched bisection per segment
+            hit = (flat[:, None] >= lo) & (flat[:, None] <= hi) & (hi > lo)
+            ix, k = np.nonzero(hit)
+            if ix.size == 0:
+                continue
+            # refine the crossing on the exact curve by bisection in the parameter
+            a, b = t[k], t[k + 1]
+            target, increasing = flat[ix], (x1 > x0)[k]
+            for _ in range(50):
+                mid = 0.5 * (a + b)
+                move = (basis.curve.points(mid)[:, 0] > target) == increasing
+                b = np.where(move, mid, b)
+                a = np.where(move, a, mid)
+            y = basis.curve.points(0.5 * (a + b))[:, 1]
+            if side == "lower":
+                np.maximum.at(best, ix, y)
+            else:
+                np.minimum.at(best, ix, y)
+        return best.reshape(x.shape)
 
     def stress_operator(self, points: np.ndarray, settings: Any = None) -> Any:
         """Stresses at interior ``points`` (m, 2) as an object with ``evaluate(solution)``

@@ -17,12 +17,15 @@ import attrs
 
 from fretbem.errors import ResourceLimitError
 
-#: peak bytes per dofs^2 above the interpreter's own: 8-byte floats x 4 dense arrays. The
+#: peak bytes per dofs^2 above the interpreter's own: two dense 8-byte arrays' worth. The
 #: peak is H, G and the LU of one body with its parameter block, the other body's response
 #: and the condensed maps (H and G are released once a body's contact system is built).
-#: Measured (benchmarks/large_problems.py, peak RSS less 60 MB): 2.7 (2236 DOFs), 2.7 (4156)
-#: and 2.1 (7996) arrays' worth; 4 leaves a margin for the assembly's transients.
-BYTES_PER_DOF2 = 8 * 4
+#: Fitted with BYTES_PER_DOF to the peak RSS of benchmarks/large_problems.py (the growth over
+#: the imports: 174 MiB at 2236 DOFs, 340 at 4156, 1030 at 7996: 16.9 bytes per dofs^2 at
+#: the largest); the estimate is within 0.9-1.15x of those peaks.
+BYTES_PER_DOF2 = 16
+#: bytes per DOF: the assembly's and the steps' transients that grow with the boundary
+BYTES_PER_DOF = 20_000
 #: memory of the interpreter with numpy, scipy and fretbem imported (measured 60 MB)
 BASE_BYTES = 100 * 2**20
 #: seconds per dofs^2 (assembly, condensation, steps) and per dofs^3 (factorisations),
@@ -98,7 +101,7 @@ def estimate_resources(dofs: int, *, available: float | None = math.nan) -> Esti
         available = available_memory()
     return Estimate(
         dofs=int(dofs),
-        memory=BASE_BYTES + BYTES_PER_DOF2 * n * n,
+        memory=BASE_BYTES + BYTES_PER_DOF * n + BYTES_PER_DOF2 * n * n,
         seconds=SECONDS_PER_DOF2 * n * n + SECONDS_PER_DOF3 * n**3,
         available=available,
     )

@@ -242,62 +242,129 @@ def _coarse(stress, criteria, theta, psi, E, nu):
     return best
 
 
-def _evaluate(stress, crit, theta, psi, E, nu):
-    """Quantities on per-point planes theta, psi (P, G): values, secondary, tau_a, q."""
-    coef = projection(theta, psi)  # (3, P, G, 4)
-    q = plane_quantities(stress, coef, E, nu)
-    n_p, n_g = theta.shape
-    if crit.needs_shear:
-        _, _, tau = minimum_circumscribed_circle_xy(q["path_x"], q["path_y"])
-        tau = tau.reshape(n_p, n_g)
+def _plane_stats(stress, theta, psi, E, nu, *, shear: bool, strains: bool) -> dict:
+    """Summaries over the cycle on per-point planes ``theta``, ``psi`` (P, G), in double.
+
+    Elementwise products of the stress components with the plane coefficients (no per-point
+    matrix products) and reductions over the steps; the shear amplitude is exact where its
+    bounds differ (minimum circumscribed circle) and the common bound where they meet (a
+    straight shear path, e.g. every in-plane plane).
+    """
+    c2, s2 = np.cos(2.0 * theta), np.sin(2.0 * theta)
+    sp, cp = np.sin(psi), np.cos(psi)
+    # sigma_ee = A + B cos 2theta + C sin 2theta, tau_e = C cos 2theta - B sin 2theta
+    mean = 0.5 * (stress[:, :, 0, None] + stress[:, :, 1, None])  # (T, P, 1)
+    half = 0.5 * (stress[:, :, 0, None] - stress[:, :, 1, None])
+    sxy, szz = stress[:, :, 2, None], stress[:, :, 3, None]
+    ee = mean + half * c2 + sxy * s2  # (T, P, G)
+    sn = (sp * sp) * ee + (cp * cp) * szz
+    smax, smin = sn.max(axis=0), sn.min(axis=0)
+    out = {"normal_stress_max": smax, "normal_stress_min": smin}
+    if strains:
+        # normal strain from Hooke's law: eps_n = ((1 + nu) sigma_n - nu tr(sigma)) / E
+        en = (1.0 + nu) * sn - nu * (2.0 * mean + szz)
+        out["normal_strain_amplitude"] = 0.5 * (en.max(axis=0) - en.min(axis=0)) / E
+    if shear:
+        n_t, n_p, n_g = sn.shape
+        te = sxy * c2 - half * s2
+        px = ((sp * cp) * (ee - szz)).reshape(n_t, n_p * n_g)
+        py = (sp * te).reshape(n_t, n_p * n_g)
+        tau_lo, tau_hi = circle_bounds_xy(px, py)
+        tau = tau_lo.copy()
+        flat = np.flatnonzero(tau_hi > tau_lo * (1.0 + 1e-12))
+        if flat.size:
+            tau[flat] = minimum_circumscribed_circle_xy(px[:, flat], py[:, flat])[2]
+        out["tau"] = tau.reshape(n_p, n_g)
     else:
-        tau = np.zeros((n_p, n_g))
-    return crit.value(q, tau), crit.secondary(q), tau, q
+        out["tau"] = np.zeros_like(smax)
+    return out
 
 
-def _refine(stress, crit, theta, psi, steps, levels, in_plane_only, E, nu):
-    """Pattern search: move each point's plane to its best neighbour, halving the steps."""
-    values, second, _, _ = _evaluate(stress, crit, theta[:, None], psi[:, None], E, nu)
-    values, second = values[:, 0], None if second is None else second[:, 0]
-    scale = np.maximum(np.abs(values), 1e-300)
+def _columns(q: dict, cols: slice) -> dict:
+    return {key: value[:, cols] for key, value in q.items()}
+
+
+class _SharedPass:
+    """Evaluates the planes of every criterion in one pass: columns per criterion."""
+
+    def __init__(self, stress, criteria, E, nu):
+        self.stress, self.criteria, self.E, self.nu = stress, criteria, E, nu
+        self.shear = any(c.needs_shear for c in criteria)
+        self.strains = any(c.name == "swt" for c in criteria)
+
+    def __call__(self, theta: np.ndarray, psi: np.ndarray, *, strains: bool = False):
+        """Planes (C, P, G) per criterion -> [(values, secondary, tau, q)] per criterion.
+
+        ``strains`` computes the normal strain amplitude even without SWT (the final planes).
+        """
+        n_c, n_p, n_g = theta.shape
+        th = theta.transpose(1, 0, 2).reshape(n_p, n_c * n_g)
+        ps = psi.transpose(1, 0, 2).reshape(n_p, n_c * n_g)
+        q = _plane_stats(
+            self.stress, th, ps, self.E, self.nu, shear=self.shear, strains=self.strains or strains
+        )
+        out = []
+        for i, crit in enumerate(self.criteria):
+            qc = _columns(q, slice(i * n_g, (i + 1) * n_g))
+            tau = qc["tau"] if crit.needs_shear else np.zeros_like(qc["tau"])
+            out.append((crit.value(qc, tau), crit.secondary(qc), tau, qc))
+        return out
+
+
+def _refine(evaluate, criteria, theta, psi, steps, levels, in_plane_only):
+    """Pattern search: move each point's plane to its best neighbour, halving the steps.
+
+    ``theta``, ``psi`` (C, P): the start plane of every criterion; all criteria's candidate
+    planes are evaluated together, one pass per level.
+    """
+    n_p = theta.shape[1]
+    rows = np.arange(n_p)
+    start = evaluate(theta[:, :, None], psi[:, :, None])
+    values = [v[:, 0] for v, _, _, _ in start]
+    second = [None if s is None else s[:, 0] for _, s, _, _ in start]
+    scale = [np.maximum(np.abs(v), 1e-300) for v in values]
     for level in range(levels):
         ht, hp = steps[0] / 2 ** (level + 1), steps[1] / 2 ** (level + 1)
         if in_plane_only:
             offsets = np.array([[-ht, 0.0], [ht, 0.0]])
         else:
             offsets = np.array([[-ht, 0.0], [ht, 0.0], [0.0, -hp], [0.0, hp]])
-        th = theta[:, None] + offsets[None, :, 0]
-        ps = np.clip(psi[:, None] + offsets[None, :, 1], 0.0, np.pi / 2)
-        v, s, _, _ = _evaluate(stress, crit, th, ps, E, nu)
-        j = _argbest(crit, v, s)
-        rows = np.arange(theta.size)
-        vj = v[rows, j]
-        sj = None if s is None else s[rows, j]
-        move = _better(crit, vj, sj, values, second, scale)
-        theta = np.where(move, th[rows, j], theta)
-        psi = np.where(move, ps[rows, j], psi)
-        values = np.where(move, vj, values)
-        if second is not None:
-            second = np.where(move, sj, second)
+        th = theta[:, :, None] + offsets[:, 0]
+        ps = np.clip(psi[:, :, None] + offsets[:, 1], 0.0, np.pi / 2)
+        for i, (crit, (v, s, _, _)) in enumerate(zip(criteria, evaluate(th, ps), strict=True)):
+            j = _argbest(crit, v, s)
+            vj = v[rows, j]
+            sj = None if s is None else s[rows, j]
+            move = _better(crit, vj, sj, values[i], second[i], scale[i])
+            theta[i] = np.where(move, th[i, rows, j], theta[i])
+            psi[i] = np.where(move, ps[i, rows, j], psi[i])
+            values[i] = np.where(move, vj, values[i])
+            if second[i] is not None:
+                second[i] = np.where(move, sj, second[i])
     # one parabolic step per angle through the last level's three values
     ht, hp = steps[0] / 2**levels, steps[1] / 2**levels
     offsets = np.array([[-ht, 0.0], [ht, 0.0]] + ([] if in_plane_only else [[0.0, -hp], [0.0, hp]]))
-    th = theta[:, None] + offsets[None, :, 0]
-    ps = np.clip(psi[:, None] + offsets[None, :, 1], 0.0, np.pi / 2)
-    v, _, _, _ = _evaluate(stress, crit, th, ps, E, nu)
-    shift = []
+    th = theta[:, :, None] + offsets[:, 0]
+    ps = np.clip(psi[:, :, None] + offsets[:, 1], 0.0, np.pi / 2)
+    new_theta, new_psi = theta.copy(), psi.copy()
     pairs = [((0, 1), ht), ((2, 3), hp)][: 1 if in_plane_only else 2]
-    for (lo, hi), h in pairs:
-        curv = v[:, lo] - 2.0 * values + v[:, hi]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            d = np.where(curv < 0, 0.5 * h * (v[:, lo] - v[:, hi]) / curv, 0.0)
-        shift.append(np.clip(np.nan_to_num(d), -h, h))
-    new_theta = theta + shift[0]
-    new_psi = psi if in_plane_only else np.clip(psi + shift[1], 0.0, np.pi / 2)
-    v, s2, _, _ = _evaluate(stress, crit, new_theta[:, None], new_psi[:, None], E, nu)
-    move = _better(crit, v[:, 0], None if s2 is None else s2[:, 0], values, second, scale)
-    theta = np.where(move, new_theta, theta)
-    psi = np.where(move, new_psi, psi)
+    for i, (v, _, _, _) in enumerate(evaluate(th, ps)):
+        shift = []
+        for (lo, hi), h in pairs:
+            curv = v[:, lo] - 2.0 * values[i] + v[:, hi]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                d = np.where(curv < 0, 0.5 * h * (v[:, lo] - v[:, hi]) / curv, 0.0)
+            shift.append(np.clip(np.nan_to_num(d), -h, h))
+        new_theta[i] = theta[i] + shift[0]
+        if not in_plane_only:
+            new_psi[i] = np.clip(psi[i] + shift[1], 0.0, np.pi / 2)
+    final = evaluate(new_theta[:, :, None], new_psi[:, :, None])
+    for i, (crit, (v, s2, _, _)) in enumerate(zip(criteria, final, strict=True)):
+        move = _better(
+            crit, v[:, 0], None if s2 is None else s2[:, 0], values[i], second[i], scale[i]
+        )
+        theta[i] = np.where(move, new_theta[i], theta[i])
+        psi[i] = np.where(move, new_psi[i], psi[i])
     return np.mod(theta, np.pi), psi
 
 
@@ -350,26 +417,28 @@ def critical_plane_parameters(
         for name, idx in chunk_best.items():
             best[name][part] = idx
     steps = (np.deg2rad(search.theta_step_deg), np.deg2rad(search.psi_step_deg))
+    evaluate = _SharedPass(stress, criteria, E, nu)
+    theta = np.stack([theta_g[best[c.name]] for c in criteria])
+    psi = np.stack([psi_g[best[c.name]] for c in criteria])
+    theta, psi = _refine(
+        evaluate, criteria, theta, psi, steps, search.refine_levels, search.in_plane_only
+    )
+    final = evaluate(theta[:, :, None], psi[:, :, None], strains=True)
+    G = E / (2.0 * (1.0 + nu))
     results = {}
-    for crit in criteria:
-        theta = theta_g[best[crit.name]]
-        psi = psi_g[best[crit.name]]
-        theta, psi = _refine(
-            stress, crit, theta, psi, steps, search.refine_levels, search.in_plane_only, E, nu
-        )
-        values, _, tau, q = _evaluate(stress, crit, theta[:, None], psi[:, None], E, nu)
+    for i, (crit, (values, _, tau, q)) in enumerate(zip(criteria, final, strict=True)):
         smax, smin = q["normal_stress_max"][:, 0], q["normal_stress_min"][:, 0]
-        G = E / (2.0 * (1.0 + nu))
+        strain = q["normal_strain_amplitude"]
         results[crit.name] = CriterionResult(
             method=crit.name,
             value=values[:, 0],
-            normal_angle_deg=np.rad2deg(theta),
-            normal_tilt_deg=90.0 - np.rad2deg(psi),
+            normal_angle_deg=np.rad2deg(theta[i]),
+            normal_tilt_deg=90.0 - np.rad2deg(psi[i]),
             shear_stress_amplitude=tau[:, 0],
             normal_stress_max=smax,
             normal_stress_amplitude=0.5 * (smax - smin),
             normal_stress_mean=0.5 * (smax + smin),
-            normal_strain_amplitude=q["normal_strain_amplitude"][:, 0],
+            normal_strain_amplitude=strain[:, 0],
             shear_strain_amplitude=tau[:, 0] / G,
         )
     return results

@@ -564,3 +564,27 @@ def test_sweep_command(tmp_path, capsys):
     assert (out / "map-regime-load_P-load_Q.png").exists()
     assert sweep_command([str(tmp_path / "missing.toml"), "--serial"]) == 2
     assert "cannot read" in capsys.readouterr().err
+
+
+def test_default_engine_stays_serial_when_the_work_is_small_next_to_a_cluster_start(tmp_path):
+    """A sweep whose estimated work is below PARALLEL_MIN_STARTS cluster starts never starts
+    a cluster: the default engine solves it in this process (the same table)."""
+    pd = pytest.importorskip("pandas")
+    from fretbem.studies.sweep import run as sweep_run
+    from fretbem.studies.sweep.run import sweep
+
+    serial = sweep(SCENE, PARAMETERS, out=tmp_path / "serial", serial=True)
+    auto = sweep(SCENE, PARAMETERS, out=tmp_path / "auto")
+    assert auto.summary.mode == "serial" and auto.summary.workers == 1
+    assert auto.summary.tasks == serial.summary.tasks  # batches sized for one worker
+    pd.testing.assert_frame_equal(_results(auto.table), _results(serial.table))
+    # the estimate: median solve x queued cases + one assembly per further queued group
+    rows = [{"solve_seconds": 0.01, "assembly_seconds": a} for a in (2.0, 0.0, 0.0)]
+    queue = [
+        sweep_run.Task({"a": 1}, ((0, {}, {}),) * 100),
+        sweep_run.Task({"b": 2}, ((1, {}, {}),)),
+    ]
+    assert sweep_run._remaining_seconds(rows, queue) == pytest.approx(0.01 * 101 + 2.0)
+    assert sweep_run._remaining_seconds(rows[:2], queue) is None  # too few cases yet
+    split = sweep_run._split(queue, workers=2)
+    assert sum(len(t.cases) for t in split) == 101 and len(split) >= 2 * sweep_run.TASKS_PER_WORKER

@@ -11,7 +11,12 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from fretbem.bem.resources import check_resources, estimate_resources
+from fretbem.bem.resources import (
+    BYTES_PER_DOF,
+    BYTES_PER_DOF2,
+    check_resources,
+    estimate_resources,
+)
 from fretbem.errors import ResourceLimitError
 from fretbem.geometry.boundary import Boundary, BoundaryError
 from fretbem.scenes.reference import CattaneoMindlinScene, cattaneo_mindlin
@@ -151,7 +156,9 @@ def test_resource_estimate_grows_as_dofs_squared_and_refuses_what_cannot_fit():
     """Reproducer: --pairs 20001 (80316 DOFs) needs ~190 GB: refused up front with the
     estimate and the machine's free memory."""
     small, large = estimate_resources(1000, available=None), estimate_resources(2000)
-    assert large.memory - small.memory == pytest.approx(3 * (small.memory - 100 * 2**20))
+    growth = BYTES_PER_DOF2 * (2000**2 - 1000**2) + BYTES_PER_DOF * 1000
+    assert large.memory - small.memory == pytest.approx(growth)
+    assert BYTES_PER_DOF2 * 80316**2 > 10 * BYTES_PER_DOF * 80316  # the square dominates
     assert large.seconds > 4 * small.seconds
     with pytest.raises(ResourceLimitError, match=r"80316 boundary DOFs.*GB.*available"):
         check_resources(80316, available=16 * 2**30)

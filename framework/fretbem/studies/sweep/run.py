@@ -49,6 +49,18 @@ POST_TABLES = ("fatigue", "stress")
 
 #: most cases in one task (and one stored chunk)
 MAX_BATCH = 250
+#: seconds a local cluster takes to be useful: importing dask.distributed, starting the
+#: worker processes and their first import of fretbem (measured 1.6-5 s on 2 cores)
+CLUSTER_START_SECONDS = 3.0
+#: the default engine starts a local cluster only when the sweep's remaining work, estimated
+#: from the cases solved in this process so far, exceeds this many cluster starts: below
+#: it the start and the workers' own assemblies cost more than the second core gives back
+PARALLEL_MIN_STARTS = 3.0
+#: cases solved in this process before the remaining work is estimated
+PROBE_CASES = 3
+#: the recent cases the per-case estimate is taken over
+PROBE_WINDOW = 25
+
 #: default tasks per worker: small enough to balance the last round, large enough that the
 #: per-task cost (scheduling, one Parquet chunk) stays below 1 % of the solves
 TASKS_PER_WORKER = 8
@@ -258,44 +270,118 @@ def _cluster_threads(client) -> int:
     return sum(int(w.get("nthreads", 1)) for w in workers.values())
 
 
-def _run_dask(tasks, client, scheduler, workers, builder, outputs, on_rows, limit, extras=None):
+def _remaining_seconds(rows: list[dict], queue: list[Task]) -> float | None:
+    """Serial seconds the queued tasks would take, from the rows solved so far (None: too few).
+
+    Median solve per case (of the last ``PROBE_WINDOW`` rows) times the queued cases, plus
+    the median assembly of a group for every further queued group.
+    """
+    solves = [float(r["solve_seconds"]) for r in rows[-PROBE_WINDOW:] if "solve_seconds" in r]
+    if len(solves) < PROBE_CASES:
+        return None
+    assemblies = [float(r["assembly_seconds"]) for r in rows if r.get("assembly_seconds")]
+    per_group = statistics.median(assemblies) if assemblies else 0.0
+    cases = sum(len(t.cases) for t in queue)
+    groups = len({id(t.scene) for t in queue})
+    return statistics.median(solves) * cases + per_group * max(groups - 1, 0)
+
+
+def _split(queue: list[Task], workers: int) -> list[Task]:
+    """The queued tasks cut to ``TASKS_PER_WORKER`` tasks per worker (at most MAX_BATCH)."""
+    cases = sum(len(t.cases) for t in queue)
+    size = max(1, min(MAX_BATCH, math.ceil(cases / (TASKS_PER_WORKER * max(1, workers)))))
+    return [
+        Task(t.scene, t.cases[k : k + size]) for t in queue for k in range(0, len(t.cases), size)
+    ]
+
+
+def _solve_here(queue, builder, outputs, extras, on_rows, stop, max_tasks) -> int:
+    """Solve queued tasks in this process, case by case, until ``stop(rows so far)`` or
+    ``max_tasks`` tasks (None: no limit); returns the tasks finished. A task cut short goes
+    back to the front of the queue with its unsolved cases (and counts as finished)."""
+    finished = 0
+    solved: list[dict] = []
+    while queue and (max_tasks is None or finished < max_tasks):
+        task, rows = queue.pop(0), []
+        for k, case in enumerate(task.cases):
+            rows += run_batch(task.scene, [case], builder, outputs, extras)
+            solved.append(rows[-1])
+            if stop(solved) and k + 1 < len(task.cases):
+                queue.insert(0, Task(task.scene, task.cases[k + 1 :]))
+                break
+        on_rows(rows)
+        finished += 1
+        if stop(solved):
+            break
+    return finished
+
+
+def _run_dask(
+    tasks,
+    client,
+    scheduler,
+    workers,
+    builder,
+    outputs,
+    on_rows,
+    limit,
+    extras=None,
+    auto=False,
+    resplit=False,
+):
     """Run the tasks on Dask, storing each batch as it completes.
 
-    Returns (workers, stopped early, errors of tasks lost to the cluster): a lost task's
-    cases stay unstored, for the next run.
+    Returns (workers, stopped early, errors of tasks lost to the cluster, mode): a lost
+    task's cases stay unstored, for the next run.
 
     Without a client, the cluster starts (or the scheduler is reached) in a thread while
     this process solves the first tasks itself: the seconds a cluster takes to start are
-    not lost.
+    not lost. With ``auto`` (the default engine: no scheduler, no worker count given) the
+    cluster starts only once the remaining work, estimated from the cases solved here so
+    far, is worth ``PARALLEL_MIN_STARTS`` cluster starts; a smaller sweep ends in this
+    process (mode "serial"). ``resplit`` cuts the remaining batches for the cluster's workers.
     """
-    try:
-        from dask.distributed import as_completed
-    except ImportError as err:  # pragma: no cover - dask is a dependency
-        raise SweepError("the Dask mode needs dask[distributed]; use serial=True") from err
     queue = list(tasks)
     finished = 0
     lost: list[str] = []
     cluster = own_client = None
+
+    def budget():
+        return None if limit is None else limit - finished
+
+    if client is None and auto:
+        threshold = PARALLEL_MIN_STARTS * CLUSTER_START_SECONDS
+
+        def worth_a_cluster(rows):
+            remaining = _remaining_seconds(rows, queue)
+            return remaining is not None and remaining > threshold
+
+        finished += _solve_here(queue, builder, outputs, extras, on_rows, worth_a_cluster, budget())
+        if not queue or (limit is not None and finished >= limit):
+            return 1, bool(queue), lost, "serial"
+        if resplit:  # the batches were sized for one worker
+            queue = _split(queue, workers)
+    try:
+        from dask.distributed import as_completed
+    except ImportError as err:  # pragma: no cover - dask is a dependency
+        raise SweepError("the Dask mode needs dask[distributed]; use serial=True") from err
     if client is None:
         with concurrent.futures.ThreadPoolExecutor(1) as pool:
             starting = pool.submit(_connect, scheduler, workers)
+
+            def started(_rows):
+                return starting.done()
+
+            # case by case, so the cluster never waits for this process to finish a task
             while queue and not starting.done() and (limit is None or finished < limit):
-                # case by case, so the cluster never waits for this process to finish a task
-                task, rows = queue.pop(0), []
-                for k, case in enumerate(task.cases):
-                    rows += run_batch(task.scene, [case], builder, outputs, extras)
-                    if starting.done() and k + 1 < len(task.cases):
-                        queue.insert(0, Task(task.scene, task.cases[k + 1 :]))
-                        break
-                on_rows(rows)
-                finished += 1
+                finished += _solve_here(queue, builder, outputs, extras, on_rows, started, budget())
             cluster, own_client = starting.result()
         client = own_client
     stopped = False
     try:
         n_workers = len(client.scheduler_info().get("workers", {})) or workers
         if limit is not None and finished >= limit:
-            return n_workers, bool(queue), lost
+            return n_workers, bool(queue), lost, "dask"
         total = finished + len(queue)
         futures = [
             client.submit(run_batch, t.scene, t.cases, builder, outputs, extras, pure=False)
@@ -318,7 +404,7 @@ def _run_dask(tasks, client, scheduler, workers, builder, outputs, on_rows, limi
             own_client.close()
         if cluster is not None:
             cluster.close()
-    return n_workers, stopped, lost
+    return n_workers, stopped, lost, "dask"
 
 
 def run_sweep(
@@ -365,7 +451,9 @@ def run_sweep(
         _, connected = _connect(scheduler, 0)  # first, so the batches fit its workers
         client = connected
     n_workers = 1 if serial else (workers or _cluster_threads(client) or machine_cores())
-    tasks = plan(spec, done, n_workers, batch)
+    auto = not serial and client is None and scheduler is None and workers is None
+    # the default engine starts as a serial run: batches sized for one worker (fewer chunks)
+    tasks = plan(spec, done, 1 if auto else n_workers, batch)
     bar = _Progress(len(tasks), sum(len(t.cases) for t in tasks), progress)
     solved = 0
 
@@ -387,9 +475,18 @@ def run_sweep(
                     break
                 on_rows(run_batch(task.scene, task.cases, builder, outputs, extras))
         else:
-            mode = "dask"
-            n_workers, stopped, lost = _run_dask(
-                tasks, client, scheduler, n_workers, builder, outputs, on_rows, limit, extras
+            n_workers, stopped, lost, mode = _run_dask(
+                tasks,
+                client,
+                scheduler,
+                n_workers,
+                builder,
+                outputs,
+                on_rows,
+                limit,
+                extras,
+                auto,
+                resplit=batch is None,
             )
     finally:
         bar.close()
