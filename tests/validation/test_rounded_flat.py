@@ -103,3 +103,18 @@ def test_finite_body_difference_falls_with_size(record):
     assert record("rounded-flat pad, b/a = 0.5 (BEM, rig-sized bodies)",
                   "q RMS error / f p_peak at Q = 0.5 f P", errors[0], 0.04, page=PAGE)  # fmt: skip
     assert errors[0] > 2.0 * errors[1]
+
+
+def test_half_plane_rounded_flat_is_refused_with_the_key():
+    """The half-plane model takes a one-segment face: a rounded-flat pad on it is refused with
+    the scene key and the fix (an InputError, exit 2), not a bare ValueError."""
+    from fretbem.errors import InputError
+
+    data = {
+        "pad": {"shape": "rounded-flat", "flat": FLAT, "edge_radius": RADIUS, "width": 10.0,
+                "height": 10.0, "model": "half-plane"},
+        "specimen": {"shape": "flat", "model": "half-plane"},
+        "contact": {"zone_width": 1.0, "pairs": 60},
+    }  # fmt: skip
+    with pytest.raises(InputError, match=r'\[pad\] model = "half-plane".*model = "bem"'):
+        build(scene_from_dict(data))
