@@ -16,6 +16,7 @@ from fretbem.geometry.boundary import Boundary
 from fretbem.material import Material
 
 from .body import HalfPlaneBody
+from .influence import HalfPlaneFaceError
 
 #: the name scenes use for this model
 MODEL = "half-plane"
@@ -39,9 +40,12 @@ def half_plane_model(
     """
     segments = [segment for segment in boundary.segments if segment.tag == tag]
     if len(segments) != 1:
-        raise ValueError(
-            f"the half-plane model of the {label} body needs exactly one segment tagged "
-            f"{tag!r} as its face, but the boundary has {len(segments)}; tag one segment"
+        key = "[pad] model" if label == "upper" else "[specimen] model"
+        raise HalfPlaneFaceError(
+            f'{key} = "half-plane": the half-plane model of the {label} body needs exactly '
+            f"one segment tagged {tag!r} as its face, but the boundary has {len(segments)} "
+            '(a rounded-flat pad\'s face is fillet, flat, fillet); use model = "bem" for '
+            'this body, or describe its face as one NURBS segment (shape = "nurbs")'
         )
     block = next((c for c in conditions if isinstance(c, LoadingBlock)), None)
     return HalfPlaneBody(
