@@ -118,11 +118,52 @@ class FaceField:
 
     def points(self, segment: np.ndarray, params: np.ndarray) -> np.ndarray:
         """Positions (m, 2) on the exact face geometry at located (segment, parameter)."""
+        return self._on_curves("points", segment, params)
+
+    def normals(self, segment: np.ndarray, params: np.ndarray) -> np.ndarray:
+        """Unit outward normals (m, 2) of the exact face geometry at (segment, parameter)."""
+        return self._on_curves("normals", segment, params)
+
+    def _on_curves(self, what: str, segment: np.ndarray, params: np.ndarray) -> np.ndarray:
         out = np.full((len(params), 2), np.nan)
         for index, basis in enumerate(self.segments):
             here = segment == index
             if here.any():
-                out[here] = basis.curve.points(params[here])
+                out[here] = getattr(basis.curve, what)(params[here])
+        return out
+
+    def local(self, segment: np.ndarray, params: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The basis functions non-zero at each point: face coefficient indices and values.
+
+        Returns (columns, values), both (m, k) with k the most local functions of a segment
+        (padding: value 0); a point off the face (segment -1) has only zero values.
+        """
+        k = max(b.n_local for b in self.segments)
+        columns = np.zeros((len(params), k), dtype=np.intp)
+        values = np.zeros((len(params), k))
+        for index, basis in enumerate(self.segments):
+            here = np.flatnonzero(segment == index)
+            if here.size:
+                elements, local = basis.to_local(params[here])
+                shape, _ = basis.shape_functions(elements, local)
+                columns[here, : basis.n_local] = self.offsets[index] + basis.connectivity[elements]
+                values[here, : basis.n_local] = shape
+        return columns, values
+
+    def values_matrix(self) -> np.ndarray:
+        """E of the face: coefficients to node values (block diagonal over its segments)."""
+        out = np.zeros((self.n_nodes, self.n_nodes))
+        for index, basis in enumerate(self.segments):
+            block = slice(self.offsets[index], self.offsets[index + 1])
+            out[block, block] = basis.collocation_matrix()
+        return out
+
+    def inverse_values_matrix(self) -> np.ndarray:
+        """E^-1 of the face: node values to coefficients (block diagonal)."""
+        out = np.zeros((self.n_nodes, self.n_nodes))
+        for index, inverse in enumerate(self.inverses):
+            block = slice(self.offsets[index], self.offsets[index + 1])
+            out[block, block] = inverse
         return out
 
     def interpolation(self, segment: np.ndarray, params: np.ndarray) -> np.ndarray:

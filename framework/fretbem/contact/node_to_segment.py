@@ -121,10 +121,7 @@ class NodeToSegmentPair(ContactPair):
         master_points = fields[master].points(segment, params) + placed[master]
         upper_points = master_points if master == "upper" else points
         if master == "upper":
-            up_normals = np.concatenate(
-                [fields["upper"].segments[i].curve.normals(params[[k]])
-                 for k, i in enumerate(segment)]
-            )  # fmt: skip
+            up_normals = fields["upper"].normals(segment, params)
         else:
             up_normals = faces["upper"].normals[order]
         facing = up_normals @ mean_normal

@@ -58,7 +58,9 @@ def conservative(
     slave_breaks = np.concatenate(
         [b.curve.points(np.unique(b.element_bounds)) @ tangent for b in slave.segments]
     )
-    rows_master, rows_slave, weights_master, weights_slave = [], [], [], []
+    n_m, n_s = master.n_nodes, slave.n_nodes
+    mass = np.zeros(n_m * n_m)
+    coupling = np.zeros(n_m * n_s)
     for index, basis in enumerate(master.segments):
         curve = basis.curve
         seg, params = master.locate(slave_breaks - shift, tangent)
@@ -69,10 +71,7 @@ def conservative(
         s = (lo[:, None] + 0.5 * (rule.points[None, :] + 1.0) * (hi - lo)[:, None]).ravel()
         w = (0.5 * rule.weights[None, :] * (hi - lo)[:, None]).ravel()
         d_master = curve.derivatives(s)
-        rows_master.append(master.interpolation(np.full(s.shape, index), s))
-        weights_master.append(w * np.linalg.norm(d_master, axis=1))
         s_seg, r = slave.locate(curve.points(s) @ tangent + shift, tangent)
-        rows_slave.append(slave.interpolation(s_seg, r))
         # slave arc length per unit master parameter: |C_s'(r)| |dxi/ds| / |dxi/dr|
         d_slave = np.zeros_like(d_master)
         for k, slave_basis in enumerate(slave.segments):
@@ -81,12 +80,26 @@ def conservative(
                 d_slave[here] = slave_basis.curve.derivatives(r[here])
         along = np.abs(d_slave @ tangent)
         ratio = np.divide(np.abs(d_master @ tangent), along, out=np.zeros_like(w), where=along > 0)
-        weights_slave.append(w * np.linalg.norm(d_slave, axis=1) * ratio)
-    phi_m, phi_s = np.concatenate(rows_master), np.concatenate(rows_slave)
-    w_m, w_s = np.concatenate(weights_master), np.concatenate(weights_slave)
-    mass = phi_m.T @ (w_m[:, None] * phi_m)
-    coupling = phi_m.T @ (w_s[:, None] * phi_s)
-    return np.linalg.solve(mass, coupling)[:, order]
+        w_master = w * np.linalg.norm(d_master, axis=1)
+        w_slave = w * np.linalg.norm(d_slave, axis=1) * ratio
+        # mass and coupling in coefficient space, from the few functions alive at each point
+        cols_m, vals_m = master.local(np.full(s.shape, index), s)
+        cols_s, vals_s = slave.local(s_seg, r)
+        mass += np.bincount(
+            (cols_m[:, :, None] * n_m + cols_m[:, None, :]).ravel(),
+            (w_master[:, None, None] * vals_m[:, :, None] * vals_m[:, None, :]).ravel(),
+            minlength=n_m * n_m,
+        )
+        coupling += np.bincount(
+            (cols_m[:, :, None] * n_s + cols_s[:, None, :]).ravel(),
+            (w_slave[:, None, None] * vals_m[:, :, None] * vals_s[:, None, :]).ravel(),
+            minlength=n_m * n_s,
+        )
+    # node values of the master field per unit slave node value: E_m M^-1 B E_s^-1
+    coefficients = np.linalg.solve(
+        mass.reshape(n_m, n_m), coupling.reshape(n_m, n_s) @ slave.inverse_values_matrix()
+    )
+    return (master.values_matrix() @ coefficients)[:, order]
 
 
 #: transfer name -> function
