@@ -66,8 +66,9 @@ def main(argv=None) -> int:
             k: median[k] / statistics.median(s[k] for s in peer) for k in median
         } if peer else {}  # fmt: skip
         label = pairing + (f" (pad {upper})" if upper else "")
+        r_total, r_contact = (ratio.get(k, float("nan")) for k in ("total", "contact"))
         print(f"{n:>5} {label:<24} {median['total']:8.3f} {median['contact']:8.4f} "
-              f"{ratio.get('total', float('nan')):12.2f} {ratio.get('contact', float('nan')):14.2f}")  # fmt: skip
+              f"{r_total:12.2f} {r_contact:14.2f}")  # fmt: skip
         out["cases"].append({"pairs": n, "pairing": label, **median, "ratio": ratio})
     if args.json:
         with open(args.json, "w") as handle:
