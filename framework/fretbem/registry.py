@@ -115,6 +115,9 @@ GROUPS: dict[str, Group] = {
               {"newton", "lemke"}, "solvers"),
         Group("laws", "fretbem.laws", "contact law", "fretbem.contact.law:ContactLaw",
               {"coulomb"}, "laws"),
+        Group("pairings", "fretbem.pairings", "contact pairing",
+              "fretbem.contact.pairs:ContactPair", {"node-to-node", "node-to-segment"},
+              "pairings"),
     )
 }  # fmt: skip
 #: the basis families' entry-point group (kept under its first name)

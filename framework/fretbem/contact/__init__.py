@@ -3,7 +3,6 @@
 The names of :mod:`.pairs` are re-exported here.
 """
 
-
 from .pairing import Pairing
 from .pairs import (
     SEPARATED,

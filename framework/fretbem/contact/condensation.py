@@ -31,6 +31,7 @@ class PairedFaces(Protocol):
 
     def side(self, label: str) -> tuple[Any, str]: ...
 
+
 SIDES = (("upper", 1.0), ("lower", -1.0))
 
 
@@ -127,11 +128,11 @@ class CondensedContact:
             for target, direction in ((normal_map, normals), (tangential_map, tangents)):
                 projected = (sign * direction[:, 0, None]) * gathered[:, 0]
                 projected += (sign * direction[:, 1, None]) * gathered[:, 1]
-                columns = pairing.gather(label, projected.reshape(n, face_nodes, 2), axis=1)
+                columns = pairing.pull(label, projected.reshape(n, face_nodes, 2), axis=1)
                 target[:, layout.tractions] += _per_pair(columns, frame)
             del gathered
             relative_load[:, :, load_columns] += sign * pairing.gather(label, response.load_map)
-            force = pairing.gather(label, response.contact_force.reshape(2, face_nodes, 2), axis=1)
+            force = pairing.pull(label, response.contact_force.reshape(2, face_nodes, 2), axis=1)
             if label == "lower":
                 lower_force_map[:, layout.tractions] = _per_pair(force, frame)
             if label in blocks:
@@ -140,7 +141,7 @@ class CondensedContact:
                 block = sign * pairing.gather(label, response.block_map)  # (n, 2, 2)
                 normal_map[:, cols] += np.einsum("pd,pdc->pc", normals, block)
                 tangential_map[:, cols] += np.einsum("pd,pdc->pc", tangents, block)
-                r_traction = pairing.gather(label, response.r_traction.reshape(2, face_nodes, 2), 1)
+                r_traction = pairing.pull(label, response.r_traction.reshape(2, face_nodes, 2), 1)
                 resultant_base[block_rows] = response.r_base
                 resultant_map[block_rows, layout.tractions] = _per_pair(r_traction, frame)
                 resultant_map[block_rows, cols] = response.r_block

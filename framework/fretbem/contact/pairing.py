@@ -28,10 +28,12 @@ class Pairing:
     pairings give the face nodes (``lower_nodes``, ``upper_nodes``, indices into each
     body's :meth:`~fretbem.body.Body.contact_face`). A pairing whose points are not face
     nodes (node to segment, mortar) also gives, per side, an interpolation matrix W
-    (n_pairs, n_face_nodes): the displacement at the pair points is W @ (node values),
-    and the pair tractions reach the face nodes through W.T; ``*_nodes`` then name the
-    nearest node, for reporting. The condensation uses only :meth:`gather` and
-    :meth:`scatter`, so it works unchanged for any pairing.
+    (n_pairs, n_face_nodes): the displacement at the pair points is W @ (node values);
+    ``*_nodes`` then name the nearest node, for reporting. The pair tractions reach the
+    face nodes through a transfer matrix S (n_face_nodes, n_pairs), W.T unless the pairing
+    gives its own (``transfer``: node to segment evaluates the pair traction field at the
+    other face's nodes, which is not W.T). The condensation uses only :meth:`gather`,
+    :meth:`pull` and :meth:`scatter`, so it works unchanged for any pairing.
 
     Attributes
     ----------
@@ -43,6 +45,8 @@ class Pairing:
     gap : ndarray, shape (n,)
         Initial normal gap (>= 0).
     interpolation : mapping of "lower"/"upper" to ndarray (n, n_face), optional
+    transfer : mapping of "lower"/"upper" to ndarray (n_face, n), optional
+        Face-node tractions per unit pair traction (default: W.T, or the node selection).
     """
 
     lower_nodes: np.ndarray = attrs.field(converter=_frozen_array)
@@ -52,6 +56,7 @@ class Pairing:
     tangents: np.ndarray = attrs.field(converter=_frozen_array)
     gap: np.ndarray = attrs.field(converter=_frozen_array)
     interpolation: Mapping[str, np.ndarray] = attrs.field(factory=dict)
+    transfer: Mapping[str, np.ndarray] = attrs.field(factory=dict)
 
     @property
     def n_pairs(self) -> int:
@@ -69,8 +74,22 @@ class Pairing:
             return np.take(values, self.nodes(side), axis=axis)
         return np.moveaxis(np.tensordot(matrix, values, axes=([1], [axis])), 0, axis)
 
+    def pull(self, side: str, values: np.ndarray, axis: int = 0) -> np.ndarray:
+        """Columns per face-node traction along ``axis`` -> columns per pair traction (S.T).
+
+        An operator acting on face-node tractions, composed with the transfer S: what a
+        unit pair traction does. For node to node (no S) it is the node selection.
+        """
+        matrix = self.transfer.get(side)
+        if matrix is None:
+            return self.gather(side, values, axis)
+        return np.moveaxis(np.tensordot(matrix, values, axes=([0], [axis])), 0, axis)
+
     def scatter(self, side: str, pair_values: np.ndarray, n_nodes: int) -> np.ndarray:
-        """Pair-point values (n, ...) -> face-node values (n_nodes, ...) (W.T @ values)."""
+        """Pair-point values (n, ...) -> face-node values (n_nodes, ...) (S @ values)."""
+        matrix = self.transfer.get(side)
+        if matrix is not None:
+            return np.tensordot(matrix, pair_values, axes=1)
         matrix = self.interpolation.get(side)
         if matrix is not None:
             return np.tensordot(matrix.T, pair_values, axes=1)

@@ -1,10 +1,12 @@
 """Turn a :class:`~fretbem.scenes.spec.Scene` into a :class:`~fretbem.simulation.Simulation`.
 
-The contact segments of both bodies hold exactly ``pairs`` collocation points each
-(facing node to node); the flanks are graded toward the zone, sides and ends toward their
-corners (where the traction is singular). The closed-form reference is chosen from the
-scene: Mindlin-Deresiewicz without bulk stress, Nowell-Hills with sigma_B in phase with Q,
-none where neither applies (the reason is kept for the report).
+The contact segment of each body holds exactly its ``pairs`` collocation points (the
+``[contact]`` value, or the body's own ``pairs`` or ``elements``: faces that differ are
+paired by projection, ``[contact] pairing = "node-to-segment"``); the flanks are graded
+toward the zone, sides and ends toward their corners (where the traction is singular).
+The closed-form reference is chosen from the scene: Mindlin-Deresiewicz without bulk
+stress, Nowell-Hills with sigma_B in phase with Q, none where neither applies (the reason
+is kept for the report).
 """
 
 from __future__ import annotations
@@ -16,14 +18,22 @@ import attrs
 from fretbem import registry
 from fretbem.basis import Basis, Refinement, points_per_element
 from fretbem.conditions import Displacement, LoadingBlock, Traction
-from fretbem.contact.pairs import NodeToNodePair
 from fretbem.simulation import LoadStep, Simulation
 from fretbem.verification.closed_forms import HertzLineContact, MindlinDeresiewicz, dundurs_beta
 from fretbem.verification.nowell_hills import NowellHills
 
 from .spec import Scene, SceneFileError
 
-__all__ = ["CORNER_RATIO", "build", "grading_ratio", "hertz", "reference", "zone_elements"]
+__all__ = [
+    "CORNER_RATIO",
+    "FaceDiscretisation",
+    "build",
+    "faces_differ",
+    "grading_ratio",
+    "hertz",
+    "reference",
+    "zone_elements",
+]
 
 #: element size ratio on sides, ends, top and bottom, graded toward their corners
 CORNER_RATIO = 50.0
@@ -142,25 +152,60 @@ class BulkPath:
         return self.closed_form.stick_zone(history, self.bulk[: len(history)])
 
 
+@attrs.frozen
+class FaceDiscretisation:
+    """One body's contact-face discretisation: its own keys over the ``[contact]`` defaults.
+
+    ``pairs`` and ``elements`` come from the body's table (``[pad]``, ``[specimen]``) or
+    ``[contact] pairs``; ``where`` names the key that set the count, for messages.
+    """
+
+    basis: str
+    degree: int | None
+    pairs: int | None
+    elements: int | None
+    where: str
+
+    @classmethod
+    def of(cls, scene: Scene, role: str) -> FaceDiscretisation:
+        """The face of ``role`` ("pad" or "specimen")."""
+        body, contact = getattr(scene, role), scene.contact
+        own = body.pairs is not None or body.elements is not None
+        return cls(
+            basis=body.basis or contact.basis,
+            degree=body.degree if body.degree is not None else contact.degree,
+            pairs=body.pairs if own else contact.pairs,
+            elements=body.elements,
+            where=f"[{role}] {'elements' if body.elements is not None else 'pairs'}"
+            if own
+            else "[contact] pairs",
+        )
+
+
 def refinements(scene: Scene, family: type[Basis], zone: float, pad: bool) -> dict:
     """Per-tag refinement: zone uniform, flanks graded toward it, sides/ends to corners."""
-    contact = scene.contact
     body = scene.pad if pad else scene.specimen
+    face = FaceDiscretisation.of(scene, "pad" if pad else "specimen")
+    degree = face.degree
     segments = [s for s in _face(scene, zone, pad) if s.tag == "contact"]
-    if contact.pairs % len(segments):
-        raise SceneFileError(
-            f"the contact face has {len(segments)} segments, so [contact] pairs must be a "
-            f"multiple of {len(segments)} (got {contact.pairs})"
-        )
-    k = zone_elements(family, contact.pairs // len(segments), contact.degree)
+    if face.elements is not None:
+        k = face.elements
+    else:
+        if face.pairs % len(segments):
+            raise SceneFileError(
+                f"the contact face has {len(segments)} segments, so {face.where} must be a "
+                f"multiple of {len(segments)} (got {face.pairs})"
+            )
+        try:
+            k = zone_elements(family, face.pairs // len(segments), degree)
+        except ValueError as err:
+            raise SceneFileError(f"{face.where}: {err}") from None
     zone_size = 2 * zone / (k * len(segments))
-    corners = Refinement.graded(
-        scene.mesh.side_elements, (0.0, 1.0), CORNER_RATIO, degree=contact.degree
-    )
+    corners = Refinement.graded(scene.mesh.side_elements, (0.0, 1.0), CORNER_RATIO, degree=degree)
     levels = {
-        "contact": Refinement(elements=k, degree=contact.degree),
+        "contact": Refinement(elements=k, degree=degree),
         "top" if pad else "bottom": Refinement.graded(
-            scene.mesh.top_elements, (0.0, 1.0), CORNER_RATIO, degree=contact.degree
+            scene.mesh.top_elements, (0.0, 1.0), CORNER_RATIO, degree=degree
         ),
     }
     half = _half_extent(body.shape)
@@ -169,9 +214,7 @@ def refinements(scene: Scene, family: type[Basis], zone: float, pad: bool) -> di
     if not pad:
         near_zone = {tag: 1.0 - end for tag, end in near_zone.items()}
     for tag, end in near_zone.items():
-        levels[tag] = Refinement.graded(
-            scene.mesh.flank_elements, end, flank, degree=contact.degree
-        )
+        levels[tag] = Refinement.graded(scene.mesh.flank_elements, end, flank, degree=degree)
     tags = {s.tag for s in _face(scene, zone, pad)} | (
         {s.tag for s in body.shape.boundary(zone).segments} if pad else set()
     )
@@ -192,18 +235,22 @@ def _face(scene: Scene, zone: float, pad: bool):
 
 def build(scene: Scene, **contact_overrides):
     """The Simulation of ``scene`` (``contact_overrides`` replace [contact] keys, e.g. pairs)."""
-    if contact_overrides:
-        scene = attrs.evolve(
-            scene,
-            contact=attrs.evolve(
-                scene.contact, **{k: v for k, v in contact_overrides.items() if v is not None}
-            ),
-        )
-    family = registry.get(scene.contact.basis)
+    overrides = {k: v for k, v in contact_overrides.items() if v is not None}
+    if overrides:
+        scene = attrs.evolve(scene, contact=attrs.evolve(scene.contact, **overrides))
+    if "pairs" in overrides:  # a pair count given for the run sets every face's
+        scene = _faces_at(scene, overrides["pairs"])
     zone = zone_half_width(scene)
-    pad = body_model(scene, "pad", family, zone, refinements(scene, family, zone, pad=True))
+    pad_family = _family(scene, "pad")
+    specimen_family = _family(scene, "specimen")
+    _check_pairing(scene)
+    pad = body_model(scene, "pad", pad_family, zone, refinements(scene, pad_family, zone, pad=True))
     specimen = body_model(
-        scene, "specimen", family, zone, refinements(scene, family, zone, pad=False)
+        scene,
+        "specimen",
+        specimen_family,
+        zone,
+        refinements(scene, specimen_family, zone, pad=False),
     )
 
     load = scene.load
@@ -215,13 +262,74 @@ def build(scene: Scene, **contact_overrides):
     )
     closed_form, reason = reference(scene)
     return Simulation(
-        NodeToNodePair(pad, specimen),
+        pairing(scene.contact.pairing)(pad, specimen),
         steps,
         solver=solver(scene.contact.solver),
         law=law(scene.contact.law, scene.contact.friction),
         reference=closed_form,
         name="scene",
     ), reason
+
+
+def _family(scene: Scene, role: str) -> type[Basis]:
+    """The basis family of a body (its own ``basis`` key or ``[contact] basis``)."""
+    return registry.get(FaceDiscretisation.of(scene, role).basis)
+
+
+def _faces_at(scene: Scene, pairs: int) -> Scene:
+    """Every face at ``pairs`` collocation points (at most, for a family that cannot hit it
+    exactly when the faces differ): a run-wide pair count over the per-face keys."""
+    out = {}
+    for role in ("pad", "specimen"):
+        spec = getattr(scene, role)
+        if spec.pairs is None and spec.elements is None:
+            continue
+        family = _family(scene, role)
+        face = FaceDiscretisation.of(scene, role)
+        try:
+            zone_elements(family, pairs, face.degree)
+            out[role] = attrs.evolve(spec, pairs=pairs, elements=None)
+        except ValueError:
+            per, extra = points_per_element(family, face.degree)
+            out[role] = attrs.evolve(
+                spec, pairs=None, elements=max(1, math.floor((pairs - extra) / per))
+            )
+    return attrs.evolve(scene, **out) if out else scene
+
+
+def faces_differ(scene: Scene) -> list[str]:
+    """The face keys whose values differ between pad and specimen (empty: faces alike)."""
+    pad, specimen = (FaceDiscretisation.of(scene, r) for r in ("pad", "specimen"))
+    return [
+        name
+        for name in ("basis", "degree", "pairs", "elements")
+        if getattr(pad, name) != getattr(specimen, name)
+    ]
+
+
+def _check_pairing(scene: Scene) -> None:
+    """Faces discretised differently need a pairing by projection: say so, naming the keys."""
+    differ = faces_differ(scene)
+    if differ and scene.contact.pairing == "node-to-node":
+        pad, specimen = (FaceDiscretisation.of(scene, r) for r in ("pad", "specimen"))
+        shown = ", ".join(
+            f"{name} {getattr(pad, name)!r} vs {getattr(specimen, name)!r}" for name in differ
+        )
+        raise SceneFileError(
+            f"the pad and specimen contact faces are discretised differently ({shown}; "
+            "[pad] and [specimen] keys over [contact]), but [contact] pairing = "
+            "'node-to-node' needs them alike; set [contact] pairing = 'node-to-segment', "
+            "or give both faces the same keys"
+        )
+
+
+def pairing(name: str):
+    """The contact pair class a scene names (``[contact] pairing``, a ``fretbem.pairings``
+    plugin)."""
+    try:
+        return registry.get(name, "pairings")
+    except registry.UnknownPluginError as err:
+        raise SceneFileError(f"[contact] pairing: {err}") from None
 
 
 def solver(name: str):

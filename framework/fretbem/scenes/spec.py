@@ -90,6 +90,25 @@ KEYS: tuple[Key, ...] = (
         ("cylinder", "rounded-flat"),
     ),
     Key("pad", "model", (str,), "", "bem", "`bem` (finite body), `half-plane` or a plugin's"),
+    Key("pad", "basis", (str,), "", None, "this body's basis family; omitted: `[contact] basis`"),
+    Key("pad", "degree", (int,), "", None, "this body's basis degree (`[contact] degree`)"),
+    Key(
+        "pad",
+        "pairs",
+        (int,),
+        "",
+        None,
+        "collocation points on this body's contact face in the zone (`fixed`); omitted: "
+        '`[contact] pairs`; faces that differ need `pairing = "node-to-segment"`',
+    ),
+    Key(
+        "pad",
+        "elements",
+        (int,),
+        "",
+        None,
+        "elements on this body's contact face in the zone, instead of `pairs` (`fixed`)",
+    ),
     Key(
         "pad",
         "segments",
@@ -130,6 +149,32 @@ KEYS: tuple[Key, ...] = (
         "held in x, bottom on rollers, bulk stress on the +x end)",
     ),
     Key("specimen", "model", (str,), "", "bem", "`bem` (finite body), `half-plane` or a plugin's"),
+    Key(
+        "specimen",
+        "basis",
+        (str,),
+        "",
+        None,
+        "this body's basis family; omitted: `[contact] basis`",
+    ),
+    Key("specimen", "degree", (int,), "", None, "this body's basis degree (`[contact] degree`)"),
+    Key(
+        "specimen",
+        "pairs",
+        (int,),
+        "",
+        None,
+        "collocation points on this body's contact face in the zone (`fixed`); omitted: "
+        '`[contact] pairs`; faces that differ need `pairing = "node-to-segment"`',
+    ),
+    Key(
+        "specimen",
+        "elements",
+        (int,),
+        "",
+        None,
+        "elements on this body's contact face in the zone, instead of `pairs` (`fixed`)",
+    ),
     Key(
         "specimen",
         "segments",
@@ -183,6 +228,15 @@ KEYS: tuple[Key, ...] = (
         "mm",
         None,
         "candidate zone half-width in mm (instead of `zone`; required without a Hertz estimate)",
+    ),
+    Key(
+        "contact",
+        "pairing",
+        (str,),
+        "",
+        "node-to-node",
+        "`node-to-node` (faces discretised alike) or `node-to-segment` (faces may differ: "
+        "nodes of one projected on the other's exact geometry)",
     ),
     Key("contact", "solver", (str,), "", "newton", "contact solver (`fretbem plugins`)"),
     Key("contact", "law", (str,), "", "coulomb", "contact law (`fretbem plugins`)"),
@@ -248,12 +302,20 @@ class BodySpec:
         ``"bem"`` or ``"half-plane"``.
     support : str
         Specimen only: ``"clamped-bottom"`` or ``"ends"``.
+    basis, degree, pairs, elements : optional
+        This body's contact-face discretisation (None: the ``[contact]`` value; ``elements``
+        instead of ``pairs``). Faces that differ need ``[contact] pairing =
+        "node-to-segment"``.
     """
 
     shape: Any
     material: Material
     model: str = "bem"
     support: str = attrs.field(default="clamped-bottom", validator=attrs.validators.in_(SUPPORTS))
+    basis: str | None = None
+    degree: int | None = None
+    pairs: int | None = None
+    elements: int | None = None
 
 
 @attrs.frozen
@@ -268,6 +330,7 @@ class ContactSpec:
     zone_width: float | None = None
     solver: str = "newton"
     law: str = "coulomb"
+    pairing: str = "node-to-node"
     mesh: str = "fixed"
     tolerance: float = 0.02
     budget: int = 61
@@ -477,7 +540,28 @@ def _body(data: Mapping, body: str, library: Mapping[str, type]) -> BodySpec:
                 f"[specimen] support must be one of {list(SUPPORTS)}, got {support!r}"
             )
         extra["support"] = support
+    extra.update(_face_keys(section, body))
     return BodySpec(shape, _material(data, body), model, **extra)
+
+
+#: per-body contact-face keys ([pad] and [specimen]; [contact] gives their defaults)
+FACE_KEYS = ("basis", "degree", "pairs", "elements")
+
+
+def _face_keys(section: Mapping, body: str) -> dict:
+    """The body's own contact-face discretisation keys, checked."""
+    out = {name: section[name] for name in FACE_KEYS if name in section}
+    if "basis" in out:
+        _plugin(f"[{body}] basis", out["basis"], "bases")
+    if "pairs" in out and "elements" in out:
+        raise SceneFileError(
+            f"[{body}] gives both pairs and elements; give one (pairs: collocation points on "
+            "the face in the zone, elements: elements there)"
+        )
+    for name in ("pairs", "elements", "degree"):
+        if name in out and out[name] < 1:
+            raise SceneFileError(f"[{body}] {name} must be >= 1, got {out[name]}")
+    return out
 
 
 def _per_step(name: str, value: Any, n: int | None, item: tuple[type, ...]) -> list:
@@ -582,7 +666,16 @@ def scene_from_dict(data: Mapping) -> Scene:
         key = _keys("contact")[name]
         contact[name] = _check(f"[contact] {name}", value, key.kind)
     _mesh_mode(contact)
-    for name, group in (("solver", "solvers"), ("law", "laws")):
+    for body in ("pad", "specimen"):
+        section = data.get(body, {})
+        mode = contact.get("mesh", "fixed")
+        for name in ("pairs", "elements"):
+            if isinstance(section, dict) and name in section and mode != "fixed":
+                raise SceneFileError(
+                    f"[{body}] {name} does not apply to mesh = {mode!r} (it sets the fixed "
+                    "mesh of the face); remove it or set [contact] mesh = 'fixed'"
+                )
+    for name, group in (("solver", "solvers"), ("law", "laws"), ("pairing", "pairings")):
         if name in contact:
             _plugin(f"[contact] {name}", contact[name], group)
     mesh_section = _table(data, "mesh")

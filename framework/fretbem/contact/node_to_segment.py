@@ -1,0 +1,176 @@
+"""Node-to-segment pairing: the lower face's nodes projected on the upper face's exact geometry.
+
+The faces need not match: each may have its own family, degree, elements and node count.
+The pairs are the lower (slave) face's collocation points; each is projected along the pair
+normal onto the upper (master) face's exact NURBS curve, which gives the gap, and the upper
+face's displacement there comes through its own basis functions (W = N(s) E^-1). The pair
+tractions are a field on the lower face (its basis, its node values); the upper face's node
+tractions are that field evaluated where its nodes project on the lower face, which is not
+W.T. docs/explanation/pairing.rst gives the reasons and the measured accuracy and cost.
+"""
+
+from __future__ import annotations
+
+import attrs
+import numpy as np
+
+from fretbem.errors import UnsupportedError
+
+from .faces import FaceField, FaceProjectionError, nearest_nodes
+from .pairing import Pairing
+from .pairs import ContactDiscretisationError, ContactPair
+from .transfer import TRANSFERS
+
+__all__ = ["NodeToSegmentPair"]
+
+
+@attrs.frozen(eq=False)
+class NodeToSegmentPair(ContactPair):
+    """Lower face nodes paired with the upper face by projection along the pair normal.
+
+    All pairs share one frame, the lower face's mean normal (as node to node: the
+    half-plane idealisation of a non-conformal contact). Matching faces give the pairs of
+    :class:`~fretbem.contact.pairs.NodeToNodePair` (within round-off).
+
+    Attributes
+    ----------
+    offset : ndarray, shape (2,)
+        Rigid displacement of the upper body relative to the lower one added to the upper
+        face's geometry before projecting (zero: the scene as drawn). A pair built at an
+        offset is the re-pairing of a face that slid.
+    transfer : str
+        How the pair tractions reach the upper nodes (:mod:`fretbem.contact.transfer`):
+        ``"conservative"`` (default: the force is kept exactly) or ``"pointwise"``.
+    slave : str
+        The face whose nodes are the pairs: ``"coarser"`` (default: the face with fewer
+        nodes; on a tie a smooth family's face, else the lower one: measured more accurate,
+        docs/explanation/pairing.rst),
+        ``"lower"`` or ``"upper"``. The other face is projected on.
+    """
+
+    offset: np.ndarray = attrs.field(
+        factory=lambda: np.zeros(2), converter=lambda v: np.asarray(v, float).reshape(2)
+    )
+
+    transfer: str = attrs.field(default="conservative", validator=attrs.validators.in_(TRANSFERS))
+    slave: str = attrs.field(
+        default="coarser", validator=attrs.validators.in_(("coarser", "lower", "upper"))
+    )
+
+    description = "lower face nodes projected on the upper face's exact geometry (faces may differ)"
+
+    def pairing(self) -> Pairing:
+        """The lower nodes, their projections on the upper face and the transfers (once)."""
+        if "pairing" not in self._cache:
+            self._cache["pairing"] = self._pair_up()
+        return self._cache["pairing"]
+
+    def slave_side(self) -> str:
+        """The face whose nodes are the pairs: ``slave`` or, for "coarser", the face with
+        fewer nodes; on a tie the face of a smooth (non-interpolatory) family, else the lower."""
+        if self.slave != "coarser":
+            return self.slave
+        n_lower = self.lower.contact_face(self.lower_tag).n_nodes
+        n_upper = self.upper.contact_face(self.upper_tag).n_nodes
+        if n_upper != n_lower:
+            return "upper" if n_upper < n_lower else "lower"
+        # a tie: the smoother (non-interpolatory) family's face, else the lower one
+        smooth = {label: not _interpolatory(self.side(label)[0]) for label in ("lower", "upper")}
+        return "upper" if smooth["upper"] and not smooth["lower"] else "lower"
+
+    def _field(self, side: str) -> FaceField:
+        body, tag = self.side(side)
+        try:
+            return FaceField.of(body, tag)
+        except FaceProjectionError as err:
+            raise ContactDiscretisationError(f"contact pair (node to segment): {err}") from None
+
+    def _pair_up(self) -> Pairing:
+        slave = self.slave_side()
+        master = "upper" if slave == "lower" else "lower"
+        faces = {label: self.side(label)[0].contact_face(self.side(label)[1])
+                 for label in ("lower", "upper")}  # fmt: skip
+        normals = faces["lower"].normals
+        mean_normal = normals.mean(axis=0) / np.linalg.norm(normals.mean(axis=0))
+        mean_tangent = np.array([mean_normal[1], -mean_normal[0]])
+        # positions of each face as placed: the upper body displaced by ``offset``
+        placed = {"lower": np.zeros(2), "upper": self.offset}
+        fields = {label: self._field(label) for label in ("lower", "upper")}
+        slave_points = faces[slave].points + placed[slave]
+        order = np.argsort(slave_points @ mean_tangent)
+        points = slave_points[order]
+        master_tag = self.side(master)[1]
+        try:
+            segment, params = fields[master].locate(
+                (points - placed[master]) @ mean_tangent, mean_tangent
+            )
+        except FaceProjectionError as err:
+            raise ContactDiscretisationError(
+                f"contact pair: the {master} segment {master_tag!r}: {err}"
+            ) from None
+        spacing = np.min(np.linalg.norm(np.diff(points, axis=0), axis=1))
+        off = np.flatnonzero(segment < 0)
+        if off.size:
+            k = int(off[0])
+            raise ContactDiscretisationError(
+                f"contact pair: the {slave} collocation point at {points[k].round(6)} has no "
+                f"point of the {master} segment {master_tag!r} facing it (that face does not "
+                "reach so far along the surface); both contact faces must cover the candidate "
+                "zone: widen the shorter one, or narrow the zone"
+            )
+        master_points = fields[master].points(segment, params) + placed[master]
+        upper_points = master_points if master == "upper" else points
+        if master == "upper":
+            up_normals = fields["upper"].normals(segment, params)
+        else:
+            up_normals = faces["upper"].normals[order]
+        facing = up_normals @ mean_normal
+        if np.any(facing >= 0.0):
+            k = int(np.argmax(facing))
+            raise ContactDiscretisationError(
+                f"contact pair: the contact segments do not face each other: at "
+                f"{upper_points[k].round(6)} the outward normal of the upper segment "
+                f"{self.upper_tag!r} is {up_normals[k].round(6)}, pointing away from the "
+                f"lower segment {self.lower_tag!r} (whose mean outward normal is "
+                f"{mean_normal.round(6)}); tag the faces that touch, with the upper body on "
+                "the side the lower face's normal points to"
+            )
+        lower_points = points if slave == "lower" else master_points
+        gap = (upper_points - lower_points) @ mean_normal
+        if np.any(gap < -1e-9 * max(spacing, 1e-300)):
+            k = int(np.argmin(gap))
+            raise ContactDiscretisationError(
+                f"contact pair: the bodies overlap at the start by {-gap[k]:.3g} at "
+                f"{lower_points[k].round(6)}; move the upper body up so the surfaces touch "
+                "without interpenetration"
+            )
+        interpolation = fields[master].interpolation(segment, params)
+        # the master nodes' tractions: the pair traction field (slave basis) carried over
+        transfer = TRANSFERS[self.transfer](
+            fields[master],
+            fields[slave],
+            (faces[master].points + placed[master]) @ mean_tangent,
+            mean_tangent,
+            order,
+            shift=float((placed[master] - placed[slave]) @ mean_tangent),
+        )
+        n = len(order)
+        nodes = {slave: order, master: nearest_nodes(interpolation)}
+        return Pairing(
+            lower_nodes=nodes["lower"],
+            upper_nodes=nodes["upper"],
+            points=lower_points,
+            normals=np.tile(mean_normal, (n, 1)),
+            tangents=np.tile(mean_tangent, (n, 1)),
+            gap=np.maximum(gap, 0.0),
+            interpolation={master: interpolation},
+            transfer={master: transfer},
+        )
+
+
+def _interpolatory(body) -> bool:
+    """Whether the body's face family interpolates its node values (lagrange2) or is smooth."""
+    try:
+        return bool(body.family.interpolatory)
+    except UnsupportedError:  # a body model without a family: no preference
+        return True
