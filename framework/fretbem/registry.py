@@ -1,15 +1,16 @@
 """One registry for every named choice, discovered from entry-point groups.
 
 Each group names one kind of plugin: basis families (``fretbem.bases``), body models
-(``fretbem.bodies``), contact solvers (``fretbem.solvers``) and contact laws
-(``fretbem.laws``); a new kind is one :class:`Group` line in :data:`GROUPS`. fretbem's own
-choices are declared in its ``pyproject.toml`` exactly as a third-party package declares
-its own, so there is one registration path. Discovery is lazy: nothing is imported until a
-group is first asked for, and the result is cached until :func:`refresh`. A plugin that
-fails to load gives a warning naming it and is skipped; a duplicate name, or a built-in
-name claimed by another package, is an error; an unknown name is an error listing the
-installed ones and what to install. The model is xarray's backend registry
-(``xarray/backends/plugins.py``).
+(``fretbem.bodies``), contact solvers (``fretbem.solvers``), contact laws
+(``fretbem.laws``), contact pairings (``fretbem.pairings``) and wear laws
+(``fretbem.wear_laws``); a new kind is one :class:`Group`
+line in :data:`GROUPS`. fretbem's own choices are declared in its ``pyproject.toml``
+exactly as a third-party package declares its own, so there is one registration path.
+Discovery is lazy: nothing is imported until a group is first asked for, and the result
+is cached until :func:`refresh`. A plugin that fails to load gives a warning naming it and
+is skipped; a duplicate name, or a built-in name claimed by another package, is an error;
+an unknown name is an error listing the installed ones and what to install. The model is
+xarray's backend registry (``xarray/backends/plugins.py``).
 """
 
 from __future__ import annotations
@@ -118,6 +119,8 @@ GROUPS: dict[str, Group] = {
         Group("pairings", "fretbem.pairings", "contact pairing",
               "fretbem.contact.pairs:ContactPair", {"node-to-node", "node-to-segment"},
               "pairings"),
+        Group("wear_laws", "fretbem.wear_laws", "wear law", "fretbem.wear.law:WearLaw",
+              {"archard", "energy"}, "wear laws"),
     )
 }  # fmt: skip
 #: the basis families' entry-point group (kept under its first name)

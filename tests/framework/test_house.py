@@ -28,6 +28,7 @@ LAYERS = (
     ("accuracy",),
     ("stress",),
     ("fatigue",),
+    ("wear",),
     ("output",),
     ("pipeline",),
     ("studies",),

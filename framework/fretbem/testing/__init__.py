@@ -1,4 +1,4 @@
-"""Conformance checks for the extension points (basis, body, solver) and contact test helpers.
+"""Conformance checks for the extension points (basis, body, solver, wear law), test helpers.
 
 The names of :mod:`.conformance` are re-exported here.
 """
@@ -12,12 +12,14 @@ from .conformance import (
     default_curves,
     default_refinements,
 )
+from .wear import check_wear_law
 
 __all__ = [
     "FD_TOL",
     "check_basis",
     "check_body",
     "check_solver",
+    "check_wear_law",
     "default_curves",
     "default_refinements",
 ]

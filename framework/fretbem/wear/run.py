@@ -1,0 +1,237 @@
+"""A wear history: a load cycle repeated over many cycles, the faces wearing as it goes.
+
+``run_wear`` solves the simulation's first steps (the pressing before the cycles) once,
+then alternates a simulated cycle on the current worn profile
+(:func:`~fretbem.wear.cycle.simulate_cycle`) with a jump of Delta N cycles
+(:class:`~fretbem.wear.jump.JumpControl`), landing exactly on every requested N where it
+keeps a :class:`WearSnapshot`. Nothing is written; :mod:`fretbem.wear.output` writes.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Mapping
+
+import attrs
+import numpy as np
+
+from fretbem.contact.law import ContactState
+from fretbem.results import SimulationResult
+from fretbem.simulation import LoadStep, Simulation, run
+
+from .cycle import CycleWear, simulate_cycle
+from .jump import Jump, JumpControl
+from .law import WearInputError, WearLaw
+from .profile import BODIES, WornPair, WornProfile
+
+__all__ = ["WearResult", "WearSimulation", "WearSnapshot", "run_wear", "worn_simulation"]
+
+
+def _laws(value) -> dict:
+    return dict(value)
+
+
+@attrs.frozen(eq=False)
+class WearSimulation:
+    """A simulation whose load cycle is repeated ``cycles`` times while both faces wear.
+
+    Attributes
+    ----------
+    simulation : Simulation
+        The contact, solver and law; its steps before ``cycle`` are solved once (the
+        pressing), then ``cycle`` is repeated.
+    laws : mapping "upper"/"lower" -> WearLaw
+        Each body's wear law (coefficient 0: the body does not wear).
+    cycles : int
+        Total number of load cycles N.
+    cycle : tuple of str
+        Names of the simulation's steps forming one cycle (default: every step after the
+        first).
+    control : JumpControl
+    outputs : tuple of int
+        The N at which snapshots are kept (0 and ``cycles`` are always kept).
+    """
+
+    simulation: Simulation
+    laws: Mapping[str, WearLaw] = attrs.field(converter=_laws)
+    cycles: int = attrs.field(converter=int)
+    cycle: tuple[str, ...] = attrs.field(default=(), converter=tuple)
+    control: JumpControl = attrs.field(factory=JumpControl)
+    outputs: tuple[int, ...] = attrs.field(default=(), converter=lambda v: tuple(int(n) for n in v))
+
+    def __attrs_post_init__(self) -> None:
+        if set(self.laws) != set(BODIES):
+            raise WearInputError(
+                f"give a wear law for each body, 'upper' (pad) and 'lower' (specimen); got "
+                f"{sorted(self.laws)}"
+            )
+        for body, law in self.laws.items():
+            if not isinstance(law, WearLaw):
+                raise WearInputError(f"the {body} body's wear law is not a WearLaw: {law!r}")
+        if self.cycles < 1:
+            raise WearInputError(f"[wear] cycles must be >= 1, got {self.cycles}")
+        bad = [n for n in self.outputs if not 0 <= n <= self.cycles]
+        if bad:
+            raise WearInputError(
+                f"[wear] output asks for N = {bad[0]}, outside 0..cycles = {self.cycles}"
+            )
+        names = [s.name for s in self.simulation.steps]
+        unknown = [c for c in self.cycle if c not in names]
+        if unknown:
+            raise WearInputError(
+                f"[wear] cycle names step {unknown[0]!r}, which the load history does not "
+                f"have (its steps are {names})"
+            )
+        if len(self.simulation.steps) < 2 and not self.cycle:
+            raise WearInputError(
+                "a wear history needs a load cycle after the pressing step: give [load] "
+                "steps after the first (e.g. Q up, down and back) or name them in [wear] cycle"
+            )
+
+    @property
+    def cycle_steps(self) -> tuple[LoadStep, ...]:
+        """The steps of one cycle."""
+        steps = self.simulation.steps
+        if not self.cycle:
+            return tuple(steps[1:])
+        by_name = {s.name: s for s in steps}
+        return tuple(by_name[name] for name in self.cycle)
+
+    @property
+    def preload_steps(self) -> tuple[LoadStep, ...]:
+        """The steps solved once before the cycles: those before the cycle's first."""
+        steps = self.simulation.steps
+        first = self.cycle_steps[0]
+        return tuple(steps[: next(k for k, s in enumerate(steps) if s is first)])
+
+    @property
+    def snapshot_cycles(self) -> tuple[int, ...]:
+        """Every N with a snapshot, ascending."""
+        return tuple(sorted({0, self.cycles, *self.outputs}))
+
+
+@attrs.frozen(eq=False)
+class WearSnapshot:
+    """The worn state at N cycles and the cycle solved on it.
+
+    Attributes
+    ----------
+    profile : WornProfile
+        Wear depths at N.
+    pressure, shear : ndarray (n_steps, n)
+        p and q at the end of each cycle step, solved on the profile at N.
+    energy : float
+        Dissipated energy summed over the N cycles (N mm per mm of thickness).
+    work : float
+        Archard work sum(w p |ds|) over the N cycles (N mm per mm).
+    """
+
+    profile: WornProfile
+    pressure: np.ndarray
+    shear: np.ndarray
+    energy: float
+    work: float
+
+    @property
+    def cycles(self) -> int:
+        """N."""
+        return self.profile.cycles
+
+
+@attrs.frozen(eq=False)
+class WearResult:
+    """A wear history: snapshots at the requested N and every jump taken.
+
+    Attributes
+    ----------
+    wear : WearSimulation
+    snapshots : tuple of WearSnapshot
+        At every N of ``wear.snapshot_cycles``.
+    jumps : tuple of (int, Jump)
+        The N each jump started from and the jump.
+    simulated : int
+        Cycles actually solved.
+    seconds : float
+    """
+
+    wear: WearSimulation
+    snapshots: tuple[WearSnapshot, ...]
+    jumps: tuple[tuple[int, Jump], ...]
+    simulated: int
+    seconds: float
+
+    def snapshot(self, cycles: int) -> WearSnapshot:
+        """The snapshot at N = ``cycles`` (one of ``wear.snapshot_cycles``)."""
+        for snap in self.snapshots:
+            if snap.cycles == cycles:
+                return snap
+        raise WearInputError(
+            f"no wear snapshot at N = {cycles}; the snapshots are at "
+            f"{[s.cycles for s in self.snapshots]} (add N to [wear] output)"
+        )
+
+    @property
+    def final(self) -> WearSnapshot:
+        """The snapshot at the last cycle."""
+        return self.snapshots[-1]
+
+    def at(self, cycles: int) -> SimulationResult:
+        """The scene's whole load history solved on the profile at N = ``cycles``: a
+        SimulationResult for the stresses and the fatigue assessment after wear."""
+        return run(worn_simulation(self.wear.simulation, self.snapshot(cycles).profile))
+
+
+def worn_simulation(simulation: Simulation, profile: WornProfile) -> Simulation:
+    """``simulation`` on the worn contact: its pair's gap offset by the profile's depths."""
+    pair = WornPair.of(simulation.pair, profile.offset)
+    return attrs.evolve(simulation, pair=pair, name=f"{simulation.name} at N = {profile.cycles}")
+
+
+def run_wear(wear: WearSimulation, *, progress=None) -> WearResult:
+    """Solve the wear history: pressing, then simulated cycles and jumps up to ``cycles``.
+
+    ``progress(N, cycles)`` is called after each jump.
+    """
+    start = time.perf_counter()
+    simulation = wear.simulation
+    base = simulation.pair
+    problem = simulation.prepare()
+    state = ContactState.initial(problem)
+    for load in wear.preload_steps:
+        state, _, _ = simulation.step(problem, state, load)
+    profile = WornProfile.unworn(problem)
+    targets = list(wear.snapshot_cycles)
+    energy = work = 0.0
+    snapshots, jumps, simulated = [], [], 0
+    n = 0
+    while True:
+        worn = WornPair.of(base, profile.offset).condensed() if n else problem
+        cycle = simulate_cycle(simulation, worn, state, wear.cycle_steps, wear.laws)
+        simulated += 1
+        if n == targets[0]:
+            targets.pop(0)
+            snapshots.append(WearSnapshot(profile, cycle.pressure, cycle.shear, energy, work))
+        if n >= wear.cycles:
+            break
+        jump = wear.control.jump(worn, cycle, targets[0] - n, first=n == 0)
+        jumps.append((n, jump))
+        n += jump.cycles
+        profile, energy, work = _advance(profile, cycle, jump.cycles, n, energy, work)
+        state = cycle.state
+        if progress is not None:
+            progress(n, wear.cycles)
+    return WearResult(wear, tuple(snapshots), tuple(jumps), simulated,
+                      time.perf_counter() - start)  # fmt: skip
+
+
+def _advance(profile: WornProfile, cycle: CycleWear, cycles: int, n: int, energy, work):
+    """The profile, energy and work after ``cycles`` more cycles like ``cycle``."""
+    w = profile.weights
+    profile = profile.worn(n, cycles * cycle.depth["upper"], cycles * cycle.depth["lower"])
+    return profile, energy + cycles * float(w @ cycle.energy), work + cycles * float(w @ cycle.work)
+
+
+def simulate(simulation: Simulation, laws: Mapping[str, WearLaw], cycles: int,
+             **options) -> WearResult:  # fmt: skip
+    """Shorthand: ``run_wear(WearSimulation(simulation, laws, cycles, **options))``."""
+    return run_wear(WearSimulation(simulation, laws, cycles, **options))
