@@ -57,6 +57,23 @@ CSV_COLUMNS = {
 SUMMARY_KEYS = {
     "P": ("N/mm", "normal load per unit thickness, > 0 presses the upper body down"),
     "Q": ("N/mm", "tangential load per unit thickness on the upper body, along +x"),
+    "sigma_B": ("MPa", "bulk stress of the specimen along x, > 0 in tension (0 without one)"),
+    "contact": ("mm", "[from, to]: x of the first and last pair in contact; null: none"),
+    "stick_zones": ("mm", "every computed stick zone as [from, to] (first to last stick pair)"),
+    "slip_zones": (
+        "mm",
+        "every computed slip zone as {from, to, sign}; sign '+' or '-' of its mean shear",
+    ),
+    "theory_stick_zone": (
+        "mm",
+        "[e - c, e + c]: the closed form's stick zone (offset e by the bulk stress, "
+        "Nowell-Hills); null without a closed form",
+    ),
+    "hertz": (
+        "N/mm, mm, MPa",
+        "top level: P, the Hertz half-width a and peak pressure p0 of the closed form; null "
+        "where none applies",
+    ),
     "e_p_max": ("fraction of p0", "max |p - p_exact| / p0 (Hertz peak pressure); null: no theory"),
     "e_q_max": ("fraction of f p0", "max |q - q_exact| / (f p0); null without theory"),
     "e_p_l2": ("fraction of p0", "RMS over the zone of p - p_exact, / p0"),

@@ -8,6 +8,7 @@ import numpy as np
 
 from fretbem.stress.figures import plot_contour_maps, plot_surface_sigma_xx
 
+from .edges import contact_half_width
 from .errors import StressRequestError
 from .evaluate import StressEvaluator
 from .output import write_grid_vtk, write_stress_csv
@@ -39,6 +40,8 @@ def run_stress_request(result, request: StressRequest, directory: str | Path) ->
     """
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
+    if request.uses_edges:  # "trailing-edge" and the like, placed for this run's a
+        request = request.resolved(*contact_half_width(result)[:2])
     steps = _step_names(result, request)
     side = request.body
     written: dict[str, Path] = {}
