@@ -12,6 +12,7 @@ from fretbem.contact.unknowns import PairUnknowns, UnknownLayout
 from fretbem.contact.zones import StepZones, step_zones
 from fretbem.verification.errors import ERROR_KEYS, errors_against_theory
 from fretbem.verification.theory import hertz_numbers, theory_stick_zones
+from fretbem.views.run import run_dataset
 
 
 def _frozen(values) -> np.ndarray:
@@ -312,6 +313,12 @@ class SimulationResult:
         mode = "adaptive" if record.get("mesh") == "adaptive" else "fixed"
         caution = f"\ncaution: {record['caution']}" if record.get("caution") else ""
         return f"{mode} mesh, levels {pairs} pairs{time_text}; {source}{caution}"
+
+    def to_xarray(self):
+        """The run as an :class:`xarray.Dataset`: dims step and pair, coords x and the step
+        names, p, q, un, ut, slip, state, zones, errors, estimates and checks, with CF units
+        (:func:`fretbem.views.run.run_dataset`)."""
+        return run_dataset(self)
 
     def hertz(self) -> dict | None:
         """Hertz P, a and p0 of the run's closed form (None where no closed form applies)."""

@@ -28,7 +28,8 @@ from fretbem.errors import InputError
 from fretbem.fatigue.output import write_fatigue
 from fretbem.output import figures as plot
 from fretbem.output import vtk as vtk_
-from fretbem.stress.run import run_stress_request
+from fretbem.output.labelled import evaluated_stress, write_netcdf_files
+from fretbem.stress.run import write_stress_result
 from fretbem.verification.checks import check_steps
 
 from .staging import (  # noqa: F401 - re-exported: the output API of one release
@@ -129,6 +130,7 @@ class WriteContext:
     stress: object = None
     fatigue: object = None
     writers: tuple[str, ...] = ()
+    cache: dict = attrs.field(factory=dict)  # what one writer computed for the others
 
 
 @attrs.frozen
@@ -259,7 +261,8 @@ def _write_vtk(context: WriteContext, directory: Path):
 
 
 def _write_stress(context: WriteContext, directory: Path):
-    return run_stress_request(context.result, context.stress, directory)
+    done = evaluated_stress(context)
+    return write_stress_result(context.result, context.stress, done, directory)
 
 
 def _write_fatigue(context: WriteContext, directory: Path):
@@ -276,6 +279,7 @@ for _name, _function, _needs in (
     ("fatigue", _write_fatigue, "fatigue"),
 ):
     register_writer(_name, _function, context=True, needs=_needs)
+register_writer("netcdf", write_netcdf_files, default=False, context=True)
 
 
 def chosen_writers(
