@@ -9,7 +9,10 @@ import numpy as np
 
 from fretbem.contact.law import STATE_NAMES
 from fretbem.contact.unknowns import PairUnknowns, UnknownLayout
+from fretbem.contact.zones import StepZones, step_zones
 from fretbem.verification.errors import ERROR_KEYS, errors_against_theory
+from fretbem.verification.theory import hertz_numbers, theory_stick_zones
+from fretbem.views.run import run_dataset
 
 
 def _frozen(values) -> np.ndarray:
@@ -215,6 +218,15 @@ class StepResult:
         """Number of pairs in ``state`` ("separated", "stick" or "slip")."""
         return int(np.sum(self.states == STATE_NAMES.index(state)))
 
+    @property
+    def bulk(self) -> float:
+        """The specimen's bulk stress sigma_B at the end of the step (MPa; 0 without one)."""
+        return float(self.loads.get("bulk", 0.0)) if self.loads else 0.0
+
+    def zones(self) -> StepZones:
+        """Contact extent, stick zones and signed slip zones (from the pair states)."""
+        return step_zones(self)
+
 
 #: summary.json key of each estimate, beside the error key it estimates
 ESTIMATE_KEYS = {k: "est" + k[1:] for k in ERROR_KEYS}
@@ -302,17 +314,36 @@ class SimulationResult:
         caution = f"\ncaution: {record['caution']}" if record.get("caution") else ""
         return f"{mode} mesh, levels {pairs} pairs{time_text}; {source}{caution}"
 
+    def to_xarray(self):
+        """The run as an :class:`xarray.Dataset`: dims step and pair, coords x and the step
+        names, p, q, un, ut, slip, state, zones, errors, estimates and checks, with CF units
+        (:func:`fretbem.views.run.run_dataset`)."""
+        return run_dataset(self)
+
+    def hertz(self) -> dict | None:
+        """Hertz P, a and p0 of the run's closed form (None where no closed form applies)."""
+        return hertz_numbers(self.simulation.reference)
+
+    def theory_stick_zones(self) -> list:
+        """Per step the closed form's stick zone (e - c, e + c), mm; None without theory."""
+        return theory_stick_zones(self.simulation.reference, [s.tangential for s in self.steps])
+
     def summary(self) -> dict:
-        """Per-step errors and estimates (None where they do not apply), iterations, times,
-        and the accuracy record (mesh mode, levels, why no estimate)."""
+        """Per-step loads (sigma_B included), errors and estimates (None where they do not
+        apply), zones beside theory, iterations, times, Hertz a and p0, and the accuracy
+        record (mesh mode, levels, why no estimate)."""
         steps = []
-        for s in self.steps:
+        theory = self.theory_stick_zones()
+        for s, zone in zip(self.steps, theory, strict=True):
             e, est = s.errors or {}, s.estimate or {}
             steps.append(
                 {
                     "step": s.name,
                     "P": s.normal,
                     "Q": s.tangential,
+                    "sigma_B": s.bulk,
+                    **s.zones().as_dict(),
+                    "theory_stick_zone": None if zone is None else list(zone),
                     **{k: e.get(k) for k in ERROR_KEYS},
                     **{ESTIMATE_KEYS[k]: est.get(k) for k in ERROR_KEYS},
                     "integral_p": s.resultant[0],
@@ -331,6 +362,7 @@ class SimulationResult:
         }  # fmt: skip
         return {
             "scene": self.describe(),
+            "hertz": self.hertz(),
             "timings": dict(self.timings),
             "accuracy": accuracy,
             "steps": steps,

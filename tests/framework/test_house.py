@@ -23,6 +23,7 @@ LAYERS = (
     ("contact",),
     ("solvers",),
     ("verification",),
+    ("views",),
     ("results", "simulation"),
     ("scenes",),
     ("accuracy",),

@@ -21,7 +21,7 @@ from fretbem.bem.resources import check_resources
 from fretbem.contact.zones import zone_table
 from fretbem.errors import FretbemError, InputError, ResultCheckError
 from fretbem.fatigue import format_report
-from fretbem.output.write import prepare_output
+from fretbem.output.write import WriteContext, chosen_writers, prepare_output
 from fretbem.scenes.builder import build
 from fretbem.scenes.file import load_scene
 from fretbem.scenes.reference import CattaneoMindlinScene, cattaneo_mindlin
@@ -190,9 +190,11 @@ def _simulate(make, args: argparse.Namespace, extras=None, mode=None, companion=
         _progress("writing figures and files")
     out = done.write(
         args.out, overwrite=args.overwrite, steps=args.steps,
-        figures=not args.no_figures, vtk=not args.no_vtk,
+        figures=not args.no_figures, vtk=not args.no_vtk, writers=_writer_names(args, done),
     )  # fmt: skip
     kinds = [k for k, v in (("stress", stress), ("fatigue", fatigue)) if v is not None]
+    kinds += [k for k, flag in (("netCDF", "netcdf"), ("report.html", "report"))
+              if getattr(args, flag, False)]  # fmt: skip
     print(
         f"wrote {out}/ (results.csv, summary.json, units.json"
         f"{', VTK' if not args.no_vtk else ''}{', figures' if not args.no_figures else ''}"
@@ -200,6 +202,17 @@ def _simulate(make, args: argparse.Namespace, extras=None, mode=None, companion=
         f"in {time.perf_counter() - start:.2f} s; all result checks passed"
     )
     return 0
+
+
+def _writer_names(args: argparse.Namespace, done) -> list[str] | None:
+    """The default writers plus those the options ask for (--netcdf, --report); None when
+    no option adds one (write_results then runs its defaults)."""
+    extra = [name for name, flag in (("netcdf", "netcdf"), ("report", "report"))
+             if getattr(args, flag, False)]  # fmt: skip
+    if not extra:
+        return None
+    context = WriteContext(done.result, stress=done.stress, fatigue=done.fatigue)
+    return [w.name for w in chosen_writers(None, context)] + extra
 
 
 def _run(args: argparse.Namespace) -> int:
@@ -310,6 +323,11 @@ def _output_options(parser: argparse.ArgumentParser, default_out: str) -> None:
     )
     parser.add_argument("--no-figures", action="store_true", help="skip the matplotlib figures")
     parser.add_argument("--no-vtk", action="store_true", help="skip the VTK files")
+    parser.add_argument(
+        "--netcdf",
+        action="store_true",
+        help="also write results.nc (and stress.nc, fatigue.nc): labelled netCDF for xarray",
+    )
     parser.add_argument(
         "--compare",
         nargs="*",

@@ -180,7 +180,7 @@ def plot_parameter_map(report: FatigueReport, method: str, ax=None, ticks: int =
     ax.set_xlim(xs[0], xs[-1])
     ax.set_ylim(zs[-1], zs[0])
     ax.set_aspect("equal", adjustable="box")
-    ax.legend(loc="lower right", fontsize=8)
+    ax.legend(loc="lower right", fontsize=9)
     ax.set_title(f"{method}: parameter map, ticks = critical-plane traces")
     return ax
 
@@ -199,7 +199,7 @@ def plot_depth_profile(report: FatigueReport, method: str, ax=None):
         ax.axvline(L / 2, color="C1", ls="--", label=f"L/2 = {L / 2:.4g} mm (point method)")
         ax.axvline(2 * L, color="C2", ls=":", label=f"2L = {2 * L:.4g} mm (line method)")
         ax.plot([L / 2], [tcd.point_value], "o", color="C1")
-        ax.legend(fontsize=8)
+        ax.legend(fontsize=9)
     ax.set_xlabel("distance from the hot spot along the critical direction (mm)")
     ax.set_ylabel(LABELS[method])
     ax.set_title(f"{method} below the hot spot x = {rep.hot_spot[0]:.4g} mm")

@@ -14,6 +14,7 @@ from .critical_distance import CriticalDistanceValues, critical_distance_values
 from .critical_plane import CriterionResult, critical_plane_parameters
 from .cycle import select_cycle
 from .errors import FatigueInputError, MissingFatigueDataError
+from .labelled import fatigue_dataset
 from .life import LifeEstimate, estimate_life
 from .providers import StressHistoryProvider
 from .request import FatigueRequest
@@ -91,6 +92,11 @@ class FatigueReport:
     methods: dict[str, MethodReport]
     ruiz: RuizParameters | None
     notes: tuple[str, ...]
+
+    def to_xarray(self):
+        """The report as an :class:`xarray.Dataset` (maps, profiles, Ruiz parameters; hot
+        spots and lives as attributes): :func:`fretbem.fatigue.labelled.fatigue_dataset`."""
+        return fatigue_dataset(self)
 
 
 def _grid(provider, request: FatigueRequest):

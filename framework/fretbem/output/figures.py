@@ -39,6 +39,8 @@ MAX_PANELS = 6
 MAX_STATE_LABELS = 15
 #: titles sit at the top of their axes (no automatic placement: no axis draws labels on top)
 TITLE_Y = 1.0
+#: legend text size (points): readable when a figure is printed at half a page width
+LEGEND_SIZE = 9
 
 
 def _pyplot():
@@ -145,15 +147,6 @@ def _steps(results, steps: Sequence[str] | None) -> list[str]:
     return list(steps)
 
 
-def _histories(result: SimulationResult) -> list[list[float]]:
-    """Tangential loads up to and including each step, in step order (one pass)."""
-    loads, out = [], []
-    for s in result.steps:
-        loads.append(s.tangential)
-        out.append(list(loads))
-    return out
-
-
 def _history(result: SimulationResult, name: str) -> list[float]:
     """Tangential loads of the steps up to and including ``name``."""
     loads = []
@@ -220,7 +213,7 @@ def traction_figure(
         ax.set_xlabel(xlabel)
         ax.set_ylabel("traction (MPa)")
     handles, labels = axes[0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="lower center", ncol=min(len(labels), 4), fontsize=7)
+    fig.legend(handles, labels, loc="lower center", ncol=min(len(labels), 4), fontsize=LEGEND_SIZE)
     return fig
 
 
@@ -256,7 +249,7 @@ def displacement_figure(
         axes[0, col].set_title(_step_title(results[0][name]), y=TITLE_Y)
         axes[1, col].set_xlabel(xlabel)
     handles, labels = axes[0, 0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="lower center", ncol=min(len(labels), 4), fontsize=7)
+    fig.legend(handles, labels, loc="lower center", ncol=min(len(labels), 4), fontsize=LEGEND_SIZE)
     return fig
 
 
@@ -293,10 +286,11 @@ def stick_slip_figure(result: SimulationResult | Sequence[SimulationResult]) -> 
         ref = r.simulation.reference
         if ref is not None and few:
             a = ref.hertz.half_width / scale
-            c = np.array([ref.stick_zone(h)[1] for h in _histories(r)]) / scale
-            rows_k = np.arange(len(c), dtype=float)
+            # [e - c, e + c]: offset by a bulk stress (Nowell-Hills), not mirrored about 0
+            zone = np.array(r.theory_stick_zones(), dtype=float) / scale
+            rows_k = np.arange(len(zone), dtype=float)
             # every step's two stick-zone ends as the markers of one line artist
-            ax.plot(np.concatenate([-c, c]), np.concatenate([rows_k, rows_k]), "k|", ms=14, mew=2)
+            ax.plot(zone.T.ravel(), np.concatenate([rows_k, rows_k]), "k|", ms=14, mew=2)
             ax.axvline(-a, color="k", ls=":", lw=1)
             ax.axvline(a, color="k", ls=":", lw=1)
         shown = default_steps(range(len(r.steps)), MAX_STATE_LABELS)
@@ -307,14 +301,11 @@ def stick_slip_figure(result: SimulationResult | Sequence[SimulationResult]) -> 
         ax.set_title(f"pair states, {_label(r)}", y=TITLE_Y)
     handles = [Patch(color=c, label=n) for c, n in zip(STATE_COLORS, STATE_NAMES, strict=True)]
     if _reference(results) is not None:
-        handles.append(
-            Line2D(
-                [], [], color="k", marker="|", ls="", ms=10, mew=2, label="analytical stick zone ±c"
-            )
-        )
+        label = "analytical stick zone [e − c, e + c]"
+        handles.append(Line2D([], [], color="k", marker="|", ls="", ms=10, mew=2, label=label))
         handles.append(Line2D([], [], color="k", ls=":", label="Hertz half-width ±a"))
     ncol = min(len(handles), 5 if cols > 1 else 3)
-    fig.legend(handles=handles, loc="lower center", ncol=ncol, fontsize=7)
+    fig.legend(handles=handles, loc="lower center", ncol=ncol, fontsize=LEGEND_SIZE)
     return fig
 
 
@@ -342,9 +333,9 @@ def history_figure(result: SimulationResult | Sequence[SimulationResult]) -> Fig
         axes[1].plot(steps, widths, ".-", ms=3, lw=0.8, color=c, label=_label(r))
         axes[2].plot(steps, peaks, ".-", ms=3, lw=0.8, color=c, label=_label(r))
     axes[0].set_ylabel("load (N/mm)")
-    axes[0].legend(fontsize=7)
+    axes[0].legend(fontsize=LEGEND_SIZE)
     axes[1].set_ylabel("stick-zone width (mm)")
-    axes[1].legend(fontsize=7)
+    axes[1].legend(fontsize=LEGEND_SIZE)
     axes[2].set_ylabel("peak |q| (MPa)")
     axes[2].set_xlabel("step index (0 = first step)")
     for ax in axes:

@@ -28,7 +28,8 @@ from fretbem.errors import InputError
 from fretbem.fatigue.output import write_fatigue
 from fretbem.output import figures as plot
 from fretbem.output import vtk as vtk_
-from fretbem.stress.run import run_stress_request
+from fretbem.output.labelled import evaluated_stress, write_netcdf_files
+from fretbem.stress.run import write_stress_result
 from fretbem.verification.checks import check_steps
 
 from .staging import (  # noqa: F401 - re-exported: the output API of one release
@@ -57,6 +58,23 @@ CSV_COLUMNS = {
 SUMMARY_KEYS = {
     "P": ("N/mm", "normal load per unit thickness, > 0 presses the upper body down"),
     "Q": ("N/mm", "tangential load per unit thickness on the upper body, along +x"),
+    "sigma_B": ("MPa", "bulk stress of the specimen along x, > 0 in tension (0 without one)"),
+    "contact": ("mm", "[from, to]: x of the first and last pair in contact; null: none"),
+    "stick_zones": ("mm", "every computed stick zone as [from, to] (first to last stick pair)"),
+    "slip_zones": (
+        "mm",
+        "every computed slip zone as {from, to, sign}; sign '+' or '-' of its mean shear",
+    ),
+    "theory_stick_zone": (
+        "mm",
+        "[e - c, e + c]: the closed form's stick zone (offset e by the bulk stress, "
+        "Nowell-Hills); null without a closed form",
+    ),
+    "hertz": (
+        "N/mm, mm, MPa",
+        "top level: P, the Hertz half-width a and peak pressure p0 of the closed form; null "
+        "where none applies",
+    ),
     "e_p_max": ("fraction of p0", "max |p - p_exact| / p0 (Hertz peak pressure); null: no theory"),
     "e_q_max": ("fraction of f p0", "max |q - q_exact| / (f p0); null without theory"),
     "e_p_l2": ("fraction of p0", "RMS over the zone of p - p_exact, / p0"),
@@ -112,6 +130,7 @@ class WriteContext:
     stress: object = None
     fatigue: object = None
     writers: tuple[str, ...] = ()
+    cache: dict = attrs.field(factory=dict)  # what one writer computed for the others
 
 
 @attrs.frozen
@@ -242,7 +261,8 @@ def _write_vtk(context: WriteContext, directory: Path):
 
 
 def _write_stress(context: WriteContext, directory: Path):
-    return run_stress_request(context.result, context.stress, directory)
+    done = evaluated_stress(context)
+    return write_stress_result(context.result, context.stress, done, directory)
 
 
 def _write_fatigue(context: WriteContext, directory: Path):
@@ -259,6 +279,7 @@ for _name, _function, _needs in (
     ("fatigue", _write_fatigue, "fatigue"),
 ):
     register_writer(_name, _function, context=True, needs=_needs)
+register_writer("netcdf", write_netcdf_files, default=False, context=True)
 
 
 def chosen_writers(

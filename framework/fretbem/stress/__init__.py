@@ -10,7 +10,8 @@ from fretbem.bem.stresses import StressOperator, StressSettings, somigliana_oper
 from .errors import StressInputError, StressRequestError
 from .evaluate import StressEvaluator, stresses
 from .request import StressGrid, StressLine, StressRequest, stress_request_from_dict
-from .run import run_stress_request
+from .result import StressResult
+from .run import evaluate_stress_request, run_stress_request
 
 __all__ = [
     "StressEvaluator",
@@ -20,7 +21,9 @@ __all__ = [
     "StressOperator",
     "StressRequest",
     "StressRequestError",
+    "StressResult",
     "StressSettings",
+    "evaluate_stress_request",
     "run_stress_request",
     "somigliana_operator",
     "stress_request_from_dict",

@@ -56,7 +56,7 @@ def plot_surface_sigma_xx(
     ax.axhline(0.0, color="0.6", lw=0.6)
     ax.set_xlabel("x (mm)" if scale is None else "x / a")
     ax.set_ylabel("surface $\\sigma_{xx}$ (MPa)" if scale is None else "$\\sigma_{xx} / p_0$")
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=9)
     ax.set_title("Surface stress $\\sigma_{xx}$ along the contact")
     fig.savefig(path, dpi=120)
     _close(fig)
@@ -109,7 +109,7 @@ def plot_contour_maps(
         ax.set_aspect("equal")
         ax.set_ylabel("y below the surface (mm)")
     axes[1].set_xlabel("x (mm)")
-    axes[0].legend(loc="lower left", fontsize=8)
+    axes[0].legend(loc="lower left", fontsize=9)
     if title:
         fig.suptitle(title)
     fig.savefig(path, dpi=120)

@@ -13,6 +13,7 @@ from collections.abc import Mapping, Sequence
 import attrs
 import numpy as np
 
+from .edges import EdgePosition, parse_position
 from .errors import StressRequestError
 
 __all__ = [
@@ -50,7 +51,7 @@ class StressLine:
 
     Attributes
     ----------
-    x : float
+    x : float or EdgePosition
         Abscissa (mm) of the surface point, e.g. the trailing contact edge.
     depth : float
         Deepest point (mm) below the surface.
@@ -60,10 +61,16 @@ class StressLine:
         Spacing of the deepest interval over the shallowest (1 for uniform).
     """
 
-    x: float = attrs.field(converter=float)
+    x: float | EdgePosition = attrs.field(converter=parse_position)
     depth: float = attrs.field(converter=float, validator=_positive)
     n: int = attrs.field(default=50, converter=int, validator=_count)
     grading: float = attrs.field(default=20.0, converter=float, validator=_positive)
+
+    def resolved(self, a: float, centre: float = 0.0) -> StressLine:
+        """The same line at a number x (an edge position placed for half-width ``a``)."""
+        if isinstance(self.x, EdgePosition):
+            return attrs.evolve(self, x=self.x.resolve(a, centre))
+        return self
 
     def depths(self) -> np.ndarray:
         """Depths (n,) from 0 to ``depth``."""
@@ -136,6 +143,11 @@ class StressRequest:
     def __attrs_post_init__(self) -> None:
         if self.body not in ("lower", "upper"):
             raise StressRequestError(f"[stress] body must be 'lower' or 'upper', got {self.body!r}")
+        if self.points is not None and self.symbolic_points:
+            where = "[stress] points"
+            rows = [(parse_position(p[0], where), float(p[1])) for p in self.points]
+            object.__setattr__(self, "points", tuple(rows))
+            return
         if self.points is not None:
             pts = np.asarray(self.points, float)
             if pts.ndim != 2 or pts.shape[1] != 2 or not np.all(np.isfinite(pts)):
@@ -144,6 +156,32 @@ class StressRequest:
                     f"an array of shape {pts.shape}"
                 )
             object.__setattr__(self, "points", pts)
+
+    @property
+    def symbolic_points(self) -> bool:
+        """Whether a point's x names a contact edge (resolved against the result)."""
+        if self.points is None or isinstance(self.points, np.ndarray):
+            return False
+        try:
+            return any(isinstance(p[0], (str, EdgePosition)) for p in self.points if len(p) == 2)
+        except TypeError:
+            return False
+
+    def resolved(self, a: float, centre: float = 0.0) -> StressRequest:
+        """The request with every edge position placed for half-width ``a`` about ``centre``."""
+        points = self.points
+        if self.symbolic_points:
+            points = np.array(
+                [[x.resolve(a, centre) if isinstance(x, EdgePosition) else x, y]
+                 for x, y in self.points], dtype=float,
+            )  # fmt: skip
+        lines = tuple(line.resolved(a, centre) for line in self.lines)
+        return attrs.evolve(self, points=points, lines=lines)
+
+    @property
+    def uses_edges(self) -> bool:
+        """Whether any position names a contact edge."""
+        return self.symbolic_points or any(isinstance(x.x, EdgePosition) for x in self.lines)
 
 
 _KEYS = {"body", "steps", "points", "line", "grid", "figures", "vtk"}
@@ -216,6 +254,11 @@ def surface_level(model, x: np.ndarray, side: str) -> np.ndarray:
 
 def line_points(model, line: StressLine, side: str) -> tuple[np.ndarray, np.ndarray]:
     """Global points (n, 2) of a depth profile and their depths (n,)."""
+    if isinstance(line.x, EdgePosition):
+        raise StressRequestError(
+            f"line x = '{line.x}' names a contact edge: place it first with "
+            "request.resolved(a) (run_stress_request does this with the run's a)"
+        )
     depths = line.depths()
     level = surface_level(model, np.array([line.x]), side)[0]
     sign = -1.0 if side == "lower" else 1.0

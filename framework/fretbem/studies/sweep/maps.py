@@ -16,6 +16,7 @@ import numpy as np
 
 from .cases import REGIMES
 from .spec import SweepSpecError
+from .units import axis_label
 
 REGIME_COLOURS = {"full stick": "#4477aa", "partial slip": "#ddaa33", "gross slip": "#bb5566"}
 
@@ -96,9 +97,10 @@ def regime_map(table, x: str, y: str, *, where=None, ax=None, title: str | None 
         loc="upper left",
         bbox_to_anchor=(1.02, 1.0),
         borderaxespad=0.0,
+        fontsize=9,
     )
-    ax.set_xlabel(x)
-    ax.set_ylabel(y)
+    ax.set_xlabel(axis_label(x))
+    ax.set_ylabel(axis_label(y))
     ax.set_title(title or f"fretting regime ({len(rows)} cases)")
     return ax
 
@@ -115,11 +117,11 @@ def column_map(table, column: str, x: str, y: str, *, where=None, ax=None, title
     if ax is None:
         ax = _axes()
     mesh = ax.pcolormesh(xs, ys, np.ma.masked_invalid(grid), shading="nearest", cmap="viridis")
-    ax.figure.colorbar(mesh, ax=ax, label=column)
+    ax.figure.colorbar(mesh, ax=ax, label=axis_label(column))
     if _boundary(ax, rows, x, y):
-        ax.legend(loc="upper left", framealpha=0.9)
-    ax.set_xlabel(x)
-    ax.set_ylabel(y)
+        ax.legend(loc="upper left", framealpha=0.9, fontsize=9)
+    ax.set_xlabel(axis_label(x))
+    ax.set_ylabel(axis_label(y))
     ax.set_title(title or f"{column} (blank: gross slip or failed)")
     return ax
 

@@ -29,6 +29,7 @@ import attrs
 from fretbem.errors import ComputationError
 
 from .cases import REGIMES, representative, run_batch
+from .labelled import sweep_dataset
 from .maps import draw_maps
 from .outputs import resolve_all
 from .spec import SweepSpec, SweepSpecError, load_sweep
@@ -208,6 +209,11 @@ class SweepResult:
     table: Any
     summary: SweepSummary
     spec: SweepSpec
+
+    def to_xarray(self):
+        """The table as an :class:`xarray.Dataset` indexed by the varied parameters (a grid
+        in ``product`` mode), with units: :func:`.labelled.sweep_dataset`."""
+        return sweep_dataset(self.table, self.spec.paths, self.spec.mode)
 
 
 def _summarise(table, spec, directory, stats) -> SweepSummary:
