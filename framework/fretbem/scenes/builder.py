@@ -21,6 +21,7 @@ from fretbem.simulation import LoadStep, Simulation
 from fretbem.verification.closed_forms import HertzLineContact, MindlinDeresiewicz, dundurs_beta
 from fretbem.verification.nowell_hills import NowellHills
 
+from .limits import check_scene
 from .spec import Scene, SceneFileError
 
 __all__ = ["CORNER_RATIO", "build", "grading_ratio", "hertz", "reference", "zone_elements"]
@@ -84,8 +85,9 @@ def zone_half_width(scene: Scene) -> float:
     contact = hertz(scene)
     if contact is None:
         raise SceneFileError(
-            "this pad has no Hertz half-width to scale [contact] zone by (its face is flat at "
-            "the first contact); give the candidate zone in mm as [contact] zone_width"
+            "the faces have no Hertz half-width to scale [contact] zone by (the pad's or the "
+            "specimen's face is flat or user-drawn, shape = 'nurbs'); give the candidate zone "
+            "in mm as [contact] zone_width"
         )
     return scene.contact.zone * contact.half_width
 
@@ -199,6 +201,7 @@ def build(scene: Scene, **contact_overrides):
                 scene.contact, **{k: v for k, v in contact_overrides.items() if v is not None}
             ),
         )
+    check_scene(scene)  # a hopeless size or history is refused with its estimate
     family = registry.get(scene.contact.basis)
     zone = zone_half_width(scene)
     pad = body_model(scene, "pad", family, zone, refinements(scene, family, zone, pad=True))
