@@ -84,3 +84,105 @@ def check_poisson(name: str, value: float) -> float:
     if not (math.isfinite(value) and -1.0 < value < 0.5):
         raise ValueError(f"{name} must be a Poisson's ratio in (-1, 0.5), got {value!r}")
     return value
+
+
+# -- values read from a file (TOML): strict, no coercion, the key named in every message -----
+def _kind_error(error: type[Exception], where: str, want: str, value: Any) -> Exception:
+    shown = repr(value) if not isinstance(value, str) else f'"{value}" (a string)'
+    return error(f"{where} must be {want}, got {shown}")
+
+
+def file_number(
+    where: str,
+    value: Any,
+    *,
+    low: float | None = None,
+    high: float | None = None,
+    low_open: bool = False,
+    high_open: bool = False,
+    why: str = "",
+    error: type[Exception] = ValueError,
+) -> float:
+    """A finite number from a file (true/false and strings refused), within [low, high].
+
+    ``where`` names the key as the user wrote it (``[fatigue] runout_cycles``); ``why`` is
+    appended to a range message (the physical reason). Returns a float.
+    """
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise _kind_error(error, where, "a number", value)
+    if not math.isfinite(value):
+        raise error(f"{where} must be a finite number, got {value!r}")
+    bad_low = low is not None and (value <= low if low_open else value < low)
+    bad_high = high is not None and (value >= high if high_open else value > high)
+    if bad_low or bad_high:
+        parts = []
+        if low is not None:
+            parts.append(f"{'>' if low_open else '>='} {low:g}")
+        if high is not None:
+            parts.append(f"{'<' if high_open else '<='} {high:g}")
+        reason = f" ({why})" if why else ""
+        raise error(f"{where} must be {' and '.join(parts)}{reason}, got {value!r}")
+    return float(value)
+
+
+def file_integer(
+    where: str,
+    value: Any,
+    *,
+    low: int | None = None,
+    high: int | None = None,
+    why: str = "",
+    error: type[Exception] = ValueError,
+) -> int:
+    """A whole number from a file (2.0, 2.7, true and "2" refused), within [low, high]."""
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise _kind_error(error, where, "a whole number (no decimal point)", value)
+    if (low is not None and value < low) or (high is not None and value > high):
+        span = " and ".join(
+            p for p in (f">= {low}" if low is not None else "", f"<= {high}" if high else "") if p
+        )
+        reason = f" ({why})" if why else ""
+        raise error(f"{where} must be {span}{reason}, got {value!r}")
+    return int(value)
+
+
+def file_bool(where: str, value: Any, *, error: type[Exception] = ValueError) -> bool:
+    """true or false from a file ("false", 0 and 1 refused: TOML has booleans)."""
+    if not isinstance(value, bool):
+        raise _kind_error(error, where, "true or false (no quotes)", value)
+    return value
+
+
+def file_string(
+    where: str,
+    value: Any,
+    choices: tuple[str, ...] | None = None,
+    *,
+    error: type[Exception] = ValueError,
+) -> str:
+    """A string from a file, one of ``choices`` when given."""
+    if not isinstance(value, str):
+        want = "one of " + ", ".join(f'"{c}"' for c in choices) if choices else "a string"
+        raise _kind_error(error, where, want, value)
+    if choices is not None and value not in choices:
+        raise error(f"{where} must be one of {', '.join(repr(c) for c in choices)}, got {value!r}")
+    return value
+
+
+def file_list(
+    where: str,
+    value: Any,
+    item,
+    *,
+    length: int | None = None,
+    min_length: int = 0,
+    error: type[Exception] = ValueError,
+) -> list:
+    """A list from a file, each entry checked by ``item(where[k], entry)``."""
+    if not isinstance(value, list):
+        raise _kind_error(error, where, "a list", value)
+    if length is not None and len(value) != length:
+        raise error(f"{where} must be a list of {length} entries, got {value!r}")
+    if len(value) < min_length:
+        raise error(f"{where} needs at least {min_length} entries, got {value!r}")
+    return [item(f"{where}[{k}]", v) for k, v in enumerate(value)]

@@ -47,6 +47,50 @@ CONSTANTS: dict[str, str] = {
     "fatemi_socie_k": "Fatemi-Socie normal-stress factor k",
 }
 
+#: physical range of each constant: (low, high, open ends); every material is checked against it
+_NEGATIVE_EXPONENT = (-1.5, 0.0, True)
+RANGES: dict[str, tuple[float | None, float | None, bool]] = {
+    "E": (0.0, None, True),
+    "nu": (-1.0, 0.5, True),
+    "yield_strength": (0.0, None, True),
+    "ultimate_strength": (0.0, None, True),
+    "fatigue_strength_coefficient": (0.0, None, True),
+    "fatigue_strength_exponent": _NEGATIVE_EXPONENT,
+    "fatigue_ductility_coefficient": (0.0, None, True),
+    "fatigue_ductility_exponent": _NEGATIVE_EXPONENT,
+    "shear_fatigue_strength_coefficient": (0.0, None, True),
+    "shear_fatigue_strength_exponent": _NEGATIVE_EXPONENT,
+    "shear_fatigue_ductility_coefficient": (0.0, None, True),
+    "shear_fatigue_ductility_exponent": _NEGATIVE_EXPONENT,
+    "fatigue_limit_range": (0.0, None, True),
+    "torsion_fatigue_limit_amplitude": (0.0, None, True),
+    "threshold_sif_range": (0.0, None, True),
+    "findley_k": (0.0, 5.0, False),
+    "fatemi_socie_k": (0.0, 5.0, False),
+}
+
+
+def _check_range(material: str, key: str, value: float) -> None:
+    low, high, open_ = RANGES[key]
+    bad = (low is not None and (value <= low if open_ else value < low)) or (
+        high is not None and (value >= high if open_ else value > high)
+    )
+    if bad:
+        span = " and ".join(
+            f"{op} {bound:g}"
+            for op, bound in (
+                (">" if open_ else ">=", low),
+                ("<" if open_ else "<=", high),
+            )
+            if bound is not None
+        )
+        raise FatigueInputError(
+            f"[fatigue] constant {key} = {value:g} of material {material!r} is outside its "
+            f"physical range: {CONSTANTS[key]} must be {span}; check its sign and units "
+            "(stresses in MPa, Delta K_th in MPa sqrt(m))"
+        )
+
+
 _SOCIE = (
     "estimated from the uniaxial constants "
     "(von Mises: Socie and Marquis, Multiaxial Fatigue, SAE 2000)"
@@ -81,6 +125,7 @@ class FatigueMaterial:
         for key, value in self.values.items():
             if not math.isfinite(value):
                 raise FatigueInputError(f"fatigue constant {key} of {self.name!r} must be finite")
+            _check_range(self.name, key, value)
 
     def with_values(
         self, values: Mapping[str, float], source: str = "user input"

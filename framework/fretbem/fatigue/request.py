@@ -12,6 +12,8 @@ from typing import Any
 
 import attrs
 
+from fretbem.validators import file_bool, file_integer, file_list, file_number, file_string
+
 from .critical_distance import AREA_RADIUS_FACTOR, critical_distance_from_threshold
 from .critical_plane import METHODS, PlaneSearch
 from .errors import FatigueInputError, MissingFatigueDataError
@@ -36,12 +38,6 @@ REQUEST_KEYS: dict[str, str] = {
     "surface_depth": "depth of the surface scan for the hot spot, mm (default 0)",
     "area_radius_factor": "area-method radius in units of L (default 1.32, Taylor)",
 }
-
-
-def _pair(value, name, kind=float):
-    if not isinstance(value, (list, tuple)) or len(value) != 2:
-        raise FatigueInputError(f"[fatigue] {name} must be a list of two numbers, got {value!r}")
-    return tuple(kind(v) for v in value)
 
 
 @attrs.frozen
@@ -116,6 +112,8 @@ def _material(table: Mapping[str, Any]) -> FatigueMaterial:
     bad = sorted(set(extra) - set(CONSTANTS))
     if bad:
         raise FatigueInputError(f"[fatigue.constants] unknown {bad}; known: {sorted(CONSTANTS)}")
+    extra = {k: file_number(f"[fatigue.constants] {k}", v, error=FatigueInputError)
+             for k, v in extra.items()}  # fmt: skip
     return material.with_values(extra) if extra else material
 
 
@@ -134,8 +132,92 @@ def _available(material: FatigueMaterial) -> tuple[tuple[str, ...], tuple[str, .
     return tuple(methods), tuple(notes)
 
 
+def _pair_of(table: Mapping[str, Any], key: str, item) -> tuple:
+    return tuple(file_list(f"[fatigue] {key}", table[key], item, length=2, error=FatigueInputError))
+
+
+def _number(**limits):
+    return lambda where, v: file_number(where, v, error=FatigueInputError, **limits)
+
+
+def _values(table: Mapping[str, Any]) -> dict[str, Any]:
+    """Every key of the table checked for its type and range (the key named in the message)."""
+    out: dict[str, Any] = {}
+    if "methods" in table:
+        methods = table["methods"]
+        methods = [methods] if isinstance(methods, str) else methods
+        out["methods"] = tuple(
+            file_list(
+                "[fatigue] methods",
+                methods,
+                lambda w, v: file_string(w, v, METHODS, error=FatigueInputError),
+                min_length=1,
+                error=FatigueInputError,
+            )
+        )
+    if "critical_distance" in table:
+        out["critical_distance"] = _number(low=0.0, low_open=True, why="L in mm")(
+            "[fatigue] critical_distance", table["critical_distance"]
+        )
+    if "cycle_steps" in table:
+        integer = lambda w, v: file_integer(w, v, low=0, error=FatigueInputError)  # noqa: E731
+        out["cycle_steps"] = tuple(
+            file_list("[fatigue] cycle_steps", table["cycle_steps"], integer, min_length=2,
+                      error=FatigueInputError)
+        )  # fmt: skip
+    if "hot_spot" in table:
+        hot = table["hot_spot"]
+        if isinstance(hot, str):
+            out["hot_spot"] = file_string("[fatigue] hot_spot", hot, ("surface",),
+                                          error=FatigueInputError)  # fmt: skip
+        else:
+            x, depth = _pair_of(table, "hot_spot", _number())
+            file_number("[fatigue] hot_spot depth", depth, low=0.0, error=FatigueInputError)
+            out["hot_spot"] = (x, depth)
+    if "direction" in table:
+        out["direction"] = file_string(
+            "[fatigue] direction", table["direction"], ("depth", "critical_plane"),
+            error=FatigueInputError,
+        )  # fmt: skip
+    if "in_plane_only" in table:
+        out["in_plane_only"] = file_bool(
+            "[fatigue] in_plane_only", table["in_plane_only"], error=FatigueInputError
+        )
+    if "runout_cycles" in table:
+        out["runout_cycles"] = _number(low=1.0, low_open=True, why="cycles")(
+            "[fatigue] runout_cycles", table["runout_cycles"]
+        )
+    if "map_x" in table:
+        out["map_x"] = _pair_of(table, "map_x", _number())
+        if not out["map_x"][0] < out["map_x"][1]:
+            raise FatigueInputError(
+                f"[fatigue] map_x must be [x_min, x_max] with x_min < x_max, got {table['map_x']}"
+            )
+    if "map_depth" in table:
+        out["map_depth"] = _number(low=0.0, low_open=True, why="mm below the surface")(
+            "[fatigue] map_depth", table["map_depth"]
+        )
+    if "map_points" in table:
+        count = lambda w, v: file_integer(w, v, low=2, error=FatigueInputError)  # noqa: E731
+        out["map_points"] = _pair_of(table, "map_points", count)
+    if "surface_depth" in table:
+        out["surface_depth"] = _number(low=0.0, why="mm below the surface")(
+            "[fatigue] surface_depth", table["surface_depth"]
+        )
+    if "area_radius_factor" in table:
+        out["area_radius_factor"] = _number(
+            low=0.0, high=10.0, low_open=True,
+            why="the area-method radius in units of L; Taylor's value is 1.32",
+        )("[fatigue] area_radius_factor", table["area_radius_factor"])  # fmt: skip
+    return out
+
+
 def fatigue_request_from_dict(table: Mapping[str, Any]) -> FatigueRequest:
-    """A :class:`FatigueRequest` from a ``[fatigue]`` table (keys: :data:`REQUEST_KEYS`)."""
+    """A :class:`FatigueRequest` from a ``[fatigue]`` table (keys: :data:`REQUEST_KEYS`).
+
+    Every value is checked for its type and range, without coercion (``2.7`` is not a
+    count, ``"false"`` is not a boolean); the message names the key.
+    """
     if not isinstance(table, Mapping):
         raise FatigueInputError(f"[fatigue] must be a table, got {type(table).__name__}")
     unknown = sorted(set(table) - set(REQUEST_KEYS))
@@ -143,16 +225,14 @@ def fatigue_request_from_dict(table: Mapping[str, Any]) -> FatigueRequest:
         raise FatigueInputError(
             f"[fatigue] unknown key(s) {unknown}; known: {sorted(REQUEST_KEYS)}"
         )
+    values = _values(table)
     material = _material(table)
     notes: tuple[str, ...] = ()
-    if "methods" in table:
-        methods = table["methods"]
-        if isinstance(methods, str):
-            methods = [methods]
-        methods = tuple(str(m) for m in methods)
+    if "methods" in values:
+        methods = values["methods"]
     else:
         methods, notes = _available(material)
-    L = table.get("critical_distance")
+    L = values.get("critical_distance")
     if L is None and material.has("threshold_sif_range") and material.has("fatigue_limit_range"):
         L = critical_distance_from_threshold(
             material.get("threshold_sif_range"), material.get("fatigue_limit_range")
@@ -160,25 +240,21 @@ def fatigue_request_from_dict(table: Mapping[str, Any]) -> FatigueRequest:
         notes += (f"L = {L:.4g} mm from Delta K_th and the plain fatigue limit range",)
     elif L is None:
         notes += ("no critical distance: give critical_distance or Delta K_th and Delta sigma_0",)
-    hot = table.get("hot_spot", "surface")
-    if not isinstance(hot, str):
-        hot = _pair(hot, "hot_spot")
-    steps = table.get("cycle_steps")
     try:
         return FatigueRequest(
             material=material,
             methods=methods,
             critical_distance=None if L is None else float(L),
-            cycle_steps=None if steps is None else tuple(int(s) for s in steps),
-            hot_spot=hot,
-            direction=str(table.get("direction", "depth")),
-            search=PlaneSearch(in_plane_only=bool(table.get("in_plane_only", False))),
-            runout_cycles=float(table.get("runout_cycles", 1e7)),
-            map_x=_pair(table["map_x"], "map_x") if "map_x" in table else None,
-            map_depth=float(table["map_depth"]) if "map_depth" in table else None,
-            map_points=_pair(table.get("map_points", (61, 31)), "map_points", int),
-            surface_depth=float(table.get("surface_depth", 0.0)),
-            area_radius_factor=float(table.get("area_radius_factor", AREA_RADIUS_FACTOR)),
+            cycle_steps=values.get("cycle_steps"),
+            hot_spot=values.get("hot_spot", "surface"),
+            direction=values.get("direction", "depth"),
+            search=PlaneSearch(in_plane_only=values.get("in_plane_only", False)),
+            runout_cycles=values.get("runout_cycles", 1e7),
+            map_x=values.get("map_x"),
+            map_depth=values.get("map_depth"),
+            map_points=values.get("map_points", (61, 31)),
+            surface_depth=values.get("surface_depth", 0.0),
+            area_radius_factor=values.get("area_radius_factor", AREA_RADIUS_FACTOR),
             notes=notes,
         )
     except (TypeError, MissingFatigueDataError) as exc:

@@ -22,6 +22,7 @@ from fretbem.simulation import LoadStep, Simulation
 from fretbem.verification.closed_forms import HertzLineContact, MindlinDeresiewicz, dundurs_beta
 from fretbem.verification.nowell_hills import NowellHills
 
+from .limits import check_scene
 from .spec import Scene, SceneFileError
 
 __all__ = [
@@ -94,8 +95,9 @@ def zone_half_width(scene: Scene) -> float:
     contact = hertz(scene)
     if contact is None:
         raise SceneFileError(
-            "this pad has no Hertz half-width to scale [contact] zone by (its face is flat at "
-            "the first contact); give the candidate zone in mm as [contact] zone_width"
+            "the faces have no Hertz half-width to scale [contact] zone by (the pad's or the "
+            "specimen's face is flat or user-drawn, shape = 'nurbs'); give the candidate zone "
+            "in mm as [contact] zone_width"
         )
     return scene.contact.zone * contact.half_width
 
@@ -240,6 +242,7 @@ def build(scene: Scene, **contact_overrides):
         scene = attrs.evolve(scene, contact=attrs.evolve(scene.contact, **overrides))
     if "pairs" in overrides:  # a pair count given for the run sets every face's
         scene = _faces_at(scene, overrides["pairs"])
+    check_scene(scene)  # a hopeless size or history is refused with its estimate
     zone = zone_half_width(scene)
     pad_family = _family(scene, "pad")
     specimen_family = _family(scene, "specimen")

@@ -7,7 +7,6 @@ are errors (a typo must not be silently ignored), and every number must be finit
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 import attrs
@@ -15,11 +14,7 @@ import attrs
 from .errors import SceneFileError
 from .legacy import translate
 from .spec import Scene, is_legacy, scene_from_dict
-
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover
-    import tomli as tomllib
+from .text import read_toml
 
 __all__ = ["SceneFileError", "load_scene", "scene_from_data", "scene_from_dict"]
 
@@ -34,14 +29,7 @@ def scene_from_data(data) -> Scene:
 def load_scene(path: str | Path, **contact_overrides) -> Scene:
     """Read a TOML scene file; ``contact_overrides`` (basis, pairs) replace [contact] keys."""
     path = Path(path)
-    try:
-        data = tomllib.loads(path.read_text())
-    except tomllib.TOMLDecodeError as err:
-        raise SceneFileError(f"{path}: not valid TOML: {err}") from err
-    except UnicodeDecodeError:
-        raise SceneFileError(f"{path}: not a text file (a scene file is TOML)") from None
-    except OSError as err:
-        raise SceneFileError(f"cannot read scene file {path}: {err.strerror}") from err
+    data = read_toml(path, "scene file", SceneFileError)
     try:
         scene = scene_from_data(data)
     except SceneFileError as err:

@@ -285,6 +285,9 @@ KEYS: tuple[Key, ...] = (
     Key("load", "increments", (int, list), "", 1, "equal sub-increments per step"),
 )
 
+#: the highest basis degree a scene may ask for (higher degrees are ill-conditioned)
+MAX_DEGREE = 8
+
 #: tables whose content another module reads (stress evaluation, fatigue)
 EXTRA_TABLES = ("stress", "fatigue")
 SEGMENT_KEYS = {"tag", "degree", "knots", "points", "weights"}
@@ -483,17 +486,26 @@ def _material(data: Mapping, body: str) -> Material:
     _unknown("[material]", shared, keys)
     _unknown(f"[{body}.material]", own, keys)
     values = {k.name: k.default for k in keys.values()}
+    origin = dict.fromkeys(values, "[material]")  # where each value was given (for messages)
     for source, where in ((shared, "[material]"), (own, f"[{body}.material]")):
         for name, value in source.items():
             values[name] = _check(f"{where} {name}", value, keys[name].kind)
+            origin[name] = where
     if values["plane"] not in ("strain", "stress"):
         raise SceneFileError(
-            f"[{body}.material] plane must be 'strain' or 'stress', got {values['plane']!r}"
+            f"{origin['plane']} plane must be 'strain' or 'stress', got {values['plane']!r}"
+        )
+    if not values["E"] > 0:
+        raise SceneFileError(f"{origin['E']} E must be > 0 MPa, got {values['E']!r}")
+    if not -1.0 < values["nu"] < 0.5:
+        raise SceneFileError(
+            f"{origin['nu']} nu (Poisson's ratio) must lie in (-1, 0.5) for a stable "
+            f"isotropic material, got {values['nu']!r}"
         )
     try:
         return Material(values["E"], values["nu"], plane_stress=values["plane"] == "stress")
     except ValueError as err:
-        raise SceneFileError(f"[{body}.material]: {err}") from None
+        raise SceneFileError(f"{origin['E']}: {err}") from None
 
 
 def _body(data: Mapping, body: str, library: Mapping[str, type]) -> BodySpec:
@@ -584,6 +596,12 @@ def _load(data: Mapping) -> LoadSpec:
         for k in ("steps", "P", "Q", "bulk", "increments")
         if isinstance(section.get(k), list)
     }
+    for name, value in lists.items():
+        if not value:
+            raise SceneFileError(
+                f"[load] {name} is an empty list; a load history needs at least one step "
+                '(e.g. steps = ["A"], P = 100.0)'
+            )
     if "steps" in section:
         n = len(section["steps"])
     elif lists:
@@ -681,9 +699,19 @@ def scene_from_dict(data: Mapping) -> Scene:
     mesh_section = _table(data, "mesh")
     _unknown("[mesh]", mesh_section, _keys("mesh"))
     mesh = {n: _check(f"[mesh] {n}", v, _keys("mesh")[n].kind) for n, v in mesh_section.items()}
+    if "zone" in contact and "zone_width" in contact:
+        raise SceneFileError(
+            "[contact] zone and zone_width both set the candidate zone (zone in Hertz "
+            "half-widths, zone_width in mm); keep one of them"
+        )
+    if "degree" in contact and not 1 <= contact["degree"] <= MAX_DEGREE:
+        raise SceneFileError(
+            f"[contact] degree must be between 1 and {MAX_DEGREE}, got {contact['degree']}"
+        )
     for name, value in {**contact, **mesh}.items():
+        table = "[contact]" if name in contact else "[mesh]"
         if name in ("pairs", "flank_elements", "side_elements", "top_elements") and value < 1:
-            raise SceneFileError(f"{name} must be >= 1, got {value}")
+            raise SceneFileError(f"{table} {name} must be >= 1, got {value}")
         if name in ("zone", "zone_width") and not value > 0:
             raise SceneFileError(f"[contact] {name} must be > 0, got {value}")
         if name == "friction" and not value > 0:

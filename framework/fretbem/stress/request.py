@@ -13,6 +13,8 @@ from collections.abc import Mapping, Sequence
 import attrs
 import numpy as np
 
+from fretbem.validators import file_integer, file_list, file_number, file_string
+
 from .edges import EdgePosition, parse_position
 from .errors import StressRequestError
 
@@ -28,6 +30,22 @@ __all__ = [
 def _positive(instance, attribute, value) -> None:
     if not (np.isfinite(value) and value > 0):
         raise StressRequestError(f"{attribute.name} must be a finite number > 0, got {value!r}")
+
+
+def _whole(value):
+    """A count: a whole number (2.7, true and "5" refused, 5.0 accepted from Python)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise StressRequestError(f"a count must be a whole number, got {value!r}")
+    if value != int(value):
+        raise StressRequestError(f"a count must be a whole number, got {value!r}")
+    return int(value)
+
+
+def _real(value):
+    """A number (true and "1.0" refused)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise StressRequestError(f"expected a number, got {value!r}")
+    return float(value)
 
 
 def _count(instance, attribute, value) -> None:
@@ -62,9 +80,9 @@ class StressLine:
     """
 
     x: float | EdgePosition = attrs.field(converter=parse_position)
-    depth: float = attrs.field(converter=float, validator=_positive)
-    n: int = attrs.field(default=50, converter=int, validator=_count)
-    grading: float = attrs.field(default=20.0, converter=float, validator=_positive)
+    depth: float = attrs.field(converter=_real, validator=_positive)
+    n: int = attrs.field(default=50, converter=_whole, validator=_count)
+    grading: float = attrs.field(default=20.0, converter=_real, validator=_positive)
 
     def resolved(self, a: float, centre: float = 0.0) -> StressLine:
         """The same line at a number x (an edge position placed for half-width ``a``)."""
@@ -93,11 +111,11 @@ class StressGrid:
         Row spacing at the bottom over row spacing at the surface.
     """
 
-    x: tuple[float, float] = attrs.field(converter=lambda v: tuple(float(a) for a in v))
-    depth: float = attrs.field(converter=float, validator=_positive)
-    nx: int = attrs.field(default=81, converter=int, validator=_count)
-    ny: int = attrs.field(default=41, converter=int, validator=_count)
-    grading: float = attrs.field(default=20.0, converter=float, validator=_positive)
+    x: tuple[float, float] = attrs.field(converter=lambda v: tuple(_real(a) for a in v))
+    depth: float = attrs.field(converter=_real, validator=_positive)
+    nx: int = attrs.field(default=81, converter=_whole, validator=_count)
+    ny: int = attrs.field(default=41, converter=_whole, validator=_count)
+    grading: float = attrs.field(default=20.0, converter=_real, validator=_positive)
 
     def __attrs_post_init__(self) -> None:
         if len(self.x) != 2 or not self.x[0] < self.x[1]:
@@ -200,7 +218,23 @@ def _table(raw, keys: set[str], where: str) -> dict:
     return dict(raw)
 
 
+def _strict(raw: dict, where: str) -> None:
+    """No coercion from the file: counts whole, numbers not booleans or strings."""
+    for key, value in raw.items():
+        here = f"{where} {key}"
+        if key in ("n", "nx", "ny"):
+            file_integer(here, value, low=2, error=StressRequestError)
+        elif key == "x" and isinstance(value, str):
+            parse_position(value, where)  # an edge name, checked by its own parser
+        elif key == "x" and isinstance(value, list):
+            file_list(here, value, lambda w, v: file_number(w, v, error=StressRequestError),
+                      length=2, error=StressRequestError)  # fmt: skip
+        else:
+            file_number(here, value, error=StressRequestError)
+
+
 def _build(cls, raw: dict, where: str):
+    _strict(raw, where)
     try:
         return cls(**raw)
     except StressRequestError as err:
@@ -231,6 +265,12 @@ def stress_request_from_dict(raw: Mapping) -> StressRequest:
         )
     if isinstance(raw.get("steps"), str):
         raw["steps"] = [raw["steps"]]
+    if "steps" in raw:
+        file_list("[stress] steps", raw["steps"],
+                  lambda w, v: file_string(w, v, error=StressRequestError), min_length=1,
+                  error=StressRequestError)  # fmt: skip
+    if "body" in raw:
+        file_string("[stress] body", raw["body"], ("lower", "upper"), error=StressRequestError)
     for key in ("figures", "vtk"):
         if key in raw and not isinstance(raw[key], bool):
             raise StressRequestError(f"[stress] {key} must be true or false, got {raw[key]!r}")

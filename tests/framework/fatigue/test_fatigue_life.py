@@ -221,7 +221,7 @@ def test_request_from_a_scene_table():
         ({"material": "Ti-6Al-4V", "colour": 1}, "unknown key"),
         ({"material": "Unobtainium"}, "unknown fatigue material"),
         ({}, "needs material"),
-        ({"material": "Ti-6Al-4V", "methods": ["dang_van"]}, "unknown fatigue method"),
+        ({"material": "Ti-6Al-4V", "methods": ["dang_van"]}, r"methods\[0\] must be one of"),
         ({"material": "Ti-6Al-4V", "constants": {"colour": 1.0}}, "unknown"),
         ({"material": "Ti-6Al-4V", "critical_distance": -1.0}, "critical_distance"),
         ({"material": "Ti-6Al-4V", "direction": "sideways"}, "direction"),

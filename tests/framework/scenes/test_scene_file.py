@@ -44,7 +44,7 @@ def test_unreadable_file(tmp_path):
     with pytest.raises(SceneFileError, match="not valid TOML"):
         load_scene(bad)
     binary = tmp_path / "binary.toml"
-    binary.write_bytes(b"\xff\xfe\x00\x81")
+    binary.write_bytes(b"\x89PNG\r\n\x1a\n\x00\x00\x00\rIHDR")
     with pytest.raises(SceneFileError, match="not a text file"):
         load_scene(binary)
     typo = tmp_path / "typo.toml"

@@ -17,7 +17,6 @@ import itertools
 import json
 import math
 import re
-import sys
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -26,11 +25,7 @@ import attrs
 import numpy as np
 
 from fretbem.errors import InputError
-
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover
-    import tomli as tomllib
+from fretbem.scenes.text import read_toml
 
 
 class SweepSpecError(InputError):
@@ -302,12 +297,7 @@ class SweepSpec:
 
 
 def _read_toml(path: Path, what: str) -> dict:
-    try:
-        return tomllib.loads(path.read_text())
-    except tomllib.TOMLDecodeError as err:
-        raise SweepSpecError(f"{path}: {what} is not valid TOML: {err}") from err
-    except OSError as err:
-        raise SweepSpecError(f"cannot read {what} {path}: {err.strerror}") from err
+    return read_toml(path, what.removeprefix("the "), SweepSpecError)
 
 
 SWEEP_KEYS = {"scene", "mode", "out", "outputs"}

@@ -1,0 +1,667 @@
+"""Re-run of the hostile-input audit (issue 24's classes): each case is judged good or bad.
+
+Classes, worst first: silent wrong result, data loss, traceback, misleading message or
+missing limit, weak (silent coercion, missing note). A case is *good* when fretbem either
+does the right thing or refuses with one line (exit 2, or 1 for a failed check) naming the
+scene key; a traceback, a hang past the case's time limit, exit 0 on an input that must be
+refused, or a message without the expected words is *bad*.
+
+    python benchmarks/hostile_audit.py            # every class, a table and the counts
+    python benchmarks/hostile_audit.py --only traceback --verbose
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import io
+import json
+import os
+import signal
+import sys
+import tempfile
+import textwrap
+import time
+import traceback
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+BASE = """
+[pad]
+shape = "cylinder"
+radius = 70.0
+[specimen]
+shape = "cylinder"
+[contact]
+pairs = 11
+[load]
+steps = ["A", "B"]
+P = 100.0
+Q = [0.0, 18.0]
+"""
+
+RIG = """
+[pad]
+shape = "cylinder"
+radius = 70.0
+width = 10.0
+height = 10.0
+[specimen]
+shape = "flat"
+length = 40.0
+thickness = 13.0
+[material]
+E = 72000.0
+nu = 0.33
+[contact]
+friction = 0.5
+pairs = 21
+[load]
+steps = ["A", "B", "C", "D", "E"]
+P = 200.0
+Q = [0.0, 45.0, 0.0, -45.0, 0.0]
+bulk = [0.0, 90.0, 0.0, -90.0, 0.0]
+"""
+
+CASES: list = []
+
+
+def case(klass: str, name: str, seconds: float = 60.0):
+    """Register ``function() -> (good, detail)`` under ``klass``."""
+
+    def register(function):
+        CASES.append((klass, name, seconds, function))
+        return function
+
+    return register
+
+
+class Timeout(Exception):
+    pass
+
+
+def _alarm(signum, frame):
+    raise Timeout
+
+
+def cli(*argv: str, seconds: float = 30.0) -> tuple[int | str, str]:
+    """``fretbem argv`` in this process: (exit code or 'traceback'/'timeout', stderr+stdout)."""
+    from fretbem.app.cli import main
+
+    err, out = io.StringIO(), io.StringIO()
+    previous = signal.signal(signal.SIGALRM, _alarm)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        with contextlib.redirect_stderr(err), contextlib.redirect_stdout(out):
+            code = main(list(argv))
+    except Timeout:
+        code = "timeout"
+    except SystemExit as exit_:
+        code = exit_.code
+    except BaseException:
+        code = "traceback"
+        err.write(traceback.format_exc(limit=-2))
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+    return code, err.getvalue() + out.getvalue()
+
+
+WORK = Path(tempfile.mkdtemp(prefix="fretbem-audit-"))
+
+
+def scene_file(text: str, name: str = "scene.toml", encoding: str | None = None) -> Path:
+    path = WORK / f"{time.perf_counter_ns()}-{name}"
+    path.write_bytes(text.encode(encoding) if encoding else text.encode())
+    return path
+
+
+def run_text(text: str, *extra: str, seconds: float = 30.0, encoding=None):
+    path = scene_file(text, encoding=encoding)
+    out = WORK / f"out-{time.perf_counter_ns()}"
+    return cli("run", str(path), "--out", str(out), "--no-figures", "--no-vtk", *extra,
+               seconds=seconds)  # fmt: skip
+
+
+def refused(code, text, *words, exit_code=2) -> tuple[bool, str]:
+    """Good if exit ``exit_code`` with one line holding every word (case-insensitive)."""
+    line = text.strip().splitlines()[-1] if text.strip() else ""
+    ok = code == exit_code and all(w.lower() in text.lower() for w in words)
+    return ok, f"exit {code}: {line[:200]}"
+
+
+def with_key(table: str, key: str, value: str, base: str = BASE) -> str:
+    """``base`` with ``key = value`` set in ``[table]`` (added or replaced)."""
+    lines, out, inside, done = base.strip().splitlines(), [], False, False
+    for line in lines:
+        if line.startswith("["):
+            if inside and not done:
+                out.append(f"{key} = {value}")
+                done = True
+            inside = line.strip() == f"[{table}]"
+        elif inside and line.split("=")[0].strip() == key:
+            out.append(f"{key} = {value}")
+            done = True
+            continue
+        out.append(line)
+    if not done:
+        if not inside:
+            out.append(f"[{table}]")
+        out.append(f"{key} = {value}")
+    return "\n".join(out) + "\n"
+
+
+# ------------------------------------------------------------------ silent wrong results
+
+SWEEP_FATIGUE = """
+[sweep]
+scene = "{scene}"
+outputs = ["fretbem.studies.sweep.outputs:fatigue"]
+[parameters]
+"fatigue.constants.fatigue_strength_coefficient" = [1000.0, 2464.0]
+[fatigue]
+material = "Al 7050-T7451"
+methods = ["swt"]
+critical_distance = 0.05
+map_points = [9, 5]
+"""
+
+
+@case("silent-wrong", "sweep [fatigue] table vs swept fatigue.* parameter", 240)
+def _sweep_fatigue():
+    scene = scene_file(RIG.replace("pairs = 21", "pairs = 11"))
+    sweep = scene_file(SWEEP_FATIGUE.format(scene=scene.name))
+    out = WORK / "sweep-fatigue"
+    code, text = cli("sweep", str(sweep), "--serial", "--out", str(out), "--no-figures",
+                     seconds=240)  # fmt: skip
+    if code != 0:
+        return False, f"exit {code}: {text.strip()[-200:]}"
+    import pandas as pd
+
+    table = pd.concat(pd.read_parquet(p) for p in out.glob("cases-*.parquet"))
+    lives = table.sort_values("case")["swt.life"].to_list()
+    return lives[0] != lives[1], f"swt.life {lives}"
+
+
+@case("silent-wrong", "sweep of an adaptive-mesh scene", 240)
+def _sweep_adaptive():
+    scene = scene_file(
+        BASE.replace("pairs = 11", 'mesh = "adaptive"\nbudget = 41\ntolerance = 0.05')
+    )
+    sweep = scene_file(
+        f'[sweep]\nscene = "{scene.name}"\n[parameters]\n"contact.friction" = [0.3, 0.4]\n'
+    )
+    out = WORK / "sweep-adaptive"
+    code, text = cli("sweep", str(sweep), "--serial", "--out", str(out), "--no-figures",
+                     seconds=240)  # fmt: skip
+    if code == 2 and "adaptive" in text:
+        return True, f"refused: {text.strip()[-160:]}"
+    if code != 0:
+        return False, f"exit {code}: {text.strip()[-200:]}"
+    import pandas as pd
+
+    table = pd.concat(pd.read_parquet(p) for p in out.glob("cases-*.parquet"))
+    if "pairs" not in table:
+        return False, "no pairs column: which mesh was solved is not recorded"
+    pairs = table["pairs"].to_list()
+    return all(p != 61 for p in pairs) and set(table["status"]) == {"ok"}, f"pairs {pairs}"
+
+
+FATIGUE_BAD = {
+    "fatigue_strength_exponent": "0.5",
+    "fatigue_ductility_exponent": "0.2",
+    "fatigue_strength_coefficient": "-100.0",
+    "fatigue_limit_range": "0.0",
+    "threshold_sif_range": "-2.0",
+    "findley_k": "-0.3",
+    "yield_strength": "-5.0",
+    "nu": "0.7",
+    "E": "-1.0",
+}
+
+
+def _fatigue_scene(extra: str) -> str:
+    return (
+        RIG.replace("pairs = 21", "pairs = 11")
+        + '[fatigue]\nmaterial = "Al 7050-T7451"\nmethods = ["swt"]\nmap_points = [9, 5]\n'
+        + extra
+    )
+
+
+for _key, _value in FATIGUE_BAD.items():
+
+    @case("silent-wrong", f"unphysical [fatigue.constants] {_key} = {_value}")
+    def _fatigue_constant(key=_key, value=_value):
+        code, text = run_text(_fatigue_scene(f"[fatigue.constants]\n{key} = {value}\n"))
+        return refused(code, text, key)
+
+
+for _key, _value in {
+    "area_radius_factor": "-1.0",
+    "critical_distance": "-0.1",
+    "runout_cycles": "-5.0",
+    "map_depth": "-1.0",
+}.items():
+
+    @case("silent-wrong", f"unphysical [fatigue] {_key} = {_value}")
+    def _fatigue_key(key=_key, value=_value):
+        code, text = run_text(_fatigue_scene("").replace("[fatigue]\n", f"[fatigue]\n{key} = "
+                                                                         f"{value}\n"))  # fmt: skip
+        return refused(code, text, key)
+
+
+def _result():
+    from fretbem.scenes.reference import CattaneoMindlinScene, cattaneo_mindlin
+    from fretbem.simulation import run
+
+    return run(cattaneo_mindlin(CattaneoMindlinScene(pairs=21)))
+
+
+for _field in (
+    "pressure",
+    "shear",
+    "x",
+    "normal_displacement",
+    "tangential_displacement",
+    "states",
+    "unknowns",
+):
+
+    @case("silent-wrong", f"result array {_field} written in place")
+    def _writable(field=_field):
+        r = _result()
+        array = getattr(r.steps[1], field)
+        try:
+            array[:1] = array[:1] * 2
+        except (ValueError, TypeError) as err:
+            return True, f"refused: {err}"
+        return False, f"steps[1].{field} is writable"
+
+
+@case("silent-wrong", "writer checks the tractions it writes (doubled pressure)")
+def _writer_checks():
+    import attrs
+
+    from fretbem.output.write import write_results
+
+    r = _result()
+    step = r.steps[1]
+    doubled = attrs.evolve(step, pressure=np.asarray(step.pressure) * 2)
+    r2 = attrs.evolve(r, steps=(r.steps[0], doubled, *r.steps[2:]))
+    try:
+        write_results(r2, WORK / "doubled", figures=False, vtk=False)
+    except Exception as err:
+        return "equilibrium" in str(err), f"{type(err).__name__}: {err}"[:200]
+    summary = json.loads((WORK / "doubled" / "summary.json").read_text())
+    passed = summary["steps"][1]["checks"]["equilibrium"]["passed"]
+    return not passed, f"written, equilibrium passed = {passed}"
+
+
+# ------------------------------------------------------------------ data loss
+
+
+@case("data-loss", "glob characters in --out keep another run's staging")
+def _glob_out():
+    parent = WORK / "glob"
+    parent.mkdir()
+    other = parent / ".r1.tmp-abc"
+    other.mkdir()
+    (other / "results.csv").write_text("precious")
+    for name in ("r*", "r[1]", "r?"):
+        run_text(BASE, "--out", str(parent / name))
+    return other.exists(), f"other staging {'kept' if other.exists() else 'deleted'}"
+
+
+@case("data-loss", "a user's file inside a previous output is not deleted")
+def _user_file():
+    out = WORK / "userfile"
+    run_text(BASE, "--out", str(out))
+    (out / "notes.txt").write_text("mine")
+    code, text = run_text(BASE, "--out", str(out))
+    return (out / "notes.txt").exists() and code == 2, f"exit {code}: {text.strip()[-120:]}"
+
+
+@case("data-loss", "a copied marker does not make a folder replaceable")
+def _copied_marker():
+    out = WORK / "marked"
+    run_text(BASE, "--out", str(out))
+    mine = WORK / "thesis"
+    mine.mkdir()
+    (mine / "chapter.tex").write_text("mine")
+    (mine / ".fretbem-output").write_text((out / ".fretbem-output").read_text())
+    code, text = run_text(BASE, "--out", str(mine))
+    return (mine / "chapter.tex").exists(), f"exit {code}: {text.strip()[-120:]}"
+
+
+# ------------------------------------------------------------------ tracebacks
+
+NURBS_PAD = """
+[[{body}.segments]]
+tag = "{tag}"
+degree = 1
+knots = [0.0, 0.0, 1.0, 1.0]
+points = [[-1.0, 0.0], [1.0, 0.0]]
+"""
+
+for _body in ("pad", "specimen"):
+    for _tag in ("contact", "face"):
+
+        @case("traceback", f"shape = 'nurbs' {_body} with a {_tag!r} segment")
+        def _nurbs(body=_body, tag=_tag):
+            text = with_key(body, "shape", '"nurbs"').replace("radius = 70.0\n", "")
+            text += NURBS_PAD.format(body=body, tag=tag)
+            code, out = run_text(text)
+            return refused(code, out, body)
+
+
+#: hostile values tried on every key of the scene file
+HOSTILE_VALUES = [
+    "9223372036854775807",
+    "-9223372036854775808",
+    "0",
+    "-1",
+    "1e308",
+    "1e-308",
+    '"x"',
+    "true",
+    "[]",
+    "[1, 2]",
+    "{ a = 1 }",
+    "2.5",
+]
+
+
+def _keys():
+    from fretbem.scenes.spec import KEYS
+
+    skip = {"segments"}
+    return [(k.table, k.name) for k in KEYS if k.name not in skip and not k.shapes]
+
+
+for _table, _name in _keys():
+    for _value in HOSTILE_VALUES:
+
+        @case("traceback", f"[{_table}] {_name} = {_value}", 30)
+        def _fuzz(table=_table, name=_name, value=_value):
+            code, out = run_text(with_key(table, name, value), seconds=25)
+            ok = code in (0, 1, 2) and "Traceback" not in out
+            if code == 2:
+                ok = name in out or "traceback" not in out.lower()
+            return ok, f"exit {code}: {out.strip().splitlines()[-1][:160] if out.strip() else ''}"
+
+
+# ------------------------------------------------------------------ misleading / limits
+
+
+@case("misleading", "empty [load] steps")
+def _empty_steps():
+    return refused(*run_text(with_key("load", "steps", "[]").replace("Q = [0.0, 18.0]", "")),
+                   "steps")  # fmt: skip
+
+
+@case("misleading", "material error names a table the file has")
+def _material_table():
+    code, text = run_text(with_key("material", "plane", '"strainn"'))
+    return refused(code, text, "[material]") if "[pad.material]" not in text else (False, text)
+
+
+for _encoding in ("latin-1", "utf-16", "utf-8-sig"):
+
+    @case("misleading", f"scene file in {_encoding}")
+    def _encoded(encoding=_encoding):
+        text = "# pad: Ø 70 mm, µ = 0.3\n" + BASE
+        code, out = run_text(text, encoding=encoding)
+        if code == 0:
+            return True, "read"
+        return refused(code, out, encoding.split("-")[0].replace("utf", "utf"))
+
+
+@case("misleading", "--out name too long for the lock is refused before computing")
+def _long_out():
+    name = "r" * 250
+    t = time.perf_counter()
+    code, text = run_text(BASE.replace("pairs = 11", "pairs = 61"), "--out", str(WORK / name))
+    seconds = time.perf_counter() - t
+    return code == 2 and "long" in text and seconds < 3, f"exit {code} {seconds:.1f} s: " + \
+        text.strip()[-120:]  # fmt: skip
+
+
+@case("misleading", "increments = 1e9 refused up front with the estimate", 20)
+def _increments():
+    code, text = run_text(with_key("load", "increments", "1000000000"), seconds=15)
+    return refused(code, text, "increments", "estimate")
+
+
+@case("misleading", "an 11-million-entry Q list refused up front", 60)
+def _long_q():
+    n = 11_000_000
+    text = BASE.replace('steps = ["A", "B"]\n', "").replace(
+        "Q = [0.0, 18.0]", "Q = [0.0, " + ", ".join(["1.0"] * (n - 1)) + "]"
+    )
+    code, out = run_text(text, seconds=55)
+    return refused(code, out, "steps", "estimate")
+
+
+@case("misleading", "a 1000 x 1000 stress grid refused up front with its estimate", 30)
+def _grid():
+    text = BASE + "[stress]\nfigures = false\nvtk = false\n[stress.grid]\nx = [-1.0, 1.0]\n"
+    text += "depth = 1.0\nnx = 1000\nny = 1000\n"
+    code, out = run_text(text, seconds=25)
+    return refused(code, out, "[stress.grid]", "estimate")
+
+
+@case("misleading", "bulk stress in step A: the default solver succeeds or advises", 120)
+def _bulk_in_a():
+    text = RIG.replace(
+        "bulk = [0.0, 90.0, 0.0, -90.0, 0.0]", "bulk = [60.0, 90.0, 0.0, -90.0, 0.0]"
+    )
+    code, out = run_text(text, seconds=110)
+    return code == 0 or (code == 2 and "lemke" in out), f"exit {code}: {out.strip()[-200:]}"
+
+
+@case("misleading", "near gross slip the advice names [load] increments", 120)
+def _near_gross():
+    text = BASE.replace("Q = [0.0, 18.0]", "Q = [0.0, 29.99]")
+    code, out = run_text(text, seconds=110)
+    good = code == 0 or (code == 2 and "increments" in out and "pairs" not in out.split(";")[0])
+    return good, f"exit {code}: {out.strip()[-200:]}"
+
+
+def _sweep(body: str, scene_text: str = BASE, *extra: str, seconds=120):
+    scene = scene_file(scene_text)
+    sweep = scene_file(f'[sweep]\nscene = "{scene.name}"\n' + body)
+    out = WORK / f"sweep-{time.perf_counter_ns()}"
+    t = time.perf_counter()
+    code, text = cli("sweep", str(sweep), "--serial", "--out", str(out), *extra, seconds=seconds)
+    return code, text, time.perf_counter() - t, out
+
+
+@case("misleading", "sweep [[maps]] column typo refused before solving")
+def _map_typo():
+    code, text, seconds, _ = _sweep(
+        '[parameters]\n"load.P" = [90.0, 100.0]\n"contact.friction" = [0.3, 0.4]\n'
+        '[[maps]]\nx = "load.P"\ny = "contact.friction"\ncolumn = "stick_widht.B"\n'
+    )
+    return code == 2 and "stick_widht" in text and "solved" not in text, (
+        f"exit {code} {seconds:.1f} s: {text.strip()[-160:]}"
+    )
+
+
+@case("misleading", "sweep map axis that is not a parameter refused before solving")
+def _map_axis():
+    code, text, seconds, _ = _sweep(
+        '[parameters]\n"load.P" = [90.0, 100.0]\n"contact.friction" = [0.3, 0.4]\n'
+        '[[maps]]\nx = "load.P"\ny = "load.Q"\n'
+    )
+    return code == 2 and "load.Q" in text and "solved" not in text, (
+        f"exit {code} {seconds:.1f} s: {text.strip()[-160:]}"
+    )
+
+
+@case("misleading", "sweep outputs accept only registered outputs (os:getcwd)")
+def _outputs():
+    code, text, _, _ = _sweep('outputs = ["os:getcwd"]\n[parameters]\n"load.P" = [90.0]\n')
+    return refused(code, text, "os:getcwd")
+
+
+@case("misleading", "planning a 1e6-case sweep is refused or lazy", 30)
+def _huge():
+    body = '[parameters]\n"load.P" = { start = 50.0, stop = 150.0, num = 1000 }\n'
+    body += '"contact.friction" = { start = 0.2, stop = 0.6, num = 1000 }\n'
+    code, text, seconds, _ = _sweep(body, BASE, "--limit", "1", seconds=25)
+    return code in (0, 2) and seconds < 20, f"exit {code} {seconds:.1f} s: {text.strip()[-160:]}"
+
+
+@case("misleading", "a foreign Parquet chunk in a store is refused naming the file")
+def _foreign_chunk():
+    body = '[parameters]\n"load.P" = [90.0, 100.0]\n'
+    code, text, _, out = _sweep(body, BASE, "--no-figures")
+    chunk = sorted(out.glob("cases-*.parquet"))[0]
+    import pandas as pd
+
+    frame = pd.read_parquet(chunk)
+    frame["p_max.B"] = frame["p_max.B"] * 2
+    frame.to_parquet(chunk)
+    scene = sorted(WORK.glob("*-scene.toml"))[-1]
+    sweep = scene_file(f'[sweep]\nscene = "{scene.name}"\n' + body)
+    code, text = cli("sweep", str(sweep), "--serial", "--out", str(out), "--no-figures")
+    return refused(code, text, chunk.name)
+
+
+@case("misleading", "a corrupt Parquet chunk's error names the file")
+def _corrupt_chunk():
+    body = '[parameters]\n"load.P" = [90.0, 100.0]\n'
+    code, text, _, out = _sweep(body, BASE, "--no-figures")
+    chunk = sorted(out.glob("cases-*.parquet"))[0]
+    chunk.write_bytes(b"garbage")
+    scene = sorted(WORK.glob("*-scene.toml"))[-1]
+    sweep = scene_file(f'[sweep]\nscene = "{scene.name}"\n' + body)
+    code, text = cli("sweep", str(sweep), "--serial", "--out", str(out), "--no-figures")
+    return refused(code, text, chunk.name)
+
+
+# ------------------------------------------------------------------ weak
+
+COERCION = [
+    ("[fatigue] in_plane_only", "in_plane_only", '"false"'),
+    ("[fatigue] cycle_steps", "cycle_steps", "[1.7, 2.2, 3.9]"),
+    ("[fatigue] map_points", "map_points", "[9.5, 5]"),
+    ("[fatigue] runout_cycles", "runout_cycles", "true"),
+    ("[fatigue] critical_distance", "critical_distance", '"0.05"'),
+    ("[fatigue] methods", "methods", "[1, 2]"),
+    ("[fatigue] direction", "direction", "1"),
+]
+for _label, _key, _value in COERCION:
+
+    @case("weak", f"{_label} = {_value}")
+    def _coerce_fatigue(key=_key, value=_value):
+        code, text = run_text(
+            _fatigue_scene("").replace("[fatigue]\n", f"[fatigue]\n{key} = {value}\n")
+        )
+        return refused(code, text, key)
+
+
+STRESS_COERCION = [
+    ("line", "n", "2.7"),
+    ("line", "n", "true"),
+    ("line", "depth", '"1.0"'),
+    ("line", "grading", "false"),
+    ("line", "x", "true"),
+    ("grid", "nx", "20.5"),
+    ("grid", "depth", "true"),
+]
+for _where, _key, _value in STRESS_COERCION:
+
+    @case("weak", f"[stress.{_where}] {_key} = {_value}")
+    def _coerce_stress(where=_where, key=_key, value=_value):
+        line = {"x": "0.0", "depth": "1.0", "n": "5", "grading": "2.0"}
+        grid = {"x": "[-1.0, 1.0]", "depth": "1.0", "nx": "5", "ny": "5"}
+        table = dict(line if where == "line" else grid)
+        table[key] = value
+        text = BASE + "[stress]\nfigures = false\nvtk = false\n"
+        text += f"[stress.{where}]\n" + "".join(f"{k} = {v}\n" for k, v in table.items())
+        code, out = run_text(text)
+        return refused(code, out, key)
+
+
+for _key, _value in (("degree", "2.5"), ("pairs", "11.0"), ("friction", "true"),
+                     ("zone", "false"), ("estimate", "1")):  # fmt: skip
+
+    @case("weak", f"[contact] {_key} = {_value}")
+    def _coerce_contact(key=_key, value=_value):
+        return refused(*run_text(with_key("contact", key, value)), key)
+
+
+@case("weak", "zone and zone_width both given")
+def _zone_both():
+    return refused(*run_text(with_key("contact", "zone_width", "0.8")), "zone_width")
+
+
+@case("weak", "sweep file pattern and values coerced")
+def _sweep_bool():
+    code, text, _, _ = _sweep('[parameters]\n"contact.pairs" = [true]\n', BASE, "--no-figures")
+    return refused(code, text, "contact.pairs")
+
+
+@case("weak", "5 pairs: a large estimated error is not reported silently", 60)
+def _five_pairs():
+    code, text = run_text(BASE.replace("pairs = 11", "pairs = 5"))
+    return "estimate" in text.lower() and ("coarse" in text or "not converged" in text or
+                                           "exceeds" in text), text.strip()[-200:]  # fmt: skip
+
+
+@case("weak", "closed form compared outside its validity (a/R large)", 60)
+def _validity():
+    text = BASE.replace("radius = 70.0", "radius = 2.0").replace("[specimen]\n",
+                        "[specimen]\nradius = 2.0\n")  # fmt: skip
+    text = text.replace("P = 100.0", "P = 3000.0").replace("Q = [0.0, 18.0]", "Q = [0.0, 500.0]")
+    text = with_key("material", "E", "73400.0", text)
+    code, out = run_text(text)
+    return ("validity" in out or "a/R" in out) and code in (0, 2), out.strip()[-200:]
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--only", help="run one class")
+    parser.add_argument("--match", help="run cases whose name holds this text")
+    parser.add_argument("--verbose", action="store_true", help="print every case")
+    parser.add_argument("--json", help="write the rows here")
+    args = parser.parse_args()
+    counts: dict[str, Counter] = {}
+    rows = []
+    for klass, name, _seconds, function in CASES:
+        if args.only and klass != args.only:
+            continue
+        if args.match and args.match not in name:
+            continue
+        t = time.perf_counter()
+        try:
+            good, detail = function()
+        except BaseException as err:
+            good, detail = (
+                False,
+                "audit crashed: "
+                + "".join(traceback.format_exception_only(type(err), err)).strip(),
+            )
+        counts.setdefault(klass, Counter())["good" if good else "bad"] += 1
+        rows.append({"class": klass, "case": name, "good": bool(good), "detail": detail,
+                     "seconds": round(time.perf_counter() - t, 2)})  # fmt: skip
+        if args.verbose or not good:
+            mark = "good" if good else "BAD "
+            print(f"{mark} [{klass}] {name}: {textwrap.shorten(str(detail), 220)}", flush=True)
+    print("\nclass          good  bad")
+    for klass, c in counts.items():
+        print(f"{klass:<14} {c['good']:>4} {c['bad']:>4}")
+    total = sum(counts.values(), Counter())
+    print(f"{'total':<14} {total['good']:>4} {total['bad']:>4}")
+    if args.json:
+        Path(args.json).write_text(json.dumps(rows, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
