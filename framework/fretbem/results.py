@@ -7,6 +7,7 @@ from __future__ import annotations
 import attrs
 import numpy as np
 
+from fretbem.contact import control
 from fretbem.contact.law import STATE_NAMES
 from fretbem.contact.unknowns import PairUnknowns, UnknownLayout
 from fretbem.contact.zones import StepZones, step_zones
@@ -119,6 +120,64 @@ class AccuracyRecord(_Mapping):
         return out
 
 
+def _gross_sliding(reference, history) -> bool:
+    """Whether a tangential history (imposed by displacement) reached f P: the partial-slip
+    closed forms then no longer apply (unless the reference follows sliding)."""
+    if getattr(reference, "slides", False):
+        return False
+    limit = reference.friction * reference.hertz.load
+    return bool(np.any(np.abs(np.asarray(history, float)) >= limit * (1.0 - 1e-9)))
+
+
+@attrs.frozen(eq=False)
+class IncrementRecord:
+    """What one load increment reached: the block's loads and motion and the pair fields.
+
+    Attributes
+    ----------
+    normal, tangential : float
+        P and Q carried by the pad's loading block (force per thickness).
+    approach, delta : float
+        Normal approach and tangential displacement of the pad's block against the datum
+        (the specimen's held end; :mod:`fretbem.contact.control`), mm.
+    slip : ndarray
+        Relative tangential displacement (upper minus lower) per pair, mm.
+    pressure, shear : ndarray
+        p and q per pair.
+    states : ndarray of int
+        0 separated, 1 stick, 2 slip.
+    loads : dict
+        Named load amplitudes.
+    """
+
+    normal: float
+    tangential: float
+    approach: float
+    delta: float
+    slip: np.ndarray = attrs.field(converter=_frozen)
+    pressure: np.ndarray = attrs.field(converter=_frozen)
+    shear: np.ndarray = attrs.field(converter=_frozen)
+    states: np.ndarray = attrs.field(converter=_frozen_states)
+    loads: dict = attrs.field(factory=dict)
+
+    @classmethod
+    def of(cls, problem, state) -> IncrementRecord:
+        """The record of ``state`` (a ContactState) of the condensed ``problem``."""
+        measured = control.measure(problem, state.x, problem.amplitudes(state.loads))
+        unknowns = problem.unknowns(state.x)
+        return cls(
+            normal=measured["normal"],
+            tangential=measured["tangential"],
+            approach=measured["approach"],
+            delta=measured["delta"],
+            slip=state.slip,
+            pressure=unknowns.pressure,
+            shear=unknowns.shear,
+            states=state.states,
+            loads=dict(state.loads),
+        )
+
+
 @attrs.frozen(eq=False)
 class StepResult:
     """Everything reported for one load step.
@@ -153,6 +212,13 @@ class StepResult:
     estimate : dict or None
         Estimated discretisation error (the keys of ``errors``, fractions of p0 and f p0),
         set by :func:`fretbem.accuracy.modes.solve`; None without an estimate.
+    controls : Controls
+        Which directions of the pad's block the step drove by displacement.
+    approach, delta : float
+        Normal approach and tangential displacement of the pad's block against the datum
+        (the specimen's held end), mm, at the end of the step.
+    increments : tuple of IncrementRecord
+        Every increment of the step, in order (set by :func:`fretbem.simulation.run`).
     """
 
     name: str
@@ -175,6 +241,10 @@ class StepResult:
     loads: dict = attrs.field(factory=dict)
     checks: dict | None = None
     estimate: Estimate | None = None
+    controls: control.Controls = attrs.field(factory=control.Controls)
+    approach: float = float("nan")
+    delta: float = float("nan")
+    increments: tuple = ()
 
     @property
     def pair_unknowns(self) -> PairUnknowns:
@@ -191,12 +261,17 @@ class StepResult:
         normal, tangent = simulation.frame()
         resultant = (float(-force @ normal), float(force @ tangent))
         errors, exact = None, None
-        if simulation.reference is not None:
+        if simulation.reference is not None and not _gross_sliding(simulation.reference, history):
             errors, exact = errors_against_theory(simulation.reference, x, p, q, history)
+        measured = control.measure(problem, state.x, problem.amplitudes(state.loads))
+        controls = load.controls
         return cls(
             name=load.name,
-            normal=load.normal,
-            tangential=load.tangential,
+            normal=load.normal if controls.normal == "force" else state.normal,
+            tangential=load.tangential if controls.tangential == "force" else state.tangential,
+            controls=controls,
+            approach=measured["approach"],
+            delta=measured["delta"],
             x=x,
             pressure=p,
             shear=q,
@@ -346,6 +421,9 @@ class SimulationResult:
                     "theory_stick_zone": None if zone is None else list(zone),
                     **{k: e.get(k) for k in ERROR_KEYS},
                     **{ESTIMATE_KEYS[k]: est.get(k) for k in ERROR_KEYS},
+                    "delta": s.delta,
+                    "approach": s.approach,
+                    "control": {"normal": s.controls.normal, "tangential": s.controls.tangential},
                     "integral_p": s.resultant[0],
                     "integral_q": s.resultant[1],
                     "iterations": s.iterations,

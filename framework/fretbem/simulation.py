@@ -15,7 +15,9 @@ import attrs
 import numpy as np
 
 from fretbem.bem.resources import check_resources
+from fretbem.contact import control
 from fretbem.contact.condensation import CondensedContact
+from fretbem.contact.control import Controls
 from fretbem.contact.law import STATE_NAMES, ContactLaw, ContactState, GrossSlidingError
 from fretbem.contact.pairs import ContactPair
 from fretbem.errors import InputError
@@ -23,7 +25,7 @@ from fretbem.solvers.newton import IncrementResult, SemiSmoothNewton, Solver, So
 from fretbem.verification.checks import check_step, step_names
 from fretbem.verification.closed_forms import MindlinDeresiewicz
 
-from .results import SimulationResult, StepResult
+from .results import IncrementRecord, SimulationResult, StepResult
 from .validators import finite
 
 
@@ -41,31 +43,91 @@ def _finite_loads(instance, attribute, value) -> None:
         raise ValueError(f"LoadStep.loads must be finite numbers, got {bad!r}")
 
 
+def _optional_float(value):
+    return None if value is None else float(value)
+
+
+def _optional_finite(instance, attribute, value) -> None:
+    if value is not None:
+        finite(instance, attribute, value)
+
+
 @attrs.frozen
 class LoadStep:
-    """Loads at the end of one step, reached linearly from the previous step's.
+    """Loads (or block displacements) at the end of one step, reached linearly from the
+    previous step's.
+
+    Each direction of the pad's loading block is driven by force or by displacement: give
+    ``normal`` (P) or ``approach``, and ``tangential`` (Q) or ``delta``
+    (:mod:`fretbem.contact.control`; the displacements are the pad's block against the
+    specimen's held end).
 
     Attributes
     ----------
     name : str
-    normal : float
-        Normal load P (> 0 presses the upper body onto the lower), force per thickness.
+    normal : float or None
+        Normal load P (> 0 presses the upper body onto the lower), force per thickness;
+        None when ``approach`` drives the step.
     tangential : float
-        Tangential load Q on the upper body, along the pair's tangent (+x in the scene).
+        Tangential load Q on the upper body, along the pair's tangent (+x in the scene);
+        leave it 0 when ``delta`` drives the step.
     increments : int
         Equal sub-increments inside the step (friction is path dependent).
     loads : mapping of str to float
         Amplitudes of named body loads (e.g. ``{"bulk": sigma_B}`` for a
         ``Traction(..., load="bulk")``); a load not given is 0.
+    delta : float or None
+        Tangential displacement of the pad's block (mm, along the tangent) imposed instead
+        of Q: displacement control.
+    approach : float or None
+        Normal approach of the pad's block (mm, > 0 presses) imposed instead of P.
     """
 
     name: str
-    normal: float = attrs.field(converter=float, validator=finite)
-    tangential: float = attrs.field(converter=float, validator=finite)
+    normal: float | None = attrs.field(converter=_optional_float, validator=_optional_finite)
+    tangential: float = attrs.field(default=0.0, converter=float, validator=finite)
     increments: int = attrs.field(default=1, converter=int, validator=attrs.validators.ge(1))
     loads: Mapping[str, float] = attrs.field(
         factory=dict, converter=_load_amplitudes, validator=_finite_loads, hash=False
     )
+    delta: float | None = attrs.field(
+        default=None, converter=_optional_float, validator=_optional_finite, kw_only=True
+    )
+    approach: float | None = attrs.field(
+        default=None, converter=_optional_float, validator=_optional_finite, kw_only=True
+    )
+
+    def __attrs_post_init__(self) -> None:
+        if (self.normal is None) == (self.approach is None):
+            raise LoadHistoryError(
+                f"load step {self.name!r} must give the normal load P (normal=) or the normal "
+                f"approach (approach=), exactly one of them; got normal={self.normal}, "
+                f"approach={self.approach}"
+            )
+        if self.delta is not None and self.tangential != 0.0:
+            raise LoadHistoryError(
+                f"load step {self.name!r} gives both Q = {self.tangential} and delta = "
+                f"{self.delta}; a tangential direction is driven by force or by displacement: "
+                "keep one of them"
+            )
+
+    @property
+    def controls(self) -> Controls:
+        """Which directions this step drives by displacement."""
+        return Controls(
+            normal="force" if self.approach is None else "displacement",
+            tangential="force" if self.delta is None else "displacement",
+        )
+
+    @property
+    def normal_target(self) -> float:
+        """P or the approach, whichever drives the step."""
+        return self.normal if self.approach is None else self.approach
+
+    @property
+    def tangential_target(self) -> float:
+        """Q or delta, whichever drives the step."""
+        return self.tangential if self.delta is None else self.delta
 
 
 @attrs.frozen(eq=False)
@@ -94,6 +156,8 @@ class Simulation:
     law: ContactLaw = attrs.field(kw_only=True, validator=attrs.validators.instance_of(ContactLaw))
     reference: MindlinDeresiewicz | None = None
     name: str = "simulation"
+    #: the controlled problems of the condensed pair, per Controls (a private cache)
+    _controlled: dict = attrs.field(init=False, factory=dict, repr=False)
 
     def __attrs_post_init__(self) -> None:
         if self.pair.upper.loading_block is None:
@@ -106,18 +170,28 @@ class Simulation:
 
         step_names([step.name for step in self.steps])
         first = self.steps[0]
-        if not (first.normal > 0 and first.tangential == 0):
+        if not (first.normal_target > 0 and first.tangential_target == 0):
+            what = "P" if first.approach is None else "approach"
             raise LoadHistoryError(
-                f"the first load step ({first.name!r}: P = {first.normal}, Q = "
-                f"{first.tangential}) must be a pure normal load, P > 0 and Q = 0, so the "
-                "bodies are pressed together before any tangential load"
+                f"the first load step ({first.name!r}: {what} = {first.normal_target}, "
+                f"{'Q' if first.delta is None else 'delta'} = {first.tangential_target}) must "
+                f"be a pure normal load, {what} > 0 and {'Q' if first.delta is None else 'delta'}"
+                " = 0, so the bodies are pressed together before any tangential load"
             )
         for step in self.steps:
-            if step.normal <= 0:
+            if step.normal is not None and step.normal <= 0:
                 raise LoadHistoryError(
                     f"load step {step.name!r} has P = {step.normal}; the bodies must stay pressed "
                     "together (P > 0) under force control"
                 )
+        driven = [s.name for s in self.steps if not s.controls.by_force]
+        if driven and not getattr(self.solver, "displacement_control", True):
+            raise LoadHistoryError(
+                f"load steps {driven} impose the block's displacement (delta or approach), "
+                f"which the {type(self.solver).__name__} solver does not take (its LCP form "
+                "keeps the force balance); use the Newton solver ([contact] solver = "
+                "'newton') or drive those steps by force"
+            )
         known = set(self.pair.upper.load_names) | set(self.pair.lower.load_names)
         for step in self.steps:
             unknown = sorted(set(step.loads) - known)
@@ -148,13 +222,46 @@ class Simulation:
         """Assemble both bodies and condense them onto the pair unknowns (cached)."""
         return self.pair.condensed()
 
-    def _increment(self, problem, state, normal, tangential, loads, depth=0) -> tuple:
-        """Solve from ``state`` to loads (normal, tangential, named), halving on failure."""
+    def controlled(self, problem: CondensedContact, controls: Controls) -> CondensedContact:
+        """``problem`` with the pad block's equations of ``controls`` (cached per control)."""
+        if controls.by_force:
+            return problem
+        cache = self._controlled.get(id(problem))
+        if cache is None or cache[0] is not problem:
+            cache = (problem, {})
+            self._controlled.clear()
+            self._controlled[id(problem)] = cache
+        if controls not in cache[1]:
+            cache[1][controls] = control.controlled(problem, controls)
+        return cache[1][controls]
+
+    def measure(self, problem: CondensedContact, state: ContactState) -> dict:
+        """P, Q, the approach and delta of ``state`` (the pad block against the datum)."""
+        return control.measure(problem, state.x, problem.amplitudes(state.loads))
+
+    def _start(self, problem, state: ContactState, controls: Controls) -> tuple[float, float]:
+        """The values of the step's driven quantities at ``state`` (where the step starts)."""
+        if controls.by_force:
+            return state.normal, state.tangential
+        measured = self.measure(problem, state)
+        normal = state.normal if controls.normal == "force" else measured["approach"]
+        tangential = state.tangential if controls.tangential == "force" else measured["delta"]
+        return normal, tangential
+
+    def _increment(self, problem, state, normal, tangential, loads, depth=0, controls=None):
+        """Solve from ``state`` to the driven values (normal, tangential) and named loads,
+        halving on failure; ``controls`` says which values are forces or displacements."""
+        controls = Controls() if controls is None else controls
+        driven = self.controlled(problem, controls)
+        forces = self.forces(
+            normal if controls.normal == "force" else 0.0,
+            tangential if controls.tangential == "force" else 0.0,
+        )
         try:
             result = self.solver.solve_increment(
-                problem,
+                driven,
                 self.law,
-                forces=self.forces(normal, tangential),
+                forces=control.targets(problem, controls, normal, tangential, forces),
                 loads=problem.amplitudes(loads),
                 previous=state,
                 start=None if state.virgin else state,
@@ -162,39 +269,60 @@ class Simulation:
         except SolverConvergenceError as failure:
             if depth >= self.solver.max_substeps:
                 raise
-            mid_n = 0.5 * (state.normal + normal)
-            mid_t = 0.5 * (state.tangential + tangential)
+            start_n, start_t = self._start(problem, state, controls)
+            mid_n = 0.5 * (start_n + normal)
+            mid_t = 0.5 * (start_t + tangential)
             mid_loads = _between(state.loads, loads, 0.5)
-            half, it1, res1 = self._increment(problem, state, mid_n, mid_t, mid_loads, depth + 1)
-            full, it2, res2 = self._increment(problem, half, normal, tangential, loads, depth + 1)
+            half, it1, res1 = self._increment(
+                problem, state, mid_n, mid_t, mid_loads, depth + 1, controls
+            )
+            full, it2, res2 = self._increment(
+                problem, half, normal, tangential, loads, depth + 1, controls
+            )
             # the failed attempt's iterations were spent too: report them with the halves
             failed = list(failure.residuals)
             return full, len(failed) + it1 + it2, failed + res1 + res2
         return (
-            self._advance(problem, result, normal, tangential, loads),
+            self._advance(problem, result, normal, tangential, loads, controls),
             result.iterations,
             list(result.residuals),
         )
 
     @staticmethod
-    def _advance(problem, result: IncrementResult, normal, tangential, loads) -> ContactState:
-        _, slip = problem.relative(result.x, problem.amplitudes(loads))
+    def _advance(problem, result: IncrementResult, normal, tangential, loads, controls=None):
+        beta = problem.amplitudes(loads)
+        _, slip = problem.relative(result.x, beta)
+        if controls is not None and not controls.by_force:
+            measured = control.measure(problem, result.x, beta)
+            if controls.normal != "force":
+                normal = measured["normal"]
+            if controls.tangential != "force":
+                tangential = measured["tangential"]
         return ContactState(
             result.x, result.states, slip, normal, tangential, dict(loads), virgin=False
         )
 
-    def step(self, problem: CondensedContact, state: ContactState, load: LoadStep):
-        """Advance ``state`` through one load step; returns (new state, iterations, residuals)."""
+    def step(self, problem: CondensedContact, state: ContactState, load: LoadStep, record=None):
+        """Advance ``state`` through one load step; returns (new state, iterations, residuals).
+
+        ``record(state)``, if given, is called after every increment (the per-increment
+        results of a cyclic history)."""
         iterations, residuals = 0, []
-        start_n, start_t, start_loads = state.normal, state.tangential, dict(state.loads)
+        controls = load.controls
+        start_n, start_t = self._start(problem, state, controls)
+        start_loads = dict(state.loads)
         for k in range(1, load.increments + 1):
             frac = k / load.increments
-            target_n = start_n + frac * (load.normal - start_n)
-            target_t = start_t + frac * (load.tangential - start_t)
+            target_n = start_n + frac * (load.normal_target - start_n)
+            target_t = start_t + frac * (load.tangential_target - start_t)
             target_loads = _between(start_loads, load.loads, frac)
-            state, its, res = self._increment(problem, state, target_n, target_t, target_loads)
+            state, its, res = self._increment(
+                problem, state, target_n, target_t, target_loads, controls=controls
+            )
             iterations += its
             residuals += res
+            if record is not None:
+                record(state)
         return state, iterations, residuals
 
 
@@ -231,12 +359,18 @@ def run(simulation: Simulation, *, progress=None, check: bool = True) -> Simulat
     steps = []
     for k, load in enumerate(simulation.steps, start=1):
         tic = time.perf_counter()
-        state, iterations, residuals = simulation.step(problem, state, load)
+        increments: list[IncrementRecord] = []
+
+        def record(reached: ContactState, kept=increments) -> None:
+            kept.append(IncrementRecord.of(problem, reached))
+
+        state, iterations, residuals = simulation.step(problem, state, load, record)
         seconds = time.perf_counter() - tic
-        history.append(load.tangential)
+        history.append(load.tangential if load.delta is None else state.tangential)
         step = StepResult.build(
             simulation, problem, load, state, iterations, residuals, seconds, tuple(history)
         )
+        step = attrs.evolve(step, increments=tuple(increments))
         if check:
             step = attrs.evolve(step, checks=check_step(step, friction))
         steps.append(step)

@@ -85,6 +85,13 @@ SUMMARY_KEYS = {
         "contact mesh; null: no estimate (accuracy.estimate_reason says why)",
     ),
     "est_q_max, est_q_l2": ("fraction of f p0", "the same for q, / (f p0)"),
+    "delta": (
+        "mm",
+        "tangential displacement of the pad's loading block against the specimen's held end "
+        "(the datum a 2D displacement needs), +x",
+    ),
+    "approach": ("mm", "normal approach of the pad's loading block against the same datum"),
+    "control": ("", "per direction (normal, tangential): force or displacement"),
     "integral_p": ("N/mm", "integral of p over the contact face"),
     "integral_q": ("N/mm", "integral of q over the contact face"),
     "iterations": ("", "Newton iterations of the step"),

@@ -19,7 +19,12 @@ from fretbem import registry
 from fretbem.basis import Basis, Refinement, points_per_element
 from fretbem.conditions import Displacement, LoadingBlock, Traction
 from fretbem.simulation import LoadStep, Simulation
-from fretbem.verification.closed_forms import HertzLineContact, MindlinDeresiewicz, dundurs_beta
+from fretbem.verification.closed_forms import (
+    HertzLineContact,
+    MindlinDeresiewicz,
+    SlidingPath,
+    dundurs_beta,
+)
 from fretbem.verification.nowell_hills import NowellHills
 
 from .limits import check_scene
@@ -74,6 +79,8 @@ def hertz(scene: Scene, load: float | None = None) -> HertzLineContact | None:
     curvatures = [scene.pad.shape.curvature, scene.specimen.shape.curvature]
     if any(c is None for c in curvatures) or sum(curvatures) <= 0:
         return None
+    if load is None and scene.load.approach is not None:
+        return None  # the approach is imposed: P is an output
     pad, specimen = scene.pad.material, scene.specimen.material
     P = load if load is not None else max(scene.load.P)
     return HertzLineContact.from_bodies(
@@ -92,6 +99,12 @@ def zone_half_width(scene: Scene) -> float:
     """Half-width of the candidate contact zone in mm (from ``zone_width`` or ``zone`` x a)."""
     if scene.contact.zone_width is not None:
         return float(scene.contact.zone_width)
+    if scene.load.approach is not None:
+        raise SceneFileError(
+            "[load] approach imposes the normal approach, so P (and the Hertz half-width that "
+            "[contact] zone scales) is not known before the run; give the candidate zone in "
+            "mm as [contact] zone_width"
+        )
     contact = hertz(scene)
     if contact is None:
         raise SceneFileError(
@@ -105,6 +118,8 @@ def zone_half_width(scene: Scene) -> float:
 def reference(scene: Scene):
     """The closed form the run is checked against, or (None, reason)."""
     pad, specimen = scene.pad.material, scene.specimen.material
+    if scene.load.approach is not None:
+        return None, "the normal approach is imposed (P is an output of the run)"
     contact = hertz(scene)
     if contact is None:
         return None, "no Hertz contact (a flat or user-drawn face)"
@@ -115,6 +130,10 @@ def reference(scene: Scene):
         return None, f"dissimilar materials (Dundurs beta = {beta:.3g}) couple p and q"
     if len(set(scene.load.P)) > 1:
         return None, "P changes between steps (Hertz holds per step, the shear has no closed form)"
+    if scene.load.delta is not None:
+        if any(scene.load.bulk):
+            return None, "the tangential displacement is imposed with a bulk stress"
+        return SlidingPath(MindlinDeresiewicz(contact, scene.contact.friction)), None
     if any(scene.load.bulk):
         nh = NowellHills(contact, scene.contact.friction)
         reason = nh.applies(scene.load.Q, scene.load.bulk)
@@ -256,13 +275,7 @@ def build(scene: Scene, **contact_overrides):
         refinements(scene, specimen_family, zone, pad=False),
     )
 
-    load = scene.load
-    steps = tuple(
-        LoadStep(name, P, Q, increments, loads={"bulk": bulk} if bulk or any(load.bulk) else {})
-        for name, P, Q, bulk, increments in zip(
-            load.steps, load.P, load.Q, load.bulk, load.increments, strict=True
-        )
-    )
+    steps = load_steps(scene.load)
     closed_form, reason = reference(scene)
     return Simulation(
         pairing(scene.contact.pairing)(pad, specimen),
@@ -333,6 +346,23 @@ def pairing(name: str):
         return registry.get(name, "pairings")
     except registry.UnknownPluginError as err:
         raise SceneFileError(f"[contact] pairing: {err}") from None
+
+
+def load_steps(load) -> tuple[LoadStep, ...]:
+    """The LoadSteps of a scene's [load] table (forces, or block displacements where given)."""
+    n = len(load.steps)
+    deltas = load.delta or (None,) * n
+    approaches = load.approach or (None,) * n
+    return tuple(
+        LoadStep(
+            name, P, Q, increments, loads={"bulk": bulk} if bulk or any(load.bulk) else {},
+            delta=delta, approach=approach,
+        )
+        for name, P, Q, bulk, increments, delta, approach in zip(
+            load.steps, load.P, load.Q, load.bulk, load.increments, deltas, approaches,
+            strict=True,
+        )
+    )  # fmt: skip
 
 
 def solver(name: str):

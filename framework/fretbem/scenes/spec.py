@@ -283,6 +283,24 @@ KEYS: tuple[Key, ...] = (
         "bulk stress sigma_B on the specimen's +x end, tension > 0",
     ),
     Key("load", "increments", (int, list), "", 1, "equal sub-increments per step"),
+    Key(
+        "load",
+        "delta",
+        (*NUMBER, list),
+        "mm",
+        None,
+        "tangential displacement of the pad's loading block against the specimen's held end, "
+        "+x, imposed instead of `Q` (displacement control; gross slip allowed)",
+    ),
+    Key(
+        "load",
+        "approach",
+        (*NUMBER, list),
+        "mm",
+        None,
+        "normal approach of the pad's loading block against the specimen's held end (> 0 "
+        "presses), imposed instead of `P`; needs [contact] `zone_width`",
+    ),
 )
 
 #: the highest basis degree a scene may ask for (higher degrees are ill-conditioned)
@@ -354,14 +372,18 @@ class LoadSpec:
     """The load history: one entry per step in every tuple."""
 
     steps: tuple[str, ...]
-    P: tuple[float, ...]
+    P: tuple[float | None, ...]
     Q: tuple[float, ...]
     bulk: tuple[float, ...]
     increments: tuple[int, ...]
+    delta: tuple[float, ...] | None = None
+    approach: tuple[float, ...] | None = None
 
     def __attrs_post_init__(self) -> None:
         n = len(self.steps)
-        for name in ("P", "Q", "bulk", "increments"):
+        for name in ("P", "Q", "bulk", "increments", "delta", "approach"):
+            if getattr(self, name) is None:
+                continue
             if len(getattr(self, name)) != n:
                 raise SceneFileError(
                     f"[load] {name} has {len(getattr(self, name))} values for {n} steps; give "
@@ -591,9 +613,15 @@ def _load(data: Mapping) -> LoadSpec:
     _unknown("[load]", section, keys)
     for name, value in section.items():
         _check(f"[load] {name}", value, keys[name].kind)
+    for force, motion, direction in (("Q", "delta", "tangential"), ("P", "approach", "normal")):
+        if force in section and motion in section:
+            raise SceneFileError(
+                f"[load] gives both {force} and {motion}: the {direction} direction is driven "
+                f"by force ({force}) or by displacement ({motion}); keep one of them"
+            )
     lists = {
         k: section[k]
-        for k in ("steps", "P", "Q", "bulk", "increments")
+        for k in ("steps", "P", "Q", "bulk", "increments", "delta", "approach")
         if isinstance(section.get(k), list)
     }
     for name, value in lists.items():
@@ -613,6 +641,13 @@ def _load(data: Mapping) -> LoadSpec:
         default = keys[name].default
         raw = section.get(name, default if name != "Q" or n == len(default) else 0.0)
         values[name] = tuple(float(v) for v in _per_step(name, raw, n, NUMBER))
+    for name in ("delta", "approach"):
+        if name in section:
+            values[name] = tuple(float(v) for v in _per_step(name, section[name], n, NUMBER))
+    if "delta" in section:
+        values["Q"] = (0.0,) * n
+    if "approach" in section:
+        values["P"] = (None,) * n
     values["increments"] = tuple(_per_step("increments", section.get("increments", 1), n, (int,)))
     if any(k < 1 for k in values["increments"]):
         raise SceneFileError(f"[load] increments must be >= 1, got {list(values['increments'])}")

@@ -30,6 +30,7 @@ from .newton_linear import NewtonLinear
 #: factor applied to the normal augmentation r_n when the Newton iteration cycles
 CYCLE_SOFTENING = 0.1
 
+
 def _newton_linear(
     kept: weakref.WeakKeyDictionary, problem: CondensedContact, law: ContactLaw, r_n, r_t
 ):
@@ -94,9 +95,14 @@ class Solver(ABC):
     max_substeps : int
         Times the Simulation may halve an increment this solver failed on
         (:class:`SolverConvergenceError`); 0 disables sub-stepping.
+    displacement_control : bool
+        Whether it solves steps that impose the block's displacement (default True).
     """
 
     max_substeps: int = 0
+    #: whether the solver takes a loading block driven by displacement (a block row that
+    #: constrains the block's own displacement instead of its force)
+    displacement_control: bool = True
 
     @abstractmethod
     def solve_increment(

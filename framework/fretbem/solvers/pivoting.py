@@ -58,6 +58,9 @@ class LemkeSolver(Solver):
         Times the Simulation may halve an increment this solver failed on (default 0).
     """
 
+    #: the LCP form keeps the blocks' force balance rows: force control only
+    displacement_control = False
+
     max_pivots: int | None = attrs.field(default=None, validator=_pivots)
     max_substeps: int = attrs.field(default=0, validator=_substeps)
 

@@ -186,14 +186,21 @@ def tangential_hold(
     condition: float | None = None,
     step: str = "",
     raise_error: bool = True,
+    held: bool = False,
 ) -> CheckRecord:
     """Something must hold the loaded body tangentially: a stick pair and a bounded block move.
+
+    ``held``: the block's tangential displacement was imposed (displacement control), so
+    the block holds the body whatever the contact does (gross slip included): the check
+    passes with residual 0.
 
     Near gross sliding (``|Q| -> f P``) the stick zone shrinks below one pair spacing; the
     tangential position is then undetermined and Newton may return an arbitrary (e.g. 1e9 mm)
     block displacement. The residual is the block displacement in contact-zone widths.
     Raises :class:`TangentialIndeterminacyError` with the stick-zone width and the fixes.
     """
+    if held:
+        return CheckRecord("tangential_hold", 0.0, RUNAWAY_FACTOR, True)
     x, states = np.asarray(x, float), np.asarray(states)
     in_contact = states != SEPARATED
     stick = states == STICK
@@ -318,5 +325,6 @@ def check_step(step, friction: float, *, raise_error: bool = True) -> dict[str, 
         "tangential_hold": tangential_hold(
             step.x, step.states, step.normal, step.tangential, friction,
             block_displacement=block, step=step.name, raise_error=raise_error,
+            held=getattr(getattr(step, "controls", None), "tangential", "force") != "force",
         ),
     }  # fmt: skip

@@ -249,3 +249,53 @@ class MindlinDeresiewicz:
         scale = 1.0 if len(points) == 2 else 2.0
         c = self.hertz.half_width * self._stick_ratio(delta, scale)
         return (-c, c)
+
+
+#: a path value within this fraction of f P counts as gross sliding in :class:`SlidingPath`
+SLIDING_MARGIN = 1e-12
+
+
+@attrs.frozen
+class SlidingPath:
+    """Mindlin-Deresiewicz read along a path that may reach gross sliding (|Q| = f P).
+
+    Under displacement control Q stops at +-f P while the bodies slide. There the closed
+    form's stick zone has shrunk to a point (c = 0, q = +-f p) and sliding on erases the
+    memory of earlier reversals, which is what the Masing rules give for a path clamped
+    to just inside +-f P; so each value is clamped to (1 - 1e-12) f P.
+
+    Attributes
+    ----------
+    closed_form : MindlinDeresiewicz
+    """
+
+    closed_form: MindlinDeresiewicz
+
+    #: this reference accepts paths that reach f P
+    slides = True
+
+    @property
+    def hertz(self) -> HertzLineContact:
+        """The normal contact."""
+        return self.closed_form.hertz
+
+    @property
+    def friction(self) -> float:
+        """Coulomb coefficient f."""
+        return self.closed_form.friction
+
+    def _clamped(self, history: ArrayLike) -> np.ndarray:
+        limit = self.closed_form.sliding_limit * (1.0 - SLIDING_MARGIN)
+        return np.clip(np.atleast_1d(np.asarray(history, dtype=float)), -limit, limit)
+
+    def shear_traction(self, x: ArrayLike, history: ArrayLike) -> np.ndarray:
+        """q(x) at the end of the (clamped) path."""
+        return self.closed_form.shear_traction(x, self._clamped(history))
+
+    def shear_history(self, x: ArrayLike, history: ArrayLike) -> np.ndarray:
+        """q(x) after each value of the (clamped) path."""
+        return self.closed_form.shear_history(x, self._clamped(history))
+
+    def stick_zone(self, history: ArrayLike) -> tuple[float, float]:
+        """Current stick zone (-c, c) of the (clamped) path."""
+        return self.closed_form.stick_zone(self._clamped(history))

@@ -89,13 +89,7 @@ def case_loading(scene: Mapping) -> Loading:
         )
         return Loading(steps, float(record.friction), record.reference())
 
-    load = record.load
-    steps = tuple(
-        LoadStep(name, P, Q, increments, loads={"bulk": bulk} if any(load.bulk) else {})
-        for name, P, Q, bulk, increments in zip(
-            load.steps, load.P, load.Q, load.bulk, load.increments, strict=True
-        )
-    )
+    steps = scene_build.load_steps(record.load)
     return Loading(
         steps,
         float(record.contact.friction),
