@@ -56,11 +56,11 @@ RANGES: dict[str, tuple[float | None, float | None, bool]] = {
     "ultimate_strength": (0.0, None, True),
     "fatigue_strength_coefficient": (0.0, None, True),
     "fatigue_strength_exponent": _NEGATIVE_EXPONENT,
-    "fatigue_ductility_coefficient": (0.0, None, True),
+    "fatigue_ductility_coefficient": (0.0, None, False),  # 0: elastic (Basquin) term only
     "fatigue_ductility_exponent": _NEGATIVE_EXPONENT,
     "shear_fatigue_strength_coefficient": (0.0, None, True),
     "shear_fatigue_strength_exponent": _NEGATIVE_EXPONENT,
-    "shear_fatigue_ductility_coefficient": (0.0, None, True),
+    "shear_fatigue_ductility_coefficient": (0.0, None, False),
     "shear_fatigue_ductility_exponent": _NEGATIVE_EXPONENT,
     "fatigue_limit_range": (0.0, None, True),
     "torsion_fatigue_limit_amplitude": (0.0, None, True),
