@@ -1,0 +1,270 @@
+"""The workflows the engineer waits for, each as a ratio against its floor or peer (issue 28).
+
+Before and after in one run: ``--before DIR`` is a source tree of the old code (``git archive
+<commit> | tar -x -C DIR``), the after tree is this checkout; every measurement runs in a
+fresh process with ``PYTHONPATH`` set to the tree's ``framework`` and ``plugins`` and one BLAS
+thread, the trees alternate round by round, and the medians of ``--rounds`` rounds are kept
+(CPU seconds of the process and its children, and wall seconds; the machine is shared, so
+ratios taken in the same round are what counts). Workflows:
+
+- ``rig``: ``fretbem run examples/fretting_rig.toml`` (with [stress] and [fatigue]) against
+  the same scene without those tables, whole process;
+- ``fatigue``: the critical-plane search, all four criteria, on 10,000 points and a
+  9-step cycle, against its projection floor (every (step, point, plane) of the coarse grid
+  in one float32 product per chunk), in-plane and 3D;
+- ``halfplane``: the half-plane body model's cycle (scene built, five steps) against the
+  BEM bodies of the same scene and against a numpy Toeplitz influence-coefficient peer
+  (``benchmarks/halfplane_peer.py``) on the same nodes, at 61 and 481 pairs;
+- ``sweep``: ``fretbem sweep examples/fretting_map.toml`` (144 cases) default engine against
+  ``--serial``, whole process;
+- ``demo``: ``fretbem demo`` with figures and VTK against ``python -c "import numpy,
+  scipy.linalg"``, whole process;
+- ``memory``: the up-front memory estimate against the measured peak (VmHWM) of a 961-pair
+  cycle.
+
+    git archive b0bd220 | tar -x -C /tmp/before
+    python benchmarks/workflows.py --before /tmp/before --rounds 3 \
+        --json docs/results/workflows.json
+    python benchmarks/performance_page.py
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+FATIGUE_CHILD = r"""
+import json, time, statistics, numpy as np
+from fretbem.fatigue import METHODS, CattaneoMindlinCycle, PlaneSearch, critical_plane_parameters
+from fretbem.fatigue import last_full_reversal
+from fretbem.fatigue.planes import plane_grid, projection
+cm = CattaneoMindlinCycle(a=0.5, p0=300.0, f=0.6, tangential_ratio=0.5, sigma_bulk_max=80.0,
+                          nu=0.342, steps_per_branch=2)
+x, z = np.linspace(-0.75, 0.75, 100), np.linspace(0.0, 0.5, 100)
+X, Z = np.meshgrid(x, z)
+stress = cm.stress_at(np.stack([X.ravel(), Z.ravel()], axis=1))[last_full_reversal(cm.driver)]
+consts = dict(findley_k=0.3, fatemi_socie_k=0.5, yield_strength=941.8)
+out = {}
+for in_plane in (True, False):
+    search = PlaneSearch(in_plane_only=in_plane)
+    th, ps = plane_grid(in_plane_only=in_plane, theta_step_deg=search.theta_step_deg,
+                        psi_step_deg=search.psi_step_deg)
+    coef = projection(th, ps).astype(np.float32).transpose(2, 0, 1).reshape(4, -1)
+    def floor():
+        s32 = stress.astype(np.float32)
+        for a in range(0, s32.shape[1], search.chunk_points):
+            s32[:, a:a + search.chunk_points] @ coef
+    def full():
+        critical_plane_parameters(stress, E=116000.0, nu=0.342, methods=METHODS,
+                                  search=search, **consts)
+    full(); floor()
+    tf, tc = [], []
+    for _ in range(3):
+        t = time.process_time(); floor(); tf.append(time.process_time() - t)
+        t = time.process_time(); full(); tc.append(time.process_time() - t)
+    key = "in_plane" if in_plane else "3d"
+    out[key] = {"floor": statistics.median(tf), "search": statistics.median(tc)}
+print(json.dumps(out))
+"""
+
+HALFPLANE_CHILD = r"""
+import json, sys, time
+sys.path.insert(0, sys.argv[2])
+from fretbem.scenes import reference as scenes
+from fretbem.simulation import run
+import halfplane_peer
+pairs = int(sys.argv[1])
+models = {"bem": {}, "halfplane": {"upper": "half-plane", "lower": "half-plane"}}
+run(scenes.cattaneo_mindlin(pairs=61, models=models["halfplane"]))  # imports, caches
+out = {}
+for name, m in models.items():
+    t, c = time.perf_counter(), time.process_time()
+    run(scenes.cattaneo_mindlin(pairs=pairs, models=m))
+    out[name] = time.process_time() - c
+halfplane_peer.cycle(pairs)
+t = time.process_time()
+for _ in range(5):
+    halfplane_peer.cycle(pairs)
+out["peer"] = (time.process_time() - t) / 5
+print(json.dumps(out))
+"""
+
+MEMORY_CHILD = r"""
+import json, sys
+from fretbem.bem.resources import estimate_resources
+from fretbem.scenes import cattaneo_mindlin
+from fretbem.simulation import run
+simulation = cattaneo_mindlin(basis="nurbs", pairs=int(sys.argv[1]))
+dofs = simulation.pair.upper.dofs + simulation.pair.lower.dofs
+run(simulation)
+with open("/proc/self/status") as fh:
+    peak = [int(l.split()[1]) * 1024 for l in fh if l.startswith("VmHWM")][0]
+print(json.dumps({"dofs": dofs, "estimate": estimate_resources(dofs, available=None).memory,
+                  "peak": peak}))
+"""
+
+
+def _env(tree: Path) -> dict:
+    env = dict(os.environ)
+    env["PYTHONPATH"] = f"{tree / 'framework'}{os.pathsep}{tree / 'plugins'}"
+    env["OPENBLAS_NUM_THREADS"] = env["OMP_NUM_THREADS"] = "1"
+    env["MPLBACKEND"] = "Agg"
+    return env
+
+
+def _process(args: list[str], tree: Path, cwd: Path) -> tuple[float, float, str]:
+    """(wall s, CPU s of the process and its children, stdout) of one fresh process."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    start = time.perf_counter()
+    done = subprocess.run(
+        args, env=_env(tree), cwd=cwd, capture_output=True, text=True, check=False
+    )
+    wall = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if done.returncode != 0:
+        raise RuntimeError(f"{' '.join(args)} failed:\n{done.stderr[-2000:]}")
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return wall, cpu, done.stdout
+
+
+def _cli(tree: Path, *args: str) -> list[str]:
+    return [sys.executable, "-m", "fretbem.app.cli", *args]
+
+
+def rig_plain(tmp: Path) -> Path:
+    """examples/fretting_rig.toml without its [stress] and [fatigue] tables."""
+    text = (ROOT / "examples" / "fretting_rig.toml").read_text()
+    path = tmp / "rig_plain.toml"
+    path.write_text(text[: text.index("[stress]")])
+    return path
+
+
+def one_round(tree: Path, tmp: Path, which: set[str]) -> dict:
+    """Every workflow once on ``tree``."""
+    out: dict = {}
+    work = Path(tempfile.mkdtemp(dir=tmp))
+    if "rig" in which:
+        full = _process(_cli(tree, "run", str(ROOT / "examples" / "fretting_rig.toml"),
+                             "--out", str(work / "rig")), tree, work)  # fmt: skip
+        plain = _process(_cli(tree, "run", str(rig_plain(work)), "--out", str(work / "plain")),
+                         tree, work)  # fmt: skip
+        out["rig"] = {"full_wall": full[0], "full_cpu": full[1],
+                      "plain_wall": plain[0], "plain_cpu": plain[1]}  # fmt: skip
+    if "fatigue" in which:
+        out["fatigue"] = json.loads(_process([sys.executable, "-c", FATIGUE_CHILD], tree, work)[2])
+    if "halfplane" in which:
+        for pairs in (61, 481):
+            text = _process([sys.executable, "-c", HALFPLANE_CHILD, str(pairs),
+                             str(ROOT / "benchmarks")], tree, work)[2]  # fmt: skip
+            out[f"halfplane_{pairs}"] = json.loads(text)
+    if "sweep" in which:
+        example = str(ROOT / "examples" / "fretting_map.toml")
+        auto = _process(_cli(tree, "sweep", example, "--out", str(work / "auto"),
+                             "--no-figures"), tree, work)  # fmt: skip
+        serial = _process(_cli(tree, "sweep", example, "--serial", "--out",
+                               str(work / "serial"), "--no-figures"), tree, work)  # fmt: skip
+        out["sweep"] = {"default_wall": auto[0], "default_cpu": auto[1],
+                        "serial_wall": serial[0], "serial_cpu": serial[1]}  # fmt: skip
+    if "demo" in which:
+        demo = _process(_cli(tree, "demo", "--out", str(work / "demo")), tree, work)
+        floor = _process([sys.executable, "-c", "import numpy, scipy.linalg"], tree, work)
+        out["demo"] = {"demo_wall": demo[0], "demo_cpu": demo[1],
+                       "floor_wall": floor[0], "floor_cpu": floor[1]}  # fmt: skip
+    if "memory" in which:
+        out["memory"] = json.loads(
+            _process([sys.executable, "-c", MEMORY_CHILD, "961"], tree, work)[2]
+        )
+    return out
+
+
+def _median(rounds: list[dict]) -> dict:
+    """Median of every leaf over the rounds."""
+    first = rounds[0]
+    if isinstance(first, dict):
+        return {k: _median([r[k] for r in rounds]) for k in first}
+    return statistics.median(rounds)
+
+
+def ratios(m: dict) -> dict:
+    """The issue's ratios from one tree's medians."""
+    r = {}
+    if "rig" in m:
+        r["rig: with [stress]+[fatigue] / without (CPU)"] = (
+            m["rig"]["full_cpu"] / m["rig"]["plain_cpu"]
+        )
+        r["rig: with [stress]+[fatigue] / without (wall)"] = (
+            m["rig"]["full_wall"] / m["rig"]["plain_wall"]
+        )
+    if "fatigue" in m:
+        for key, label in (("in_plane", "in-plane"), ("3d", "3D")):
+            f = m["fatigue"][key]
+            r[f"fatigue search {label} / projection floor"] = f["search"] / f["floor"]
+    for pairs in (61, 481):
+        h = m.get(f"halfplane_{pairs}")
+        if h:
+            r[f"half-plane body / numpy Toeplitz peer, {pairs} pairs"] = h["halfplane"] / h["peer"]
+            r[f"half-plane body / BEM bodies, {pairs} pairs"] = h["halfplane"] / h["bem"]
+    if "sweep" in m:
+        s = m["sweep"]
+        r["sweep default / --serial, 144 cases (wall)"] = s["default_wall"] / s["serial_wall"]
+        r["sweep default / --serial, 144 cases (CPU)"] = s["default_cpu"] / s["serial_cpu"]
+    if "demo" in m:
+        d = m["demo"]
+        r["demo / numpy+scipy.linalg import (wall)"] = d["demo_wall"] / d["floor_wall"]
+        r["demo / numpy+scipy.linalg import (CPU)"] = d["demo_cpu"] / d["floor_cpu"]
+    if "memory" in m:
+        r["memory estimate / measured peak, 961 pairs"] = (
+            m["memory"]["estimate"] / m["memory"]["peak"]
+        )
+    return r
+
+
+ALL = ("rig", "fatigue", "halfplane", "sweep", "demo", "memory")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--before", type=Path, help="source tree of the old code")
+    parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--only", nargs="*", choices=ALL, default=list(ALL))
+    parser.add_argument("--json", type=Path)
+    args = parser.parse_args()
+    trees = {"after": ROOT}
+    if args.before:
+        trees = {"before": args.before.resolve(), "after": ROOT}
+    load = [os.getloadavg()[0]]
+    runs: dict[str, list] = {k: [] for k in trees}
+    with tempfile.TemporaryDirectory() as tmp:
+        for k in range(args.rounds):
+            for label, tree in trees.items():
+                runs[label].append(one_round(tree, Path(tmp), set(args.only)))
+                print(f"round {k + 1} {label} done, load {os.getloadavg()[0]:.2f}", flush=True)
+    load.append(os.getloadavg()[0])
+    result = {
+        "machine": f"{os.cpu_count()} cores, {platform.platform()}, Python "
+        f"{platform.python_version()}",
+        "load": load,
+        "rounds": args.rounds,
+        "medians": {k: _median(v) for k, v in runs.items()},
+    }
+    result["ratios"] = {k: ratios(v) for k, v in result["medians"].items()}
+    for name in result["ratios"]["after"]:
+        cells = [f"{result['ratios'][k].get(name, float('nan')):8.2f}" for k in trees]
+        print(f"{name:58s}" + "".join(cells))
+    if args.json:
+        args.json.write_text(json.dumps(result, indent=1))
+
+
+if __name__ == "__main__":
+    main()
