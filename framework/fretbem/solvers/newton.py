@@ -19,6 +19,7 @@ from abc import ABC, abstractmethod
 
 import attrs
 import numpy as np
+import scipy.linalg
 
 from fretbem.contact.condensation import CondensedContact
 from fretbem.contact.law import STATE_NAMES, ContactLaw, ContactState, PairState
@@ -249,9 +250,7 @@ class SemiSmoothNewton(Solver):
             return np.linalg.solve(jac, -residual)
         except np.linalg.LinAlgError:
             # the minimum-norm least-squares step through a complete orthogonal factorisation
-            # (QR with column pivoting): 3-5x cheaper than numpy's SVD-based lstsq
-            import scipy.linalg
-
+            # (QR with column pivoting): 2-5x cheaper than numpy's SVD-based lstsq
             return scipy.linalg.lstsq(jac, -residual, lapack_driver="gelsy")[0]
 
     def _start_on_previous_pattern(
