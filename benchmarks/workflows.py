@@ -236,13 +236,14 @@ ALL = ("rig", "fatigue", "halfplane", "sweep", "demo", "memory")
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--before", type=Path, help="source tree of the old code")
+    parser.add_argument("--after", type=Path, default=ROOT, help="source tree of the new code")
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--only", nargs="*", choices=ALL, default=list(ALL))
     parser.add_argument("--json", type=Path)
     args = parser.parse_args()
-    trees = {"after": ROOT}
+    trees = {"after": args.after.resolve()}
     if args.before:
-        trees = {"before": args.before.resolve(), "after": ROOT}
+        trees = {"before": args.before.resolve(), **trees}
     load = [os.getloadavg()[0]]
     runs: dict[str, list] = {k: [] for k in trees}
     with tempfile.TemporaryDirectory() as tmp:
