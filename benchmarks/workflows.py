@@ -142,23 +142,23 @@ def _cli(tree: Path, *args: str) -> list[str]:
     return [sys.executable, "-m", "fretbem.app.cli", *args]
 
 
-def rig_plain(tmp: Path) -> Path:
-    """examples/fretting_rig.toml without its [stress] and [fatigue] tables."""
-    text = (ROOT / "examples" / "fretting_rig.toml").read_text()
+def rig_plain(tree: Path, tmp: Path) -> Path:
+    """The tree's examples/fretting_rig.toml without its [stress] and [fatigue] tables."""
+    text = (tree / "examples" / "fretting_rig.toml").read_text()
     path = tmp / "rig_plain.toml"
     path.write_text(text[: text.index("[stress]")])
     return path
 
 
 def one_round(tree: Path, tmp: Path, which: set[str]) -> dict:
-    """Every workflow once on ``tree``."""
+    """Every workflow once on ``tree`` (its own example files: scene keys may differ)."""
     out: dict = {}
     work = Path(tempfile.mkdtemp(dir=tmp))
     if "rig" in which:
-        full = _process(_cli(tree, "run", str(ROOT / "examples" / "fretting_rig.toml"),
+        full = _process(_cli(tree, "run", str(tree / "examples" / "fretting_rig.toml"),
                              "--out", str(work / "rig")), tree, work)  # fmt: skip
-        plain = _process(_cli(tree, "run", str(rig_plain(work)), "--out", str(work / "plain")),
-                         tree, work)  # fmt: skip
+        plain_scene = str(rig_plain(tree, work))
+        plain = _process(_cli(tree, "run", plain_scene, "--out", str(work / "plain")), tree, work)
         out["rig"] = {"full_wall": full[0], "full_cpu": full[1],
                       "plain_wall": plain[0], "plain_cpu": plain[1]}  # fmt: skip
     if "fatigue" in which:
@@ -169,7 +169,7 @@ def one_round(tree: Path, tmp: Path, which: set[str]) -> dict:
                              str(ROOT / "benchmarks")], tree, work)[2]  # fmt: skip
             out[f"halfplane_{pairs}"] = json.loads(text)
     if "sweep" in which:
-        example = str(ROOT / "examples" / "fretting_map.toml")
+        example = str(tree / "examples" / "fretting_map.toml")
         auto = _process(_cli(tree, "sweep", example, "--out", str(work / "auto"),
                              "--no-figures"), tree, work)  # fmt: skip
         serial = _process(_cli(tree, "sweep", example, "--serial", "--out",
