@@ -242,14 +242,19 @@ def _coarse(stress, criteria, theta, psi, E, nu):
     return best
 
 
-def _plane_stats(stress, theta, psi, E, nu, *, shear: bool, strains: bool) -> dict:
+def _plane_stats(
+    stress, theta, psi, E, nu, *, shear: bool, strains: bool, in_plane: bool = False
+) -> dict:
     """Summaries over the cycle on per-point planes ``theta``, ``psi`` (P, G), in double.
 
     Elementwise products of the stress components with the plane coefficients (no per-point
     matrix products) and reductions over the steps; the shear amplitude is exact where its
     bounds differ (minimum circumscribed circle) and the common bound where they meet (a
-    straight shear path, e.g. every in-plane plane).
+    straight shear path). ``in_plane``: every plane contains z (psi = 90 degrees), whose
+    shear path is the straight line tau_e: its amplitude is half its range.
     """
+    if in_plane:
+        return _in_plane_stats(stress, theta, E, nu, shear=shear, strains=strains)
     c2, s2 = np.cos(2.0 * theta), np.sin(2.0 * theta)
     sp, cp = np.sin(psi), np.cos(psi)
     # sigma_ee = A + B cos 2theta + C sin 2theta, tau_e = C cos 2theta - B sin 2theta
@@ -280,6 +285,26 @@ def _plane_stats(stress, theta, psi, E, nu, *, shear: bool, strains: bool) -> di
     return out
 
 
+def _in_plane_stats(stress, theta, E, nu, *, shear: bool, strains: bool) -> dict:
+    """:func:`_plane_stats` of planes that contain z: sigma_n = sigma_ee, tau = tau_e."""
+    c2, s2 = np.cos(2.0 * theta), np.sin(2.0 * theta)
+    mean = 0.5 * (stress[:, :, 0, None] + stress[:, :, 1, None])  # (T, P, 1)
+    half = 0.5 * (stress[:, :, 0, None] - stress[:, :, 1, None])
+    sxy, szz = stress[:, :, 2, None], stress[:, :, 3, None]
+    sn = mean + half * c2 + sxy * s2  # (T, P, G)
+    smax, smin = sn.max(axis=0), sn.min(axis=0)
+    out = {"normal_stress_max": smax, "normal_stress_min": smin}
+    if strains:
+        en = (1.0 + nu) * sn - nu * (2.0 * mean + szz)
+        out["normal_strain_amplitude"] = 0.5 * (en.max(axis=0) - en.min(axis=0)) / E
+    if shear:
+        te = sxy * c2 - half * s2
+        out["tau"] = 0.5 * (te.max(axis=0) - te.min(axis=0))
+    else:
+        out["tau"] = np.zeros_like(smax)
+    return out
+
+
 def _columns(q: dict, cols: slice) -> dict:
     return {key: value[:, cols] for key, value in q.items()}
 
@@ -287,8 +312,9 @@ def _columns(q: dict, cols: slice) -> dict:
 class _SharedPass:
     """Evaluates the planes of every criterion in one pass: columns per criterion."""
 
-    def __init__(self, stress, criteria, E, nu):
+    def __init__(self, stress, criteria, E, nu, in_plane=False):
         self.stress, self.criteria, self.E, self.nu = stress, criteria, E, nu
+        self.in_plane = in_plane
         self.shear = any(c.needs_shear for c in criteria)
         self.strains = any(c.name == "swt" for c in criteria)
 
@@ -301,7 +327,14 @@ class _SharedPass:
         th = theta.transpose(1, 0, 2).reshape(n_p, n_c * n_g)
         ps = psi.transpose(1, 0, 2).reshape(n_p, n_c * n_g)
         q = _plane_stats(
-            self.stress, th, ps, self.E, self.nu, shear=self.shear, strains=self.strains or strains
+            self.stress,
+            th,
+            ps,
+            self.E,
+            self.nu,
+            shear=self.shear,
+            strains=self.strains or strains,
+            in_plane=self.in_plane,
         )
         out = []
         for i, crit in enumerate(self.criteria):
@@ -417,7 +450,7 @@ def critical_plane_parameters(
         for name, idx in chunk_best.items():
             best[name][part] = idx
     steps = (np.deg2rad(search.theta_step_deg), np.deg2rad(search.psi_step_deg))
-    evaluate = _SharedPass(stress, criteria, E, nu)
+    evaluate = _SharedPass(stress, criteria, E, nu, in_plane=search.in_plane_only)
     theta = np.stack([theta_g[best[c.name]] for c in criteria])
     psi = np.stack([psi_g[best[c.name]] for c in criteria])
     theta, psi = _refine(
