@@ -15,7 +15,7 @@ Int. J. Solids Struct. 35 (1998) 2349-2362 and J. Jäger, Wear 215 (1998). Close
 **Model.** fretbem's half-plane body takes a contact face of one segment and the rounded
 flat has three (fillet, flat, fillet), so both bodies are finite BEM bodies: the pad
 40 x 40 mm, the specimen 160 x 52 mm clamped at its bottom (four times the rig's), nurbs,
-60 pairs over |x| < 1.25 a.
+60 pairs over ``|x| < 1.25 a``.
 
 **Compared.** p at P, q at Q = 0.5 f P and back at Q = 0 (Masing's rule), RMS over the
 pairs, divided by the peak pressure p_peak (f p_peak for q); the stick-zone edge against
