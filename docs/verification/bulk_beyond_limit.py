@@ -52,6 +52,8 @@ inside = np.abs(inside_check[1].x) < a
 rms = np.sqrt(np.mean((inside_check[1].shear - closed)[inside] ** 2)) / (F * p0)
 print(f"reference vs Nowell-Hills at 0.8 x limit: {100 * rms:.2f} % of f p0")
 
+ERRORS = {}  # sigma_B / limit: q RMS / f p0 against the reference
+REVERSED = {}  # sigma_B / limit: slip zones carry shear of both signs
 fig, axes = plt.subplots(1, 3, figsize=(12, 3.8), sharey=True, layout="constrained")
 for ax, fraction in zip(axes, (0.8, 1.5, 2.5), strict=True):
     sigma = fraction * limit
@@ -71,6 +73,9 @@ for ax, fraction in zip(axes, (0.8, 1.5, 2.5), strict=True):
     q = np.interp(step.x, ref.x, ref.shear)
     error = np.sqrt(np.mean((step.shear - q)[mask] ** 2)) / (F * p0)
     stick = step.x[step.states == 1]
+    slipping = step.shear[step.states == 2]
+    ERRORS[fraction] = error
+    REVERSED[fraction] = bool(np.any(slipping > 0) and np.any(slipping < 0))
     print(
         f"sigma_B = {fraction} x limit: q {100 * error:.2f} % of f p0, stick zone "
         f"[{stick.min() / a:.3f}, {stick.max() / a:.3f}] a"
