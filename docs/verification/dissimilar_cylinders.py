@@ -44,6 +44,7 @@ F, P = 0.3, 100.0
 AL = (72000.0, 0.33)
 PADS = {"steel on aluminium": (210000.0, 0.3), "titanium on aluminium": (116000.0, 0.34)}
 
+ERRORS = {}  # (pads, Q): (p RMS / p0, q RMS / f p0, |c - c_ref| / a)
 fig, axes = plt.subplots(1, 2, figsize=(10, 4), sharey=True, layout="constrained")
 for ax, (name, pad) in zip(axes, PADS.items(), strict=True):
     reference = DissimilarCylinders(70.0, *pad, *AL, F)
@@ -70,6 +71,7 @@ for ax, (name, pad) in zip(axes, PADS.items(), strict=True):
         stick = step.x[step.states == 1]
         c_bem = 0.5 * (stick.max() - stick.min()) / a
         c_ref = stick_half_width(ref.x, ref.states) / a
+        ERRORS[name, step.tangential] = (e_p / p0, e_q / (F * p0), abs(c_bem - c_ref))
         print(
             f"  Q = {step.tangential:4.1f}: p {100 * e_p / p0:.2f} % of p0, "
             f"q {100 * e_q / (F * p0):.2f} % of f p0, c/a {c_bem:.3f} (reference {c_ref:.3f})"

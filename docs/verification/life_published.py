@@ -59,14 +59,15 @@ print(
 
 # %%
 # The strain-life curve with the worked point, and SWT's mean-stress effect in the elastic
-# range (eps_f' = 0): the life falls as the mean stress grows at a fixed amplitude.
+# range (eps_f' = 1e-15, a negligible Coffin-Manson term): the life falls as the mean
+# stress grows at a fixed amplitude.
 reversals = np.logspace(0, 7, 200)
 curve = (case.sigma_f**2 / case.E) * reversals ** (2 * case.b) + (
     case.sigma_f * case.eps_f * reversals ** (case.b + case.c)
 )
 basquin = FatigueMaterial(
     "basquin",
-    {**case.constants(), "fatigue_ductility_coefficient": 0.0},
+    {**case.constants(), "fatigue_ductility_coefficient": 1e-15},
     {},
 )
 means = np.linspace(-150.0, 200.0, 15)

@@ -15,7 +15,7 @@ Int. J. Solids Struct. 35 (1998) 2349-2362 and J. Jäger, Wear 215 (1998). Close
 **Model.** fretbem's half-plane body takes a contact face of one segment and the rounded
 flat has three (fillet, flat, fillet), so both bodies are finite BEM bodies: the pad
 40 x 40 mm, the specimen 160 x 52 mm clamped at its bottom (four times the rig's), nurbs,
-60 pairs over |x| < 1.25 a.
+60 pairs over ``|x| < 1.25 a``.
 
 **Compared.** p at P, q at Q = 0.5 f P and back at Q = 0 (Masing's rule), RMS over the
 pairs, divided by the peak pressure p_peak (f p_peak for q); the stick-zone edge against
@@ -62,6 +62,7 @@ def rms(v) -> float:
     return float(np.sqrt(np.mean(np.square(v))))
 
 
+ERRORS = {}  # b/a: (p RMS / p_peak, q RMS / f p_peak at 0.5 f P, back at 0)
 fig, axes = plt.subplots(2, 2, figsize=(10, 7), layout="constrained")
 print(f"{'b/a':>5} {'P N/mm':>8} {'e_p':>7} {'e_q(B)':>7} {'e_q(C)':>7}")
 for ax, ratio in zip(axes.flat, (0.3, 0.5, 0.7, 0.9), strict=True):
@@ -74,6 +75,7 @@ for ax, ratio in zip(axes.flat, (0.3, 0.5, 0.7, 0.9), strict=True):
     e_p = rms(A.pressure - punch.pressure(A.x, a)) / peak
     e_b = rms(B.shear - punch.shear(B.x, load, 0.5 * F * load)) / (F * peak)
     e_c = rms(C.shear - punch.shear_after_reversal(C.x, load, 0.5 * F * load, 0.0)) / (F * peak)
+    ERRORS[ratio] = (e_p, e_b, e_c)
     print(f"{ratio:>5} {load:>8.1f} {100 * e_p:>6.2f}% {100 * e_b:>6.2f}% {100 * e_c:>6.2f}%")
     ax.plot(fine / a, punch.pressure(fine, a) / peak, "k-", lw=1, label="p, closed form")
     ax.plot(A.x / a, A.pressure / peak, "o", ms=3, label="p, fretbem")

@@ -111,4 +111,9 @@ TESTED = {
     "tutorials/06_rig/fretting_rig_from_python.py",  # tests/docs/test_tutorial_rig.py
     "verification/lame_cylinder_convergence.py",
     "verification/reference_scene_convergence.py",
+    # tests/docs/test_verification_pages.py
+    "verification/life_published.py",
+    "verification/rounded_flat_pad.py",
+    "verification/dissimilar_cylinders.py",
+    "verification/bulk_beyond_limit.py",
 }

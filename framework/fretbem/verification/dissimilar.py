@@ -10,6 +10,9 @@ piecewise constant on a uniform grid of cells, exact influence integrals of Flam
 loads (Johnson, Contact Mechanics, eqs. 2.19-2.20), collocation at the cell centres, and an
 incremental active-set solution (normal contact and stick/slip alternated to convergence
 with the full coupling, not Goodman's approximation). Its error falls like the cell width.
+A bulk stress in the specimen is accepted too (similar or dissimilar bodies), which makes it
+a reference beyond the Nowell-Hills limit, where slip reverses at one edge and no closed
+form exists; inside the limit it reproduces Nowell-Hills to 0.1 % of f p0 (400 cells).
 
 Conventions as :mod:`fretbem.verification.closed_forms`: body 1 is the upper body (pad),
 body 2 the lower (specimen); p >= 0; q is the shear the upper body exerts on the lower, in
@@ -140,26 +143,31 @@ class DissimilarCylinders:
     # ---------------------------------------------------------------- solution
     def solve(
         self,
-        history: Sequence[tuple[float, float]],
+        history: Sequence[tuple[float, ...]],
         *,
         cells: int = 400,
         half_width: float | None = None,
         increments: int | Sequence[int] = 40,
         tolerance: float = 1e-10,
     ) -> list[DissimilarState]:
-        """Tractions after each (P, Q) of ``history``, each reached from the previous linearly.
+        """Tractions after each (P, Q) or (P, Q, sigma_B) of ``history``, reached linearly.
+
+        sigma_B is a uniform bulk stress along x in the lower body (the specimen) at infinity,
+        tension > 0: it stretches the specimen's surface by (1 - nu^2) sigma_B / E (plane
+        strain), which adds to the relative tangential displacement (Nowell and Hills 1987).
 
         ``cells`` uniform cells cover |x| < ``half_width`` (1.3 Hertz half-widths at the
         largest P by default); ``increments`` per step (one number or one per step): the
         normal loading of dissimilar bodies is path dependent and needs many.
         """
-        history = [(float(p), float(q)) for p, q in history]
+        history = [(float(h[0]), float(h[1]), float(h[2]) if len(h) > 2 else 0.0)
+                   for h in history]  # fmt: skip
         if not history or history[0][0] <= 0:
             raise ValueError("the history must start with a positive normal load P")
-        if any(abs(q) >= self.friction * p for p, q in history):
+        if any(abs(q) >= self.friction * p for p, q, _ in history):
             raise ValueError("every step needs |Q| < f P (otherwise gross sliding)")
         steps = [increments] * len(history) if isinstance(increments, int) else list(increments)
-        largest = max(p for p, _ in history)
+        largest = max(p for p, _, _ in history)
         L = half_width or 1.3 * self.hertz(largest).half_width
         h = 2.0 * L / cells
         x = -L + h * (np.arange(cells) + 0.5)
@@ -172,6 +180,9 @@ class DissimilarCylinders:
         N = -A * log
         T = A * log
         f = self.friction
+        stretch = (
+            1.0 / self.E_lower if self.plane_stress else (1.0 - self.nu_lower**2) / self.E_lower
+        ) * x
 
         p = np.zeros(cells)
         q = np.zeros(cells)
@@ -179,16 +190,19 @@ class DissimilarCylinders:
         states = np.zeros(cells, dtype=int)
         slide = np.zeros(cells)  # slip direction of slipping cells
         out = []
-        previous = (0.0, 0.0)
-        for (P, Q), n in zip(history, steps, strict=True):
+        previous = (0.0, 0.0, 0.0)
+        bulk_old = 0.0
+        for (P, Q, S), n in zip(history, steps, strict=True):
             for k in range(1, n + 1):
                 load = previous[0] + (P - previous[0]) * k / n
                 shear_load = previous[1] + (Q - previous[1]) * k / n
-                s_old = B * (sign @ p) + T @ q - d
+                bulk = previous[2] + (S - previous[2]) * k / n
+                s_old = B * (sign @ p) + T @ q - d - bulk_old * stretch
                 for _ in range(200):
                     p_new = self._normal(N, gap0 + B * (sign @ q), h, load, p)
+                    offset = B * (sign @ p_new) - bulk * stretch
                     q_new, d, states, slide = self._tangential(
-                        T, B * (sign @ p_new), s_old, h, shear_load, p_new, states, slide, f, q
+                        T, offset, s_old, h, shear_load, p_new, states, slide, f, q
                     )
                     change = max(np.abs(p_new - p).max(), np.abs(q_new - q).max())
                     p, q = p_new, q_new
@@ -196,7 +210,8 @@ class DissimilarCylinders:
                         break
                 else:
                     raise RuntimeError("the normal-tangential coupling did not converge")
-            previous = (P, Q)
+                bulk_old = bulk
+            previous = (P, Q, S)
             out.append(DissimilarState(P, Q, x.copy(), p.copy(), q.copy(), states.copy()))
         return out
 
