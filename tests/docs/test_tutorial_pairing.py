@@ -21,7 +21,7 @@ SCRIPT = (
 
 def test_pairing_tutorial(tmp_path, monkeypatch):
     """97 lagrange2 on 61 nurbs: e_p max 0.75 %, e_q max 4.09 % (measured); the slide:
-    Hertz p within 0.40 % of p0 at every position, one note of new contact."""
+    Hertz p within 0.40 % of p0 at every position, Q = f P, one note of new contact."""
     monkeypatch.chdir(tmp_path)
     try:
         ns = runpy.run_path(str(SCRIPT))
@@ -30,4 +30,5 @@ def test_pairing_tutorial(tmp_path, monkeypatch):
     assert ns["E_P_MAX"] < 0.009
     assert ns["E_Q_MAX"] < 0.045
     assert ns["SLIDE_E_P"] < 0.006
+    assert abs(ns["SLIDE_Q"] - 30.0) < 1e-6
     assert len(ns["slid"].notes) == 1

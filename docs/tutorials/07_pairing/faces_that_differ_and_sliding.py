@@ -58,17 +58,17 @@ fig.tight_layout()
 
 # %%
 # A cylinder sliding along a flat
-# -------------------------------
+# --------------------------------
 # Both bodies are elastic half-planes (where Hertz holds exactly); the flat's face is the
-# track, long enough for the slide. Under force control a body in gross slip has no
-# equilibrium position, so each :class:`~fretbem.sliding.SlideStep` gives the distance
-# the pad is carried, and the contact is solved at Q just below f P at every re-pairing.
+# track, long enough for the slide. The pad's block is driven by displacement (``delta``),
+# so it slides in gross slip with Q = f P; :func:`~fretbem.sliding.run_sliding` pairs the
+# faces again whenever the pad has moved more than a pair spacing.
 from fretbem.basis import Refinement
 from fretbem.contact.node_to_segment import NodeToSegmentPair
 from fretbem.geometry.nurbs import NurbsCurve
 from fretbem.halfplane.body import HalfPlaneBody
-from fretbem.simulation import LoadStep
-from fretbem.sliding import SlideStep, run_sliding
+from fretbem.simulation import LoadStep, Simulation
+from fretbem.sliding import run_sliding
 
 P, F = 100.0, 0.3
 reference = CattaneoMindlinScene(
@@ -85,30 +85,35 @@ flat = HalfPlaneBody(
     refinement=Refinement(elements=round(2 * track / (3 * a / 60))),
     name="specimen",
 )
-sliding = attrs.evolve(base, pair=NodeToSegmentPair(base.pair.upper, flat))
-Q = 0.99 * F * P
-steps = [
-    SlideStep(LoadStep("press", P, 0.0)),
-    SlideStep(LoadStep("shear", P, Q, increments=4)),
-    SlideStep(LoadStep("slide", P, Q, increments=12), 3 * a),
-    SlideStep(LoadStep("reverse", P, -Q, increments=8)),
-    SlideStep(LoadStep("back", P, -Q, increments=12), -3 * a),
-]
-slid = run_sliding(sliding, steps)
+steps = (
+    LoadStep("press", P, 0.0),
+    LoadStep("slide", P, delta=3 * a, increments=12),
+    LoadStep("unload", P, 0.0, increments=4),
+    LoadStep("back", P, delta=0.0, increments=12),
+)
+sliding = Simulation(
+    NodeToSegmentPair(base.pair.upper, flat), steps, solver=base.solver, law=base.law
+)
+slid = run_sliding(sliding)
+print(f"paired again {slid.repairings} times")
+for step, position in zip(slid.steps, slid.positions, strict=True):
+    print(f"{step.name:7s} pad at {position / a:5.2f} a, Q = {step.tangential:7.3f} N/mm")
 fig, ax = plt.subplots(figsize=(7, 3.5))
-for step, offset in zip(slid.steps[1:], slid.offsets[1:], strict=True):
-    ax.plot(step.x, step.pressure, "-", label=f"p, {step.name} (slide {offset / a:.1f} a)")
+for step, position in zip(slid.steps[1:], slid.positions[1:], strict=True):
+    ax.plot(step.x, step.pressure, "-", label=f"p, {step.name} (pad at {position / a:.1f} a)")
     ax.plot(step.x, step.shear, ":", label=f"q, {step.name}")
 ax.set(xlabel="x on the flat (mm)", ylabel="traction (MPa)")
 ax.legend(fontsize=7, ncol=2)
 fig.tight_layout()
 
 # %%
-# At every position the pressure is Hertz's, centred on the pad, and q = f p outside the
-# small stick zone:
+# At every position the pressure is Hertz's, centred on the pad; in gross slip q = f p at
+# every pair in contact and Q = f P:
 SLIDE_E_P = max(
     np.max(np.abs(s.pressure - hertz.pressure(s.x - off))) / hertz.peak_pressure
     for s, off in zip(slid.steps, slid.offsets, strict=True)
 )
+SLIDE_Q = slid["slide"].tangential
 print(f"max |p - p_Hertz| over every position: {100 * SLIDE_E_P:.2f} % of p0")
+print(f"Q while sliding: {SLIDE_Q:.4f} N/mm (f P = {F * P:g})")
 print(f"notes: {list(slid.notes)}")
