@@ -338,6 +338,18 @@ class SimulationResult:
             "pairs": int(pair.n_pairs),
             "dofs": int(pair.upper.dofs + pair.lower.dofs),
             "friction": getattr(self.simulation.law, "friction", None),
+            "pairing": type(pair).__name__,
+            "faces": {
+                label: {
+                    "basis": body.describe().get("basis"),
+                    "degree": body.describe().get("degree"),
+                    "nodes": int(body.contact_face(tag).n_nodes),
+                }
+                for label, (body, tag) in (
+                    ("upper", (pair.upper, pair.upper_tag)),
+                    ("lower", (pair.lower, pair.lower_tag)),
+                )
+            },
         }
 
     def table(self) -> str:

@@ -25,7 +25,7 @@ LAYERS = (
     ("verification",),
     ("views",),
     ("results", "simulation"),
-    ("scenes",),
+    ("scenes", "sliding"),
     ("accuracy",),
     ("stress",),
     ("fatigue",),

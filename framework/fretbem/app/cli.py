@@ -176,10 +176,20 @@ def _simulate(make, args: argparse.Namespace, extras=None, mode=None, companion=
     )
     result = done.result
     info = result.describe()
-    print(
-        f"{info['basis']} (degree {info['degree']}), {info['pairs']} node pairs, "
-        f"{info['dofs']} boundary DOFs"
-    )
+    faces = info["faces"]
+    if faces["upper"] == faces["lower"]:
+        print(
+            f"{info['basis']} (degree {info['degree']}), {info['pairs']} node pairs, "
+            f"{info['dofs']} boundary DOFs"
+        )
+    else:  # faces discretised independently (node-to-segment pairing)
+        shown = {
+            k: f"{f['basis']} (degree {f['degree']}, {f['nodes']} nodes)" for k, f in faces.items()
+        }
+        print(
+            f"pad face {shown['upper']}, specimen face {shown['lower']}: {info['pairs']} pairs "
+            f"({info['pairing']}), {info['dofs']} boundary DOFs"
+        )
     print(result.table())
     print(zone_table(result, reason))
     if done.fatigue is not None:

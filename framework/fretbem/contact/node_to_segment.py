@@ -46,6 +46,10 @@ class NodeToSegmentPair(ContactPair):
         nodes; on a tie a smooth family's face, else the lower one: measured more accurate,
         docs/explanation/pairing.rst),
         ``"lower"`` or ``"upper"``. The other face is projected on.
+    uncovered : str
+        A slave node past the ends of the other face: ``"refuse"`` (default: the faces
+        must cover each other) or ``"open"`` (the pair faces nothing and stays open, at its
+        distance from the nearer end; what a face sliding off the other's end needs).
     """
 
     offset: np.ndarray = attrs.field(
@@ -55,6 +59,9 @@ class NodeToSegmentPair(ContactPair):
     transfer: str = attrs.field(default="conservative", validator=attrs.validators.in_(TRANSFERS))
     slave: str = attrs.field(
         default="coarser", validator=attrs.validators.in_(("coarser", "lower", "upper"))
+    )
+    uncovered: str = attrs.field(
+        default="refuse", validator=attrs.validators.in_(("refuse", "open"))
     )
 
     description = "lower face nodes projected on the upper face's exact geometry (faces may differ)"
@@ -77,6 +84,11 @@ class NodeToSegmentPair(ContactPair):
         # a tie: the smoother (non-interpolatory) family's face, else the lower one
         smooth = {label: not _interpolatory(self.side(label)[0]) for label in ("lower", "upper")}
         return "upper" if smooth["upper"] and not smooth["lower"] else "lower"
+
+    def covered(self) -> np.ndarray:
+        """Per pair, whether the other face faces it (False only with uncovered = "open")."""
+        self.pairing()
+        return self._cache["covered"]
 
     def _field(self, side: str) -> FaceField:
         body, tag = self.side(side)
@@ -110,7 +122,7 @@ class NodeToSegmentPair(ContactPair):
             ) from None
         spacing = np.min(np.linalg.norm(np.diff(points, axis=0), axis=1))
         off = np.flatnonzero(segment < 0)
-        if off.size:
+        if off.size and self.uncovered == "refuse":
             k = int(off[0])
             raise ContactDiscretisationError(
                 f"contact pair: the {slave} collocation point at {points[k].round(6)} has no "
@@ -118,10 +130,25 @@ class NodeToSegmentPair(ContactPair):
                 "reach so far along the surface); both contact faces must cover the candidate "
                 "zone: widen the shorter one, or narrow the zone"
             )
+        covered = segment >= 0
         master_points = fields[master].points(segment, params) + placed[master]
+        # a pair past the master's ends (uncovered = "open") faces nothing: its gap is its
+        # distance from the nearer end of the master face, and it moves with neither face
+        ends = np.concatenate(
+            [fields[master].segments[0].curve.points([0.0]),
+             fields[master].segments[-1].curve.points([1.0])]
+        ) + placed[master]  # fmt: skip
+        nearest = ends[
+            np.argmin(
+                np.abs((ends @ mean_tangent)[None, :] - (points @ mean_tangent)[:, None]), axis=1
+            )
+        ]
+        distance = np.linalg.norm(nearest - points, axis=1)
+        master_points[~covered] = points[~covered]
         upper_points = master_points if master == "upper" else points
         if master == "upper":
             up_normals = fields["upper"].normals(segment, params)
+            up_normals[~covered] = -mean_normal
         else:
             up_normals = faces["upper"].normals[order]
         facing = up_normals @ mean_normal
@@ -136,7 +163,7 @@ class NodeToSegmentPair(ContactPair):
                 "the side the lower face's normal points to"
             )
         lower_points = points if slave == "lower" else master_points
-        gap = (upper_points - lower_points) @ mean_normal
+        gap = np.where(covered, (upper_points - lower_points) @ mean_normal, distance)
         if np.any(gap < -1e-9 * max(spacing, 1e-300)):
             k = int(np.argmin(gap))
             raise ContactDiscretisationError(
@@ -155,7 +182,13 @@ class NodeToSegmentPair(ContactPair):
             shift=float((placed[master] - placed[slave]) @ mean_tangent),
         )
         n = len(order)
+        self._cache["covered"] = covered
         nodes = {slave: order, master: nearest_nodes(interpolation)}
+        interpolations = {master: interpolation}
+        if not covered.all():  # a pair facing nothing moves with neither face: it stays open
+            select = np.zeros((n, faces[slave].n_nodes))
+            select[np.flatnonzero(covered), order[covered]] = 1.0
+            interpolations[slave] = select
         return Pairing(
             lower_nodes=nodes["lower"],
             upper_nodes=nodes["upper"],
@@ -163,7 +196,7 @@ class NodeToSegmentPair(ContactPair):
             normals=np.tile(mean_normal, (n, 1)),
             tangents=np.tile(mean_tangent, (n, 1)),
             gap=np.maximum(gap, 0.0),
-            interpolation={master: interpolation},
+            interpolation=interpolations,
             transfer={master: transfer},
         )
 

@@ -123,3 +123,24 @@ def test_the_example_reads():
         "node-to-segment",
     )
     assert faces_differ(scene) == ["basis", "pairs"]
+
+
+def test_the_command_runs_the_example(tmp_path, capsys):
+    """fretbem run on the example: both faces in the summary line, checks passed, an
+    estimate from the companion level (every face at about half the pairs)."""
+    import json
+    from pathlib import Path
+
+    from fretbem.app import cli
+
+    path = Path(__file__).parents[3] / "examples" / "mismatched_faces.toml"
+    out = tmp_path / "out"
+    code = cli.main(["run", str(path), "--out", str(out), "--no-figures", "--no-vtk"])
+    assert code == 0
+    text = capsys.readouterr().out
+    assert "pad face lagrange2 (degree 2, 97 nodes), specimen face nurbs (degree 2, 61 nodes)" in (
+        text
+    )
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["scene"]["faces"]["upper"]["nodes"] == 97
+    assert summary["scene"]["pairing"] == "NodeToSegmentPair"

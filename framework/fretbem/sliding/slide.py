@@ -1,0 +1,238 @@
+"""Finite sliding: a history in which the pad slides along the specimen, re-paired as it goes.
+
+The history is an ordinary one (:class:`~fretbem.simulation.LoadStep`); a step that drives
+the pad's block by displacement (``delta``) can carry it any distance, in gross slip
+(Q = f P) as far as the faces reach. Before every increment in which the pad would end
+more than one pair spacing from where its pairs were projected, the pairs are projected
+again at the pad's new position (:class:`~fretbem.contact.node_to_segment.NodeToSegmentPair`
+with its ``offset``): the block's tangential displacement so far goes into the offset (the
+geometry), and out of the block unknown, so the problem stays small-displacement about the
+current position.
+
+The law's memory is carried to the new pairing: the pair tractions live on the slave face,
+whose nodes the new pairing keeps, and the stick reference (the previous relative
+tangential displacement) is the previous state seen through the new pairing with the pad
+where it physically was, so no slip is invented or lost by re-pairing. Points of the other
+face that come into contact for the first time are reported, once per step.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+
+import attrs
+import numpy as np
+
+from fretbem.contact import control
+from fretbem.contact.law import ContactState, PairState
+from fretbem.contact.node_to_segment import NodeToSegmentPair
+from fretbem.contact.pairs import ContactDiscretisationError
+from fretbem.errors import InputError
+from fretbem.results import StepResult
+from fretbem.simulation import Simulation
+from fretbem.verification.checks import check_step
+
+__all__ = ["SlidingError", "SlidingResult", "run_sliding"]
+
+
+class SlidingError(InputError):
+    """A sliding history that cannot be run (wrong pairing, a slide off the faces)."""
+
+
+@attrs.frozen(eq=False)
+class SlidingResult:
+    """Every step's result, where the pad was and the pair it was solved with.
+
+    Attributes
+    ----------
+    steps : tuple of StepResult
+        Per step; ``x`` are the pair positions on the lower face where the pad was then.
+    offsets : tuple of float
+        The pad's slide (mm along the tangent) carried in the pairing at each step's end.
+    positions : tuple of float
+        The pad block's tangential displacement at each step's end (mm): offset plus the
+        block unknown, the delta of displacement control.
+    pairs : tuple of NodeToSegmentPair
+        The pairing at the end of each step.
+    notes : tuple of str
+        What the run reported: new points coming into contact.
+    repairings : int
+        How many times the faces were paired again.
+    """
+
+    steps: tuple[StepResult, ...]
+    offsets: tuple[float, ...]
+    positions: tuple[float, ...]
+    pairs: tuple[NodeToSegmentPair, ...]
+    notes: tuple[str, ...]
+    repairings: int
+
+    def __getitem__(self, name: str) -> StepResult:
+        for step in self.steps:
+            if step.name == name:
+                return step
+        raise KeyError(f"no step {name!r}; steps are {[s.name for s in self.steps]}")
+
+
+def _repaired(pair: NodeToSegmentPair, offset: float, tangent: np.ndarray, step: str, states):
+    """The pair projected again with the upper body ``offset`` along the tangent; a pair in
+    contact that the other face no longer reaches is an error."""
+    moved = attrs.evolve(pair, offset=offset * tangent, uncovered="open")
+    try:
+        moved.pairing()
+    except ContactDiscretisationError as err:
+        raise SlidingError(f"step {step!r}: at a slide of {offset:.6g} mm: {err}") from None
+    lost = ~moved.covered() & (states != PairState.SEPARATED)
+    if lost.any():
+        where = moved.pairing().points[lost][0].round(6)
+        raise SlidingError(
+            f"step {step!r}: at a slide of {offset:.6g} mm the pair in contact at {where} has "
+            "slid past the end of the other face: the faces no longer cover the contact; "
+            "lengthen the face the other slides along (its contact segment, e.g. a wider "
+            "[contact] zone_width) to cover the whole track, or slide less"
+        )
+    return moved
+
+
+def _carried(state: ContactState, problem, shift: np.ndarray) -> ContactState:
+    """``state`` seen through a new pairing of the same slave nodes whose geometry carries
+    the pad ``shift`` further: the block unknown gives that much back (the pad stays where
+    it is), the tractions stay, the stick reference is recomputed with the new pairing."""
+    if state.virgin:
+        return ContactState.initial(problem)
+    x = np.array(state.x, dtype=float)
+    x[problem.layout.block("upper")] -= shift
+    _, slip = problem.relative(x, problem.amplitudes(state.loads))
+    return attrs.evolve(state, x=x, slip=slip)
+
+
+def _block_delta(problem, x: np.ndarray) -> float:
+    """The pad block's tangential displacement against the datum, in the current geometry."""
+    return float(control.motion_rows(problem)[1] @ x)
+
+
+def _loaded(pair: NodeToSegmentPair, states: np.ndarray) -> tuple[str, np.ndarray]:
+    """The master face (label) and which of its nodes lie within the contact: between the
+    outermost pairs not separated."""
+    pairing = pair.pairing()
+    master = "upper" if pair.slave_side() == "lower" else "lower"
+    body, tag = pair.side(master)
+    tangent = pairing.tangents[0]
+    along = body.contact_face(tag).points @ tangent
+    if master == "upper":
+        along = along + pair.offset @ tangent
+    touching = pairing.points[states != PairState.SEPARATED] @ tangent
+    if touching.size == 0:
+        return master, np.zeros(along.shape, dtype=bool)
+    return master, (along >= touching.min()) & (along <= touching.max())
+
+
+def _spacing(pair: NodeToSegmentPair) -> float:
+    points = pair.pairing().points
+    return float(np.min(np.linalg.norm(np.diff(points, axis=0), axis=1)))
+
+
+def run_sliding(
+    simulation: Simulation,
+    *,
+    every: float = 1.0,
+    check: bool = True,
+    note: Callable[[str], None] | None = print,
+) -> SlidingResult:
+    """Step ``simulation`` through its history, re-pairing as the pad slides.
+
+    The pair must be a :class:`~fretbem.contact.node_to_segment.NodeToSegmentPair` and the
+    pad must carry the loading block. The faces are paired again before an increment that
+    would leave the pad more than ``every`` pair spacings from where its pairs were
+    projected (0: whenever it moves at all). No closed form applies to a sliding contact, so
+    the steps carry no errors against theory. ``note`` receives each message about new
+    points in contact (None: collect only).
+    """
+    if not every >= 0.0:
+        raise SlidingError(f"every must be a number of pair spacings >= 0, got {every!r}")
+    pair = simulation.pair
+    if not isinstance(pair, NodeToSegmentPair):
+        raise SlidingError(
+            f"finite sliding re-pairs the faces by projection, but the pair is a "
+            f"{type(pair).__name__}; use NodeToSegmentPair ([contact] pairing = "
+            "'node-to-segment')"
+        )
+    simulation = attrs.evolve(simulation, reference=None)
+    tangent = pair.pairing().tangents[0]
+    offset = float(pair.offset @ tangent)
+    spacing = _spacing(pair)
+    problem = pair.condensed()
+    state = ContactState.initial(problem)
+    friction = getattr(simulation.law, "friction", float("nan"))
+    master, seen = _loaded(pair, state.states)
+    notes: list[str] = []
+    results, offsets, positions, pairs, history = [], [], [], [], []
+    repairings = 0
+    for load in simulation.steps:
+        controls = load.controls
+        tic, iterations, residuals = time.perf_counter(), 0, []
+        fresh = np.zeros_like(seen)
+        start_n, start_t = simulation._start(problem, state, controls)
+        if controls.tangential == "displacement":
+            start_t += offset  # delta where the pad physically is
+        start_loads = dict(state.loads)
+        for k in range(1, load.increments + 1):
+            frac = k / load.increments
+            target_n = start_n + frac * (load.normal_target - start_n)
+            target_t = start_t + frac * (load.tangential_target - start_t)
+            loads = {name: start_loads.get(name, 0.0) + frac * (v - start_loads.get(name, 0.0))
+                     for name, v in load.loads.items()}  # fmt: skip
+            # where the pad will be (delta-driven) or is (force-driven), against the pairing
+            ahead = 0.0 if state.virgin else _block_delta(problem, state.x)
+            if controls.tangential == "displacement" and not state.virgin:
+                ahead = target_t - offset
+            if abs(ahead) > every * spacing and ahead != 0.0:
+                offset += ahead
+                pair = _repaired(pair, offset, tangent, load.name, state.states)
+                problem = pair.condensed()
+                state = _carried(state, problem, ahead * tangent)
+                simulation = attrs.evolve(simulation, pair=pair)
+                repairings += 1
+            driven_t = target_t - offset if controls.tangential == "displacement" else target_t
+            state, its, res = simulation._increment(
+                problem, state, target_n, driven_t, loads, controls=controls
+            )
+            iterations += its
+            residuals += res
+            master, loaded = _loaded(pair, state.states)
+            fresh |= loaded & ~seen if seen.any() else np.zeros_like(loaded)
+            seen = seen | loaded
+        if fresh.any():
+            body, tag = pair.side(master)
+            along = body.contact_face(tag).points[fresh] @ tangent
+            if master == "upper":
+                along = along + offset
+            message = (
+                f"step {load.name!r}: {int(fresh.sum())} new point(s) of the {master} face came "
+                f"into contact, from {along.min():.4g} to {along.max():.4g} mm along the surface "
+                f"(pad at {offset + _block_delta(problem, state.x):.4g} mm)"
+            )
+            notes.append(message)
+            if note is not None:
+                note(message)
+        history.append(load.tangential if load.delta is None else state.tangential)
+        result = StepResult.build(
+            simulation,
+            problem,
+            load,
+            state,
+            iterations,
+            residuals,
+            time.perf_counter() - tic,
+            tuple(history),
+        )
+        if check:
+            result = attrs.evolve(result, checks=check_step(result, friction))
+        results.append(result)
+        offsets.append(offset)
+        positions.append(offset + _block_delta(problem, state.x))
+        pairs.append(pair)
+    return SlidingResult(
+        tuple(results), tuple(offsets), tuple(positions), tuple(pairs), tuple(notes), repairings
+    )
