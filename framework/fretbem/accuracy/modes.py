@@ -205,12 +205,6 @@ def _fixed(simulation, mode: Accuracy, coarse, run_kwargs) -> object:
     return done(None, estimated, (n_coarse, pairs))
 
 
-#: most pairs of an adaptive level whose error and estimate are verified: beyond it the
-#: reference scene's e_q max rose (1.7 % at 81, 3.1 % at 121 against 0.93 % at 61) while
-#: the estimate fell (docs/results.md, "The adaptive mode")
-VERIFIED_ADAPTIVE_PAIRS = 61
-
-
 def adaptive_blocker(simulation) -> str | None:
     """Why the adaptive mode cannot re-mesh this simulation, or None if it can."""
     reason = estimate_blocker(simulation)
@@ -237,12 +231,8 @@ def _adaptive(simulation, mode: Accuracy) -> object:
         "transitions": summary["transitions"],
         "estimate_reason": None,
     }
-    if max(summary["levels"]) > VERIFIED_ADAPTIVE_PAIRS:
-        record["caution"] = (
-            f"levels above {VERIFIED_ADAPTIVE_PAIRS} pairs are not verified: on the reference "
-            "scene the error rose there while the estimate fell (docs/how-to/accuracy); "
-            f"prefer budget <= {VERIFIED_ADAPTIVE_PAIRS}"
-        )
+    if out.notes:
+        record["caution"] = "; ".join(out.notes)
     return _attach(out.result, out.estimate, record)
 
 

@@ -14,10 +14,18 @@ import numpy as np
 
 from fretbem.basis import Refinement, face_points, points_per_element
 from fretbem.errors import InputError
+from fretbem.geometry.nurbs import NurbsCurve
 
 from . import estimate
 
-__all__ = ["AdaptiveError", "aligned_breakpoints", "elements_for", "pairs_for", "remesh"]
+__all__ = [
+    "AdaptiveError",
+    "aligned_breakpoints",
+    "elements_for",
+    "knots_for",
+    "pairs_for",
+    "remesh",
+]
 
 #: smallest transition spacing kept apart, as a fraction of the face length
 MERGE = 2e-3
@@ -108,6 +116,21 @@ def elements_for(family, pairs: int, degree: int | None = None) -> int:
     """Most elements whose face has at most ``pairs`` collocation points."""
     per, extra = points_per_element(family, degree)
     return max(1, math.floor((pairs - extra) / per))
+
+
+def knots_for(family, pairs: int, degree: int | None = None) -> int:
+    """Most C0 knots a face of at most ``pairs`` points can place, an element between each.
+
+    Each knot costs the family's extra functions of a C0 breakpoint (NURBS p = 2: one;
+    quadratic Lagrange: none) and the layout needs one element more than knots.
+    """
+    line = NurbsCurve.line([0, 0], [1, 0], degree=1)
+    bounds = [0.0, 0.25, 0.5, 0.75, 1.0]
+    smooth = family.discretise(line, Refinement.explicit(bounds, degree=degree)).n_functions
+    kinked = family.discretise(line, Refinement.explicit(bounds, degree=degree, c0_at=[0.5]))
+    cost = (kinked.n_functions - smooth) / points_per_element(family, degree)[0]
+    elements = elements_for(family, pairs, degree)
+    return max(0, math.floor((elements - 1) / (1.0 + cost)))
 
 
 def remesh(
