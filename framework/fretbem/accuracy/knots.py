@@ -208,10 +208,9 @@ def fit_transitions(found: Transitions, most: int) -> Transitions:
         (float(v), "boundary") for v in found.boundaries
     ]
     kinds.sort()
-    while len(kinds) > most and kinds:
-        if len(kinds) == 1:
-            kinds = [] if kinds[0][1] == "boundary" else kinds
-            break
+    if most == 0:
+        return Transitions(np.zeros(0), np.zeros(0))
+    while len(kinds) > most:
         gaps = [b[0] - a[0] for a, b in itertools.pairwise(kinds)]
         i = int(np.argmin(gaps))
         (xa, ka), (xb, kb) = kinds[i], kinds[i + 1]

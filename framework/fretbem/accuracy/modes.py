@@ -205,6 +205,12 @@ def _fixed(simulation, mode: Accuracy, coarse, run_kwargs) -> object:
     return done(None, estimated, (n_coarse, pairs))
 
 
+#: most pairs of an adaptive level the mode solves: graded faces finer than about 360 NURBS
+#: or 250 quadratic Lagrange points oscillate (both body models, with or without C0 knots;
+#: docs/explanation/adaptive.rst, "Limits"), so larger budgets stop here and say so
+MAX_ADAPTIVE_PAIRS = 241
+
+
 def adaptive_blocker(simulation) -> str | None:
     """Why the adaptive mode cannot re-mesh this simulation, or None if it can."""
     reason = estimate_blocker(simulation)
@@ -217,8 +223,9 @@ def _adaptive(simulation, mode: Accuracy) -> object:
     reason = adaptive_blocker(simulation)
     if reason is not None:
         raise AccuracyError(reason)
+    budget = min(mode.budget, MAX_ADAPTIVE_PAIRS)
     settings = AdaptiveSettings(
-        tolerance=mode.tolerance, budget=mode.budget, first=min(FIRST_LEVEL, mode.budget)
+        tolerance=mode.tolerance, budget=budget, first=min(FIRST_LEVEL, budget)
     )
     out = run_adaptive(simulation, settings)
     summary = out.summary()
@@ -231,8 +238,14 @@ def _adaptive(simulation, mode: Accuracy) -> object:
         "transitions": summary["transitions"],
         "estimate_reason": None,
     }
-    if out.notes:
-        record["caution"] = "; ".join(out.notes)
+    notes = list(out.notes)
+    if budget < mode.budget:
+        notes.append(
+            f"budget {mode.budget} capped at {MAX_ADAPTIVE_PAIRS} pairs: finer graded contact "
+            "faces are not verified (docs/explanation/adaptive.rst, 'Limits')"
+        )
+    if notes:
+        record["caution"] = "; ".join(notes)
     return _attach(out.result, out.estimate, record)
 
 
