@@ -3,7 +3,6 @@
 The names of :mod:`.modes` are re-exported here.
 """
 
-
 from .modes import (
     MESHES,
     UNIFORM_RATE,

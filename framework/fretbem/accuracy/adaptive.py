@@ -21,8 +21,16 @@ from fretbem.contact.pairs import SEPARATED
 from fretbem.simulation import run
 
 from . import estimate
-from .knots import Transitions, knot_moves, knot_pressures, transitions
-from .remesh import AdaptiveError, aligned_breakpoints, elements_for, pairs_for, remesh
+from .knots import (
+    Transitions,
+    fit_transitions,
+    knot_moves,
+    knot_pressures,
+    knot_spacings,
+    refound,
+    transitions,
+)
+from .remesh import AdaptiveError, aligned_breakpoints, elements_for, knots_for, pairs_for, remesh
 
 __all__ = [
     "AdaptiveError",
@@ -32,8 +40,10 @@ __all__ = [
     "aligned",
     "aligned_breakpoints",
     "elements_for",
+    "fit_transitions",
     "knot_moves",
     "knot_pressures",
+    "knots_for",
     "pairs_for",
     "remesh",
     "run_adaptive",
@@ -77,8 +87,9 @@ class AdaptiveSettings:
         Element density at contact edges relative to stick-slip boundaries (0, 1]; None:
         the family's (:data:`FAMILY_GRADING`).
     edge_tolerance : float
-        A knot is settled when it would move by less than this fraction of the contact
-        half-width.
+        A knot is settled when it would move by less than this fraction of the spacing of
+        the points next to it (a fraction of the contact half-width did not shrink with the
+        elements: settled knots at 121 pairs were further off, in elements, than at 61).
     edge_iterations : int
         Most re-solves that move the knots of the last level onto its own transitions
         (:func:`settle`).
@@ -102,7 +113,7 @@ class AdaptiveSettings:
     max_levels: int = attrs.field(default=3, converter=int)
     grading: float = attrs.field(default=0.06, converter=float)
     edge_peak: float | None = attrs.field(default=None, converter=attrs.converters.optional(float))
-    edge_tolerance: float = attrs.field(default=2e-4, converter=float)
+    edge_tolerance: float = attrs.field(default=0.03, converter=float)
     edge_iterations: int = attrs.field(default=4, converter=int)
     coarse_iterations: int = attrs.field(default=1, converter=int)
     coarse_tolerance: float = attrs.field(default=0.01, converter=float)
@@ -152,12 +163,16 @@ class AdaptiveResult:
         Per step name, the estimated error of the last level (keys of StepResult.errors).
     seconds : float
         Wall time of all levels (assembly, condensation and solves).
+    notes : tuple of str
+        Where the estimate does not cover the error (transitions merged to fit the budget,
+        knots not settled); empty when it does.
     """
 
     levels: tuple
     transitions: tuple
     estimate: dict
     seconds: float
+    notes: tuple = ()
 
     @property
     def result(self):
@@ -192,6 +207,7 @@ class AdaptiveResult:
             "transitions": [t.all.tolist() for t in self.transitions],
             "seconds": self.seconds,
             "estimate": {name: dict(e) for name, e in self.estimate.items()},
+            "notes": list(self.notes),
         }
 
     @property
@@ -293,14 +309,15 @@ def _keep_apart(positions: np.ndarray, after: np.ndarray) -> np.ndarray:
 INSIDE_WEIGHT = 2.0
 
 
-def _residual(positions: np.ndarray, moves: np.ndarray) -> float:
-    """How far a level's knots are from settled: the largest move, outward moves (knot point
-    inside its transition) weighted by :data:`INSIDE_WEIGHT`."""
+def _residual(positions: np.ndarray, moves: np.ndarray, scale: np.ndarray) -> float:
+    """How far a level's knots are from settled: the largest move over ``scale`` (each
+    knot's point spacing), outward moves (knot point inside its transition) weighted by
+    :data:`INSIDE_WEIGHT`."""
     if moves.size == 0:
         return 0.0
     centre = 0.5 * (positions.min() + positions.max())
     outward = np.sign(moves) == np.sign(positions - centre)
-    return float(np.max(np.abs(moves) * np.where(outward, INSIDE_WEIGHT, 1.0)))
+    return float(np.max(np.abs(moves) / scale * np.where(outward, INSIDE_WEIGHT, 1.0)))
 
 
 def settle(
@@ -310,24 +327,30 @@ def settle(
     settings: AdaptiveSettings,
     iterations: int,
     tolerance: float | None = None,
+    relative: bool = True,
 ):
     """Solve an aligned level and move its knots onto its own discrete transitions.
 
     Returns the solved levels and the transitions of each, the settled level (the one whose
-    knots would move least, :func:`_residual`) last. Stops when no knot would move by more than
-    ``tolerance`` (default ``settings.edge_tolerance``) of the contact half-width, or after
-    ``iterations`` re-solves.
+    knots would move least, :func:`_residual`) last, and that level's residual. ``found`` is
+    first cut to the knots the level can place (:func:`fit_transitions`). Stops when no knot
+    would move by more than ``tolerance`` (default ``settings.edge_tolerance``) of its point
+    spacing (``relative``) or of the contact half-width, or after ``iterations`` re-solves.
     """
     tolerance = settings.edge_tolerance if tolerance is None else tolerance
+    pair = simulation.pair
+    degree = pair.upper.face_refinement(pair.upper_tag).degree
+    found = fit_transitions(found, knots_for(pair.upper.family, pairs, degree))
     levels = [_solve(aligned(simulation, found, pairs, settings))]
     used, history, residual = [found], [], []
     for k in range(iterations + 1):
         edge_moves, boundary_moves = knot_moves(levels[-1], used[-1])
         moves = np.concatenate([edge_moves, boundary_moves])
-        residual.append(_residual(np.concatenate([used[-1].edges, used[-1].boundaries]), moves))
-        if residual[-1] <= tolerance * _half_width(levels[-1]) or k == iterations:
-            break
         positions = np.concatenate([used[-1].edges, used[-1].boundaries])
+        scale = knot_spacings(levels[-1], used[-1]) if relative else _half_width(levels[-1])
+        residual.append(_residual(positions, moves, scale))
+        if residual[-1] <= tolerance or k == iterations:
+            break
         cap = MAX_MOVE * _half_width(levels[-1])
         after = _next_positions(positions, np.clip(moves, -cap, cap), history)
         history.append((positions, moves))
@@ -336,7 +359,7 @@ def settle(
         levels.append(_solve(aligned(simulation, used[-1], pairs, settings)))
     best = int(np.argmin(residual))
     order = [*(i for i in range(len(levels)) if i != best), best]
-    return [levels[i] for i in order], [used[i] for i in order]
+    return [levels[i] for i in order], [used[i] for i in order], residual[best]
 
 
 def run_adaptive(simulation, settings: AdaptiveSettings | None = None) -> AdaptiveResult:
@@ -358,6 +381,7 @@ def run_adaptive(simulation, settings: AdaptiveSettings | None = None) -> Adapti
     found = [transitions(levels[0])]
     estimated: dict = {}
     previous = None
+    notes: list[str] = []
     for index, pairs in enumerate(counts):
         # the first aligned level only hands on transitions and a coarse error; any later
         # one may be the answer (the estimate can stop the run there)
@@ -365,18 +389,37 @@ def run_adaptive(simulation, settings: AdaptiveSettings | None = None) -> Adapti
             iterations, tolerance = settings.coarse_iterations, settings.coarse_tolerance
         else:
             iterations, tolerance = settings.edge_iterations, settings.edge_tolerance
-        solved, used = settle(simulation, found[-1], pairs, settings, iterations, tolerance)
+        count = found[-1].all.size
+        solved, used, residual = settle(
+            simulation, found[-1], pairs, settings, iterations, tolerance, relative=index > 0
+        )
+        if used[-1].all.size < count:
+            notes.append(
+                f"{count} transitions were merged into {used[-1].all.size} to fit {pairs} "
+                "pairs (each C0 knot costs a point): the error at a merged transition is "
+                "larger than the estimate; raise the budget"
+            )
         levels += solved
         found += used
+        if used[-1].all.size < count:  # hand every transition on, not only the placed ones
+            reach = 2.0 * float(np.median(knot_spacings(solved[-1], used[-1])))
+            found[-1] = refound(solved[-1], used[-1], reach)
         if previous is not None:
             estimated = estimate.estimate_errors(previous, solved[-1], at="coarse")
             worst = max(max(e["e_p_max"], e["e_q_max"]) for e in estimated.values())
             if worst < settings.tolerance:
                 break
         previous = solved[-1]
+    if residual > 2.0 * settings.edge_tolerance:
+        notes.append(
+            f"the last level's knots would still move by {residual:.2g} of their point "
+            "spacing (settled: below "
+            f"{settings.edge_tolerance:g}): the error next to them is larger than the estimate"
+        )
     return AdaptiveResult(
         levels=tuple(levels),
         transitions=tuple(found[1:]),
         estimate=estimated,
         seconds=time.perf_counter() - start,
+        notes=tuple(notes),
     )

@@ -102,10 +102,17 @@ def parameter_of(curve, tangent: np.ndarray, samples: int = 2001):
     return inverse
 
 
+def slave_side(pair) -> str:
+    """The face whose collocation points are the pairs: the one no other face is projected
+    on (node to segment interpolates the other, the master); the lower for node to node."""
+    masters = set(pair.pairing().interpolation)
+    return "upper" if masters == {"lower"} else "lower"
+
+
 def traction_fields(result) -> list[TractionField]:
-    """One TractionField per step of a SimulationResult (lower body's contact segment)."""
+    """One TractionField per step of a SimulationResult (the pairs' face: its basis)."""
     pair = result.simulation.pair
-    _, basis = contact_segment(pair.lower, pair.lower_tag)
+    _, basis = contact_segment(*pair.side(slave_side(pair)))
     tangent = pair_frame(pair)[1][0]
     inverse = parameter_of(basis.curve, tangent)
     params = inverse(positions(result))

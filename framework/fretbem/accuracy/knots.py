@@ -9,6 +9,7 @@ says how far each knot lies from the level's own discrete transition, from both 
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import attrs
@@ -23,17 +24,25 @@ __all__ = [
     "EDGE_MARGIN",
     "KNOT_SLOPE",
     "Transitions",
+    "fit_transitions",
     "knot_moves",
     "knot_pressures",
+    "knot_spacings",
+    "refound",
     "transitions",
 ]
 
-#: knots aim this fraction of the contact half-width outside their discrete transition (on
-#: the separated or slip side): a collocation point just inside the exact transition sees a
-#: square root of the distance (an edge 0.05 % too far in costs 2 % of p0 at 61 pairs, a
-#: stick-slip knot 0.03 % into the stick zone 3.5 % of f p0) while one just outside costs
-#: little (0.2 % out: +0.6 %); measured on the reference scene, docs/explanation/adaptive.rst
-EDGE_MARGIN = 1e-3
+#: knots aim this fraction of the spacing of the points next to them outside their discrete
+#: transition (on the separated or slip side): a collocation point just inside the exact
+#: transition sees a square root of the distance, one just outside costs little. A fraction
+#: of the spacing, not of the contact width: a fixed 0.1 % of a was 0.15 of the spacing at
+#: 61 pairs and 0.37 at 121, where the knot a margin off the cusp gave e_q 1.1 % against
+#: 0.6 % (docs/explanation/adaptive.rst)
+EDGE_MARGIN = 0.1
+
+#: the first (uniform) level's edges are moved out by this fraction of the contact
+#: half-width: its points are too far apart for a margin in units of their spacing
+FIRST_MARGIN = 1e-3
 
 #: the traction (pressure, or reserve f p - abs(q)) at a collocation point on a C0 knot a
 #: distance d inside its discrete transition is about KNOT_SLOPE * A * d / sqrt(h) (A:
@@ -159,12 +168,60 @@ def transitions(result) -> Transitions:
         if not inside.any():
             continue
         k = np.flatnonzero(inside)
-        margin = EDGE_MARGIN * 0.5 * (x[k[-1]] - x[k[0]])
+        margin = FIRST_MARGIN * 0.5 * (x[k[-1]] - x[k[0]])
         for side in (-1, 1):
             edges.append(_edge(x, p, inside, side, gap) + side * margin)
         boundaries += _stick_boundaries(x, p, q, states, friction)
     tolerance = MERGE * (x[-1] - x[0])
     return Transitions(_merge(edges, tolerance), _merge(boundaries, tolerance))
+
+
+def refound(level, settled: Transitions, reach: float) -> Transitions:
+    """The transitions of a settled ``level``, each on its settled knot where one lies
+    within ``reach``: a level that could place only some knots (:func:`fit_transitions`)
+    hands every transition on to the next, finer one, the settled ones where they settled."""
+    fresh = transitions(level)
+
+    def carry(values: np.ndarray, knots: np.ndarray) -> np.ndarray:
+        out = []
+        for value in values:
+            near = knots[np.abs(knots - value) <= reach] if knots.size else knots
+            out.append(float(near[np.argmin(np.abs(near - value))]) if near.size else value)
+        return np.unique(np.concatenate([out, knots])) if knots.size else np.array(out)
+
+    return Transitions(
+        carry(fresh.edges, settled.edges), carry(fresh.boundaries, settled.boundaries)
+    )
+
+
+def fit_transitions(found: Transitions, most: int) -> Transitions:
+    """``found`` with at most ``most`` knots: the closest two merged until they fit.
+
+    A face holds only so many C0 knots (each costs a collocation point and needs an element
+    on either side); dissimilar materials have many transitions (a slip zone at each edge
+    and a central stick zone at every step, each step's a little apart). Two boundaries or
+    two edges merge into their middle; an edge and a boundary into the edge (the pressure's
+    square root matters to p and q, the cusp of q to q alone).
+    """
+    most = max(int(most), 0)
+    kinds = [(float(v), "edge") for v in found.edges] + [
+        (float(v), "boundary") for v in found.boundaries
+    ]
+    kinds.sort()
+    if most == 0:
+        return Transitions(np.zeros(0), np.zeros(0))
+    while len(kinds) > most:
+        gaps = [b[0] - a[0] for a, b in itertools.pairwise(kinds)]
+        i = int(np.argmin(gaps))
+        (xa, ka), (xb, kb) = kinds[i], kinds[i + 1]
+        if ka == kb:
+            merged = (0.5 * (xa + xb), ka)
+        else:
+            merged = (xa, ka) if ka == "edge" else (xb, kb)
+        kinds[i : i + 2] = [merged]
+    edges = np.array([v for v, k in kinds if k == "edge"])
+    boundaries = np.array([v for v, k in kinds if k == "boundary"])
+    return Transitions(edges, boundaries)
 
 
 # -- knots on the transitions of an aligned level --------------------------------------------
@@ -261,27 +318,42 @@ def _boundary_move(x, order, k, steps, friction, margin: float) -> float | None:
     return float(np.mean(moves)) if moves else None
 
 
+def knot_spacings(result, found: Transitions) -> np.ndarray:
+    """Distance from each knot's point to its nearer neighbour point (edges, then
+    boundaries); the contact half-width where no point is on the knot."""
+    x, _, spacing = _sorted_level(result)
+    half = 0.5 * float(x[-1] - x[0])
+    out = []
+    for knot in np.concatenate([found.edges, found.boundaries]):
+        k = _knot_index(x, knot, spacing)
+        if k is None:
+            out.append(half)
+            continue
+        near = [abs(x[j] - x[k]) for j in (k - 1, k + 1) if 0 <= j < x.size]
+        out.append(min(near))
+    return np.array(out)
+
+
 def knot_moves(result, found: Transitions) -> tuple[np.ndarray, np.ndarray]:
     """Signed moves (along the face) of the edge and boundary knots onto the level's own
     discrete transitions; 0 where a knot has no point or no transition next to it.
 
     A knot point still inside its transition carries pressure (edges) or traction reserve
     (stick-slip) that grows linearly with the distance (:data:`KNOT_SLOPE`); one outside it
-    carries a gap or a slip increment growing like distance^1.5 (:data:`GROWTH`). A knot
+    carries a gap or a slip increment growing like distance^1.5 (:data:`GROWTH`). Each
+    knot aims :data:`EDGE_MARGIN` times its point spacing outside its transition. A knot
     with no transition next to its point moves to the middle of the nearest one.
     """
     x, order, spacing = _sorted_level(result)
     friction = estimate.friction_of(result.simulation)
     initial = np.asarray(result.simulation.pair.pairing().gap, float)
     gaps = [initial[order] + step.normal_displacement[order] for step in result.steps]
-    widths = [
-        np.ptp(x[step.states[order] != SEPARATED]) for step in result.steps if step.states.any()
-    ]
-    margin = EDGE_MARGIN * 0.5 * max(widths, default=0.0)
+    margins = EDGE_MARGIN * knot_spacings(result, found)
     states = [step.states[order] for step in result.steps]
     edges = np.zeros(found.edges.size)
     for j, knot in enumerate(found.edges):
         k = _knot_index(x, knot, spacing)
+        margin = margins[j]
         move = None if k is None else _edge_move(x, order, knot, k, result.steps, gaps, margin)
         if move is None:
             move = _nearest_change(x, states, knot, SEPARATED, (STICK, SLIP)) - knot
@@ -289,6 +361,7 @@ def knot_moves(result, found: Transitions) -> tuple[np.ndarray, np.ndarray]:
     boundaries = np.zeros(found.boundaries.size)
     for j, knot in enumerate(found.boundaries):
         k = _knot_index(x, knot, spacing)
+        margin = margins[found.edges.size + j]
         move = None if k is None else _boundary_move(x, order, k, result.steps, friction, margin)
         if move is None:
             move = _nearest_change(x, states, knot, SLIP, (STICK,)) - knot

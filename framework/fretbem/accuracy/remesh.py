@@ -13,11 +13,21 @@ import attrs
 import numpy as np
 
 from fretbem.basis import Refinement, face_points, points_per_element
+from fretbem.contact.node_to_segment import NodeToSegmentPair
+from fretbem.contact.pairs import ContactDiscretisationError
 from fretbem.errors import InputError
+from fretbem.geometry.nurbs import NurbsCurve
 
 from . import estimate
 
-__all__ = ["AdaptiveError", "aligned_breakpoints", "elements_for", "pairs_for", "remesh"]
+__all__ = [
+    "AdaptiveError",
+    "aligned_breakpoints",
+    "elements_for",
+    "knots_for",
+    "pairs_for",
+    "remesh",
+]
 
 #: smallest transition spacing kept apart, as a fraction of the face length
 MERGE = 2e-3
@@ -110,6 +120,53 @@ def elements_for(family, pairs: int, degree: int | None = None) -> int:
     return max(1, math.floor((pairs - extra) / per))
 
 
+def knots_for(family, pairs: int, degree: int | None = None) -> int:
+    """Most C0 knots a face of at most ``pairs`` points can place, an element between each.
+
+    Each knot costs the family's extra functions of a C0 breakpoint (NURBS p = 2: one;
+    quadratic Lagrange: none) and the layout needs one element more than knots.
+    """
+    line = NurbsCurve.line([0, 0], [1, 0], degree=1)
+    bounds = [0.0, 0.25, 0.5, 0.75, 1.0]
+    smooth = family.discretise(line, Refinement.explicit(bounds, degree=degree)).n_functions
+    kinked = family.discretise(line, Refinement.explicit(bounds, degree=degree, c0_at=[0.5]))
+    cost = (kinked.n_functions - smooth) / points_per_element(family, degree)[0]
+    elements = elements_for(family, pairs, degree)
+    return max(0, math.floor((elements - 1) / (1.0 + cost)))
+
+
+def _face_layout(body, tag, tangent, sigma_at, peaks, pairs, *, ratio, grading, centred):
+    """One face's refinement toward the anchors (positions along ``tangent``), in its own
+    parameter, family and degree, with at most ``pairs`` collocation points."""
+    degree = body.face_refinement(tag).degree
+    family = body.family
+    curve = body.face_curve(tag)  # the face's own curve, not a refined one
+    sigma = estimate.parameter_of(curve, tangent)(sigma_at)
+    flip = bool((curve.points([1.0])[0] - curve.points([0.0])[0]) @ tangent < 0)
+    if flip:
+        sigma = 1.0 - sigma
+
+    def build(elements):
+        bounds = aligned_breakpoints(
+            sigma, elements, ratio=ratio, grading=grading, centred=centred, peaks=peaks
+        )
+        marks = [] if centred else [bounds[np.argmin(np.abs(bounds - t))] for t in sigma]
+        marks = np.unique([t for t in marks if 0.0 < t < 1.0])
+        if flip:
+            bounds, marks = (1.0 - bounds)[::-1], np.sort(1.0 - marks)
+        refinement = Refinement.explicit(bounds, degree=degree, c0_at=marks)
+        refined = body.with_face_refinement(tag, refinement)
+        return refinement, refined.face_segment(tag)[1].n_functions
+
+    elements = elements_for(family, pairs, degree)
+    while True:
+        refinement, count = build(elements)
+        if count <= pairs or elements <= 1:
+            return refinement
+        per, _ = points_per_element(family, degree)
+        elements -= max(1, math.ceil((count - pairs) / per))
+
+
 def remesh(
     simulation,
     anchors: np.ndarray,
@@ -120,19 +177,64 @@ def remesh(
     centred: bool = False,
     edges: np.ndarray | None = None,
     edge_peak: float = 1.0,
+    independent: bool | None = None,
 ):
     """The simulation with both contact faces re-meshed toward ``anchors``, <= ``pairs`` pairs.
 
     ``anchors`` are positions along the pair tangent. Each becomes a breakpoint where the
     basis is C0 (a collocation point on it for NURBS and Lagrange alike), or with
-    ``centred`` the centre of an element. Elements are laid out in the upper face's
-    parameter and carried to the lower face by position, so pairs still face each other.
-    Returns a new Simulation (nothing assembled yet).
+    ``centred`` the centre of an element. Node-to-node pairs (faces alike): elements are
+    laid out in the upper face's parameter and carried to the lower face by position, so
+    pairs still face each other. Faces that cannot face each other node to node (other
+    families, degrees or pair counts; or a layout whose mean normal tilts the pair frame
+    on curved faces) are each laid out on their own and paired by projection
+    (:class:`~fretbem.contact.node_to_segment.NodeToSegmentPair`); ``independent`` forces
+    one or the other. Returns a new Simulation (nothing assembled yet).
     """
     pair = simulation.pair
-    tangent = estimate.pair_frame(pair)[1][0]
     for body, tag in ((pair.upper, pair.upper_tag), (pair.lower, pair.lower_tag)):
         estimate.contact_segment(body, tag)  # each face one segment, or a clear error
+    if independent is None:
+        independent = isinstance(pair, NodeToSegmentPair)
+        if not independent:
+            matched = _matched(
+                simulation, anchors, pairs, ratio, grading, centred, edges, edge_peak
+            )
+            try:
+                matched.pair.pairing()
+                return matched
+            except ContactDiscretisationError:
+                independent = True
+    if not independent:
+        return _matched(simulation, anchors, pairs, ratio, grading, centred, edges, edge_peak)
+    tangent = estimate.pair_frame(pair)[1][0]
+    edges = np.zeros(0) if edges is None else np.asarray(edges, float)
+    peaks = np.concatenate([np.ones(np.size(anchors)), np.full(edges.size, edge_peak)])
+    anchors = np.concatenate([np.asarray(anchors, float).ravel(), edges])
+    faces = {}
+    for label in ("upper", "lower"):
+        body, tag = pair.side(label)
+        refinement = _face_layout(
+            body, tag, tangent, anchors, peaks, pairs, ratio=ratio, grading=grading,
+            centred=centred,
+        )  # fmt: skip
+        faces[label] = body.with_face_refinement(tag, refinement)
+    if isinstance(pair, NodeToSegmentPair):
+        new_pair = attrs.evolve(pair, upper=faces["upper"], lower=faces["lower"])
+    else:
+        new_pair = NodeToSegmentPair(
+            upper=faces["upper"],
+            lower=faces["lower"],
+            upper_tag=pair.upper_tag,
+            lower_tag=pair.lower_tag,
+        )
+    return attrs.evolve(simulation, pair=new_pair)
+
+
+def _matched(simulation, anchors, pairs, ratio, grading, centred, edges, edge_peak):
+    """Both faces laid out in the upper face's parameter, the lower carried by position."""
+    pair = simulation.pair
+    tangent = estimate.pair_frame(pair)[1][0]
     degree = pair.upper.face_refinement(pair.upper_tag).degree
     family = pair.upper.family
     # the faces' own curves (not the refined ones, whose knots would be kept)

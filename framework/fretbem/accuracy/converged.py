@@ -1,0 +1,86 @@
+"""Errors of a level against a converged solution of the same scene, and that solution.
+
+The adaptive mode's error is verified against a much finer solution of the same bodies
+(:func:`reference`), not against half-plane theory, which finite bodies differ from by
+more than the discretisation error near the contact edges (docs/explanation/adaptive.rst).
+Near a transition the reference's own field between its points cannot follow the square
+root (its element there has the reference's size), so :func:`errors_against` reports the
+maxima away from the transitions beside the maxima everywhere.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from fretbem.verification.errors import l2
+
+from . import estimate
+
+__all__ = [
+    "INTERPOLATORY_REFERENCE_BUDGET",
+    "NEAR",
+    "REFERENCE_BUDGET",
+    "errors_against",
+    "reference",
+]
+
+#: pairs of the converged reference: NURBS faces 321 points, faces of an interpolatory
+#: family (quadratic Lagrange) 241: graded faces finer than about 360 NURBS or 250 Lagrange
+#: points oscillate (docs/explanation/adaptive.rst, "Limits")
+REFERENCE_BUDGET = 321
+INTERPOLATORY_REFERENCE_BUDGET = 241
+
+#: points closer than this many reference point spacings to a reference knot are "near"
+NEAR = 2.0
+
+
+def reference(simulation, budget: int | None = None):
+    """The converged solution: the adaptive mode at ``budget`` pairs with no early stop
+    (levels of about 31, 61, 121 and ``budget`` pairs, knots settled on each). Returns its
+    :class:`~fretbem.accuracy.adaptive.AdaptiveResult`."""
+    from .adaptive import AdaptiveSettings, run_adaptive
+
+    if budget is None:
+        pair = simulation.pair
+        smooth = not any(
+            getattr(body.family, "interpolatory", False) for body in (pair.upper, pair.lower)
+        )
+        budget = REFERENCE_BUDGET if smooth else INTERPOLATORY_REFERENCE_BUDGET
+
+    return run_adaptive(simulation, AdaptiveSettings(budget=budget, tolerance=1e-9, max_levels=4))
+
+
+def errors_against(result, converged) -> dict[str, float]:
+    """Max over the steps of the error of ``result`` against ``converged`` (an
+    AdaptiveResult), at ``result``'s own points, in units of p0 and f p0.
+
+    Keys: ``p_max``, ``q_max`` (every point), ``p_far``, ``q_far`` (points farther than
+    :data:`NEAR` reference spacings from every reference knot), ``p_l2``, ``q_l2``.
+    """
+    best = converged.result
+    knots = converged.transitions[-1].all if converged.transitions else np.zeros(0)
+    p0, fp0 = estimate.scales(best)
+    fields = estimate.traction_fields(best)
+    x = estimate.positions(result)
+    order = np.argsort(x)
+    xr = np.sort(estimate.positions(best))
+    spacing = np.diff(xr)[np.clip(np.searchsorted(xr, x) - 1, 0, xr.size - 2)]
+    if knots.size:
+        far = np.min(np.abs(x[:, None] - knots[None, :]), axis=1) > NEAR * spacing
+    else:
+        far = np.ones(x.size, bool)
+    out = dict.fromkeys(("p_max", "q_max", "p_far", "q_far", "p_l2", "q_l2"), 0.0)
+    for field, step in zip(fields, result.steps, strict=True):
+        po, qo = field(x)
+        dp, dq = np.abs(step.pressure - po) / p0, np.abs(step.shear - qo) / fp0
+        values = {
+            "p_max": dp.max(),
+            "q_max": dq.max(),
+            "p_far": dp[far].max(initial=0.0),
+            "q_far": dq[far].max(initial=0.0),
+            "p_l2": l2(dp[order], x[order]),
+            "q_l2": l2(dq[order], x[order]),
+        }
+        for key, value in values.items():
+            out[key] = max(out[key], float(value))
+    return out
