@@ -23,7 +23,7 @@ PACKAGES = ("fretbem", "fretbem_nurbs", "fretbem_lagrange")
 #: (a folder not listed here still gets its group, at the end: nothing is hand-kept per module)
 LAYERS = (
     "numerics", "geometry", "bem", "halfplane", "contact", "solvers", "verification",
-    "scenes", "accuracy", "stress", "fatigue", "output", "studies", "app", "testing", "compat",
+    "fretting", "scenes", "accuracy", "stress", "fatigue", "output", "studies", "app", "testing", "compat",
 )  # fmt: skip
 
 

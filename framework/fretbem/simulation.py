@@ -81,6 +81,9 @@ class LoadStep:
         of Q: displacement control.
     approach : float or None
         Normal approach of the pad's block (mm, > 0 presses) imposed instead of P.
+    cycle : int
+        The load cycle this step belongs to (1, 2, ...; 0: none), for the per-cycle results
+        of a cyclic history (:mod:`fretbem.fretting`).
     """
 
     name: str
@@ -95,6 +98,9 @@ class LoadStep:
     )
     approach: float | None = attrs.field(
         default=None, converter=_optional_float, validator=_optional_finite, kw_only=True
+    )
+    cycle: int = attrs.field(
+        default=0, converter=int, validator=attrs.validators.ge(0), kw_only=True
     )
 
     def __attrs_post_init__(self) -> None:

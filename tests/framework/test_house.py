@@ -24,6 +24,7 @@ LAYERS = (
     ("solvers",),
     ("verification",),
     ("results", "simulation"),
+    ("fretting",),
     ("scenes",),
     ("accuracy",),
     ("stress",),

@@ -21,6 +21,8 @@ from fretbem.bem.resources import check_resources
 from fretbem.contact.zones import zone_table
 from fretbem.errors import FretbemError, InputError, ResultCheckError
 from fretbem.fatigue import format_report
+from fretbem.fretting import analyse as analyse_cycles
+from fretbem.output import fretting as fretting_output
 from fretbem.output.write import prepare_output
 from fretbem.scenes.builder import build
 from fretbem.scenes.file import load_scene
@@ -182,6 +184,9 @@ def _simulate(make, args: argparse.Namespace, extras=None, mode=None, companion=
     )
     print(result.table())
     print(zone_table(result, reason))
+    cyclic = fretting_output.has_cycles(result)
+    if cyclic:
+        print(analyse_cycles(result).table())
     if done.fatigue is not None:
         print(format_report(done.fatigue))
     if stress is not None:
@@ -194,7 +199,8 @@ def _simulate(make, args: argparse.Namespace, extras=None, mode=None, companion=
     )  # fmt: skip
     kinds = [k for k, v in (("stress", stress), ("fatigue", fatigue)) if v is not None]
     print(
-        f"wrote {out}/ (results.csv, summary.json, units.json"
+        f"wrote {out}/ (results.csv, summary.json, units.json, loops.csv"
+        f"{', slip.csv' if cyclic else ''}"
         f"{', VTK' if not args.no_vtk else ''}{', figures' if not args.no_figures else ''}"
         f"{''.join(', ' + kind for kind in kinds)}) "
         f"in {time.perf_counter() - start:.2f} s; all result checks passed"

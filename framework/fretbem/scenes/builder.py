@@ -242,13 +242,14 @@ def load_steps(load) -> tuple[LoadStep, ...]:
     n = len(load.steps)
     deltas = load.delta or (None,) * n
     approaches = load.approach or (None,) * n
+    cycles = load.cycle or (0,) * n
     return tuple(
         LoadStep(
             name, P, Q, increments, loads={"bulk": bulk} if bulk or any(load.bulk) else {},
-            delta=delta, approach=approach,
+            delta=delta, approach=approach, cycle=cycle,
         )
-        for name, P, Q, bulk, increments, delta, approach in zip(
-            load.steps, load.P, load.Q, load.bulk, load.increments, deltas, approaches,
+        for name, P, Q, bulk, increments, delta, approach, cycle in zip(
+            load.steps, load.P, load.Q, load.bulk, load.increments, deltas, approaches, cycles,
             strict=True,
         )
     )  # fmt: skip
