@@ -282,17 +282,20 @@ def onset_displacement(problem, press, friction: float) -> float:
 def transition_ratio(simulation, problem, result) -> float | None:
     """A at the partial / gross slip transition: W(c = 0) / (4 f P delta_t), with
     W(0) = 2 f^2 P^2 / (pi E*) (the energy per cycle as c -> 0) and delta_t the onset
-    displacement of this model (:func:`onset_displacement`); None without a Hertz closed
-    form or without a pressed first step."""
+    displacement of this model (:func:`onset_displacement`, plus the rig springs' travel
+    f P / k_t); None without a Hertz closed form."""
     reference = simulation.reference
     friction = getattr(simulation.law, "friction", None)
     if reference is None or friction is None:
         return None
     hertz = reference.hertz
     press = result.steps[0]
+    load = press.normal
     onset = onset_displacement(problem, press, friction)
     if not onset > 0:
         return None
-    load = press.normal
+    rig = getattr(simulation, "rig", None)
+    if rig is not None:  # the actuator travels the springs' f P / k_t further
+        onset += friction * load * rig.compliances[1]
     energy = onset_energy(attrs.evolve(hertz, load=load), friction)
     return energy / (4.0 * friction * load * onset)

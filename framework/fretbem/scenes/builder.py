@@ -16,6 +16,7 @@ import attrs
 from fretbem import registry
 from fretbem.basis import Basis, Refinement, points_per_element
 from fretbem.conditions import Displacement, LoadingBlock, Traction
+from fretbem.contact.control import Rig
 from fretbem.contact.pairs import NodeToNodePair
 from fretbem.simulation import LoadStep, Simulation
 from fretbem.verification.closed_forms import (
@@ -234,7 +235,19 @@ def build(scene: Scene, **contact_overrides):
         law=law(scene.contact.law, scene.contact.friction),
         reference=closed_form,
         name="scene",
+        rig=rig(scene),
     ), reason
+
+
+def rig(scene: Scene) -> Rig:
+    """The rig springs of a scene's [rig] table (rigid where a stiffness is not given)."""
+    spec = getattr(scene, "rig", None)
+    if spec is None:
+        return Rig()
+    return Rig(
+        tangential=math.inf if spec.stiffness_x is None else spec.stiffness_x,
+        normal=math.inf if spec.stiffness_y is None else spec.stiffness_y,
+    )
 
 
 def load_steps(load) -> tuple[LoadStep, ...]:

@@ -280,6 +280,23 @@ KEYS: tuple[Key, ...] = (
     Key("load.cycle", "P_phase", NUMBER, "degrees", 0.0, "phase of P against the drive"),
     Key("load.cycle", "bulk_amplitude", NUMBER, "MPa", 0.0, "cyclic bulk stress amplitude"),
     Key("load.cycle", "bulk_phase", NUMBER, "degrees", 0.0, "phase of sigma_B against the drive"),
+    Key(
+        "rig",
+        "stiffness_x",
+        NUMBER,
+        "MPa",
+        None,
+        "tangential stiffness of the rig between the actuator and the pad's block (N/mm per "
+        "mm); `delta` is then the actuator's; omitted: rigid",
+    ),
+    Key(
+        "rig",
+        "stiffness_y",
+        NUMBER,
+        "MPa",
+        None,
+        "normal stiffness of the rig (N/mm per mm); `approach` is then the actuator's",
+    ),
 )
 
 #: tables whose content another module reads (stress evaluation, fatigue)
@@ -367,6 +384,14 @@ class LoadSpec:
             seen.add(name)
 
 
+@attrs.frozen
+class RigSpec:
+    """Springs between the actuator and the pad's block (None: rigid)."""
+
+    stiffness_x: float | None = None
+    stiffness_y: float | None = None
+
+
 @attrs.frozen(eq=False)
 class Scene:
     """A two-body fretting scene: pad, specimen, contact, mesh and load history.
@@ -382,6 +407,7 @@ class Scene:
     load: LoadSpec | None = None
     extras: Mapping[str, Any] = attrs.field(factory=dict)
     legacy: bool = False
+    rig: RigSpec = attrs.field(factory=RigSpec)
 
 
 # --------------------------------------------------------------------------- reading
@@ -709,8 +735,16 @@ def scene_from_dict(data: Mapping) -> Scene:
     _unknown(
         "the scene file",
         data,
-        {"pad", "specimen", "material", "contact", "mesh", "load", *EXTRA_TABLES},
+        {"pad", "specimen", "material", "contact", "mesh", "load", "rig", *EXTRA_TABLES},
     )
+    rig_section = _table(data, "rig")
+    _unknown("[rig]", rig_section, _keys("rig"))
+    for name, value in rig_section.items():
+        _check(f"[rig] {name}", value, _keys("rig")[name].kind)
+        if not value > 0:
+            raise SceneFileError(
+                f"[rig] {name} must be > 0 (N/mm per mm of travel); leave it out for a rigid rig"
+            )
     contact_section = _table(data, "contact")
     _unknown("[contact]", contact_section, _keys("contact"))
     contact = {}
@@ -742,6 +776,7 @@ def scene_from_dict(data: Mapping) -> Scene:
         mesh=MeshSpec(**mesh),
         load=_load(data),
         extras=extras,
+        rig=RigSpec(**{k: float(v) for k, v in rig_section.items()}),
     )
 
 

@@ -140,3 +140,31 @@ def test_half_plane_transition_ratio_closed_form():
         base = simulation("half-plane", basis, pairs)
         expected = cf.half_plane_transition_ratio(base.reference.hertz, base.pair.upper.datum)
         assert analysis.transition_ratio == pytest.approx(expected, rel=1e-4)
+
+
+def test_rig_springs_move_the_transition_by_their_travel():
+    """With a tangential rig stiffness k_t, gross slip starts at the actuator displacement
+    delta_t + f P / k_t, and the springs change the loop's shape, not its area."""
+    from fretbem.contact.control import Rig
+
+    base = simulation("half-plane", "nurbs", 61)
+    result, _, _ = cycle("half-plane", "nurbs", 61, 0.6 * F * P, "force")
+    k_t = 2.0e4
+    onset = onset_displacement(base.prepare(), result.steps[0], F) + F * P / k_t
+    found = {}
+    for factor in (0.98, 1.02):
+        waveform = Waveform(factor * onset, P, cycles=2, increments=40)
+        sim = Simulation(base.pair, waveform.steps(), law=base.law, rig=Rig(tangential=k_t),
+                         reference=SlidingPath(base.reference))  # fmt: skip
+        found[factor] = analyse(run(sim))
+    assert found[0.98].cycles[-1].regime == "partial slip"
+    assert found[1.02].cycles[-1].regime == "gross slip"
+    assert found[0.98].cycles[-1].energy_ratio < found[0.98].transition_ratio
+    assert found[1.02].cycles[-1].energy_ratio > found[1.02].transition_ratio
+    # the same Q* through springs: the same dissipated energy (measured 3e-5 relative)
+    q_star = found[0.98].cycles[-1].tangential_amplitude
+    _, _, forced = cycle("half-plane", "nurbs", 61, q_star, "force")
+    assert found[0.98].cycles[-1].dissipated_energy == pytest.approx(
+        forced.dissipated_energy, rel=1e-3
+    )
+    assert found[0.98].cycles[-1].loop_area == pytest.approx(forced.loop_area, rel=1e-3)
