@@ -23,8 +23,8 @@ PACKAGES = ("fretbem", "fretbem_nurbs", "fretbem_lagrange")
 #: (a folder not listed here still gets its group, at the end: nothing is hand-kept per module)
 LAYERS = (
     "numerics", "geometry", "bem", "halfplane", "contact", "solvers", "verification",
-    "views", "scenes", "sliding", "accuracy", "stress", "fatigue", "wear", "output", "studies",
-    "app", "testing", "compat",
+    "views", "fretting", "scenes", "sliding", "accuracy", "stress", "fatigue", "wear", "output",
+    "studies", "app", "testing", "compat",
 )  # fmt: skip
 
 

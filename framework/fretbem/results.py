@@ -139,7 +139,8 @@ class IncrementRecord:
         P and Q carried by the pad's loading block (force per thickness).
     approach, delta : float
         Normal approach and tangential displacement of the pad's block against the datum
-        (the specimen's held end; :mod:`fretbem.contact.control`), mm.
+        (the specimen's held end; :mod:`fretbem.contact.control`), mm; the actuator's
+        when the simulation has rig springs.
     slip : ndarray
         Relative tangential displacement (upper minus lower) per pair, mm.
     pressure, shear : ndarray
@@ -161,9 +162,9 @@ class IncrementRecord:
     loads: dict = attrs.field(factory=dict)
 
     @classmethod
-    def of(cls, problem, state) -> IncrementRecord:
+    def of(cls, problem, state, rig=control.RIGID) -> IncrementRecord:
         """The record of ``state`` (a ContactState) of the condensed ``problem``."""
-        measured = control.measure(problem, state.x, problem.amplitudes(state.loads))
+        measured = control.measure(problem, state.x, problem.amplitudes(state.loads), rig)
         unknowns = problem.unknowns(state.x)
         return cls(
             normal=measured["normal"],
@@ -263,7 +264,8 @@ class StepResult:
         errors, exact = None, None
         if simulation.reference is not None and not _gross_sliding(simulation.reference, history):
             errors, exact = errors_against_theory(simulation.reference, x, p, q, history)
-        measured = control.measure(problem, state.x, problem.amplitudes(state.loads))
+        rig = getattr(simulation, "rig", control.RIGID)
+        measured = control.measure(problem, state.x, problem.amplitudes(state.loads), rig)
         controls = load.controls
         return cls(
             name=load.name,

@@ -81,6 +81,9 @@ class LoadStep:
         of Q: displacement control.
     approach : float or None
         Normal approach of the pad's block (mm, > 0 presses) imposed instead of P.
+    cycle : int
+        The load cycle this step belongs to (1, 2, ...; 0: none), for the per-cycle results
+        of a cyclic history (:mod:`fretbem.fretting`).
     """
 
     name: str
@@ -95,6 +98,9 @@ class LoadStep:
     )
     approach: float | None = attrs.field(
         default=None, converter=_optional_float, validator=_optional_finite, kw_only=True
+    )
+    cycle: int = attrs.field(
+        default=0, converter=int, validator=attrs.validators.ge(0), kw_only=True
     )
 
     def __attrs_post_init__(self) -> None:
@@ -146,6 +152,9 @@ class Simulation:
     reference : MindlinDeresiewicz or None
         Analytical solution to report errors against (None where theory does not apply).
     name : str
+    rig : Rig
+        Springs between the actuator and the pad's block (default rigid): a step's delta
+        or approach is then the actuator's (:mod:`fretbem.contact.control`).
     """
 
     pair: ContactPair
@@ -156,6 +165,9 @@ class Simulation:
     law: ContactLaw = attrs.field(kw_only=True, validator=attrs.validators.instance_of(ContactLaw))
     reference: MindlinDeresiewicz | None = None
     name: str = "simulation"
+    rig: control.Rig = attrs.field(
+        factory=control.Rig, validator=attrs.validators.instance_of(control.Rig), kw_only=True
+    )
     #: the controlled problems of the condensed pair, per Controls (a private cache)
     _controlled: dict = attrs.field(init=False, factory=dict, repr=False)
 
@@ -232,12 +244,12 @@ class Simulation:
             self._controlled.clear()
             self._controlled[id(problem)] = cache
         if controls not in cache[1]:
-            cache[1][controls] = control.controlled(problem, controls)
+            cache[1][controls] = control.controlled(problem, controls, self.rig)
         return cache[1][controls]
 
     def measure(self, problem: CondensedContact, state: ContactState) -> dict:
         """P, Q, the approach and delta of ``state`` (the pad block against the datum)."""
-        return control.measure(problem, state.x, problem.amplitudes(state.loads))
+        return control.measure(problem, state.x, problem.amplitudes(state.loads), self.rig)
 
     def _start(self, problem, state: ContactState, controls: Controls) -> tuple[float, float]:
         """The values of the step's driven quantities at ``state`` (where the step starts)."""
@@ -288,12 +300,11 @@ class Simulation:
             list(result.residuals),
         )
 
-    @staticmethod
-    def _advance(problem, result: IncrementResult, normal, tangential, loads, controls=None):
+    def _advance(self, problem, result: IncrementResult, normal, tangential, loads, controls=None):
         beta = problem.amplitudes(loads)
         _, slip = problem.relative(result.x, beta)
         if controls is not None and not controls.by_force:
-            measured = control.measure(problem, result.x, beta)
+            measured = control.measure(problem, result.x, beta, self.rig)
             if controls.normal != "force":
                 normal = measured["normal"]
             if controls.tangential != "force":
@@ -362,7 +373,7 @@ def run(simulation: Simulation, *, progress=None, check: bool = True) -> Simulat
         increments: list[IncrementRecord] = []
 
         def record(reached: ContactState, kept=increments) -> None:
-            kept.append(IncrementRecord.of(problem, reached))
+            kept.append(IncrementRecord.of(problem, reached, simulation.rig))
 
         state, iterations, residuals = simulation.step(problem, state, load, record)
         seconds = time.perf_counter() - tic

@@ -25,6 +25,7 @@ LAYERS = (
     ("verification",),
     ("views",),
     ("results", "simulation"),
+    ("fretting",),
     ("scenes", "sliding"),
     ("accuracy",),
     ("stress",),

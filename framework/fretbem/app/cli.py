@@ -21,6 +21,8 @@ from fretbem.bem.resources import check_resources
 from fretbem.contact.zones import zone_table
 from fretbem.errors import FretbemError, InputError, ResultCheckError
 from fretbem.fatigue import format_report
+from fretbem.fretting import analyse as analyse_cycles
+from fretbem.output import fretting as fretting_output
 from fretbem.output.write import WriteContext, chosen_writers, prepare_output
 from fretbem.scenes.builder import build
 from fretbem.scenes.file import load_scene
@@ -192,6 +194,9 @@ def _simulate(make, args: argparse.Namespace, extras=None, mode=None, companion=
         )
     print(result.table())
     print(zone_table(result, reason))
+    cyclic = fretting_output.has_cycles(result)
+    if cyclic:
+        print(analyse_cycles(result).table())
     if done.fatigue is not None:
         print(format_report(done.fatigue))
     if stress is not None:
@@ -206,7 +211,8 @@ def _simulate(make, args: argparse.Namespace, extras=None, mode=None, companion=
     kinds += [k for k, flag in (("netCDF", "netcdf"), ("report.html", "report"))
               if getattr(args, flag, False)]  # fmt: skip
     print(
-        f"wrote {out}/ (results.csv, summary.json, units.json"
+        f"wrote {out}/ (results.csv, summary.json, units.json, loops.csv"
+        f"{', slip.csv' if cyclic else ''}"
         f"{', VTK' if not args.no_vtk else ''}{', figures' if not args.no_figures else ''}"
         f"{''.join(', ' + kind for kind in kinds)}) "
         f"in {time.perf_counter() - start:.2f} s; all result checks passed"

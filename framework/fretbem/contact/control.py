@@ -10,6 +10,11 @@ by a constraint on the block's own displacement, measured against a datum:
 - normal: the approach alpha = -n . (u_block(upper) - u_block(lower)) (> 0 presses); P is
   then an output.
 
+A rig puts springs between the actuator and the pad's block (:class:`Rig`, stiffness per
+unit thickness in x along t and y along n): the imposed displacement is then the
+actuator's, delta_a = delta + Q / k_t and alpha_a = alpha + P / k_n, which is what a rig
+measures; the springs are elastic, so they change the loop's shape, not its area.
+
 The replaced rows are scaled by a contact stiffness, so that the solvers' force-relative
 residual measures them in force units too. A controlled problem is the same
 :class:`~fretbem.contact.condensation.CondensedContact` with other resultant rows, so every
@@ -25,6 +30,37 @@ from .condensation import CondensedContact
 
 #: the two controls of a loading-block direction
 CONTROLS = ("force", "displacement")
+
+
+def _stiffness(instance, attribute, value) -> None:
+    if not value > 0:
+        raise ValueError(
+            f"Rig.{attribute.name} must be > 0 (force per thickness per mm; math.inf for a "
+            f"rigid rig), got {value!r}"
+        )
+
+
+@attrs.frozen
+class Rig:
+    """Springs between the actuator and the pad's loading block.
+
+    Attributes
+    ----------
+    tangential, normal : float
+        Stiffness k_t, k_n (N/mm per mm of travel = MPa), > 0; ``math.inf`` (the default)
+        is a rigid connection.
+    """
+
+    tangential: float = attrs.field(default=float("inf"), converter=float, validator=_stiffness)
+    normal: float = attrs.field(default=float("inf"), converter=float, validator=_stiffness)
+
+    @property
+    def compliances(self) -> tuple[float, float]:
+        """(1 / k_n, 1 / k_t): the springs' travel per unit P and Q."""
+        return 1.0 / self.normal, 1.0 / self.tangential
+
+
+RIGID = Rig()
 
 
 @attrs.frozen
@@ -82,25 +118,31 @@ def stiffness(problem: CondensedContact) -> float:
     return float(max(weights.max(initial=0.0), 1e-300) / max(compliance, 1e-300))
 
 
-def measure(problem: CondensedContact, x: np.ndarray, beta: np.ndarray = ()) -> dict:
-    """P, Q, approach and delta of the pad's block at pair unknowns x (force-control problem)."""
+def measure(
+    problem: CondensedContact, x: np.ndarray, beta: np.ndarray = (), rig: Rig = RIGID
+) -> dict:
+    """P, Q, the approach and delta at pair unknowns x (force-control problem): the
+    actuator's (the block's plus the rig springs' travel, P / k_n and Q / k_t)."""
     n, t = frame(problem)
     _, _, base = problem.bases(np.asarray(beta, float))
     force = (base + problem.resultant_map @ x)[_block_rows(problem)]
     approach, delta = motion_rows(problem) @ x
+    normal, tangential = float(-force @ n), float(force @ t)
+    c_n, c_t = rig.compliances
     return {
-        "normal": float(-force @ n),
-        "tangential": float(force @ t),
-        "approach": float(approach),
-        "delta": float(delta),
+        "normal": normal,
+        "tangential": tangential,
+        "approach": float(approach) + c_n * normal,
+        "delta": float(delta) + c_t * tangential,
     }
 
 
-def controlled(problem: CondensedContact, controls: Controls) -> CondensedContact:
+def controlled(problem: CondensedContact, controls: Controls, rig: Rig = RIGID) -> CondensedContact:
     """``problem`` with the pad block's resultant rows replaced as ``controls`` says.
 
     The two rows of the upper block become (P row or k x approach row, Q row or k x delta
-    row), in the pair frame; :func:`targets` gives the values they must reach.
+    row), in the pair frame, the approach and delta the actuator's (through ``rig``);
+    :func:`targets` gives the values they must reach.
     """
     if controls.by_force:
         return problem
@@ -114,18 +156,22 @@ def controlled(problem: CondensedContact, controls: Controls) -> CondensedContac
     block_map = problem.resultant_map[rows]
     block_base = problem.resultant_base[rows]
     block_load = problem.resultant_load[rows]
+    compliances = rig.compliances
     for i, (control, direction, sign) in enumerate(
         ((controls.normal, n, -1.0), (controls.tangential, t, 1.0))
     ):
         row = rows.start + i
+        force_map = sign * direction @ block_map
+        force_base = sign * direction @ block_base
+        force_load = sign * direction @ block_load
         if control == "force":
-            resultant_map[row] = sign * direction @ block_map
-            resultant_base[row] = sign * direction @ block_base
-            resultant_load[row] = sign * direction @ block_load
-        else:
-            resultant_map[row] = motion[i]
-            resultant_base[row] = 0.0
-            resultant_load[row] = 0.0
+            resultant_map[row], resultant_base[row] = force_map, force_base
+            resultant_load[row] = force_load
+        else:  # k (block motion + spring travel)
+            spring = k * compliances[i]
+            resultant_map[row] = motion[i] + spring * force_map
+            resultant_base[row] = spring * force_base
+            resultant_load[row] = spring * force_load
     return attrs.evolve(
         problem,
         resultant_map=resultant_map,

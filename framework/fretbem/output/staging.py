@@ -262,3 +262,10 @@ def staged_directory(directory: str | os.PathLike, *, overwrite: bool = False) -
         except BaseException:
             shutil.rmtree(staging, ignore_errors=True)
             raise
+
+
+def csv_cell(value) -> str | float:
+    """A CSV cell that spreadsheets read as text, never as a formula (OWASP CSV injection)."""
+    if isinstance(value, str) and value[:1] in ("=", "+", "-", "@", "\t", "\r"):
+        return "'" + value
+    return value

@@ -27,6 +27,7 @@ from fretbem.contact.law import STATE_NAMES
 from fretbem.errors import InputError
 from fretbem.fatigue.output import write_fatigue
 from fretbem.output import figures as plot
+from fretbem.output import fretting as fretting_
 from fretbem.output import vtk as vtk_
 from fretbem.output.labelled import evaluated_stress, write_netcdf_files
 from fretbem.stress.run import write_stress_result
@@ -39,6 +40,7 @@ from .staging import (  # noqa: F401 - re-exported: the output API of one releas
     OutputExistsError,
     OutputLockedError,
     check_free_space,
+    csv_cell,
     output_lock,
     prepare_output,
     staged_directory,
@@ -174,13 +176,6 @@ def register_writer(
     return writer
 
 
-def csv_cell(value) -> str | float:
-    """A CSV cell that spreadsheets read as text, never as a formula (OWASP CSV injection)."""
-    if isinstance(value, str) and value[:1] in ("=", "+", "-", "@", "\t", "\r"):
-        return "'" + value
-    return value
-
-
 def write_csv(result, path: Path) -> Path:
     """results.csv: one row per pair per step: step, x, p, q, un, ut, state (see CSV_COLUMNS)."""
     with open(path, "w", newline="") as handle:
@@ -227,7 +222,12 @@ def write_json(result, path: Path, checks: Sequence[dict] | None = None) -> Path
             {**step, "checks": {k: r.as_dict() for k, r in records.items()}}
             for step, records in zip(summary["steps"], checks, strict=True)
         ]
+    fretting = fretting_.summary(result)
+    if fretting is not None:
+        summary["fretting"] = fretting
     summary["units"] = {k: v[0] for k, v in SUMMARY_KEYS.items()}
+    if fretting is not None:
+        summary["units"]["fretting"] = {k: v[0] for k, v in fretting_.CYCLE_KEYS.items()}
     summary["errors_are"] = "fractions (0.01 = 1 %)"
     text = json.dumps(_finite(summary), indent=2, default=_json_default, allow_nan=False)
     path.write_text(text + "\n")
@@ -241,6 +241,13 @@ def write_units(path: Path) -> Path:
         "scene sets plane_stress",
         "results.csv": {k: {"unit": u, "meaning": m} for k, (u, m) in CSV_COLUMNS.items()},
         "summary.json": {k: {"unit": u, "meaning": m} for k, (u, m) in SUMMARY_KEYS.items()},
+        "summary.json fretting": {
+            k: {"unit": u, "meaning": m} for k, (u, m) in fretting_.CYCLE_KEYS.items()
+        },
+        "loops.csv": {
+            k: {"unit": u, "meaning": m} for k, (u, m) in fretting_.LOOPS_COLUMNS.items()
+        },
+        "slip.csv": {k: {"unit": u, "meaning": m} for k, (u, m) in fretting_.SLIP_COLUMNS.items()},
     }
     path.write_text(json.dumps(table, indent=2) + "\n")
     return path
@@ -272,6 +279,10 @@ def _write_stress(context: WriteContext, directory: Path):
     return write_stress_result(context.result, context.stress, done, directory)
 
 
+def _write_fretting(context: WriteContext, directory: Path):
+    return fretting_.write_fretting(context.result, directory, figures="figures" in context.writers)
+
+
 def _write_fatigue(context: WriteContext, directory: Path):
     return write_fatigue(directory, context.fatigue, figures="figures" in context.writers)
 
@@ -284,6 +295,7 @@ for _name, _function, _needs in (
     ("vtk", _write_vtk, ""),
     ("stress", _write_stress, "stress"),
     ("fatigue", _write_fatigue, "fatigue"),
+    ("fretting", _write_fretting, ""),
 ):
     register_writer(_name, _function, context=True, needs=_needs)
 register_writer("netcdf", write_netcdf_files, default=False, context=True)

@@ -18,6 +18,7 @@ import attrs
 from fretbem import registry
 from fretbem.basis import Basis, Refinement, points_per_element
 from fretbem.conditions import Displacement, LoadingBlock, Traction
+from fretbem.contact.control import Rig
 from fretbem.simulation import LoadStep, Simulation
 from fretbem.verification.closed_forms import (
     HertzLineContact,
@@ -284,6 +285,7 @@ def build(scene: Scene, **contact_overrides):
         law=law(scene.contact.law, scene.contact.friction),
         reference=closed_form,
         name="scene",
+        rig=rig(scene),
     ), reason
 
 
@@ -348,18 +350,30 @@ def pairing(name: str):
         raise SceneFileError(f"[contact] pairing: {err}") from None
 
 
+def rig(scene: Scene) -> Rig:
+    """The rig springs of a scene's [rig] table (rigid where a stiffness is not given)."""
+    spec = getattr(scene, "rig", None)
+    if spec is None:
+        return Rig()
+    return Rig(
+        tangential=math.inf if spec.stiffness_x is None else spec.stiffness_x,
+        normal=math.inf if spec.stiffness_y is None else spec.stiffness_y,
+    )
+
+
 def load_steps(load) -> tuple[LoadStep, ...]:
     """The LoadSteps of a scene's [load] table (forces, or block displacements where given)."""
     n = len(load.steps)
     deltas = load.delta or (None,) * n
     approaches = load.approach or (None,) * n
+    cycles = load.cycle or (0,) * n
     return tuple(
         LoadStep(
             name, P, Q, increments, loads={"bulk": bulk} if bulk or any(load.bulk) else {},
-            delta=delta, approach=approach,
+            delta=delta, approach=approach, cycle=cycle,
         )
-        for name, P, Q, bulk, increments, delta, approach in zip(
-            load.steps, load.P, load.Q, load.bulk, load.increments, deltas, approaches,
+        for name, P, Q, bulk, increments, delta, approach, cycle in zip(
+            load.steps, load.P, load.Q, load.bulk, load.increments, deltas, approaches, cycles,
             strict=True,
         )
     )  # fmt: skip

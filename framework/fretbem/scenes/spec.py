@@ -17,6 +17,7 @@ from typing import Any
 import attrs
 
 from fretbem import registry
+from fretbem.fretting.waveform import SHAPES, Waveform, WaveformError
 from fretbem.geometry.boundary import Segment
 from fretbem.geometry.nurbs import NurbsCurve
 from fretbem.geometry.shapes import (
@@ -301,6 +302,55 @@ KEYS: tuple[Key, ...] = (
         "normal approach of the pad's loading block against the specimen's held end (> 0 "
         "presses), imposed instead of `P`; needs [contact] `zone_width`",
     ),
+    Key(
+        "load.cycle",
+        "delta",
+        NUMBER,
+        "mm",
+        None,
+        "a cyclic history instead of named steps: the amplitude delta* of the pad block's "
+        "displacement (displacement control; gross slip allowed); [load] then keeps only "
+        "`P` and `bulk` (the means)",
+    ),
+    Key("load.cycle", "Q", NUMBER, "N/mm", None, "or the amplitude Q* (force control), < f P"),
+    Key("load.cycle", "cycles", (int,), "", 1, "number of cycles"),
+    Key(
+        "load.cycle",
+        "increments",
+        (int,),
+        "",
+        40,
+        "increments per cycle, a multiple of 4 (each is a step of the results)",
+    ),
+    Key("load.cycle", "shape", (str,), "", "sine", "`sine` or `triangle`"),
+    Key(
+        "load.cycle",
+        "P_amplitude",
+        NUMBER,
+        "N/mm",
+        0.0,
+        "cyclic normal load: P(t) = P + P_amplitude w(t + P_phase / 360)",
+    ),
+    Key("load.cycle", "P_phase", NUMBER, "degrees", 0.0, "phase of P against the drive"),
+    Key("load.cycle", "bulk_amplitude", NUMBER, "MPa", 0.0, "cyclic bulk stress amplitude"),
+    Key("load.cycle", "bulk_phase", NUMBER, "degrees", 0.0, "phase of sigma_B against the drive"),
+    Key(
+        "rig",
+        "stiffness_x",
+        NUMBER,
+        "MPa",
+        None,
+        "tangential stiffness of the rig between the actuator and the pad's block (N/mm per "
+        "mm); `delta` is then the actuator's; omitted: rigid",
+    ),
+    Key(
+        "rig",
+        "stiffness_y",
+        NUMBER,
+        "MPa",
+        None,
+        "normal stiffness of the rig (N/mm per mm); `approach` is then the actuator's",
+    ),
 )
 
 #: the highest basis degree a scene may ask for (higher degrees are ill-conditioned)
@@ -378,10 +428,12 @@ class LoadSpec:
     increments: tuple[int, ...]
     delta: tuple[float, ...] | None = None
     approach: tuple[float, ...] | None = None
+    cycle: tuple[int, ...] | None = None
+    waveform: Any = None
 
     def __attrs_post_init__(self) -> None:
         n = len(self.steps)
-        for name in ("P", "Q", "bulk", "increments", "delta", "approach"):
+        for name in ("P", "Q", "bulk", "increments", "delta", "approach", "cycle"):
             if getattr(self, name) is None:
                 continue
             if len(getattr(self, name)) != n:
@@ -396,6 +448,14 @@ class LoadSpec:
                     f"[load] steps: the name {name!r} is used twice; names must be unique"
                 )
             seen.add(name)
+
+
+@attrs.frozen
+class RigSpec:
+    """Springs between the actuator and the pad's block (None: rigid)."""
+
+    stiffness_x: float | None = None
+    stiffness_y: float | None = None
 
 
 @attrs.frozen(eq=False)
@@ -413,6 +473,7 @@ class Scene:
     load: LoadSpec | None = None
     extras: Mapping[str, Any] = attrs.field(factory=dict)
     legacy: bool = False
+    rig: RigSpec = attrs.field(factory=RigSpec)
 
 
 # --------------------------------------------------------------------------- reading
@@ -607,8 +668,74 @@ def _per_step(name: str, value: Any, n: int | None, item: tuple[type, ...]) -> l
     return [value] * (n if n is not None else 1)
 
 
+def _cycle_load(section: dict) -> LoadSpec:
+    """[load] with a [load.cycle] table: the waveform expanded into one step per increment."""
+    cycle = section["cycle"]
+    if not isinstance(cycle, dict):
+        raise SceneFileError(f"[load.cycle] must be a table, got {cycle!r}")
+    keys = _keys("load.cycle")
+    _unknown("[load.cycle]", cycle, keys)
+    for name, value in cycle.items():
+        _check(f"[load.cycle] {name}", value, keys[name].kind)
+    other = sorted(set(section) - {"cycle", "P", "bulk"})
+    if other:
+        raise SceneFileError(
+            f"[load] {other} do not go with [load.cycle] (the waveform makes the steps); "
+            "keep only P and bulk (the mean values) in [load], or drop [load.cycle]"
+        )
+    for name in ("P", "bulk"):
+        if isinstance(section.get(name), list):
+            raise SceneFileError(
+                f"[load] {name} must be one number (the mean) with [load.cycle], got a list"
+            )
+    if ("delta" in cycle) == ("Q" in cycle):
+        raise SceneFileError(
+            "[load.cycle] needs exactly one amplitude: delta (mm, the pad block's displacement "
+            "amplitude, displacement control) or Q (N/mm, force control)"
+        )
+    values = {k.name: cycle.get(k.name, k.default) for k in keys.values()}
+    if values["shape"] not in SHAPES:
+        raise SceneFileError(
+            f"[load.cycle] shape must be one of {list(SHAPES)}, got {values['shape']!r}"
+        )
+    try:
+        waveform = Waveform(
+            amplitude=values["delta"] if "delta" in cycle else values["Q"],
+            normal=section.get("P", _keys("load")["P"].default),
+            control="displacement" if "delta" in cycle else "force",
+            cycles=values["cycles"],
+            increments=values["increments"],
+            shape=values["shape"],
+            normal_amplitude=values["P_amplitude"],
+            normal_phase=values["P_phase"],
+            bulk=section.get("bulk", 0.0),
+            bulk_amplitude=values["bulk_amplitude"],
+            bulk_phase=values["bulk_phase"],
+        )
+    except (WaveformError, ValueError) as err:
+        name = "delta" if "delta" in cycle else "Q"
+        message = str(err).replace("Waveform.normal_amplitude", "P_amplitude")
+        message = message.replace("Waveform.normal", "[load] P").replace("Waveform.amplitude", name)
+        message = message.replace("Waveform.", "")
+        raise SceneFileError(f"[load.cycle]: {message}") from None
+    steps = waveform.steps()
+    displacement = waveform.control == "displacement"
+    return LoadSpec(
+        steps=tuple(s.name for s in steps),
+        P=tuple(s.normal for s in steps),
+        Q=tuple(s.tangential for s in steps),
+        bulk=tuple(s.loads.get("bulk", 0.0) for s in steps),
+        increments=(1,) * len(steps),
+        delta=tuple(s.delta for s in steps) if displacement else None,
+        cycle=tuple(s.cycle for s in steps),
+        waveform=waveform,
+    )
+
+
 def _load(data: Mapping) -> LoadSpec:
     section = _table(data, "load")
+    if "cycle" in section:
+        return _cycle_load(section)
     keys = _keys("load")
     _unknown("[load]", section, keys)
     for name, value in section.items():
@@ -710,8 +837,16 @@ def scene_from_dict(data: Mapping) -> Scene:
     _unknown(
         "the scene file",
         data,
-        {"pad", "specimen", "material", "contact", "mesh", "load", *EXTRA_TABLES},
+        {"pad", "specimen", "material", "contact", "mesh", "load", "rig", *EXTRA_TABLES},
     )
+    rig_section = _table(data, "rig")
+    _unknown("[rig]", rig_section, _keys("rig"))
+    for name, value in rig_section.items():
+        _check(f"[rig] {name}", value, _keys("rig")[name].kind)
+        if not value > 0:
+            raise SceneFileError(
+                f"[rig] {name} must be > 0 (N/mm per mm of travel); leave it out for a rigid rig"
+            )
     contact_section = _table(data, "contact")
     _unknown("[contact]", contact_section, _keys("contact"))
     contact = {}
@@ -762,6 +897,7 @@ def scene_from_dict(data: Mapping) -> Scene:
         mesh=MeshSpec(**mesh),
         load=_load(data),
         extras=extras,
+        rig=RigSpec(**{k: float(v) for k, v in rig_section.items()}),
     )
 
 

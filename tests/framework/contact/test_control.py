@@ -12,6 +12,7 @@ import functools
 import numpy as np
 import pytest
 
+from fretbem.contact.control import Rig
 from fretbem.scenes.builder import build
 from fretbem.scenes.spec import SceneFileError, scene_from_dict
 from fretbem.simulation import GrossSlidingError, LoadHistoryError, LoadStep, Simulation, run
@@ -181,3 +182,43 @@ def test_scene_keys_delta_and_approach():
     assert "approach is imposed" in reason
     result = run(sim)
     assert 0 < result["A"].normal < 200 and result["B"].normal == pytest.approx(result["A"].normal)
+
+
+@pytest.mark.parametrize(("model", "basis", "pairs"), CASES[:1] + CASES[2:3])
+def test_rig_springs_add_their_travel(model, basis, pairs):
+    """With springs k_t, k_n between actuator and block, the actuator's delta = the block's
+    + Q / k_t and approach + P / k_n; the contact sees the same Q (measured 1e-14)."""
+    base = simulation(model, basis, pairs)
+    forced = run(on(base, (LoadStep("A", P), LoadStep("B", P, 18.0, increments=2))))
+    k_t, k_n = 2.0e4, 5.0e4
+    rig = Rig(tangential=k_t, normal=k_n)
+    steps = (LoadStep("A", None, approach=forced["A"].approach + P / k_n),
+             LoadStep("B", None, approach=forced["A"].approach + P / k_n,
+                      delta=forced["B"].delta + 18.0 / k_t, increments=2))  # fmt: skip
+    sim = Simulation(base.pair, steps, law=base.law, rig=rig)
+    result = run(sim)
+    assert result["A"].normal == pytest.approx(P, rel=1e-9)
+    assert result["B"].tangential == pytest.approx(18.0, rel=1e-9)
+    assert result["B"].delta == pytest.approx(forced["B"].delta + 18.0 / k_t, rel=1e-12)
+    np.testing.assert_allclose(result["B"].shear, forced["B"].shear, atol=1e-8 * P)
+    # force control ignores the springs; a rigid rig is the default
+    assert run(Simulation(base.pair, forced.simulation.steps, law=base.law, rig=rig))[
+        "B"
+    ].delta == pytest.approx(forced["B"].delta + 18.0 / k_t, rel=1e-12)
+    with pytest.raises(ValueError, match=r"Rig\.tangential must be > 0"):
+        Rig(tangential=0.0)
+
+
+def test_rig_table_in_the_scene_file():
+    data = {**_scene(P=100.0, delta=[0.0, 0.004]), "rig": {"stiffness_x": 1.0e4}}
+    sim, _ = build(scene_from_dict(data))
+    assert sim.rig == Rig(tangential=1.0e4)
+    result = run(sim)
+    b = result["B"]
+    assert b.tangential < F * P  # the springs took 30 / 1e4 = 3 um of the 4 um: still sticking
+    assert b.delta == pytest.approx(0.004, rel=1e-12)
+    assert b.increments[-1].delta == pytest.approx(0.004, rel=1e-12)
+    with pytest.raises(SceneFileError, match=r"\[rig\] stiffness_y must be > 0"):
+        scene_from_dict({**_scene(P=100.0), "rig": {"stiffness_y": 0.0}})
+    with pytest.raises(SceneFileError, match=r"unknown key \['rotation'\] in \[rig\]"):
+        scene_from_dict({**_scene(P=100.0), "rig": {"rotation": 1.0}})

@@ -147,8 +147,37 @@ def with_loading(simulation, loading: Loading):
 
 
 def refused_steps(loading: Loading) -> list[str]:
-    """Steps with ``|Q| >= f P``: gross slip, refused under force control."""
-    return [s.name for s in loading.steps if abs(s.tangential) >= loading.friction * s.normal]
+    """Steps with ``|Q| >= f P`` under force control: gross slip, refused there (a step that
+    imposes delta or the approach is solved: its Q or P is an output)."""
+    return [
+        s.name
+        for s in loading.steps
+        if getattr(s, "delta", None) is None
+        and s.normal is not None
+        and abs(s.tangential) >= loading.friction * s.normal
+    ]
+
+
+#: fretting columns of a cyclic case (its last cycle; fretbem.fretting)
+CYCLE_COLUMNS = ("dissipated_energy", "delta_amplitude", "Q_amplitude", "energy_ratio",
+                 "slip_amplitude_max")  # fmt: skip
+#: the fretting regimes as the sweep names them
+CYCLE_REGIMES = {"stick": "full stick", "partial slip": "partial slip", "gross slip": "gross slip"}
+
+
+def cycle_metrics(result) -> dict[str, Any] | None:
+    """Regime and fretting columns of the last load cycle of ``result`` (None: no cycles)."""
+    from fretbem.fretting import analyse
+
+    if not any(getattr(s, "cycle", 0) for s in result.simulation.steps):
+        return None
+    analysis = analyse(result)
+    last = analysis.cycles[-1].as_dict()
+    row = {name: last[name] for name in CYCLE_COLUMNS}
+    row["transition_ratio"] = analysis.transition_ratio
+    row["regime"] = CYCLE_REGIMES[last["regime"]]
+    row["cycles"] = len(analysis.cycles)
+    return row
 
 
 def _extent(x: np.ndarray, mask: np.ndarray) -> float:
@@ -216,9 +245,10 @@ def solve_case(simulation, loading: Loading, outputs=(), scene=None) -> dict[str
 
     row: dict[str, Any] = {
         "friction": loading.friction,
-        "P_max": max(abs(s.normal) for s in loading.steps),
+        "P_max": max((abs(s.normal) for s in loading.steps if s.normal is not None),
+                     default=float("nan")),
         "Q_peak": max(abs(s.tangential) for s in loading.steps),
-    }
+    }  # fmt: skip
     refused = refused_steps(loading)
     if refused:
         row.update(status="refused", error=f"|Q| >= f P in steps {refused}")
@@ -230,14 +260,23 @@ def solve_case(simulation, loading: Loading, outputs=(), scene=None) -> dict[str
     result = run_simulation(with_loading(simulation, loading), mode=FIXED).result
     row["solve_seconds"] = time.perf_counter() - tic
     row["solve_cpu_seconds"] = time.process_time() - cpu
-    regimes = []
-    for step in result.steps:
-        for key, value in step_metrics(step).items():
-            row[f"{key}.{step.name}"] = value
-        regimes.append(row[f"regime.{step.name}"])
+    if any(not s.controls.by_force for s in getattr(result.simulation, "steps", ())):
+        row["P_max"] = max(abs(i.normal) for s in result.steps for i in s.increments)
+        row["Q_peak"] = max(abs(i.tangential) for s in result.steps for i in s.increments)
+    cyclic = cycle_metrics(result)
+    if cyclic is not None:  # one row per case: the last cycle, not hundreds of step columns
+        regime = cyclic.pop("regime")
+        row.update(cyclic)
+    else:
+        regimes = []
+        for step in result.steps:
+            for key, value in step_metrics(step).items():
+                row[f"{key}.{step.name}"] = value
+            regimes.append(row[f"regime.{step.name}"])
+        regime = worst(regimes)
     for function in outputs:
         row.update(function(result, scene))
-    row.update(status="ok", error="", regime=worst(regimes))
+    row.update(status="ok", error="", regime=regime)
     return row
 
 

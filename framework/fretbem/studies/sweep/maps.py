@@ -51,7 +51,10 @@ def _grid(rows, x: str, y: str, values) -> tuple[np.ndarray, np.ndarray, np.ndar
 
 
 def _boundary(ax, rows, x: str, y: str) -> bool:
-    """Contour ``Q_peak = f P_max`` over the cases (the gross-slip boundary); False if absent."""
+    """Contour ``Q_peak = f P_max`` over the cases (the gross-slip boundary), or for cyclic
+    cases ``A = A_t`` (the energy ratio at its transition value); False if absent."""
+    if {"energy_ratio", "transition_ratio"} <= set(rows.columns):
+        return _energy_boundary(ax, rows, x, y)
     if not {"Q_peak", "P_max", "friction"} <= set(rows.columns):
         return False
     g = rows["Q_peak"].to_numpy(float) - rows["friction"].to_numpy(float) * rows["P_max"].to_numpy(
@@ -62,6 +65,17 @@ def _boundary(ax, rows, x: str, y: str) -> bool:
         return False
     ax.contour(xs, ys, grid, levels=[0.0], colors="k", linewidths=1.5, linestyles="--")
     ax.plot([], [], "k--", label="|Q| = f P")
+    return True
+
+
+def _energy_boundary(ax, rows, x: str, y: str) -> bool:
+    """Contour A = A_t: the partial / gross slip transition of cyclic cases."""
+    g = rows["energy_ratio"].to_numpy(float) - rows["transition_ratio"].to_numpy(float)
+    xs, ys, grid = _grid(rows, x, y, g)
+    if len(xs) < 2 or len(ys) < 2 or not (np.nanmin(grid) < 0 < np.nanmax(grid)):
+        return False
+    ax.contour(xs, ys, grid, levels=[0.0], colors="k", linewidths=1.5, linestyles="--")
+    ax.plot([], [], "k--", label="A = A_t (gross slip onset)")
     return True
 
 

@@ -1,0 +1,175 @@
+"""Fretting outputs: loops.csv, slip.csv, the Q-delta loop and slip / energy figures.
+
+Written by the ``fretting`` writer (:mod:`fretbem.output.write`): loops.csv for every run
+(one row per increment), slip.csv and the figures when the history has load cycles
+(:mod:`fretbem.fretting`); summary.json gets the per-cycle table from :func:`summary`.
+"""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import numpy as np
+
+from fretbem.fretting.cycles import FrettingAnalysis, analyse
+
+from . import figures as plot
+from .staging import csv_cell
+
+#: units and meaning of every loops.csv column
+LOOPS_COLUMNS = {
+    "increment": ("", "increment number over the whole history (1, 2, ...)"),
+    "cycle": ("", "load cycle of the increment (0: outside any cycle, e.g. the normal load)"),
+    "Q": ("N/mm", "tangential load carried by the pad's loading block, +x"),
+    "delta": (
+        "mm",
+        "tangential displacement of the pad's loading block against the specimen's held end "
+        "(2D displacements need a datum), +x",
+    ),
+    "P": ("N/mm", "normal load carried by the pad's loading block, > 0 presses"),
+    "step": ("", "load step of the increment"),
+}
+#: units and meaning of every slip.csv column
+SLIP_COLUMNS = {
+    "cycle": ("", "load cycle"),
+    "x": ("mm", "pair position"),
+    "slip_amplitude": ("mm", "half the range of the slip (relative tangential displacement)"),
+    "energy_density": (
+        "N/mm",
+        "energy dissipated per unit face area over the cycle (mJ/mm^2): the sum of q ds",
+    ),
+}
+#: units and meaning of every summary.json ``fretting`` key
+CYCLE_KEYS = {
+    "transition_ratio": (
+        "",
+        "energy ratio A at the partial / gross slip transition of this scene (null: no Hertz "
+        "closed form)",
+    ),
+    "dissipated_energy": ("N mm/mm", "E_d: energy dissipated in the cycle per mm thickness"),
+    "loop_area": ("N mm/mm", "area of the Q-delta loop (E_d through the block)"),
+    "delta_amplitude": ("mm", "delta*: half the range of delta over the cycle"),
+    "Q_amplitude": ("N/mm", "Q*: half the range of Q over the cycle"),
+    "energy_ratio": ("", "A = E_d / (4 delta* Q*)"),
+    "regime": ("", "stick, partial slip or gross slip (from the pair states)"),
+    "slip_amplitude_max": ("mm", "largest slip amplitude over the face"),
+    "caution": ("", "null, or why the cycle is beyond the small-sliding pairing"),
+}
+
+
+def has_cycles(result) -> bool:
+    """Whether the history of ``result`` has load cycles."""
+    return any(getattr(step, "cycle", 0) for step in result.simulation.steps)
+
+
+def summary(result) -> dict | None:
+    """summary.json's ``fretting`` table, or None for a history without cycles."""
+    return analyse(result).summary() if has_cycles(result) else None
+
+
+def write_loops(analysis: FrettingAnalysis, path: Path) -> Path:
+    """loops.csv: one row per increment (see LOOPS_COLUMNS)."""
+    with open(path, "w", newline="") as handle:
+        writer = csv.writer(handle)
+        writer.writerow(list(LOOPS_COLUMNS))
+        for k in range(len(analysis.increment)):
+            writer.writerow(
+                [
+                    int(analysis.increment[k]),
+                    int(analysis.cycle[k]),
+                    repr(float(analysis.tangential[k])),
+                    repr(float(analysis.delta[k])),
+                    repr(float(analysis.normal[k])),
+                    csv_cell(analysis.step[k]),
+                ]
+            )
+    return path
+
+
+def write_slip(analysis: FrettingAnalysis, path: Path) -> Path:
+    """slip.csv: per cycle and pair the slip amplitude and dissipated energy density."""
+    with open(path, "w", newline="") as handle:
+        writer = csv.writer(handle)
+        writer.writerow(list(SLIP_COLUMNS))
+        for cycle in analysis.cycles:
+            for x, s, w in zip(cycle.x, cycle.slip_amplitude, cycle.energy_density, strict=True):
+                writer.writerow([cycle.cycle, repr(float(x)), repr(float(s)), repr(float(w))])
+    return path
+
+
+#: at most this many cycles drawn in the loop figure (evenly spread, first and last kept)
+MAX_LOOPS = 6
+
+
+def _spread(cycles: list, limit: int = MAX_LOOPS) -> list:
+    if len(cycles) <= limit:
+        return cycles
+    picks = np.unique(np.round(np.linspace(0, len(cycles) - 1, limit)).astype(int))
+    return [cycles[i] for i in picks]
+
+
+def loop_figure(analysis: FrettingAnalysis):
+    """The Q-delta loops (every cycle, or an even spread of them), with E_d, A and regime."""
+    fig = plot._figure((6.4, 4.6))
+    ax = fig.add_subplot(1, 1, 1)
+    ax.plot(analysis.delta * 1e3, analysis.tangential, color="#bbbbbb", lw=0.8, label="history")
+    colors = plot._colors()
+    for k, cycle in enumerate(_spread(list(analysis.cycles))):
+        ax.plot(
+            cycle.delta * 1e3,
+            cycle.tangential,
+            color=colors[k % len(colors)],
+            lw=1.4,
+            label=f"cycle {cycle.cycle}: {cycle.regime}, E_d = {cycle.dissipated_energy:.3g} "
+            f"N mm/mm, A = {cycle.energy_ratio:.3g}",
+        )
+    ax.set_xlabel("delta (um): pad block against the specimen's held end")
+    ax.set_ylabel("Q (N/mm)")
+    ax.axhline(0.0, color="k", lw=0.5)
+    ax.axvline(0.0, color="k", lw=0.5)
+    title = "Q-delta loops"
+    if analysis.transition_ratio is not None:
+        title += f" (gross slip transition at A = {analysis.transition_ratio:.3g})"
+    ax.set_title(title, fontsize=10, y=plot.TITLE_Y)
+    ax.legend(fontsize=7, loc="lower right")
+    fig.tight_layout()
+    return fig
+
+
+def slip_figure(analysis: FrettingAnalysis):
+    """Slip amplitude (top) and dissipated energy density (bottom) along x, per cycle."""
+    fig = plot._figure((6.4, 6.0))
+    top, bottom = fig.add_subplot(2, 1, 1), fig.add_subplot(2, 1, 2, sharex=None)
+    colors = plot._colors()
+    for k, cycle in enumerate(_spread(list(analysis.cycles))):
+        color = colors[k % len(colors)]
+        top.plot(cycle.x, cycle.slip_amplitude * 1e3, "o-", ms=2.5, color=color,
+                 label=f"cycle {cycle.cycle}")  # fmt: skip
+        bottom.plot(cycle.x, cycle.energy_density, "o-", ms=2.5, color=color)
+    top.set_ylabel("slip amplitude (um)")
+    bottom.set_ylabel("energy density (N/mm per cycle)")
+    bottom.set_xlabel("x (mm)")
+    top.legend(fontsize=7)
+    top.set_title("slip amplitude and dissipated energy density", fontsize=10, y=plot.TITLE_Y)
+    fig.tight_layout()
+    return fig
+
+
+def write_fretting(result, directory: Path, *, figures: bool = True) -> list[Path]:
+    """loops.csv for every run; slip.csv, loops.png and slip.png for a history with cycles."""
+    analysis = analyse(result)
+    paths = [write_loops(analysis, directory / "loops.csv")]
+    if not analysis.cycles:
+        return paths
+    paths.append(write_slip(analysis, directory / "slip.csv"))
+    if figures:
+        with plot._collector_paused():
+            for name, make in (("loops.png", loop_figure), ("slip.png", slip_figure)):
+                fig = make(analysis)
+                try:
+                    fig.savefig(directory / name, dpi=plot.DPI, pil_kwargs={"compress_level": 1})
+                finally:
+                    plot._close(fig)
+                paths.append(directory / name)
+    return paths
