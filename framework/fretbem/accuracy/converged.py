@@ -15,6 +15,7 @@ import numpy as np
 from fretbem.verification.errors import l2
 
 from . import estimate
+from .adaptive import AdaptiveSettings, run_adaptive
 
 __all__ = [
     "INTERPOLATORY_REFERENCE_BUDGET",
@@ -38,8 +39,6 @@ def reference(simulation, budget: int | None = None):
     """The converged solution: the adaptive mode at ``budget`` pairs with no early stop
     (levels of about 31, 61, 121 and ``budget`` pairs, knots settled on each). Returns its
     :class:`~fretbem.accuracy.adaptive.AdaptiveResult`."""
-    from .adaptive import AdaptiveSettings, run_adaptive
-
     if budget is None:
         pair = simulation.pair
         smooth = not any(

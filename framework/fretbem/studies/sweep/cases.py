@@ -27,6 +27,7 @@ from fretbem.accuracy.modes import Accuracy
 from fretbem.contact.law import CoulombFriction
 from fretbem.contact.pairs import SEPARATED, SLIP, STICK
 from fretbem.errors import ComputationError
+from fretbem.fretting import analyse
 from fretbem.pipeline import run_simulation
 from fretbem.scenes import builder as scene_build
 from fretbem.scenes.file import scene_from_data
@@ -167,8 +168,6 @@ CYCLE_REGIMES = {"stick": "full stick", "partial slip": "partial slip", "gross s
 
 def cycle_metrics(result) -> dict[str, Any] | None:
     """Regime and fretting columns of the last load cycle of ``result`` (None: no cycles)."""
-    from fretbem.fretting import analyse
-
     if not any(getattr(s, "cycle", 0) for s in result.simulation.steps):
         return None
     analysis = analyse(result)
