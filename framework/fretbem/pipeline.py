@@ -2,8 +2,8 @@
 
 ``run_scene`` is what ``fretbem run`` does before it writes: build the simulation, solve it
 in the scene's accuracy mode (fixed with an estimate, or adaptive), check every step, solve
-the comparison families, and carry out the ``[stress]`` and ``[fatigue]`` requests. The
-returned :class:`RunResult` writes itself through the writers of
+the comparison families, and carry out the ``[stress]``, ``[fatigue]`` and ``[wear]``
+requests. The returned :class:`RunResult` writes itself through the writers of
 :func:`fretbem.output.write.write_results`. Nothing here prints; ``say`` receives the
 progress lines.
 """
@@ -24,6 +24,9 @@ from fretbem.scenes.builder import build
 from fretbem.simulation import run
 from fretbem.stress.request import stress_request_from_dict
 from fretbem.verification.checks import check_steps
+from fretbem.wear.assess import assess
+from fretbem.wear.request import wear_request_from_dict
+from fretbem.wear.run import run_wear
 
 __all__ = ["RunResult", "run_scene", "run_simulation"]
 
@@ -48,6 +51,8 @@ class RunResult:
         The fatigue assessment of the ``[fatigue]`` request.
     compare : tuple of SimulationResult
         The other families' results drawn beside it in the figures.
+    wear : WearReport or None
+        The ``[wear]`` history and its assessments at the requested N.
     """
 
     result: object
@@ -55,12 +60,13 @@ class RunResult:
     stress: object = None
     fatigue: object = None
     compare: tuple = ()
+    wear: object = None
 
     def write(self, out, **options) -> Path:
         """``write_results`` of this run (options: writers, overwrite, steps, figures, vtk)."""
         return write_results(
             self.result, out, compare=self.compare, stress=self.stress, fatigue=self.fatigue,
-            **options,
+            wear=self.wear, **options,
         )  # fmt: skip
 
 
@@ -70,6 +76,31 @@ def requests(extras: Mapping | None) -> tuple:
     stress = stress_request_from_dict(extras["stress"]) if "stress" in extras else None
     fatigue = fatigue_request_from_dict(extras["fatigue"]) if "fatigue" in extras else None
     return stress, fatigue
+
+
+def wear_request(extras: Mapping | None):
+    """The scene's ``[wear]`` request (None without one), parsed before any computation."""
+    extras = extras or {}
+    return wear_request_from_dict(extras["wear"]) if "wear" in extras else None
+
+
+def _wear_mesh(mode: accuracy.Accuracy) -> None:
+    if mode.mesh != "fixed":
+        raise InputError(
+            "[wear] needs a fixed contact mesh: the worn profile lives on the pairs, which "
+            'the adaptive mode changes between levels; set [contact] mesh = "fixed"'
+        )
+
+
+def run_wear_request(simulation, request, fatigue_request, mode, say=_quiet):
+    """The ``[wear]`` history of ``simulation`` and its assessments (stresses are evaluated
+    when written, fatigue here) at the request's ``assess`` N."""
+    _wear_mesh(mode)
+    wear = request.simulation(simulation)
+    say(f"wear: {wear.cycles} cycles of steps {[s.name for s in wear.cycle_steps]}")
+    result = run_wear(wear)
+    say(f"wear: {result.simulated} cycles simulated, {len(result.jumps)} jumps")
+    return assess(result, request.assess, fatigue_request)
 
 
 def run_simulation(
@@ -92,6 +123,10 @@ def run_simulation(
             raise InputError(blocker)
         say(f"adaptive mesh: tolerance {100 * mode.tolerance:g} %, at most {mode.budget} pairs")
     stress, fatigue_request = requests(extras)
+    wear = wear_request(extras)
+    if wear is not None:  # its laws, cycle and outputs checked against the history now
+        _wear_mesh(mode)
+        wear.simulation(simulation)
     options = {} if progress is None else {"progress": progress}
     result = accuracy.solve(simulation, mode, coarse=companion, **options)
     check_steps(result)  # a failed check ends here: nothing is post-processed or written
@@ -104,7 +139,10 @@ def run_simulation(
     if fatigue_request is not None:
         say("fatigue assessment")
         fatigue = run_fatigue(SimulationStressHistory(result), fatigue_request)
-    return RunResult(result, reason, stress, fatigue, tuple(others))
+    worn = None
+    if wear is not None:
+        worn = run_wear_request(simulation, wear, fatigue_request, mode, say)
+    return RunResult(result, reason, stress, fatigue, tuple(others), worn)
 
 
 def run_scene(

@@ -31,6 +31,7 @@ from fretbem.studies.convergence.study import main as study
 from fretbem.studies.sweep.run import add_arguments as sweep_arguments
 from fretbem.studies.sweep.run import run_command as sweep_command
 from fretbem.verification.checks import step_names
+from fretbem.wear.assess import format_wear
 
 
 def _bases(args: argparse.Namespace) -> int:
@@ -166,6 +167,7 @@ def _simulate(make, args: argparse.Namespace, extras=None, mode=None, companion=
     start = time.perf_counter()
     simulation, reason, compare, estimate = _prepare(make, args)
     stress, fatigue = pipeline.requests(extras)  # bad tables are refused before solving
+    wear = pipeline.wear_request(extras)
     done = pipeline.run_simulation(
         simulation,
         mode=mode or accuracy.Accuracy(),
@@ -199,6 +201,8 @@ def _simulate(make, args: argparse.Namespace, extras=None, mode=None, companion=
         print(analyse_cycles(result).table())
     if done.fatigue is not None:
         print(format_report(done.fatigue))
+    if done.wear is not None:
+        print(format_wear(done.wear))
     if stress is not None:
         _progress("evaluating the stresses")
     if not args.no_figures or not args.no_vtk:
@@ -207,7 +211,8 @@ def _simulate(make, args: argparse.Namespace, extras=None, mode=None, companion=
         args.out, overwrite=args.overwrite, steps=args.steps,
         figures=not args.no_figures, vtk=not args.no_vtk, writers=_writer_names(args, done),
     )  # fmt: skip
-    kinds = [k for k, v in (("stress", stress), ("fatigue", fatigue)) if v is not None]
+    asked = (("stress", stress), ("fatigue", fatigue), ("wear", wear))
+    kinds = [k for k, v in asked if v is not None]
     kinds += [k for k, flag in (("netCDF", "netcdf"), ("report.html", "report"))
               if getattr(args, flag, False)]  # fmt: skip
     print(
@@ -227,7 +232,7 @@ def _writer_names(args: argparse.Namespace, done) -> list[str] | None:
              if getattr(args, flag, False)]  # fmt: skip
     if not extra:
         return None
-    context = WriteContext(done.result, stress=done.stress, fatigue=done.fatigue)
+    context = WriteContext(done.result, stress=done.stress, fatigue=done.fatigue, wear=done.wear)
     return [w.name for w in chosen_writers(None, context)] + extra
 
 

@@ -45,6 +45,7 @@ from .staging import (  # noqa: F401 - re-exported: the output API of one releas
     prepare_output,
     staged_directory,
 )
+from .wear import write_wear
 
 #: units and sign conventions of every results.csv column (written to units.json and the docs)
 CSV_COLUMNS = {
@@ -127,6 +128,8 @@ class WriteContext:
         A ``[stress]`` request, evaluated by the "stress" writer.
     fatigue : FatigueReport, optional
         A fatigue assessment, written by the "fatigue" writer.
+    wear : WearReport, optional
+        A wear history, written by the "wear" writer.
     writers : tuple of str
         The names of every writer of this run (a writer may add figures only when
         "figures" is among them).
@@ -139,6 +142,7 @@ class WriteContext:
     stress: object = None
     fatigue: object = None
     writers: tuple[str, ...] = ()
+    wear: object = None
     cache: dict = attrs.field(factory=dict)  # what one writer computed for the others
 
 
@@ -287,6 +291,14 @@ def _write_fatigue(context: WriteContext, directory: Path):
     return write_fatigue(directory, context.fatigue, figures="figures" in context.writers)
 
 
+def _write_wear(context: WriteContext, directory: Path):
+    chosen = context.writers
+    return write_wear(
+        directory, context.wear, stress=context.stress, figures="figures" in chosen,
+        vtk="vtk" in chosen,
+    )  # fmt: skip
+
+
 for _name, _function, _needs in (
     ("csv", _write_csv, ""),
     ("json", _write_json, ""),
@@ -296,6 +308,7 @@ for _name, _function, _needs in (
     ("stress", _write_stress, "stress"),
     ("fatigue", _write_fatigue, "fatigue"),
     ("fretting", _write_fretting, ""),
+    ("wear", _write_wear, "wear"),
 ):
     register_writer(_name, _function, context=True, needs=_needs)
 register_writer("netcdf", write_netcdf_files, default=False, context=True)
@@ -331,6 +344,7 @@ def write_results(
     steps: Sequence[str] | None = None,
     stress=None,
     fatigue=None,
+    wear=None,
     check: bool = True,
     figures: bool | None = None,
     vtk: bool | None = None,
@@ -339,8 +353,9 @@ def write_results(
     """Write a run into ``directory`` through its writers: the one output mechanism.
 
     ``writers`` names the registered writers to run (``WRITERS``: csv, json, units, figures,
-    vtk, stress, fatigue, and any registered by a plugin); by default every default writer
-    whose input the run carries (``stress``: a StressRequest, ``fatigue``: a FatigueReport).
+    vtk, stress, fatigue, wear, and any registered by a plugin); by default every default
+    writer whose input the run carries (``stress``: a StressRequest, ``fatigue``: a FatigueReport,
+    ``wear``: a :class:`~fretbem.wear.assess.WearReport`).
     ``compare`` are further results drawn in the figures; ``steps`` chooses the steps drawn.
     All files go to a temporary directory beside ``directory`` first; it replaces the target
     whole at the end (old output or new, never a mix). Returns the directory.
@@ -354,7 +369,7 @@ def write_results(
     """
     target = prepare_output(directory, overwrite=overwrite)
     records = check_steps(result) if check else None  # a failed check writes nothing
-    context = WriteContext(result, records, tuple(compare), steps, stress, fatigue)
+    context = WriteContext(result, records, tuple(compare), steps, stress, fatigue, wear=wear)
     chosen = chosen_writers(writers, context, figures=figures, vtk=vtk)
     context = attrs.evolve(context, writers=tuple(w.name for w in chosen))
     with staged_directory(target, overwrite=overwrite) as staging:

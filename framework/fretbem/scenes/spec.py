@@ -357,7 +357,7 @@ KEYS: tuple[Key, ...] = (
 MAX_DEGREE = 8
 
 #: tables whose content another module reads (stress evaluation, fatigue)
-EXTRA_TABLES = ("stress", "fatigue")
+EXTRA_TABLES = ("stress", "fatigue", "wear")
 SEGMENT_KEYS = {"tag", "degree", "knots", "points", "weights"}
 
 
@@ -462,8 +462,9 @@ class RigSpec:
 class Scene:
     """A two-body fretting scene: pad, specimen, contact, mesh and load history.
 
-    ``extras`` keeps the raw ``[stress]`` and ``[fatigue]`` tables for the modules that
-    read them; ``legacy`` is True for a file in the round-1 format (translated on reading).
+    ``extras`` keeps the raw ``[stress]``, ``[fatigue]`` and ``[wear]`` tables for the
+    modules that read them; ``legacy`` is True for a file in the round-1 format (translated
+    on reading).
     """
 
     pad: BodySpec
