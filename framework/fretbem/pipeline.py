@@ -22,6 +22,8 @@ from fretbem.fatigue.from_simulation import SimulationStressHistory
 from fretbem.output.write import write_results
 from fretbem.scenes.builder import build
 from fretbem.simulation import run
+from fretbem.solvers.fallback import with_fallback
+from fretbem.solvers.newton import SolverConvergenceError
 from fretbem.stress.request import stress_request_from_dict
 from fretbem.verification.checks import check_steps
 
@@ -72,6 +74,10 @@ def requests(extras: Mapping | None) -> tuple:
     return stress, fatigue
 
 
+def _fallback(simulation):
+    return with_fallback(simulation) or simulation
+
+
 def run_simulation(
     simulation,
     *,
@@ -93,7 +99,16 @@ def run_simulation(
         say(f"adaptive mesh: tolerance {100 * mode.tolerance:g} %, at most {mode.budget} pairs")
     stress, fatigue_request = requests(extras)
     options = {} if progress is None else {"progress": progress}
-    result = accuracy.solve(simulation, mode, coarse=companion, **options)
+    try:
+        result = accuracy.solve(simulation, mode, coarse=companion, **options)
+    except SolverConvergenceError as failure:
+        retry = with_fallback(simulation)
+        if retry is None:
+            raise
+        say(f"Newton did not converge ({str(failure).split(';')[0]}); solving again with "
+            "Lemke's method on the increments Newton fails on")  # fmt: skip
+        coarse = None if companion is None else (lambda n: _fallback(companion(n)))
+        result = accuracy.solve(retry, mode, coarse=coarse, **options)
     check_steps(result)  # a failed check ends here: nothing is post-processed or written
     others = []
     for other in compare:

@@ -175,6 +175,26 @@ def zone_edge(
     return record
 
 
+def _hold_advice(ratio: float, width: float, spacing: float) -> str:
+    """What makes the stick zone resolvable: its expected width (Cattaneo-Mindlin, c/a =
+    sqrt(1 - |Q|/(f P))) against the pair spacing, so the advice says how many pairs."""
+    if not (0.0 <= ratio < 1.0) or not (width > 0 and spacing > 0):
+        return "keep |Q| below f P (the [load] Q values under [contact] friction x P)"
+    stick = width * math.sqrt(1.0 - ratio)  # expected stick-zone width, mm
+    factor = 3.0 * spacing / stick  # three pairs across the stick zone
+    if factor <= 4.0:
+        return (
+            f"the stick zone should be about {stick:.3g} mm wide: raise [contact] pairs about "
+            f"{max(factor, 1.5):.2g} times, or keep |Q| further below f P"
+        )
+    limit = 1.0 - (3.0 * spacing / width) ** 2
+    return (
+        f"the stick zone should be only about {stick:.3g} mm wide, which would need about "
+        f"{factor:.3g} times the pairs: keep |Q| / (f P) below about {max(limit, 0.0):.3g} "
+        "with these pairs (the [load] Q values), or raise [contact] friction"
+    )
+
+
 def tangential_hold(
     x: np.ndarray,
     states: np.ndarray,
@@ -220,8 +240,7 @@ def tangential_hold(
         raise TangentialIndeterminacyError(
             f"step {step!r}: nothing holds the body tangentially ({cause}): |Q| / (f P) = "
             f"{ratio:.6g}, stick-zone width {stick_width:.4g} mm against a pair spacing of "
-            f"{spacing:.4g} mm; use more pairs (so the stick zone spans several of them) or "
-            "keep |Q| further below f P",
+            f"{spacing:.4g} mm; {_hold_advice(ratio, width, spacing)}",
             runaway,
         )
     return record

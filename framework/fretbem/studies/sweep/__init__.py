@@ -3,7 +3,6 @@
 The names of :mod:`.run` are re-exported here.
 """
 
-
 from .run import (
     BLAS_ENV,
     POST_TABLES,
