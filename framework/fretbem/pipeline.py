@@ -24,6 +24,7 @@ from fretbem.scenes.builder import build
 from fretbem.simulation import run
 from fretbem.solvers.fallback import with_fallback
 from fretbem.solvers.newton import SolverConvergenceError
+from fretbem.stress.limits import check_points, request_points
 from fretbem.stress.request import stress_request_from_dict
 from fretbem.verification.checks import check_steps
 
@@ -74,6 +75,23 @@ def requests(extras: Mapping | None) -> tuple:
     return stress, fatigue
 
 
+def check_requests(simulation, stress, fatigue) -> None:
+    """Refuse stress and fatigue requests too large for the machine, with the estimate."""
+    pair = simulation.pair
+    dofs = max(int(getattr(b, "dofs", 0) or 0) for b in (pair.upper, pair.lower))
+    points = request_points(stress)
+    grid = getattr(stress, "grid", None)
+    where = (
+        f"[stress.grid] nx x ny = {grid.nx} x {grid.ny}"
+        if grid is not None and 2 * grid.nx * grid.ny > points
+        else "[stress] (points, lines and grid)"
+    )
+    check_points(points, dofs, where)
+    if fatigue is not None:
+        nx, nd = fatigue.map_points
+        check_points(nx * nd, dofs, "[fatigue] map_points")
+
+
 def _fallback(simulation):
     return with_fallback(simulation) or simulation
 
@@ -98,6 +116,7 @@ def run_simulation(
             raise InputError(blocker)
         say(f"adaptive mesh: tolerance {100 * mode.tolerance:g} %, at most {mode.budget} pairs")
     stress, fatigue_request = requests(extras)
+    check_requests(simulation, stress, fatigue_request)  # refused before any solve
     options = {} if progress is None else {"progress": progress}
     try:
         result = accuracy.solve(simulation, mode, coarse=companion, **options)
