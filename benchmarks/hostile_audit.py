@@ -224,12 +224,10 @@ FATIGUE_BAD = {
 }
 
 
-def _fatigue_scene(extra: str) -> str:
-    return (
-        RIG.replace("pairs = 21", "pairs = 11")
-        + '[fatigue]\nmaterial = "Al 7050-T7451"\nmethods = ["swt"]\nmap_points = [9, 5]\n'
-        + extra
-    )
+def _fatigue_scene(extra: str, **keys: str) -> str:
+    table = {"material": '"Al 7050-T7451"', "methods": '["swt"]', "map_points": "[9, 5]", **keys}
+    text = "".join(f"{k} = {v}\n" for k, v in table.items())
+    return RIG.replace("pairs = 21", "pairs = 11") + "[fatigue]\n" + text + extra
 
 
 for _key, _value in FATIGUE_BAD.items():
@@ -607,9 +605,7 @@ for _label, _key, _value in COERCION:
 
     @case("weak", f"{_label} = {_value}")
     def _coerce_fatigue(key=_key, value=_value):
-        code, text = run_text(
-            _fatigue_scene("").replace("[fatigue]\n", f"[fatigue]\n{key} = {value}\n")
-        )
+        code, text = run_text(_fatigue_scene("", **{key: value}))
         return refused(code, text, key)
 
 
@@ -646,7 +642,8 @@ for _key, _value in (("degree", "2.5"), ("pairs", "11.0"), ("friction", "true"),
 
 @case("weak", "zone and zone_width both given")
 def _zone_both():
-    return refused(*run_text(with_key("contact", "zone_width", "0.8")), "zone_width")
+    text = with_key("contact", "zone", "1.5", with_key("contact", "zone_width", "0.8"))
+    return refused(*run_text(text), "zone_width")
 
 
 @case("weak", "sweep file pattern and values coerced")
@@ -664,12 +661,24 @@ def _five_pairs():
 
 @case("weak", "closed form compared outside its validity (a/R large)", 60)
 def _validity():
-    text = BASE.replace("radius = 70.0", "radius = 2.0").replace("[specimen]\n",
-                        "[specimen]\nradius = 2.0\n")  # fmt: skip
+    text = BASE.replace("radius = 70.0", "radius = 2.0\nwidth = 3.0\nheight = 3.0")
+    text = text.replace("[specimen]\n", "[specimen]\nradius = 2.0\nwidth = 3.0\nheight = 3.0\n")
     text = text.replace("P = 100.0", "P = 3000.0").replace("Q = [0.0, 18.0]", "Q = [0.0, 500.0]")
-    text = with_key("material", "E", "73400.0", text)
     code, out = run_text(text)
-    return ("validity" in out or "a/R" in out) and code in (0, 2), out.strip()[-200:]
+    return ("validity" in out or "a / R" in out) and code in (0, 2), out.strip()[-200:]
+
+
+@case("weak", "finite bodies: the comparison is called the difference from theory", 60)
+def _difference():
+    code, out = run_text(BASE)
+    return code == 0 and "difference from half-plane theory" in out, out.strip()[-200:]
+
+
+@case("weak", "an adaptive run that misses its tolerance says so", 120)
+def _adaptive_missed():
+    text = BASE.replace("pairs = 11", 'mesh = "adaptive"\ntolerance = 0.001\nbudget = 21')
+    code, out = run_text(text, seconds=110)
+    return code == 0 and "above the tolerance" in out, out.strip()[-200:]
 
 
 def main() -> int:

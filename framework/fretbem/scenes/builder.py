@@ -28,6 +28,9 @@ __all__ = ["CORNER_RATIO", "build", "grading_ratio", "hertz", "reference", "zone
 
 #: element size ratio on sides, ends, top and bottom, graded toward their corners
 CORNER_RATIO = 50.0
+#: largest Hertz half-width over the smaller face radius where the half-plane closed forms
+#: (Hertz, Mindlin-Deresiewicz, Nowell-Hills) are compared: they assume a << R
+MAX_A_OVER_R = 0.1
 
 
 def zone_elements(family: type[Basis], pairs: int, degree: int | None) -> int:
@@ -100,6 +103,14 @@ def reference(scene: Scene):
         return None, "no Hertz contact (a flat or user-drawn face)"
     if pad.plane_stress != specimen.plane_stress:
         return None, "one body in plane stress, the other in plane strain"
+    radius = min(1.0 / c for c in (scene.pad.shape.curvature, scene.specimen.shape.curvature) if c)
+    if contact.half_width / radius > MAX_A_OVER_R:
+        return None, (
+            f"a / R = {contact.half_width / radius:.2g} is outside half-plane theory's validity "
+            f"(a / R <= {MAX_A_OVER_R:g}: a contact small against the radius), so Hertz and "
+            "Mindlin-Deresiewicz are not compared; the est columns give the discretisation "
+            "error"
+        )
     beta = dundurs_beta(pad.E, pad.nu, specimen.E, specimen.nu, plane_stress=pad.plane_stress)
     if abs(beta) > 1e-12:
         return None, f"dissimilar materials (Dundurs beta = {beta:.3g}) couple p and q"

@@ -14,6 +14,7 @@ from __future__ import annotations
 import argparse
 import concurrent.futures
 import copy
+import json
 import logging
 import math
 import os
@@ -29,11 +30,12 @@ import attrs
 
 from fretbem.errors import ComputationError, FretbemError
 from fretbem.output.staging import output_lock
+from fretbem.scenes.file import scene_from_data
 
 from .cases import REGIMES, STEP_COLUMNS, case_loading, representative, run_batch
 from .maps import check_maps, draw_maps
 from .outputs import declared_columns, resolve_all
-from .spec import SweepSpec, load_sweep, set_path
+from .spec import SweepSpec, SweepSpecError, load_sweep, set_path
 from .store import SweepStore, read_table
 
 #: environment of the local cluster's workers: one BLAS thread per process
@@ -343,6 +345,47 @@ def check_size(spec: SweepSpec) -> None:
         )
 
 
+def check_values(spec: SweepSpec, builder=None) -> None:
+    """Every value of every parameter read as the scene file reader reads it, before any
+    case is solved: a value the reader refuses (``contact.pairs = true``, a negative
+    friction, an unphysical fatigue constant) is refused here naming the parameter.
+
+    Each value is tried with the other parameters at their first value (values valid
+    only in some combinations still fail their own cases, with the message).
+    """
+    if builder is not None:
+        return  # a custom builder reads its own scenes
+    from fretbem.pipeline import requests
+
+    for parameter in spec.parameters:
+        for value in dict.fromkeys(map(_hashable, parameter.values)):
+            scene = copy.deepcopy(spec.scene)
+            for other in spec.parameters:
+                chosen = value if other is parameter else other.values[0]
+                set_path(scene, other.path, other.scene_value(_plain(chosen)))
+            try:
+                record = scene_from_data(scene)
+                if hasattr(record, "extras"):
+                    requests(record.extras)
+            except FretbemError as err:
+                raise SweepSpecError(
+                    f"[parameters] {parameter.path!r} = {_plain(value)!r}: {err}"
+                ) from None
+
+
+def _hashable(value):
+    return json.dumps(value, sort_keys=True) if isinstance(value, (list, dict)) else value
+
+
+def _plain(value):
+    if isinstance(value, str) and value[:1] in "[{":
+        try:
+            return json.loads(value)
+        except ValueError:
+            return value
+    return value
+
+
 def sweep_columns(spec: SweepSpec, outputs: Sequence[str]) -> set[str] | None:
     """The columns the sweep will write (None when an output does not declare its own)."""
     scene = copy.deepcopy(spec.scene)
@@ -384,6 +427,7 @@ def run_sweep(
     outputs = (outputs,) if isinstance(outputs, str) else tuple(outputs)
     resolve_all(outputs)  # a bad name fails here, not on every case
     check_size(spec)
+    check_values(spec, builder)  # a bad value fails here, naming its parameter, not as error rows
     check_maps(spec, sweep_columns(spec, outputs))  # a map typo fails before any solve
     #: post-processing tables of the sweep file, handed to the output functions with the scene
     extras = {k: v for k, v in spec.options.items() if k in POST_TABLES}
