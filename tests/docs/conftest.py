@@ -41,6 +41,7 @@ def _unpacked(target: Path) -> None:
     """The package and the ``.dist-info`` with the entry points of its pyproject.toml, as pip
     writes them, in ``target`` (where no wheel can be built offline)."""
     import shutil
+
     import tomllib
 
     project = tomllib.loads((PLUGIN / "pyproject.toml").read_text())["project"]

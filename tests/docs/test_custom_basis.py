@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import itertools
 import math
-import shutil
 import os
+import shutil
 import subprocess
 import sys
 

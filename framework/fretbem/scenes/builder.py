@@ -92,7 +92,14 @@ def zone_half_width(scene: Scene) -> float:
             "specimen's face is flat or user-drawn, shape = 'nurbs'); give the candidate zone "
             "in mm as [contact] zone_width"
         )
-    return scene.contact.zone * contact.half_width
+    zone = scene.contact.zone * contact.half_width
+    if not (math.isfinite(zone) and zone > 1e-9 * _half_extent(scene.pad.shape)):
+        raise SceneFileError(
+            f"the Hertz half-width a = {contact.half_width:.3g} mm makes the candidate zone "
+            f"([contact] zone x a = {zone:.3g} mm) vanish against the bodies; check the units "
+            "of [material] E (MPa) and [load] P (N/mm), or give [contact] zone_width in mm"
+        )
+    return zone
 
 
 def reference(scene: Scene):

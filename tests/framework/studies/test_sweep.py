@@ -347,10 +347,9 @@ def _check_table(table):
 
 
 def test_serial_sweep_store_and_resume(tmp_path):
+    from fretbem.studies.sweep.cases import build_simulation
     from fretbem.studies.sweep.run import sweep
     from fretbem.studies.sweep.store import SweepStoreError
-
-    from fretbem.studies.sweep.cases import build_simulation
 
     # read by the scene reader first, a bad value is refused before any solve, by name
     with pytest.raises(SweepSpecError, match=r"'geometry.radius' = -1.0: .*radius must be > 0"):
