@@ -22,6 +22,9 @@ from fretbem.fatigue.from_simulation import SimulationStressHistory
 from fretbem.output.write import write_results
 from fretbem.scenes.builder import build
 from fretbem.simulation import run
+from fretbem.solvers.fallback import with_fallback
+from fretbem.solvers.newton import SolverConvergenceError
+from fretbem.stress.limits import check_points, request_points
 from fretbem.stress.request import stress_request_from_dict
 from fretbem.verification.checks import check_steps
 from fretbem.wear.assess import assess
@@ -103,6 +106,27 @@ def run_wear_request(simulation, request, fatigue_request, mode, say=_quiet):
     return assess(result, request.assess, fatigue_request)
 
 
+def check_requests(simulation, stress, fatigue) -> None:
+    """Refuse stress and fatigue requests too large for the machine, with the estimate."""
+    pair = simulation.pair
+    dofs = max(int(getattr(b, "dofs", 0) or 0) for b in (pair.upper, pair.lower))
+    points = request_points(stress)
+    grid = getattr(stress, "grid", None)
+    where = (
+        f"[stress.grid] nx x ny = {grid.nx} x {grid.ny}"
+        if grid is not None and 2 * grid.nx * grid.ny > points
+        else "[stress] (points, lines and grid)"
+    )
+    check_points(points, dofs, where)
+    if fatigue is not None:
+        nx, nd = fatigue.map_points
+        check_points(nx * nd, dofs, "[fatigue] map_points")
+
+
+def _fallback(simulation):
+    return with_fallback(simulation) or simulation
+
+
 def run_simulation(
     simulation,
     *,
@@ -127,8 +151,18 @@ def run_simulation(
     if wear is not None:  # its laws, cycle and outputs checked against the history now
         _wear_mesh(mode)
         wear.simulation(simulation)
+    check_requests(simulation, stress, fatigue_request)  # refused before any solve
     options = {} if progress is None else {"progress": progress}
-    result = accuracy.solve(simulation, mode, coarse=companion, **options)
+    try:
+        result = accuracy.solve(simulation, mode, coarse=companion, **options)
+    except SolverConvergenceError as failure:
+        retry = with_fallback(simulation)
+        if retry is None:
+            raise
+        say(f"Newton did not converge ({str(failure).split(';')[0]}); solving again with "
+            "Lemke's method on the increments Newton fails on")  # fmt: skip
+        coarse = None if companion is None else (lambda n: _fallback(companion(n)))
+        result = accuracy.solve(retry, mode, coarse=coarse, **options)
     check_steps(result)  # a failed check ends here: nothing is post-processed or written
     others = []
     for other in compare:

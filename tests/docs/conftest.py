@@ -37,11 +37,36 @@ def discovered() -> bool:
         return FAMILY in bases.available()
 
 
-@pytest.fixture(scope="session")
-def cubic_plugin():
-    """examples/custom_basis installed into this environment, as a user installs it.
+def _unpacked(target: Path) -> None:
+    """The package and the ``.dist-info`` with the entry points of its pyproject.toml, as pip
+    writes them, in ``target`` (where no wheel can be built offline)."""
+    import shutil
 
-    Left as found: an install this fixture made is uninstalled afterwards.
+    import tomllib
+
+    project = tomllib.loads((PLUGIN / "pyproject.toml").read_text())["project"]
+    shutil.copytree(PLUGIN / "fretbem_cubic", target / "fretbem_cubic")
+    info = target / f"fretbem_cubic-{project['version']}.dist-info"
+    info.mkdir()
+    (info / "METADATA").write_text(
+        f"Metadata-Version: 2.1\nName: {project['name']}\nVersion: {project['version']}\n"
+    )
+    groups = project["entry-points"]
+    (info / "entry_points.txt").write_text(
+        "".join(
+            f"[{group}]\n" + "".join(f"{k} = {v}\n" for k, v in entries.items())
+            for group, entries in groups.items()
+        )
+    )
+
+
+@pytest.fixture(scope="session")
+def cubic_plugin(tmp_path_factory):
+    """examples/custom_basis built by pip as a user installs it, into a temporary target.
+
+    Nothing is installed into the user's environment: the package and its ``.dist-info``
+    (with the entry points) go to a temporary directory put on ``sys.path`` for the session
+    and removed after, so a killed test run leaves no plugin installed either.
     """
     if discovered():
         yield bases.get(FAMILY)
@@ -50,17 +75,20 @@ def cubic_plugin():
         pytest.skip(
             "pip is not available in this Python, so the example plugin cannot be installed"
         )
-    # offline first (needs setuptools and wheel here), then with an isolated build
-    done = pip("install", "--no-deps", "--no-build-isolation", str(PLUGIN))
+    target = tmp_path_factory.mktemp("plugin-target")
+    # offline (needs setuptools and wheel here); else the files pip would write by hand
+    common = ("install", "--no-deps", "--target", str(target), "--no-warn-script-location")
+    done = pip(*common, "--no-build-isolation", str(PLUGIN))
     if done.returncode != 0:
-        done = pip("install", "--no-deps", str(PLUGIN))
-    assert done.returncode == 0, f"pip install {PLUGIN} failed:\n{done.stdout}\n{done.stderr}"
+        _unpacked(target)
+    sys.path.insert(0, str(target))
     try:
-        assert discovered(), f"{DISTRIBUTION} installed but {FAMILY!r} is not discovered"
+        assert discovered(), f"{DISTRIBUTION} built but {FAMILY!r} is not discovered"
         yield bases.get(FAMILY)
     finally:
-        pip("uninstall", "--yes", DISTRIBUTION)
+        sys.path.remove(str(target))
         for name in [m for m in sys.modules if m.split(".")[0] == "fretbem_cubic"]:
             del sys.modules[name]
         importlib.invalidate_caches()
         bases.refresh()
+        assert not discovered(), "the example plugin is still visible after the session"

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import os
 import shutil
 import subprocess
 import sys
@@ -44,7 +45,9 @@ def test_fretbem_bases_prints_it(cubic_plugin, command):
         argv = [script, "bases"]
     else:
         argv = [sys.executable, "-m", "fretbem.app.cli", "bases"]
-    done = subprocess.run(argv, capture_output=True, text=True, check=False, timeout=60)
+    # the plugin sits in a temporary target on this process's sys.path, not installed
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(p for p in sys.path if p)}
+    done = subprocess.run(argv, capture_output=True, text=True, check=False, timeout=60, env=env)
     assert done.returncode == 0, done.stderr
     lines = {line.split()[0]: line for line in done.stdout.splitlines() if line.strip()}
     assert "lagrange3" in lines and "cubic" in lines["lagrange3"]

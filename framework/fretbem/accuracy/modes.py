@@ -159,8 +159,56 @@ def _uniform(simulation):
     return make
 
 
+#: an estimated error above this fraction of p0 (or f p0) is reported as a caution
+COARSE_ERROR = 0.10
+
+
+def _largest(estimated: dict | None) -> tuple[float, str, str] | None:
+    """(largest estimated max error, its key, its step) or None without an estimate."""
+    if not estimated:
+        return None
+    return max(
+        ((float(e.get(k) or 0.0), k, name) for name, e in estimated.items()
+         for k in ("e_p_max", "e_q_max")),
+        default=None,
+    )  # fmt: skip
+
+
+def _caution(accuracy: dict, estimated: dict | None) -> str | None:
+    """What the user must know about the accuracy: a tolerance the adaptive mesh missed, a
+    coarse fixed mesh, or no estimate at all for a mesh too coarse to have one."""
+    largest = _largest(estimated)
+    if accuracy.get("mesh") == "adaptive" and largest is not None:
+        tolerance = accuracy.get("tolerance")
+        if tolerance is not None and largest[0] > tolerance:
+            return (
+                f"the adaptive mesh stopped at {max(accuracy['levels'])} pairs (its budget) "
+                f"with an estimated {largest[1]} of {100 * largest[0]:.3g} % at step "
+                f"{largest[2]!r}, above the tolerance of {100 * tolerance:.3g} %: raise "
+                "[contact] budget, or accept a larger tolerance"
+            )
+    elif largest is not None and largest[0] > COARSE_ERROR:
+        return (
+            f"the estimated {largest[1]} is {100 * largest[0]:.3g} % at step {largest[2]!r}: "
+            "the contact mesh is coarse; raise [contact] pairs (or use mesh = 'adaptive' "
+            "with a tolerance)"
+        )
+    elif largest is None and "too few" in str(accuracy.get("estimate_reason") or ""):
+        return (
+            f"{max(accuracy['levels'])} pairs (too coarse) give no estimate, so the error is "
+            f"unknown (and likely large); use at least {2 * MIN_COMPANION + 1} pairs"
+        )
+    return None
+
+
 def _attach(result, estimated: dict | None, accuracy: dict):
     """The result with each step's estimate and the run's accuracy record."""
+    caution = _caution(accuracy, estimated)
+    if caution is not None:
+        accuracy = {
+            **accuracy,
+            "caution": caution + ("; " + accuracy["caution"] if accuracy.get("caution") else ""),
+        }
     steps = result.steps
     if estimated is not None:
         steps = tuple(attrs.evolve(s, estimate=Estimate.of(estimated[s.name])) for s in steps)

@@ -103,7 +103,20 @@ def zone_table(result, reason: str | None = None) -> str:
             f"Hertz: a = {hertz.half_width:.4f} mm, p0 = {hertz.peak_pressure:.2f} MPa at "
             f"P = {hertz.load:g} N/mm"
         )
-        lines.append(f"errors against the closed form: {name} (half-plane theory)")
+        finite = any(
+            getattr(body, "describe", dict)().get("model") == "bem"
+            for body in (result.simulation.pair.upper, result.simulation.pair.lower)
+        )
+        lines.append(
+            f"errors against the closed form: {name} (half-plane theory)"
+            + (
+                "; for finite bodies they are the difference from half-plane theory (the "
+                "bodies' size and the pad's tilt under Q move the contact too), not the "
+                "discretisation error: that is the est columns"
+                if finite
+                else ""
+            )
+        )
     else:
         why = f" ({reason})" if reason else ""
         lines.append(f"no closed form applies to this scene{why}: the errors columns are n/a")

@@ -155,7 +155,7 @@ class FatigueMaterial:
             raise MissingFatigueDataError(
                 f"{purpose} needs {missing} for material {self.name!r}, which has no sourced "
                 "value for them: give them in the [fatigue.constants] table (e.g. "
-                f"{missing[0]} = ...) or with FatigueMaterial.with_values"
+                f"{missing[0]} = ...)"
             )
         return found
 

@@ -72,7 +72,8 @@ def _check_zone(zone: float, half_width: float, what: str) -> None:
     if not 0.0 < zone < half_width:
         raise ShapeError(
             f"the candidate contact zone (half-width {zone:.4g} mm) must lie inside the "
-            f"{what} face (half-width {half_width:.4g} mm); lower 'zone' or widen the {what}"
+            f"{what} face (half-width {half_width:.4g} mm); lower [contact] zone (or zone_width) "
+            f"or widen the {what}"
         )
 
 

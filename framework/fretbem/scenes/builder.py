@@ -44,6 +44,9 @@ __all__ = [
 
 #: element size ratio on sides, ends, top and bottom, graded toward their corners
 CORNER_RATIO = 50.0
+#: largest Hertz half-width over the smaller face radius where the half-plane closed forms
+#: (Hertz, Mindlin-Deresiewicz, Nowell-Hills) are compared: they assume a << R
+MAX_A_OVER_R = 0.1
 
 
 def zone_elements(family: type[Basis], pairs: int, degree: int | None) -> int:
@@ -113,7 +116,14 @@ def zone_half_width(scene: Scene) -> float:
             "specimen's face is flat or user-drawn, shape = 'nurbs'); give the candidate zone "
             "in mm as [contact] zone_width"
         )
-    return scene.contact.zone * contact.half_width
+    zone = scene.contact.zone * contact.half_width
+    if not (math.isfinite(zone) and zone > 1e-9 * _half_extent(scene.pad.shape)):
+        raise SceneFileError(
+            f"the Hertz half-width a = {contact.half_width:.3g} mm makes the candidate zone "
+            f"([contact] zone x a = {zone:.3g} mm) vanish against the bodies; check the units "
+            "of [material] E (MPa) and [load] P (N/mm), or give [contact] zone_width in mm"
+        )
+    return zone
 
 
 def reference(scene: Scene):
@@ -126,6 +136,14 @@ def reference(scene: Scene):
         return None, "no Hertz contact (a flat or user-drawn face)"
     if pad.plane_stress != specimen.plane_stress:
         return None, "one body in plane stress, the other in plane strain"
+    radius = min(1.0 / c for c in (scene.pad.shape.curvature, scene.specimen.shape.curvature) if c)
+    if contact.half_width / radius > MAX_A_OVER_R:
+        return None, (
+            f"a / R = {contact.half_width / radius:.2g} is outside half-plane theory's validity "
+            f"(a / R <= {MAX_A_OVER_R:g}: a contact small against the radius), so Hertz and "
+            "Mindlin-Deresiewicz are not compared; the est columns give the discretisation "
+            "error"
+        )
     beta = dundurs_beta(pad.E, pad.nu, specimen.E, specimen.nu, plane_stress=pad.plane_stress)
     if abs(beta) > 1e-12:
         return None, f"dissimilar materials (Dundurs beta = {beta:.3g}) couple p and q"

@@ -50,7 +50,7 @@ class SceneEstimate:
     def describe(self) -> str:
         """One line: unknowns, solves, memory and time."""
         return (
-            f"about {self.dofs} boundary DOFs and {self.increments} contact solves: "
+            f"about {self.dofs} boundary DOFs and {self.increments} contact solves, estimated "
             f"{_size(self.memory)} of memory and {_duration(self.seconds)}"
         )
 

@@ -64,3 +64,21 @@ class FallbackSolver(Solver):
             len(spent) + result.iterations,
             (*spent, *result.residuals),
         )
+
+
+def with_fallback(simulation):
+    """``simulation`` with its Newton solver wrapped in a fallback to Lemke's method, or None
+    when its solver is not the plain Newton solver (an explicit choice is kept).
+
+    The run pipeline uses it to retry a run whose Newton iteration failed (bulk stress
+    already in the first step, for instance) instead of reporting the failure.
+    """
+    solver = getattr(simulation, "solver", None)
+    if type(solver) is not SemiSmoothNewton:
+        return None
+    fallback = FallbackSolver(
+        primary=attrs.evolve(solver, max_substeps=0),
+        fallback=LemkeSolver(),
+        max_substeps=solver.max_substeps,
+    )
+    return attrs.evolve(simulation, solver=fallback)

@@ -318,9 +318,10 @@ class SemiSmoothNewton(Solver):
                 # Simulation can sub-step the increment
                 raise NewtonConvergenceError(
                     f"the contact Newton iteration separated every pair at iteration "
-                    f"{iteration} although the loading blocks carry a force; split the load "
-                    "step into sub-increments (LoadStep(increments=...)) or allow automatic "
-                    "sub-stepping (SemiSmoothNewton(max_substeps=...))",
+                    f"{iteration} although the loading blocks carry a force; set [contact] "
+                    "solver = 'lemke', or split the steps into sub-increments ([load] "
+                    "increments; in Python LoadStep(increments=...) or "
+                    "SemiSmoothNewton(max_substeps=...))",
                     history,
                     np.arange(n),
                 )
@@ -347,10 +348,10 @@ class SemiSmoothNewton(Solver):
             f"the contact Newton iteration did not converge in {self.max_iterations} iterations "
             f"(last residual {history[-1]:.3g}, tolerance {self.tolerance:.1g}); pairs "
             f"{changing.tolist()} kept changing state "
-            f"({', '.join(STATE_NAMES[s] for s in np.unique(recent[:, changing]))}). Split the "
-            "load step into sub-increments (LoadStep(increments=...)), allow automatic "
-            "sub-stepping (SemiSmoothNewton(max_substeps=...)), or refine the contact "
-            "discretisation",
+            f"({', '.join(STATE_NAMES[s] for s in np.unique(recent[:, changing]))}); set "
+            "[contact] solver = 'lemke', split the steps into sub-increments ([load] "
+            "increments; in Python LoadStep(increments=...) or "
+            "SemiSmoothNewton(max_substeps=...)), or refine the contact discretisation",
             history,
             changing,
         )

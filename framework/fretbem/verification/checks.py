@@ -48,6 +48,13 @@ class TangentialIndeterminacyError(ResultCheckError):
     check = "tangential_hold"
 
 
+class ConsistencyError(ResultCheckError):
+    """A result's reported arrays are not those its solved unknowns give (edited after the
+    solve): it must not be written beside checks that passed on other numbers."""
+
+    check = "consistency"
+
+
 class StepNameError(InputError):
     """Load step names that are missing, duplicated or not text."""
 
@@ -175,6 +182,26 @@ def zone_edge(
     return record
 
 
+def _hold_advice(ratio: float, width: float, spacing: float) -> str:
+    """What makes the stick zone resolvable: its expected width (Cattaneo-Mindlin, c/a =
+    sqrt(1 - |Q|/(f P))) against the pair spacing, so the advice says how many pairs."""
+    if not (0.0 <= ratio < 1.0) or not (width > 0 and spacing > 0):
+        return "keep |Q| below f P (the [load] Q values under [contact] friction x P)"
+    stick = width * math.sqrt(1.0 - ratio)  # expected stick-zone width, mm
+    factor = 3.0 * spacing / stick  # three pairs across the stick zone
+    if factor <= 4.0:
+        return (
+            f"the stick zone should be about {stick:.3g} mm wide: raise [contact] pairs about "
+            f"{max(factor, 1.5):.2g} times, or keep |Q| further below f P"
+        )
+    limit = 1.0 - (3.0 * spacing / width) ** 2
+    return (
+        f"the stick zone should be only about {stick:.3g} mm wide, which would need about "
+        f"{factor:.3g} times the pairs: keep |Q| / (f P) below about {max(limit, 0.0):.3g} "
+        "with these pairs (the [load] Q values), or raise [contact] friction"
+    )
+
+
 def tangential_hold(
     x: np.ndarray,
     states: np.ndarray,
@@ -227,8 +254,7 @@ def tangential_hold(
         raise TangentialIndeterminacyError(
             f"step {step!r}: nothing holds the body tangentially ({cause}): |Q| / (f P) = "
             f"{ratio:.6g}, stick-zone width {stick_width:.4g} mm against a pair spacing of "
-            f"{spacing:.4g} mm; use more pairs (so the stick zone spans several of them) or "
-            "keep |Q| further below f P",
+            f"{spacing:.4g} mm; {_hold_advice(ratio, width, spacing)}",
             runaway,
         )
     return record
@@ -307,7 +333,49 @@ def check_steps(result, *, raise_error: bool = True) -> list[dict[str, CheckReco
     ``raise_error``. Used before any output is written (fretbem.output) and by the CLI.
     """
     friction = float(result.describe().get("friction", math.nan))
+    consistent(result)
     return [check_step(s, friction, raise_error=raise_error) for s in result.steps]
+
+
+def consistent(result) -> None:
+    """The tractions and resultants reported are those of the solved unknowns.
+
+    The checks run on the step's resultant (from the unknowns) while the writers write its
+    ``pressure`` and ``shear``: a result whose arrays were replaced after the solve (e.g.
+    ``attrs.evolve(step, pressure=2 * p)``) is refused here instead of being written beside
+    checks that passed on the original numbers.
+    """
+    try:
+        problem = result.simulation.prepare()
+        force_map = problem.lower_force_map
+        normal, tangent = result.simulation.frame()
+    except AttributeError:  # a result without its simulation: arrays only
+        problem = None
+    for step in result.steps:
+        if step.layout is None:
+            continue
+        unknowns = step.pair_unknowns
+        for name, solved in (("pressure", unknowns.pressure), ("shear", unknowns.shear)):
+            written = np.asarray(getattr(step, name), float)
+            if written.shape != np.shape(solved) or not np.allclose(
+                written, solved, rtol=1e-12, atol=1e-12 * max(1.0, float(np.max(np.abs(solved))))
+            ):
+                raise ConsistencyError(
+                    f"step {step.name!r}: its {name} is not the one its solved unknowns give "
+                    "(the result was edited after the solve); re-run the simulation instead "
+                    "of editing a result"
+                )
+        if problem is not None and np.size(step.unknowns) == force_map.shape[1]:
+            force = force_map @ np.asarray(step.unknowns, float)
+            resultant = (float(-force @ normal), float(force @ tangent))
+            scale = max(abs(step.normal), abs(step.tangential), 1e-300)
+            if max(abs(a - b) for a, b in zip(resultant, step.resultant, strict=True)) > (
+                1e-9 * scale
+            ):
+                raise ConsistencyError(
+                    f"step {step.name!r}: its resultant {step.resultant} is not the one its "
+                    f"unknowns give {resultant} (the result was edited after the solve)"
+                )
 
 
 def check_step(step, friction: float, *, raise_error: bool = True) -> dict[str, CheckRecord]:

@@ -265,10 +265,10 @@ def test_output_functions_add_columns():
     assert row["e_q_max.A"] < 1e-10  # no tangential load yet: q = 0 exactly
     assert row["e_p_max.B"] == pytest.approx(0.051, abs=0.005)
     assert row["e_q_max.C"] == pytest.approx(0.110, abs=0.01)
-    with pytest.raises(SweepSpecError, match="module:function"):
-        sweep(SCENE, {"load.P": [90.0]}, out="unused", serial=True, outputs=["nope"])
-    with pytest.raises(SweepSpecError, match="cannot import"):
-        sweep(SCENE, {"load.P": [90.0]}, out="unused", serial=True, outputs=["fretbem:nope"])
+    # only registered outputs: a sweep file cannot call any installed function
+    for name in ("nope", "fretbem:nope", "os:getcwd", "builtins:exit"):
+        with pytest.raises(SweepSpecError, match="not a registered sweep output"):
+            sweep(SCENE, {"load.P": [90.0]}, out="unused", serial=True, outputs=[name])
 
 
 def test_surface_stress_output_reuses_the_evaluator():
@@ -347,26 +347,36 @@ def _check_table(table):
 
 
 def test_serial_sweep_store_and_resume(tmp_path):
+    from fretbem.studies.sweep.cases import build_simulation
     from fretbem.studies.sweep.run import sweep
     from fretbem.studies.sweep.store import SweepStoreError
 
-    whole = sweep(SCENE, PARAMETERS, out=tmp_path / "whole", serial=True, batch=4)
+    # read by the scene reader first, a bad value is refused before any solve, by name
+    with pytest.raises(SweepSpecError, match=r"'geometry.radius' = -1.0: .*radius must be > 0"):
+        sweep(SCENE, PARAMETERS, out=tmp_path / "refused", serial=True)
+    assert not (tmp_path / "refused").exists()
+    # a group whose bodies fail to build (here: a builder that reads no value first) fails
+    # its cases as rows, not the sweep
+    whole = sweep(SCENE, PARAMETERS, out=tmp_path / "whole", serial=True, batch=4,
+                  builder=build_simulation)  # fmt: skip
     _check_table(whole.table)
     assert whole.summary.stored == 18 and whole.summary.groups == 3
     assert "6 error" in str(whole.summary) and "gross slip" in str(whole.summary)
     # interrupted after 2 tasks, then completed: the same table
-    part = sweep(SCENE, PARAMETERS, out=tmp_path / "part", serial=True, batch=4, limit=2)
+    part = sweep(SCENE, PARAMETERS, out=tmp_path / "part", serial=True, batch=4, limit=2,
+                 builder=build_simulation)  # fmt: skip
     assert part.summary.stopped and part.summary.stored == 6  # batches of 4 + 2 in group 1
     (tmp_path / "part" / ".cases-junk.parquet.tmp").write_bytes(b"half a file")  # killed write
-    rest = sweep(SCENE, PARAMETERS, out=tmp_path / "part", serial=True, batch=5)
+    rest = sweep(SCENE, PARAMETERS, out=tmp_path / "part", serial=True, batch=5,
+                 builder=build_simulation)  # fmt: skip
     assert rest.summary.skipped == 6 and rest.summary.solved_now == 12
     pd.testing.assert_frame_equal(_results(rest.table), _results(whole.table))
-    again = sweep(SCENE, PARAMETERS, out=tmp_path / "part", serial=True)
+    again = sweep(SCENE, PARAMETERS, out=tmp_path / "part", serial=True, builder=build_simulation)
     assert again.summary.solved_now == 0 and again.summary.tasks == 0
     (tmp_path / "notes").mkdir()
     (tmp_path / "notes" / "thesis.tex").write_text("precious")
     with pytest.raises(SweepStoreError, match="not a sweep store"):
-        sweep(SCENE, PARAMETERS, out=tmp_path / "notes", serial=True)
+        sweep(SCENE, PARAMETERS, out=tmp_path / "notes", serial=True, builder=build_simulation)
     assert (tmp_path / "notes" / "thesis.tex").read_text() == "precious"
     with pytest.raises(SweepStoreError, match="another sweep"):
         sweep(SCENE, {"load.P": [90.0]}, out=tmp_path / "part", serial=True)
@@ -419,9 +429,11 @@ def test_local_cluster_equals_serial_and_resumes(tmp_path):
     pytest.importorskip("distributed")
     from dask.distributed import Client
 
+    from fretbem.studies.sweep.cases import build_simulation
     from fretbem.studies.sweep.run import _local_cluster, sweep
 
-    serial = sweep(SCENE, PARAMETERS, out=tmp_path / "serial", serial=True)
+    serial = sweep(SCENE, PARAMETERS, out=tmp_path / "serial", serial=True,
+                   builder=build_simulation)  # fmt: skip
     with _local_cluster(2) as cluster:  # a running scheduler, named by its address
         first = sweep(
             SCENE,
@@ -430,13 +442,15 @@ def test_local_cluster_equals_serial_and_resumes(tmp_path):
             scheduler=cluster.scheduler_address,
             batch=3,
             limit=2,
+            builder=build_simulation,
         )
         assert first.summary.mode == "dask" and first.summary.stopped
         assert first.summary.stored == 6  # two tasks of 3 cases
         with Client(cluster) as client:
             assert len(client.scheduler_info()["workers"]) == 2  # still up: not ours to close
     # completed on a cluster of its own (started while this process solves the first tasks)
-    rest = sweep(SCENE, PARAMETERS, out=tmp_path / "dask", workers=2, batch=3)
+    rest = sweep(SCENE, PARAMETERS, out=tmp_path / "dask", workers=2, batch=3,
+                 builder=build_simulation)  # fmt: skip
     assert rest.summary.stored == 18 and rest.summary.skipped == 6
     assert rest.summary.workers == 2 and rest.summary.mode == "dask"
     assert rest.table["worker"].nunique() >= 2  # cases solved in several processes

@@ -3,7 +3,6 @@
 The names of :mod:`.study` are re-exported here.
 """
 
-
 from .study import (
     COLUMNS,
     FAMILIES,

@@ -23,12 +23,12 @@ from typing import Any
 import attrs
 import numpy as np
 
-from fretbem.accuracy.modes import Accuracy
+from fretbem.accuracy.modes import Accuracy, mode_of
 from fretbem.contact.law import CoulombFriction
 from fretbem.contact.pairs import SEPARATED, SLIP, STICK
 from fretbem.errors import ComputationError
 from fretbem.fretting import analyse
-from fretbem.pipeline import run_simulation
+from fretbem.pipeline import run_scene, run_simulation
 from fretbem.scenes import builder as scene_build
 from fretbem.scenes.file import scene_from_data
 from fretbem.scenes.reference import CattaneoMindlinScene, cattaneo_mindlin
@@ -235,6 +235,11 @@ def _error(err: BaseException) -> str:
     return f"{type(err).__name__}: {err}"
 
 
+def _adaptive(scene: Mapping | None) -> bool:
+    contact = (scene or {}).get("contact")
+    return isinstance(contact, Mapping) and contact.get("mesh") == "adaptive"
+
+
 def solve_case(simulation, loading: Loading, outputs=(), scene=None) -> dict[str, Any]:
     """Solve one case on the group's problem; returns its output columns.
 
@@ -256,7 +261,13 @@ def solve_case(simulation, loading: Loading, outputs=(), scene=None) -> dict[str
             row[f"regime.{step.name}"] = "gross slip" if step.name in refused else "not run"
         return row
     tic, cpu = time.perf_counter(), time.process_time()
-    result = run_simulation(with_loading(simulation, loading), mode=FIXED).result
+    if _adaptive(scene):
+        # an adaptive scene re-meshes per case: solved whole, as `fretbem run` solves it
+        record = parse_scene(scene)
+        result = run_scene(record, mode=mode_of(record)).result
+    else:
+        result = run_simulation(with_loading(simulation, loading), mode=FIXED).result
+    row["pairs"] = int(result.describe()["pairs"])
     row["solve_seconds"] = time.perf_counter() - tic
     row["solve_cpu_seconds"] = time.process_time() - cpu
     if any(not s.controls.by_force for s in getattr(result.simulation, "steps", ())):
@@ -315,7 +326,7 @@ def run_batch(
             loading = case_loading(case_scene)
             if failure is not None:
                 raise GroupBuildError(f"the group's bodies could not be built: {failure}")
-            context = {**case_scene, **(extras or {})}
+            context = {**(extras or {}), **case_scene}  # swept [fatigue] keys win
             row.update(solve_case(simulation, loading, functions, context))
         except Exception as err:
             row.update(status="error", error=_error(err), regime="")

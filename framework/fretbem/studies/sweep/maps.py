@@ -145,24 +145,94 @@ def _name(*parts: str) -> str:
 
 
 def default_maps(paths: Sequence[str]) -> list[dict]:
-    """With two or more varied parameters: the regime over the first two."""
-    return [{"x": paths[0], "y": paths[1], "column": "regime"}] if len(paths) >= 2 else []
+    """The regime over the first two varied parameters (over the one, as a line plot)."""
+    if len(paths) >= 2:
+        return [{"x": paths[0], "y": paths[1], "column": "regime"}]
+    return [{"x": paths[0], "column": "regime"}] if paths else []
+
+
+def line_plot(table, column: str, x: str, *, where=None, ax=None, title=None):
+    """``column`` (or the regime, as its code) against one varied parameter ``x``."""
+    rows = _select(table, x, x, where)
+    if column not in rows:
+        outputs = sorted(c for c in rows.columns if "." in c and c != x)
+        raise SweepSpecError(f"no output column {column!r}; columns include {outputs[:16]}")
+    rows = rows.sort_values(x)
+    if ax is None:
+        ax = _axes()
+    if column == "regime":
+        codes = [REGIMES.index(r) if r in REGIMES else np.nan for r in rows["regime"]]
+        ax.plot(rows[x].to_numpy(float), codes, "o-")
+        ax.set_yticks(range(len(REGIMES)), REGIMES)
+    else:
+        ax.plot(rows[x].to_numpy(float), rows[column].to_numpy(float), "o-")
+        ax.set_ylabel(column)
+    ax.set_xlabel(x)
+    ax.set_title(title or f"{column} over {x} ({len(rows)} cases)")
+    return ax
+
+
+MAP_KEYS = {"x", "y", "column", "where", "title"}
+
+
+def map_entries(spec) -> list[Mapping]:
+    """The sweep's ``[[maps]]`` (or the default) as a list of tables."""
+    maps = spec.options.get("maps", default_maps(spec.paths))
+    return [maps] if isinstance(maps, Mapping) else list(maps)
+
+
+def check_maps(spec, columns: set[str] | None) -> None:
+    """Refuse, before any case is solved, a ``[[maps]]`` entry that cannot be drawn.
+
+    ``x``, ``y`` and the ``where`` keys must be varied parameters; ``column`` must be one
+    the sweep will write (``columns``; None when an output does not declare its columns,
+    then only the parameters are checked).
+    """
+    paths = list(spec.paths)
+    for k, entry in enumerate(map_entries(spec)):
+        here = f"[[maps]] #{k + 1}"
+        if not isinstance(entry, Mapping) or "x" not in entry:
+            raise SweepSpecError(f"{here} needs x (and y for a map), key paths; got {entry!r}")
+        unknown = set(entry) - MAP_KEYS
+        if unknown:
+            raise SweepSpecError(f"{here}: unknown keys {sorted(unknown)}; the keys are "
+                                 f"{sorted(MAP_KEYS)}")  # fmt: skip
+        axes = [entry["x"], *([entry["y"]] if "y" in entry else [])]
+        where = entry.get("where") or {}
+        if not isinstance(where, Mapping):
+            raise SweepSpecError(f"{here}: where must be a table {{path = value}}")
+        for name in (*axes, *where):
+            if name not in paths:
+                raise SweepSpecError(
+                    f"{here}: {name!r} is not a varied parameter; map over {paths}"
+                )
+        column = entry.get("column", "regime")
+        if not isinstance(column, str):
+            raise SweepSpecError(f"{here}: column must be a column name, got {column!r}")
+        if columns is not None and column not in columns and column not in paths:
+            close = sorted(c for c in columns if c.split(".")[0] == column.split(".")[0])
+            raise SweepSpecError(
+                f"{here}: the sweep writes no column {column!r}"
+                + (f"; did you mean one of {close[:8]}" if close else "")
+                + f"; columns: {sorted(columns)[:24]}"
+            )
 
 
 def draw_maps(table, spec, directory: str | Path) -> list[Path]:
-    """Draw the sweep's ``[[maps]]`` (x, y, column, optional where) into ``directory``."""
-    maps = spec.options.get("maps", default_maps(spec.paths))
-    if isinstance(maps, Mapping):
-        maps = [maps]
+    """Draw the sweep's ``[[maps]]`` (x, y, column, optional where) into ``directory``.
+
+    An entry without ``y`` is a line plot of ``column`` over ``x``."""
+    check_maps(spec, None)
     figures = []
-    for entry in maps:
-        if not isinstance(entry, Mapping) or not {"x", "y"} <= set(entry):
-            raise SweepSpecError(f"each [[maps]] entry needs x and y (key paths), got {entry!r}")
-        unknown = set(entry) - {"x", "y", "column", "where", "title"}
-        if unknown:
-            raise SweepSpecError(f"unknown keys {sorted(unknown)} in a [[maps]] entry")
+    for entry in map_entries(spec):
         column = entry.get("column", "regime")
         where = entry.get("where")
+        if "y" not in entry:
+            ax = line_plot(table, column, entry["x"], where=where, title=entry.get("title"))
+            path = Path(directory) / _name(column, entry["x"])
+            ax.figure.savefig(path, dpi=120)
+            figures.append(path)
+            continue
         if column == "regime":
             ax = regime_map(table, entry["x"], entry["y"], where=where, title=entry.get("title"))
         else:
@@ -175,4 +245,13 @@ def draw_maps(table, spec, directory: str | Path) -> list[Path]:
     return figures
 
 
-__all__ = ["REGIME_COLOURS", "column_map", "default_maps", "draw_maps", "regime_map"]
+__all__ = [
+    "REGIME_COLOURS",
+    "check_maps",
+    "column_map",
+    "default_maps",
+    "draw_maps",
+    "line_plot",
+    "map_entries",
+    "regime_map",
+]

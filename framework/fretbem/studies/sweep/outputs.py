@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from fretbem.fatigue.critical_plane import METHODS
 from fretbem.fatigue.from_simulation import SimulationStressHistory
 from fretbem.fatigue.request import fatigue_request_from_dict
 from fretbem.fatigue.run import run_fatigue
@@ -24,20 +25,43 @@ from .spec import SweepSpecError
 OutputFunction = Callable[[Any, Mapping], Mapping[str, Any]]
 
 
+#: entry-point group where a plugin registers further sweep outputs (name = "module:function")
+ENTRY_POINTS = "fretbem.sweep_outputs"
+
+
+def registered() -> dict[str, str]:
+    """Every sweep output: short name -> ``"module:function"`` (built-ins and plugins)."""
+    from importlib.metadata import entry_points
+
+    names = {name: f"{__name__}:{name}" for name in BUILT_IN}
+    for entry in entry_points(group=ENTRY_POINTS):
+        names.setdefault(entry.name, entry.value)
+    return names
+
+
 def resolve(name: str) -> OutputFunction:
-    """The function ``"package.module:function"`` names (SweepSpecError if it cannot)."""
-    module_name, sep, attribute = str(name).partition(":")
-    if not sep or not module_name or not attribute:
+    """The registered output ``name`` (short name or its ``"module:function"``).
+
+    Only registered outputs are accepted: a sweep file cannot import and call an arbitrary
+    installed function (``"os:getcwd"``). A plugin registers an output in the
+    ``fretbem.sweep_outputs`` entry-point group.
+    """
+    names = registered()
+    target = names.get(name) if isinstance(name, str) else None
+    if target is None and isinstance(name, str) and name in names.values():
+        target = name
+    if target is None:
         raise SweepSpecError(
-            f"an output is named 'package.module:function', got {name!r} "
-            "(e.g. 'fretbem.studies.sweep.outputs:reference_errors')"
+            f"[sweep] outputs: {name!r} is not a registered sweep output; registered: "
+            f"{sorted(names)} (a plugin adds one in the {ENTRY_POINTS!r} entry-point group)"
         )
+    module_name, _, attribute = target.partition(":")
     try:
         function = getattr(importlib.import_module(module_name), attribute)
     except (ImportError, AttributeError) as err:
-        raise SweepSpecError(f"cannot import the output function {name!r}: {err}") from err
+        raise SweepSpecError(f"[sweep] outputs: cannot load {name!r} ({target}): {err}") from None
     if not callable(function):
-        raise SweepSpecError(f"the output {name!r} is not a function")
+        raise SweepSpecError(f"[sweep] outputs: {name!r} ({target}) is not a function")
     return function
 
 
@@ -46,6 +70,18 @@ def resolve_all(names: Sequence[str]) -> tuple[OutputFunction, ...]:
     if isinstance(names, str):
         names = [names]
     return tuple(resolve(n) for n in names)
+
+
+def declared_columns(names: Sequence[str], steps: Sequence[str], tables: Mapping) -> set | None:
+    """The columns the outputs will add (for checking [[maps]] before solving); None when an
+    output does not declare its columns (a plugin's without a ``columns`` attribute)."""
+    columns: set[str] = set()
+    for name in [names] if isinstance(names, str) else names:
+        declare = getattr(resolve(name), "columns", None)
+        if declare is None:
+            return None
+        columns |= set(declare(steps, tables))
+    return columns
 
 
 def reference_errors(result, scene: Mapping) -> dict[str, float]:
@@ -65,6 +101,13 @@ def reference_errors(result, scene: Mapping) -> dict[str, float]:
 #: per process: one stress evaluator per contact pair (its matrix depends on the body and
 #: the points only, so every case of a group reuses it)
 _EVALUATORS: dict[int, Any] = {}
+
+
+def _reference_columns(steps, tables) -> list[str]:
+    return [f"{k}.{s}" for s in steps for k in ("e_p_max", "e_q_max")]
+
+
+reference_errors.columns = _reference_columns  # type: ignore[attr-defined]
 
 
 def _surface_evaluator(result):
@@ -92,6 +135,12 @@ def surface_stress(result, scene: Mapping) -> dict[str, float]:
     columns = {f"sxx_max.{s.name}": float(v) for s, v in zip(result.steps, peaks, strict=True)}
     columns["sxx_max"] = float(peaks.max())
     return columns
+
+
+surface_stress.columns = lambda steps, tables: [  # type: ignore[attr-defined]
+    "sxx_max",
+    *(f"sxx_max.{s}" for s in steps),
+]
 
 
 def fatigue(result, scene: Mapping) -> dict[str, Any]:
@@ -123,10 +172,29 @@ def fatigue(result, scene: Mapping) -> dict[str, Any]:
     return columns
 
 
+def _fatigue_columns(steps, tables) -> list[str]:
+    table = tables.get("fatigue") if isinstance(tables, Mapping) else None
+    methods = METHODS
+    if isinstance(table, Mapping) and isinstance(table.get("methods"), (list, str)):
+        methods = [table["methods"]] if isinstance(table["methods"], str) else table["methods"]
+    keys = ("parameter", "life", "life_note", "x", "depth")
+    return [f"{m}.{k}" for m in methods for k in keys]
+
+
+fatigue.columns = _fatigue_columns  # type: ignore[attr-defined]
+
+#: the built-in outputs, by short name
+BUILT_IN = ("surface_stress", "fatigue", "reference_errors")
+
+
 __all__ = [
+    "BUILT_IN",
+    "ENTRY_POINTS",
     "OutputFunction",
+    "declared_columns",
     "fatigue",
     "reference_errors",
+    "registered",
     "resolve",
     "resolve_all",
     "surface_stress",

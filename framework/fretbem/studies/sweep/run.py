@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import argparse
 import concurrent.futures
+import copy
+import json
 import logging
 import math
 import os
@@ -26,14 +28,16 @@ from typing import Any
 
 import attrs
 
-from fretbem.errors import ComputationError
+from fretbem.errors import ComputationError, FretbemError
+from fretbem.output.staging import output_lock
+from fretbem.scenes.file import scene_from_data
 
-from .cases import REGIMES, representative, run_batch
+from .cases import REGIMES, STEP_COLUMNS, case_loading, representative, run_batch
 from .labelled import sweep_dataset
-from .maps import draw_maps
-from .outputs import resolve_all
-from .spec import SweepSpec, SweepSpecError, load_sweep
-from .store import SweepStore, SweepStoreError
+from .maps import check_maps, draw_maps
+from .outputs import declared_columns, resolve_all
+from .spec import SweepSpec, SweepSpecError, load_sweep, set_path
+from .store import SweepStore, read_table
 
 #: environment of the local cluster's workers: one BLAS thread per process
 BLAS_ENV = {
@@ -413,6 +417,84 @@ def _run_dask(
     return n_workers, stopped, lost, "dask"
 
 
+#: most cases of one sweep: planning holds every case's scene in memory (about 20 kB each
+#: with its copies) and a store of more is better split into several sweeps
+MAX_CASES = 100_000
+#: planning cost per case measured on the reference scene (deep copy, group key), seconds
+PLAN_SECONDS_PER_CASE = 1e-4
+
+
+def check_size(spec: SweepSpec) -> None:
+    """Refuse a sweep too large to plan, with its case count and the estimate."""
+    count = spec.count()
+    if count > MAX_CASES:
+        shape = " x ".join(str(len(p.values)) for p in spec.parameters)
+        raise SweepError(
+            f"[parameters]: {shape} = {count} cases, more than {MAX_CASES} (planning alone "
+            f"would hold about {count * 20 / 2**20 * 1024:.3g} MB and take about "
+            f"{count * PLAN_SECONDS_PER_CASE:.3g} s before the first solve); split the sweep "
+            "into several files over ranges of one parameter, or use fewer values (num)"
+        )
+
+
+def check_values(spec: SweepSpec, builder=None) -> None:
+    """Every value of every parameter read as the scene file reader reads it, before any
+    case is solved: a value the reader refuses (``contact.pairs = true``, a negative
+    friction, an unphysical fatigue constant) is refused here naming the parameter.
+
+    Each value is tried with the other parameters at their first value (values valid
+    only in some combinations still fail their own cases, with the message).
+    """
+    if builder is not None:
+        return  # a custom builder reads its own scenes
+    from fretbem.pipeline import requests
+
+    for parameter in spec.parameters:
+        for value in dict.fromkeys(map(_hashable, parameter.values)):
+            scene = copy.deepcopy(spec.scene)
+            for other in spec.parameters:
+                chosen = value if other is parameter else other.values[0]
+                set_path(scene, other.path, other.scene_value(_plain(chosen)))
+            try:
+                record = scene_from_data(scene)
+                if hasattr(record, "extras"):
+                    requests(record.extras)
+            except FretbemError as err:
+                raise SweepSpecError(
+                    f"[parameters] {parameter.path!r} = {_plain(value)!r}: {err}"
+                ) from None
+
+
+def _hashable(value):
+    return json.dumps(value, sort_keys=True) if isinstance(value, (list, dict)) else value
+
+
+def _plain(value):
+    if isinstance(value, str) and value[:1] in "[{":
+        try:
+            return json.loads(value)
+        except ValueError:
+            return value
+    return value
+
+
+def sweep_columns(spec: SweepSpec, outputs: Sequence[str]) -> set[str] | None:
+    """The columns the sweep will write (None when an output does not declare its own)."""
+    scene = copy.deepcopy(spec.scene)
+    for parameter in spec.parameters:
+        set_path(scene, parameter.path, parameter.scene_value(parameter.values[0]))
+    try:
+        steps = [step.name for step in case_loading(scene).steps]
+    except Exception:
+        steps = []
+    declared = declared_columns(outputs, steps, spec.scene)
+    if declared is None:
+        return None
+    base = {"case", "status", "error", "regime", "friction", "P_max", "Q_peak", "pairs"}
+    per_step = {f"{c}.{s}" for c in STEP_COLUMNS for s in steps}
+    return base | per_step | set(spec.paths) | declared
+
+
 def run_sweep(
     spec: SweepSpec,
     out: str | Path,
@@ -436,9 +518,22 @@ def run_sweep(
     outputs = spec.options.get("outputs", ())
     outputs = (outputs,) if isinstance(outputs, str) else tuple(outputs)
     resolve_all(outputs)  # a bad name fails here, not on every case
+    check_size(spec)
+    check_values(spec, builder)  # a bad value fails here, naming its parameter, not as error rows
+    check_maps(spec, sweep_columns(spec, outputs))  # a map typo fails before any solve
     #: post-processing tables of the sweep file, handed to the output functions with the scene
     extras = {k: v for k, v in spec.options.items() if k in POST_TABLES}
     start = time.perf_counter()
+    with output_lock(Path(out).expanduser().resolve()):  # two sweeps never share a store
+        return _run_locked(spec, out, outputs, extras, start, client=client,
+                           scheduler=scheduler, serial=serial, workers=workers, batch=batch,
+                           limit=limit, progress=progress, builder=builder)  # fmt: skip
+
+
+def _run_locked(spec, out, outputs, extras, start, *, client, scheduler, serial, workers,
+                batch, limit, progress, builder) -> SweepResult:  # fmt: skip
+    """run_sweep with the store locked."""
+    Path(out).parent.mkdir(parents=True, exist_ok=True)
     store = SweepStore(
         out,
         {
@@ -610,6 +705,11 @@ def add_arguments(parser) -> None:
         "--limit", type=int, metavar="N", help="stop after N tasks (re-run to complete)"
     )
     parser.add_argument("--no-figures", action="store_true", help="skip the fretting maps")
+    parser.add_argument(
+        "--maps-only",
+        action="store_true",
+        help="solve nothing: redraw the [[maps]] from the cases already in the store",
+    )
 
 
 def run_command(args) -> int:
@@ -619,6 +719,8 @@ def run_command(args) -> int:
         path = Path(args.sweep_file)
         out = args.out or spec.options.get("out")
         out = Path(out) if out else Path(f"{path.stem}-sweep")
+        if args.maps_only:
+            return _redraw(spec, out)
         result = run_sweep(
             spec,
             out,
@@ -632,7 +734,7 @@ def run_command(args) -> int:
         if not args.no_figures and not result.summary.stopped:
             for figure in draw_maps(result.table, spec, out):
                 print(f"  figure: {figure}")
-    except (SweepSpecError, SweepError, SweepStoreError, ValueError, OSError) as err:
+    except (FretbemError, ValueError, OSError) as err:
         print(f"fretbem sweep: error: {err}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
@@ -645,18 +747,31 @@ def run_command(args) -> int:
     return 0
 
 
+def _redraw(spec: SweepSpec, out: Path) -> int:
+    """``--maps-only``: the maps of a finished store, its fingerprint checked."""
+    SweepStore.open_existing(out, spec.fingerprint())
+    table = read_table(out)
+    check_maps(spec, set(table.columns))
+    for figure in draw_maps(table, spec, out):
+        print(f"  figure: {figure}")
+    return 0
+
+
 __all__ = [
     "BLAS_ENV",
+    "MAX_CASES",
     "POST_TABLES",
     "SweepError",
     "SweepResult",
     "SweepSummary",
     "Task",
     "add_arguments",
+    "check_size",
     "machine_cores",
     "plan",
     "run_command",
     "run_sweep",
     "sweep",
+    "sweep_columns",
     "sweep_command",
 ]

@@ -274,13 +274,24 @@ class SweepSpec:
             groups.setdefault(case.group, []).append(case)
         return groups
 
+    def count(self) -> int:
+        """Number of cases, without expanding them."""
+        if not self.parameters:
+            return 1
+        if self.mode == "zip":
+            return len(self.parameters[0].values)
+        return math.prod(len(p.values) for p in self.parameters)
+
     def fingerprint(self) -> str:
-        """Hash of everything that defines the results (scene, parameters, mode, options)."""
+        """Hash of everything that defines the results (scene, parameters, mode, options).
+
+        The figures (``maps``) and the store's place (``out``) are not part of it: a map can
+        be fixed and redrawn from a finished store."""
         data = {
             "scene": self.scene,
             "parameters": [[p.path, list(p.values), p.pattern] for p in self.parameters],
             "mode": self.mode,
-            "options": self.options,
+            "options": {k: v for k, v in self.options.items() if k not in NOT_IDENTITY},
         }
         text = json.dumps(data, sort_keys=True, default=str)
         return hashlib.sha256(text.encode()).hexdigest()[:16]
@@ -293,7 +304,22 @@ class SweepSpec:
         if not isinstance(parameters, Mapping):
             raise SweepSpecError("parameters must map key paths to values")
         parsed = [Parameter.parse(path, spec) for path, spec in parameters.items()]
-        return cls(copy.deepcopy(dict(scene)), parsed, mode, dict(options))
+        scene = copy.deepcopy(dict(scene))
+        for name in POST_TABLES:  # the sweep file's table over the scene's; swept keys win
+            if isinstance(options.get(name), Mapping):
+                scene[name] = _merged(scene.get(name), options[name])
+        return cls(scene, parsed, mode, dict(options))
+
+
+def _merged(base: Any, over: Mapping) -> dict:
+    """``over`` deep-merged onto the table ``base`` (a new dict)."""
+    out = copy.deepcopy(dict(base)) if isinstance(base, Mapping) else {}
+    for key, value in over.items():
+        if isinstance(value, Mapping) and isinstance(out.get(key), Mapping):
+            out[key] = _merged(out[key], value)
+        else:
+            out[key] = copy.deepcopy(value)
+    return out
 
 
 def _read_toml(path: Path, what: str) -> dict:
@@ -301,6 +327,10 @@ def _read_toml(path: Path, what: str) -> dict:
 
 
 SWEEP_KEYS = {"scene", "mode", "out", "outputs"}
+#: options that do not change the results: not part of the fingerprint
+NOT_IDENTITY = ("maps", "out")
+#: tables of a sweep file for the outputs; merged into the scene under the swept parameters
+POST_TABLES = ("fatigue", "stress")
 #: the tables of a sweep file ([fatigue] and [stress] go to the output functions)
 TOP_TABLES = {"sweep", "parameters", "maps", "fatigue", "stress"}
 

@@ -9,6 +9,7 @@ cases of a different sweep.
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import uuid
@@ -74,21 +75,32 @@ class SweepStore:
             text = json.dumps(self.manifest, indent=2, sort_keys=True, default=str)
             _atomic_write(path, lambda temp: temp.write_text(text))
 
+    @classmethod
+    def open_existing(cls, directory: str | Path, fingerprint: str) -> SweepStore:
+        """The store at ``directory``, which must exist and hold this sweep's cases."""
+        path = Path(directory) / MANIFEST
+        if not path.exists():
+            raise SweepStoreError(
+                f"{directory} is not a sweep store (no {MANIFEST}); run the sweep first"
+            )
+        return cls(directory, {"fingerprint": fingerprint})
+
     def chunks(self) -> list[Path]:
-        """The finished chunk files, in name order."""
-        return sorted(self.directory.glob("cases-*.parquet"))
+        """The finished chunk files, in name order, each checked against its checksum."""
+        chunks = sorted(self.directory.glob("cases-*.parquet"))
+        for chunk in chunks:
+            verify_chunk(chunk, self.manifest["fingerprint"])
+        return chunks
 
     def done(self) -> set[int]:
         """Case numbers already stored."""
-        import pyarrow.parquet as pq
-
         done: set[int] = set()
         for chunk in self.chunks():
-            done.update(pq.read_table(chunk, columns=["case"]).column("case").to_pylist())
+            done.update(int(c) for c in _read_chunk(chunk, columns=["case"])["case"])
         return done
 
     def write(self, rows: Sequence[dict[str, Any]]) -> Path:
-        """Store one batch of rows atomically; returns the chunk path."""
+        """Store one batch of rows atomically with its checksum; returns the chunk path."""
         import pandas as pd
 
         cases = sorted(int(r["case"]) for r in rows)
@@ -96,12 +108,63 @@ class SweepStore:
             self.directory / f"cases-{cases[0]:07d}-{cases[-1]:07d}-{uuid.uuid4().hex[:8]}.parquet"
         )
         frame = pd.DataFrame(list(rows))
-        _atomic_write(path, lambda temp: frame.to_parquet(temp, engine="pyarrow", index=False))
+        fingerprint = self.manifest["fingerprint"]
+
+        def write(temp: Path) -> None:
+            frame.to_parquet(temp, engine="pyarrow", index=False)
+            text = f"{_digest(temp)} {fingerprint}\n"
+            _atomic_write(_sum_path(path), lambda t: t.write_text(text))
+
+        _atomic_write(path, write)  # the checksum first: a chunk never lacks one
         return path
 
     def table(self):
         """Every stored case, one row each, sorted by case number (a pandas DataFrame)."""
         return read_table(self.directory)
+
+
+def _sum_path(chunk: Path) -> Path:
+    return chunk.with_name(chunk.name + ".sha256")
+
+
+def _digest(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def verify_chunk(chunk: Path, fingerprint: str | None) -> None:
+    """Refuse a chunk whose bytes or sweep differ from its checksum file (naming both)."""
+    sums = _sum_path(chunk)
+    fix = f"delete {chunk.name} (its cases are solved again on the next run)"
+    try:
+        digest, owner = sums.read_text().split()
+    except (OSError, ValueError):
+        raise SweepStoreError(
+            f"{chunk}: no valid checksum file {sums.name}, so it was not written by this "
+            f"sweep (copied in, or from an older fretbem); {fix}"
+        ) from None
+    if owner != fingerprint:
+        raise SweepStoreError(
+            f"{chunk} belongs to another sweep (fingerprint {owner}, this store is "
+            f"{fingerprint}); {fix}"
+        )
+    if _digest(chunk) != digest:
+        raise SweepStoreError(
+            f"{chunk} was changed after it was written (its SHA-256 differs from {sums.name}); "
+            f"{fix}"
+        )
+
+
+def _read_chunk(chunk: Path, columns=None):
+    """One chunk as a DataFrame; an unreadable one is refused naming the file."""
+    import pandas as pd
+
+    try:
+        return pd.read_parquet(chunk, engine="pyarrow", columns=columns)
+    except Exception as err:
+        raise SweepStoreError(
+            f"{chunk}: not a readable Parquet chunk ({type(err).__name__}: {err}); delete it "
+            "(its cases are solved again on the next run)"
+        ) from None
 
 
 def read_table(directory: str | Path):
@@ -111,9 +174,11 @@ def read_table(directory: str | Path):
     directory = Path(directory)
     if not (directory / MANIFEST).exists():
         raise SweepStoreError(f"{directory} is not a sweep store (no {MANIFEST})")
-    frames = [
-        pd.read_parquet(c, engine="pyarrow") for c in sorted(directory.glob("cases-*.parquet"))
-    ]
+    fingerprint = json.loads((directory / MANIFEST).read_text()).get("fingerprint")
+    chunks = sorted(directory.glob("cases-*.parquet"))
+    for chunk in chunks:
+        verify_chunk(chunk, fingerprint)
+    frames = [_read_chunk(c) for c in chunks]
     frames = [f for f in frames if len(f)]
     if not frames:
         return pd.DataFrame({"case": pd.Series([], dtype="int64")})
@@ -133,4 +198,4 @@ def _column_order(columns, paths: Sequence[str]) -> list[str]:
     return front + middle + last
 
 
-__all__ = ["MANIFEST", "SweepStore", "SweepStoreError", "read_table"]
+__all__ = ["MANIFEST", "SweepStore", "SweepStoreError", "read_table", "verify_chunk"]

@@ -1,0 +1,274 @@
+"""Hostile values by class, on every key: read strictly (no int/bool/string coercion), the key
+named in the message, physical ranges checked, sizes estimated and refused up front, and
+text encodings read or refused by name. Reproducers of issue 24 are marked as such."""
+
+from __future__ import annotations
+
+import codecs
+import math
+
+import pytest
+
+from fretbem.errors import InputError, ResourceLimitError
+from fretbem.fatigue import fatigue_request_from_dict
+from fretbem.fatigue.material import CONSTANTS, RANGES
+from fretbem.scenes import limits
+from fretbem.scenes.builder import build
+from fretbem.scenes.file import load_scene, scene_from_dict
+from fretbem.scenes.spec import KEYS
+from fretbem.scenes.text import MAX_BYTES
+from fretbem.stress.request import stress_request_from_dict
+
+BASE = {
+    "pad": {"shape": "cylinder", "radius": 70.0},
+    "specimen": {"shape": "cylinder"},
+    "contact": {"pairs": 11},
+    "load": {"steps": ["A", "B"], "P": 100.0, "Q": [0.0, 18.0]},
+}
+
+#: values of the wrong kind for each kind of key: a bool for a number, a float with a
+#: fraction or 2.0 for a count, a string of a number, a list, a table
+WRONG = {
+    "number": [True, "1.5", [1.0], {"a": 1}],
+    "count": [2.5, 2.0, True, "5", [5]],
+    "string": [1, True, 1.5, ["x"]],
+    "bool": ["false", 0, 1, "true"],
+}
+
+
+def _kind(key) -> str | None:
+    if key.kind == (bool,):
+        return "bool"
+    if key.kind == (int,):
+        return "count"
+    if key.kind == (str,):
+        return "string"
+    if set(key.kind) == {int, float}:
+        return "number"
+    return None
+
+
+def _scene(table: str, name: str, value) -> dict:
+    data = {k: dict(v) for k, v in BASE.items()}
+    if table == "contact" and name in ("tolerance", "budget"):
+        data["contact"] = {"mesh": "adaptive"}
+    if table == "contact" and name == "zone_width":
+        data["contact"].pop("zone", None)
+    data.setdefault(table, {})[name] = value
+    return data
+
+
+SCALAR_KEYS = [k for k in KEYS if not k.shapes and _kind(k)]
+
+
+@pytest.mark.parametrize(
+    ("table", "name", "value"),
+    [(k.table, k.name, v) for k in SCALAR_KEYS for v in WRONG[_kind(k)]],
+    ids=lambda v: repr(v),
+)
+def test_every_scene_key_refuses_a_value_of_the_wrong_kind(table, name, value):
+    """No silent coercion: n = 2.7 is not 2, "false" is not true; the key is named."""
+    with pytest.raises(InputError, match=rf"\[{table}\] {name}"):
+        scene_from_dict(_scene(table, name, value))
+
+
+@pytest.mark.parametrize(
+    ("table", "name"),
+    [(k.table, k.name) for k in SCALAR_KEYS if _kind(k) in ("number", "count")],
+)
+@pytest.mark.parametrize("value", [9223372036854775807, -9223372036854775808, 0, -1, 1e308])
+def test_every_numeric_key_takes_extremes_without_a_traceback(table, name, value):
+    """Huge, zero and negative values: refused by name, or refused by the size estimate,
+    or built; never an IndexError, ZeroDivisionError or a run that never ends."""
+    try:
+        scene = scene_from_dict(_scene(table, name, value))
+        limits.check_scene(scene, available=16 * 2**30)
+        build(scene)
+    except InputError as err:
+        assert name in str(err) or "[" in str(err)
+    except ResourceLimitError as err:
+        assert "estimated" in str(err) and "[" in str(err)
+
+
+def test_zone_and_zone_width_together_are_refused():
+    """Reproducer: both given, one was silently ignored."""
+    with pytest.raises(InputError, match="zone and zone_width"):
+        scene_from_dict({**BASE, "contact": {"zone": 1.5, "zone_width": 0.8}})
+
+
+def test_empty_step_lists_name_the_key():
+    """Reproducer: "max() arg is an empty sequence"."""
+    for key in ("steps", "P", "Q"):
+        data = _scene("load", key, [])
+        with pytest.raises(InputError, match=rf"\[load\] {key} is an empty list"):
+            scene_from_dict(data)
+
+
+def test_material_message_names_the_table_the_file_has():
+    """Reproducer: a bad [material] plane was reported in [pad.material]."""
+    with pytest.raises(InputError, match=r"^\[material\] plane"):
+        scene_from_dict(_scene("material", "plane", "strainn"))
+    data = _scene("material", "E", 1.0)
+    data["pad"]["material"] = {"nu": 0.7}
+    with pytest.raises(InputError, match=r"^\[pad\.material\] nu"):
+        scene_from_dict(data)
+
+
+# -- sizes: estimated from the keys, refused with the estimate, before anything is built ----
+@pytest.mark.parametrize(
+    ("table", "name", "value", "words"),
+    [
+        ("contact", "pairs", 9223372036854775807, "[contact] pairs"),
+        ("contact", "pairs", 200001, "[contact] pairs"),
+        ("mesh", "flank_elements", 10**9, "[mesh]"),
+        ("load", "increments", 10**9, "[load] increments"),
+    ],
+)
+def test_hopeless_sizes_are_refused_up_front_with_the_estimate(table, name, value, words):
+    scene = scene_from_dict(_scene(table, name, value))
+    with pytest.raises(ResourceLimitError, match="estimated") as info:
+        build(scene)
+    assert words in str(info.value)
+
+
+def test_a_long_history_is_refused_by_its_stored_results():
+    n = 3_000_000
+    data = _scene("load", "Q", [0.0] * n)
+    data["load"].pop("steps")
+    with pytest.raises(ResourceLimitError, match="steps store about"):
+        limits.check_scene(scene_from_dict(data), available=2 * 2**30)
+
+
+def test_the_estimate_is_quick_and_close_for_the_reference_scene():
+    scene = scene_from_dict(_scene("contact", "pairs", 61))
+    estimate = limits.check_scene(scene)
+    simulation, _ = build(scene)
+    dofs = simulation.pair.upper.dofs + simulation.pair.lower.dofs
+    assert 0.8 < estimate.dofs / dofs < 1.25  # measured 0.99
+    assert estimate.seconds < 5
+
+
+# -- text files ---------------------------------------------------------------------------
+TEXT = """# pad: radius 70 mm, \u00b5 = 0.3, 20 \u00b0C
+[pad]
+shape = "cylinder"
+[contact]
+pairs = 11
+"""
+
+
+@pytest.mark.parametrize("encoding", ["utf-8", "utf-8-sig", "utf-16"])
+def test_unicode_files_with_a_mark_are_read(tmp_path, encoding):
+    path = tmp_path / "scene.toml"
+    path.write_bytes(TEXT.encode(encoding))
+    assert load_scene(path).contact.pairs == 11
+
+
+@pytest.mark.parametrize(
+    ("data", "words"),
+    [
+        (TEXT.encode("latin-1"), "not UTF-8 (byte 0xb5 on line 1"),
+        (TEXT.encode("cp1252"), "Latin-1 or Windows-1252"),
+        (TEXT.encode("utf-16-le"), "not a text file"),
+        (codecs.BOM_UTF16_LE + b"\x00\xd8", "UTF-16 mark"),
+    ],
+)
+def test_other_encodings_are_refused_by_name(tmp_path, data, words):
+    path = tmp_path / "scene.toml"
+    path.write_bytes(data)
+    with pytest.raises(InputError, match="save it as UTF-8") as info:
+        load_scene(path)
+    assert words in str(info.value)
+
+
+def test_a_huge_file_is_refused_before_it_is_read(tmp_path):
+    path = tmp_path / "scene.toml"
+    with open(path, "wb") as handle:
+        handle.truncate(MAX_BYTES + 10)
+    with pytest.raises(InputError, match="larger than"):
+        load_scene(path)
+
+
+# -- [fatigue] and [stress]: strict values, physical ranges --------------------------------
+FATIGUE_WRONG = [
+    ("in_plane_only", "false"),
+    ("in_plane_only", 1),
+    ("cycle_steps", [1.7, 2.2, 3.9]),
+    ("cycle_steps", [True, 2]),
+    ("map_points", [9.5, 5]),
+    ("map_points", [1, 5]),
+    ("runout_cycles", True),
+    ("runout_cycles", -5.0),
+    ("critical_distance", "0.05"),
+    ("critical_distance", -0.1),
+    ("area_radius_factor", -1.0),
+    ("area_radius_factor", 0.0),
+    ("map_depth", -1.0),
+    ("surface_depth", -0.1),
+    ("methods", [1, 2]),
+    ("methods", ["dang_van"]),
+    ("direction", 1),
+    ("hot_spot", [0.0, -1.0]),
+    ("map_x", [1.0, -1.0]),
+]
+
+
+@pytest.mark.parametrize(("key", "value"), FATIGUE_WRONG, ids=lambda v: repr(v))
+def test_fatigue_keys_are_strict(key, value):
+    with pytest.raises(InputError, match=rf"\[fatigue\] {key}"):
+        fatigue_request_from_dict({"material": "Ti-6Al-4V", key: value})
+
+
+def _outside(key: str) -> list[float]:
+    low, high, open_ = RANGES[key]
+    values = []
+    if low is not None:
+        values.append(low if open_ else low - 1.0)
+    if high is not None:
+        values.append(high if open_ else high + 1.0)
+    return values
+
+
+@pytest.mark.parametrize(
+    ("key", "value"), [(k, v) for k in CONSTANTS for v in _outside(k)], ids=lambda v: repr(v)
+)
+def test_fatigue_constants_outside_their_physical_range_are_refused(key, value):
+    """Reproducer: fatigue_strength_exponent = 0.5 turned lives into run-outs, exit 0."""
+    with pytest.raises(InputError, match=rf"constant {key} = .* physical range"):
+        fatigue_request_from_dict({"material": "Ti-6Al-4V", "constants": {key: value}})
+
+
+@pytest.mark.parametrize("value", [True, "1000.0", math.nan])
+def test_fatigue_constants_are_numbers(value):
+    with pytest.raises(InputError, match="fatigue_strength_coefficient"):
+        fatigue_request_from_dict(
+            {"material": "Ti-6Al-4V", "constants": {"fatigue_strength_coefficient": value}}
+        )
+
+
+STRESS_WRONG = [
+    ("line", "n", 2.7),
+    ("line", "n", True),
+    ("line", "depth", "1.0"),
+    ("line", "grading", False),
+    ("line", "x", True),
+    ("grid", "nx", 20.5),
+    ("grid", "ny", "5"),
+    ("grid", "depth", True),
+    ("grid", "x", [True, 1.0]),
+]
+
+
+@pytest.mark.parametrize(("where", "key", "value"), STRESS_WRONG, ids=lambda v: repr(v))
+def test_stress_keys_are_strict(where, key, value):
+    table = {"x": 0.0, "depth": 1.0, "n": 5} if where == "line" else {"x": [-1.0, 1.0],
+                                                                      "depth": 1.0}  # fmt: skip
+    table[key] = value
+    with pytest.raises(InputError, match=rf"\[stress\.{where}\] {key}"):
+        stress_request_from_dict({where: table})
+
+
+@pytest.mark.parametrize(("key", "value"), [("steps", [1, 2]), ("body", 1), ("vtk", "no")])
+def test_stress_table_keys_are_strict(key, value):
+    with pytest.raises(InputError, match=rf"\[stress\] {key}"):
+        stress_request_from_dict({key: value})
