@@ -10,6 +10,7 @@ progress lines.
 
 from __future__ import annotations
 
+import html
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 
@@ -55,6 +56,23 @@ class RunResult:
     stress: object = None
     fatigue: object = None
     compare: tuple = ()
+
+    def __repr__(self) -> str:
+        carried = (("stress request", self.stress), ("fatigue", self.fatigue))
+        extra = "".join(f", {n}" for n, v in carried if v is not None)
+        return f"<RunResult {self.result!r}{extra}>"
+
+    def _repr_html_(self) -> str:
+        parts = [self.result._repr_html_()]
+        if self.fatigue is not None:
+            parts.append(self.fatigue._repr_html_())
+        if self.reason:
+            parts.append(f"<div>no closed form: {html.escape(self.reason)}</div>")
+        return "".join(parts)
+
+    def to_xarray(self):
+        """The run's result as an :class:`xarray.Dataset` (``result.to_xarray()``)."""
+        return self.result.to_xarray()
 
     def write(self, out, **options) -> Path:
         """``write_results`` of this run (options: writers, overwrite, steps, figures, vtk)."""

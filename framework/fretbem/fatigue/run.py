@@ -14,7 +14,7 @@ from .critical_distance import CriticalDistanceValues, critical_distance_values
 from .critical_plane import CriterionResult, critical_plane_parameters
 from .cycle import select_cycle
 from .errors import FatigueInputError, MissingFatigueDataError
-from .labelled import fatigue_dataset
+from .labelled import fatigue_dataset, fatigue_html, fatigue_repr
 from .life import LifeEstimate, estimate_life
 from .providers import StressHistoryProvider
 from .request import FatigueRequest
@@ -68,6 +68,10 @@ class MethodReport:
     life_critical_distance: LifeEstimate | None
     life_message: str = ""
 
+    def __repr__(self) -> str:
+        return (f"<MethodReport {self.method}: {float(self.at_hot_spot.value[0]):.4g} at hot "
+                f"spot x={self.hot_spot[0]:.4g}, depth={self.hot_spot[1]:.4g}>")  # fmt: skip
+
 
 @attrs.frozen(eq=False)
 class FatigueReport:
@@ -92,6 +96,12 @@ class FatigueReport:
     methods: dict[str, MethodReport]
     ruiz: RuizParameters | None
     notes: tuple[str, ...]
+
+    def __repr__(self) -> str:
+        return fatigue_repr(self)
+
+    def _repr_html_(self) -> str:
+        return fatigue_html(self)
 
     def to_xarray(self):
         """The report as an :class:`xarray.Dataset` (maps, profiles, Ruiz parameters; hot

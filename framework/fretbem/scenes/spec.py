@@ -27,6 +27,7 @@ from fretbem.geometry.shapes import (
     RoundedFlatPad,
 )
 from fretbem.material import Material
+from fretbem.views.display import scene_html, scene_repr
 
 from .errors import SceneFileError
 
@@ -413,6 +414,12 @@ class Scene:
     load: LoadSpec | None = None
     extras: Mapping[str, Any] = attrs.field(factory=dict)
     legacy: bool = False
+
+    def __repr__(self) -> str:
+        return scene_repr(self)
+
+    def _repr_html_(self) -> str:
+        return scene_html(self)
 
 
 # --------------------------------------------------------------------------- reading

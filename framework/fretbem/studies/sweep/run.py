@@ -29,7 +29,7 @@ import attrs
 from fretbem.errors import ComputationError
 
 from .cases import REGIMES, representative, run_batch
-from .labelled import sweep_dataset
+from .labelled import sweep_dataset, sweep_html, sweep_repr
 from .maps import draw_maps
 from .outputs import resolve_all
 from .spec import SweepSpec, SweepSpecError, load_sweep
@@ -209,6 +209,12 @@ class SweepResult:
     table: Any
     summary: SweepSummary
     spec: SweepSpec
+
+    def __repr__(self) -> str:
+        return sweep_repr(self)
+
+    def _repr_html_(self) -> str:
+        return sweep_html(self)
 
     def to_xarray(self):
         """The table as an :class:`xarray.Dataset` indexed by the varied parameters (a grid
