@@ -21,6 +21,8 @@ from fretbem.bem.resources import check_resources
 from fretbem.contact.zones import zone_table
 from fretbem.errors import FretbemError, InputError, ResultCheckError
 from fretbem.fatigue import format_report
+from fretbem.output.report import REPORT, build_report
+from fretbem.output.staging import add_output_file
 from fretbem.output.write import WriteContext, chosen_writers, prepare_output
 from fretbem.scenes.builder import build
 from fretbem.scenes.file import load_scene
@@ -262,6 +264,14 @@ def _demo(args: argparse.Namespace) -> int:
     return _simulate(make, args, None, mode, companion)
 
 
+def _report(args: argparse.Namespace) -> int:
+    """report.html of a finished output folder (read-only apart from the page itself)."""
+    page = build_report(args.out)
+    path = add_output_file(args.out, REPORT, page)
+    print(f"wrote {path} ({len(page) / 1024:.0f} kB, figures embedded)")
+    return 0
+
+
 def _convergence(args: argparse.Namespace) -> int:
     return study(quick=args.quick, out=args.out)
 
@@ -324,6 +334,12 @@ def _output_options(parser: argparse.ArgumentParser, default_out: str) -> None:
     parser.add_argument("--no-figures", action="store_true", help="skip the matplotlib figures")
     parser.add_argument("--no-vtk", action="store_true", help="skip the VTK files")
     parser.add_argument(
+        "--report",
+        action="store_true",
+        help="also write report.html: the run on one self-contained page (fretbem report OUT "
+        "makes it for a finished run)",
+    )
+    parser.add_argument(
         "--netcdf",
         action="store_true",
         help="also write results.nc (and stress.nc, fatigue.nc): labelled netCDF for xarray",
@@ -371,6 +387,11 @@ def parser() -> argparse.ArgumentParser:
     _accuracy_options(demo, "default fixed, 61 pairs")
     _output_options(demo, "demo-out")
     demo.set_defaults(func=_demo)
+    report = sub.add_parser(
+        "report", help="write report.html for a finished run: one self-contained page"
+    )
+    report.add_argument("out", help="the output folder of fretbem run or demo (--out)")
+    report.set_defaults(func=_report)
     convergence = sub.add_parser(
         "convergence", help="speed against error: the convergence study of the reference scene"
     )

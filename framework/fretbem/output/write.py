@@ -29,6 +29,7 @@ from fretbem.fatigue.output import write_fatigue
 from fretbem.output import figures as plot
 from fretbem.output import vtk as vtk_
 from fretbem.output.labelled import evaluated_stress, write_netcdf_files
+from fretbem.output.report import write_report
 from fretbem.stress.run import write_stress_result
 from fretbem.verification.checks import check_steps
 
@@ -272,6 +273,13 @@ def _write_stress(context: WriteContext, directory: Path):
     return write_stress_result(context.result, context.stress, done, directory)
 
 
+def _write_report(context: WriteContext, directory: Path):
+    info = context.result.describe()
+    steps = [s.name for s in context.result.steps]
+    name = f"{info['basis']}, {info['pairs']} pairs, steps {steps[0]}..{steps[-1]}"
+    return write_report(directory, name=name)
+
+
 def _write_fatigue(context: WriteContext, directory: Path):
     return write_fatigue(directory, context.fatigue, figures="figures" in context.writers)
 
@@ -287,6 +295,8 @@ for _name, _function, _needs in (
 ):
     register_writer(_name, _function, context=True, needs=_needs)
 register_writer("netcdf", write_netcdf_files, default=False, context=True)
+#: report.html reads the other writers' files: it runs last whenever it is chosen
+register_writer("report", _write_report, default=False, context=True)
 
 
 def chosen_writers(
@@ -305,6 +315,7 @@ def chosen_writers(
             )
         chosen = [WRITERS[n] for n in dict.fromkeys(names)]
     dropped = {n for n, flag in (("figures", figures), ("vtk", vtk)) if flag is False}
+    chosen.sort(key=lambda w: w.name == "report")  # the report reads the others' files
     return [w for w in chosen if w.name not in dropped]
 
 
