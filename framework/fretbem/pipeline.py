@@ -11,6 +11,7 @@ progress lines.
 from __future__ import annotations
 
 import html
+import time
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 
@@ -49,6 +50,9 @@ class RunResult:
         The fatigue assessment of the ``[fatigue]`` request.
     compare : tuple of SimulationResult
         The other families' results drawn beside it in the figures.
+    phases : dict
+        Wall time of each phase in seconds (build, solve, compare, fatigue); the writers add
+        theirs in summary.json.
     """
 
     result: object
@@ -56,6 +60,7 @@ class RunResult:
     stress: object = None
     fatigue: object = None
     compare: tuple = ()
+    phases: dict = attrs.field(factory=dict)
 
     def __repr__(self) -> str:
         carried = (("stress request", self.stress), ("fatigue", self.fatigue))
@@ -75,10 +80,11 @@ class RunResult:
         return self.result.to_xarray()
 
     def write(self, out, **options) -> Path:
-        """``write_results`` of this run (options: writers, overwrite, steps, figures, vtk)."""
+        """``write_results`` of this run (options: writers, overwrite, steps, figures, vtk,
+        progress); summary.json gets the run's phases and the writers' times."""
         return write_results(
             self.result, out, compare=self.compare, stress=self.stress, fatigue=self.fatigue,
-            **options,
+            phases={**self.phases, **options.pop("phases", {})}, **options,
         )  # fmt: skip
 
 
@@ -100,9 +106,15 @@ def run_simulation(
     compare: Sequence = (),
     progress=None,
     say: Callable[[str], None] = _quiet,
+    bars=None,
+    phases: Mapping | None = None,
 ) -> RunResult:
     """Solve ``simulation`` in ``mode``, check it, solve ``compare`` (simulations), and carry
-    out the ``extras``' stress and fatigue requests. Raises the failed check's error."""
+    out the ``extras``' stress and fatigue requests. Raises the failed check's error.
+
+    ``progress(k, n, step)`` follows the steps; ``bars(description, total)`` makes the
+    progress bars of the adaptive levels and the fatigue assessment; ``phases`` are earlier
+    phases' seconds (e.g. the build), kept with this run's in ``RunResult.phases``."""
     mode = mode or accuracy.Accuracy()
     if mode.mesh == "adaptive":
         blocker = accuracy.adaptive_blocker(simulation)
@@ -110,19 +122,29 @@ def run_simulation(
             raise InputError(blocker)
         say(f"adaptive mesh: tolerance {100 * mode.tolerance:g} %, at most {mode.budget} pairs")
     stress, fatigue_request = requests(extras)
+    timed = dict(phases or {})
     options = {} if progress is None else {"progress": progress}
+    if bars is not None:
+        options["bars"] = bars
+    tic = time.perf_counter()
     result = accuracy.solve(simulation, mode, coarse=companion, **options)
     check_steps(result)  # a failed check ends here: nothing is post-processed or written
+    timed["solve"] = time.perf_counter() - tic
     others = []
-    for other in compare:
-        say("running a comparison family")
-        others.append(run(other))
-        check_steps(others[-1])
+    if compare:
+        tic = time.perf_counter()
+        for other in compare:
+            say("running a comparison family")
+            others.append(run(other))
+            check_steps(others[-1])
+        timed["compare"] = time.perf_counter() - tic
     fatigue = None
     if fatigue_request is not None:
         say("fatigue assessment")
-        fatigue = run_fatigue(SimulationStressHistory(result), fatigue_request)
-    return RunResult(result, reason, stress, fatigue, tuple(others))
+        tic = time.perf_counter()
+        fatigue = run_fatigue(SimulationStressHistory(result), fatigue_request, progress=bars)
+        timed["fatigue"] = time.perf_counter() - tic
+    return RunResult(result, reason, stress, fatigue, tuple(others), timed)
 
 
 def run_scene(
@@ -132,6 +154,7 @@ def run_scene(
     compare: Sequence[str] = (),
     progress=None,
     say: Callable[[str], None] = _quiet,
+    bars=None,
     **contact,
 ) -> RunResult:
     """Run a :class:`~fretbem.scenes.spec.Scene` as ``fretbem run`` does (before writing).
@@ -140,7 +163,9 @@ def run_scene(
     ``compare`` names other basis families solved for the figures; ``contact`` overrides
     ``[contact]`` keys (e.g. ``pairs=121``).
     """
+    tic = time.perf_counter()
     simulation, reason = build(scene, **contact)
+    built = time.perf_counter() - tic
     return run_simulation(
         simulation,
         mode=mode or accuracy.mode_of(scene),
@@ -150,4 +175,6 @@ def run_scene(
         compare=[build(scene, **{**contact, "basis": name})[0] for name in compare],
         progress=progress,
         say=say,
+        bars=bars,
+        phases={"build": built},
     )

@@ -339,13 +339,16 @@ def settle(
     return [levels[i] for i in order], [used[i] for i in order]
 
 
-def run_adaptive(simulation, settings: AdaptiveSettings | None = None) -> AdaptiveResult:
+def run_adaptive(
+    simulation, settings: AdaptiveSettings | None = None, *, progress=None
+) -> AdaptiveResult:
     """Solve, find the transitions, re-mesh aligned, and re-solve until tolerance or budget.
 
     Levels: a uniform first level of ``settings.first`` pairs, then aligned levels of about
     doubling pair counts up to the budget, each with its knots moved onto its own discrete
     transitions (:func:`settle`) and handing them to the next; the run stops early when the
-    estimate from the last two aligned levels is below the tolerance.
+    estimate from the last two aligned levels is below the tolerance. ``progress(description,
+    total)`` (optional) returns a bar advanced once per level.
     """
     start = time.perf_counter()
     pair = simulation.pair
@@ -354,7 +357,10 @@ def run_adaptive(simulation, settings: AdaptiveSettings | None = None) -> Adapti
     degree = pair.upper.face_refinement(pair.upper_tag).degree
     counts = _level_pairs(settings, family, degree)
     first = remesh(simulation, np.array([]), min(settings.first, counts[-1]), ratio=1.0)
+    bar = progress("adaptive levels", len(counts) + 1) if progress is not None else None
     levels = [_solve(first)]
+    if bar is not None:
+        bar.update(1)
     found = [transitions(levels[0])]
     estimated: dict = {}
     previous = None
@@ -368,12 +374,16 @@ def run_adaptive(simulation, settings: AdaptiveSettings | None = None) -> Adapti
         solved, used = settle(simulation, found[-1], pairs, settings, iterations, tolerance)
         levels += solved
         found += used
+        if bar is not None:
+            bar.update(1)
         if previous is not None:
             estimated = estimate.estimate_errors(previous, solved[-1], at="coarse")
             worst = max(max(e["e_p_max"], e["e_q_max"]) for e in estimated.values())
             if worst < settings.tolerance:
                 break
         previous = solved[-1]
+    if bar is not None:
+        bar.close()
     return AdaptiveResult(
         levels=tuple(levels),
         transitions=tuple(found[1:]),

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import gc
 import inspect
+import json
 import signal
 import sys
 import time
@@ -17,6 +18,7 @@ from fretbem import pipeline
 from fretbem import registry as bases
 from fretbem.accuracy import modes as accuracy
 from fretbem.accuracy.modes import Accuracy, mode_of
+from fretbem.app.progress import Bars
 from fretbem.bem.resources import check_resources
 from fretbem.contact.zones import zone_table
 from fretbem.errors import FretbemError, InputError, ResultCheckError
@@ -60,9 +62,14 @@ def _plugins(args: argparse.Namespace) -> int:
     return 0
 
 
+#: --quiet: no status lines and no progress bars on stderr
+QUIET = {"on": False}
+
+
 def _progress(message: str) -> None:
-    """A short status line on stderr (stdout keeps the table)."""
-    print(f"fretbem: {message}", file=sys.stderr, flush=True)
+    """A short status line on stderr (stdout keeps the table); nothing with --quiet."""
+    if not QUIET["on"]:
+        print(f"fretbem: {message}", file=sys.stderr, flush=True)
 
 
 class StepProgress:
@@ -80,13 +87,17 @@ class StepProgress:
             _progress(f"step {k}/{n} ({name}) done, {now - self.start:.1f} s")
 
 
-def _progress_option(run, simulation, estimate) -> dict:
-    """``progress=`` for run() when it takes the hook and the run is long (> 2 s or > 20 steps)."""
+def _progress_option(run, simulation, estimate, bars: Bars | None = None) -> dict:
+    """``progress=`` for run() when it takes the hook and the run is long (> 2 s or > 20
+    steps): a bar over the steps on a terminal, else a status line at most once a second;
+    nothing with --quiet."""
 
     long = estimate.seconds > 2.0 or len(simulation.steps) > 20
-    if long and "progress" in inspect.signature(run).parameters:
-        return {"progress": StepProgress(len(simulation.steps))}
-    return {}
+    if QUIET["on"] or not long or "progress" not in inspect.signature(run).parameters:
+        return {}
+    if bars is not None and bars.enabled:
+        return {"progress": bars.steps(len(simulation.steps))}
+    return {"progress": StepProgress(len(simulation.steps))}
 
 
 def _check_compare(names) -> list[str]:
@@ -164,7 +175,10 @@ def _simulate(make, args: argparse.Namespace, extras=None, mode=None, companion=
     """Solve in ``mode`` (``companion(pairs)``: the fixed mode's coarser level) through the
     run pipeline, print the tables with the estimate, and write the output."""
     start = time.perf_counter()
+    QUIET["on"] = bool(getattr(args, "quiet", False))
+    bars = Bars(quiet=QUIET["on"])
     simulation, reason, compare, estimate = _prepare(make, args)
+    built = time.perf_counter() - start
     stress, fatigue = pipeline.requests(extras)  # bad tables are refused before solving
     done = pipeline.run_simulation(
         simulation,
@@ -173,8 +187,10 @@ def _simulate(make, args: argparse.Namespace, extras=None, mode=None, companion=
         reason=reason,
         companion=companion,
         compare=[make(name)[0] for name in compare],
-        progress=_progress_option(accuracy.solve, simulation, estimate).get("progress"),
+        progress=_progress_option(accuracy.solve, simulation, estimate, bars).get("progress"),
         say=_progress,
+        bars=bars,
+        phases={"build": built},
     )
     result = done.result
     info = result.describe()
@@ -193,6 +209,7 @@ def _simulate(make, args: argparse.Namespace, extras=None, mode=None, companion=
     out = done.write(
         args.out, overwrite=args.overwrite, steps=args.steps,
         figures=not args.no_figures, vtk=not args.no_vtk, writers=_writer_names(args, done),
+        progress=bars,
     )  # fmt: skip
     kinds = [k for k, v in (("stress", stress), ("fatigue", fatigue)) if v is not None]
     kinds += [k for k, flag in (("netCDF", "netcdf"), ("report.html", "report"))
@@ -203,7 +220,18 @@ def _simulate(make, args: argparse.Namespace, extras=None, mode=None, companion=
         f"{''.join(', ' + kind for kind in kinds)}) "
         f"in {time.perf_counter() - start:.2f} s; all result checks passed"
     )
+    phases = _phases(out)
+    if phases:
+        print("time by phase: " + ", ".join(f"{k} {v:.2f} s" for k, v in phases.items()))
     return 0
+
+
+def _phases(out: Path) -> dict:
+    """The phases' seconds summary.json recorded ({} without it)."""
+    try:
+        return json.loads((Path(out) / "summary.json").read_text()).get("phases", {})
+    except (OSError, ValueError):
+        return {}
 
 
 def _writer_names(args: argparse.Namespace, done) -> list[str] | None:
@@ -333,6 +361,11 @@ def _output_options(parser: argparse.ArgumentParser, default_out: str) -> None:
     )
     parser.add_argument("--no-figures", action="store_true", help="skip the matplotlib figures")
     parser.add_argument("--no-vtk", action="store_true", help="skip the VTK files")
+    parser.add_argument(
+        "--quiet",
+        action="store_true",
+        help="no status lines and no progress bars on stderr (the tables still print)",
+    )
     parser.add_argument(
         "--report",
         action="store_true",

@@ -616,6 +616,9 @@ def add_arguments(parser) -> None:
         "--limit", type=int, metavar="N", help="stop after N tasks (re-run to complete)"
     )
     parser.add_argument("--no-figures", action="store_true", help="skip the fretting maps")
+    parser.add_argument(
+        "--quiet", action="store_true", help="no progress bar (it shows only on a terminal)"
+    )
 
 
 def run_command(args) -> int:
@@ -633,6 +636,7 @@ def run_command(args) -> int:
             workers=args.workers,
             batch=args.batch,
             limit=args.limit,
+            progress=not getattr(args, "quiet", False),
         )
         print(result.summary)
         if not args.no_figures and not result.summary.stopped:
