@@ -10,6 +10,8 @@ progress lines.
 
 from __future__ import annotations
 
+import html
+import time
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 
@@ -56,6 +58,9 @@ class RunResult:
         The other families' results drawn beside it in the figures.
     wear : WearReport or None
         The ``[wear]`` history and its assessments at the requested N.
+    phases : dict
+        Wall time of each phase in seconds (build, solve, compare, fatigue); the writers add
+        theirs in summary.json.
     """
 
     result: object
@@ -64,12 +69,31 @@ class RunResult:
     fatigue: object = None
     compare: tuple = ()
     wear: object = None
+    phases: dict = attrs.field(factory=dict)
+
+    def __repr__(self) -> str:
+        carried = (("stress request", self.stress), ("fatigue", self.fatigue), ("wear", self.wear))
+        extra = "".join(f", {n}" for n, v in carried if v is not None)
+        return f"<RunResult {self.result!r}{extra}>"
+
+    def _repr_html_(self) -> str:
+        parts = [self.result._repr_html_()]
+        if self.fatigue is not None:
+            parts.append(self.fatigue._repr_html_())
+        if self.reason:
+            parts.append(f"<div>no closed form: {html.escape(self.reason)}</div>")
+        return "".join(parts)
+
+    def to_xarray(self):
+        """The run's result as an :class:`xarray.Dataset` (``result.to_xarray()``)."""
+        return self.result.to_xarray()
 
     def write(self, out, **options) -> Path:
-        """``write_results`` of this run (options: writers, overwrite, steps, figures, vtk)."""
+        """``write_results`` of this run (options: writers, overwrite, steps, figures, vtk,
+        progress); summary.json gets the run's phases and the writers' times."""
         return write_results(
             self.result, out, compare=self.compare, stress=self.stress, fatigue=self.fatigue,
-            wear=self.wear, **options,
+            wear=self.wear, phases={**self.phases, **options.pop("phases", {})}, **options,
         )  # fmt: skip
 
 
@@ -137,9 +161,15 @@ def run_simulation(
     compare: Sequence = (),
     progress=None,
     say: Callable[[str], None] = _quiet,
+    bars=None,
+    phases: Mapping | None = None,
 ) -> RunResult:
     """Solve ``simulation`` in ``mode``, check it, solve ``compare`` (simulations), and carry
-    out the ``extras``' stress and fatigue requests. Raises the failed check's error."""
+    out the ``extras``' stress and fatigue requests. Raises the failed check's error.
+
+    ``progress(k, n, step)`` follows the steps; ``bars(description, total)`` makes the
+    progress bars of the adaptive levels and the fatigue assessment; ``phases`` are earlier
+    phases' seconds (e.g. the build), kept with this run's in ``RunResult.phases``."""
     mode = mode or accuracy.Accuracy()
     if mode.mesh == "adaptive":
         blocker = accuracy.adaptive_blocker(simulation)
@@ -152,7 +182,11 @@ def run_simulation(
         _wear_mesh(mode)
         wear.simulation(simulation)
     check_requests(simulation, stress, fatigue_request)  # refused before any solve
+    timed = dict(phases or {})
     options = {} if progress is None else {"progress": progress}
+    if bars is not None:
+        options["bars"] = bars
+    tic = time.perf_counter()
     try:
         result = accuracy.solve(simulation, mode, coarse=companion, **options)
     except SolverConvergenceError as failure:
@@ -164,19 +198,27 @@ def run_simulation(
         coarse = None if companion is None else (lambda n: _fallback(companion(n)))
         result = accuracy.solve(retry, mode, coarse=coarse, **options)
     check_steps(result)  # a failed check ends here: nothing is post-processed or written
+    timed["solve"] = time.perf_counter() - tic
     others = []
-    for other in compare:
-        say("running a comparison family")
-        others.append(run(other))
-        check_steps(others[-1])
+    if compare:
+        tic = time.perf_counter()
+        for other in compare:
+            say("running a comparison family")
+            others.append(run(other))
+            check_steps(others[-1])
+        timed["compare"] = time.perf_counter() - tic
     fatigue = None
     if fatigue_request is not None:
         say("fatigue assessment")
-        fatigue = run_fatigue(SimulationStressHistory(result), fatigue_request)
+        tic = time.perf_counter()
+        fatigue = run_fatigue(SimulationStressHistory(result), fatigue_request, progress=bars)
+        timed["fatigue"] = time.perf_counter() - tic
     worn = None
     if wear is not None:
+        tic = time.perf_counter()
         worn = run_wear_request(simulation, wear, fatigue_request, mode, say)
-    return RunResult(result, reason, stress, fatigue, tuple(others), worn)
+        timed["wear"] = time.perf_counter() - tic
+    return RunResult(result, reason, stress, fatigue, tuple(others), wear=worn, phases=timed)
 
 
 def run_scene(
@@ -186,6 +228,7 @@ def run_scene(
     compare: Sequence[str] = (),
     progress=None,
     say: Callable[[str], None] = _quiet,
+    bars=None,
     **contact,
 ) -> RunResult:
     """Run a :class:`~fretbem.scenes.spec.Scene` as ``fretbem run`` does (before writing).
@@ -194,7 +237,9 @@ def run_scene(
     ``compare`` names other basis families solved for the figures; ``contact`` overrides
     ``[contact]`` keys (e.g. ``pairs=121``).
     """
+    tic = time.perf_counter()
     simulation, reason = build(scene, **contact)
+    built = time.perf_counter() - tic
     return run_simulation(
         simulation,
         mode=mode or accuracy.mode_of(scene),
@@ -204,4 +249,6 @@ def run_scene(
         compare=[build(scene, **{**contact, "basis": name})[0] for name in compare],
         progress=progress,
         say=say,
+        bars=bars,
+        phases={"build": built},
     )

@@ -13,6 +13,7 @@ from fretbem.contact.unknowns import PairUnknowns, UnknownLayout
 from fretbem.contact.zones import StepZones, step_zones
 from fretbem.verification.errors import ERROR_KEYS, errors_against_theory
 from fretbem.verification.theory import hertz_numbers, theory_stick_zones
+from fretbem.views.display import result_html, result_repr, step_html, step_repr
 from fretbem.views.run import run_dataset
 
 
@@ -247,6 +248,12 @@ class StepResult:
     delta: float = float("nan")
     increments: tuple = ()
 
+    def __repr__(self) -> str:
+        return step_repr(self)
+
+    def _repr_html_(self) -> str:
+        return step_html(self)
+
     @property
     def pair_unknowns(self) -> PairUnknowns:
         """``unknowns`` split by name (pressure, shear, block displacements)."""
@@ -321,6 +328,12 @@ class SimulationResult:
     steps: tuple[StepResult, ...]
     timings: dict[str, float]
     accuracy: AccuracyRecord | None = None
+
+    def __repr__(self) -> str:
+        return result_repr(self)
+
+    def _repr_html_(self) -> str:
+        return result_html(self)
 
     def __getitem__(self, name: str) -> StepResult:
         for step in self.steps:

@@ -362,13 +362,16 @@ def settle(
     return [levels[i] for i in order], [used[i] for i in order], residual[best]
 
 
-def run_adaptive(simulation, settings: AdaptiveSettings | None = None) -> AdaptiveResult:
+def run_adaptive(
+    simulation, settings: AdaptiveSettings | None = None, *, progress=None
+) -> AdaptiveResult:
     """Solve, find the transitions, re-mesh aligned, and re-solve until tolerance or budget.
 
     Levels: a uniform first level of ``settings.first`` pairs, then aligned levels of about
     doubling pair counts up to the budget, each with its knots moved onto its own discrete
     transitions (:func:`settle`) and handing them to the next; the run stops early when the
-    estimate from the last two aligned levels is below the tolerance.
+    estimate from the last two aligned levels is below the tolerance. ``progress(description,
+    total)`` (optional) returns a bar advanced once per level.
     """
     start = time.perf_counter()
     pair = simulation.pair
@@ -377,7 +380,10 @@ def run_adaptive(simulation, settings: AdaptiveSettings | None = None) -> Adapti
     degree = pair.upper.face_refinement(pair.upper_tag).degree
     counts = _level_pairs(settings, family, degree)
     first = remesh(simulation, np.array([]), min(settings.first, counts[-1]), ratio=1.0)
+    bar = progress("adaptive levels", len(counts) + 1) if progress is not None else None
     levels = [_solve(first)]
+    if bar is not None:
+        bar.update(1)
     found = [transitions(levels[0])]
     estimated: dict = {}
     previous = None
@@ -404,6 +410,8 @@ def run_adaptive(simulation, settings: AdaptiveSettings | None = None) -> Adapti
         if used[-1].all.size < count:  # hand every transition on, not only the placed ones
             reach = 2.0 * float(np.median(knot_spacings(solved[-1], used[-1])))
             found[-1] = refound(solved[-1], used[-1], reach)
+        if bar is not None:
+            bar.update(1)
         if previous is not None:
             estimated = estimate.estimate_errors(previous, solved[-1], at="coarse")
             worst = max(max(e["e_p_max"], e["e_q_max"]) for e in estimated.values())
@@ -416,6 +424,8 @@ def run_adaptive(simulation, settings: AdaptiveSettings | None = None) -> Adapti
             "spacing (settled: below "
             f"{settings.edge_tolerance:g}): the error next to them is larger than the estimate"
         )
+    if bar is not None:
+        bar.close()
     return AdaptiveResult(
         levels=tuple(levels),
         transitions=tuple(found[1:]),

@@ -267,7 +267,7 @@ def adaptive_blocker(simulation) -> str | None:
     return f"mesh = 'adaptive' cannot re-mesh this scene ({reason}); use mesh = 'fixed'"
 
 
-def _adaptive(simulation, mode: Accuracy) -> object:
+def _adaptive(simulation, mode: Accuracy, bars=None) -> object:
     reason = adaptive_blocker(simulation)
     if reason is not None:
         raise AccuracyError(reason)
@@ -275,7 +275,7 @@ def _adaptive(simulation, mode: Accuracy) -> object:
     settings = AdaptiveSettings(
         tolerance=mode.tolerance, budget=budget, first=min(FIRST_LEVEL, budget)
     )
-    out = run_adaptive(simulation, settings)
+    out = run_adaptive(simulation, settings, progress=bars)
     summary = out.summary()
     record = {
         "mesh": "adaptive",
@@ -304,6 +304,7 @@ def solve(
     coarse: Callable[[int], object] | None = None,
     progress=None,
     check: bool = True,
+    bars=None,
 ):
     """Solve ``simulation`` in ``mode`` (default: fixed pairs with an estimate).
 
@@ -311,11 +312,13 @@ def solve(
     ``estimate`` holds the estimated error (keys of ``StepResult.errors``) or None, and
     ``result.accuracy`` the mode, the levels' pairs, their time and ``estimate_reason``
     (why there is no estimate, else None). ``coarse(pairs)`` builds the fixed mode's
-    companion level (default: the contact faces re-meshed uniformly).
+    companion level (default: the contact faces re-meshed uniformly). ``progress(k, n, step)``
+    follows the steps of the (fixed) level; ``bars(description, total)`` makes a progress bar
+    (the adaptive levels).
     """
     mode = mode or Accuracy()
     if mode.mesh == "adaptive":
-        return _adaptive(simulation, mode)
+        return _adaptive(simulation, mode, bars)
     kwargs = {"check": check}
     if progress is not None:
         kwargs["progress"] = progress

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import gc
 import inspect
+import json
 import signal
 import sys
 import time
@@ -17,12 +18,15 @@ from fretbem import pipeline
 from fretbem import registry as bases
 from fretbem.accuracy import modes as accuracy
 from fretbem.accuracy.modes import Accuracy, mode_of
+from fretbem.app.progress import Bars
 from fretbem.bem.resources import check_resources
 from fretbem.contact.zones import zone_table
 from fretbem.errors import FretbemError, InputError, ResultCheckError
 from fretbem.fatigue import format_report
 from fretbem.fretting import analyse as analyse_cycles
 from fretbem.output import fretting as fretting_output
+from fretbem.output.report import REPORT, build_report
+from fretbem.output.staging import add_output_file
 from fretbem.output.write import WriteContext, chosen_writers, prepare_output
 from fretbem.scenes.builder import build
 from fretbem.scenes.file import load_scene
@@ -61,9 +65,14 @@ def _plugins(args: argparse.Namespace) -> int:
     return 0
 
 
+#: --quiet: no status lines and no progress bars on stderr
+QUIET = {"on": False}
+
+
 def _progress(message: str) -> None:
-    """A short status line on stderr (stdout keeps the table)."""
-    print(f"fretbem: {message}", file=sys.stderr, flush=True)
+    """A short status line on stderr (stdout keeps the table); nothing with --quiet."""
+    if not QUIET["on"]:
+        print(f"fretbem: {message}", file=sys.stderr, flush=True)
 
 
 class StepProgress:
@@ -81,13 +90,17 @@ class StepProgress:
             _progress(f"step {k}/{n} ({name}) done, {now - self.start:.1f} s")
 
 
-def _progress_option(run, simulation, estimate) -> dict:
-    """``progress=`` for run() when it takes the hook and the run is long (> 2 s or > 20 steps)."""
+def _progress_option(run, simulation, estimate, bars: Bars | None = None) -> dict:
+    """``progress=`` for run() when it takes the hook and the run is long (> 2 s or > 20
+    steps): a bar over the steps on a terminal, else a status line at most once a second;
+    nothing with --quiet."""
 
     long = estimate.seconds > 2.0 or len(simulation.steps) > 20
-    if long and "progress" in inspect.signature(run).parameters:
-        return {"progress": StepProgress(len(simulation.steps))}
-    return {}
+    if QUIET["on"] or not long or "progress" not in inspect.signature(run).parameters:
+        return {}
+    if bars is not None and bars.enabled:
+        return {"progress": bars.steps(len(simulation.steps))}
+    return {"progress": StepProgress(len(simulation.steps))}
 
 
 def _check_compare(names) -> list[str]:
@@ -165,7 +178,10 @@ def _simulate(make, args: argparse.Namespace, extras=None, mode=None, companion=
     """Solve in ``mode`` (``companion(pairs)``: the fixed mode's coarser level) through the
     run pipeline, print the tables with the estimate, and write the output."""
     start = time.perf_counter()
+    QUIET["on"] = bool(getattr(args, "quiet", False))
+    bars = Bars(quiet=QUIET["on"])
     simulation, reason, compare, estimate = _prepare(make, args)
+    built = time.perf_counter() - start
     stress, fatigue = pipeline.requests(extras)  # bad tables are refused before solving
     wear = pipeline.wear_request(extras)
     done = pipeline.run_simulation(
@@ -175,8 +191,10 @@ def _simulate(make, args: argparse.Namespace, extras=None, mode=None, companion=
         reason=reason,
         companion=companion,
         compare=[make(name)[0] for name in compare],
-        progress=_progress_option(accuracy.solve, simulation, estimate).get("progress"),
+        progress=_progress_option(accuracy.solve, simulation, estimate, bars).get("progress"),
         say=_progress,
+        bars=bars,
+        phases={"build": built},
     )
     result = done.result
     info = result.describe()
@@ -210,6 +228,7 @@ def _simulate(make, args: argparse.Namespace, extras=None, mode=None, companion=
     out = done.write(
         args.out, overwrite=args.overwrite, steps=args.steps,
         figures=not args.no_figures, vtk=not args.no_vtk, writers=_writer_names(args, done),
+        progress=bars,
     )  # fmt: skip
     asked = (("stress", stress), ("fatigue", fatigue), ("wear", wear))
     kinds = [k for k, v in asked if v is not None]
@@ -222,7 +241,18 @@ def _simulate(make, args: argparse.Namespace, extras=None, mode=None, companion=
         f"{''.join(', ' + kind for kind in kinds)}) "
         f"in {time.perf_counter() - start:.2f} s; all result checks passed"
     )
+    phases = _phases(out)
+    if phases:
+        print("time by phase: " + ", ".join(f"{k} {v:.2f} s" for k, v in phases.items()))
     return 0
+
+
+def _phases(out: Path) -> dict:
+    """The phases' seconds summary.json recorded ({} without it)."""
+    try:
+        return json.loads((Path(out) / "summary.json").read_text()).get("phases", {})
+    except (OSError, ValueError):
+        return {}
 
 
 def _writer_names(args: argparse.Namespace, done) -> list[str] | None:
@@ -281,6 +311,14 @@ def _demo(args: argparse.Namespace) -> int:
         return cattaneo_mindlin(attrs.evolve(scene, pairs=pairs))
 
     return _simulate(make, args, None, mode, companion)
+
+
+def _report(args: argparse.Namespace) -> int:
+    """report.html of a finished output folder (read-only apart from the page itself)."""
+    page = build_report(args.out)
+    path = add_output_file(args.out, REPORT, page)
+    print(f"wrote {path} ({len(page) / 1024:.0f} kB, figures embedded)")
+    return 0
 
 
 def _convergence(args: argparse.Namespace) -> int:
@@ -345,6 +383,17 @@ def _output_options(parser: argparse.ArgumentParser, default_out: str) -> None:
     parser.add_argument("--no-figures", action="store_true", help="skip the matplotlib figures")
     parser.add_argument("--no-vtk", action="store_true", help="skip the VTK files")
     parser.add_argument(
+        "--quiet",
+        action="store_true",
+        help="no status lines and no progress bars on stderr (the tables still print)",
+    )
+    parser.add_argument(
+        "--report",
+        action="store_true",
+        help="also write report.html: the run on one self-contained page (fretbem report OUT "
+        "makes it for a finished run)",
+    )
+    parser.add_argument(
         "--netcdf",
         action="store_true",
         help="also write results.nc (and stress.nc, fatigue.nc): labelled netCDF for xarray",
@@ -392,6 +441,11 @@ def parser() -> argparse.ArgumentParser:
     _accuracy_options(demo, "default fixed, 61 pairs")
     _output_options(demo, "demo-out")
     demo.set_defaults(func=_demo)
+    report = sub.add_parser(
+        "report", help="write report.html for a finished run: one self-contained page"
+    )
+    report.add_argument("out", help="the output folder of fretbem run or demo (--out)")
+    report.set_defaults(func=_report)
     convergence = sub.add_parser(
         "convergence", help="speed against error: the convergence study of the reference scene"
     )

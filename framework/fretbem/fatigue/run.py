@@ -14,7 +14,7 @@ from .critical_distance import CriticalDistanceValues, critical_distance_values
 from .critical_plane import CriterionResult, critical_plane_parameters
 from .cycle import select_cycle
 from .errors import FatigueInputError, MissingFatigueDataError
-from .labelled import fatigue_dataset
+from .labelled import fatigue_dataset, fatigue_html, fatigue_repr
 from .life import LifeEstimate, estimate_life
 from .providers import StressHistoryProvider
 from .request import FatigueRequest
@@ -68,6 +68,10 @@ class MethodReport:
     life_critical_distance: LifeEstimate | None
     life_message: str = ""
 
+    def __repr__(self) -> str:
+        return (f"<MethodReport {self.method}: {float(self.at_hot_spot.value[0]):.4g} at hot "
+                f"spot x={self.hot_spot[0]:.4g}, depth={self.hot_spot[1]:.4g}>")  # fmt: skip
+
 
 @attrs.frozen(eq=False)
 class FatigueReport:
@@ -92,6 +96,12 @@ class FatigueReport:
     methods: dict[str, MethodReport]
     ruiz: RuizParameters | None
     notes: tuple[str, ...]
+
+    def __repr__(self) -> str:
+        return fatigue_repr(self)
+
+    def _repr_html_(self) -> str:
+        return fatigue_html(self)
 
     def to_xarray(self):
         """The report as an :class:`xarray.Dataset` (maps, profiles, Ruiz parameters; hot
@@ -128,8 +138,11 @@ def _life(method, result: CriterionResult, index, request) -> LifeEstimate:
     )
 
 
-def run_fatigue(provider: StressHistoryProvider, request: FatigueRequest) -> FatigueReport:
-    """Evaluate ``request`` on the stress history of ``provider``."""
+def run_fatigue(
+    provider: StressHistoryProvider, request: FatigueRequest, *, progress=None
+) -> FatigueReport:
+    """Evaluate ``request`` on the stress history of ``provider``; ``progress(description,
+    total)`` (optional) returns a bar advanced after the map and after each method."""
     for member in ("n_steps", "stress_at"):
         if not hasattr(provider, member):
             raise FatigueInputError(f"the stress provider has no {member!r}")
@@ -164,7 +177,10 @@ def run_fatigue(provider: StressHistoryProvider, request: FatigueRequest) -> Fat
     a = getattr(provider, "contact_half_width", None)
     X, Z = np.meshgrid(xs, zs)
     grid = np.stack([X.ravel(), Z.ravel()], axis=1)
+    bar = progress("fatigue", 1 + len(request.methods)) if progress is not None else None
     maps = parameters(grid, request.methods)
+    if bar is not None:
+        bar.update(1)
     reports = {}
     scan_x = np.linspace(xs[0], xs[-1], SURFACE_SCAN_POINTS)
     if a is not None:  # the contact edges, where closed-form surface peaks sit, exactly
@@ -223,6 +239,8 @@ def run_fatigue(provider: StressHistoryProvider, request: FatigueRequest) -> Fat
             life_critical_distance=life_tcd,
             life_message=message,
         )
+        if bar is not None:
+            bar.update(1)
     ruiz = None
     surface = getattr(provider, "surface_history", None)
     if surface is not None:
@@ -234,6 +252,8 @@ def run_fatigue(provider: StressHistoryProvider, request: FatigueRequest) -> Fat
             ruiz = ruiz_parameters(
                 hist.x, hist.shear_traction[steps], hist.surface_stress_xx[steps], hist.slip[steps]
             )
+    if bar is not None:
+        bar.close()
     return FatigueReport(
         request=request,
         cycle_steps=steps,

@@ -16,7 +16,9 @@ def evaluated_stress(context):
     if context.stress is None:
         return None
     if "stress" not in context.cache:
-        context.cache["stress"] = evaluate_stress_request(context.result, context.stress)
+        context.cache["stress"] = evaluate_stress_request(
+            context.result, context.stress, progress=context.progress
+        )
     return context.cache["stress"]
 
 

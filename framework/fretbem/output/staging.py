@@ -29,6 +29,7 @@ __all__ = [
     "OutputError",
     "OutputExistsError",
     "OutputLockedError",
+    "add_output_file",
     "check_free_space",
     "output_lock",
     "prepare_output",
@@ -269,3 +270,32 @@ def csv_cell(value) -> str | float:
     if isinstance(value, str) and value[:1] in ("=", "+", "-", "@", "\t", "\r"):
         return "'" + value
     return value
+
+
+def add_output_file(directory: str | os.PathLike, name: str, text: str) -> Path:
+    """Add the file ``name`` to a finished fretbem output (e.g. a report made afterwards):
+    written whole (a temporary file renamed into place) under the output's lock, and listed
+    in its marker so the folder stays replaceable by the next run."""
+    target = Path(os.fspath(directory)).expanduser().resolve()
+    if not target.is_dir():
+        raise OutputError(f"{target} is not a directory; give the --out folder of a fretbem run")
+    why = _not_replaceable(target) if any(target.iterdir()) else "is empty"
+    if why:
+        raise OutputError(f"{target} {why}; give the --out folder of a fretbem run")
+    with output_lock(target):
+        path = target / name
+        handle, temporary = tempfile.mkstemp(prefix=f".{name}.", dir=target)
+        try:
+            with os.fdopen(handle, "w", encoding="utf-8") as stream:
+                stream.write(text)
+            os.chmod(temporary, 0o666 & ~_umask())
+            os.replace(temporary, path)
+        except OSError as err:
+            with contextlib.suppress(FileNotFoundError):
+                os.unlink(temporary)
+            raise OutputError(f"could not write {path}: {err.strerror or err}") from None
+        marker = target / MARKER
+        record = json.loads(marker.read_text())
+        record["files"] = sorted(set(record["files"]) | {name})
+        marker.write_text(json.dumps(record, indent=1))
+    return path

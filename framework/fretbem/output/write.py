@@ -17,6 +17,7 @@ from __future__ import annotations
 import csv
 import json
 import os
+import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
@@ -30,6 +31,7 @@ from fretbem.output import figures as plot
 from fretbem.output import fretting as fretting_
 from fretbem.output import vtk as vtk_
 from fretbem.output.labelled import evaluated_stress, write_netcdf_files
+from fretbem.output.report import write_report
 from fretbem.stress.run import write_stress_result
 from fretbem.verification.checks import check_steps
 
@@ -102,6 +104,11 @@ SUMMARY_KEYS = {
     "stick, slip, separated": ("", "pair counts"),
     "seconds": ("s", "wall time of the step"),
     "checks": ("", "per check: residual, limit, passed (see fretbem.verification.checks)"),
+    "phases": (
+        "s",
+        "top level: wall time of each phase of the run (build, solve with every accuracy "
+        "level, compare, fatigue, then each writer as 'write <name>', e.g. write stress)",
+    ),
     "accuracy": (
         "",
         "top level: mesh (fixed or adaptive), levels (pairs of every level solved, the last "
@@ -144,6 +151,8 @@ class WriteContext:
     writers: tuple[str, ...] = ()
     wear: object = None
     cache: dict = attrs.field(factory=dict)  # what one writer computed for the others
+    phases: dict = attrs.field(factory=dict)  # seconds per phase (summary.json "phases")
+    progress: Callable | None = None  # progress(description, total) -> bar
 
 
 @attrs.frozen
@@ -217,10 +226,15 @@ def _finite(value):
     return value
 
 
-def write_json(result, path: Path, checks: Sequence[dict] | None = None) -> Path:
-    """summary.json: ``result.summary()`` with a ``units`` table, ``"errors_are"`` and, per
-    step, the residual, limit and outcome of every result check (``checks``)."""
+def write_json(
+    result, path: Path, checks: Sequence[dict] | None = None, phases: dict | None = None
+) -> Path:
+    """summary.json: ``result.summary()`` with a ``units`` table, ``"errors_are"``, per
+    step the residual, limit and outcome of every result check (``checks``), and the
+    seconds of each phase of the run (``phases``)."""
     summary = dict(result.summary())
+    if phases:
+        summary["phases"] = {k: float(v) for k, v in phases.items()}
     if checks is not None:
         summary["steps"] = [
             {**step, "checks": {k: r.as_dict() for k, r in records.items()}}
@@ -263,7 +277,8 @@ def _write_csv(context: WriteContext, directory: Path) -> Path:
 
 
 def _write_json(context: WriteContext, directory: Path) -> Path:
-    return write_json(context.result, directory / "summary.json", context.checks)
+    # the time of every phase so far, the other writers' included (json runs after them)
+    return write_json(context.result, directory / "summary.json", context.checks, context.phases)
 
 
 def _write_units(context: WriteContext, directory: Path) -> Path:
@@ -285,6 +300,13 @@ def _write_stress(context: WriteContext, directory: Path):
 
 def _write_fretting(context: WriteContext, directory: Path):
     return fretting_.write_fretting(context.result, directory, figures="figures" in context.writers)
+
+
+def _write_report(context: WriteContext, directory: Path):
+    info = context.result.describe()
+    steps = [s.name for s in context.result.steps]
+    name = f"{info['basis']}, {info['pairs']} pairs, steps {steps[0]}..{steps[-1]}"
+    return write_report(directory, name=name)
 
 
 def _write_fatigue(context: WriteContext, directory: Path):
@@ -312,6 +334,8 @@ for _name, _function, _needs in (
 ):
     register_writer(_name, _function, context=True, needs=_needs)
 register_writer("netcdf", write_netcdf_files, default=False, context=True)
+#: report.html reads the other writers' files: it runs last whenever it is chosen
+register_writer("report", _write_report, default=False, context=True)
 
 
 def chosen_writers(
@@ -330,6 +354,8 @@ def chosen_writers(
             )
         chosen = [WRITERS[n] for n in dict.fromkeys(names)]
     dropped = {n for n, flag in (("figures", figures), ("vtk", vtk)) if flag is False}
+    # summary.json carries every other writer's time; the report reads every other file
+    chosen.sort(key=lambda w: {"json": 1, "report": 2}.get(w.name, 0))
     return [w for w in chosen if w.name not in dropped]
 
 
@@ -349,6 +375,8 @@ def write_results(
     figures: bool | None = None,
     vtk: bool | None = None,
     extra: Sequence[Callable] = (),
+    phases: dict | None = None,
+    progress: Callable | None = None,
 ) -> Path:
     """Write a run into ``directory`` through its writers: the one output mechanism.
 
@@ -365,16 +393,28 @@ def write_results(
     nothing (``check=False`` skips them, for inspecting a failed run). Raises OutputError
     (one-line message) when the directory cannot be used or written. ``figures=False`` and
     ``vtk=False`` drop those writers, and ``extra`` callables ``write(directory)`` run last
-    (both kept for one release: name the writers instead).
+    (both kept for one release: name the writers instead). ``phases`` (seconds by phase name)
+    go to summary.json's ``phases`` with each writer's time ("write <name>");
+    ``progress(description, total)`` makes the bars of long writers (the stresses).
     """
     target = prepare_output(directory, overwrite=overwrite)
     records = check_steps(result) if check else None  # a failed check writes nothing
     context = WriteContext(result, records, tuple(compare), steps, stress, fatigue, wear=wear)
     chosen = chosen_writers(writers, context, figures=figures, vtk=vtk)
-    context = attrs.evolve(context, writers=tuple(w.name for w in chosen))
+    context = attrs.evolve(
+        context, writers=tuple(w.name for w in chosen), phases=dict(phases or {}),
+        progress=progress,
+    )  # fmt: skip
+    bar = progress("writing", len(chosen)) if progress is not None else None
     with staged_directory(target, overwrite=overwrite) as staging:
         for writer in chosen:
+            tic = time.perf_counter()
             writer(context, staging)
+            context.phases[f"write {writer.name}"] = time.perf_counter() - tic
+            if bar is not None:
+                bar.update(1)
+        if bar is not None:
+            bar.close()
         for write in extra:
             write(staging)
     return target

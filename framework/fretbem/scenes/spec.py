@@ -28,6 +28,7 @@ from fretbem.geometry.shapes import (
     RoundedFlatPad,
 )
 from fretbem.material import Material
+from fretbem.views.display import scene_html, scene_repr
 
 from .errors import SceneFileError
 
@@ -475,6 +476,12 @@ class Scene:
     extras: Mapping[str, Any] = attrs.field(factory=dict)
     legacy: bool = False
     rig: RigSpec = attrs.field(factory=RigSpec)
+
+    def __repr__(self) -> str:
+        return scene_repr(self)
+
+    def _repr_html_(self) -> str:
+        return scene_html(self)
 
 
 # --------------------------------------------------------------------------- reading

@@ -10,6 +10,7 @@ import attrs
 import numpy as np
 
 from fretbem.views.cf import CONVENTIONS, attributes, clean_attrs
+from fretbem.views.display import html_table
 
 from .output import COLUMNS, von_mises
 
@@ -54,6 +55,46 @@ class StressResult:
     grid_stress: np.ndarray | None = None
     half_width: float | None = None
 
+    def _parts(self) -> list[str]:
+        parts = []
+        if self.points is not None:
+            parts.append(f"{len(self.points)} points")
+        parts += [
+            f"line at x={line.points[0, 0]:.4g} ({len(line.depths)} depths)" for line in self.lines
+        ]
+        if self.grid_points is not None:
+            parts.append(f"grid {len(self.grid_x)} x {len(self.grid_depth)}")
+        return parts
+
+    def __repr__(self) -> str:
+        hot = self.hot_spot()
+        peak = ""
+        if hot is not None:
+            h = hot["sigma_xx"]
+            peak = (
+                f"; max sigma_xx {h['value']:.4g} MPa at step {h['step']}, "
+                f"x={h['x']:.4g}, y={h['y']:.4g}"
+            )
+        return (
+            f"<StressResult {self.body} body, {len(self.steps)} steps, "
+            f"{', '.join(self._parts()) or 'nothing evaluated'}{peak}>"
+        )
+
+    def _repr_html_(self) -> str:
+        rows = [
+            ("body", self.body),
+            ("steps", ", ".join(self.steps[:12])),
+            ("evaluated", ", ".join(self._parts()) or "nothing"),
+        ]
+        for name, h in (self.hot_spot() or {}).items():
+            rows.append(
+                (
+                    f"max {name} (MPa)",
+                    f"{h['value']:.4g} at step {h['step']}, x = {h['x']:.4g}, y = {h['y']:.4g} mm",
+                )
+            )
+        return html_table(("", ""), rows, caption="stresses")
+
     def hot_spot(self) -> dict | None:
         """Largest sigma_xx and largest von Mises over every evaluated point and step:
         ``{"sigma_xx": {value, step, x, y}, "von_mises": {...}}`` (None: nothing evaluated)."""
@@ -62,8 +103,9 @@ class StressResult:
             parts.append((self.points, self.point_stress))
         parts += [(line.points, line.stress) for line in self.lines]
         if self.grid_points is not None:
-            parts.append((self.grid_points.reshape(-1, 2),
-                          self.grid_stress.reshape(len(self.steps), -1, 4)))  # fmt: skip
+            parts.append(
+                (self.grid_points.reshape(-1, 2), self.grid_stress.reshape(len(self.steps), -1, 4))
+            )
         if not parts:
             return None
         points = np.concatenate([p for p, _ in parts])
@@ -71,8 +113,12 @@ class StressResult:
         out = {}
         for name, values in (("sigma_xx", stress[..., 0]), ("von_mises", von_mises(stress))):
             k, i = np.unravel_index(int(np.argmax(values)), values.shape)
-            out[name] = {"value": float(values[k, i]), "step": self.steps[k],
-                         "x": float(points[i, 0]), "y": float(points[i, 1])}  # fmt: skip
+            out[name] = {
+                "value": float(values[k, i]),
+                "step": self.steps[k],
+                "x": float(points[i, 0]),
+                "y": float(points[i, 1]),
+            }
         return out
 
     def to_xarray(self):

@@ -38,9 +38,10 @@ def _step_names(result, request: StressRequest) -> list[str]:
     return list(request.steps)
 
 
-def evaluate_stress_request(result, request: StressRequest) -> StressResult:
+def evaluate_stress_request(result, request: StressRequest, *, progress=None) -> StressResult:
     """Evaluate ``request`` for ``result``: every point, line and grid at its steps (edge
-    positions such as ``"trailing-edge"`` placed for the run's contact half-width)."""
+    positions such as ``"trailing-edge"`` placed for the run's contact half-width).
+    ``progress(description, total)`` (optional) returns a bar advanced after each part."""
     half_width = None
     if request.uses_edges:  # "trailing-edge" and the like, placed for this run's a
         half_width, centre, _ = contact_half_width(result)
@@ -48,8 +49,14 @@ def evaluate_stress_request(result, request: StressRequest) -> StressResult:
     steps = _step_names(result, request)
     side = request.body
 
+    parts = (request.points is not None) + len(request.lines) + (request.grid is not None)
+    bar = progress("stresses", parts) if progress is not None else None
+
     def evaluate(points):
-        return StressEvaluator(result, points, side).steps(steps)
+        values = StressEvaluator(result, points, side).steps(steps)
+        if bar is not None:
+            bar.update(1)
+        return values
 
     model = result.simulation.prepare().pair.side(side)[0]
     fields = {"body": side, "steps": tuple(steps), "half_width": half_width}
@@ -64,6 +71,8 @@ def evaluate_stress_request(result, request: StressRequest) -> StressResult:
         pts, xs, depths = grid_points(model, request.grid, side)
         stress = evaluate(pts.reshape(-1, 2)).reshape(len(steps), *pts.shape[:2], 4)
         fields.update(grid_x=xs, grid_depth=depths, grid_points=pts, grid_stress=stress)
+    if bar is not None:
+        bar.close()
     return StressResult(**fields)
 
 

@@ -20,20 +20,25 @@ VARIABLES: dict[str, tuple[str, str, str]] = {
     "p": ("MPa", "contact pressure", "on the lower body, > 0 in compression"),
     "q": ("MPa", "shear traction", "of the upper body on the lower, along +x (the pair tangent)"),
     "un": (
-        "mm", "relative normal displacement", "upper minus lower, along the lower normal",
+        "mm",
+        "relative normal displacement",
+        "upper minus lower, along the lower normal",
     ),
     "ut": (
-        "mm", "relative tangential displacement",
+        "mm",
+        "relative tangential displacement",
         "accumulated slip, upper minus lower, along +x",
     ),
     "slip": (
-        "mm", "slip increment of the step",
+        "mm",
+        "slip increment of the step",
         "change of ut since the previous step (the first step: ut), along +x",
     ),
     "state": ("1", "pair state", "0 separated, 1 stick, 2 slip"),
     "p_exact": ("MPa", "closed-form contact pressure", "Hertz, at the pair positions"),
     "q_exact": (
-        "MPa", "closed-form shear traction",
+        "MPa",
+        "closed-form shear traction",
         "Cattaneo-Mindlin, Mindlin-Deresiewicz or Nowell-Hills, at the pair positions",
     ),
     "P": ("N mm-1", "normal load", "per unit thickness, > 0 presses the upper body down"),
@@ -56,7 +61,9 @@ VARIABLES: dict[str, tuple[str, str, str]] = {
     "slip_zone": ("mm", "computed slip zones", "from the first to the last slip pair"),
     "slip_zone_sign": ("1", "sign of a slip zone's mean shear", "+1 or -1; 0: no zone"),
     "theory_stick_zone": (
-        "mm", "closed-form stick zone", "[e - c, e + c], offset e by the bulk stress",
+        "mm",
+        "closed-form stick zone",
+        "[e - c, e + c], offset e by the bulk stress",
     ),
     "check_residual": ("1", "result check residual", "see fretbem.verification.checks"),
     "check_limit": ("1", "result check limit", "the check passes when residual <= limit"),
@@ -68,7 +75,7 @@ VARIABLES: dict[str, tuple[str, str, str]] = {
     "von_mises": ("MPa", "von Mises stress", "sigma_zz included"),
     "depth": ("mm", "depth below the contact surface", "at the same x"),
     "y": ("mm", "y coordinate", "global frame"),
-}  # fmt: skip
+}
 
 
 def attributes(name: str) -> dict:

@@ -99,9 +99,10 @@ def run_dataset(result):
         "contact",
     )
     data["stick_zone"] = _var(
-        ("step", "stick_zone_index", "edge"), _padded([list(z.stick) for z in zones], 2),
+        ("step", "stick_zone_index", "edge"),
+        _padded([list(z.stick) for z in zones], 2),
         "stick_zone",
-    )  # fmt: skip
+    )
     slips = _padded([[(a, b, 1.0 if s == "+" else -1.0) for a, b, s in z.slip] for z in zones], 3)
     data["slip_zone"] = _var(("step", "slip_zone_index", "edge"), slips[..., :2], "slip_zone")
     data["slip_zone_sign"] = _var(
@@ -116,15 +117,19 @@ def run_dataset(result):
     if check_names:
 
         def table(field, fill):
-            return np.array([[getattr(c[n], field) if n in c else fill for n in check_names]
-                             for c in checks])  # fmt: skip
+            return np.array(
+                [[getattr(c[n], field) if n in c else fill for n in check_names] for c in checks]
+            )
 
-        data["check_residual"] = _var(("step", "check"), table("residual", math.nan).astype(float),
-                                      "check_residual")  # fmt: skip
-        data["check_limit"] = _var(("step", "check"), table("limit", math.nan).astype(float),
-                                   "check_limit")  # fmt: skip
-        data["check_passed"] = _var(("step", "check"), table("passed", False).astype(np.int8),
-                                    "check_passed")  # fmt: skip
+        data["check_residual"] = _var(
+            ("step", "check"), table("residual", math.nan).astype(float), "check_residual"
+        )
+        data["check_limit"] = _var(
+            ("step", "check"), table("limit", math.nan).astype(float), "check_limit"
+        )
+        data["check_passed"] = _var(
+            ("step", "check"), table("passed", False).astype(np.int8), "check_passed"
+        )
     coords = {
         "step": ("step", np.array(names, dtype=str), {"long_name": "load step name"}),
         "x": ("pair", x, attributes("x")),

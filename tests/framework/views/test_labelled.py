@@ -18,8 +18,13 @@ def _same_run(dataset, result):
     assert list(dataset.step.values) == [s.name for s in result.steps]
     assert np.array_equal(dataset.x.values, result.steps[0].x)
     for k, step in enumerate(result.steps):
-        fields = {"p": step.pressure, "q": step.shear, "un": step.normal_displacement,
-                  "ut": step.tangential_displacement, "state": step.states}  # fmt: skip
+        fields = {
+            "p": step.pressure,
+            "q": step.shear,
+            "un": step.normal_displacement,
+            "ut": step.tangential_displacement,
+            "state": step.states,
+        }
         for name, values in fields.items():
             assert np.array_equal(dataset[name].values[k], values), name
         assert dataset.P.values[k] == step.normal and dataset.Q.values[k] == step.tangential
@@ -91,10 +96,13 @@ def test_stress_result_dataset(rig_run, tmp_path):
     from fretbem.stress.output import von_mises
 
     request = stress_request_from_dict(
-        {"steps": ["A", "B"], "points": [["trailing-edge", 0.0], [0.0, -0.1]],
-         "line": {"x": "trailing-edge", "depth": 0.5, "n": 5},
-         "grid": {"x": [-0.8, 0.8], "depth": 0.4, "nx": 5, "ny": 4}}
-    )  # fmt: skip
+        {
+            "steps": ["A", "B"],
+            "points": [["trailing-edge", 0.0], [0.0, -0.1]],
+            "line": {"x": "trailing-edge", "depth": 0.5, "n": 5},
+            "grid": {"x": [-0.8, 0.8], "depth": 0.4, "nx": 5, "ny": 4},
+        }
+    )
     done = evaluate_stress_request(rig_run.result, request)
     ds = done.to_xarray()
     a = rig_run.result.hertz()["a"]
@@ -113,12 +121,18 @@ def test_stress_result_dataset(rig_run, tmp_path):
 def test_fatigue_report_dataset(tmp_path):
     from fretbem.fatigue import CattaneoMindlinCycle, fatigue_request_from_dict, run_fatigue
 
-    cycle = CattaneoMindlinCycle(a=0.5, p0=300.0, f=0.6, tangential_ratio=0.5,
-                                 sigma_bulk_max=80.0, nu=0.342)  # fmt: skip
+    cycle = CattaneoMindlinCycle(
+        a=0.5, p0=300.0, f=0.6, tangential_ratio=0.5, sigma_bulk_max=80.0, nu=0.342
+    )
     request = fatigue_request_from_dict(
-        {"material": "Ti-6Al-4V", "constants": {"findley_k": 0.3}, "critical_distance": 0.05,
-         "map_points": [11, 5], "methods": ["swt", "findley"]}
-    )  # fmt: skip
+        {
+            "material": "Ti-6Al-4V",
+            "constants": {"findley_k": 0.3},
+            "critical_distance": 0.05,
+            "map_points": [11, 5],
+            "methods": ["swt", "findley"],
+        }
+    )
     report = run_fatigue(cycle, request)
     ds = report.to_xarray()
     for method, rep in report.methods.items():
@@ -139,9 +153,14 @@ def test_sweep_table_dataset_is_indexed_by_its_parameters():
 
     P, Q = np.meshgrid([60.0, 100.0], [0.0, 10.0, 20.0], indexing="ij")
     table = pd.DataFrame(
-        {"case": range(6), "load.P": P.ravel(), "load.Q": Q.ravel(),
-         "stick_width.B": np.arange(6.0), "regime": ["partial slip"] * 6}
-    )  # fmt: skip
+        {
+            "case": range(6),
+            "load.P": P.ravel(),
+            "load.Q": Q.ravel(),
+            "stick_width.B": np.arange(6.0),
+            "regime": ["partial slip"] * 6,
+        }
+    )
     ds = sweep_dataset(table.drop(index=3), ["load.P", "load.Q"])
     assert ds["stick_width.B"].dims == ("load.P", "load.Q")
     assert ds["stick_width.B"].sel({"load.P": 100.0, "load.Q": 20.0}).item() == 5.0
@@ -153,8 +172,9 @@ def test_sweep_table_dataset_is_indexed_by_its_parameters():
 
 def test_command_line_writes_netcdf_on_request(tmp_path):
     out = tmp_path / "out"
-    code = cli.main(["demo", "--pairs", "21", "--no-figures", "--no-vtk", "--netcdf",
-                     "--out", str(out)])  # fmt: skip
+    code = cli.main(
+        ["demo", "--pairs", "21", "--no-figures", "--no-vtk", "--netcdf", "--out", str(out)]
+    )
     assert code == 0
     ds = read_netcdf(out / "results.nc")
     import csv
@@ -163,6 +183,7 @@ def test_command_line_writes_netcdf_on_request(tmp_path):
     assert len(rows) == ds.sizes["step"] * ds.sizes["pair"]
     assert float(rows[-1]["q"]) == ds.q.values[-1, -1]
     assert ds.attrs["hertz_a"] == pytest.approx(0.3289, abs=5e-5)
-    code = cli.main(["demo", "--pairs", "21", "--no-figures", "--no-vtk", "--out",
-                     str(tmp_path / "plain")])  # fmt: skip
+    code = cli.main(
+        ["demo", "--pairs", "21", "--no-figures", "--no-vtk", "--out", str(tmp_path / "plain")]
+    )
     assert code == 0 and not (tmp_path / "plain" / "results.nc").exists()

@@ -10,10 +10,14 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from fretbem.views.cf import CONVENTIONS, clean_attrs
+from fretbem.views.display import html_table
 
 from .units import unit_of
 
-__all__ = ["sweep_dataset"]
+__all__ = ["sweep_dataset", "sweep_html", "sweep_repr"]
+
+#: table rows shown in a notebook
+SHOWN_ROWS = 10
 
 
 def _cf_unit(unit: str | None) -> dict:
@@ -36,11 +40,46 @@ def sweep_dataset(table, paths: Sequence[str], mode: str = "product"):
         if name in paths:
             dataset[name].attrs["long_name"] = f"varied scene key {name}"
     dataset.attrs.update(
-        clean_attrs({
-            "Conventions": CONVENTIONS,
-            "title": "fretbem parameter sweep",
-            "mode": mode,
-            "parameters": " ".join(paths),
-        })
-    )  # fmt: skip
+        clean_attrs(
+            {
+                "Conventions": CONVENTIONS,
+                "title": "fretbem parameter sweep",
+                "mode": mode,
+                "parameters": " ".join(paths),
+            }
+        )
+    )
     return dataset
+
+
+def sweep_repr(result) -> str:
+    """One line: cases stored of the total, statuses, regimes, the varied parameters."""
+    summary = result.summary
+    status = ", ".join(f"{n} {k}" for k, n in sorted(summary.status.items()))
+    regimes = ", ".join(f"{n} {k}" for k, n in summary.regimes.items() if n)
+    return (
+        f"<SweepResult {summary.stored}/{summary.cases} cases ({status}); "
+        f"parameters {' x '.join(result.spec.paths)}; regimes {regimes or 'none'}>"
+    )
+
+
+def sweep_html(result) -> str:
+    """The summary lines and the first rows of the table (parameters, regime, status)."""
+    table = result.table
+    paths = [p for p in result.spec.paths if p in table]
+    columns = [*paths, *(c for c in ("regime", "status", "P_max", "Q_peak") if c in table)]
+    rows = [
+        tuple(_cell(v) for v in row)
+        for row in table[columns].head(SHOWN_ROWS).itertuples(index=False)
+    ]
+    if len(table) > SHOWN_ROWS:
+        rows.append((f"... {len(table) - SHOWN_ROWS} more cases (result.table) ...",))
+    head = "".join(f"<div>{line}</div>" for line in str(result.summary).splitlines())
+    header = [f"{c} ({unit_of(c)})" if unit_of(c) not in (None, "1") else c for c in columns]
+    return f"<div><b>SweepResult</b>{head}{html_table(header, rows)}</div>"
+
+
+def _cell(value) -> str:
+    if isinstance(value, float):
+        return f"{value:.4g}"
+    return str(value)

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import importlib
 from collections.abc import Callable, Mapping, Sequence
+from importlib.metadata import entry_points
 from typing import Any
 
 import numpy as np
@@ -31,8 +32,6 @@ ENTRY_POINTS = "fretbem.sweep_outputs"
 
 def registered() -> dict[str, str]:
     """Every sweep output: short name -> ``"module:function"`` (built-ins and plugins)."""
-    from importlib.metadata import entry_points
-
     names = {name: f"{__name__}:{name}" for name in BUILT_IN}
     for entry in entry_points(group=ENTRY_POINTS):
         names.setdefault(entry.name, entry.value)

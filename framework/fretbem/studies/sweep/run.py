@@ -30,10 +30,11 @@ import attrs
 
 from fretbem.errors import ComputationError, FretbemError
 from fretbem.output.staging import output_lock
+from fretbem.pipeline import requests
 from fretbem.scenes.file import scene_from_data
 
 from .cases import REGIMES, STEP_COLUMNS, case_loading, representative, run_batch
-from .labelled import sweep_dataset
+from .labelled import sweep_dataset, sweep_html, sweep_repr
 from .maps import check_maps, draw_maps
 from .outputs import declared_columns, resolve_all
 from .spec import SweepSpec, SweepSpecError, load_sweep, set_path
@@ -213,6 +214,12 @@ class SweepResult:
     table: Any
     summary: SweepSummary
     spec: SweepSpec
+
+    def __repr__(self) -> str:
+        return sweep_repr(self)
+
+    def _repr_html_(self) -> str:
+        return sweep_html(self)
 
     def to_xarray(self):
         """The table as an :class:`xarray.Dataset` indexed by the varied parameters (a grid
@@ -447,8 +454,6 @@ def check_values(spec: SweepSpec, builder=None) -> None:
     """
     if builder is not None:
         return  # a custom builder reads its own scenes
-    from fretbem.pipeline import requests
-
     for parameter in spec.parameters:
         for value in dict.fromkeys(map(_hashable, parameter.values)):
             scene = copy.deepcopy(spec.scene)
@@ -710,6 +715,9 @@ def add_arguments(parser) -> None:
         action="store_true",
         help="solve nothing: redraw the [[maps]] from the cases already in the store",
     )
+    parser.add_argument(
+        "--quiet", action="store_true", help="no progress bar (it shows only on a terminal)"
+    )
 
 
 def run_command(args) -> int:
@@ -729,6 +737,7 @@ def run_command(args) -> int:
             workers=args.workers,
             batch=args.batch,
             limit=args.limit,
+            progress=not getattr(args, "quiet", False),
         )
         print(result.summary)
         if not args.no_figures and not result.summary.stopped:
