@@ -111,6 +111,7 @@ TESTED = {
     "tutorials/06_rig/fretting_rig_from_python.py",  # tests/docs/test_tutorial_rig.py
     "tutorials/07_pairing/faces_that_differ_and_sliding.py",  # tests/docs/test_tutorial_pairing.py
     "tutorials/07_results/results_in_a_notebook.py",  # tests/docs/test_tutorial_results.py
+    "tutorials/08_fretting/fretting_loops_and_regimes.py",  # tests/docs/test_tutorial_fretting.py
     "verification/lame_cylinder_convergence.py",
     "verification/reference_scene_convergence.py",
     # tests/docs/test_verification_pages.py
