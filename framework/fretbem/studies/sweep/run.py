@@ -33,7 +33,14 @@ from fretbem.output.staging import output_lock
 from fretbem.pipeline import requests
 from fretbem.scenes.file import scene_from_data
 
-from .cases import REGIMES, STEP_COLUMNS, case_loading, representative, run_batch
+from .cases import (
+    CYCLE_COLUMNS,
+    REGIMES,
+    STEP_COLUMNS,
+    case_loading,
+    representative,
+    run_batch,
+)
 from .labelled import sweep_dataset, sweep_html, sweep_repr
 from .maps import check_maps, draw_maps
 from .outputs import declared_columns, resolve_all
@@ -489,14 +496,17 @@ def sweep_columns(spec: SweepSpec, outputs: Sequence[str]) -> set[str] | None:
     for parameter in spec.parameters:
         set_path(scene, parameter.path, parameter.scene_value(parameter.values[0]))
     try:
-        steps = [step.name for step in case_loading(scene).steps]
+        loading = case_loading(scene).steps
     except Exception:
-        steps = []
+        loading = []
+    steps = [step.name for step in loading]
     declared = declared_columns(outputs, steps, spec.scene)
     if declared is None:
         return None
     base = {"case", "status", "error", "regime", "friction", "P_max", "Q_peak", "pairs"}
     per_step = {f"{c}.{s}" for c in STEP_COLUMNS for s in steps}
+    if any(getattr(step, "cycle", 0) for step in loading):  # a cyclic case: its last cycle
+        per_step = {*CYCLE_COLUMNS, "transition_ratio", "cycles"}
     return base | per_step | set(spec.paths) | declared
 
 

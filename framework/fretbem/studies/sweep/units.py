@@ -17,7 +17,9 @@ SCENE_KEYS = {
     "P": "N/mm", "Q": "N/mm", "bulk": "MPa", "friction": "1", "E": "MPa", "nu": "1",
     "radius": "mm", "width": "mm", "height": "mm", "length": "mm", "thickness": "mm",
     "flat": "mm", "zone_width": "mm", "zone": "a (Hertz half-width)", "pairs": "1",
-    "degree": "1", "tolerance": "1", "increments": "1",
+    "degree": "1", "tolerance": "1", "increments": "1", "delta": "mm", "approach": "mm",
+    "cycles": "1", "P_amplitude": "N/mm", "P_phase": "degrees", "bulk_amplitude": "MPa",
+    "bulk_phase": "degrees", "stiffness_x": "MPa", "stiffness_y": "MPa",
 }  # fmt: skip
 #: output columns, by their name before the step (``stick_width.B``) or method
 OUTPUTS = {
@@ -25,6 +27,8 @@ OUTPUTS = {
     "contact_width": "mm", "p_max": "MPa", "q_max": "MPa", "sxx_max": "MPa",
     "e_p_max": "fraction of p0", "e_q_max": "fraction of f p0", "iterations": "1",
     "solve_seconds": "s", "solve_cpu_seconds": "s", "assembly_seconds": "s",
+    "dissipated_energy": "N mm/mm", "delta_amplitude": "mm", "Q_amplitude": "N/mm",
+    "energy_ratio": "1", "transition_ratio": "1", "slip_amplitude_max": "mm", "cycles": "1",
 }  # fmt: skip
 #: per-method fatigue columns (``swt.life``, ``mwcm.x``)
 METHOD_COLUMNS = {"life": "cycles", "x": "mm", "depth": "mm"}
