@@ -109,30 +109,55 @@ def _spread(cycles: list, limit: int = MAX_LOOPS) -> list:
     return [cycles[i] for i in picks]
 
 
+def initial_stiffness(analysis: FrettingAnalysis) -> float | None:
+    """dQ / d(delta) of the first tangential increment (the elastic slope of the loop)."""
+    moved = np.flatnonzero(np.abs(np.diff(analysis.delta)) > 0)
+    if not moved.size:
+        return None
+    k = moved[0]
+    slope = (analysis.tangential[k + 1] - analysis.tangential[k]) / (
+        analysis.delta[k + 1] - analysis.delta[k]
+    )
+    return float(slope) if np.isfinite(slope) and slope > 0 else None
+
+
 def loop_figure(analysis: FrettingAnalysis):
-    """The Q-delta loops (every cycle, or an even spread of them), with E_d, A and regime."""
-    fig = plot._figure((6.4, 4.6))
-    ax = fig.add_subplot(1, 1, 1)
+    """The Q-delta loops (every cycle, or an even spread of them), with E_d, A and regime;
+    beside them the same loops against delta - Q / k0 (k0 the first increment's slope),
+    which removes the elastic compliance and leaves the slip's share of delta."""
+    fig = plot._figure((11.0, 4.6))
+    ax, right = fig.add_subplot(1, 2, 1), fig.add_subplot(1, 2, 2)
+    stiffness = initial_stiffness(analysis)
     ax.plot(analysis.delta * 1e3, analysis.tangential, color="#bbbbbb", lw=0.8, label="history")
     colors = plot._colors()
     for k, cycle in enumerate(_spread(list(analysis.cycles))):
+        color = colors[k % len(colors)]
         ax.plot(
             cycle.delta * 1e3,
             cycle.tangential,
-            color=colors[k % len(colors)],
+            color=color,
             lw=1.4,
             label=f"cycle {cycle.cycle}: {cycle.regime}, E_d = {cycle.dissipated_energy:.3g} "
             f"N mm/mm, A = {cycle.energy_ratio:.3g}",
         )
+        if stiffness is not None:
+            right.plot((cycle.delta - cycle.tangential / stiffness) * 1e3, cycle.tangential,
+                       color=color, lw=1.4)  # fmt: skip
     ax.set_xlabel("delta (um): pad block against the specimen's held end")
     ax.set_ylabel("Q (N/mm)")
-    ax.axhline(0.0, color="k", lw=0.5)
-    ax.axvline(0.0, color="k", lw=0.5)
+    for axes in (ax, right):
+        axes.axhline(0.0, color="k", lw=0.5)
+        axes.axvline(0.0, color="k", lw=0.5)
     title = "Q-delta loops"
     if analysis.transition_ratio is not None:
-        title += f" (gross slip transition at A = {analysis.transition_ratio:.3g})"
+        title += f" (gross slip at A > {analysis.transition_ratio:.3g})"
     ax.set_title(title, fontsize=10, y=plot.TITLE_Y)
     ax.legend(fontsize=7, loc="lower right")
+    if stiffness is not None:
+        right.set_xlabel(f"delta - Q / k0 (um), k0 = {stiffness:.4g} N/mm per mm")
+        right.set_title("the loops without the elastic slope", fontsize=10, y=plot.TITLE_Y)
+    else:
+        right.set_axis_off()
     fig.tight_layout()
     return fig
 
