@@ -192,8 +192,10 @@ def _relief(problem, pressure: np.ndarray) -> float:
 
 
 def worn_simulation(simulation: Simulation, profile: WornProfile) -> Simulation:
-    """``simulation`` on the worn contact: its pair's gap offset by the profile's depths."""
-    pair = WornPair.of(simulation.pair, profile.offset)
+    """``simulation`` on the worn contact: its pair's gap offset by the profile's depths
+    (the closest pairs brought to touch when every step imposes P, see WornPair)."""
+    touching = all(getattr(s, "approach", None) is None for s in simulation.steps)
+    pair = WornPair.of(simulation.pair, profile.offset, touching=touching)
     return attrs.evolve(simulation, pair=pair, name=f"{simulation.name} at N = {profile.cycles}")
 
 

@@ -120,6 +120,8 @@ def test_gross_slip_on_bem_bodies():
                      cycles=3000, outputs=(1000,))  # fmt: skip
     peaks = [s.pressure[0].max() for s in result.snapshots]
     assert np.all(np.diff(peaks) < 0)
+    worn = result.at(3000)  # the whole history again on the worn faces, from unloaded bodies
+    assert worn.steps[1].pressure.max() == pytest.approx(peaks[-1], rel=1e-3)
     for snap in result.snapshots[1:]:
         assert snap.profile.weights @ snap.shear[0] == pytest.approx(F * P, rel=1e-3)
         assert snap.profile.volume("lower") == pytest.approx(3e-4 / JOULE * snap.energy, rel=1e-12)
