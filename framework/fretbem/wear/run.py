@@ -25,7 +25,7 @@ from fretbem.simulation import LoadStep, Simulation, run
 
 from .cycle import simulate_cycle
 from .jump import Jump, JumpControl, extrapolate
-from .law import WearInputError, WearLaw
+from .law import ScarEdgeError, WearInputError, WearLaw
 from .profile import BODIES, WornPair, WornProfile
 
 __all__ = ["WearResult", "WearSimulation", "WearSnapshot", "run_wear", "worn_simulation"]
@@ -185,6 +185,19 @@ class WearResult:
         return run(worn_simulation(self.wear.simulation, self.snapshot(cycles).profile))
 
 
+def _check_edges(pressure: np.ndarray, cycles: int, x: np.ndarray) -> None:
+    """The contact must stay inside the candidate zone as the scar widens."""
+    edge = pressure[:, [0, -1]]
+    if np.any(edge > 0):
+        raise ScarEdgeError(
+            f"the worn contact reached the end pairs of the candidate zone (x = {x[0]:.4g}, "
+            f"{x[-1]:.4g} mm, p up to {edge.max():.4g} MPa) after {cycles} wear cycles, so "
+            "the scar may be wider than the zone; enlarge [contact] zone (or zone_width) "
+            "until the end pairs stay separated, or wear fewer cycles",
+            float(edge.max()),
+        )
+
+
 def _relief(problem, pressure: np.ndarray) -> float:
     """Spread of the unworn initial gap over the pairs in contact at any step end (mm)."""
     touching = np.any(pressure > 0, axis=0)
@@ -223,6 +236,7 @@ def run_wear(wear: WearSimulation, *, progress=None) -> WearResult:
             state, _, _ = simulation.step(worn, state, settle)
         cycle = simulate_cycle(simulation, worn, state, wear.cycle_steps, wear.laws)
         simulated += 1
+        _check_edges(cycle.pressure, n, profile.x)
         if n == targets[0]:
             targets.pop(0)
             snapshots.append(WearSnapshot(profile, cycle.pressure, cycle.shear, energy, work))

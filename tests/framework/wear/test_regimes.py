@@ -16,7 +16,7 @@ from fretbem.scenes.file import scene_from_data
 from fretbem.scenes.reference import cattaneo_mindlin
 from fretbem.wear.cycle import simulate_cycle
 from fretbem.wear.jump import JumpControl
-from fretbem.wear.law import JOULE, ArchardWear, EnergyWear
+from fretbem.wear.law import JOULE, ArchardWear, EnergyWear, ScarEdgeError
 from fretbem.wear.profile import pair_weights
 from fretbem.wear.run import WearSimulation, run_wear
 
@@ -144,3 +144,11 @@ def test_partial_slip_moves_the_surface_stress_peak_inward():
     assert abs(peaks[0][0] + a) < 0.03  # at the trailing edge before wear
     assert peaks[2][0] > -0.8 * a  # inward after wear
     assert peaks[1][2] < peaks[0][2] and peaks[2][2] < peaks[1][2]  # the edge value falls
+
+
+def test_a_scar_reaching_the_zone_edge_is_refused():
+    simulation = gross_slip(pairs=21)  # zone 2.5 Hertz half-widths
+    laws = {"upper": EnergyWear(0.05), "lower": EnergyWear(0.05)}
+    control = JumpControl(scheme="implicit", relative_change=0.5)
+    with pytest.raises(ScarEdgeError, match=r"reached the end pairs .* enlarge \[contact\] zone"):
+        run_wear(WearSimulation(simulation, laws, 100_000, control=control))
