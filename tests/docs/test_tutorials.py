@@ -102,6 +102,18 @@ def test_reference_scene_verification(run_script):
         assert row["e_p_l2"] < 0.01, family
 
 
+def test_wear_profiles(run_script):
+    """Gross slip: peak p falls 137 -> 67 MPa and the scar widens (measured), the load stays
+    P and the volume is alpha E_d; partial slip: no wear in the stick zone, the peak moves in."""
+    ns = run_script(TUTORIALS / "08_wear" / "fretting_wear_profiles.py")
+    assert np.all(np.diff(ns["PEAKS"]) < 0) and ns["PEAKS"][-1] < 0.55 * ns["PEAKS"][0]
+    assert np.all(np.diff(ns["WIDTHS"]) > 0)
+    assert abs(ns["LOAD"] - 100.0) < 1e-9
+    assert abs(ns["VOLUME_RATIO"] - 1.0) < 1e-12
+    assert ns["STICK_DEPTH"] < 1e-9 * ns["SLIP_DEPTH"]
+    assert 0.2 < ns["PEAK_X"] < 0.4  # from the centre (Hertz) to the stick-slip boundary
+
+
 TESTED = {
     "tutorials/01_getting_started/run_the_reference_scene.py",
     "tutorials/02_scripting/rounded_flat_pad_load_history.py",
@@ -112,6 +124,7 @@ TESTED = {
     "tutorials/07_pairing/faces_that_differ_and_sliding.py",  # tests/docs/test_tutorial_pairing.py
     "tutorials/07_results/results_in_a_notebook.py",  # tests/docs/test_tutorial_results.py
     "tutorials/08_fretting/fretting_loops_and_regimes.py",  # tests/docs/test_tutorial_fretting.py
+    "tutorials/08_wear/fretting_wear_profiles.py",
     "verification/lame_cylinder_convergence.py",
     "verification/reference_scene_convergence.py",
     # tests/docs/test_verification_pages.py

@@ -121,6 +121,8 @@ def _settings(report: WearReport) -> dict:
         "cycle_steps": [s.name for s in wear.cycle_steps],
         "increments": [s.increments for s in wear.cycle_steps],
         "max_change_mm": control.max_change,
+        "relative_change": control.relative_change,
+        "scheme": control.scheme,
         "safety": control.safety,
         "max_jump": control.max_jump,
         "outputs": list(wear.snapshot_cycles),

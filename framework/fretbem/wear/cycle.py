@@ -1,7 +1,7 @@
 """One simulated load cycle on a worn contact: the wear each body takes per cycle.
 
-The cycle's steps are solved increment by increment (:meth:`Simulation.step` with one
-increment at a time, so the friction memory is the simulation's own). After each increment
+The cycle's steps are solved by :meth:`Simulation.step` (force or displacement control, the
+friction memory the simulation's own), which reports every increment. After each increment
 the slip increment ds of every pair (the change of the relative tangential displacement,
 zero where the pair sticks) and the tractions p, q at the increment's end give each body's
 depth increment through its wear law; sums over the cycle give the per-cycle wear, the
@@ -33,13 +33,19 @@ class CycleWear:
     ----------
     depth : mapping "upper"/"lower" -> ndarray
         Wear depth each body takes in the cycle, per pair (mm).
-    sensitivity : ndarray
-        d(depth of both bodies)/dp summed over the cycle, per pair (mm/MPa): the wear
-        rate's answer to the pressure, for the jump's stability estimate.
+    sensitivities : mapping "upper"/"lower" -> ndarray
+        d(depth)/dp of each body summed over the cycle, per pair (mm/MPa): the wear rate's
+        answer to the pressure, for the jump's stability estimate and the implicit jump.
     energy : ndarray
         Dissipated energy density sum |q| |ds| per pair (N mm / mm^2).
+    energy_sensitivity : ndarray
+        sum (|q| / p) |ds| per pair (mm): the energy density's answer to the pressure (in
+        slip |q| = f p), so that an implicit jump extrapolates the energy as it does the
+        depth.
     work : ndarray
         Archard work density sum p |ds| per pair (N mm / mm^2).
+    work_sensitivity : ndarray
+        sum |ds| over the increments in contact, per pair (mm): d(work)/dp.
     slip_path : ndarray
         sum |ds| per pair over the cycle (mm).
     pressure, shear : ndarray, shape (n_steps, n)
@@ -51,36 +57,21 @@ class CycleWear:
     """
 
     depth: Mapping[str, np.ndarray]
-    sensitivity: np.ndarray
+    sensitivities: Mapping[str, np.ndarray]
     energy: np.ndarray
+    energy_sensitivity: np.ndarray
     work: np.ndarray
+    work_sensitivity: np.ndarray
     slip_path: np.ndarray
     pressure: np.ndarray
     shear: np.ndarray
     state: ContactState
     iterations: int
 
-
-def _between(start: Mapping[str, float], end: Mapping[str, float], frac: float) -> dict:
-    names = dict.fromkeys([*start, *end])
-    return {k: start.get(k, 0.0) + frac * (end.get(k, 0.0) - start.get(k, 0.0)) for k in names}
-
-
-def increments(start: ContactState, load: LoadStep) -> list[LoadStep]:
-    """The single increments of ``load`` from ``start``: one LoadStep per increment."""
-    out = []
-    for k in range(1, load.increments + 1):
-        frac = k / load.increments
-        out.append(
-            LoadStep(
-                f"{load.name}.{k}",
-                start.normal + frac * (load.normal - start.normal),
-                start.tangential + frac * (load.tangential - start.tangential),
-                1,
-                _between(start.loads, load.loads, frac),
-            )
-        )
-    return out
+    @property
+    def sensitivity(self) -> np.ndarray:
+        """d(depth of both bodies)/dp per pair, summed over the cycle (mm/MPa)."""
+        return sum(self.sensitivities.values())
 
 
 def simulate_cycle(
@@ -94,25 +85,32 @@ def simulate_cycle(
     n = problem.n_pairs
     layout = problem.layout
     depth = {body: np.zeros(n) for body in BODIES}
-    sensitivity, energy, work, path = (np.zeros(n) for _ in range(4))
+    sensitivities = {body: np.zeros(n) for body in BODIES}
+    energy, energy_sensitivity, work, work_sensitivity, path = (np.zeros(n) for _ in range(5))
     pressures, shears, iterations = [], [], 0
+    previous = [state]
+
+    def wear(reached: ContactState) -> None:
+        ds = np.asarray(reached.slip) - np.asarray(previous[0].slip)
+        p, q = reached.x[layout.pressure], reached.x[layout.shear]
+        for body in BODIES:
+            depth[body] += laws[body].depth(p, q, ds)
+            sensitivities[body] += laws[body].pressure_sensitivity(p, q, ds)
+        touching = p > 0
+        energy[:] += np.where(touching, np.abs(q) * np.abs(ds), 0.0)
+        ratio = np.divide(np.abs(q), p, out=np.zeros(n), where=touching)
+        energy_sensitivity[:] += ratio * np.abs(ds)
+        work[:] += np.where(touching, p * np.abs(ds), 0.0)
+        work_sensitivity[:] += np.where(touching, np.abs(ds), 0.0)
+        path[:] += np.abs(ds)
+        previous[0] = reached
+
     for load in cycle:
-        for step in increments(state, load):
-            new, its, _ = simulation.step(problem, state, step)
-            iterations += its
-            ds = np.asarray(new.slip) - np.asarray(state.slip)
-            p, q = new.x[layout.pressure], new.x[layout.shear]
-            for body in BODIES:
-                depth[body] += laws[body].depth(p, q, ds)
-                sensitivity += laws[body].pressure_sensitivity(p, q, ds)
-            touching = p > 0
-            energy += np.where(touching, np.abs(q) * np.abs(ds), 0.0)
-            work += np.where(touching, p * np.abs(ds), 0.0)
-            path += np.abs(ds)
-            state = new
+        state, its, _ = simulation.step(problem, state, load, wear)
+        iterations += its
         pressures.append(state.x[layout.pressure].copy())
         shears.append(state.x[layout.shear].copy())
     return CycleWear(
-        depth, sensitivity, energy, work, path, np.array(pressures), np.array(shears), state,
-        iterations,
+        depth, sensitivities, energy, energy_sensitivity, work, work_sensitivity, path,
+        np.array(pressures), np.array(shears), state, iterations,
     )  # fmt: skip

@@ -15,9 +15,9 @@ from abc import ABC, abstractmethod
 import attrs
 import numpy as np
 
-from fretbem.errors import InputError
+from fretbem.errors import InputError, ResultCheckError
 
-__all__ = ["JOULE", "ArchardWear", "EnergyWear", "WearInputError", "WearLaw"]
+__all__ = ["JOULE", "ArchardWear", "EnergyWear", "ScarEdgeError", "WearInputError", "WearLaw"]
 
 #: 1 J in N mm: an energy coefficient in mm^3/J is 1e-3 mm^3/(N mm)
 JOULE = 1000.0
@@ -25,6 +25,12 @@ JOULE = 1000.0
 
 class WearInputError(InputError):
     """A wear law, coefficient or wear history that cannot be used."""
+
+
+class ScarEdgeError(ResultCheckError):
+    """The worn contact reached the end pairs of the candidate zone."""
+
+    check = "scar_edge"
 
 
 def _coefficient(name: str):

@@ -110,18 +110,24 @@ class WornPair(ContactPair):
         The unworn pair.
     offset : ndarray
         Gap offset per pair (both faces' wear depths summed), mm.
+    touching : bool
+        Take away the smallest gap, so the closest pairs touch: the pad moved rigidly
+        toward the specimen, which changes nothing when P is imposed and lets a solution
+        start from the unloaded bodies (the solvers' first contact is at zero gap). Not for
+        an imposed normal approach, whose datum it would move.
     """
 
     base: ContactPair = attrs.field(kw_only=True)
     offset: np.ndarray = attrs.field(kw_only=True, converter=float_array)
+    touching: bool = attrs.field(default=False, kw_only=True)
 
     @classmethod
-    def of(cls, base: ContactPair, offset: np.ndarray) -> WornPair:
+    def of(cls, base: ContactPair, offset: np.ndarray, touching: bool = False) -> WornPair:
         """``base`` (or the unworn pair under a WornPair) with the gap offset ``offset``."""
         while isinstance(base, WornPair):
             base = base.base
         return cls(base.upper, base.lower, base.upper_tag, base.lower_tag,
-                   base=base, offset=offset)  # fmt: skip
+                   base=base, offset=offset, touching=touching)  # fmt: skip
 
     def pairing(self) -> Pairing:
         """The base pairing with the gap increased by the offset."""
@@ -132,7 +138,10 @@ class WornPair(ContactPair):
                     f"a wear offset of shape {self.offset.shape} does not fit the "
                     f"{base.n_pairs} pairs of the contact"
                 )
-            self._cache["pairing"] = attrs.evolve(base, gap=base.gap + self.offset)
+            gap = base.gap + self.offset
+            if self.touching:
+                gap = gap - gap.min()
+            self._cache["pairing"] = attrs.evolve(base, gap=gap)
         return self._cache["pairing"]
 
     def condensed(self) -> CondensedContact:

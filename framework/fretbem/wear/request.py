@@ -28,7 +28,12 @@ WEAR_KEYS: dict[str, tuple[str, str, str]] = {
     "cycles": ("", "—", "number of load cycles N (>= 1)"),
     "cycle": ("", "every step after the first", "names of the [load] steps forming one cycle"),
     "increments": ("", "the [load] increments", "increments of each cycle step"),
-    "max_change": ("mm", "0.001", "largest change of either face's depth per cycle jump"),
+    "max_change": ("mm", "—", "largest change of either face's depth per cycle jump (default: "
+                   "`relative_change` of the contact's relief)"),
+    "relative_change": ("", "0.02", "the profile limit as a fraction of the unworn contact's "
+                        "relief (the initial gap's spread over the contact, a^2/2R)"),
+    "scheme": ("", '"explicit"', '`"explicit"` (limited by stability too) or `"implicit"` '
+               "(linearly implicit, stable for any jump)"),
     "safety": ("", "0.5", "Delta N lambda allowed per jump (stability limit, < 2)"),
     "max_jump": ("cycles", "—", "upper bound on a jump"),
     "output": ("cycles", "[0, cycles]", "N at which profiles, p and q are kept (0 and cycles "
@@ -129,10 +134,13 @@ def wear_request_from_dict(table: Mapping[str, Any]) -> WearRequest:
     cycle = table.get("cycle", [])
     if not isinstance(cycle, list) or not all(isinstance(c, str) for c in cycle):
         raise WearInputError(f"[wear] cycle must be a list of step names, got {cycle!r}")
+    scheme = table.get("scheme", "explicit")
     control = JumpControl(
-        _number(table, "max_change", 1e-3),
-        _number(table, "safety", 0.5),
-        _number(table, "max_jump", whole=True, minimum=1),
+        max_change=_number(table, "max_change"),
+        relative_change=_number(table, "relative_change", 0.02),
+        safety=_number(table, "safety", 0.5),
+        max_jump=_number(table, "max_jump", whole=True, minimum=1),
+        scheme=scheme,
     )
     return WearRequest(
         laws, cycles, tuple(cycle), _number(table, "increments", whole=True, minimum=1), control,

@@ -4,7 +4,11 @@
 then alternates a simulated cycle on the current worn profile
 (:func:`~fretbem.wear.cycle.simulate_cycle`) with a jump of Delta N cycles
 (:class:`~fretbem.wear.jump.JumpControl`), landing exactly on every requested N where it
-keeps a :class:`WearSnapshot`. Nothing is written; :mod:`fretbem.wear.output` writes.
+keeps a :class:`WearSnapshot`. After a jump the state at the end of the last cycle is first
+re-equilibrated on the new profile (its last step's loads, one increment, no wear counted):
+the gap changed under a contact that may be sliding, and starting the next cycle's
+reversal from the old equilibrium is what a Newton solver does not survive. Nothing is
+written; :mod:`fretbem.output.wear` writes.
 """
 
 from __future__ import annotations
@@ -19,9 +23,9 @@ from fretbem.contact.law import ContactState
 from fretbem.results import SimulationResult
 from fretbem.simulation import LoadStep, Simulation, run
 
-from .cycle import CycleWear, simulate_cycle
-from .jump import Jump, JumpControl
-from .law import WearInputError, WearLaw
+from .cycle import simulate_cycle
+from .jump import Jump, JumpControl, extrapolate
+from .law import ScarEdgeError, WearInputError, WearLaw
 from .profile import BODIES, WornPair, WornProfile
 
 __all__ = ["WearResult", "WearSimulation", "WearSnapshot", "run_wear", "worn_simulation"]
@@ -181,9 +185,30 @@ class WearResult:
         return run(worn_simulation(self.wear.simulation, self.snapshot(cycles).profile))
 
 
+def _check_edges(pressure: np.ndarray, cycles: int, x: np.ndarray) -> None:
+    """The contact must stay inside the candidate zone as the scar widens."""
+    edge = pressure[:, [0, -1]]
+    if np.any(edge > 0):
+        raise ScarEdgeError(
+            f"the worn contact reached the end pairs of the candidate zone (x = {x[0]:.4g}, "
+            f"{x[-1]:.4g} mm, p up to {edge.max():.4g} MPa) after {cycles} wear cycles, so "
+            "the scar may be wider than the zone; enlarge [contact] zone (or zone_width) "
+            "until the end pairs stay separated, or wear fewer cycles",
+            float(edge.max()),
+        )
+
+
+def _relief(problem, pressure: np.ndarray) -> float:
+    """Spread of the unworn initial gap over the pairs in contact at any step end (mm)."""
+    touching = np.any(pressure > 0, axis=0)
+    return float(np.ptp(problem.gap[touching])) if touching.any() else 0.0
+
+
 def worn_simulation(simulation: Simulation, profile: WornProfile) -> Simulation:
-    """``simulation`` on the worn contact: its pair's gap offset by the profile's depths."""
-    pair = WornPair.of(simulation.pair, profile.offset)
+    """``simulation`` on the worn contact: its pair's gap offset by the profile's depths
+    (the closest pairs brought to touch when every step imposes P, see WornPair)."""
+    touching = all(getattr(s, "approach", None) is None for s in simulation.steps)
+    pair = WornPair.of(simulation.pair, profile.offset, touching=touching)
     return attrs.evolve(simulation, pair=pair, name=f"{simulation.name} at N = {profile.cycles}")
 
 
@@ -206,29 +231,32 @@ def run_wear(wear: WearSimulation, *, progress=None) -> WearResult:
     n = 0
     while True:
         worn = WornPair.of(base, profile.offset).condensed() if n else problem
+        if n:  # the end of the last cycle, re-equilibrated on the new profile
+            settle = attrs.evolve(wear.cycle_steps[-1], increments=1)
+            state, _, _ = simulation.step(worn, state, settle)
         cycle = simulate_cycle(simulation, worn, state, wear.cycle_steps, wear.laws)
         simulated += 1
+        _check_edges(cycle.pressure, n, profile.x)
         if n == targets[0]:
             targets.pop(0)
             snapshots.append(WearSnapshot(profile, cycle.pressure, cycle.shear, energy, work))
         if n >= wear.cycles:
             break
-        jump = wear.control.jump(worn, cycle, targets[0] - n, first=n == 0)
+        if n == 0:
+            relief = _relief(problem, cycle.pressure)
+        jump = wear.control.jump(worn, cycle, targets[0] - n, first=n == 0, relief=relief)
+        added, cycles = extrapolate(worn, cycle, jump.cycles, wear.control.scheme, profile.weights)
+        if cycles < jump.cycles:
+            jump = attrs.evolve(jump, cycles=cycles, limit="positivity")
         jumps.append((n, jump))
-        n += jump.cycles
-        profile, energy, work = _advance(profile, cycle, jump.cycles, n, energy, work)
+        n += cycles
+        profile = profile.worn(n, added.depth["upper"], added.depth["lower"])
+        energy, work = energy + added.energy, work + added.work
         state = cycle.state
         if progress is not None:
             progress(n, wear.cycles)
     return WearResult(wear, tuple(snapshots), tuple(jumps), simulated,
                       time.perf_counter() - start)  # fmt: skip
-
-
-def _advance(profile: WornProfile, cycle: CycleWear, cycles: int, n: int, energy, work):
-    """The profile, energy and work after ``cycles`` more cycles like ``cycle``."""
-    w = profile.weights
-    profile = profile.worn(n, cycles * cycle.depth["upper"], cycles * cycle.depth["lower"])
-    return profile, energy + cycles * float(w @ cycle.energy), work + cycles * float(w @ cycle.work)
 
 
 def simulate(simulation: Simulation, laws: Mapping[str, WearLaw], cycles: int,

@@ -34,11 +34,16 @@ def test_weights_integrate_the_load(simulation):
         assert w @ step.pressure == pytest.approx(step.normal, rel=1e-4)
 
 
-def test_uniform_wear_is_a_rigid_approach(simulation):
-    """The same depth everywhere moves the pad down and changes no traction."""
+@pytest.mark.parametrize(("depth", "touching"), [(2e-4, False), (4e-3, True)])
+def test_uniform_wear_is_a_rigid_approach(simulation, depth, touching):
+    """The same depth everywhere moves the pad down and changes no traction (a depth beyond
+    the solver's reach from the unloaded bodies is taken up by ``touching``)."""
     base = run(simulation)
     n = simulation.pair.n_pairs
-    worn = run(attrs.evolve(simulation, pair=WornPair.of(simulation.pair, np.full(n, 2e-4))))
+    pair = WornPair.of(simulation.pair, np.full(n, depth), touching=touching)
+    if touching:
+        assert pair.pairing().gap.min() == 0.0
+    worn = run(attrs.evolve(simulation, pair=pair))
     for a, b in zip(base.steps, worn.steps, strict=True):
         p0 = np.max(a.pressure)
         assert np.max(np.abs(a.pressure - b.pressure)) < 1e-9 * p0

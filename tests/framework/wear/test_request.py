@@ -64,6 +64,8 @@ def test_a_full_table_is_parsed():
         ({"cycles": 1.5, "pad": 1e-4, "specimen": 1e-4}, r"cycles must be a whole number"),
         ({"cycles": 10, "pad": 0, "specimen": 0, "output": [11]}, r"output asks for N = 11"),
         ({"cycles": 10, "pad": 0, "specimen": 0, "safety": 3.0}, r"lets the jump diverge"),
+        ({"cycles": 10, "pad": 0, "specimen": 0, "scheme": "rk4"}, r"scheme must be one of"),
+        ({"cycles": 10, "pad": 0, "specimen": 0, "relative_change": 0}, r"relative_change"),
         ({"cycles": 10, "pad": 0, "specimen": 0, "speed": 3}, r"unknown key\(s\) \['speed'\]"),
         ({"cycles": 10, "pad": 0, "specimen": 0, "law": "glue"}, r"glue"),
         ({"cycles": 10, "pad": 0, "specimen": 0, "law": {"pad": "energy"}}, r"name the pad"),
