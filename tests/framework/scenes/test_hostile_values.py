@@ -272,3 +272,14 @@ def test_stress_keys_are_strict(where, key, value):
 def test_stress_table_keys_are_strict(key, value):
     with pytest.raises(InputError, match=rf"\[stress\] {key}"):
         stress_request_from_dict({key: value})
+
+
+@pytest.mark.parametrize("body", ["pad", "specimen"])
+def test_a_body_lower_than_its_face_sag_names_the_height(body):
+    """Reproducer: reported as a boundary that runs clockwise or crosses itself."""
+    data = {k: dict(v) for k, v in BASE.items()}
+    data["pad"] = {"shape": "cylinder", "radius": 5.0}
+    data["specimen"] = {"shape": "cylinder", "radius": 5.0}
+    data[body].update(width=9.0, height=0.5)
+    with pytest.raises(InputError, match=rf"\[{body}\]: a {body} 0.5 mm high .* sag"):
+        build(scene_from_dict(data))
