@@ -257,6 +257,10 @@ class CylinderSpecimen:
     height: float = attrs.field(converter=float, validator=positive)
     kind = "cylinder"
 
+    def __attrs_post_init__(self) -> None:
+        if self.width / 2 < self.radius:
+            _check_sag("specimen", self.radius, self.width, self.height)
+
     @property
     def curvature(self) -> float:
         """1/R of the face at the first contact point."""
@@ -271,7 +275,6 @@ class CylinderSpecimen:
                 f"a cylinder specimen of radius {r:g} mm cannot be {self.width:g} mm wide; "
                 "make width < 2 radius"
             )
-        _check_sag("specimen", r, self.width, h)
         phi_w, phi_z = math.asin(half / r), math.asin(zone / r)
         up = math.pi / 2
         arcs = _arcs([0.0, -r], r, [up - phi_w, up - phi_z, up + phi_z, up + phi_w])
