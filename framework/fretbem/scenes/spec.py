@@ -210,7 +210,15 @@ KEYS: tuple[Key, ...] = (
         0.02,
         "`adaptive`: stop when the estimated max error is below this fraction of p0 and f p0",
     ),
-    Key("contact", "budget", (int,), "", 61, "`adaptive`: most node pairs of the last level"),
+    Key(
+        "contact",
+        "budget",
+        (int,),
+        "",
+        61,
+        "`adaptive`: most node pairs of the last level (at most 241: a larger budget is "
+        "capped there, with a caution)",
+    ),
     Key(
         "contact",
         "estimate",

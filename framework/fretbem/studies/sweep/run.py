@@ -33,7 +33,15 @@ from fretbem.output.staging import output_lock
 from fretbem.pipeline import requests
 from fretbem.scenes.file import scene_from_data
 
-from .cases import REGIMES, STEP_COLUMNS, case_loading, representative, run_batch
+from .cases import (
+    CYCLE_COLUMNS,
+    REGIMES,
+    STEP_COLUMNS,
+    TIMING_COLUMNS,
+    case_loading,
+    representative,
+    run_batch,
+)
 from .labelled import sweep_dataset, sweep_html, sweep_repr
 from .maps import check_maps, draw_maps
 from .outputs import declared_columns, resolve_all
@@ -454,6 +462,7 @@ def check_values(spec: SweepSpec, builder=None) -> None:
     """
     if builder is not None:
         return  # a custom builder reads its own scenes
+
     for parameter in spec.parameters:
         for value in dict.fromkeys(map(_hashable, parameter.values)):
             scene = copy.deepcopy(spec.scene)
@@ -495,7 +504,8 @@ def sweep_columns(spec: SweepSpec, outputs: Sequence[str]) -> set[str] | None:
     declared = declared_columns(outputs, steps, spec.scene)
     if declared is None:
         return None
-    base = {"case", "status", "error", "regime", "friction", "P_max", "Q_peak", "pairs"}
+    base = {"case", "status", "error", "regime", "friction", "P_max", "Q_peak", "pairs",
+            "transition_ratio", "cycles", *CYCLE_COLUMNS, *TIMING_COLUMNS}  # fmt: skip
     per_step = {f"{c}.{s}" for c in STEP_COLUMNS for s in steps}
     return base | per_step | set(spec.paths) | declared
 
