@@ -149,6 +149,14 @@ MESH_NOTE = (
 )
 
 
+#: the sign convention the hot spot's position depends on (docs/scene-format.md, "Signs")
+SIGN_NOTE = (
+    "signs: Q > 0 (on the pad, +x) drags the specimen's surface toward +x, so its trailing "
+    "edge, where the surface tension peaks, is x = -a (x = +a for Q < 0); sigma_B > 0 in phase "
+    "with Q > 0 is the single-actuator rig (the pulled specimen drags the pad)"
+)
+
+
 def run_fatigue(
     provider: StressHistoryProvider, request: FatigueRequest, *, progress=None
 ) -> FatigueReport:
@@ -265,7 +273,7 @@ def run_fatigue(
             )
     if bar is not None:
         bar.close()
-    notes.append(MESH_NOTE)
+    notes.extend((MESH_NOTE, SIGN_NOTE))
     return FatigueReport(
         request=request,
         cycle_steps=steps,
