@@ -418,6 +418,12 @@ for _encoding in ("latin-1", "utf-16", "utf-8-sig"):
         return refused(code, out, encoding.split("-")[0].replace("utf", "utf"))
 
 
+@case("misleading", "a /dev/zero scene is refused by its size, not blamed on pairs", 30)
+def _dev_zero():
+    code, text = cli("run", "/dev/zero", "--out", str(WORK / "zero"), seconds=25)
+    return refused(code, text, "larger than") if "pairs" not in text else (False, text)
+
+
 @case("misleading", "--out name too long for the lock is refused before computing")
 def _long_out():
     name = "r" * 250

@@ -207,7 +207,7 @@ def _attach(result, estimated: dict | None, accuracy: dict):
     if caution is not None:
         accuracy = {
             **accuracy,
-            "caution": caution + ("; " + accuracy["caution"] if accuracy.get("caution") else ""),
+            "caution": (accuracy["caution"] + "; " if accuracy.get("caution") else "") + caution,
         }
     steps = result.steps
     if estimated is not None:

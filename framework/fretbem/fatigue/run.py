@@ -138,6 +138,25 @@ def _life(method, result: CriterionResult, index, request) -> LifeEstimate:
     )
 
 
+#: the hot spot sits at a contact edge, where the tractions converge slowest: its parameter
+#: and life carry no estimate of their own
+MESH_NOTE = (
+    "the hot-spot parameter and life are not convergence-checked: they sit at a contact edge, "
+    "where the tractions converge slowest (examples/fretting_rig_ti64.toml, 61 -> 241 pairs: "
+    "the SWT hot-spot life 1.69e4 -> 1.36e4 cycles, the critical-distance life 6.04e4 -> "
+    "5.9e4); repeat with twice [contact] pairs and compare before relying on the hot-spot "
+    "life, or use the critical-distance life"
+)
+
+
+#: the sign convention the hot spot's position depends on (docs/scene-format.md, "Signs")
+SIGN_NOTE = (
+    "signs: Q > 0 (on the pad, +x) drags the specimen's surface toward +x, so its trailing "
+    "edge, where the surface tension peaks, is x = -a (x = +a for Q < 0); sigma_B > 0 in phase "
+    "with Q > 0 is the single-actuator rig (the pulled specimen drags the pad)"
+)
+
+
 def run_fatigue(
     provider: StressHistoryProvider, request: FatigueRequest, *, progress=None
 ) -> FatigueReport:
@@ -254,6 +273,7 @@ def run_fatigue(
             )
     if bar is not None:
         bar.close()
+    notes.extend((MESH_NOTE, SIGN_NOTE))
     return FatigueReport(
         request=request,
         cycle_steps=steps,

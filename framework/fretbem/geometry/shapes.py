@@ -68,6 +68,20 @@ def _pad_boundary(face: list[Segment], half_width: float, height: float) -> Boun
     )
 
 
+def _check_sag(what: str, radius: float, width: float, height: float) -> None:
+    """The body must be higher than its curved face drops over its width (the sag), or its
+    flank would cross its top (or bottom) edge."""
+    half = min(width / 2, radius)
+    sag = radius - math.sqrt(max(radius * radius - half * half, 0.0))
+    if not height > sag:
+        raise ShapeError(
+            f"a {what} {height:g} mm high is lower than its face's sag over its width "
+            f"({sag:.4g} mm = R - sqrt(R^2 - (w/2)^2)), so the face would cross its "
+            f"{'top' if what == 'pad' else 'bottom'}; make height > {sag:.4g} mm or the width "
+            "smaller"
+        )
+
+
 def _check_zone(zone: float, half_width: float, what: str) -> None:
     if not 0.0 < zone < half_width:
         raise ShapeError(
@@ -98,6 +112,7 @@ class CylinderPad:
                 f"a cylinder pad of radius {self.radius:g} mm cannot be {self.width:g} mm wide "
                 "(the face would pass the arc's quarter point); make width < 2 radius"
             )
+        _check_sag("pad", self.radius, self.width, self.height)
 
     @property
     def curvature(self) -> float:
@@ -143,6 +158,8 @@ class RoundedFlatPad:
                 f"a rounded-flat pad needs flat < width/2 < flat + edge_radius (got flat "
                 f"{self.flat:g}, width/2 {self.width / 2:g}, edge_radius {self.edge_radius:g})"
             )
+        r, x = self.edge_radius, self.width / 2 - self.flat
+        _check_sag("pad", r, 2 * x, self.height)
 
     @property
     def curvature(self) -> float:
@@ -239,6 +256,10 @@ class CylinderSpecimen:
     width: float = attrs.field(converter=float, validator=positive)
     height: float = attrs.field(converter=float, validator=positive)
     kind = "cylinder"
+
+    def __attrs_post_init__(self) -> None:
+        if self.width / 2 < self.radius:
+            _check_sag("specimen", self.radius, self.width, self.height)
 
     @property
     def curvature(self) -> float:

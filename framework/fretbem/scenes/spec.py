@@ -216,8 +216,8 @@ KEYS: tuple[Key, ...] = (
         (int,),
         "",
         61,
-        "`adaptive`: most node pairs of the last level (at most 241: a larger budget is capped "
-        "there, with a caution)",
+        "`adaptive`: most node pairs of the last level (at most 241: a larger budget is "
+        "capped there, with a caution)",
     ),
     Key(
         "contact",
@@ -362,6 +362,8 @@ KEYS: tuple[Key, ...] = (
     ),
 )
 
+#: the largest Coulomb coefficient a scene may give (beyond it the loads overflow)
+MAX_FRICTION = 10.0
 #: the highest basis degree a scene may ask for (higher degrees are ill-conditioned)
 MAX_DEGREE = 8
 
@@ -900,6 +902,11 @@ def scene_from_dict(data: Mapping) -> Scene:
             raise SceneFileError(f"{table} {name} must be >= 1, got {value}")
         if name in ("zone", "zone_width") and not value > 0:
             raise SceneFileError(f"[contact] {name} must be > 0, got {value}")
+        if name == "friction" and value > MAX_FRICTION:
+            raise SceneFileError(
+                f"[contact] friction is a Coulomb coefficient, 0 < f <= {MAX_FRICTION:g} (metals "
+                f"in fretting: about 0.3 to 1.5), got {value}"
+            )
         if name == "friction" and not value > 0:
             raise SceneFileError(
                 f"[contact] friction must be > 0 (a frictionless contact cannot hold the pad "

@@ -37,6 +37,7 @@ from .cases import (
     CYCLE_COLUMNS,
     REGIMES,
     STEP_COLUMNS,
+    TIMING_COLUMNS,
     case_loading,
     representative,
     run_batch,
@@ -461,6 +462,7 @@ def check_values(spec: SweepSpec, builder=None) -> None:
     """
     if builder is not None:
         return  # a custom builder reads its own scenes
+
     for parameter in spec.parameters:
         for value in dict.fromkeys(map(_hashable, parameter.values)):
             scene = copy.deepcopy(spec.scene)
@@ -503,7 +505,8 @@ def sweep_columns(spec: SweepSpec, outputs: Sequence[str]) -> set[str] | None:
     declared = declared_columns(outputs, steps, spec.scene)
     if declared is None:
         return None
-    base = {"case", "status", "error", "regime", "friction", "P_max", "Q_peak", "pairs"}
+    base = {"case", "status", "error", "regime", "friction", "P_max", "Q_peak", "pairs",
+            "transition_ratio", "cycles", *CYCLE_COLUMNS, *TIMING_COLUMNS}  # fmt: skip
     per_step = {f"{c}.{s}" for c in STEP_COLUMNS for s in steps}
     if any(getattr(step, "cycle", 0) for step in loading):  # a cyclic case: its last cycle
         per_step = {*CYCLE_COLUMNS, "transition_ratio", "cycles"}
