@@ -119,13 +119,29 @@ def _wear_mesh(mode: accuracy.Accuracy) -> None:
         )
 
 
-def run_wear_request(simulation, request, fatigue_request, mode, say=_quiet):
+def _cycle_bar(bars, total: int):
+    """A ``progress(N, cycles)`` hook advancing a bar over the wear cycles (None: no bar)."""
+    if bars is None:
+        return None
+    bar, done = bars("wear cycles", total), [0]
+
+    def hook(n: int, cycles: int) -> None:
+        bar.update(max(int(n) - done[0], 0))
+        done[0] = max(done[0], int(n))
+        if n >= cycles:
+            bar.close()
+
+    return hook
+
+
+def run_wear_request(simulation, request, fatigue_request, mode, say=_quiet, bars=None):
     """The ``[wear]`` history of ``simulation`` and its assessments (stresses are evaluated
-    when written, fatigue here) at the request's ``assess`` N."""
+    when written, fatigue here) at the request's ``assess`` N; ``bars`` draws a bar over the
+    cycles."""
     _wear_mesh(mode)
     wear = request.simulation(simulation)
     say(f"wear: {wear.cycles} cycles of steps {[s.name for s in wear.cycle_steps]}")
-    result = run_wear(wear)
+    result = run_wear(wear, progress=_cycle_bar(bars, wear.cycles))
     say(f"wear: {result.simulated} cycles simulated, {len(result.jumps)} jumps")
     return assess(result, request.assess, fatigue_request)
 
@@ -216,7 +232,7 @@ def run_simulation(
     worn = None
     if wear is not None:
         tic = time.perf_counter()
-        worn = run_wear_request(simulation, wear, fatigue_request, mode, say)
+        worn = run_wear_request(simulation, wear, fatigue_request, mode, say, bars)
         timed["wear"] = time.perf_counter() - tic
     return RunResult(result, reason, stress, fatigue, tuple(others), wear=worn, phases=timed)
 

@@ -257,6 +257,15 @@ def _fatigue(directory: Path) -> str:
     return head + html_table(header, rows) + notes
 
 
+def _cell(text: str) -> str:
+    """A number to 6 significant digits (the files keep every digit); text as it is."""
+    try:
+        value = float(text)
+    except ValueError:
+        return text
+    return text if text.strip().isdigit() else f"{value:.6g}"
+
+
 def _table_file(path: Path) -> str:
     """An extra result table: its columns, row count and first and last rows."""
     try:
@@ -265,11 +274,11 @@ def _table_file(path: Path) -> str:
         return _p(f"{path.name}: could not be read ({err})")
     if not header:
         return _p(f"{path.name}: empty")
-    shown = data
+    shown = [[_cell(c) for c in row] for row in data]
     if len(data) > TABLE_ROWS:
         half = TABLE_ROWS // 2
-        shown = [*data[:half], (f"... {len(data) - TABLE_ROWS} rows not shown ...",),
-                 *data[-half:]]  # fmt: skip
+        shown = [*shown[:half], (f"... {len(data) - TABLE_ROWS} rows not shown ...",),
+                 *shown[-half:]]  # fmt: skip
     caption = f"{path.name}: {len(data)} rows"
     return html_table(header, [tuple(r) for r in shown], caption=caption)
 

@@ -107,7 +107,8 @@ SUMMARY_KEYS = {
     "phases": (
         "s",
         "top level: wall time of each phase of the run (build, solve with every accuracy "
-        "level, compare, fatigue, then each writer as 'write <name>', e.g. write stress)",
+        "level, compare, fatigue, then each writer as 'write <name>', e.g. write stress; "
+        "json and report write last and are not in it)",
     ),
     "accuracy": (
         "",

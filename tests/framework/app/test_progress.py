@@ -115,3 +115,16 @@ def test_summary_holds_the_time_of_every_phase(tmp_path, capsys):
 def test_sweep_takes_quiet(flag):
     args = cli.parser().parse_args(["sweep", "x.toml", *flag])
     assert args.quiet is bool(flag)
+
+
+def test_wear_cycles_advance_one_bar():
+    from fretbem.pipeline import _cycle_bar
+
+    bars = _Recorder()
+    hook = _cycle_bar(bars, 100_000)
+    for n in (1, 10, 5_000, 100_000):
+        hook(n, 100_000)
+    assert bars.bars == [
+        {"description": "wear cycles", "total": 100_000, "done": 100_000, "closed": True}
+    ]
+    assert _cycle_bar(None, 10) is None

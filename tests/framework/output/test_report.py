@@ -90,7 +90,9 @@ def test_report_holds_the_run(rig_out):
     page = _page(markup)
     text = " ".join(page.text)
     assert page.sections == ["scene", "zones", "checks", "errors", "timings", "stress",
-                             "fatigue", "figures", "files"]  # fmt: skip
+                             "fatigue", "loops", "figures", "files"]  # fmt: skip
+    loops = (rig_out / "loops.csv").read_text().splitlines()
+    assert f"loops.csv: {len(loops) - 1} rows" in " ".join(page.text)
     assert page.scripts == 0  # self-contained: no script, no external file
     assert not re.search(r"(src|href)=\"(?!data:|#)", markup)
     hertz = summary["hertz"]

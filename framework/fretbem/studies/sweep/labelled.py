@@ -7,6 +7,7 @@ parameters as coordinates. Every variable carries its unit (:mod:`.units`).
 
 from __future__ import annotations
 
+import html
 from collections.abc import Sequence
 
 from fretbem.views.cf import CONVENTIONS, clean_attrs
@@ -74,7 +75,7 @@ def sweep_html(result) -> str:
     ]
     if len(table) > SHOWN_ROWS:
         rows.append((f"... {len(table) - SHOWN_ROWS} more cases (result.table) ...",))
-    head = "".join(f"<div>{line}</div>" for line in str(result.summary).splitlines())
+    head = "".join(f"<div>{html.escape(line)}</div>" for line in str(result.summary).splitlines())
     header = [f"{c} ({unit_of(c)})" if unit_of(c) not in (None, "1") else c for c in columns]
     return f"<div><b>SweepResult</b>{head}{html_table(header, rows)}</div>"
 
