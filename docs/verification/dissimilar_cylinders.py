@@ -12,7 +12,8 @@ Phys. Solids 36 (1988) 59-75). No closed form gives the tractions: the reference
 two half-planes, tractions constant on 400 uniform cells, exact integrals of Flamant's
 line loads with the beta coupling, collocation at the cell centres and an incremental
 active-set solution with full normal-tangential coupling. It shares no code with fretbem's
-solvers.
+solvers. For any force-controlled scene with Hertzian faces,
+:func:`fretbem.verification.dissimilar.reference_for_scene` returns it by step name.
 
 **Inputs.** A pad of radius 70 mm on a flat aluminium specimen (E = 72 GPa, nu = 0.33):
 steel pad (210 GPa, 0.3; beta = -0.114) and titanium pad (116 GPa, 0.34; beta = -0.065),

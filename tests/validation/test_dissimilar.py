@@ -71,6 +71,7 @@ def differences(result, model, states):
     return rows
 
 
+@pytest.mark.slow
 def test_reference_converges(record):
     """The reference's own error: 200 against 400 cells (the error falls like the cell width;
     measured q RMS difference 1.1 % of f p0 at the normal load, steel on aluminium)."""
@@ -145,3 +146,28 @@ def test_stick_zone_depends_only_on_beta_over_f(record):
 
 
 TOL_P, TOL_P_BEM, TOL_Q, TOL_C = 0.0075, 0.015, 0.035, 0.05
+
+
+def test_reference_for_a_scene():
+    """``reference_for_scene`` reads P, Q, bulk, increments, radii and materials from a scene
+    (the entry point for other checks) and gives the direct solve's answer; scenes it does
+    not cover are refused with the key."""
+    from fretbem.errors import InputError
+    from fretbem.verification.dissimilar import reference_for_scene
+
+    steel, al = PAIRS["steel on aluminium"]
+    data = {
+        "pad": {"radius": RADIUS, "material": {"E": steel[0], "nu": steel[1]}},
+        "specimen": {"shape": "flat", "support": "clamped-bottom",
+                     "material": {"E": al[0], "nu": al[1]}},
+        "contact": {"friction": F},
+        "load": {"steps": ["A", "B"], "P": P, "Q": [0.0, 0.5 * F * P], "increments": [32, 16]},
+    }  # fmt: skip
+    states = reference_for_scene(scene_from_dict(data), cells=200)
+    _, direct = reference("steel on aluminium", 200)
+    assert list(states) == ["A", "B"]
+    for name, ref in zip("AB", direct, strict=True):
+        np.testing.assert_allclose(states[name].shear, ref.shear, atol=1e-9)
+    flat = {**data, "pad": {"shape": "rounded-flat", "flat": 0.2, "edge_radius": 20.0}}
+    with pytest.raises(InputError, match=r"\[pad\] shape"):
+        reference_for_scene(scene_from_dict(flat))

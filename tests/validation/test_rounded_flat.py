@@ -30,9 +30,13 @@ MEASURED = {
     0.9: (2.86e-3, 6.07e-3, 1.38e-2),
 }
 P_TOL, Q_TOL, STICK_TOL = 0.01, 0.025, 0.6  # measured max 0.82 %, 1.95 %, 0.49 spacing
+#: family: (pairs, p, q, stick tolerances); lagrange2 (63 pairs, the nearest 2k + 1) measured
+#: p RMS at most 1.48 %, q 3.41 % (back at Q = 0, b/a = 0.9), stick edge 0.99 spacing (the
+#: state is known at the pairs only: one spacing is the resolution)
+FAMILIES = {"nurbs": (60, P_TOL, Q_TOL, STICK_TOL), "lagrange2": (63, 0.02, 0.042, 1.2)}
 
 
-def rounded_flat_run(ratio: float, size: float = 4.0, pairs: int = 60):
+def rounded_flat_run(ratio: float, size: float = 4.0, pairs: int = 60, basis: str = "nurbs"):
     a = FLAT / ratio
     load = PUNCH.load(a)
     data = {
@@ -41,7 +45,8 @@ def rounded_flat_run(ratio: float, size: float = 4.0, pairs: int = 60):
         "specimen": {"shape": "flat", "length": 40.0 * size, "thickness": 13.0 * size,
                      "support": "clamped-bottom"},
         "material": {"E": E, "nu": NU},
-        "contact": {"friction": F, "pairs": pairs, "zone_width": 1.25 * a, "estimate": False},
+        "contact": {"friction": F, "pairs": pairs, "basis": basis, "zone_width": 1.25 * a,
+                    "estimate": False},
         "load": {"steps": ["A", "B", "C"], "P": load, "Q": [0.0, 0.5 * F * load, 0.0]},
     }  # fmt: skip
     simulation, _ = build(scene_from_dict(data))
@@ -72,9 +77,11 @@ def test_closed_form_is_consistent():
     assert tiny.pressure(np.array([0.0]), a)[0] == pytest.approx(2 * 100.0 / (np.pi * a), rel=1e-6)
 
 
+@pytest.mark.parametrize("family", ["nurbs", pytest.param("lagrange2", marks=pytest.mark.slow)])
 @pytest.mark.parametrize("ratio", list(MEASURED))
-def test_rounded_flat_against_closed_form(ratio, record):
-    result, a, load = rounded_flat_run(ratio)
+def test_rounded_flat_against_closed_form(ratio, family, record):
+    pairs, p_tol, q_tol, stick_tol = FAMILIES[family]
+    result, a, load = rounded_flat_run(ratio, pairs=pairs, basis=family)
     peak = float(PUNCH.pressure(np.linspace(-a, a, 4001), a).max())
     A, B, C = result["A"], result["B"], result["C"]
     e_p = rms(A.pressure - PUNCH.pressure(A.x, a)) / peak
@@ -83,11 +90,11 @@ def test_rounded_flat_against_closed_form(ratio, record):
     stick = B.x[B.states == 1]
     c = PUNCH.stick_half_width(load, 0.5 * F * load)
     e_c = max(abs(stick.max() - c), abs(-stick.min() - c)) / float(np.max(np.diff(B.x)))
-    case = f"rounded-flat pad, b/a = {ratio:g} (BEM, 4x bodies)"
-    assert record(case, "p RMS error / p_peak", e_p, P_TOL, page=PAGE)
-    assert record(case, "q RMS error / f p_peak at Q = 0.5 f P", e_q, Q_TOL, page=PAGE)
-    assert record(case, "q RMS error / f p_peak back at Q = 0", e_r, Q_TOL, page=PAGE)
-    assert record(case, "stick-zone edge error / pair spacing", e_c, STICK_TOL, page=PAGE)
+    case = f"rounded-flat pad, b/a = {ratio:g} (BEM, 4x bodies, {family} {pairs})"
+    assert record(case, "p RMS error / p_peak", e_p, p_tol, page=PAGE)
+    assert record(case, "q RMS error / f p_peak at Q = 0.5 f P", e_q, q_tol, page=PAGE)
+    assert record(case, "q RMS error / f p_peak back at Q = 0", e_r, q_tol, page=PAGE)
+    assert record(case, "stick-zone edge error / pair spacing", e_c, stick_tol, page=PAGE)
     assert abs(A.resultant[0] - load) < 1e-3 * load
 
 

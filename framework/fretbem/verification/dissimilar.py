@@ -31,7 +31,7 @@ from fretbem.validators import check_poisson, check_positive
 
 from .closed_forms import HertzLineContact, dundurs_beta, effective_modulus
 
-__all__ = ["DissimilarCylinders", "DissimilarState", "stick_half_width"]
+__all__ = ["DissimilarCylinders", "DissimilarState", "reference_for_scene", "stick_half_width"]
 
 SEPARATED, STICK, SLIP = 0, 1, 2
 
@@ -281,3 +281,46 @@ class DissimilarCylinders:
             seen.add(key)
             states, slide = new_states, new_slide
         raise RuntimeError(f"the stick/slip active set did not converge ({n} cells)")
+
+
+def reference_for_scene(scene, *, cells: int = 400) -> dict[str, DissimilarState]:
+    """The half-plane reference of a scene, by step name: its P, Q, bulk and increments.
+
+    For scenes whose two faces are Hertzian (cylinder pad on a cylinder or flat specimen),
+    loaded by forces (``P``, ``Q``, ``bulk``; not ``delta`` or ``approach``), any materials:
+    the answer fretbem's half-plane bodies converge to, and BEM bodies up to their
+    finite-body difference. Raises :class:`~fretbem.verification.nowell_hills.NotApplicableError`
+    naming the scene key that rules it out.
+    """
+    from .nowell_hills import NotApplicableError
+
+    curvatures = [scene.pad.shape.curvature, scene.specimen.shape.curvature]
+    if any(c is None for c in curvatures) or sum(curvatures) <= 0:
+        raise NotApplicableError(
+            "[pad] shape / [specimen] shape: the half-plane reference needs a Hertzian gap "
+            "(a cylinder pad on a cylinder or flat specimen)"
+        )
+    load = scene.load
+    if load is None or load.delta is not None or load.approach is not None:
+        raise NotApplicableError(
+            "[load]: the half-plane reference needs force control (P, Q, bulk), not delta or "
+            "approach"
+        )
+    if scene.contact.law != "coulomb":
+        raise NotApplicableError(
+            f"[contact] law = {scene.contact.law!r}: the half-plane reference is for Coulomb "
+            'friction (law = "coulomb")'
+        )
+    pad, specimen = scene.pad.material, scene.specimen.material
+    if pad.plane_stress != specimen.plane_stress:
+        raise NotApplicableError(
+            "[pad.material] plane / [specimen.material] plane: both bodies must be plane "
+            "strain or both plane stress for the half-plane reference"
+        )
+    model = DissimilarCylinders(
+        1.0 / sum(curvatures), pad.E, pad.nu, specimen.E, specimen.nu,
+        scene.contact.friction, plane_stress=pad.plane_stress,
+    )  # fmt: skip
+    history = list(zip(load.P, load.Q, load.bulk, strict=True))
+    states = model.solve(history, cells=cells, increments=list(load.increments))
+    return dict(zip(load.steps, states, strict=True))
