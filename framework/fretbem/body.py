@@ -183,6 +183,12 @@ class Body(ABC):
         return True
 
     @property
+    def finite(self) -> bool:
+        """True for a body of finite extent, whose contact differs from half-plane theory by
+        its size and shape as well as by the discretisation (False for a half-plane)."""
+        return True
+
+    @property
     def family(self) -> type[Basis]:
         """The basis family of the contact face (the estimate and re-mesh refine with it)."""
         raise UnsupportedError(

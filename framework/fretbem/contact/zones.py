@@ -98,15 +98,13 @@ def zone_table(result, reason: str | None = None) -> str:
         lines.append(f"contact extent over the steps: [{low:+.4f}, {high:+.4f}] mm")
     if reference is not None:
         name = type(getattr(reference, "closed_form", reference)).__name__
+        pair = result.simulation.pair
         hertz = reference.hertz
         lines.append(
             f"Hertz: a = {hertz.half_width:.4f} mm, p0 = {hertz.peak_pressure:.2f} MPa at "
             f"P = {hertz.load:g} N/mm"
         )
-        finite = any(
-            getattr(body, "describe", dict)().get("model") == "bem"
-            for body in (result.simulation.pair.upper, result.simulation.pair.lower)
-        )
+        finite = any(body.finite for body in (pair.upper, pair.lower))
         lines.append(
             f"errors against the closed form: {name} (half-plane theory)"
             + (

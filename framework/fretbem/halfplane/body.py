@@ -170,6 +170,11 @@ class HalfPlaneBody(Body):
         return False
 
     @property
+    def finite(self) -> bool:
+        """False: the half-plane idealisation is the one half-plane theory assumes."""
+        return False
+
+    @property
     def family(self) -> type[Basis]:
         """The face's basis family (resolved through the registry)."""
         return bases.get(self.basis)

@@ -128,6 +128,17 @@ def test_finite_bodies_report_the_difference_from_half_plane_theory(result):
     assert "difference from half-plane theory" in zone_table(result)
 
 
+def test_half_plane_bodies_report_errors_against_theory():
+    """The note is asked of the bodies (Body.finite), not read from a model's name."""
+    from fretbem.contact.zones import zone_table
+
+    half = {"model": "half-plane"}
+    done = run_scene(_scene(pad=half, specimen={**half, "shape": "flat"}))
+    table = zone_table(done.result)
+    assert "errors against the closed form" in table
+    assert "difference from half-plane theory" not in table
+
+
 @pytest.mark.parametrize(
     ("contact", "words"),
     [
