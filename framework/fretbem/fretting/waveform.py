@@ -19,6 +19,9 @@ from fretbem.validators import finite
 SHAPES = ("sine", "triangle")
 #: name of the first step (the normal load)
 PRESS = "press"
+#: most increments of a history (cycles x increments per cycle): every increment is a step
+#: of the results (about 10 kB each at 61 pairs), and 10^5 of them take minutes to solve
+MAX_INCREMENTS = 100_000
 
 
 class WaveformError(InputError):
@@ -105,6 +108,13 @@ class Waveform:
             raise WaveformError(f"Waveform.amplitude must be > 0, got {self.amplitude}")
         if not self.normal > 0:
             raise WaveformError(f"Waveform.normal (the mean P) must be > 0, got {self.normal}")
+        if self.cycles * self.increments > MAX_INCREMENTS:
+            raise WaveformError(
+                f"Waveform.cycles x increments = {self.cycles} x {self.increments} = "
+                f"{self.cycles * self.increments} increments, more than {MAX_INCREMENTS:,} "
+                "(each is a step of the results); simulate fewer cycles (the loops repeat "
+                "from the second cycle on) or fewer increments per cycle"
+            )
         if not abs(self.normal_amplitude) < self.normal:
             raise WaveformError(
                 f"Waveform.normal_amplitude |{self.normal_amplitude}| must stay below the mean "

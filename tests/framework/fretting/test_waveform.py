@@ -54,6 +54,8 @@ def test_normal_load_and_bulk_in_and_out_of_phase():
         ({"control": "speed"}, "control must be one of"),
         ({"normal_amplitude": 150.0}, "must stay below the mean"),
         ({"normal": -1.0}, "must be > 0"),
+        ({"cycles": 9223372036854775807}, "more than 100,000"),
+        ({"cycles": 2501, "increments": 40}, "more than 100,000"),
     ],
 )
 def test_bad_waveforms_are_refused(fields, message):
@@ -95,6 +97,7 @@ def test_scene_cycle_table_builds_the_waveform():
         ({"P": [1.0, 2.0], "cycle": {"delta": 1e-3}}, r"\[load\] P must be one number"),
         ({"cycle": 3}, r"\[load.cycle\] must be a table"),
         ({"cycle": {"delta": 1e-3, "P_amplitude": 200.0}}, r"P_amplitude .* below the mean"),
+        ({"cycle": {"delta": 1e-3, "cycles": 10**12}}, r"\[load.cycle\]: cycles x increments"),
         ({"cycle": {"Q": 40.0}}, None),
     ],
 )
