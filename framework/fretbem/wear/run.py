@@ -13,6 +13,7 @@ written; :mod:`fretbem.output.wear` writes.
 
 from __future__ import annotations
 
+import re
 import time
 from collections.abc import Mapping
 
@@ -28,6 +29,9 @@ from .cycle import simulate_cycle
 from .jump import Jump, JumpControl, extrapolate
 from .law import ScarEdgeError, WearInputError, WearLaw
 from .profile import BODIES, WornPair, WornProfile
+
+#: the step names of a waveform history ([load.cycle]): c<cycle>.<increment>
+WAVEFORM = re.compile(r"c(\d+)\.(\d+)")
 
 __all__ = ["WearResult", "WearSimulation", "WearSnapshot", "run_wear", "worn_simulation"]
 
@@ -95,9 +99,13 @@ class WearSimulation:
 
     @property
     def cycle_steps(self) -> tuple[LoadStep, ...]:
-        """The steps of one cycle."""
+        """The steps of one cycle: ``cycle``'s, else those of the first load cycle of a
+        waveform history (steps named ``c1.<increment>``), else every step after the first."""
         steps = self.simulation.steps
         if not self.cycle:
+            waveform = [s for s in steps[1:] if WAVEFORM.fullmatch(s.name)]
+            if waveform and len(waveform) == len(steps) - 1:
+                return tuple(s for s in waveform if int(WAVEFORM.fullmatch(s.name).group(1)) == 1)
             return tuple(steps[1:])
         by_name = {s.name: s for s in steps}
         return tuple(by_name[name] for name in self.cycle)
