@@ -26,7 +26,8 @@ WEAR_KEYS: dict[str, tuple[str, str, str]] = {
             "(archard); 0: the pad does not wear"),
     "specimen": ("law's", "—", "the specimen's coefficient, as `pad`"),
     "cycles": ("", "—", "number of load cycles N (>= 1)"),
-    "cycle": ("", "every step after the first", "names of the [load] steps forming one cycle"),
+    "cycle": ("", "every step after the first", "names of the [load] steps forming one cycle "
+              "(a [load.cycle] waveform: its first cycle)"),
     "increments": ("", "the [load] increments", "increments of each cycle step"),
     "max_change": ("mm", "—", "largest change of either face's depth per cycle jump (default: "
                    "`relative_change` of the contact's relief)"),

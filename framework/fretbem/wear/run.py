@@ -13,6 +13,7 @@ written; :mod:`fretbem.output.wear` writes.
 
 from __future__ import annotations
 
+import re
 import time
 from collections.abc import Mapping
 
@@ -22,11 +23,15 @@ import numpy as np
 from fretbem.contact.law import ContactState
 from fretbem.results import SimulationResult
 from fretbem.simulation import LoadStep, Simulation, run
+from fretbem.solvers.newton import SolverConvergenceError
 
 from .cycle import simulate_cycle
 from .jump import Jump, JumpControl, extrapolate
 from .law import ScarEdgeError, WearInputError, WearLaw
 from .profile import BODIES, WornPair, WornProfile
+
+#: the step names of a waveform history ([load.cycle]): c<cycle>.<increment>
+WAVEFORM = re.compile(r"c(\d+)\.(\d+)")
 
 __all__ = ["WearResult", "WearSimulation", "WearSnapshot", "run_wear", "worn_simulation"]
 
@@ -94,9 +99,13 @@ class WearSimulation:
 
     @property
     def cycle_steps(self) -> tuple[LoadStep, ...]:
-        """The steps of one cycle."""
+        """The steps of one cycle: ``cycle``'s, else those of the first load cycle of a
+        waveform history (steps named ``c1.<increment>``), else every step after the first."""
         steps = self.simulation.steps
         if not self.cycle:
+            waveform = [s for s in steps[1:] if WAVEFORM.fullmatch(s.name)]
+            if waveform and len(waveform) == len(steps) - 1:
+                return tuple(s for s in waveform if int(WAVEFORM.fullmatch(s.name).group(1)) == 1)
             return tuple(steps[1:])
         by_name = {s.name: s for s in steps}
         return tuple(by_name[name] for name in self.cycle)
@@ -185,6 +194,29 @@ class WearResult:
         return run(worn_simulation(self.wear.simulation, self.snapshot(cycles).profile))
 
 
+#: how many times a cycle whose Newton iteration fails is retried with doubled increments
+RETRIES = 2
+
+
+def _cycle(simulation: Simulation, problem, state: ContactState, wear: WearSimulation, n: int):
+    """One simulated cycle; a cycle whose solver fails is solved again with its steps'
+    increments doubled (a sliding contact whose pairs all reach the cone together at a
+    reversal can need finer increments than the unworn contact did)."""
+    steps = wear.cycle_steps
+    for attempt in range(RETRIES + 1):
+        try:
+            return simulate_cycle(simulation, problem, state, steps, wear.laws)
+        except SolverConvergenceError as error:
+            if attempt == RETRIES:
+                raise SolverConvergenceError(
+                    f"the wear cycle at N = {n} did not converge even with "
+                    f"{2**RETRIES} times the increments ({error}); give more [wear] increments "
+                    "or a smaller relative_change"
+                ) from None
+            steps = tuple(attrs.evolve(s, increments=2 * s.increments) for s in steps)
+    raise AssertionError("unreachable")  # pragma: no cover
+
+
 def _check_edges(pressure: np.ndarray, cycles: int, x: np.ndarray) -> None:
     """The contact must stay inside the candidate zone as the scar widens."""
     edge = pressure[:, [0, -1]]
@@ -234,7 +266,7 @@ def run_wear(wear: WearSimulation, *, progress=None) -> WearResult:
         if n:  # the end of the last cycle, re-equilibrated on the new profile
             settle = attrs.evolve(wear.cycle_steps[-1], increments=1)
             state, _, _ = simulation.step(worn, state, settle)
-        cycle = simulate_cycle(simulation, worn, state, wear.cycle_steps, wear.laws)
+        cycle = _cycle(simulation, worn, state, wear, n)
         simulated += 1
         _check_edges(cycle.pressure, n, profile.x)
         if n == targets[0]:

@@ -100,17 +100,26 @@ def test_gross_slip_energy_is_four_f_p_times_the_sliding_distance(implicit):
 
 def test_halving_the_implicit_jump_changes_less_than_the_tolerance(implicit):
     """relative_change 0.1 -> 0.05: depth within 0.5 %, peak pressure within 1.5 % (measured
-    0.19 % and 0.85 %); the explicit scheme agrees within 0.5 % and 2.5 %."""
+    0.19 % and 0.85 %)."""
     half = history(gross_slip(), JumpControl(scheme="implicit", relative_change=0.05))
-    explicit = history(gross_slip(), JumpControl())
-    a, b, c = implicit.final, half.final, explicit.final
-    depth = [s.profile.max_depth("lower") for s in (a, b, c)]
-    peak = [s.pressure[0].max() for s in (a, b, c)]
+    a, b = implicit.final, half.final
     assert half.simulated > 1.5 * implicit.simulated
+    depth = [s.profile.max_depth("lower") for s in (a, b)]
+    peak = [s.pressure[0].max() for s in (a, b)]
     assert abs(depth[0] - depth[1]) < 0.005 * depth[1]
     assert abs(peak[0] - peak[1]) < 0.015 * peak[1]
-    assert abs(depth[1] - depth[2]) < 0.005 * depth[2]
-    assert abs(peak[1] - peak[2]) < 0.025 * peak[2]
+
+
+@pytest.mark.slow
+def test_the_schemes_agree_in_gross_slip():
+    """Implicit (relative_change 0.05, 56 cycles simulated) against explicit (safety 0.5,
+    135 cycles): depth within 0.5 %, peak pressure within 2.5 % (measured 0.2 % and 0.8 %)."""
+    half = history(gross_slip(), JumpControl(scheme="implicit", relative_change=0.05))
+    explicit = history(gross_slip(), JumpControl())
+    depth = [s.final.profile.max_depth("lower") for s in (half, explicit)]
+    peak = [s.final.pressure[0].max() for s in (half, explicit)]
+    assert abs(depth[0] - depth[1]) < 0.005 * depth[1]
+    assert abs(peak[0] - peak[1]) < 0.025 * peak[1]
 
 
 def test_gross_slip_on_bem_bodies():
@@ -152,3 +161,22 @@ def test_a_scar_reaching_the_zone_edge_is_refused():
     control = JumpControl(scheme="implicit", relative_change=0.5)
     with pytest.raises(ScarEdgeError, match=r"reached the end pairs .* enlarge \[contact\] zone"):
         run_wear(WearSimulation(simulation, laws, 100_000, control=control))
+
+
+@pytest.mark.slow
+def test_convergence_in_pairs_and_increments():
+    """Gross slip, 5000 cycles, implicit (relative_change 0.05). Measured: 21/31/41 pairs
+    give depth 2.9376/2.9349/2.9351 um and peak p 66.77/66.30/66.24 MPa (the scar width
+    moves by a pair spacing: 1.47/1.60/1.67 mm); 12, 24 and 42 increments a cycle give
+    the same to 1e-14 on half-planes, whose pressure does not depend on the shear."""
+    runs = {}
+    for pairs, increments in ((21, 8), (31, 4), (31, 8), (41, 8)):
+        simulation = gross_slip(pairs=pairs, increments=increments)
+        result = history(simulation, JumpControl(scheme="implicit", relative_change=0.05))
+        runs[pairs, increments] = result.final
+    depth = {k: s.profile.max_depth("lower") for k, s in runs.items()}
+    peak = {k: s.pressure[0].max() for k, s in runs.items()}
+    assert abs(depth[31, 4] - depth[31, 8]) < 1e-10 * depth[31, 8]
+    assert abs(depth[41, 8] - depth[31, 8]) < 0.002 * depth[41, 8]
+    assert abs(peak[41, 8] - peak[31, 8]) < 0.005 * peak[41, 8]
+    assert abs(peak[21, 8] - peak[41, 8]) < 0.015 * peak[41, 8]
