@@ -30,6 +30,7 @@ import numpy as np
 from fretbem.validators import check_poisson, check_positive
 
 from .closed_forms import HertzLineContact, dundurs_beta, effective_modulus
+from .nowell_hills import NotApplicableError
 
 __all__ = ["DissimilarCylinders", "DissimilarState", "reference_for_scene", "stick_half_width"]
 
@@ -292,8 +293,6 @@ def reference_for_scene(scene, *, cells: int = 400) -> dict[str, DissimilarState
     finite-body difference. Raises :class:`~fretbem.verification.nowell_hills.NotApplicableError`
     naming the scene key that rules it out.
     """
-    from .nowell_hills import NotApplicableError
-
     curvatures = [scene.pad.shape.curvature, scene.specimen.shape.curvature]
     if any(c is None for c in curvatures) or sum(curvatures) <= 0:
         raise NotApplicableError(
