@@ -169,7 +169,7 @@ def test_error_non_increasing_with_the_budget(name):
     by more than the scene's band over the best smaller budget; everywhere (the
     reference's own element at a transition cannot follow the square root between its
     points: 0.3 to 0.5 % of p0 at 321 pairs) it stays below the measured bound. On the
-    reference scene the estimate is 0.13 to 4.6 times the error away from the
+    reference scene the estimate is 0.39 to 4.6 times the error away from the
     transitions wherever that is above 0.1 %."""
     first, last, band_far, band_l2, top = BANDS[name]
     simulation = SCENES[name]()

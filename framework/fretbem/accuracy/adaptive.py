@@ -103,14 +103,16 @@ class AdaptiveSettings:
         at budget 36 1.19 % and the q estimate up to 4 times too large at 47 to 55, so the
         default is one pass).
     max_levels : int
-        Most aligned levels after the first.
+        Most aligned levels after the first (4: budgets above 121 get a 121-pair level
+        before the last, so the estimate carries a pair ratio of about 2; from 61 straight
+        to 241 it read 0.15 to 0.65 of the error, now 2 to 4 times it).
     """
 
     tolerance: float = attrs.field(default=0.02, converter=float)
     budget: int = attrs.field(default=61, validator=_budget)
     first: int = attrs.field(default=31, validator=_budget)
     ratio: float | None = attrs.field(default=None, converter=attrs.converters.optional(float))
-    max_levels: int = attrs.field(default=3, converter=int)
+    max_levels: int = attrs.field(default=4, converter=int)
     grading: float = attrs.field(default=0.06, converter=float)
     edge_peak: float | None = attrs.field(default=None, converter=attrs.converters.optional(float))
     edge_tolerance: float = attrs.field(default=0.03, converter=float)
