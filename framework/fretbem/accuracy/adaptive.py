@@ -390,6 +390,7 @@ def run_adaptive(
     estimated: dict = {}
     previous = None
     notes: list[str] = []
+    handed = found[-1]
     for index, pairs in enumerate(counts):
         # the first aligned level only hands on transitions and a coarse error; any later
         # one may be the answer (the estimate can stop the run there)
@@ -397,9 +398,9 @@ def run_adaptive(
             iterations, tolerance = settings.coarse_iterations, settings.coarse_tolerance
         else:
             iterations, tolerance = settings.edge_iterations, settings.edge_tolerance
-        count = found[-1].all.size
+        count = handed.all.size
         solved, used, residual = settle(
-            simulation, found[-1], pairs, settings, iterations, tolerance, relative=index > 0
+            simulation, handed, pairs, settings, iterations, tolerance, relative=index > 0
         )
         if used[-1].all.size < count:
             notes.append(
@@ -409,9 +410,11 @@ def run_adaptive(
             )
         levels += solved
         found += used
-        if used[-1].all.size < count:  # hand every transition on, not only the placed ones
-            reach = 2.0 * float(np.median(knot_spacings(solved[-1], used[-1])))
-            found[-1] = refound(solved[-1], used[-1], reach)
+        # hand on every transition of the settled level, not only the placed knots: those
+        # merged to fit it, and those the coarser levels could not see (a slip zone
+        # narrower than their spacing: the rig's step A at its leading edge)
+        reach = 2.0 * float(np.median(knot_spacings(solved[-1], used[-1])))
+        handed = refound(solved[-1], used[-1], reach)
         if bar is not None:
             bar.update(1)
         if previous is not None:
