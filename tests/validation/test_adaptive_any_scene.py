@@ -146,19 +146,20 @@ SCENES = {
 #: per scene: (first budget checked, last budget, most rise of the error away from the
 #: transitions over the best smaller budget, most rise in L2, most error everywhere from
 #: budget 61 up); fractions of p0, f p0; measured (docs/results/adaptive_budgets.csv) plus
-#: a margin. The reference scene and the wide contact meet a band of 0.1 % (measured
-#: 0.055 %); the rig (q away rises 0.82 % from budget 101 to 241, between two contact
-#: edges 0.026 a apart whose steps differ) and steel on aluminium (many knots that do not
-#: settle) are misses, listed with their measured rise; the mixed faces' reference is 241
-#: pairs, so their sweep stops at 201.
+#: a margin. The reference scene, the wide contact and the mixed faces meet a band of 0.1
+#: to 0.2 % (measured 0.055 and 0.076 %); the rig (q away rises 0.45 % from budget 121 to
+#: 161, near its leading edge where the contact moves between steps) and steel on
+#: aluminium (0.32 % from 61 up: Goodman slip-zone knots that do not all settle) are
+#: misses, listed with their measured rise; the mixed faces' reference is 241 pairs, so
+#: their sweep stops at 201.
 BANDS = {
     "ref60": (31, 241, 0.001, 0.0005, 0.006),
     "ref100": (31, 241, 0.001, 0.0005, 0.006),
     "ref160": (31, 241, 0.001, 0.0005, 0.006),
     "wide": (31, 241, 0.001, 0.0005, 0.006),
-    "mixed": (31, 201, 0.002, 0.0005, 0.008),
-    "rig": (31, 241, 0.009, 0.0005, 0.032),
-    "dissimilar": (61, 241, 0.005, 0.0015, 0.047),
+    "mixed": (31, 201, 0.002, 0.001, 0.011),
+    "rig": (31, 241, 0.005, 0.0005, 0.021),
+    "dissimilar": (61, 241, 0.004, 0.0012, 0.023),
 }
 
 
@@ -169,7 +170,7 @@ def test_error_non_increasing_with_the_budget(name):
     by more than the scene's band over the best smaller budget; everywhere (the
     reference's own element at a transition cannot follow the square root between its
     points: 0.3 to 0.5 % of p0 at 321 pairs) it stays below the measured bound. On the
-    reference scene the estimate is 0.13 to 4.6 times the error away from the
+    reference scene the estimate is 0.39 to 4.6 times the error away from the
     transitions wherever that is above 0.1 %."""
     first, last, band_far, band_l2, top = BANDS[name]
     simulation = SCENES[name]()

@@ -103,14 +103,16 @@ class AdaptiveSettings:
         at budget 36 1.19 % and the q estimate up to 4 times too large at 47 to 55, so the
         default is one pass).
     max_levels : int
-        Most aligned levels after the first.
+        Most aligned levels after the first (4: budgets above 121 get a 121-pair level
+        before the last, so the estimate carries a pair ratio of about 2; from 61 straight
+        to 241 it read 0.15 to 0.65 of the error, now 2 to 4 times it).
     """
 
     tolerance: float = attrs.field(default=0.02, converter=float)
     budget: int = attrs.field(default=61, validator=_budget)
     first: int = attrs.field(default=31, validator=_budget)
     ratio: float | None = attrs.field(default=None, converter=attrs.converters.optional(float))
-    max_levels: int = attrs.field(default=3, converter=int)
+    max_levels: int = attrs.field(default=4, converter=int)
     grading: float = attrs.field(default=0.06, converter=float)
     edge_peak: float | None = attrs.field(default=None, converter=attrs.converters.optional(float))
     edge_tolerance: float = attrs.field(default=0.03, converter=float)
@@ -388,6 +390,7 @@ def run_adaptive(
     estimated: dict = {}
     previous = None
     notes: list[str] = []
+    handed = found[-1]
     for index, pairs in enumerate(counts):
         # the first aligned level only hands on transitions and a coarse error; any later
         # one may be the answer (the estimate can stop the run there)
@@ -395,9 +398,9 @@ def run_adaptive(
             iterations, tolerance = settings.coarse_iterations, settings.coarse_tolerance
         else:
             iterations, tolerance = settings.edge_iterations, settings.edge_tolerance
-        count = found[-1].all.size
+        count = handed.all.size
         solved, used, residual = settle(
-            simulation, found[-1], pairs, settings, iterations, tolerance, relative=index > 0
+            simulation, handed, pairs, settings, iterations, tolerance, relative=index > 0
         )
         if used[-1].all.size < count:
             notes.append(
@@ -407,9 +410,11 @@ def run_adaptive(
             )
         levels += solved
         found += used
-        if used[-1].all.size < count:  # hand every transition on, not only the placed ones
-            reach = 2.0 * float(np.median(knot_spacings(solved[-1], used[-1])))
-            found[-1] = refound(solved[-1], used[-1], reach)
+        # hand on every transition of the settled level, not only the placed knots: those
+        # merged to fit it, and those the coarser levels could not see (a slip zone
+        # narrower than their spacing: the rig's step A at its leading edge)
+        reach = 2.0 * float(np.median(knot_spacings(solved[-1], used[-1])))
+        handed = refound(solved[-1], used[-1], reach)
         if bar is not None:
             bar.update(1)
         if previous is not None:
