@@ -585,10 +585,14 @@ def test_default_engine_stays_serial_when_the_work_is_small_next_to_a_cluster_st
     a cluster: the default engine solves it in this process (the same table)."""
     pd = pytest.importorskip("pandas")
     from fretbem.studies.sweep import run as sweep_run
+    from fretbem.studies.sweep.cases import build_simulation
     from fretbem.studies.sweep.run import sweep
 
-    serial = sweep(SCENE, PARAMETERS, out=tmp_path / "serial", serial=True)
-    auto = sweep(SCENE, PARAMETERS, out=tmp_path / "auto")
+    # the builder keeps the failing radius a failing group (rows), as in the tests above
+    serial = sweep(
+        SCENE, PARAMETERS, out=tmp_path / "serial", serial=True, builder=build_simulation
+    )
+    auto = sweep(SCENE, PARAMETERS, out=tmp_path / "auto", builder=build_simulation)
     assert auto.summary.mode == "serial" and auto.summary.workers == 1
     assert auto.summary.tasks == serial.summary.tasks  # batches sized for one worker
     pd.testing.assert_frame_equal(_results(auto.table), _results(serial.table))
