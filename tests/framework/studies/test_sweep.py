@@ -588,9 +588,10 @@ def test_default_engine_stays_serial_when_the_work_is_small_next_to_a_cluster_st
     from fretbem.studies.sweep.cases import build_simulation
     from fretbem.studies.sweep.run import sweep
 
-    # the builder keeps the failing radius as error rows (see test_serial_sweep_store_and_resume)
-    serial = sweep(SCENE, PARAMETERS, out=tmp_path / "serial", serial=True,
-                   builder=build_simulation)  # fmt: skip
+    # the builder keeps the failing radius a failing group (rows), as in the tests above
+    serial = sweep(
+        SCENE, PARAMETERS, out=tmp_path / "serial", serial=True, builder=build_simulation
+    )
     auto = sweep(SCENE, PARAMETERS, out=tmp_path / "auto", builder=build_simulation)
     assert auto.summary.mode == "serial" and auto.summary.workers == 1
     assert auto.summary.tasks == serial.summary.tasks  # batches sized for one worker
