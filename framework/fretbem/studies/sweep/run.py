@@ -63,9 +63,11 @@ POST_TABLES = ("fatigue", "stress")
 
 #: most cases in one task (and one stored chunk)
 MAX_BATCH = 250
-#: seconds a local cluster takes to be useful: importing dask.distributed, starting the
-#: worker processes and their first import of fretbem (measured 1.6-5 s on 2 cores)
-CLUSTER_START_SECONDS = 3.0
+#: CPU seconds a local cluster costs besides the solves: importing dask.distributed,
+#: starting the scheduler and worker processes, their imports of fretbem and their own
+#: assemblies (measured: a 1,444-case sweep took 13.6 s CPU serially and 25.1 s on a
+#: 2-worker cluster, 2 cores at load 9; the start alone is 1.6-5 s of wall time)
+CLUSTER_START_SECONDS = 8.0
 #: the default engine starts a local cluster only when the sweep's remaining work, estimated
 #: from the cases solved in this process so far, exceeds this many cluster starts: below
 #: it the start and the workers' own assemblies cost more than the second core gives back
@@ -298,10 +300,15 @@ def _cluster_threads(client) -> int:
 def _remaining_seconds(rows: list[dict], queue: list[Task]) -> float | None:
     """Serial seconds the queued tasks would take, from the rows solved so far (None: too few).
 
-    Median solve per case (of the last ``PROBE_WINDOW`` rows) times the queued cases, plus
+    Median solve per case (CPU, of the last ``PROBE_WINDOW`` rows) times the queued cases, plus
     the median assembly of a group for every further queued group.
     """
-    solves = [float(r["solve_seconds"]) for r in rows[-PROBE_WINDOW:] if "solve_seconds" in r]
+    # CPU seconds where recorded: a busy machine stretches the wall time of every process alike
+    solves = [
+        float(r.get("solve_cpu_seconds", r["solve_seconds"]))
+        for r in rows[-PROBE_WINDOW:]
+        if "solve_seconds" in r
+    ]
     if len(solves) < PROBE_CASES:
         return None
     assemblies = [float(r["assembly_seconds"]) for r in rows if r.get("assembly_seconds")]
