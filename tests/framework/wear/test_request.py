@@ -126,6 +126,9 @@ def test_scene_file_runs_and_writes_every_wear_file(tmp_path, basis):
     assert float(final["volume_pad"]) == pytest.approx(0.5 * float(final["volume_specimen"]))
     wear = _rows(out / "wear.csv")
     assert len(wear) == 3 * 4 * 21  # N x cycle steps x pairs
+    for name in ("wear.csv", "wear_summary.csv", "wear_jumps.csv"):  # plain numbers only
+        cells = [cell for row in _rows(out / name) for cell in row.values()]
+        assert not [cell for cell in cells if "(" in cell], name  # e.g. 'np.float64(0.1)'
     jumps = _rows(out / "wear_jumps.csv")
     assert sum(int(j["delta_N"]) for j in jumps) == 3000
     summary = json.loads((out / "wear.json").read_text())
