@@ -101,7 +101,9 @@ def _csv(path: Path, header: list[str], rows: list[list]) -> Path:
     with open(path, "w", newline="") as handle:
         writer = csv.writer(handle)
         writer.writerow(header)
-        writer.writerows([[repr(float(v)) if isinstance(v, float) else v for v in row] for row in rows])
+        writer.writerows(
+            [[repr(float(v)) if isinstance(v, float) else v for v in row] for row in rows]
+        )
     return path
 
 
