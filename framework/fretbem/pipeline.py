@@ -24,6 +24,7 @@ from fretbem.fatigue.from_simulation import SimulationStressHistory
 from fretbem.output.write import write_results
 from fretbem.scenes.builder import build
 from fretbem.simulation import run
+from fretbem.sliding import solve_sliding
 from fretbem.solvers.fallback import with_fallback
 from fretbem.solvers.newton import SolverConvergenceError
 from fretbem.stress.limits import check_points, request_points
@@ -163,6 +164,29 @@ def check_requests(simulation, stress, fatigue) -> None:
         check_points(nx * nd, dofs, "[fatigue] map_points")
 
 
+def sliding_blocker(mode: accuracy.Accuracy, extras: Mapping | None) -> None:
+    """Refuse what a finite-sliding run cannot do, naming the scene key."""
+    if mode.mesh != "fixed":
+        raise InputError(
+            "[contact] sliding = true needs mesh = 'fixed': the adaptive mode refines the "
+            "faces about a contact that does not move; set [contact] mesh = 'fixed'"
+        )
+    for table in EXTRA_SLIDING:
+        if table in (extras or {}):
+            raise InputError(
+                f"[{table}] is not evaluated on a finite-sliding run ([contact] sliding = "
+                f"true): {EXTRA_SLIDING[table]}; remove [{table}] or set sliding = false"
+            )
+
+
+#: the requests a sliding run refuses, and why
+EXTRA_SLIDING = {
+    "stress": "the bodies' fields would have to follow the pad along the track",
+    "fatigue": "its stress history would have to follow the pad along the track",
+    "wear": "the worn profile lives on fixed pairs, which sliding moves",
+}
+
+
 def _fallback(simulation):
     return with_fallback(simulation) or simulation
 
@@ -179,14 +203,18 @@ def run_simulation(
     say: Callable[[str], None] = _quiet,
     bars=None,
     phases: Mapping | None = None,
+    sliding: bool = False,
 ) -> RunResult:
     """Solve ``simulation`` in ``mode``, check it, solve ``compare`` (simulations), and carry
     out the ``extras``' stress and fatigue requests. Raises the failed check's error.
+    ``sliding`` runs it (and ``compare``) with finite sliding (``[contact] sliding``).
 
     ``progress(k, n, step)`` follows the steps; ``bars(description, total)`` makes the
     progress bars of the adaptive levels and the fatigue assessment; ``phases`` are earlier
     phases' seconds (e.g. the build), kept with this run's in ``RunResult.phases``."""
     mode = mode or accuracy.Accuracy()
+    if sliding:
+        sliding_blocker(mode, extras)
     if mode.mesh == "adaptive":
         blocker = accuracy.adaptive_blocker(simulation)
         if blocker is not None:
@@ -204,9 +232,12 @@ def run_simulation(
         options["bars"] = bars
     tic = time.perf_counter()
     try:
-        result = accuracy.solve(simulation, mode, coarse=companion, **options)
+        if sliding:
+            result = solve_sliding(simulation, say=say, progress=progress)
+        else:
+            result = accuracy.solve(simulation, mode, coarse=companion, **options)
     except SolverConvergenceError as failure:
-        retry = with_fallback(simulation)
+        retry = None if sliding else with_fallback(simulation)
         if retry is None:
             raise
         say(f"Newton did not converge ({str(failure).split(';')[0]}); solving again with "
@@ -220,7 +251,7 @@ def run_simulation(
         tic = time.perf_counter()
         for other in compare:
             say("running a comparison family")
-            others.append(run(other))
+            others.append(solve_sliding(other, say=_quiet) if sliding else run(other))
             check_steps(others[-1])
         timed["compare"] = time.perf_counter() - tic
     fatigue = None
@@ -256,6 +287,9 @@ def run_scene(
     tic = time.perf_counter()
     simulation, reason = build(scene, **contact)
     built = time.perf_counter() - tic
+    sliding = scene.contact.sliding
+    if sliding:
+        reason = "finite sliding: no closed form follows the pad along the track"
     return run_simulation(
         simulation,
         mode=mode or accuracy.mode_of(scene),
@@ -267,4 +301,5 @@ def run_scene(
         say=say,
         bars=bars,
         phases={"build": built},
+        sliding=sliding,
     )

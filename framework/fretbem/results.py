@@ -221,6 +221,9 @@ class StepResult:
         (the specimen's held end), mm, at the end of the step.
     increments : tuple of IncrementRecord
         Every increment of the step, in order (set by :func:`fretbem.simulation.run`).
+    pair : ContactPair or None
+        Finite sliding: the pairing the step was solved with (the pad where it had slid);
+        None: the simulation's own pair.
     """
 
     name: str
@@ -247,6 +250,7 @@ class StepResult:
     approach: float = float("nan")
     delta: float = float("nan")
     increments: tuple = ()
+    pair: object = None
 
     def __repr__(self) -> str:
         return step_repr(self)

@@ -174,7 +174,9 @@ def _mode(args: argparse.Namespace, base):
     )
 
 
-def _simulate(make, args: argparse.Namespace, extras=None, mode=None, companion=None) -> int:
+def _simulate(
+    make, args: argparse.Namespace, extras=None, mode=None, companion=None, sliding=False
+) -> int:
     """Solve in ``mode`` (``companion(pairs)``: the fixed mode's coarser level) through the
     run pipeline, print the tables with the estimate, and write the output."""
     start = time.perf_counter()
@@ -182,6 +184,8 @@ def _simulate(make, args: argparse.Namespace, extras=None, mode=None, companion=
     bars = Bars(quiet=QUIET["on"])
     simulation, reason, compare, estimate = _prepare(make, args)
     built = time.perf_counter() - start
+    if sliding:
+        reason = "finite sliding: no closed form follows the pad along the track"
     stress, fatigue = pipeline.requests(extras)  # bad tables are refused before solving
     wear = pipeline.wear_request(extras)
     done = pipeline.run_simulation(
@@ -195,6 +199,7 @@ def _simulate(make, args: argparse.Namespace, extras=None, mode=None, companion=
         say=_progress,
         bars=bars,
         phases={"build": built},
+        sliding=sliding,
     )
     result = done.result
     info = result.describe()
@@ -286,6 +291,7 @@ def _run(args: argparse.Namespace) -> int:
         scene.extras,
         mode,
         lambda pairs: build(scene, pairs=pairs)[0],
+        sliding=scene.contact.sliding,
     )
 
 

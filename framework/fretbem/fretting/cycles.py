@@ -196,11 +196,12 @@ def analyse(result) -> FrettingAnalysis:
     p = np.array([r.normal for r in records])
     x = np.asarray(result.steps[0].x)
     found = []
+    repaired = any(s.pair is not None for s in result.steps)  # finite sliding follows the pad
     for number in sorted(set(cycle.tolist()) - {0}):
         members = np.flatnonzero(cycle == number)
         start = members[0] - 1
         loop = np.concatenate([[start], members]) if start >= 0 else members
-        found.append(_cycle(number, loop, records, q, d, p, x, weights))
+        found.append(_cycle(number, loop, records, q, d, p, x, weights, repaired))
     return FrettingAnalysis(
         increment=np.arange(1, len(records) + 1),
         cycle=cycle,
@@ -214,7 +215,7 @@ def analyse(result) -> FrettingAnalysis:
     )
 
 
-def _cycle(number, loop, records, q, d, p, x, weights) -> CycleResult:
+def _cycle(number, loop, records, q, d, p, x, weights, repaired=False) -> CycleResult:
     slip = np.array([records[i].slip for i in loop])
     shear = np.array([records[i].shear for i in loop])
     every = np.array([records[i].states for i in loop])
@@ -232,7 +233,7 @@ def _cycle(number, loop, records, q, d, p, x, weights) -> CycleResult:
     spacing = float(np.median(np.diff(np.sort(x)))) if len(x) > 1 else math.inf
     slip_range = 2.0 * float(np.max(amplitude, initial=0.0))
     caution = None
-    if slip_range > spacing:
+    if slip_range > spacing and not repaired:
         caution = (
             f"the slip range {slip_range:.3g} mm exceeds the pair spacing {spacing:.3g} mm; "
             "node-to-node pairs assume sliding small against it, so this cycle is beyond "

@@ -245,6 +245,8 @@ def displacement_figure(
             ax.grid(alpha=0.3)
             ax.set_ylabel(f"{symbol} (µm)" if col == 0 else "")
         x = results[0][name].x / scale
+        if results[0][name].pair is not None:  # finite sliding: the step's own pairing
+            gap = results[0][name].pair.pairing().gap
         axes[0, col].plot(x, -1e3 * gap, ":", color="0.3", lw=1.2, label="−g (gap closed)")
         axes[0, col].set_title(_step_title(results[0][name]), y=TITLE_Y)
         axes[1, col].set_xlabel(xlabel)

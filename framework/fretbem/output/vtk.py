@@ -162,8 +162,14 @@ def write_vtp(path: str | Path, arrays: dict) -> Path:
 
 
 def body_solutions(result: SimulationResult, step: StepResult) -> dict:
-    """Each body's full boundary solution at ``step`` ("upper" and "lower")."""
-    return result.simulation.pair.condensed().solutions(step.unknowns, step.loads)
+    """Each body's full boundary solution at ``step`` ("upper" and "lower"); a step of a
+    sliding run on its own pairing, the pad's slide added to its block's displacement."""
+    if step.pair is None:
+        return result.simulation.pair.condensed().solutions(step.unknowns, step.loads)
+    problem = step.pair.condensed()
+    x = np.array(step.unknowns, dtype=float)
+    x[problem.layout.block("upper")] += np.asarray(getattr(step.pair, "offset", 0.0))
+    return problem.solutions(x, step.loads)
 
 
 def drawable_bodies(result: SimulationResult, say=print) -> list[str]:

@@ -30,6 +30,7 @@ from fretbem.verification.nowell_hills import NowellHills
 
 from .limits import check_scene
 from .spec import Scene, SceneFileError
+from .track import sliding_scene, track_face, track_half_width
 
 __all__ = [
     "CORNER_RATIO",
@@ -268,8 +269,13 @@ def _half_extent(shape) -> float:
     return (getattr(shape, "length", None) or shape.width) / 2
 
 
+def _pad_face(scene: Scene, zone: float, pad: bool):
+    """The pad's face at ``zone``; for the specimen of a sliding scene, its straight track."""
+    return track_face(zone) if scene.contact.sliding and not pad else scene.pad.shape.face(zone)
+
+
 def _face(scene: Scene, zone: float, pad: bool):
-    face = scene.pad.shape.face(zone)
+    face = _pad_face(scene, zone, pad)
     return face if pad else list(scene.specimen.shape.boundary(face, zone).segments)
 
 
@@ -284,14 +290,22 @@ def build(scene: Scene, **contact_overrides):
     zone = zone_half_width(scene)
     pad_family = _family(scene, "pad")
     specimen_family = _family(scene, "specimen")
+    pad_levels = refinements(scene, pad_family, zone, pad=True)
+    specimen_zone = zone
+    if scene.contact.sliding:  # the specimen's contact segment covers the whole slide
+        specimen_zone = track_half_width(scene, zone)
+        pad_elements = pad_levels["contact"].elements * len(
+            [s for s in _face(scene, zone, True) if s.tag == "contact"]
+        )
+        scene = sliding_scene(scene, zone, specimen_zone, pad_elements)
     _check_pairing(scene)
-    pad = body_model(scene, "pad", pad_family, zone, refinements(scene, pad_family, zone, pad=True))
+    pad = body_model(scene, "pad", pad_family, zone, pad_levels)
     specimen = body_model(
         scene,
         "specimen",
         specimen_family,
-        zone,
-        refinements(scene, specimen_family, zone, pad=False),
+        specimen_zone,
+        refinements(scene, specimen_family, specimen_zone, pad=False),
     )
 
     steps = load_steps(scene.load)
@@ -417,7 +431,7 @@ def body_model(scene: Scene, role: str, family: type[Basis], zone: float, refine
     """The pad or the specimen as a body of its model (``bem`` or ``half-plane``)."""
 
     spec = getattr(scene, role)
-    pad_face = scene.pad.shape.face(zone)
+    pad_face = _pad_face(scene, zone, role == "pad")
     bulk = any(scene.load.bulk)
     if role == "pad":
         conditions = [LoadingBlock("top")]

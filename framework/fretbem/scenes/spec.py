@@ -248,6 +248,24 @@ KEYS: tuple[Key, ...] = (
         "`node-to-node` (faces discretised alike) or `node-to-segment` (faces may differ: "
         "nodes of one projected on the other's exact geometry)",
     ),
+    Key(
+        "contact",
+        "sliding",
+        (bool,),
+        "",
+        False,
+        "finite sliding: the pairs are projected again as the pad slides (gross slip over "
+        'several contact widths); needs `pairing = "node-to-segment"` and a flat specimen',
+    ),
+    Key(
+        "contact",
+        "track_width",
+        NUMBER,
+        "mm",
+        None,
+        "`sliding`: half-width of the specimen's contact segment the pad slides along "
+        "(default: the zone plus the largest delta of the history, in absolute value)",
+    ),
     Key("contact", "solver", (str,), "", "newton", "contact solver (`fretbem plugins`)"),
     Key("contact", "law", (str,), "", "coulomb", "contact law (`fretbem plugins`)"),
     Key("mesh", "flank_elements", (int,), "", 16, "elements on each face part outside the zone"),
@@ -413,6 +431,8 @@ class ContactSpec:
     solver: str = "newton"
     law: str = "coulomb"
     pairing: str = "node-to-node"
+    sliding: bool = False
+    track_width: float | None = None
     mesh: str = "fixed"
     tolerance: float = 0.02
     budget: int = 61
@@ -834,6 +854,31 @@ def _mesh_mode(contact: dict) -> None:
         contact["tolerance"] = float(contact["tolerance"])
 
 
+def _sliding(contact: dict) -> None:
+    """[contact] sliding and track_width: finite sliding needs the projection pairing and
+    the fixed mesh; a track without sliding is refused."""
+    if "track_width" in contact and not contact.get("sliding", False):
+        raise SceneFileError(
+            "[contact] track_width sets the track of finite sliding, but sliding is off; "
+            "set [contact] sliding = true or remove track_width"
+        )
+    if "track_width" in contact and not contact["track_width"] > 0:
+        raise SceneFileError(f"[contact] track_width must be > 0, got {contact['track_width']}")
+    if not contact.get("sliding", False):
+        return
+    if contact.get("pairing", "node-to-node") != "node-to-segment":
+        raise SceneFileError(
+            "[contact] sliding = true re-pairs the faces by projection as the pad slides, "
+            f"but [contact] pairing = {contact.get('pairing', 'node-to-node')!r}; set "
+            "[contact] pairing = 'node-to-segment'"
+        )
+    if contact.get("mesh", "fixed") != "fixed":
+        raise SceneFileError(
+            "[contact] sliding = true needs mesh = 'fixed' (the adaptive mode refines the "
+            "faces about a contact that does not move); set [contact] mesh = 'fixed'"
+        )
+
+
 def is_legacy(data: Mapping) -> bool:
     """True for a scene table in the round-1 format ([scene], [geometry], upper/lower materials)."""
     return bool({"scene", "geometry"} & set(data)) or bool(
@@ -884,6 +929,7 @@ def scene_from_dict(data: Mapping) -> Scene:
     for name, group in (("solver", "solvers"), ("law", "laws"), ("pairing", "pairings")):
         if name in contact:
             _plugin(f"[contact] {name}", contact[name], group)
+    _sliding(contact)
     mesh_section = _table(data, "mesh")
     _unknown("[mesh]", mesh_section, _keys("mesh"))
     mesh = {n: _check(f"[mesh] {n}", v, _keys("mesh")[n].kind) for n, v in mesh_section.items()}

@@ -29,7 +29,7 @@ from fretbem.contact.law import ContactState, PairState
 from fretbem.contact.node_to_segment import NodeToSegmentPair
 from fretbem.contact.pairs import ContactDiscretisationError
 from fretbem.errors import InputError
-from fretbem.results import StepResult
+from fretbem.results import IncrementRecord, StepResult
 from fretbem.simulation import Simulation
 from fretbem.verification.checks import check_step
 
@@ -89,8 +89,9 @@ def _repaired(pair: NodeToSegmentPair, offset: float, tangent: np.ndarray, step:
         raise SlidingError(
             f"step {step!r}: at a slide of {offset:.6g} mm the pair in contact at {where} has "
             "slid past the end of the other face: the faces no longer cover the contact; "
-            "lengthen the face the other slides along (its contact segment, e.g. a wider "
-            "[contact] zone_width) to cover the whole track, or slide less"
+            "lengthen the face the other slides along (its contact segment: in a scene file "
+            "a wider [contact] track_width, or omit it for the zone plus the largest delta) "
+            "to cover the whole track, or slide less"
         )
     return moved
 
@@ -128,6 +129,16 @@ def _loaded(pair: NodeToSegmentPair, states: np.ndarray) -> tuple[str, np.ndarra
     return master, (along >= touching.min()) & (along <= touching.max())
 
 
+def _slid(record, offset: float):
+    """A step's or an increment's record with the slide carried in the pairing added back:
+    the block's delta and the relative tangential displacement (upper minus lower) are
+    counted from where the pad started, not from the step's pairing."""
+    if isinstance(record, StepResult):
+        slip = record.tangential_displacement + offset
+        return attrs.evolve(record, delta=record.delta + offset, tangential_displacement=slip)
+    return attrs.evolve(record, delta=record.delta + offset, slip=record.slip + offset)
+
+
 def _spacing(pair: NodeToSegmentPair) -> float:
     points = pair.pairing().points
     return float(np.min(np.linalg.norm(np.diff(points, axis=0), axis=1)))
@@ -139,6 +150,7 @@ def run_sliding(
     every: float = 1.0,
     check: bool = True,
     note: Callable[[str], None] | None = print,
+    progress: Callable | None = None,
 ) -> SlidingResult:
     """Step ``simulation`` through its history, re-pairing as the pad slides.
 
@@ -147,7 +159,8 @@ def run_sliding(
     would leave the pad more than ``every`` pair spacings from where its pairs were
     projected (0: whenever it moves at all). No closed form applies to a sliding contact, so
     the steps carry no errors against theory. ``note`` receives each message about new
-    points in contact (None: collect only).
+    points in contact (None: collect only); ``progress(k, n, step)`` is called after each
+    step.
     """
     if not every >= 0.0:
         raise SlidingError(f"every must be a number of pair spacings >= 0, got {every!r}")
@@ -177,6 +190,7 @@ def run_sliding(
         if controls.tangential == "displacement":
             start_t += offset  # delta where the pad physically is
         start_loads = dict(state.loads)
+        increments: list[IncrementRecord] = []
         for k in range(1, load.increments + 1):
             frac = k / load.increments
             target_n = start_n + frac * (load.normal_target - start_n)
@@ -200,6 +214,7 @@ def run_sliding(
             )
             iterations += its
             residuals += res
+            increments.append(_slid(IncrementRecord.of(problem, state, simulation.rig), offset))
             master, loaded = _loaded(pair, state.states)
             fresh |= loaded & ~seen if seen.any() else np.zeros_like(loaded)
             seen = seen | loaded
@@ -227,12 +242,17 @@ def run_sliding(
             time.perf_counter() - tic,
             tuple(history),
         )
+        result = attrs.evolve(
+            _slid(result, offset), increments=tuple(increments), pair=pair
+        )  # the block's delta and the slip counted from where the pad started
         if check:
             result = attrs.evolve(result, checks=check_step(result, friction))
         results.append(result)
         offsets.append(offset)
         positions.append(offset + _block_delta(problem, state.x))
         pairs.append(pair)
+        if progress is not None:
+            progress(len(results), len(simulation.steps), result)
     return SlidingResult(
         tuple(results), tuple(offsets), tuple(positions), tuple(pairs), tuple(notes), repairings
     )

@@ -1,0 +1,102 @@
+"""[contact] sliding and track_width: each bad combination refused with the key to change,
+the track built from the history, and a slide off the track refused through fretbem run."""
+
+from __future__ import annotations
+
+import copy
+from pathlib import Path
+
+import pytest
+import tomllib
+
+from fretbem.app.cli import main
+from fretbem.errors import InputError
+from fretbem.pipeline import run_simulation
+from fretbem.scenes.builder import build, zone_half_width
+from fretbem.scenes.file import scene_from_data
+from fretbem.scenes.spec import SceneFileError
+from fretbem.scenes.track import TRACK_DENSITY, track_half_width
+
+ROOT = Path(__file__).resolve().parents[3]
+BASE = tomllib.loads((ROOT / "examples" / "gross_sliding.toml").read_text())
+
+
+def _scene(**changes):
+    data = copy.deepcopy(BASE)
+    for where, value in changes.items():
+        table, key = where.split("__")
+        if value is None:
+            data[table].pop(key, None)
+        else:
+            data.setdefault(table, {})[key] = value
+    return data
+
+
+@pytest.mark.parametrize(
+    ("changes", "match"),
+    [
+        ({"contact__pairing": "node-to-node"}, r"sliding = true .*set \[contact\] pairing = "
+                                               r"'node-to-segment'"),
+        ({"contact__pairing": None}, r"pairing = 'node-to-node'"),
+        ({"contact__sliding": False, "contact__track_width": 3.0}, r"track_width .*sliding is off"),
+        ({"contact__track_width": -1.0}, r"track_width must be > 0"),
+        ({"contact__sliding": "yes"}, r"\[contact\] sliding"),
+        ({"contact__mesh": "adaptive", "contact__pairs": None}, r"sliding = true needs mesh = "
+                                                                 r"'fixed'"),
+    ],
+)  # fmt: skip
+def test_bad_sliding_keys_are_refused(changes, match):
+    with pytest.raises(SceneFileError, match=match):
+        scene_from_data(_scene(**changes))
+
+
+def test_a_curved_specimen_cannot_be_a_track():
+    data = _scene(
+        specimen__shape="cylinder", specimen__length=None, specimen__thickness=None,
+        specimen__radius=70.0, specimen__width=6.5, specimen__height=16.25,
+    )  # fmt: skip
+    with pytest.raises(SceneFileError, match=r"\[specimen\] shape = 'flat'"):
+        build(scene_from_data(data))
+
+
+def test_a_track_past_the_specimen_is_refused():
+    with pytest.raises(SceneFileError, match=r"lengthen \[specimen\] length.*track_width"):
+        build(scene_from_data(_scene(specimen__length=6.0)))
+
+
+def test_the_track_covers_the_zone_and_the_largest_delta():
+    """Default: zone + max |delta| (2.8 mm), meshed TRACK_DENSITY times as finely as the
+    pad's zone; an explicit track_width wins; faces stay independent per [specimen]."""
+    scene = scene_from_data(BASE)
+    zone = zone_half_width(scene)
+    assert track_half_width(scene, zone) == pytest.approx(zone + 2.8)
+    simulation, _ = build(scene)
+    pad = simulation.pair.upper.contact_face("contact").n_nodes
+    track = simulation.pair.lower.contact_face("contact").n_nodes
+    assert track / pad == pytest.approx(TRACK_DENSITY * (zone + 2.8) / zone, rel=0.05)
+    wide = scene_from_data(_scene(contact__track_width=4.0))
+    assert track_half_width(wide, zone) == 4.0
+    own = scene_from_data(_scene(specimen__elements=100))
+    assert build(own)[0].pair.lower.contact_face("contact").n_nodes == 102
+
+
+def test_sliding_refuses_stress_fatigue_and_wear():
+    simulation, _ = build(scene_from_data(BASE))
+    for table in ("stress", "fatigue", "wear"):
+        with pytest.raises(InputError, match=rf"\[{table}\] is not evaluated on a finite-sliding"):
+            run_simulation(simulation, sliding=True, extras={table: {}})
+
+
+def test_a_slide_off_the_track_is_refused_by_fretbem_run(tmp_path, capsys):
+    """track_width shorter than the slide: exit 2, one line naming [contact] track_width."""
+    path = tmp_path / "short.toml"
+    text = (ROOT / "examples" / "gross_sliding.toml").read_text()
+    text = text.replace("\nsliding = true", "\ntrack_width = 1.5\nsliding = true", 1)
+    text = text.replace("increments = [1, 24, 24]", "increments = [1, 12, 1]")
+    text = text.replace('steps = ["press", "slide", "back"]', 'steps = ["press", "slide", "b"]')
+    path.write_text(text)
+    code = main(["run", str(path), "--out", str(tmp_path / "out"), "--quiet"])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert "slid past the end of the other face" in err and "[contact] track_width" in err
+    assert "Traceback" not in err
