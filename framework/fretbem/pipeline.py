@@ -171,6 +171,13 @@ def sliding_blocker(mode: accuracy.Accuracy, extras: Mapping | None) -> None:
             "[contact] sliding = true needs mesh = 'fixed': the adaptive mode refines the "
             "faces about a contact that does not move; set [contact] mesh = 'fixed'"
         )
+    fatigue = (extras or {}).get("fatigue")
+    if isinstance(fatigue, Mapping) and "map_x" not in fatigue:
+        raise InputError(
+            "[fatigue] on a finite-sliding run ([contact] sliding = true) needs map_x: the "
+            "default map (+-1.5 a about x = 0) covers only where the pad started; give "
+            "[fatigue] map_x = [x_min, x_max] (mm) covering the track"
+        )
     for table in EXTRA_SLIDING:
         if table in (extras or {}):
             raise InputError(
@@ -181,8 +188,6 @@ def sliding_blocker(mode: accuracy.Accuracy, extras: Mapping | None) -> None:
 
 #: the requests a sliding run refuses, and why
 EXTRA_SLIDING = {
-    "stress": "the bodies' fields would have to follow the pad along the track",
-    "fatigue": "its stress history would have to follow the pad along the track",
     "wear": "the worn profile lives on fixed pairs, which sliding moves",
 }
 

@@ -25,6 +25,7 @@ from fretbem.fretting import analyse
 from fretbem.output.vtk import step_arrays
 from fretbem.pipeline import run_scene
 from fretbem.scenes.file import load_scene, scene_from_data
+from fretbem.stress.closed_form import elliptical_pressure_stress, elliptical_shear_stress
 from fretbem.verification.closed_forms import HertzLineContact
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -57,7 +58,9 @@ def cli_run(tmp_path_factory):
             step["state"].append(row["state"])
     fields = {s: {k: np.array(v) for k, v in f.items()} for s, f in rows.items()}
     summary = json.loads((out / "summary.json").read_text())
-    return code, fields, {s["step"]: s for s in summary["steps"]}, summary, lines
+    with open(out / "stress_points.csv", newline="") as handle:
+        stress = list(csv.DictReader(handle))
+    return code, fields, {s["step"]: s for s in summary["steps"]}, summary, lines, stress
 
 
 @pytest.fixture(scope="module")
@@ -66,7 +69,7 @@ def python_run():
 
 
 def test_the_run_succeeds_and_says_why_there_is_no_estimate(cli_run):
-    code, _, _, summary, _ = cli_run
+    code, _, _, summary, *_ = cli_run
     assert code == 0
     assert "finite sliding" in summary["accuracy"]["estimate_reason"]
 
@@ -74,7 +77,7 @@ def test_the_run_succeeds_and_says_why_there_is_no_estimate(cli_run):
 def test_gross_slip_both_ways_is_coulomb(cli_run):
     """Sliding (+) and sliding back (-): Q = +-f P, the traction integrals P and +-f P
     (measured 100.0006 and 30.0002), every pair in contact slipping with q = +-f p."""
-    _, fields, steps, _, _ = cli_run
+    _, fields, steps, *_ = cli_run
     for name, sign in (("slide", 1.0), ("back", -1.0)):
         step, field = steps[name], fields[name]
         assert abs(step["Q"] - sign * F * P) < 1e-9 * P
@@ -90,7 +93,7 @@ def test_pressure_is_hertz_where_the_pad_is(cli_run, python_run):
     """p within 0.6 % of p0 of Hertz's about the pad (as in test_sliding.py); the pairs are
     the step's own (x moved by the slide), and the pressure's centre is where the pairing
     put the pad (Python route: within 1e-4 a; measured 1e-6 a)."""
-    _, fields, steps, _, _ = cli_run
+    _, fields, steps, *_ = cli_run
     offsets = {s.name: float(s.pair.offset[0]) for s in python_run.result.steps}
     assert offsets["slide"] == pytest.approx(SLIDE, abs=1e-9) and abs(offsets["back"]) < 1e-9
     for name in ("press", "slide", "back"):
@@ -104,7 +107,7 @@ def test_pressure_is_hertz_where_the_pad_is(cli_run, python_run):
 
 def test_new_contact_is_noted_once(cli_run):
     """The slide brings the flat from about a to 7 a into contact; sliding back, none."""
-    *_, lines = cli_run
+    *_, lines, _ = cli_run
     notes = [line for line in lines if "came into contact" in line]
     assert len(notes) == 1 and notes[0].startswith("step 'slide'")
     start, end = (float(v) for v in notes[0].split("from ")[1].split(" mm")[0].split(" to "))
@@ -114,7 +117,7 @@ def test_new_contact_is_noted_once(cli_run):
 
 def test_python_route_matches_the_cli(cli_run, python_run):
     """run_scene (run_simulation with sliding=True) and fretbem run solve the same history."""
-    _, fields, _, _, _ = cli_run
+    _, fields, *_ = cli_run
     for step in python_run.result.steps:
         assert np.allclose(step.pressure, fields[step.name]["p"], rtol=0, atol=1e-9 * P0)
         assert np.allclose(step.shear, fields[step.name]["q"], rtol=0, atol=1e-9 * P0)
@@ -150,3 +153,21 @@ def test_fretting_analysis_reads_a_sliding_cycle():
     assert cycle.regime == "gross slip" and cycle.caution is None
     centre = np.argmin(np.abs(cycle.x))
     assert cycle.slip_amplitude[centre] == pytest.approx(1.0, rel=1e-2)
+
+
+def test_specimen_stresses_follow_the_pad(cli_run):
+    """[stress] points 0.5 a deep below the slide's start and end (stress_points.csv), each
+    step on its own pairing: McEwen's pressure plus Smith-Liu's shear q = +-f p centred where
+    the pad is (sliding), or nothing but the far field where it is not (measured within
+    0.03 % of p0 below the pad)."""
+    *_, stress = cli_run
+    centre = {"press": 0.0, "slide": SLIDE, "back": 0.0}
+    shear = {"press": 0.0, "slide": F, "back": -F}
+    for row in stress:
+        x, depth, name = float(row["x_mm"]), -float(row["y_mm"]), row["step"]
+        exact = elliptical_pressure_stress(x, depth, a=A, p0=P0, centre=centre[name], nu=0.33)
+        exact = exact + elliptical_shear_stress(
+            x, depth, b=A, q0=shear[name] * P0, centre=centre[name], nu=0.33
+        )
+        got = [float(row[f"sigma_{c}_MPa"]) for c in ("xx", "yy", "xy")]
+        assert np.max(np.abs(np.array(got) - exact[:3])) < 1e-3 * P0, (name, x)

@@ -25,6 +25,7 @@ import numpy as np
 
 from fretbem.body import Body
 from fretbem.results import SimulationResult, StepResult
+from fretbem.sliding.result import step_solutions
 from fretbem.verification.checks import safe_names
 
 from .staging import check_free_space
@@ -166,10 +167,7 @@ def body_solutions(result: SimulationResult, step: StepResult) -> dict:
     sliding run on its own pairing, the pad's slide added to its block's displacement."""
     if step.pair is None:
         return result.simulation.pair.condensed().solutions(step.unknowns, step.loads)
-    problem = step.pair.condensed()
-    x = np.array(step.unknowns, dtype=float)
-    x[problem.layout.block("upper")] += np.asarray(getattr(step.pair, "offset", 0.0))
-    return problem.solutions(x, step.loads)
+    return step_solutions(result, step)
 
 
 def drawable_bodies(result: SimulationResult, say=print) -> list[str]:

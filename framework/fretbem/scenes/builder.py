@@ -290,6 +290,7 @@ def build(scene: Scene, **contact_overrides):
     zone = zone_half_width(scene)
     pad_family = _family(scene, "pad")
     specimen_family = _family(scene, "specimen")
+    _check_pairing(scene)
     pad_levels = refinements(scene, pad_family, zone, pad=True)
     specimen_zone = zone
     if scene.contact.sliding:  # the specimen's contact segment covers the whole slide
@@ -298,7 +299,6 @@ def build(scene: Scene, **contact_overrides):
             [s for s in _face(scene, zone, True) if s.tag == "contact"]
         )
         scene = sliding_scene(scene, zone, specimen_zone, pad_elements)
-    _check_pairing(scene)
     pad = body_model(scene, "pad", pad_family, zone, pad_levels)
     specimen = body_model(
         scene,

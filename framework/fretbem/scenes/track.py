@@ -44,6 +44,12 @@ def sliding_scene(scene: Scene, zone: float, track: float, pad_elements: int) ->
     enough, its contact face meshed ``TRACK_DENSITY`` times as finely as the pad's zone
     (``pad_elements`` elements over 2 ``zone``) unless ``[specimen]`` sets its own pairs or
     elements."""
+    if scene.contact.pairing != "node-to-segment":
+        raise SceneFileError(
+            "[contact] sliding = true re-pairs the faces by projection as the pad slides, "
+            f"but [contact] pairing = {scene.contact.pairing!r}; set [contact] pairing = "
+            "'node-to-segment'"
+        )
     shape = scene.specimen.shape
     if getattr(shape, "kind", None) != "flat":
         raise SceneFileError(

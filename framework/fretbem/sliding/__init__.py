@@ -7,7 +7,7 @@ carried to the new pairing. :func:`~fretbem.sliding.result.solve_sliding` gives 
 as a :class:`~fretbem.results.SimulationResult` for the writers (``[contact] sliding``).
 """
 
-from .result import solve_sliding
+from .result import solve_sliding, step_solutions
 from .slide import SlidingError, SlidingResult, run_sliding
 
-__all__ = ["SlidingError", "SlidingResult", "run_sliding", "solve_sliding"]
+__all__ = ["SlidingError", "SlidingResult", "run_sliding", "solve_sliding", "step_solutions"]

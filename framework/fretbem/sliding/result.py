@@ -13,13 +13,14 @@ import time
 from collections.abc import Callable
 
 import attrs
+import numpy as np
 
 from fretbem.results import AccuracyRecord, SimulationResult
 from fretbem.simulation import Simulation
 
 from .slide import run_sliding
 
-__all__ = ["NO_ESTIMATE", "solve_sliding"]
+__all__ = ["NO_ESTIMATE", "solve_sliding", "step_solutions"]
 
 #: why a sliding run has no error estimate (summary.json's accuracy.estimate_reason)
 NO_ESTIMATE = (
@@ -63,3 +64,16 @@ def solve_sliding(
         timings=timings,
         accuracy=record,
     )
+
+
+def step_solutions(result: SimulationResult, step) -> dict:
+    """Each body's boundary solution ("upper", "lower") at ``step``: on the simulation's
+    pair, or for a step of a sliding run on its own pairing with the pad's slide added to
+    its block's displacement (the specimen's fields stay where they are; the pad's carry
+    it along the track)."""
+    if getattr(step, "pair", None) is None:
+        return result.simulation.prepare().solutions(step.unknowns, step.loads)
+    problem = step.pair.condensed()
+    x = np.array(step.unknowns, dtype=float)
+    x[problem.layout.block("upper")] += np.asarray(getattr(step.pair, "offset", 0.0))
+    return problem.solutions(x, step.loads)

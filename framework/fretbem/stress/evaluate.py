@@ -15,6 +15,7 @@ import attrs
 import numpy as np
 
 from fretbem.bem.stresses import StressSettings
+from fretbem.sliding.result import step_solutions
 
 from .errors import StressInputError
 
@@ -82,6 +83,8 @@ class StressEvaluator:
 
     def _solution(self, index: int):
         step = self.result.steps[index]
+        if getattr(step, "pair", None) is not None:  # finite sliding: the step's own pairing
+            return step_solutions(self.result, step)[self.body]
         return self.problem.solutions(step.unknowns, step.loads)[self.body]
 
     def _build(self):

@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 import tomllib
 
+from fretbem.accuracy.modes import Accuracy
 from fretbem.app.cli import main
 from fretbem.errors import InputError
 from fretbem.pipeline import run_simulation
@@ -80,11 +81,14 @@ def test_the_track_covers_the_zone_and_the_largest_delta():
     assert build(own)[0].pair.lower.contact_face("contact").n_nodes == 102
 
 
-def test_sliding_refuses_stress_fatigue_and_wear():
+def test_sliding_refuses_wear_and_the_adaptive_mode():
     simulation, _ = build(scene_from_data(BASE))
-    for table in ("stress", "fatigue", "wear"):
-        with pytest.raises(InputError, match=rf"\[{table}\] is not evaluated on a finite-sliding"):
-            run_simulation(simulation, sliding=True, extras={table: {}})
+    with pytest.raises(InputError, match=r"\[wear\] is not evaluated on a finite-sliding"):
+        run_simulation(simulation, sliding=True, extras={"wear": {}})
+    with pytest.raises(InputError, match=r"\[fatigue\] on a finite-sliding run .*map_x"):
+        run_simulation(simulation, sliding=True, extras={"fatigue": {"material": "x"}})
+    with pytest.raises(InputError, match=r"sliding = true needs mesh = 'fixed'"):
+        run_simulation(simulation, sliding=True, mode=Accuracy(mesh="adaptive"))
 
 
 def test_a_slide_off_the_track_is_refused_by_fretbem_run(tmp_path, capsys):
