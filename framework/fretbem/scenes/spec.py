@@ -255,7 +255,8 @@ KEYS: tuple[Key, ...] = (
         "",
         False,
         "finite sliding: the pairs are projected again as the pad slides (gross slip over "
-        'several contact widths); needs `pairing = "node-to-segment"` and a flat specimen',
+        'several contact widths); needs `pairing = "node-to-segment"`, a flat specimen and '
+        "half-plane bodies",
     ),
     Key(
         "contact",

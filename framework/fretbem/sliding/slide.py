@@ -139,6 +139,20 @@ def _slid(record, offset: float):
     return attrs.evolve(record, delta=record.delta + offset, slip=record.slip + offset)
 
 
+def _check_models(pair: NodeToSegmentPair) -> None:
+    """Finite sliding is verified on half-plane bodies only: on finite ``bem`` bodies the
+    pressure's centre ran ahead of the pad (0.13 mm at a 1 mm slide, measured), so those
+    are refused rather than answered wrongly."""
+    for label, role in (("upper", "pad"), ("lower", "specimen")):
+        model = pair.side(label)[0].describe().get("model")
+        if model != "half-plane":
+            raise SlidingError(
+                f"finite sliding is verified on half-plane bodies only, but the {role} is a "
+                f"{model!r} body (its pressure does not follow the pad correctly yet); set "
+                f"[{role}] model = 'half-plane' (Python: a HalfPlaneBody)"
+            )
+
+
 def _spacing(pair: NodeToSegmentPair) -> float:
     points = pair.pairing().points
     return float(np.min(np.linalg.norm(np.diff(points, axis=0), axis=1)))
@@ -171,6 +185,7 @@ def run_sliding(
             f"{type(pair).__name__}; use NodeToSegmentPair ([contact] pairing = "
             "'node-to-segment')"
         )
+    _check_models(pair)
     simulation = attrs.evolve(simulation, reference=None)
     tangent = pair.pairing().tangents[0]
     offset = float(pair.offset @ tangent)

@@ -104,3 +104,12 @@ def test_a_slide_off_the_track_is_refused_by_fretbem_run(tmp_path, capsys):
     assert code == 2
     assert "slid past the end of the other face" in err and "[contact] track_width" in err
     assert "Traceback" not in err
+
+
+@pytest.mark.parametrize("role", ["pad", "specimen"])
+def test_a_bem_body_cannot_slide_yet(role):
+    """Finite sliding is verified on half-planes only: a bem body is refused by name."""
+    data = _scene(**{f"{role}__model": "bem"})
+    simulation, _ = build(scene_from_data(data))
+    with pytest.raises(InputError, match=rf"\[{role}\] model = 'half-plane'"):
+        run_simulation(simulation, sliding=True)
