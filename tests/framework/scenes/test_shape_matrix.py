@@ -139,6 +139,26 @@ def test_library_pads_as_half_planes_build_and_run(tmp_path, pad, specimen):
         assert np.allclose(x, xl, atol=1e-12) and np.allclose(p, pl, atol=1e-9 * pl.max())
 
 
+@pytest.mark.parametrize("specimen", ["cylinder", "flat-ends", "nurbs"])
+def test_library_specimens_as_half_planes_build_and_run(tmp_path, specimen):
+    """Every specimen shape as a half-plane under a half-plane cylinder pad (the nurbs
+    specimen given the flat specimen's own segments)."""
+    if specimen == "nurbs":
+        face = CylinderPad(R, 6.5, 6.5).face(ZONE)
+        segments = FlatSpecimen(12.0, 6.0).boundary(face, ZONE).segments
+        text = 'shape = "nurbs"\nsupport = "clamped-bottom"\n\n' + _segments_toml(
+            "specimen", segments
+        )
+    else:
+        text = SPECIMENS[specimen]
+    pad = f'model = "half-plane"\n{PADS["cylinder"]}'
+    summary = _run(_scene(tmp_path, pad, f'model = "half-plane"\n{text}', "s"), tmp_path / "o")
+    for step in summary["steps"]:
+        assert step["integral_p"] == pytest.approx(P, rel=1e-3)
+    _, p = _pressure(tmp_path / "o")
+    assert p.max() > 0 and p[0] == 0 and p[-1] == 0
+
+
 def test_cylinder_on_flat_meets_hertz(tmp_path):
     """A large flat specimen: a and p0 of Hertz line contact within the node spacing."""
     specimen = 'shape = "flat"\nlength = 40.0\nthickness = 20.0\nsupport = "clamped-bottom"\n'
