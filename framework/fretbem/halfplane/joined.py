@@ -41,6 +41,20 @@ class JoinedFace:
     parts: tuple[Basis, ...] = attrs.field(converter=_parts)
     _cache: dict = attrs.field(init=False, factory=dict, repr=False)
 
+    def __attrs_post_init__(self) -> None:
+        ends = np.array(
+            [p.map(np.array([0, p.n_elements - 1]), np.array([-1.0, 1.0])).points[:, 0]
+             for p in self.parts]
+        )  # fmt: skip
+        steps = np.diff(ends.ravel())
+        span = max(float(np.ptp(ends)), 1e-300)
+        if not (np.all(steps > -1e-9 * span) or np.all(steps < 1e-9 * span)):
+            raise HalfPlaneFaceError(
+                "the segments of a half-plane face must follow one another along x, each "
+                f"starting where the previous one ends (their x ranges: {ends.tolist()}); "
+                "give the contact segments end to end in boundary order"
+            )
+
     @property
     def degree(self) -> int:
         """The parts' degree."""

@@ -13,7 +13,7 @@ from fretbem.conditions import LoadingBlock
 from fretbem.contact.law import CoulombFriction
 from fretbem.contact.pairs import NodeToNodePair
 from fretbem.geometry.nurbs import NurbsCurve
-from fretbem.halfplane import FlamantCompliance, HalfPlaneBody
+from fretbem.halfplane import FlamantCompliance, HalfPlaneBody, HalfPlaneFaceError
 from fretbem.halfplane.scene import half_plane_model
 from fretbem.material import Material
 from fretbem.scenes import reference as scenes
@@ -289,3 +289,9 @@ def test_a_face_of_several_segments_is_joined_in_one_face(basis):
         start += segment.n_functions
     with pytest.raises(Exception, match="one segment"):
         joined.face_curve("contact")
+
+
+def test_face_segments_out_of_order_are_refused():
+    lines = [NurbsCurve.line([0.0, 0.0], [1.0, 0.0]), NurbsCurve.line([-1.0, 0.0], [0.0, 0.0])]
+    with pytest.raises(HalfPlaneFaceError, match="end to end in boundary order"):
+        HalfPlaneBody(lines, MATERIAL, refinement=Refinement.uniform(2))
