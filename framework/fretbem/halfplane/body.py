@@ -23,6 +23,7 @@ from fretbem.material import Material
 from fretbem.validators import positive
 
 from .influence import DEFAULT_DATUM, HalfPlaneFaceError
+from .joined import JoinedFace
 from .stresses import HalfPlaneStressOperator
 from .surface import HalfPlaneSurface
 
@@ -35,8 +36,9 @@ class HalfPlaneSolution:
     """Surface fields of a solved half-plane body.
 
     Like a BEM body's solution, fields are evaluated per segment at curve parameters; the
-    half-plane has one segment (0), its contact face. :meth:`surface_displacement` gives
-    the displacement anywhere on the surface line.
+    half-plane's segments are those of its contact face (one, or several joined, in
+    boundary order). :meth:`surface_displacement` gives the displacement anywhere on the
+    surface line.
 
     Attributes
     ----------
@@ -68,11 +70,17 @@ class HalfPlaneSolution:
         return u
 
     def _face(self, segment: int):
-        if segment != 0:
+        parts = self.body.segments
+        if not 0 <= segment < len(parts):
             raise IndexError(
-                f"a half-plane body has one segment (0, its contact face), got {segment}"
+                f"a half-plane body has {len(parts)} segment(s) (0 to {len(parts) - 1}, its "
+                f"contact face), got {segment}"
             )
-        return self.body.surface.face
+        return parts[segment]
+
+    def _rows(self, segment: int) -> slice:
+        sizes = np.cumsum([0] + [p.n_functions for p in self.body.segments])
+        return slice(int(sizes[segment]), int(sizes[segment + 1]))
 
     def points_at(self, segment: int, params) -> np.ndarray:
         """Positions (m, 2) on the face profile at curve parameters."""
@@ -80,14 +88,27 @@ class HalfPlaneSolution:
         return face.geometry(*face.to_local(np.asarray(params, float)))[0]
 
     def displacement(self, segment: int, params) -> np.ndarray:
-        """Displacement (m, 2) at face curve parameters (segment 0)."""
+        """Displacement (m, 2) at curve parameters of a face segment."""
         return self.surface_displacement(self.points_at(segment, params)[:, 0])
 
     def traction(self, segment: int, params) -> np.ndarray:
-        """Traction (m, 2) on the body at face curve parameters, interpolated (segment 0)."""
+        """Traction (m, 2) on the body at curve parameters of a face segment, interpolated."""
         face = self._face(segment)
-        coefficients = np.linalg.solve(face.collocation_matrix(), self.tractions)
+        coefficients = np.linalg.solve(
+            face.collocation_matrix(), self.tractions[self._rows(segment)]
+        )
         return face.evaluation_matrix(np.asarray(params, float)) @ coefficients
+
+
+def _face_curves(value) -> NurbsCurve | tuple[NurbsCurve, ...]:
+    if isinstance(value, NurbsCurve):
+        return value
+    curves = tuple(value) if isinstance(value, list | tuple) else ()
+    if not curves or not all(isinstance(c, NurbsCurve) for c in curves):
+        raise HalfPlaneFaceError(
+            f"a half-plane face is a NurbsCurve or a sequence of them, got {value!r}"
+        )
+    return curves[0] if len(curves) == 1 else curves
 
 
 @attrs.frozen(eq=False)
@@ -100,9 +121,11 @@ class HalfPlaneBody(Body):
 
     Attributes
     ----------
-    face : NurbsCurve
+    face : NurbsCurve or tuple of NurbsCurve
         The contact face's profile, running monotonically in x: a straight line for a flat
-        specimen, the arc of a cylindrical pad. Its points give the contact geometry; the
+        specimen, the arc of a cylindrical pad, or several curves end to end in boundary
+        order (a rounded flat's fillet, flat and fillet), each discretised at ``refinement``
+        and their nodes joined in one face. Its points give the contact geometry; the
         elasticity is that of the half-plane under the straight surface (see
         :class:`~fretbem.halfplane.surface.HalfPlaneSurface`).
     material : Material
@@ -122,7 +145,7 @@ class HalfPlaneBody(Body):
     name : str
     """
 
-    face: NurbsCurve = attrs.field(validator=attrs.validators.instance_of(NurbsCurve))
+    face: NurbsCurve | tuple[NurbsCurve, ...] = attrs.field(converter=_face_curves)
     material: Material = attrs.field(validator=attrs.validators.instance_of(Material))
     side: str = "lower"
     basis: str | type[Basis] = "nurbs"
@@ -148,21 +171,28 @@ class HalfPlaneBody(Body):
         """The discretised surface operator (computed once)."""
         if "surface" not in self._cache:
             family = bases.get(self.basis)
-            face = family.discretise(self.face, self.refinement)
+            parts = [family.discretise(curve, self.refinement) for curve in self.curves]
+            face = parts[0] if len(parts) == 1 else JoinedFace(parts)
             self._cache["surface"] = HalfPlaneSurface(
                 face, self.material, self.side, self.datum, self.bulk_origin
             )
         return self._cache["surface"]
 
     @property
+    def curves(self) -> tuple[NurbsCurve, ...]:
+        """The face's exact curves in boundary order (one for a single-segment face)."""
+        return self.face if isinstance(self.face, tuple) else (self.face,)
+
+    @property
     def segments(self) -> tuple[Basis, ...]:
-        """The discretised boundary a writer can draw: the contact face only."""
-        return (self.surface.face,)
+        """The discretised boundary a writer can draw: the contact face's segments only."""
+        face = self.surface.face
+        return face.parts if isinstance(face, JoinedFace) else (face,)
 
     @property
     def segment_tags(self) -> tuple[str, ...]:
-        """The face's tag."""
-        return (self.tag,)
+        """The face's tag, once per face segment."""
+        return (self.tag,) * len(self.curves)
 
     @property
     def outline_complete(self) -> bool:
@@ -180,8 +210,14 @@ class HalfPlaneBody(Body):
         return bases.get(self.basis)
 
     def face_curve(self, tag: str) -> NurbsCurve:
-        """The face's exact curve."""
+        """The face's exact curve (a face of one segment: the estimate refines one curve)."""
         self._check_tag(tag)
+        if isinstance(self.face, tuple):
+            raise HalfPlaneFaceError(
+                f"body {self.name!r}: the half-plane face {tag!r} has {len(self.face)} "
+                "segments; the error estimate and adaptive refinement need the contact face "
+                "as one segment (set [contact] estimate = false and refine with pairs)"
+            )
         return self.face
 
     def face_refinement(self, tag: str) -> Refinement:

@@ -35,21 +35,21 @@ def half_plane_model(
 ) -> HalfPlaneBody:
     """The ``label`` body ("upper": a pad above its surface; "lower": a specimen below it).
 
-    Keeps the face tagged ``tag`` (one segment) with its refinement and a loading block if
+    Keeps the segments tagged ``tag`` (the face: one segment, or several end to end such as
+    a rounded flat's fillet, flat and fillet) with their refinement and a loading block if
     the body has one; supports and other segments describe the finite body only.
     """
     segments = [segment for segment in boundary.segments if segment.tag == tag]
-    if len(segments) != 1:
+    if not segments:
         key = "[pad] model" if label == "upper" else "[specimen] model"
         raise HalfPlaneFaceError(
-            f'{key} = "half-plane": the half-plane model of the {label} body needs exactly '
-            f"one segment tagged {tag!r} as its face, but the boundary has {len(segments)} "
-            '(a rounded-flat pad\'s face is fillet, flat, fillet); use model = "bem" for '
-            'this body, or describe its face as one NURBS segment (shape = "nurbs")'
+            f'{key} = "half-plane": the half-plane model of the {label} body needs a segment '
+            f"tagged {tag!r} as its face, but the boundary has none; tag the contact segment(s) "
+            f"{tag!r}"
         )
     block = next((c for c in conditions if isinstance(c, LoadingBlock)), None)
     return HalfPlaneBody(
-        segments[0].curve,
+        tuple(segment.curve for segment in segments),
         material,
         side="upper" if label == "upper" else "lower",
         basis=family,

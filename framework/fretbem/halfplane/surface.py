@@ -17,6 +17,7 @@ from fretbem.numerics.quadrature import QuadratureRule
 from fretbem.validators import positive
 
 from .influence import DEFAULT_DATUM, FlamantCompliance, check_face, side_sign, surface_integrals
+from .joined import JoinedFace
 
 
 @attrs.frozen(eq=False)
@@ -25,9 +26,10 @@ class HalfPlaneSurface:
 
     Attributes
     ----------
-    face : Basis
-        The discretised face; its collocation points are the nodes where traction and
-        displacement are given. Traction is interpolated by the shape functions.
+    face : Basis or JoinedFace
+        The discretised face (one segment, or several joined); its collocation points are
+        the nodes where traction and displacement are given. Traction is interpolated by the
+        shape functions.
     material : Material
     side : str
         "lower" for a body occupying y < surface (its outward normal +y), "upper" for y >
@@ -40,7 +42,9 @@ class HalfPlaneSurface:
         x at which the bulk-stress displacement u_x = eps (x - bulk_origin) is zero.
     """
 
-    face: Basis = attrs.field(validator=attrs.validators.instance_of(Basis))
+    face: Basis | JoinedFace = attrs.field(
+        validator=attrs.validators.instance_of((Basis, JoinedFace))
+    )
     material: Material = attrs.field(validator=attrs.validators.instance_of(Material))
     side: str = attrs.field(default="lower")
     datum: float = attrs.field(default=DEFAULT_DATUM, converter=float, validator=positive)

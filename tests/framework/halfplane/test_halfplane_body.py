@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -12,7 +13,7 @@ from fretbem.conditions import LoadingBlock
 from fretbem.contact.law import CoulombFriction
 from fretbem.contact.pairs import NodeToNodePair
 from fretbem.geometry.nurbs import NurbsCurve
-from fretbem.halfplane import FlamantCompliance, HalfPlaneBody
+from fretbem.halfplane import FlamantCompliance, HalfPlaneBody, HalfPlaneFaceError
 from fretbem.halfplane.scene import half_plane_model
 from fretbem.material import Material
 from fretbem.scenes import reference as scenes
@@ -145,7 +146,7 @@ def test_pad_response_is_the_rigid_far_field_plus_the_half_plane():
     np.testing.assert_allclose(
         solution.displacement(0, params), solution.displacements, rtol=1e-10, atol=1e-18
     )
-    with pytest.raises(IndexError, match="one segment"):
+    with pytest.raises(IndexError, match="has 1 segment"):
         solution.traction(1, params)
 
 
@@ -166,7 +167,7 @@ def test_scene_model_needs_one_contact_segment():
             Segment("d", NurbsCurve.line([0, 1], [0, 0])),
         ]
     )
-    with pytest.raises(ValueError, match="exactly one segment tagged 'contact'"):
+    with pytest.raises(ValueError, match="needs a segment tagged 'contact'"):
         half_plane_model(
             "lower",
             scene=None,
@@ -250,3 +251,47 @@ def test_bem_pad_on_a_half_plane_specimen_against_theory():
         if step.tangential == 0:  # without Q the pad does not tilt: the pressure is Hertz's
             assert step.errors["e_p_l2"] < 1e-3, step.name
     assert 0.04 < result.steps[0].errors["e_q_l2"] < 0.065
+
+
+@pytest.mark.parametrize("basis", ["nurbs", "lagrange2"])
+def test_a_face_of_several_segments_is_joined_in_one_face(basis):
+    """A flat face given as three lines end to end: its nodes are the parts' nodes in order,
+    its resultant weights cover the face's length, a single part is the bare segment's
+    operator, and each segment's traction interpolates its own nodes."""
+    ends = [-1.0, -0.3, 0.4, 1.0]
+    lines = [NurbsCurve.line([a, 0.0], [b, 0.0]) for a, b in itertools.pairwise(ends)]
+    refinement = Refinement.uniform(4)
+    joined = HalfPlaneBody(lines, MATERIAL, basis=basis, refinement=refinement)
+    parts = [HalfPlaneBody(line, MATERIAL, basis=basis, refinement=refinement) for line in lines]
+    np.testing.assert_array_equal(
+        joined.surface.points, np.concatenate([p.surface.points for p in parts])
+    )
+    assert np.all(np.diff(joined.surface.points[:, 0]) > 0)
+    assert joined.segment_tags == ("contact",) * 3 and len(joined.segments) == 3
+    force = joined.surface.contact_force()
+    assert force[0, 0::2].sum() == pytest.approx(2.0, rel=1e-12)
+    # the displacement of a uniform pressure is the same whichever way the face is cut
+    whole = HalfPlaneBody(NurbsCurve.line([-1.0, 0.0], [1.0, 0.0]), MATERIAL, basis=basis,
+                          refinement=Refinement.uniform(12))  # fmt: skip
+    x = np.linspace(-0.9, 0.9, 7)
+    uniform = [np.tile([0.0, -1.0], len(b.surface.points)) for b in (joined, whole)]
+    u_joined, u_whole = (b.surface.node_map(x) @ t for b, t in zip((joined, whole), uniform,
+                                                                  strict=True))  # fmt: skip
+    np.testing.assert_allclose(u_joined, u_whole, rtol=1e-9, atol=1e-12)
+    t = np.random.default_rng(2).normal(size=(len(joined.surface.points), 2))
+    solution = joined.solution("contact", t, np.zeros(2), {"bulk": 0.0})
+    start = 0
+    for k, segment in enumerate(joined.segments):
+        elements, local = segment.collocation()
+        params = segment.to_parameter(elements, local)
+        rows = slice(start, start + segment.n_functions)
+        np.testing.assert_allclose(solution.traction(k, params), t[rows], rtol=1e-9, atol=1e-12)
+        start += segment.n_functions
+    with pytest.raises(Exception, match="one segment"):
+        joined.face_curve("contact")
+
+
+def test_face_segments_out_of_order_are_refused():
+    lines = [NurbsCurve.line([0.0, 0.0], [1.0, 0.0]), NurbsCurve.line([-1.0, 0.0], [0.0, 0.0])]
+    with pytest.raises(HalfPlaneFaceError, match="end to end in boundary order"):
+        HalfPlaneBody(lines, MATERIAL, refinement=Refinement.uniform(2))

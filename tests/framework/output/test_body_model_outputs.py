@@ -39,8 +39,12 @@ def _write(data: dict, path: Path) -> Path:
     lines = []
 
     def table(name, body):
-        plain = {k: v for k, v in body.items() if not isinstance(v, (dict, list)) or (
-            isinstance(v, list) and not (v and isinstance(v[0], dict)))}
+        plain = {
+            k: v
+            for k, v in body.items()
+            if not isinstance(v, (dict, list))
+            or (isinstance(v, list) and not (v and isinstance(v[0], dict)))
+        }
         lines.append(f"[{name}]")
         lines.extend(f"{k} = {_toml(v)}" for k, v in plain.items())
         for k, v in body.items():
@@ -87,6 +91,32 @@ def test_every_model_through_every_output(tmp_path, capsys, pad, specimen):
     for model, label in ((pad, "pad"), (specimen, "specimen")):
         line = f"VTK of the {model} body {label!r}: its face only (it has no far boundary)"
         assert printed.count(line) == (1 if model == "half-plane" else 0)
+
+
+def test_a_rounded_flat_half_plane_pad_through_every_output(tmp_path, capsys):
+    """The rig with a rounded-flat pad (a face of three segments) as a half-plane: every
+    output written; the error estimate, which needs a one-segment face, says so in the
+    summary as for a BEM rounded-flat pad (on a BEM specimen: the shape-matrix test)."""
+    data = _scene("half-plane", "half-plane")
+    data["pad"] = {"shape": "rounded-flat", "flat": 0.3, "edge_radius": 20.0, "width": 10.0,
+                   "height": 10.0, "model": "half-plane"}  # fmt: skip
+    data["contact"].pop("zone")
+    data["contact"].update(pairs=33, zone_width=1.0)
+    data.pop("fatigue")
+    scene = _write(data, tmp_path / "scene.toml")
+    out = tmp_path / "out"
+    assert cli.main(["run", str(scene), "--out", str(out)]) == 0, capsys.readouterr().err
+    printed = capsys.readouterr().out
+    files = {p.name for p in out.iterdir()}
+    assert {"results.csv", "summary.json", "units.json"} <= files
+    assert any(name.endswith(".png") for name in files)
+    assert len(list((out / "vtk").glob("*.vtp"))) >= 5 and (out / "history.pvd").exists()
+    assert any(name.startswith("stress_") for name in files)
+    summary = json.loads((out / "summary.json").read_text())
+    assert "need the contact face as one segment" in summary["accuracy"]["estimate_reason"]
+    for step in summary["steps"]:
+        assert step["integral_p"] == pytest.approx(data["load"]["P"], rel=1e-3)
+    assert printed.count("VTK of the half-plane body 'pad': its face only") == 1
 
 
 def test_surface_stress_of_the_models_agree(tmp_path):

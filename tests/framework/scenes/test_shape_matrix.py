@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from fretbem.app import cli
-from fretbem.geometry.shapes import CylinderPad, FlatSpecimen
+from fretbem.geometry.shapes import CylinderPad, FlatSpecimen, RoundedFlatPad
 from fretbem.scenes.file import load_scene
 from fretbem.verification.closed_forms import HertzLineContact
 
@@ -110,6 +110,53 @@ def test_a_nurbs_body_given_the_library_segments_gives_the_library_answer(tmp_pa
         assert a["integral_q"] == pytest.approx(b["integral_q"], abs=1e-9 * P)
     (xn, pn), (xl, pl) = _pressure(tmp_path / "n", "B"), _pressure(tmp_path / "l", "B")
     assert np.allclose(xn, xl, atol=1e-12) and np.allclose(pn, pl, rtol=0, atol=1e-9 * pl.max())
+
+
+HALF_PLANE_PADS = {
+    **PADS,
+    "nurbs rounded-flat": 'shape = "nurbs"\n\n'
+    + _segments_toml("pad", RoundedFlatPad(0.3, 20.0, 6.5, 6.5).boundary(ZONE).segments),
+}
+
+
+@pytest.mark.parametrize("specimen", ["half-plane", "bem"])
+@pytest.mark.parametrize("pad", list(HALF_PLANE_PADS))
+def test_library_pads_as_half_planes_build_and_run(tmp_path, pad, specimen):
+    """Every pad shape as a half-plane (the rounded flat's three-segment face joined), on a
+    flat specimen of either model; the nurbs pad given the rounded flat's own segments gives
+    the rounded-flat answer."""
+    model = f'model = "half-plane"\n{HALF_PLANE_PADS[pad]}'
+    flat = f'{SPECIMENS["flat-clamped"]}model = "{specimen}"\n'
+    summary = _run(_scene(tmp_path, model, flat, "s"), tmp_path / "out")
+    for step in summary["steps"]:
+        assert step["integral_p"] == pytest.approx(P, rel=1e-3)
+    x, p = _pressure(tmp_path / "out")
+    assert p.max() > 0 and p[0] == 0 and p[-1] == 0
+    if pad == "nurbs rounded-flat":
+        library = f'model = "half-plane"\n{PADS["rounded-flat"]}'
+        _run(_scene(tmp_path, library, flat, "lib"), tmp_path / "lib")
+        xl, pl = _pressure(tmp_path / "lib")
+        assert np.allclose(x, xl, atol=1e-12) and np.allclose(p, pl, atol=1e-9 * pl.max())
+
+
+@pytest.mark.parametrize("specimen", ["cylinder", "flat-ends", "nurbs"])
+def test_library_specimens_as_half_planes_build_and_run(tmp_path, specimen):
+    """Every specimen shape as a half-plane under a half-plane cylinder pad (the nurbs
+    specimen given the flat specimen's own segments)."""
+    if specimen == "nurbs":
+        face = CylinderPad(R, 6.5, 6.5).face(ZONE)
+        segments = FlatSpecimen(12.0, 6.0).boundary(face, ZONE).segments
+        text = 'shape = "nurbs"\nsupport = "clamped-bottom"\n\n' + _segments_toml(
+            "specimen", segments
+        )
+    else:
+        text = SPECIMENS[specimen]
+    pad = f'model = "half-plane"\n{PADS["cylinder"]}'
+    summary = _run(_scene(tmp_path, pad, f'model = "half-plane"\n{text}', "s"), tmp_path / "o")
+    for step in summary["steps"]:
+        assert step["integral_p"] == pytest.approx(P, rel=1e-3)
+    _, p = _pressure(tmp_path / "o")
+    assert p.max() > 0 and p[0] == 0 and p[-1] == 0
 
 
 def test_cylinder_on_flat_meets_hertz(tmp_path):
