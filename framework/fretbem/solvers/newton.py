@@ -277,6 +277,35 @@ class SemiSmoothNewton(Solver):
         residual = np.concatenate([pattern.normal, pattern.tangential, residual[2 * n :]])
         return residual, pattern
 
+    def _through_stick(
+        self, problem, law, bases, forces, reference_slip, x, r_n, r_t, before, residual, evaluation
+    ):
+        """Residual and pattern of the next step, with no pair reversing its slip in one step.
+
+        A pair that slipped one way and whose trial traction now points the other way is
+        taken sticking for the next step (its residual on that pattern): it reverses through
+        stick, as it does physically. Without this, when the stick window of the trial
+        traction, 2 f p / r_t, is narrow against the slip a step produces (r_t grows like
+        1 / (h log h) with the pair spacing h), an unloading step's reversing pairs jump from
+        slip to opposite slip, the stick zone drains away iteration after iteration and the
+        all-slip pattern is singular (the 481-pair half-plane cycle: 50 iterations and
+        4 halvings per unloading step instead of 4).
+        """
+        was = (before.states == PairState.SLIP) & (evaluation.states == PairState.SLIP)
+        reversing = was & (before.direction * evaluation.direction < 0)
+        if not reversing.any():
+            return residual, evaluation
+        states = np.where(reversing, PairState.STICK, evaluation.states)
+        gap, slip = self._kinematics(problem, bases, reference_slip, x)
+        layout = problem.layout
+        try:
+            pattern = law.evaluate_on(states, evaluation.direction, x[layout.pressure],
+                                      x[layout.shear], gap, slip, r_n, r_t)  # fmt: skip
+        except NotImplementedError:
+            return residual, evaluation
+        n = problem.n_pairs
+        return np.concatenate([pattern.normal, pattern.tangential, residual[2 * n :]]), pattern
+
     def _solve_increment(self, problem, law, forces, loads, previous, start) -> IncrementResult:
         """The Newton iteration of :meth:`solve_increment`.
 
@@ -303,6 +332,7 @@ class SemiSmoothNewton(Solver):
             linear = _newton_linear(self._linear, problem, law, r_n, r_t)
             step = self._newton_step(problem, law, evaluation, residual, r_n, r_t, linear)
             x = x + step
+            before = evaluation
             residual, evaluation = self._evaluate(*args, x, r_n, r_t)
             traction_scale = max(np.max(np.abs(x[layout.tractions])), 1e-300)
             norm = max(
@@ -334,6 +364,9 @@ class SemiSmoothNewton(Solver):
             # F is affine on each pattern (states, slip directions), so the Newton iterate
             # depends on the pattern only: a pattern seen before means an endless cycle.
             # Break it by softening the normal augmentation r_n (F keeps the same roots).
+            residual, evaluation = self._through_stick(*args, x, r_n, r_t, before, residual,
+                                                       evaluation)  # fmt: skip
+            states = evaluation.states
             slipping = states == PairState.SLIP
             pattern = (states.tobytes(), np.where(slipping, evaluation.direction, 0.0).tobytes())
             if pattern in seen:
