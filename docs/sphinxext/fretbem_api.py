@@ -36,6 +36,7 @@ def _summary(name: str) -> str:
 
 def groups(modules: list[str]) -> dict[str, list[str]]:
     """Group title -> modules: the package root, then one group per folder, then plugins."""
+
     def at_root(m: str) -> bool:
         is_package = hasattr(importlib.import_module(m), "__path__")
         return m == "fretbem" or (m.startswith("fretbem.") and m.count(".") == 1 and not is_package)

@@ -72,7 +72,6 @@ class IntegrationSettings:
 COMPILED_MIN_PAIRS = 400_000
 
 
-
 class LoopChoice:
     """The ski rental between the numpy and the compiled (numba) assembly loops.
 

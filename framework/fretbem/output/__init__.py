@@ -3,7 +3,6 @@
 The names of :mod:`.write` are re-exported here.
 """
 
-
 from .write import (
     CSV_COLUMNS,
     MARKER,

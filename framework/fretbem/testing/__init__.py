@@ -3,7 +3,6 @@
 The names of :mod:`.conformance` are re-exported here.
 """
 
-
 from .conformance import (
     FD_TOL,
     check_basis,

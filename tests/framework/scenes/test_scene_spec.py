@@ -81,10 +81,13 @@ def test_explicit_nurbs_segments():
         ({"pad": {"shape": "cone"}}, r"\[pad\] shape must be one of"),
         ({"pad": {"length": 3.0}}, r"unknown key \['length'\] in \[pad\]"),
         ({"specimen": {"shape": "flat", "radius": 3.0}}, "radius does not apply to a 'flat'"),
-        ({"specimen": {"model": "fem"}}, (
-            r"\[specimen\] model: unknown body model 'fem'; "
-            r"installed body models: 'bem', 'half-plane'"
-        )),
+        (
+            {"specimen": {"model": "fem"}},
+            (
+                r"\[specimen\] model: unknown body model 'fem'; "
+                r"installed body models: 'bem', 'half-plane'"
+            ),
+        ),
         ({"contact": {"solver": "cg"}}, r"\[contact\] solver: unknown contact solver 'cg'"),
         ({"contact": {"law": "tresca"}}, r"\[contact\] law: unknown contact law 'tresca'"),
         ({"specimen": {"support": "glued"}}, r"support must be one of"),
