@@ -10,7 +10,7 @@ import runpy
 import matplotlib.pyplot as plt
 
 SCRIPT = (
-    Path(__file__).resolve().parents[2] / "docs/tutorials/08_fretting/fretting_loops_and_regimes.py"
+    Path(__file__).resolve().parents[2] / "docs/tutorials/09_fretting/fretting_loops_and_regimes.py"
 )
 
 

@@ -9,7 +9,7 @@ import pytest
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
-SCRIPT = Path(__file__).resolve().parents[2] / "docs/tutorials/07_results/results_in_a_notebook.py"
+SCRIPT = Path(__file__).resolve().parents[2] / "docs/tutorials/08_results/results_in_a_notebook.py"
 
 
 def test_results_tutorial(tmp_path, monkeypatch):

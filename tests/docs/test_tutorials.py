@@ -105,7 +105,7 @@ def test_reference_scene_verification(run_script):
 def test_wear_profiles(run_script):
     """Gross slip: peak p falls 137 -> 67 MPa and the scar widens (measured), the load stays
     P and the volume is alpha E_d; partial slip: no wear in the stick zone, the peak moves in."""
-    ns = run_script(TUTORIALS / "08_wear" / "fretting_wear_profiles.py")
+    ns = run_script(TUTORIALS / "10_wear" / "fretting_wear_profiles.py")
     assert np.all(np.diff(ns["PEAKS"]) < 0) and ns["PEAKS"][-1] < 0.55 * ns["PEAKS"][0]
     assert np.all(np.diff(ns["WIDTHS"]) > 0)
     assert abs(ns["LOAD"] - 100.0) < 1e-9
@@ -122,9 +122,9 @@ TESTED = {
     "tutorials/05_stress/stresses_below_the_contact.py",  # tests/docs/test_tutorial_stress.py
     "tutorials/06_rig/fretting_rig_from_python.py",  # tests/docs/test_tutorial_rig.py
     "tutorials/07_pairing/faces_that_differ_and_sliding.py",  # tests/docs/test_tutorial_pairing.py
-    "tutorials/07_results/results_in_a_notebook.py",  # tests/docs/test_tutorial_results.py
-    "tutorials/08_fretting/fretting_loops_and_regimes.py",  # tests/docs/test_tutorial_fretting.py
-    "tutorials/08_wear/fretting_wear_profiles.py",
+    "tutorials/08_results/results_in_a_notebook.py",  # tests/docs/test_tutorial_results.py
+    "tutorials/09_fretting/fretting_loops_and_regimes.py",  # tests/docs/test_tutorial_fretting.py
+    "tutorials/10_wear/fretting_wear_profiles.py",
     "verification/lame_cylinder_convergence.py",
     "verification/reference_scene_convergence.py",
     # tests/docs/test_verification_pages.py
