@@ -67,6 +67,44 @@ SPECIMEN_SHAPES = {"cylinder": CylinderSpecimen, "flat": FlatSpecimen, "nurbs": 
 MODELS = ("bem", "half-plane")
 SUPPORTS = ("clamped-bottom", "ends")
 
+
+def _body_keys(role: str) -> tuple[Key, ...]:
+    """The body-model and contact-face keys that [pad] and [specimen] share."""
+    return (
+        Key(role, "model", (str,), "", "bem", "`bem` (finite body), `half-plane` or a plugin's"),
+        Key(
+            role, "basis", (str,), "", None, "this body's basis family; omitted: `[contact] basis`"
+        ),
+        Key(role, "degree", (int,), "", None, "this body's basis degree (`[contact] degree`)"),
+        Key(
+            role,
+            "pairs",
+            (int,),
+            "",
+            None,
+            "collocation points on this body's contact face in the zone (`fixed`); omitted: "
+            '`[contact] pairs`; faces that differ need `pairing = "node-to-segment"`',
+        ),
+        Key(
+            role,
+            "elements",
+            (int,),
+            "",
+            None,
+            "elements on this body's contact face in the zone, instead of `pairs` (`fixed`)",
+        ),
+        Key(
+            role,
+            "segments",
+            (list,),
+            "",
+            None,
+            f"explicit NURBS segments (`[[{role}.segments]]`)",
+            ("nurbs",),
+        ),
+    )
+
+
 #: every key of the scene file, in the order of the documentation's table
 KEYS: tuple[Key, ...] = (
     Key("pad", "shape", (str,), "", "cylinder", "`cylinder`, `rounded-flat` or `nurbs`"),
@@ -91,35 +129,7 @@ KEYS: tuple[Key, ...] = (
         "height h (loading block on the top edge)",
         ("cylinder", "rounded-flat"),
     ),
-    Key("pad", "model", (str,), "", "bem", "`bem` (finite body), `half-plane` or a plugin's"),
-    Key("pad", "basis", (str,), "", None, "this body's basis family; omitted: `[contact] basis`"),
-    Key("pad", "degree", (int,), "", None, "this body's basis degree (`[contact] degree`)"),
-    Key(
-        "pad",
-        "pairs",
-        (int,),
-        "",
-        None,
-        "collocation points on this body's contact face in the zone (`fixed`); omitted: "
-        '`[contact] pairs`; faces that differ need `pairing = "node-to-segment"`',
-    ),
-    Key(
-        "pad",
-        "elements",
-        (int,),
-        "",
-        None,
-        "elements on this body's contact face in the zone, instead of `pairs` (`fixed`)",
-    ),
-    Key(
-        "pad",
-        "segments",
-        (list,),
-        "",
-        None,
-        "explicit NURBS segments (`[[pad.segments]]`)",
-        ("nurbs",),
-    ),
+    *_body_keys("pad"),
     Key(
         "specimen",
         "shape",
@@ -150,42 +160,7 @@ KEYS: tuple[Key, ...] = (
         "`clamped-bottom` (default of `cylinder`) or `ends` (default of `flat`: -x end "
         "held in x, bottom on rollers, bulk stress on the +x end)",
     ),
-    Key("specimen", "model", (str,), "", "bem", "`bem` (finite body), `half-plane` or a plugin's"),
-    Key(
-        "specimen",
-        "basis",
-        (str,),
-        "",
-        None,
-        "this body's basis family; omitted: `[contact] basis`",
-    ),
-    Key("specimen", "degree", (int,), "", None, "this body's basis degree (`[contact] degree`)"),
-    Key(
-        "specimen",
-        "pairs",
-        (int,),
-        "",
-        None,
-        "collocation points on this body's contact face in the zone (`fixed`); omitted: "
-        '`[contact] pairs`; faces that differ need `pairing = "node-to-segment"`',
-    ),
-    Key(
-        "specimen",
-        "elements",
-        (int,),
-        "",
-        None,
-        "elements on this body's contact face in the zone, instead of `pairs` (`fixed`)",
-    ),
-    Key(
-        "specimen",
-        "segments",
-        (list,),
-        "",
-        None,
-        "explicit NURBS segments (`[[specimen.segments]]`)",
-        ("nurbs",),
-    ),
+    *_body_keys("specimen"),
     Key("material", "E", NUMBER, "MPa", 73400.0, "Young's modulus of both bodies"),
     Key("material", "nu", NUMBER, "", 0.33, "Poisson's ratio of both bodies"),
     Key("material", "plane", (str,), "", "strain", "`strain` or `stress`"),
