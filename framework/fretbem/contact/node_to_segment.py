@@ -18,7 +18,7 @@ from fretbem.errors import UnsupportedError
 
 from .faces import FaceField, FaceProjectionError, nearest_nodes
 from .pairing import Pairing
-from .pairs import ContactDiscretisationError, ContactPair
+from .pairs import ContactDiscretisationError, ContactPair, check_overlap
 from .transfer import TRANSFERS
 
 __all__ = ["NodeToSegmentPair"]
@@ -151,26 +151,10 @@ class NodeToSegmentPair(ContactPair):
             up_normals[~covered] = -mean_normal
         else:
             up_normals = faces["upper"].normals[order]
-        facing = up_normals @ mean_normal
-        if np.any(facing >= 0.0):
-            k = int(np.argmax(facing))
-            raise ContactDiscretisationError(
-                f"contact pair: the contact segments do not face each other: at "
-                f"{upper_points[k].round(6)} the outward normal of the upper segment "
-                f"{self.upper_tag!r} is {up_normals[k].round(6)}, pointing away from the "
-                f"lower segment {self.lower_tag!r} (whose mean outward normal is "
-                f"{mean_normal.round(6)}); tag the faces that touch, with the upper body on "
-                "the side the lower face's normal points to"
-            )
+        self.check_facing(upper_points, up_normals, mean_normal)
         lower_points = points if slave == "lower" else master_points
         gap = np.where(covered, (upper_points - lower_points) @ mean_normal, distance)
-        if np.any(gap < -1e-9 * max(spacing, 1e-300)):
-            k = int(np.argmin(gap))
-            raise ContactDiscretisationError(
-                f"contact pair: the bodies overlap at the start by {-gap[k]:.3g} at "
-                f"{lower_points[k].round(6)}; move the upper body up so the surfaces touch "
-                "without interpenetration"
-            )
+        check_overlap(gap, lower_points, spacing)
         interpolation = fields[master].interpolation(segment, params)
         # the master nodes' tractions: the pair traction field (slave basis) carried over
         transfer = TRANSFERS[self.transfer](

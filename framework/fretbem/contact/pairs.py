@@ -33,11 +33,23 @@ __all__ = [
     "ContactDiscretisationError",
     "ContactPair",
     "NodeToNodePair",
+    "check_overlap",
 ]
 
 
 class ContactDiscretisationError(InputError):
     """The two sides of a contact pair cannot be paired as the pairing requires."""
+
+
+def check_overlap(gap: np.ndarray, points: np.ndarray, spacing: float) -> None:
+    """Refuse an initial gap that is negative beyond round-off: the bodies interpenetrate."""
+    if np.any(gap < -1e-9 * max(spacing, 1e-300)):
+        k = int(np.argmin(gap))
+        raise ContactDiscretisationError(
+            f"contact pair: the bodies overlap at the start by {-gap[k]:.3g} at "
+            f"{points[k].round(6)}; move the upper body up so the surfaces touch "
+            "without interpenetration"
+        )
 
 
 @attrs.frozen(eq=False)
@@ -71,6 +83,24 @@ class ContactPair(ABC):
 
         Raises ContactDiscretisationError naming the cause if the faces cannot be paired.
         """
+
+    def check_facing(
+        self, upper_points: np.ndarray, upper_normals: np.ndarray, mean_normal: np.ndarray
+    ) -> None:
+        """Refuse faces that do not look at each other: the upper face's outward normals must
+        point back toward the lower face (else a segment on the far side of the upper body
+        would "touch" through that body after a rigid translation)."""
+        facing = upper_normals @ mean_normal
+        if np.any(facing >= 0.0):
+            k = int(np.argmax(facing))
+            raise ContactDiscretisationError(
+                f"contact pair: the contact segments do not face each other: at "
+                f"{upper_points[k].round(6)} the outward normal of the upper segment "
+                f"{self.upper_tag!r} is {upper_normals[k].round(6)}, pointing away from the "
+                f"lower segment {self.lower_tag!r} (whose mean outward normal is "
+                f"{mean_normal.round(6)}); tag the faces that touch, with the upper body on "
+                "the side the lower face's normal points to"
+            )
 
     def side(self, label: str) -> tuple[Body, str]:
         """(body, face tag) of ``label`` ("upper" or "lower")."""
@@ -138,30 +168,14 @@ class NodeToNodePair(ContactPair):
         # the faces must look at each other: the upper face's outward normal points back
         # toward the lower face (a segment on the far side of the upper body would
         # otherwise "touch" through that body after a rigid translation)
-        facing = up_normals[up] @ mean_normal
-        if np.any(facing >= 0.0):
-            k = int(np.argmax(facing))
-            raise ContactDiscretisationError(
-                f"contact pair: the contact segments do not face each other: at "
-                f"{up_points[up][k].round(6)} the outward normal of the upper segment "
-                f"{self.upper_tag!r} is {up_normals[up][k].round(6)}, pointing away from the "
-                f"lower segment {self.lower_tag!r} (whose mean outward normal is "
-                f"{mean_normal.round(6)}); tag the faces that touch, with the upper body on "
-                "the side the lower face's normal points to"
-            )
+        self.check_facing(up_points[up], up_normals[up], mean_normal)
         # one frame for all pairs: the mean normal, along which the points face each other
         # (a per-point normal of one curved face would turn part of the normal approach
         # into spurious slip)
         pair_normals = np.tile(mean_normal, (len(low), 1))
         pair_tangents = np.tile(mean_tangent, (len(low), 1))
         gap = np.einsum("pd,pd->p", up_points[up] - low_points[low], pair_normals)
-        if np.any(gap < -1e-9 * max(spacing, 1e-300)):
-            k = int(np.argmin(gap))
-            raise ContactDiscretisationError(
-                f"contact pair: the bodies overlap at the start by {-gap[k]:.3g} at "
-                f"{low_points[low][k].round(6)}; move the upper body up so the surfaces touch "
-                "without interpenetration"
-            )
+        check_overlap(gap, low_points[low], spacing)
         return Pairing(
             lower_nodes=low,
             upper_nodes=up,
