@@ -54,28 +54,22 @@ def _boundary(ax, rows, x: str, y: str) -> bool:
     """Contour ``Q_peak = f P_max`` over the cases (the gross-slip boundary), or for cyclic
     cases ``A = A_t`` (the energy ratio at its transition value); False if absent."""
     if {"energy_ratio", "transition_ratio"} <= set(rows.columns):
-        return _energy_boundary(ax, rows, x, y)
+        # cyclic cases: the partial / gross slip transition A = A_t
+        g = rows["energy_ratio"].to_numpy(float) - rows["transition_ratio"].to_numpy(float)
+        return _zero_contour(ax, rows, x, y, g, "A = A_t (gross slip onset)")
     if not {"Q_peak", "P_max", "friction"} <= set(rows.columns):
         return False
-    g = rows["Q_peak"].to_numpy(float) - rows["friction"].to_numpy(float) * rows["P_max"].to_numpy(
-        float
-    )
+    q, f, p = (rows[c].to_numpy(float) for c in ("Q_peak", "friction", "P_max"))
+    return _zero_contour(ax, rows, x, y, q - f * p, "|Q| = f P")
+
+
+def _zero_contour(ax, rows, x: str, y: str, g, label: str) -> bool:
+    """Draw the zero contour of g over the (x, y) grid of ``rows``; False where it has none."""
     xs, ys, grid = _grid(rows, x, y, g)
     if len(xs) < 2 or len(ys) < 2 or not (np.nanmin(grid) < 0 < np.nanmax(grid)):
         return False
     ax.contour(xs, ys, grid, levels=[0.0], colors="k", linewidths=1.5, linestyles="--")
-    ax.plot([], [], "k--", label="|Q| = f P")
-    return True
-
-
-def _energy_boundary(ax, rows, x: str, y: str) -> bool:
-    """Contour A = A_t: the partial / gross slip transition of cyclic cases."""
-    g = rows["energy_ratio"].to_numpy(float) - rows["transition_ratio"].to_numpy(float)
-    xs, ys, grid = _grid(rows, x, y, g)
-    if len(xs) < 2 or len(ys) < 2 or not (np.nanmin(grid) < 0 < np.nanmax(grid)):
-        return False
-    ax.contour(xs, ys, grid, levels=[0.0], colors="k", linewidths=1.5, linestyles="--")
-    ax.plot([], [], "k--", label="A = A_t (gross slip onset)")
+    ax.plot([], [], "k--", label=label)
     return True
 
 
