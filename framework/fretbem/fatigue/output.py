@@ -171,6 +171,8 @@ def plot_parameter_map(report: FatigueReport, method: str, ax=None, ticks: int =
     rep = report.methods[method]
     xs, zs = report.map_x, report.map_depth
     values = rep.map.value.reshape(zs.size, xs.size)
+    if not np.all(np.isfinite(values)):  # stress_life where the mean reaches the limit stress
+        values = np.ma.masked_invalid(values)
     if ax is None:
         _, ax = plt.subplots(figsize=(7, 3.6), layout="constrained")
     mesh = ax.pcolormesh(xs, zs, values, shading="gouraud", cmap="viridis")

@@ -252,3 +252,27 @@ def test_the_example_scene_runs_from_the_file():
             mean_stress=float(at.normal_stress_mean[0]), correction="morrow",
         )  # fmt: skip
         assert 0 < rep.life_hot_spot.cycles < rep.life_critical_distance.cycles < math.inf
+
+
+def test_a_mean_beyond_the_ultimate_strength_is_a_static_failure(tmp_path):
+    """A 1200 MPa preload on Ti-6Al-4V (sigma_u = 1042.5 MPa) with Goodman: sigma_ar is
+    infinite outside the contact (under it the pressure lowers the mean), the hot-spot life
+    is N <= 0.5 with the reason, and fatigue.json and the figures are still written (the
+    parameter as null)."""
+    from fretbem.fatigue import write_fatigue
+
+    rig = _WithMeanBulk(CattaneoMindlinCycle(a=0.5, p0=300.0, f=0.6, tangential_ratio=0.5,
+                                             nu=0.342), 1200.0)  # fmt: skip
+    request = fatigue_request_from_dict({
+        "material": "Ti-6Al-4V", "critical_distance": 0.05, "methods": ["stress_life"],
+        "mean_stress": "goodman", "map_points": [11, 5], "in_plane_only": True,
+    })  # fmt: skip
+    report = run_fatigue(rig, request)
+    rep = report.methods["stress_life"]
+    assert np.isinf(rep.map.value).any() and np.isfinite(rep.map.value).any()
+    assert np.isinf(rep.at_hot_spot.value[0])
+    assert rep.life_hot_spot.cycles == 0.5 and "static failure" in rep.life_hot_spot.message
+    write_fatigue(tmp_path, report)
+    data = json.loads((tmp_path / "fatigue.json").read_text())["methods"]["stress_life"]
+    assert data["parameter_at_hot_spot"] is None
+    assert data["life_at_hot_spot"]["cycles"] == 0.5
