@@ -125,7 +125,8 @@ def _stress_life(amplitude, mean, correction, material, runout_cycles) -> LifeEs
     cycles = 0.5 * (equivalent / sf) ** (1.0 / b)
     if cycles > runout_cycles:
         return _runout("stress_life", equivalent, runout_cycles, f"sigma_ar {equivalent:.4g} MPa")
-    text = f"N = {cycles:.4g} cycles (sigma_ar = {equivalent:.4g} MPa, {correction})"
+    how = "no mean-stress correction" if correction == "none" else correction
+    text = f"N = {cycles:.4g} cycles (sigma_ar = {equivalent:.4g} MPa, {how})"
     return LifeEstimate("stress_life", equivalent, cycles, False, text)
 
 
