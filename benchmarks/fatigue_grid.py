@@ -25,7 +25,7 @@ import time
 import numpy as np
 
 from fretbem.fatigue import (
-    METHODS,
+    DEFAULT_METHODS,
     CattaneoMindlinCycle,
     PlaneSearch,
     critical_plane_parameters,
@@ -85,7 +85,7 @@ def main() -> None:
     )
     stress = stress_cycle(args.side, args.steps)
     print(f"grid {stress.shape[1]} points, cycle of {stress.shape[0]} steps")
-    cases = [(m,) for m in METHODS] + [METHODS]
+    cases = [(m,) for m in DEFAULT_METHODS] + [DEFAULT_METHODS]
     results = {}
     for in_plane in (False, True):
         search = PlaneSearch(in_plane_only=in_plane)

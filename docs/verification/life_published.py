@@ -1,6 +1,6 @@
 """
-Life solver: a published SWT worked example and the mean-stress correction
-==========================================================================
+Life solver: published worked examples and the mean-stress corrections
+======================================================================
 
 **Source.** The test case of the open fatigue library FatPy (GitHub, faberorg/FatPy,
 issues 35 "Implement uniaxial SWT criterion" and 36, after S. Suresh, *Fatigue of
@@ -17,14 +17,25 @@ sigma_max eps_a = (sigma_f'^2/E)(2N)^(2b) + sigma_f' eps_f' (2N)^(b+c).
 sigma_max eps_a = 4.05 MPa; the 3D critical-plane search
 (:func:`fretbem.fatigue.critical_plane_parameters`) on the uniaxial cycle, with the modulus
 taken as the cycle's secant sigma_a / eps_a because it computes strains by Hooke's law;
-and, since fretbem's mean-stress correction is SWT itself (sigma_max in the parameter; it
-has no separate Goodman, Gerber or Morrow correction), the SWT life in the elastic range
-against its closed form N = (1/2)(sqrt(sigma_max sigma_a)/sigma_f')^(1/b) for means from
--100 to +150 MPa.
+and SWT's own mean-stress effect (sigma_max in the parameter) in the elastic range against
+its closed form N = (1/2)(sqrt(sigma_max sigma_a)/sigma_f')^(1/b) for means from -100 to
++150 MPa.
 
-**Tolerances.** Half a cycle on N (the two published values differ by their rounding),
-0.05 MPa on P_SWT (the published precision), 1e-9 relative on the closed form (the root
-finder's tolerance is 1e-12 in log10 2N).
+**Mean-stress corrections.** The ``stress_life`` method reads the Basquin curve at the fully
+reversed amplitude sigma_ar that a correction gives (:mod:`fretbem.fatigue.mean_stress`).
+FatPy's issues 37 (Gerber, after Suresh) and 38 (Morrow with the true fracture strength,
+after J. Draper, *Modern Metal Fatigue Analysis*, 2008) publish two worked cycles, again a
+secondary source: sigma_f' = 475.4 MPa, b = -0.078, sigma_a = 180 MPa, sigma_m = 100 MPa,
+with sigma_u = 700 MPa (Gerber: sigma_aeq = 183.8 MPa, N = 98104) and sigma~_fB = 770 MPa
+(Morrow: 206.9 MPa, N = 21475). Every correction (Goodman, Gerber, Morrow with sigma_f' and
+with sigma~_fB) is also checked against its closed form for means from -200 to +200 MPa, and
+the ``strain_life`` method's Morrow correction against its curve and, in the elastic range,
+against the stress-life Morrow correction (the two are the same equation there).
+
+**Tolerances.** Half a cycle on N (the published values differ by their rounding),
+0.05 MPa on P_SWT and 0.051 MPa on sigma_ar (half the published 0.1 MPa step; Gerber's
+183.75 MPa is an exact tie, published as 183.8), 1e-9 relative on the closed forms (the root
+finder's tolerance is 1e-12 in log10 2N; Basquin's inversion is itself a closed form).
 """
 
 # %%
@@ -35,6 +46,7 @@ import numpy as np
 
 from fretbem.fatigue import FatigueMaterial, critical_plane_parameters, estimate_life
 from fretbem.verification.published_lives import (
+    STRESS_LIFE_WORKED_CASES,
     SWT_WORKED_CASES,
     basquin_swt_cycles,
     swt_stress,
@@ -92,3 +104,46 @@ axes[1].semilogy(means, exact, "k-", label="closed form")
 axes[1].set_xlabel(r"mean stress $\sigma_m$ (MPa), $\sigma_a$ = 180 MPa")
 axes[1].set_ylabel("cycles N")
 axes[1].legend()
+
+# %%
+# The two published stress-life cycles, and the corrections side by side: the life at
+# sigma_a = 180 MPa as the mean stress grows (sigma_u = 700 MPa, sigma~_fB = 770 MPa, the
+# worked cases' Basquin constants). Goodman and Morrow credit a compressive mean; Gerber's
+# parabola is symmetric, so it does not; Morrow with sigma_f' = 475.4 MPa is the harshest
+# because sigma_f' is the smallest limit stress here.
+for worked in STRESS_LIFE_WORKED_CASES:
+    done = estimate_life(
+        "stress_life",
+        worked.stress_amplitude,
+        FatigueMaterial("worked", worked.constants(), {}),
+        mean_stress=worked.mean_stress,
+        correction=worked.correction,
+        runout_cycles=1e9,
+    )
+    print(
+        f"{worked.correction}: sigma_ar = {done.parameter:.3f} MPa "
+        f"(published {worked.published_equivalent_amplitude}), N = {done.cycles:.2f} "
+        f"(published {worked.published_cycles:.0f})"
+    )
+
+limits = FatigueMaterial(
+    "limits",
+    {"fatigue_strength_coefficient": 475.4, "fatigue_strength_exponent": -0.078,
+     "ultimate_strength": 700.0, "true_fracture_strength": 770.0},
+    {},
+)  # fmt: skip
+means = np.linspace(-300.0, 250.0, 56)
+fig, ax = plt.subplots(figsize=(6, 4), layout="constrained")
+for name in ("none", "goodman", "gerber", "morrow", "morrow_true_fracture"):
+    lives = [
+        estimate_life("stress_life", 180.0, limits, mean_stress=m, correction=name,
+                      runout_cycles=1e15).cycles
+        for m in means
+    ]  # fmt: skip
+    ax.semilogy(means, lives, label=name)
+for worked in STRESS_LIFE_WORKED_CASES:
+    ax.semilogy([worked.mean_stress], [worked.published_cycles], "kx", ms=9)
+ax.set_xlabel(r"mean stress $\sigma_m$ (MPa), $\sigma_a$ = 180 MPa")
+ax.set_ylabel("cycles N")
+ax.set_title("stress life with each correction; x: FatPy's published lives")
+ax.legend(fontsize=8)

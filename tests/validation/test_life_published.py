@@ -1,8 +1,10 @@
-"""The life solver against a published worked SWT example, and SWT's mean-stress correction.
+"""The life solver against published worked examples, and the mean-stress corrections.
 
-Page: docs/verification/life_published.py. fretbem has no separate mean-stress correction
-(Goodman, Gerber, Morrow): SWT carries the mean stress through sigma_max, checked here
-against its closed form in the elastic range at several mean stresses.
+Page: docs/verification/life_published.py. SWT carries the mean stress through sigma_max,
+checked against its closed form in the elastic range at several mean stresses; the
+stress-life method with Gerber's and Morrow's corrections against FatPy's published test
+cases, every correction against its closed form, and the strain-life Morrow correction
+against its curve and, in the elastic range, against the stress-life Morrow correction.
 """
 
 import math
@@ -11,7 +13,9 @@ import numpy as np
 import pytest
 
 from fretbem.fatigue import FatigueMaterial, critical_plane_parameters, estimate_life
+from fretbem.fatigue.mean_stress import mean_stress_correction
 from fretbem.verification.published_lives import (
+    STRESS_LIFE_WORKED_CASES,
     SWT_WORKED_CASES,
     basquin_swt_cycles,
     swt_stress,
@@ -79,3 +83,80 @@ def test_swt_mean_stress_correction_matches_its_closed_form(mean, record):
                   page=PAGE)  # fmt: skip
     if mean > 0:
         assert life.cycles < basquin_swt_cycles(sf, b, amplitude, amplitude)
+
+
+@pytest.mark.parametrize("case", STRESS_LIFE_WORKED_CASES, ids=lambda c: c.name)
+def test_stress_life_matches_published(case, record):
+    """FatPy's Gerber (N = 98104) and Morrow (N = 21475) cases: sigma_ar within half the
+    published 0.1 MPa step (plus 0.001 MPa: Gerber's 183.75 is an exact tie, published as
+    183.8) and N within half a cycle of the published whole number."""
+    material = FatigueMaterial("worked", case.constants(), {})
+    life = estimate_life(
+        "stress_life", case.stress_amplitude, material, mean_stress=case.mean_stress,
+        correction=case.correction, runout_cycles=1e9,
+    )  # fmt: skip
+    label = f"stress life, {case.correction} (FatPy)"
+    assert record(label, "|sigma_ar - published| (MPa)",
+                  abs(life.parameter - case.published_equivalent_amplitude), 0.051,
+                  page=PAGE)  # fmt: skip
+    assert record(label, "|N - published| (cycles)", abs(life.cycles - case.published_cycles),
+                  0.5, page=PAGE)  # fmt: skip
+
+
+#: the limit stresses of the closed-form sweep: sigma_u, sigma_f' and sigma~_fB
+CLOSED_FORM = {
+    "E": 162000.0, "fatigue_strength_coefficient": 475.4, "fatigue_strength_exponent": -0.078,
+    "ultimate_strength": 700.0, "true_fracture_strength": 770.0,
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("correction", ["goodman", "gerber", "morrow", "morrow_true_fracture"])
+def test_mean_stress_correction_matches_its_closed_form(correction, record):
+    """sigma_ar = sigma_a / (1 - sigma_m/L) (Gerber: 1 - (sigma_m/L)^2), N = (1/2)
+    (sigma_ar/sigma_f')^(1/b) for sigma_a = 180 MPa and sigma_m from -200 to 200 MPa (below
+    the mean at which Morrow's sigma_ar reaches sigma_f' = 475.4 MPa, where N is capped at one
+    reversal): the worst relative error of N (floored at 1e-12; measured ~1e-16)."""
+    material = FatigueMaterial("closed form", CLOSED_FORM, {})
+    limit = mean_stress_correction(correction, material).limit
+    worst = 0.0
+    for mean in np.linspace(-200.0, 200.0, 9):
+        ratio = mean / limit
+        factor = 1 - ratio**2 if correction == "gerber" else 1 - ratio
+        exact = 0.5 * (180.0 / factor / 475.4) ** (1 / -0.078)
+        life = estimate_life("stress_life", 180.0, material, mean_stress=mean,
+                             correction=correction, runout_cycles=1e15)  # fmt: skip
+        worst = max(worst, abs(life.cycles - exact) / exact)
+    assert record(f"stress life, {correction} (closed form)",
+                  "relative error of N, sigma_m -200..200 MPa (floor 1e-12)",
+                  max(worst, 1e-12), 1e-9, page=PAGE)  # fmt: skip
+
+
+def test_strain_life_morrow_matches_its_curve_and_the_stress_life_morrow(record):
+    """The strain-life curve eps_a = (sigma_f' - sigma_m)/E (2N)^b + eps_f' (2N)^c inverted at
+    N from 10 to 1e6 and sigma_m from -100 to 200 MPa (the FatPy SWT case's constants); and,
+    with eps_f' = 1e-15 (elastic range), the same life as the stress-life Morrow correction
+    at sigma_a = E eps_a: both relative errors <= 1e-9 (the root finder's tolerance)."""
+    constants = {"E": 162000.0, "fatigue_strength_coefficient": 475.4,
+                 "fatigue_strength_exponent": -0.078, "fatigue_ductility_coefficient": 0.612,
+                 "fatigue_ductility_exponent": -0.62}  # fmt: skip
+    material = FatigueMaterial("strain life", constants, {})
+    elastic = material.with_values({"fatigue_ductility_coefficient": 1e-15})
+    worst_curve = worst_stress = 0.0
+    for mean in (-100.0, 0.0, 200.0):
+        for cycles in (10.0, 1e3, 1e5, 1e6):
+            x = 2 * cycles
+            eps_a = (475.4 - mean) / 162000.0 * x**-0.078 + 0.612 * x**-0.62
+            life = estimate_life("strain_life", eps_a, material, mean_stress=mean,
+                                 correction="morrow")  # fmt: skip
+            worst_curve = max(worst_curve, abs(life.cycles - cycles) / cycles)
+        eps_a = 180.0 / 162000.0
+        strain = estimate_life("strain_life", eps_a, elastic, mean_stress=mean,
+                               correction="morrow", runout_cycles=1e15)  # fmt: skip
+        stress = estimate_life("stress_life", 180.0, elastic, mean_stress=mean,
+                               correction="morrow", runout_cycles=1e15)  # fmt: skip
+        worst_stress = max(worst_stress, abs(strain.cycles - stress.cycles) / stress.cycles)
+    assert record("strain life, Morrow", "relative error of N on its curve (floor 1e-12)",
+                  max(worst_curve, 1e-12), 1e-9, page=PAGE)  # fmt: skip
+    assert record("strain life, Morrow", "relative difference from stress-life Morrow, "
+                  "elastic range (floor 1e-12)", max(worst_stress, 1e-12), 1e-9,
+                  page=PAGE)  # fmt: skip

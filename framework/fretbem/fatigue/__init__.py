@@ -10,7 +10,8 @@ Typical use::
 
 The building blocks take plain arrays: :func:`critical_plane_parameters` on a stress history
 (n_steps, n_points, 4), :func:`ruiz_parameters`, :func:`critical_distance_values` with any
-``parameter_at(points)`` callable, and :func:`estimate_life`.
+``parameter_at(points)`` callable, and :func:`estimate_life` (with the mean-stress corrections
+of :mod:`.mean_stress` for the stress- and strain-life curves).
 """
 
 from .critical_distance import (
@@ -19,12 +20,19 @@ from .critical_distance import (
     critical_distance_from_threshold,
     critical_distance_values,
 )
-from .critical_plane import METHODS, CriterionResult, PlaneSearch, critical_plane_parameters
+from .critical_plane import (
+    DEFAULT_METHODS,
+    METHODS,
+    CriterionResult,
+    PlaneSearch,
+    critical_plane_parameters,
+)
 from .cycle import last_full_reversal, select_cycle, turning_points
 from .errors import FatigueInputError, MissingFatigueDataError
 from .life import LifeEstimate, estimate_life
 from .material import FatigueMaterial, available_materials, load_material
 from .mcc import minimum_circumscribed_circle
+from .mean_stress import CORRECTIONS, MeanStressCorrection, mean_stress_correction
 from .output import fatigue_summary, format_report, write_fatigue
 from .providers import (
     CattaneoMindlinCycle,
@@ -38,6 +46,8 @@ from .run import FatigueReport, MethodReport, run_fatigue
 
 __all__ = [
     "AREA_RADIUS_FACTOR",
+    "CORRECTIONS",
+    "DEFAULT_METHODS",
     "METHODS",
     "REQUEST_KEYS",
     "CattaneoMindlinCycle",
@@ -49,6 +59,7 @@ __all__ = [
     "FatigueRequest",
     "GridStressHistory",
     "LifeEstimate",
+    "MeanStressCorrection",
     "MethodReport",
     "MissingFatigueDataError",
     "PlaneSearch",
@@ -65,6 +76,7 @@ __all__ = [
     "format_report",
     "last_full_reversal",
     "load_material",
+    "mean_stress_correction",
     "minimum_circumscribed_circle",
     "ruiz_parameters",
     "run_fatigue",

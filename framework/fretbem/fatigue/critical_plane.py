@@ -1,4 +1,5 @@
-"""Critical-plane fatigue parameters per point: Smith-Watson-Topper, Findley, Fatemi-Socie, MWCM.
+"""Critical-plane fatigue parameters per point: SWT, Findley, Fatemi-Socie, MWCM, stress and
+strain life.
 
 Each parameter is maximised over material planes (3D by default, see :mod:`.planes`): a coarse
 grid over the quarter sphere, exact shear amplitudes (minimum circumscribed circle) only where
@@ -7,7 +8,10 @@ plane with halving steps. Strains come from Hooke's law (isotropic, linear elast
 
 Names say what they are: ``*_amplitude`` is half the range over the cycle, ``*_max`` the largest
 value over the cycle, ``*_mean`` the average of max and min. The shear amplitude is the radius
-of the minimum circumscribed circle of the shear-stress path on the plane.
+of the minimum circumscribed circle of the shear-stress path on the plane. ``stress_life``
+ranks planes by the mean-stress corrected normal stress amplitude sigma_ar
+(:mod:`.mean_stress`), ``strain_life`` by the normal strain amplitude; neither is computed
+unless asked for (:data:`DEFAULT_METHODS` are the four critical-plane parameters).
 """
 
 from __future__ import annotations
@@ -19,9 +23,11 @@ import numpy as np
 
 from .errors import FatigueInputError
 from .mcc import circle_bounds_xy, minimum_circumscribed_circle_xy
+from .mean_stress import MeanStressCorrection
 from .planes import plane_grid, projection
 
 __all__ = [
+    "DEFAULT_METHODS",
     "METHODS",
     "CriterionResult",
     "PlaneSearch",
@@ -30,7 +36,9 @@ __all__ = [
 ]
 
 #: the parameter names, in report order
-METHODS = ("swt", "findley", "fatemi_socie", "mwcm")
+METHODS = ("swt", "findley", "fatemi_socie", "mwcm", "stress_life", "strain_life")
+#: the parameters computed when none are named (the stress- and strain-life curves are asked for)
+DEFAULT_METHODS = METHODS[:4]
 
 #: relative tolerance for "equal shear amplitude" when MWCM breaks ties by the normal stress
 MWCM_TIE_TOLERANCE = 1e-10
@@ -70,7 +78,9 @@ class CriterionResult:
         One of :data:`METHODS`.
     value : ndarray (P,)
         The parameter (SWT in MPa, Findley in MPa, Fatemi-Socie dimensionless, MWCM: the
-        shear stress amplitude in MPa; its rho is ``normal_stress_max / shear_stress_amplitude``).
+        shear stress amplitude in MPa, its rho is ``normal_stress_max / shear_stress_amplitude``;
+        stress life: the corrected normal stress amplitude sigma_ar in MPa, inf where the mean
+        stress reaches the correction's limit; strain life: the normal strain amplitude).
     normal_angle_deg : ndarray (P,)
         In-plane angle of the plane normal's projection, from x towards y, in [0, 180).
     normal_tilt_deg : ndarray (P,)
@@ -141,17 +151,33 @@ def plane_quantities(
 class _Criterion:
     """A parameter as a function of the plane quantities; bounds for pruning from tau_a bounds."""
 
-    def __init__(self, name: str, *, E: float, nu: float, k: float = 0.0, sy: float = 1.0):
+    def __init__(
+        self,
+        name: str,
+        *,
+        E: float,
+        nu: float,
+        k: float = 0.0,
+        sy: float = 1.0,
+        mean_stress: MeanStressCorrection | None = None,
+    ):
         self.name = name
-        self.needs_shear = name != "swt"
+        self.needs_shear = name in ("findley", "fatemi_socie", "mwcm")
+        self.needs_strain = name in ("swt", "strain_life")
         self.G = E / (2.0 * (1.0 + nu))
         self.k = k
         self.sy = sy
+        self.mean_stress = mean_stress or MeanStressCorrection()
 
     def value(self, q: dict, tau_a: np.ndarray) -> np.ndarray:
         smax = q["normal_stress_max"]
         if self.name == "swt":
             return smax * q["normal_strain_amplitude"]
+        if self.name == "strain_life":
+            return q["normal_strain_amplitude"]
+        if self.name == "stress_life":
+            smin = q["normal_stress_min"]
+            return self.mean_stress.equivalent_amplitude(0.5 * (smax - smin), 0.5 * (smax + smin))
         if self.name == "findley":
             return tau_a + self.k * smax
         if self.name == "fatemi_socie":
@@ -179,7 +205,7 @@ def _argbest(crit: _Criterion, values: np.ndarray, secondary) -> np.ndarray:
     return np.argmax(np.where(tied, secondary, -np.inf), axis=1)
 
 
-def _make_criteria(methods, E, nu, findley_k, fatemi_socie_k, yield_strength):
+def _make_criteria(methods, E, nu, findley_k, fatemi_socie_k, yield_strength, mean_stress):
     criteria = []
     for name in methods:
         if name not in METHODS:
@@ -201,6 +227,7 @@ def _make_criteria(methods, E, nu, findley_k, fatemi_socie_k, yield_strength):
                 nu=nu,
                 k={"findley": findley_k, "fatemi_socie": fatemi_socie_k}.get(name) or 0.0,
                 sy=yield_strength or 1.0,
+                mean_stress=mean_stress,
             )
         )
     return criteria
@@ -210,17 +237,17 @@ def _coarse(stress, criteria, theta, psi, E, nu):
     """Best grid plane per point and criterion: (theta, psi) indices, pruned exact MCC."""
     # single precision is enough to pick the best grid plane; the refinement is in double
     coef = projection(theta, psi).astype(np.float32)
-    with_swt = any(c.name == "swt" for c in criteria)
-    q = plane_quantities(stress.astype(np.float32), coef, E, nu, strains=with_swt)
+    with_strain = any(c.needs_strain for c in criteria)
+    q = plane_quantities(stress.astype(np.float32), coef, E, nu, strains=with_strain)
     n_p, n_g = q["normal_stress_max"].shape
     px, py = q["path_x"], q["path_y"]
-    if not any(c.needs_shear and c.name != "swt" for c in criteria):
+    if not any(c.needs_shear for c in criteria):
         zero = np.zeros((n_p, n_g))
         return {c.name: _argbest(c, c.value(q, zero), c.secondary(q)) for c in criteria}
     tau_lo, tau_hi = (b.reshape(n_p, n_g) for b in circle_bounds_xy(px, py))
     need = np.zeros((n_p, n_g), dtype=bool)
     for crit in criteria:
-        if crit.name == "swt":
+        if not crit.needs_shear:
             continue
         lo = crit.value(q, tau_lo)
         hi = crit.value(q, tau_hi)
@@ -316,7 +343,7 @@ class _SharedPass:
         self.stress, self.criteria, self.E, self.nu = stress, criteria, E, nu
         self.in_plane = in_plane
         self.shear = any(c.needs_shear for c in criteria)
-        self.strains = any(c.name == "swt" for c in criteria)
+        self.strains = any(c.needs_strain for c in criteria)
 
     def __call__(self, theta: np.ndarray, psi: np.ndarray, *, strains: bool = False):
         """Planes (C, P, G) per criterion -> [(values, secondary, tau, q)] per criterion.
@@ -384,8 +411,9 @@ def _refine(evaluate, criteria, theta, psi, steps, levels, in_plane_only):
     for i, (v, _, _, _) in enumerate(evaluate(th, ps)):
         shift = []
         for (lo, hi), h in pairs:
-            curv = v[:, lo] - 2.0 * values[i] + v[:, hi]
+            # inf - inf (a static failure of stress_life) is nan: no step
             with np.errstate(divide="ignore", invalid="ignore"):
+                curv = v[:, lo] - 2.0 * values[i] + v[:, hi]
                 d = np.where(curv < 0, 0.5 * h * (v[:, lo] - v[:, hi]) / curv, 0.0)
             shift.append(np.clip(np.nan_to_num(d), -h, h))
         new_theta[i] = theta[i] + shift[0]
@@ -418,17 +446,19 @@ def critical_plane_parameters(
     *,
     E: float,
     nu: float,
-    methods: Sequence[str] = METHODS,
+    methods: Sequence[str] = DEFAULT_METHODS,
     findley_k: float | None = None,
     fatemi_socie_k: float | None = None,
     yield_strength: float | None = None,
+    mean_stress: MeanStressCorrection | None = None,
     search: PlaneSearch | None = None,
 ) -> dict[str, CriterionResult]:
     """Each requested critical-plane parameter at every point of a stress cycle.
 
     ``stress`` (n_steps, n_points, 4): [sxx, syy, sxy, szz] in MPa over ONE cycle (select it
     with :func:`fretbem.fatigue.cycle.select_cycle`). ``E``, ``nu``: elastic constants for the
-    strains. Returns ``{method: CriterionResult}``.
+    strains. ``mean_stress``: the correction of ``stress_life`` (none by default). Returns
+    ``{method: CriterionResult}``.
     """
     stress = _validate_stress(stress)
     if not (E > 0 and -1.0 < nu < 0.5):
@@ -436,7 +466,9 @@ def critical_plane_parameters(
             f"elastic constants must have E > 0 and -1 < nu < 0.5, got {E}, {nu}"
         )
     search = search or PlaneSearch()
-    criteria = _make_criteria(methods, E, nu, findley_k, fatemi_socie_k, yield_strength)
+    criteria = _make_criteria(
+        methods, E, nu, findley_k, fatemi_socie_k, yield_strength, mean_stress
+    )
     theta_g, psi_g = plane_grid(
         in_plane_only=search.in_plane_only,
         theta_step_deg=search.theta_step_deg,

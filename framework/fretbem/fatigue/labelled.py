@@ -15,7 +15,10 @@ from fretbem.views.display import html_table
 __all__ = ["fatigue_dataset", "fatigue_html", "fatigue_repr", "life_text"]
 
 #: units of each parameter (CF: "1" dimensionless)
-PARAMETER_UNITS = {"swt": "MPa", "findley": "MPa", "fatemi_socie": "1", "mwcm": "MPa"}
+PARAMETER_UNITS = {
+    "swt": "MPa", "findley": "MPa", "fatemi_socie": "1", "mwcm": "MPa", "stress_life": "MPa",
+    "strain_life": "1",
+}  # fmt: skip
 RUIZ = {
     "shear_traction_max": ("MPa", "largest |q| over the cycle"),
     "slip_amplitude": ("mm", "slip amplitude over the cycle"),

@@ -31,7 +31,10 @@ CONSTANTS: dict[str, str] = {
     "E": "Young's modulus",
     "nu": "Poisson's ratio",
     "yield_strength": "(cyclic) yield strength, used by Fatemi-Socie",
-    "ultimate_strength": "ultimate tensile strength (informative)",
+    "ultimate_strength": "ultimate tensile strength sigma_u, used by the Goodman and Gerber "
+    "mean-stress corrections",
+    "true_fracture_strength": "sigma~_fB, true fracture strength, used by the Morrow correction "
+    "morrow_true_fracture",
     "fatigue_strength_coefficient": "sigma_f', Basquin coefficient (stress amplitude at 2N = 1)",
     "fatigue_strength_exponent": "b, Basquin exponent (< 0)",
     "fatigue_ductility_coefficient": "eps_f', Coffin-Manson coefficient",
@@ -54,6 +57,7 @@ RANGES: dict[str, tuple[float | None, float | None, bool]] = {
     "nu": (-1.0, 0.5, True),
     "yield_strength": (0.0, None, True),
     "ultimate_strength": (0.0, None, True),
+    "true_fracture_strength": (0.0, None, True),
     "fatigue_strength_coefficient": (0.0, None, True),
     "fatigue_strength_exponent": _NEGATIVE_EXPONENT,
     "fatigue_ductility_coefficient": (0.0, None, False),  # 0: elastic (Basquin) term only

@@ -14,6 +14,7 @@ import numpy as np
 
 from .critical_plane import CriterionResult
 from .life import LifeEstimate
+from .mean_stress import CORRECTIONS_OF
 from .run import FatigueReport
 
 __all__ = [
@@ -24,13 +25,23 @@ __all__ = [
     "write_fatigue",
 ]
 
-UNITS = {"swt": "MPa", "findley": "MPa", "fatemi_socie": "-", "mwcm": "MPa"}
+UNITS = {
+    "swt": "MPa", "findley": "MPa", "fatemi_socie": "-", "mwcm": "MPa", "stress_life": "MPa",
+    "strain_life": "-",
+}  # fmt: skip
 LABELS = {
     "swt": "SWT = sigma_n,max eps_a (MPa)",
     "findley": "Findley tau_a + k sigma_n,max (MPa)",
     "fatemi_socie": "Fatemi-Socie gamma_a (1 + k sigma_n,max / sigma_y)",
     "mwcm": "MWCM shear stress amplitude tau_a (MPa)",
+    "stress_life": "equivalent fully reversed normal stress amplitude sigma_ar (MPa)",
+    "strain_life": "normal strain amplitude eps_a",
 }
+
+
+def _finite(value: float) -> float | None:
+    """A number for fatigue.json; None where the mean stress reaches the correction's limit."""
+    return float(value) if math.isfinite(value) else None
 
 
 def _life(life: LifeEstimate | None):
@@ -39,7 +50,7 @@ def _life(life: LifeEstimate | None):
     return {
         "cycles": None if math.isinf(life.cycles) else life.cycles,
         "runout": life.runout,
-        "parameter": life.parameter,
+        "parameter": _finite(life.parameter),
         "message": life.message,
     }
 
@@ -78,7 +89,7 @@ def fatigue_summary(report: FatigueReport) -> dict:
         entry = {
             "parameter_unit": UNITS[m],
             "hot_spot": {"x_mm": rep.hot_spot[0], "depth_mm": rep.hot_spot[1]},
-            "parameter_at_hot_spot": float(rep.at_hot_spot.value[0]),
+            "parameter_at_hot_spot": _finite(rep.at_hot_spot.value[0]),
             "critical_plane_at_hot_spot": _plane(rep.at_hot_spot),
             "critical_direction": {"x": rep.direction[0], "depth": rep.direction[1]},
             "life_at_hot_spot": _life(rep.life_hot_spot),
@@ -86,14 +97,16 @@ def fatigue_summary(report: FatigueReport) -> dict:
         }
         if m == "mwcm":
             entry["rho_at_hot_spot"] = float(rep.at_hot_spot.rho[0])
+        if m in CORRECTIONS_OF:
+            entry["mean_stress_correction"] = req.mean_stress
         if rep.critical_distance is not None:
             t = rep.critical_distance
             entry["critical_distance"] = {
                 "L_mm": t.critical_distance,
-                "point_method_value": t.point_value,
+                "point_method_value": _finite(t.point_value),
                 "point_method_location_mm": list(t.point),
-                "line_method_value": t.line_value,
-                "area_method_value": t.area_value,
+                "line_method_value": _finite(t.line_value),
+                "area_method_value": _finite(t.area_value),
                 "area_method_radius_mm": t.area_radius,
             }
         if rep.life_message:
@@ -158,6 +171,8 @@ def plot_parameter_map(report: FatigueReport, method: str, ax=None, ticks: int =
     rep = report.methods[method]
     xs, zs = report.map_x, report.map_depth
     values = rep.map.value.reshape(zs.size, xs.size)
+    if not np.all(np.isfinite(values)):  # stress_life where the mean reaches the limit stress
+        values = np.ma.masked_invalid(values)
     if ax is None:
         _, ax = plt.subplots(figsize=(7, 3.6), layout="constrained")
     mesh = ax.pcolormesh(xs, zs, values, shading="gouraud", cmap="viridis")

@@ -15,9 +15,10 @@ import attrs
 from fretbem.validators import file_bool, file_integer, file_list, file_number, file_string
 
 from .critical_distance import AREA_RADIUS_FACTOR, critical_distance_from_threshold
-from .critical_plane import METHODS, PlaneSearch
+from .critical_plane import DEFAULT_METHODS, METHODS, PlaneSearch
 from .errors import FatigueInputError, MissingFatigueDataError
 from .material import CONSTANTS, FatigueMaterial, load_material
+from .mean_stress import CORRECTIONS, CORRECTIONS_OF, MeanStressCorrection, mean_stress_correction
 
 __all__ = ["REQUEST_KEYS", "FatigueRequest", "fatigue_request_from_dict"]
 
@@ -25,7 +26,10 @@ __all__ = ["REQUEST_KEYS", "FatigueRequest", "fatigue_request_from_dict"]
 REQUEST_KEYS: dict[str, str] = {
     "material": 'library name (e.g. "Ti-6Al-4V") or an inline table of constants',
     "constants": "table of extra or overriding constants (user input), names as the library's",
-    "methods": "list of parameters: swt, findley, fatemi_socie, mwcm (default: all available)",
+    "methods": "list of parameters: swt, findley, fatemi_socie, mwcm, stress_life, strain_life "
+    "(default: the first four that the material's constants allow)",
+    "mean_stress": 'mean-stress correction of stress_life / strain_life: "none" (default), '
+    '"goodman", "gerber", "morrow", "morrow_true_fracture" (stress_life only)',
     "critical_distance": "L in mm (else from threshold_sif_range and fatigue_limit_range)",
     "cycle_steps": "list of step indices forming the cycle (default: last full reversal)",
     "hot_spot": '"surface" (largest parameter on the surface) or [x, depth] in mm',
@@ -50,7 +54,8 @@ class FatigueRequest:
     """
 
     material: FatigueMaterial
-    methods: tuple[str, ...] = METHODS
+    methods: tuple[str, ...] = DEFAULT_METHODS
+    mean_stress: str = "none"
     critical_distance: float | None = None
     cycle_steps: tuple[int, ...] | None = None
     hot_spot: str | tuple[float, float] = "surface"
@@ -82,15 +87,52 @@ class FatigueRequest:
             )
         if min(self.map_points) < 2:
             raise FatigueInputError(f"map_points must be >= 2 each, got {self.map_points}")
+        self._check_mean_stress()
+
+    def _check_mean_stress(self) -> None:
+        """The correction is known, fits every listed life method, and has its constant."""
+        name = self.mean_stress
+        if name not in CORRECTIONS:
+            raise FatigueInputError(
+                f"[fatigue] mean_stress must be one of {sorted(CORRECTIONS)}, got {name!r}"
+            )
+        if name == "none":
+            return
+        takers = [m for m in self.methods if m in CORRECTIONS_OF]
+        if not takers:
+            raise FatigueInputError(
+                f'[fatigue] mean_stress = "{name}" corrects the stress_life and strain_life '
+                f"methods, and methods = {list(self.methods)} has neither (SWT, Findley, "
+                "Fatemi-Socie and MWCM carry the mean stress themselves): add "
+                '"stress_life" (or "strain_life" for morrow) to methods, or remove mean_stress'
+            )
+        for m in takers:
+            if name not in CORRECTIONS_OF[m]:
+                raise FatigueInputError(
+                    f'[fatigue] mean_stress = "{name}" does not apply to {m}, which takes '
+                    f"{list(CORRECTIONS_OF[m])}: the strain-life curve is corrected by Morrow "
+                    "(sigma_f' - sigma_m); use a separate run for the other method"
+                )
+        try:
+            mean_stress_correction(name, self.material)
+        except MissingFatigueDataError as exc:
+            raise FatigueInputError(f"[fatigue] mean_stress: {exc}") from exc
 
     @property
-    def method_constants(self) -> dict[str, float | None]:
-        """Findley k, Fatemi-Socie k and yield strength, where the material has them."""
+    def mean_stress_correction(self) -> MeanStressCorrection:
+        """The mean-stress correction with its limit stress from the material."""
+        return mean_stress_correction(self.mean_stress, self.material)
+
+    @property
+    def method_constants(self) -> dict[str, Any]:
+        """Findley k, Fatemi-Socie k and yield strength, where the material has them, and the
+        mean-stress correction of stress_life."""
         m = self.material
         return {
             "findley_k": m.get("findley_k") if m.has("findley_k") else None,
             "fatemi_socie_k": m.get("fatemi_socie_k") if m.has("fatemi_socie_k") else None,
             "yield_strength": m.get("yield_strength") if m.has("yield_strength") else None,
+            "mean_stress": self.mean_stress_correction,
         }
 
 
@@ -119,7 +161,7 @@ def _material(table: Mapping[str, Any]) -> FatigueMaterial:
 
 def _available(material: FatigueMaterial) -> tuple[tuple[str, ...], tuple[str, ...]]:
     methods, notes = [], []
-    for m in METHODS:
+    for m in DEFAULT_METHODS:
         need = {
             "findley": ("findley_k",),
             "fatemi_socie": ("fatemi_socie_k", "yield_strength"),
@@ -155,6 +197,11 @@ def _values(table: Mapping[str, Any]) -> dict[str, Any]:
                 error=FatigueInputError,
             )
         )
+    if "mean_stress" in table:
+        out["mean_stress"] = file_string(
+            "[fatigue] mean_stress", table["mean_stress"], tuple(CORRECTIONS),
+            error=FatigueInputError,
+        )  # fmt: skip
     if "critical_distance" in table:
         out["critical_distance"] = _number(low=0.0, low_open=True, why="L in mm")(
             "[fatigue] critical_distance", table["critical_distance"]
@@ -244,6 +291,7 @@ def fatigue_request_from_dict(table: Mapping[str, Any]) -> FatigueRequest:
         return FatigueRequest(
             material=material,
             methods=methods,
+            mean_stress=values.get("mean_stress", "none"),
             critical_distance=None if L is None else float(L),
             cycle_steps=values.get("cycle_steps"),
             hot_spot=values.get("hot_spot", "surface"),

@@ -16,6 +16,7 @@ from .cycle import select_cycle
 from .errors import FatigueInputError, MissingFatigueDataError
 from .labelled import fatigue_dataset, fatigue_html, fatigue_repr
 from .life import LifeEstimate, estimate_life
+from .mean_stress import CORRECTIONS_OF
 from .providers import StressHistoryProvider
 from .request import FatigueRequest
 from .ruiz import RuizParameters, ruiz_parameters
@@ -131,6 +132,19 @@ def _direction(request: FatigueRequest, hot: CriterionResult) -> np.ndarray:
 
 
 def _life(method, result: CriterionResult, index, request) -> LifeEstimate:
+    if method in CORRECTIONS_OF:  # the amplitude and mean on the critical plane, corrected
+        amplitude = (
+            result.normal_stress_amplitude if method == "stress_life"
+            else result.normal_strain_amplitude
+        )  # fmt: skip
+        return estimate_life(
+            method,
+            float(amplitude[index]),
+            request.material,
+            mean_stress=float(result.normal_stress_mean[index]),
+            correction=request.mean_stress,
+            runout_cycles=request.runout_cycles,
+        )
     value = float(result.value[index])
     rho = float(result.rho[index]) if method == "mwcm" else None
     return estimate_life(

@@ -2,7 +2,9 @@
 
 Each case carries its inputs, the published answer and where it was published. The SWT case
 is the test case of the open FatPy project (faberorg/FatPy issues 35 and 36, after S. Suresh,
-Fatigue of Materials, 1998): a secondary source, stated as such in the docs.
+Fatigue of Materials, 1998); the stress-life cases with the Gerber and Morrow mean-stress
+corrections are its issues 37 (after Suresh) and 38 (after J. Draper, Modern Metal Fatigue
+Analysis, 2008): secondary sources, stated as such in the docs.
 
 fretbem's SWT parameter is sigma_n,max * eps_a (MPa); FatPy's is
 P_SWT = sqrt(E eps_a sigma_max) (MPa): :func:`swt_stress` converts.
@@ -14,7 +16,14 @@ import math
 
 import attrs
 
-__all__ = ["SWT_WORKED_CASES", "WorkedSwtCase", "basquin_swt_cycles", "swt_stress"]
+__all__ = [
+    "STRESS_LIFE_WORKED_CASES",
+    "SWT_WORKED_CASES",
+    "WorkedStressLifeCase",
+    "WorkedSwtCase",
+    "basquin_swt_cycles",
+    "swt_stress",
+]
 
 
 @attrs.frozen
@@ -87,6 +96,87 @@ SWT_WORKED_CASES: tuple[WorkedSwtCase, ...] = (
         mean_stress=10.0,
         published_swt_stress=810.0,
         published_cycles=(277.0, 278.0),
+    ),
+)
+
+
+@attrs.frozen
+class WorkedStressLifeCase:
+    """One published stress-life calculation with a mean-stress correction (one load cycle).
+
+    Attributes
+    ----------
+    name, source : str
+    correction : str
+        fretbem's name of the correction (:data:`fretbem.fatigue.mean_stress.CORRECTIONS`).
+    sigma_f, b : float
+        Basquin constants sigma_f' (MPa) and b.
+    limit_constant : str
+        The material constant the mean stress is divided by, under fretbem's name.
+    limit : float
+        Its value, MPa (sigma_u for Gerber, the true fracture strength for Morrow here).
+    stress_amplitude, mean_stress : float
+        sigma_a and sigma_m of the cycle, MPa.
+    published_equivalent_amplitude : float
+        The published sigma_aeq, MPa (rounded to 0.1 MPa).
+    published_cycles : float
+        The published life N, cycles (rounded to one cycle).
+    """
+
+    name: str
+    source: str
+    correction: str
+    sigma_f: float
+    b: float
+    limit_constant: str
+    limit: float
+    stress_amplitude: float
+    mean_stress: float
+    published_equivalent_amplitude: float
+    published_cycles: float
+
+    def constants(self) -> dict[str, float]:
+        """The constants under fretbem's names (FatigueMaterial.values)."""
+        return {
+            "fatigue_strength_coefficient": self.sigma_f,
+            "fatigue_strength_exponent": self.b,
+            self.limit_constant: self.limit,
+        }
+
+
+STRESS_LIFE_WORKED_CASES: tuple[WorkedStressLifeCase, ...] = (
+    WorkedStressLifeCase(
+        name="FatPy Gerber test case",
+        source=(
+            "faberorg/FatPy, GitHub issue 37 ('Implement stress-life prediction function based "
+            "on the Gerber mean-stress correction'), citing S. Suresh, Fatigue of Materials (1998)"
+        ),
+        correction="gerber",
+        sigma_f=475.4,
+        b=-0.078,
+        limit_constant="ultimate_strength",
+        limit=700.0,
+        stress_amplitude=180.0,
+        mean_stress=100.0,
+        published_equivalent_amplitude=183.8,
+        published_cycles=98104.0,
+    ),
+    WorkedStressLifeCase(
+        name="FatPy Morrow test case",
+        source=(
+            "faberorg/FatPy, GitHub issue 38 ('Implement stress-life prediction function based "
+            "on the Morrow mean-stress correction'), citing J. Draper, Modern Metal Fatigue "
+            "Analysis (2008)"
+        ),
+        correction="morrow_true_fracture",
+        sigma_f=475.4,
+        b=-0.078,
+        limit_constant="true_fracture_strength",
+        limit=770.0,
+        stress_amplitude=180.0,
+        mean_stress=100.0,
+        published_equivalent_amplitude=206.9,
+        published_cycles=21475.0,
     ),
 )
 

@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from fretbem.fatigue.critical_plane import METHODS
+from fretbem.fatigue.critical_plane import DEFAULT_METHODS
 from fretbem.fatigue.from_simulation import SimulationStressHistory
 from fretbem.fatigue.request import fatigue_request_from_dict
 from fretbem.fatigue.run import run_fatigue
@@ -173,7 +173,7 @@ def fatigue(result, scene: Mapping) -> dict[str, Any]:
 
 def _fatigue_columns(steps, tables) -> list[str]:
     table = tables.get("fatigue") if isinstance(tables, Mapping) else None
-    methods = METHODS
+    methods = DEFAULT_METHODS
     if isinstance(table, Mapping) and isinstance(table.get("methods"), (list, str)):
         methods = [table["methods"]] if isinstance(table["methods"], str) else table["methods"]
     keys = ("parameter", "life", "life_note", "x", "depth")

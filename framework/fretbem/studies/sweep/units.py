@@ -32,7 +32,10 @@ OUTPUTS = {
 }  # fmt: skip
 #: per-method fatigue columns (``swt.life``, ``mwcm.x``)
 METHOD_COLUMNS = {"life": "cycles", "x": "mm", "depth": "mm"}
-PARAMETER_UNITS = {"swt": "MPa", "findley": "MPa", "fatemi_socie": "1", "mwcm": "MPa"}
+PARAMETER_UNITS = {
+    "swt": "MPa", "findley": "MPa", "fatemi_socie": "1", "mwcm": "MPa", "stress_life": "MPa",
+    "strain_life": "1",
+}  # fmt: skip
 
 
 def unit_of(name: str) -> str | None:
