@@ -16,6 +16,7 @@ import numpy as np
 
 from fretbem.bem.resources import check_resources
 from fretbem.contact import control
+from fretbem.contact import rotation as pad_rotation
 from fretbem.contact.condensation import CondensedContact
 from fretbem.contact.control import Controls
 from fretbem.contact.law import STATE_NAMES, ContactLaw, ContactState, GrossSlidingError
@@ -290,7 +291,9 @@ class Simulation:
         cached = self._rotating.get(id(problem))
         if cached is None or cached[0] is not problem:
             try:
-                turned = control.rotating(problem, self.rig)
+                # the pivot of the simulation's own pair (a worn or re-paired problem keeps it)
+                pivot = pad_rotation.pivot(self.pair.condensed(), self.rig.pivot_height)
+                turned = control.rotating(problem, self.rig, pivot)
             except RotationError as err:
                 raise LoadHistoryError(str(err)) from None
             cached = (problem, turned)

@@ -199,7 +199,8 @@ def _moment(problem: CondensedContact, x, beta, rig: Rig) -> float:
     if record is None:
         return float("nan")
     if not record.in_unknowns:
-        record = pad_rotation.about(problem, pad_rotation.pivot(problem, rig.pivot_height))
+        target = pad_rotation.pivot(problem, rig.pivot_height)
+        return pad_rotation.moment_about(problem, x, beta, target)
     return record.moment(x, beta)
 
 
@@ -250,10 +251,12 @@ def controlled(problem: CondensedContact, controls: Controls, rig: Rig = RIGID) 
     )
 
 
-def rotating(problem: CondensedContact, rig: Rig) -> CondensedContact:
-    """``problem`` with the pad block's rotation about the rig's pivot among the unknowns;
-    its last resultant row holds the rotation: k L (theta + M / k_r) = k L theta_a."""
-    target = pad_rotation.pivot(problem, rig.pivot_height)
+def rotating(problem: CondensedContact, rig: Rig, target=None) -> CondensedContact:
+    """``problem`` with the pad block's rotation about the rig's pivot (``target``, or the
+    problem's own :func:`~fretbem.contact.rotation.pivot`) among the unknowns; its last
+    resultant row holds the rotation: k L (theta + M / k_r) = k L theta_a."""
+    if target is None:
+        target = pad_rotation.pivot(problem, rig.pivot_height)
     out = pad_rotation.rotating(problem, target)
     row = pad_rotation.moment_row(out)
     scale = out.rotation.scale

@@ -196,6 +196,18 @@ def _moved(problem: CondensedContact, target: np.ndarray) -> dict:
     }
 
 
+def moment_about(problem: CondensedContact, x, beta, target) -> float:
+    """The block's moment about ``target`` at x (a problem not yet rotating): the moment
+    about the record's centre plus (C - P) x F, F the block's force."""
+    rotation = _rotation(problem)
+    beta = np.asarray(beta, float)
+    offset = rotation.centre - np.asarray(target, float)
+    start = 2 * problem.layout.blocks.index(PAD)
+    _, _, base = problem.bases(beta)
+    force = base[start : start + 2] + problem.resultant_map[start : start + 2] @ x
+    return rotation.moment(x, beta) + float(offset[0] * force[1] - offset[1] * force[0])
+
+
 def about(problem: CondensedContact, target) -> PadRotation:
     """The problem's rotation record referred to ``target`` (a problem not yet rotating)."""
     moved = _moved(problem, target)
