@@ -68,7 +68,16 @@ def test_slip_csv_and_summary_cycles(saved):
     assert summary["units"]["fretting"]["dissipated_energy"] == "N mm/mm"
     assert summary["steps"][1]["control"] == {"normal": "force", "tangential": "displacement"}
     units = json.loads((out / "units.json").read_text())
-    assert set(units["loops.csv"]) == {"increment", "cycle", "Q", "delta", "P", "M", "theta", "step"}
+    assert set(units["loops.csv"]) == {
+        "increment",
+        "cycle",
+        "Q",
+        "delta",
+        "P",
+        "M",
+        "theta",
+        "step",
+    }
     assert units["slip.csv"]["slip_amplitude"]["unit"] == "mm"
 
 
