@@ -41,7 +41,10 @@ matches -h Q / (k_r + R P) within 3e-3 (measured 2.5e-4 to 1.6e-3). BEM bodies: 
 (0.64 %), q 6.5 % nurbs / 4.5 % lagrange2 (5.6 / 3.2 %), within 1 % of f p0 of the
 centred run's error, which is the flat specimen's finite-body difference; theta is 4.5 %
 off at the rig's size (the finite pad turns under the moment too) and 0.16-0.40 % off on
-bodies 4x larger.
+bodies 4x larger. The rig spring on BEM bodies (pivot on the pad's top, k_r = 1e6): theta
+2.8 % off -h Q / (k_r + R P) at the rig's size (the pad bends under Q), 0.26-0.35 % on
+bodies 4x larger (tolerance 0.6 %); M = -k_r theta to round-off; the block's moment
+balances the contact tractions' to 2.2e-3 of M, the discretisation's, like the force.
 
 **Rounded-flat pad, unsymmetric contact.** A flat of half-width b = 0.3 mm with fillets of
 R = 20 mm (P for b/a = 0.5 untilted, 228 N/mm) turned by theta = 1e-3, -2e-3 and 4e-3 rad
