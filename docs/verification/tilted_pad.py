@@ -107,6 +107,7 @@ P = 100.0
 hertz = HertzLineContact(P, R, E_STAR)
 theory = MindlinDeresiewicz(hertz, F)
 fine = np.linspace(-0.83, 0.83, 801)
+ERRORS = {}  # M: (p RMS / p0, q RMS / (f p0), theta / (M / (P R)) - 1)
 fig, axes = plt.subplots(1, 2, figsize=(11, 4), layout="constrained")
 print(f"{'M':>6} {'d mm':>7} {'theta/(M/PR)':>13} {'e_p':>7} {'e_q':>7}")
 for moment, colour in ((10.0, "C0"), (-25.0, "C1")):
@@ -117,6 +118,7 @@ for moment, colour in ((10.0, "C0"), (-25.0, "C1")):
     e_p = rms(A.pressure - hertz.pressure(A.x - d)) / hertz.peak_pressure
     e_q = rms(B.shear - theory.shear_traction(B.x - d, [0.0, q])) / (F * hertz.peak_pressure)
     ratio = measured[0]["tilt"] / (moment / (P * R))
+    ERRORS[moment] = (e_p, e_q, ratio - 1.0)
     print(f"{moment:>6g} {d:>7.3f} {ratio:>13.5f} {100 * e_p:>6.2f}% {100 * e_q:>6.2f}%")
     axes[0].plot(fine, hertz.pressure(fine - d), "-", color=colour, lw=1,
                  label=f"Hertz about d = {d:+.2f} mm")  # fmt: skip
@@ -133,6 +135,7 @@ axes[0].legend(fontsize=7)
 # theta = -h Q / (k_r + R P) and the contact moves by d = -theta R with Q; a stiffer holder
 # turns less.
 h = 16.25
+RIG = {}  # k_r: largest |theta - exact| / max |exact| over the history
 for k_r, colour in ((1e5, "C2"), (1e6, "C3")):
     history = [0.0, 15.0, 0.0, -15.0, 0.0]
     result, measured = solve(
@@ -141,6 +144,7 @@ for k_r, colour in ((1e5, "C2"), (1e6, "C3")):
     )
     tilt = np.array([m["tilt"] for m in measured])
     exact = -h * np.array(history) / (k_r + R * P)
+    RIG[k_r] = float(np.abs(tilt - exact).max() / np.abs(exact).max())
     print(f"k_r {k_r:g}: theta {tilt} vs {exact}")
     axes[1].plot(
         history, 1e3 * exact, "-", color=colour, lw=1, label=f"-h Q / (k_r + R P), k_r {k_r:g}"
@@ -168,6 +172,7 @@ def slope(x):
 
 
 reference = TiltedContact(slope, E_STAR, F)
+ROUNDED = {}  # theta: (p RMS / p_peak, q RMS / f p_peak, M / M_quadrature - 1)
 fig, ax = plt.subplots(figsize=(7, 4), layout="constrained")
 fine = np.linspace(-1.5 * a, 1.5 * a, 601)
 for theta, colour in ((1e-3, "C0"), (4e-3, "C1")):
@@ -192,6 +197,7 @@ for theta, colour in ((1e-3, "C0"), (4e-3, "C1")):
         F * exact.max()
     )
     moment = reference.moment(load, theta, edges)
+    ROUNDED[theta] = (e_p, e_q, A.moment / moment - 1.0)
     print(f"theta {theta:g}: edges {edges[0]:.4f}, {edges[1]:.4f} mm; e_p {100 * e_p:.2f} %, "
           f"e_q {100 * e_q:.2f} %; M {A.moment:.3f} vs {moment:.3f}")  # fmt: skip
     ax.plot(fine, reference.pressure(fine, load, theta, edges), "-", color=colour, lw=1,
