@@ -127,7 +127,7 @@ for moment, colour in ((10.0, "C0"), (-25.0, "C1")):
     axes[0].plot(B.x, B.shear, "s", ms=3, mfc="none", color=colour)
 axes[0].set_xlabel("x (mm)")
 axes[0].set_ylabel("p, q at Q = 0.5 f P (MPa)")
-axes[0].set_title("P = 100 N/mm and a moment M (N mm/mm) about the contact point")
+axes[0].set_title("P = 100 N/mm, moment M about the contact point")
 axes[0].legend(fontsize=7)
 
 # %%
@@ -152,7 +152,7 @@ for k_r, colour in ((1e5, "C2"), (1e6, "C3")):
     axes[1].plot(history, 1e3 * tilt, "o", color=colour, label="fretbem (half-planes)")
 axes[1].set_xlabel("Q (N/mm)")
 axes[1].set_ylabel("pad tilt theta (mrad)")
-axes[1].set_title("rotational rig spring, pivot 16.25 mm above the contact")
+axes[1].set_title("rotational rig spring, pivot 16.25 mm up")
 axes[1].legend(fontsize=7)
 
 # %%
