@@ -22,7 +22,7 @@ M = -25 to 10 N mm/mm, Q = 0.5 and 0.8 f P; the pivot at the first-contact point
 k_r = 1e5 or 1e6 N mm/mm per rad.
 
 **Models.** Both bodies half-planes (the closed forms' own idealisation), nurbs and
-lagrange2 at 41 and 61 pairs over |x| < 0.83 mm; finite BEM bodies at the rig's size and
+lagrange2 at 41 and 61 pairs over abs(x) < 0.83 mm; finite BEM bodies at the rig's size and
 4x larger, 61 pairs.
 
 **Compared.** p and q RMS over the pairs against the shifted closed forms, / p0 and / (f p0);

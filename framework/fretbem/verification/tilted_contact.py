@@ -14,7 +14,7 @@ with the edges fixed by the consistency condition int g'(s) / w(s) ds = 0 and th
 P = (E*/2) int (s - c) g'(s) / w(s) ds (c the middle of the contact). The integrals are
 Gauss-Chebyshev sums, not fretbem's discretisation. The partial-slip shear under a
 tangential load Q at fixed P and tilt is the Ciavarella-Jager superposition
-q = f [p(x; P) - p(x; P - |Q|/f)], the corrective over the stick zone of the same tilted
+q = f [p(x; P) - p(x; P - abs(Q) / f)], the corrective over the stick zone of the same tilted
 profile. Units mm, N/mm, MPa; p >= 0; q the shear the pad exerts on the specimen in +x.
 """
 
