@@ -85,7 +85,14 @@ HALF_PLANE = {
 LOADS = [(100.0, 10.0), (100.0, -25.0), (50.0, 10.0)]
 
 
-@pytest.mark.parametrize("family", list(HALF_PLANE))
+#: the families run by default (the 41-pair ones in the slow tests)
+FAMILIES = [
+    family if family[1] == 61 else pytest.param(family, marks=pytest.mark.slow)
+    for family in HALF_PLANE
+]
+
+
+@pytest.mark.parametrize("family", FAMILIES)
 @pytest.mark.parametrize("load, moment", LOADS)
 def test_moment_gives_hertz_about_the_shifted_centre(family, load, moment, record):
     """P and M on two half-planes: Hertz about d = -M / P, theta = M / (P R), and the
@@ -125,7 +132,7 @@ def test_prescribed_rotation_shifts_the_contact_by_minus_theta_r(basis):
     assert values["moment"] == pytest.approx(100.0 * theta * R, rel=3e-3)
 
 
-@pytest.mark.parametrize("family", list(HALF_PLANE))
+@pytest.mark.parametrize("family", FAMILIES)
 @pytest.mark.parametrize("moment, ratio", [(10.0, 0.5), (-25.0, 0.8)])
 def test_moment_and_shear_give_cattaneo_about_the_shifted_centre(family, moment, ratio, record):
     """P, M, then Q = ratio f P and back to 0: Cattaneo-Mindlin (and its unloading) about
@@ -184,7 +191,7 @@ def test_node_to_segment_pairing_tilts_alike():
     assert measured(simulation, step)["tilt"] == pytest.approx(10.0 / (100.0 * R), rel=3e-3)
 
 
-@pytest.mark.parametrize("stiffness", [1e5, 1e6])
+@pytest.mark.parametrize("stiffness", [1e5, pytest.param(1e6, marks=pytest.mark.slow)])
 @pytest.mark.parametrize("height", [5.0, 16.25])
 def test_rotational_rig_spring_tilts_the_pad_under_q(stiffness, height, record):
     """Q acts at the contact, a height h below the pivot: the block carries M = h Q - d P
@@ -218,7 +225,7 @@ BEM = {"nurbs": (0.008, 0.065, 0.006), "lagrange2": (0.012, 0.045, 0.006)}
 
 
 @pytest.mark.parametrize("basis", ["nurbs", pytest.param("lagrange2", marks=pytest.mark.slow)])
-@pytest.mark.parametrize("moment", [10.0, -25.0])
+@pytest.mark.parametrize("moment", [10.0, pytest.param(-25.0, marks=pytest.mark.slow)])
 def test_bem_bodies_within_the_finite_body_difference(basis, moment, record):
     """Finite BEM bodies under P, M and Q = 0.5 f P: the shifted closed forms hold as well
     as the centred ones do (the q error within 1 % of f p0 of the centred run's); theta
@@ -340,7 +347,7 @@ def test_rounded_flat_under_a_moment_converges():
 QUADRATURE = {"nurbs": (60, 0.009, 0.012, 3e-3), "lagrange2": (63, 0.025, 0.025, 3e-3)}
 
 
-@pytest.mark.parametrize("family", list(QUADRATURE))
+@pytest.mark.parametrize("family", ["nurbs", pytest.param("lagrange2", marks=pytest.mark.slow)])
 @pytest.mark.parametrize("theta", [1e-3, -2e-3, 4e-3])
 def test_tilted_rounded_flat_against_the_quadrature_solution(family, theta, record):
     """A rounded-flat pad (b/a = 0.5 untilted) turned by theta (``[load] rotation``), P, then

@@ -60,7 +60,7 @@ def test_default_problem_is_the_non_rotating_one(model):
 
 
 @pytest.mark.parametrize("model", ["half-plane", "bem"])
-@pytest.mark.parametrize("basis", ["nurbs", "lagrange2"])
+@pytest.mark.parametrize("basis", ["nurbs", pytest.param("lagrange2", marks=pytest.mark.slow)])
 def test_a_stiff_rotational_spring_reproduces_the_rigid_block(model, basis):
     """k_r = 1e18 N mm/mm per rad puts theta among the unknowns but holds it (theta =
     -M / k_r ~ 2e-16): p, q, Q and delta equal the non-rotating block's to 1e-9 (relative),
@@ -244,7 +244,7 @@ def _pads() -> dict:
     }
 
 
-@pytest.mark.parametrize("model", ["half-plane", "bem"])
+@pytest.mark.parametrize("model", ["half-plane", pytest.param("bem", marks=pytest.mark.slow)])
 @pytest.mark.parametrize("pad", list(_pads()))
 def test_every_pad_shape_turns(pad, model):
     """Every pad shape (a nurbs pad drawing a library shape's segments gives that shape's
