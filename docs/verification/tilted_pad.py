@@ -32,14 +32,14 @@ the block and the contact tractions.
 **Tolerances and measured differences** (tests/validation/test_tilted_pad.py, rows in
 the validation table). Half-planes: p 0.9 % (nurbs; measured at most 0.75 %) and 1.2 %
 (lagrange2 61; 0.62 %), 1.6 % at lagrange2 41 (1.3 %: P = 50 leaves 16 pairs in
-contact); q 1.6 % (1.3 %) and 2 to 2.6 % (lagrange2; 1.7 and 2.1 % back at Q = 0); the
-centred contact at the same zone has the same errors, so they are the discretisation's.
-Nowell-Hills about d: 1.2 % (0.81 %; centred 0.53 %). theta within 3e-3 a / R of
-M / (P R) (1.6e-3). The block's moment balances the contact tractions' to round-off
-(1e-12 of P a), and with the rig the spring holds M = -k_r theta to round-off and theta
-matches -h Q / (k_r + R P) within 3e-3 (measured 2.5e-4 to 1.6e-3). BEM bodies: p 0.8 %
-(0.64 %), q 6.5 % nurbs / 4.5 % lagrange2 (5.6 / 3.2 %), within 1 % of f p0 of the
-centred run's error, which is the flat specimen's finite-body difference; theta is 4.5 %
+contact); q 1.6 % (1.3 %) and 2 to 2.6 % (lagrange2; 1.7 and 2.1 % back at Q = 0): the
+discretisation error over a zone wide enough for the shifted contact (0.83 mm, 1.8 a).
+Nowell-Hills about d: 1.2 % (0.66 %). theta within 3e-3 a / R of M / (P R) (2.4e-3 at
+lagrange2 41 pairs, P = 50; 7.6e-4 at 61 pairs). The block's moment balances the contact
+tractions' to round-off (1e-12 of P a); with the rig the spring holds M = -k_r theta to
+round-off and theta matches -h Q / (k_r + R P) within 3e-3 (measured 4.2e-5 to 3.4e-4).
+BEM bodies: p 0.8 % (0.64 %), q 6.5 % nurbs / 4.5 % lagrange2 (5.6 / 3.2 %), within 1 % of
+f p0 of the centred run's error, which is the flat specimen's finite-body difference; theta is 4.5 %
 off at the rig's size (the finite pad turns under the moment too) and 0.16-0.40 % off on
 bodies 4x larger. The rig spring on BEM bodies (pivot on the pad's top, k_r = 1e6): theta
 2.8 % off -h Q / (k_r + R P) at the rig's size (the pad bends under Q), 0.26-0.35 % on
