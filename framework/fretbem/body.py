@@ -48,6 +48,46 @@ class ContactFace:
 
 
 @attrs.frozen(eq=False)
+class BlockRotation:
+    """How the face and the block's moment respond to a rotation of the loading block.
+
+    A rotation theta (rad, counterclockwise) of the block about ``centre`` moves the face
+    by theta e_z x (p - centre); the block's moment on the body about ``centre``
+    (counterclockwise, force x length per thickness) is affine like its force::
+
+        u += face_map * theta
+        M = m_base + m_traction @ t.ravel() + m_block @ delta + m_rotation * theta + m_load @ beta
+        R += r_rotation * theta
+
+    Attributes
+    ----------
+    centre : ndarray, shape (2,)
+        The point the rotation and the moments refer to.
+    level : float
+        y of the block's line (the pad's top for a BEM pad, the datum depth of a half-plane):
+        where a rig's pivot sits by default.
+    face_map : ndarray, shape (n, 2)
+    m_base : float; m_traction : (2n,); m_block : (2,); m_rotation : float; m_load : (k,)
+    r_rotation : ndarray, shape (2,)
+    contact_moment : ndarray, shape (2n,)
+        Moment of the face tractions about ``centre`` per unit node traction (the block's
+        moment balances it, to round-off on a half-plane, to the discretisation on a BEM
+        body).
+    """
+
+    centre: np.ndarray
+    level: float
+    face_map: np.ndarray
+    m_base: float
+    m_traction: np.ndarray
+    m_block: np.ndarray
+    m_rotation: float
+    m_load: np.ndarray
+    r_rotation: np.ndarray
+    contact_moment: np.ndarray
+
+
+@attrs.frozen(eq=False)
 class ContactResponse:
     """Displacement at the face nodes, affine in the face tractions, block and loads.
 
@@ -73,6 +113,9 @@ class ContactResponse:
         traction field over the face, for any body model).
     has_block : bool
         Whether the body carries a loading block (its delta is then an unknown).
+    rotation : BlockRotation or None
+        The response to the block's rotation; None without a block, or where the body model
+        cannot rotate it (a BEM body held by Displacement conditions as well).
     """
 
     base: np.ndarray
@@ -85,6 +128,7 @@ class ContactResponse:
     r_load: np.ndarray
     contact_force: np.ndarray
     has_block: bool
+    rotation: BlockRotation | None = None
 
     @property
     def n_nodes(self) -> int:
@@ -158,6 +202,9 @@ class Body(ABC):
         self, tag: str, tractions: np.ndarray, block: np.ndarray, loads: Mapping[str, float]
     ) -> Any:
         """The body's fields for face node tractions (n, 2), block delta (2,) and loads.
+
+        A body whose response has a :class:`BlockRotation` also takes ``rotation=theta``
+        (rad, about its ``centre``; the contact passes it only when the block rotates).
 
         The returned object gives ``displacement(k, params)`` and ``traction(k, params)``
         (n, 2) on segment k of :attr:`segments` at curve parameters, and

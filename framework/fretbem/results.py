@@ -150,6 +150,12 @@ class IncrementRecord:
         0 separated, 1 stick, 2 slip.
     loads : dict
         Named load amplitudes.
+    moment : float
+        M, the moment of the pad's block on the pad about the rig's pivot (N mm/mm,
+        counterclockwise); NaN where the pad's model gives none.
+    rotation, tilt : float
+        The actuator's rotation theta (rad, counterclockwise; the block's plus M / k_r) and
+        the pad block's own (0 when the block does not rotate).
     """
 
     normal: float
@@ -161,6 +167,9 @@ class IncrementRecord:
     shear: np.ndarray = attrs.field(converter=_frozen)
     states: np.ndarray = attrs.field(converter=_frozen_states)
     loads: dict = attrs.field(factory=dict)
+    moment: float = float("nan")
+    rotation: float = 0.0
+    tilt: float = 0.0
 
     @classmethod
     def of(cls, problem, state, rig=control.RIGID) -> IncrementRecord:
@@ -177,6 +186,9 @@ class IncrementRecord:
             shear=unknowns.shear,
             states=state.states,
             loads=dict(state.loads),
+            moment=measured["moment"],
+            rotation=measured["rotation"],
+            tilt=measured["tilt"],
         )
 
 
@@ -224,6 +236,13 @@ class StepResult:
     pair : ContactPair or None
         Finite sliding: the pairing the step was solved with (the pad where it had slid);
         None: the simulation's own pair.
+    moment : float
+        M, the moment the pad's block applies to the pad about the rig's pivot (N mm/mm,
+        counterclockwise; :mod:`fretbem.contact.rotation`); NaN where the pad's model
+        gives none.
+    rotation, tilt : float
+        The actuator's rotation theta (rad, counterclockwise: the block's plus M / k_r) and
+        the pad block's own rotation (both 0 when the block does not rotate).
     """
 
     name: str
@@ -251,6 +270,9 @@ class StepResult:
     delta: float = float("nan")
     increments: tuple = ()
     pair: object = None
+    moment: float = float("nan")
+    rotation: float = 0.0
+    tilt: float = 0.0
 
     def __repr__(self) -> str:
         return step_repr(self)
@@ -285,6 +307,9 @@ class StepResult:
             controls=controls,
             approach=measured["approach"],
             delta=measured["delta"],
+            moment=measured["moment"],
+            rotation=measured["rotation"],
+            tilt=measured["tilt"],
             x=x,
             pressure=p,
             shear=q,
@@ -440,6 +465,7 @@ class SimulationResult:
         record (mesh mode, levels, why no estimate)."""
         steps = []
         theory = self.theory_stick_zones()
+        rotates = bool(getattr(self.simulation, "rotates", False))
         for s, zone in zip(self.steps, theory, strict=True):
             e, est = s.errors or {}, s.estimate or {}
             steps.append(
@@ -454,7 +480,14 @@ class SimulationResult:
                     **{ESTIMATE_KEYS[k]: est.get(k) for k in ERROR_KEYS},
                     "delta": s.delta,
                     "approach": s.approach,
-                    "control": {"normal": s.controls.normal, "tangential": s.controls.tangential},
+                    "M": s.moment,
+                    "theta": s.rotation,
+                    "tilt": s.tilt,
+                    "control": {
+                        "normal": s.controls.normal,
+                        "tangential": s.controls.tangential,
+                        **({"rotation": s.controls.rotation} if rotates else {}),
+                    },
                     "integral_p": s.resultant[0],
                     "integral_q": s.resultant[1],
                     "iterations": s.iterations,

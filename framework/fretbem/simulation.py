@@ -16,10 +16,12 @@ import numpy as np
 
 from fretbem.bem.resources import check_resources
 from fretbem.contact import control
+from fretbem.contact import rotation as pad_rotation
 from fretbem.contact.condensation import CondensedContact
 from fretbem.contact.control import Controls
 from fretbem.contact.law import STATE_NAMES, ContactLaw, ContactState, GrossSlidingError
 from fretbem.contact.pairs import ContactPair
+from fretbem.contact.rotation import RotationError
 from fretbem.errors import InputError
 from fretbem.solvers.newton import IncrementResult, SemiSmoothNewton, Solver, SolverConvergenceError
 from fretbem.verification.checks import check_step, step_names
@@ -84,6 +86,13 @@ class LoadStep:
     cycle : int
         The load cycle this step belongs to (1, 2, ...; 0: none), for the per-cycle results
         of a cyclic history (:mod:`fretbem.fretting`).
+    moment : float or None
+        Moment M (N mm/mm, counterclockwise) the pad's block applies to the pad about the
+        rig's pivot (:mod:`fretbem.contact.rotation`): the block's rotation is then free.
+    rotation : float or None
+        The actuator's rotation theta_a (rad, counterclockwise) instead: the block turns
+        by theta_a - M / k_r through the rig's rotational spring (rigid by default). Neither
+        given: theta_a = 0, the block held as the rig holds it.
     """
 
     name: str
@@ -102,6 +111,12 @@ class LoadStep:
     cycle: int = attrs.field(
         default=0, converter=int, validator=attrs.validators.ge(0), kw_only=True
     )
+    moment: float | None = attrs.field(
+        default=None, converter=_optional_float, validator=_optional_finite, kw_only=True
+    )
+    rotation: float | None = attrs.field(
+        default=None, converter=_optional_float, validator=_optional_finite, kw_only=True
+    )
 
     def __attrs_post_init__(self) -> None:
         if (self.normal is None) == (self.approach is None):
@@ -116,14 +131,33 @@ class LoadStep:
                 f"{self.delta}; a tangential direction is driven by force or by displacement: "
                 "keep one of them"
             )
+        if self.moment is not None and self.rotation is not None:
+            raise LoadHistoryError(
+                f"load step {self.name!r} gives both the moment M = {self.moment} and the "
+                f"rotation theta = {self.rotation}; the pad block's rotation is driven by its "
+                "moment or by the actuator's rotation: keep one of them"
+            )
 
     @property
     def controls(self) -> Controls:
-        """Which directions this step drives by displacement."""
+        """Which directions this step drives by displacement (and the rotation by moment)."""
         return Controls(
             normal="force" if self.approach is None else "displacement",
             tangential="force" if self.delta is None else "displacement",
+            rotation="rotation" if self.moment is None else "moment",
         )
+
+    @property
+    def rotation_target(self) -> float:
+        """M or the actuator's rotation (0 when the step gives neither)."""
+        if self.moment is not None:
+            return self.moment
+        return 0.0 if self.rotation is None else self.rotation
+
+    @property
+    def turns(self) -> bool:
+        """Whether the step moves the pad block's rotation (a moment or a rotation != 0)."""
+        return self.moment is not None or bool(self.rotation)
 
     @property
     def normal_target(self) -> float:
@@ -170,6 +204,8 @@ class Simulation:
     )
     #: the controlled problems of the condensed pair, per Controls (a private cache)
     _controlled: dict = attrs.field(init=False, factory=dict, repr=False)
+    #: the rotating problem of each condensed pair (a private cache)
+    _rotating: dict = attrs.field(init=False, factory=dict, repr=False)
 
     def __attrs_post_init__(self) -> None:
         if self.pair.upper.loading_block is None:
@@ -197,6 +233,13 @@ class Simulation:
                     "together (P > 0) under force control"
                 )
         driven = [s.name for s in self.steps if not s.controls.by_force]
+        if self.rotates and not getattr(self.solver, "displacement_control", True):
+            raise LoadHistoryError(
+                f"the pad block rotates (a rotational rig stiffness, or a step's moment or "
+                f"rotation), which the {type(self.solver).__name__} solver does not take (its "
+                "LCP form keeps the force balance of a non-rotating block); use the Newton "
+                "solver ([contact] solver = 'newton')"
+            )
         if driven and not getattr(self.solver, "displacement_control", True):
             raise LoadHistoryError(
                 f"load steps {driven} impose the block's displacement (delta or approach), "
@@ -215,6 +258,13 @@ class Simulation:
                 )
         self.law.check_history(self.steps)
 
+    @property
+    def rotates(self) -> bool:
+        """Whether the pad block's rotation is an unknown: a rotational rig spring, or a
+        step that gives a moment or a rotation. Otherwise the block does not rotate and the
+        problem is exactly that of a non-rotating block."""
+        return bool(np.isfinite(self.rig.rotational)) or any(s.turns for s in self.steps)
+
     def frame(self) -> tuple[np.ndarray, np.ndarray]:
         """Mean normal and tangent of the pair: loads act along these."""
         normal = self.pair.pairing().normals.mean(axis=0)
@@ -231,8 +281,25 @@ class Simulation:
         return np.concatenate(forces)
 
     def prepare(self) -> CondensedContact:
-        """Assemble both bodies and condense them onto the pair unknowns (cached)."""
-        return self.pair.condensed()
+        """Assemble both bodies and condense them onto the pair unknowns (cached); with the
+        pad block's rotation among them when the simulation :attr:`rotates`."""
+        problem = self.pair.condensed()
+        return self.rotating(problem) if self.rotates else problem
+
+    def rotating(self, problem: CondensedContact) -> CondensedContact:
+        """``problem`` with the pad block's rotation held by the rig (cached per problem)."""
+        cached = self._rotating.get(id(problem))
+        if cached is None or cached[0] is not problem:
+            try:
+                # the pivot of the simulation's own pair (a worn or re-paired problem keeps it)
+                pivot = pad_rotation.pivot(self.pair.condensed(), self.rig.pivot_height)
+                turned = control.rotating(problem, self.rig, pivot)
+            except RotationError as err:
+                raise LoadHistoryError(str(err)) from None
+            cached = (problem, turned)
+            self._rotating.clear()
+            self._rotating[id(problem)] = cached
+        return cached[1]
 
     def controlled(self, problem: CondensedContact, controls: Controls) -> CondensedContact:
         """``problem`` with the pad block's equations of ``controls`` (cached per control)."""
@@ -251,29 +318,39 @@ class Simulation:
         """P, Q, the approach and delta of ``state`` (the pad block against the datum)."""
         return control.measure(problem, state.x, problem.amplitudes(state.loads), self.rig)
 
-    def _start(self, problem, state: ContactState, controls: Controls) -> tuple[float, float]:
-        """The values of the step's driven quantities at ``state`` (where the step starts)."""
-        if controls.by_force:
-            return state.normal, state.tangential
+    def _start(self, problem, state: ContactState, controls: Controls) -> tuple:
+        """The values of the step's driven quantities at ``state`` (where the step starts):
+        P or the approach, Q or delta, and the actuator's rotation or M."""
+        turning = _turning(problem)
+        if controls.by_force and not turning:
+            return state.normal, state.tangential, 0.0
         measured = self.measure(problem, state)
         normal = state.normal if controls.normal == "force" else measured["approach"]
         tangential = state.tangential if controls.tangential == "force" else measured["delta"]
-        return normal, tangential
+        rotation = 0.0
+        if turning:
+            rotation = measured["moment" if controls.rotation == "moment" else "rotation"]
+        return normal, tangential, rotation
 
-    def _increment(self, problem, state, normal, tangential, loads, depth=0, controls=None):
-        """Solve from ``state`` to the driven values (normal, tangential) and named loads,
-        halving on failure; ``controls`` says which values are forces or displacements."""
+    def _increment(
+        self, problem, state, normal, tangential, loads, depth=0, controls=None, rotation=0.0
+    ):
+        """Solve from ``state`` to the driven values (normal, tangential, rotation) and named
+        loads, halving on failure; ``controls`` says which values are forces or
+        displacements (and whether ``rotation`` is the actuator's rotation or M)."""
         controls = Controls() if controls is None else controls
         driven = self.controlled(problem, controls)
         forces = self.forces(
             normal if controls.normal == "force" else 0.0,
             tangential if controls.tangential == "force" else 0.0,
         )
+        if _turning(problem):
+            forces = np.append(forces, 0.0)
         try:
             result = self.solver.solve_increment(
                 driven,
                 self.law,
-                forces=control.targets(problem, controls, normal, tangential, forces),
+                forces=control.targets(problem, controls, normal, tangential, forces, rotation),
                 loads=problem.amplitudes(loads),
                 previous=state,
                 start=None if state.virgin else state,
@@ -281,15 +358,16 @@ class Simulation:
         except SolverConvergenceError as failure:
             if depth >= self.solver.max_substeps:
                 raise
-            start_n, start_t = self._start(problem, state, controls)
+            start_n, start_t, start_r = self._start(problem, state, controls)
             mid_n = 0.5 * (start_n + normal)
             mid_t = 0.5 * (start_t + tangential)
+            mid_r = 0.5 * (start_r + rotation)
             mid_loads = _between(state.loads, loads, 0.5)
             half, it1, res1 = self._increment(
-                problem, state, mid_n, mid_t, mid_loads, depth + 1, controls
+                problem, state, mid_n, mid_t, mid_loads, depth + 1, controls, mid_r
             )
             full, it2, res2 = self._increment(
-                problem, half, normal, tangential, loads, depth + 1, controls
+                problem, half, normal, tangential, loads, depth + 1, controls, rotation
             )
             # the failed attempt's iterations were spent too: report them with the halves
             failed = list(failure.residuals)
@@ -320,21 +398,28 @@ class Simulation:
         results of a cyclic history)."""
         iterations, residuals = 0, []
         controls = load.controls
-        start_n, start_t = self._start(problem, state, controls)
+        start_n, start_t, start_r = self._start(problem, state, controls)
         start_loads = dict(state.loads)
         for k in range(1, load.increments + 1):
             frac = k / load.increments
             target_n = start_n + frac * (load.normal_target - start_n)
             target_t = start_t + frac * (load.tangential_target - start_t)
+            target_r = start_r + frac * (load.rotation_target - start_r)
             target_loads = _between(start_loads, load.loads, frac)
             state, its, res = self._increment(
-                problem, state, target_n, target_t, target_loads, controls=controls
-            )
+                problem, state, target_n, target_t, target_loads, controls=controls,
+                rotation=target_r,
+            )  # fmt: skip
             iterations += its
             residuals += res
             if record is not None:
                 record(state)
         return state, iterations, residuals
+
+
+def _turning(problem: CondensedContact) -> bool:
+    """Whether ``problem`` carries the pad block's rotation among its unknowns."""
+    return problem.rotation is not None and problem.rotation.in_unknowns
 
 
 def _between(start: Mapping[str, float], end: Mapping[str, float], frac: float) -> dict:

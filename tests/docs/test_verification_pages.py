@@ -61,3 +61,17 @@ def test_bulk_beyond_limit(page):
     assert ns["rms"] < 0.005
     assert all(e < 0.007 for e in ns["ERRORS"].values())
     assert ns["REVERSED"] == {0.8: False, 1.5: True, 2.5: True}
+
+
+def test_tilted_pad(page):
+    """Half-planes: p <= 0.9 %, q <= 1.6 %, theta within 3e-3 of M / (P R); the rig's theta
+    within 3e-3 of -h Q / (k_r + R P); the tilted rounded flat p <= 0.9 %, q <= 1.2 %,
+    M within 3e-3 of the quadrature solution's (the tolerances of test_tilted_pad.py)."""
+    ns = page("tilted_pad.py")
+    assert set(ns["ERRORS"]) == {10.0, -25.0}
+    for e_p, e_q, e_theta in ns["ERRORS"].values():
+        assert e_p < 0.009 and e_q < 0.016 and abs(e_theta) < 3e-3
+    assert all(error < 3e-3 for error in ns["RIG"].values())
+    assert len(ns["ROUNDED"]) == 2
+    for e_p, e_q, e_m in ns["ROUNDED"].values():
+        assert e_p < 0.009 and e_q < 0.012 and abs(e_m) < 3e-3

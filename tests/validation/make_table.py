@@ -26,6 +26,7 @@ FILES = (
     "test_rounded_flat.py",
     "test_dissimilar.py",
     "test_bulk_beyond_limit.py",
+    "test_tilted_pad.py",
 )
 HEADER = """# Validation table
 

@@ -152,6 +152,38 @@ class BemBody(Body):
             self._cache["resultant"] = out
         return self._cache["resultant"]
 
+    def moment_weights(self, centre) -> np.ndarray:
+        """int phi_a (x - cx) dGamma and int phi_a (y - cy) dGamma for every function (N, 2):
+        traction coefficients to their moment about ``centre``."""
+        rule = QuadratureRule.gauss_legendre(8)
+        centre = np.asarray(centre, float)
+        out = np.zeros((self.n_functions, 2))
+        for k, basis in enumerate(self.segments):
+            elements = np.repeat(np.arange(basis.n_elements), rule.points.size)
+            local = np.tile(rule.points, basis.n_elements)
+            points, _, jac, _ = basis.geometry(elements, local)
+            values, _ = basis.shape_functions(elements, local)
+            weights = jac * np.tile(rule.weights, basis.n_elements)
+            for j in range(2):
+                np.add.at(
+                    out[:, j],
+                    self.offsets[k] + basis.connectivity[elements],
+                    values * ((points[:, j] - centre[j]) * weights)[:, None],
+                )
+        return out
+
+    def rotation_coefficients(self, centre) -> np.ndarray:
+        """Displacement coefficients (N, 2) of a unit rigid rotation about ``centre``, each
+        segment's interpolating the field at its collocation points."""
+        centre = np.asarray(centre, float)
+        colloc = self.collocation
+        out = np.zeros((self.n_functions, 2))
+        for k, basis in enumerate(self.segments):
+            arm = colloc.points[colloc.segment == k] - centre
+            values = np.column_stack([-arm[:, 1], arm[:, 0]])
+            out[self.function_slice(k)] = np.linalg.solve(basis.collocation_matrix(), values)
+        return out
+
     # -- boundary conditions --------------------------------------------------------------
     def layout(self, contact_tags: tuple[str, ...] = ()) -> Layout:
         """Kinds and known coefficients of every dof, computed once per set of contact tags.
@@ -310,9 +342,17 @@ class BemBody(Body):
         tractions: np.ndarray,
         block: np.ndarray,
         loads: Mapping[str, float],
+        rotation: float = 0.0,
     ) -> BodySolution:
-        """Every boundary coefficient for node tractions (n, 2) on the face ``tag``."""
+        """Every boundary coefficient for node tractions (n, 2) on the face ``tag``, block
+        delta, loads and the block's rotation (rad, about the response's rotation centre:
+        a rigid rotation of the whole body, which leaves the tractions unchanged)."""
         inverse_values = np.linalg.solve(face_values_matrix(self, tag), np.asarray(tractions))
-        return self.system((tag,)).solution(
+        solution = self.system((tag,)).solution(
             np.asarray(block, float), inverse_values.ravel(), self._amplitudes(loads)
         )
+        if not rotation:
+            return solution
+        centre = self.contact_response(tag).rotation.centre
+        moved = solution.displacement_coefficients + rotation * self.rotation_coefficients(centre)
+        return attrs.evolve(solution, displacement_coefficients=moved)

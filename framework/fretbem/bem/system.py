@@ -15,7 +15,7 @@ import attrs
 import numpy as np
 import scipy.linalg as sla
 
-from fretbem.body import ContactResponse, RigidMotionError
+from fretbem.body import BlockRotation, ContactResponse, RigidMotionError
 from fretbem.numerics.blas import one_blas_thread
 
 from .layout import BLOCK, CONTACT, DISPLACEMENT, TRACTION
@@ -200,6 +200,9 @@ def contact_response(body: Body, tag: str) -> ContactResponse:
     else:
         r_base, r_traction = np.zeros(2), np.zeros((2, 2 * n))
         r_block, r_load = np.zeros((2, 2)), np.zeros((2, k))
+    rotation = None
+    if has_block and not np.any(system.kinds == DISPLACEMENT):
+        rotation = _block_rotation(body, tag, system, block_rows, band)
     return ContactResponse(
         base=node_values(system.base[:, None])[:, :, 0],
         traction_map=traction_map,
@@ -211,6 +214,36 @@ def contact_response(body: Body, tag: str) -> ContactResponse:
         r_load=r_load.reshape(2, k),
         contact_force=contact_force,
         has_block=has_block,
+        rotation=rotation,
+    )
+
+
+def _block_rotation(body, tag, system, block_rows, band) -> BlockRotation:
+    """The block's rotation for a body the block alone holds: a rotation theta of the block
+    with no contact traction and no load turns the whole body rigidly (no traction
+    anywhere), so its response is the rigid field, exactly; the block's moment is that of
+    its traction unknowns, like its force."""
+    colloc = body.collocation
+    block_segments = body._indices(body.loading_block.tag, "the loading block")
+    on_block = colloc.points[np.isin(colloc.segment, block_segments)]
+    centre = on_block.mean(axis=0)
+    moments = body.moment_weights(centre)  # (N, 2)
+    dofs = system.block_dofs
+    selector = np.where(dofs % 2 == 0, -moments[dofs // 2, 1], moments[dofs // 2, 0])
+    face_moments = band.solve_transposed(moments[face_rows(body, tag)[1]].copy(order="F"))
+    contact_moment = np.column_stack([-face_moments[:, 1], face_moments[:, 0]]).ravel()
+    face = colloc.points[face_rows(body, tag)[0]] - centre
+    return BlockRotation(
+        centre=centre,
+        level=float(centre[1]),
+        face_map=np.column_stack([-face[:, 1], face[:, 0]]),
+        m_base=float(selector @ system.base[dofs]),
+        m_traction=selector @ block_rows,
+        m_block=selector @ system.block_response[dofs],
+        m_rotation=0.0,
+        m_load=selector @ system.load_response[dofs],
+        r_rotation=np.zeros(2),
+        contact_moment=contact_moment,
     )
 
 

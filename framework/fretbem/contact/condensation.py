@@ -18,6 +18,7 @@ import numpy as np
 
 from fretbem.numerics.blas import one_blas_thread
 
+from . import rotation as pad_rotation
 from .unknowns import PairUnknowns, UnknownLayout
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -68,6 +69,10 @@ class CondensedContact:
     seconds : float
         Wall time of the condensation, the bodies' factorisation included (their assembly
         excluded).
+    rotation : PadRotation or None
+        The pad block's rotation and moment (:mod:`fretbem.contact.rotation`); None where
+        the pad's body model cannot rotate its block. Its theta is in x only once
+        :func:`~fretbem.contact.rotation.rotating` has put it there.
     """
 
     pair: PairedFaces
@@ -86,6 +91,7 @@ class CondensedContact:
     load_names: tuple[str, ...]
     gap: np.ndarray
     seconds: float
+    rotation: pad_rotation.PadRotation | None = None
 
     @classmethod
     def build(cls, pair: PairedFaces) -> CondensedContact:
@@ -148,6 +154,12 @@ class CondensedContact:
                 resultant_load[block_rows, :] = _scatter_columns(
                     response.r_load, load_columns, names
                 )
+        rotation = None
+        if pad_rotation.PAD in blocks and responses[pad_rotation.PAD].rotation is not None:
+            rotation = pad_rotation.condensed(
+                pairing, layout, names, pair.side(pad_rotation.PAD)[0],
+                responses[pad_rotation.PAD], -lower_frame, _per_pair,
+            )  # fmt: skip
         seconds = time.perf_counter() - start - (_assembly_seconds(pair) - body_before)
         return cls(
             pair=pair,
@@ -166,6 +178,7 @@ class CondensedContact:
             load_names=names,
             gap=pairing.gap,
             seconds=max(seconds, 0.0),
+            rotation=rotation,
         )
 
     @property
@@ -214,8 +227,21 @@ class CondensedContact:
             body, tag = self.pair.side(label)
             on_body = pair_traction[..., 0] * (-1.0 if label == "upper" else 1.0)
             face = self.pairing.scatter(label, on_body, body.contact_face(tag).n_nodes)
-            out[label] = body.solution(tag, face, unknowns.block(label), loads)
+            turned = unknowns.rotation(label)
+            if turned:  # about the body's own centre: the pivot's translation moved to delta
+                block, turned = self.rotation_about_centre(unknowns.block(label), turned)
+                out[label] = body.solution(tag, face, block, loads, rotation=turned)
+            else:
+                out[label] = body.solution(tag, face, unknowns.block(label), loads)
         return out
+
+    def rotation_about_centre(self, block: np.ndarray, theta: float) -> tuple[np.ndarray, float]:
+        """The pad block's (delta, theta) about the pivot as (delta', theta) about its body's
+        centre: a rotation about P is one about C plus the translation e_z x (C - P)."""
+        body = self.pair.side(pad_rotation.PAD)[0]
+        centre = body.contact_response(self.pair.side(pad_rotation.PAD)[1]).rotation.centre
+        offset = centre - self.rotation.centre
+        return np.asarray(block, float) + theta * np.array([-offset[1], offset[0]]), theta
 
 
 def _per_pair(operator: np.ndarray, frame: np.ndarray) -> np.ndarray:

@@ -15,6 +15,12 @@ unit thickness in x along t and y along n): the imposed displacement is then the
 actuator's, delta_a = delta + Q / k_t and alpha_a = alpha + P / k_n, which is what a rig
 measures; the springs are elastic, so they change the loop's shape, not its area.
 
+The pad's block may also rotate (:mod:`fretbem.contact.rotation`): its rotation theta about
+the rig's pivot is then an unknown and its moment M a resultant row, which a step drives by
+the moment (M imposed) or by the actuator's rotation theta_a = theta + M / k_r through a
+rotational spring k_r (the row k L (theta + M / k_r) = k L theta_a; a rigid rig holds
+theta = theta_a, by default 0).
+
 The replaced rows are scaled by a contact stiffness, so that the solvers' force-relative
 residual measures them in force units too. A controlled problem is the same
 :class:`~fretbem.contact.condensation.CondensedContact` with other resultant rows, so every
@@ -26,10 +32,13 @@ from __future__ import annotations
 import attrs
 import numpy as np
 
+from . import rotation as pad_rotation
 from .condensation import CondensedContact
 
 #: the two controls of a loading-block direction
 CONTROLS = ("force", "displacement")
+#: the two controls of the pad block's rotation
+ROTATION_CONTROLS = ("rotation", "moment")
 
 
 def _stiffness(instance, attribute, value) -> None:
@@ -37,6 +46,14 @@ def _stiffness(instance, attribute, value) -> None:
         raise ValueError(
             f"Rig.{attribute.name} must be > 0 (force per thickness per mm; math.inf for a "
             f"rigid rig), got {value!r}"
+        )
+
+
+def _pivot_height(instance, attribute, value) -> None:
+    if value is not None and not np.isfinite(value):
+        raise ValueError(
+            f"Rig.pivot_height must be a finite height in mm above the first-contact point, "
+            f"or None for the pad block's line; got {value!r}"
         )
 
 
@@ -49,15 +66,37 @@ class Rig:
     tangential, normal : float
         Stiffness k_t, k_n (N/mm per mm of travel = MPa), > 0; ``math.inf`` (the default)
         is a rigid connection.
+    rotational : float
+        Rotational stiffness k_r (N mm/mm per rad), > 0, about the pivot; ``math.inf``
+        (the default) holds the block's rotation at the actuator's (0 unless a step gives
+        one): the block then does not rotate, as in a rig without this spring.
+    pivot_height : float or None
+        Height (mm) of the pivot above the initial first-contact point, where the block's
+        rotation and moment are taken; None (the default): on the block's line (the pad's
+        top, the datum depth of a half-plane pad) above that point.
     """
 
     tangential: float = attrs.field(default=float("inf"), converter=float, validator=_stiffness)
     normal: float = attrs.field(default=float("inf"), converter=float, validator=_stiffness)
+    rotational: float = attrs.field(
+        default=float("inf"), converter=float, validator=_stiffness, kw_only=True
+    )
+    pivot_height: float | None = attrs.field(
+        default=None,
+        converter=lambda v: None if v is None else float(v),
+        validator=_pivot_height,
+        kw_only=True,
+    )
 
     @property
     def compliances(self) -> tuple[float, float]:
         """(1 / k_n, 1 / k_t): the springs' travel per unit P and Q."""
         return 1.0 / self.normal, 1.0 / self.tangential
+
+    @property
+    def rotational_compliance(self) -> float:
+        """1 / k_r: the spring's rotation per unit moment (rad per N mm/mm)."""
+        return 1.0 / self.rotational
 
 
 RIGID = Rig()
@@ -73,15 +112,22 @@ class Controls:
         ``"force"`` (P imposed) or ``"displacement"`` (the approach imposed).
     tangential : str
         ``"force"`` (Q imposed) or ``"displacement"`` (delta imposed).
+    rotation : str
+        ``"rotation"`` (the actuator's rotation imposed, 0 by default: the held block of a
+        pad that does not rotate) or ``"moment"`` (M imposed).
     """
 
     normal: str = attrs.field(default="force", validator=attrs.validators.in_(CONTROLS))
     tangential: str = attrs.field(default="force", validator=attrs.validators.in_(CONTROLS))
+    rotation: str = attrs.field(
+        default="rotation", validator=attrs.validators.in_(ROTATION_CONTROLS), kw_only=True
+    )
 
     @property
     def by_force(self) -> bool:
-        """True when both directions are force controlled (the problem is unchanged)."""
-        return self.normal == "force" and self.tangential == "force"
+        """True when both directions are force controlled and the rotation is held (the
+        problem's rows are those it was built with)."""
+        return self.normal == "force" and self.tangential == "force" and self.rotation == "rotation"
 
 
 def frame(problem: CondensedContact) -> tuple[np.ndarray, np.ndarray]:
@@ -122,19 +168,40 @@ def measure(
     problem: CondensedContact, x: np.ndarray, beta: np.ndarray = (), rig: Rig = RIGID
 ) -> dict:
     """P, Q, the approach and delta at pair unknowns x (force-control problem): the
-    actuator's (the block's plus the rig springs' travel, P / k_n and Q / k_t)."""
+    actuator's (the block's plus the rig springs' travel, P / k_n and Q / k_t); M, the
+    block's moment about the pivot, ``rotation`` the actuator's (theta + M / k_r) and
+    ``tilt`` the block's own theta (M is NaN where the pad's model gives no moment)."""
     n, t = frame(problem)
-    _, _, base = problem.bases(np.asarray(beta, float))
+    beta = np.asarray(beta, float)
+    _, _, base = problem.bases(beta)
     force = (base + problem.resultant_map @ x)[_block_rows(problem)]
     approach, delta = motion_rows(problem) @ x
     normal, tangential = float(-force @ n), float(force @ t)
     c_n, c_t = rig.compliances
+    moment, tilt = _moment(problem, x, beta, rig), 0.0
+    if pad_rotation.PAD in problem.layout.rotations:
+        tilt = float(x[problem.layout.rotation(pad_rotation.PAD)])
+    rotation = tilt + (moment * rig.rotational_compliance if np.isfinite(rig.rotational) else 0.0)
     return {
         "normal": normal,
         "tangential": tangential,
         "approach": float(approach) + c_n * normal,
         "delta": float(delta) + c_t * tangential,
+        "moment": moment,
+        "rotation": float(rotation),
+        "tilt": tilt,
     }
+
+
+def _moment(problem: CondensedContact, x, beta, rig: Rig) -> float:
+    """The pad block's moment about the pivot (NaN without a rotation record)."""
+    record = problem.rotation
+    if record is None:
+        return float("nan")
+    if not record.in_unknowns:
+        target = pad_rotation.pivot(problem, rig.pivot_height)
+        return pad_rotation.moment_about(problem, x, beta, target)
+    return record.moment(x, beta)
 
 
 def controlled(problem: CondensedContact, controls: Controls, rig: Rig = RIGID) -> CondensedContact:
@@ -146,6 +213,8 @@ def controlled(problem: CondensedContact, controls: Controls, rig: Rig = RIGID) 
     """
     if controls.by_force:
         return problem
+    if controls.rotation == "moment":
+        problem = _moment_controlled(problem)
     n, t = frame(problem)
     rows = _block_rows(problem)
     k = stiffness(problem)
@@ -160,6 +229,8 @@ def controlled(problem: CondensedContact, controls: Controls, rig: Rig = RIGID) 
     for i, (control, direction, sign) in enumerate(
         ((controls.normal, n, -1.0), (controls.tangential, t, 1.0))
     ):
+        if controls.normal == "force" and controls.tangential == "force":
+            break
         row = rows.start + i
         force_map = sign * direction @ block_map
         force_base = sign * direction @ block_base
@@ -180,17 +251,84 @@ def controlled(problem: CondensedContact, controls: Controls, rig: Rig = RIGID) 
     )
 
 
+def rotating(problem: CondensedContact, rig: Rig, target=None) -> CondensedContact:
+    """``problem`` with the pad block's rotation about the rig's pivot (``target``, or the
+    problem's own :func:`~fretbem.contact.rotation.pivot`) among the unknowns; its last
+    resultant row holds the rotation: k L (theta + M / k_r) = k L theta_a."""
+    if target is None:
+        target = pad_rotation.pivot(problem, rig.pivot_height)
+    out = pad_rotation.rotating(problem, target)
+    row = pad_rotation.moment_row(out)
+    scale = out.rotation.scale
+    spring = rotation_stiffness(out) * rig.rotational_compliance * scale  # k L / k_r, per M / L
+    resultant_map = out.resultant_map.copy()
+    resultant_base = out.resultant_base.copy()
+    resultant_load = out.resultant_load.copy()
+    resultant_map[row] *= spring
+    resultant_map[row, out.layout.rotation(pad_rotation.PAD)] += rotation_stiffness(out)
+    resultant_base[row] *= spring
+    resultant_load[row] *= spring
+    return attrs.evolve(
+        out,
+        resultant_map=resultant_map,
+        resultant_base=resultant_base,
+        resultant_load=resultant_load,
+    )
+
+
+def rotation_stiffness(problem: CondensedContact) -> float:
+    """k L: the scale (force per thickness per rad) of the held rotation's row."""
+    return stiffness(problem) * problem.rotation.scale
+
+
+def _moment_controlled(problem: CondensedContact) -> CondensedContact:
+    """A rotating problem with its rotation row back to the moment M / L."""
+    record = problem.rotation
+    if record is None or not record.in_unknowns:
+        raise pad_rotation.RotationError(
+            "a step imposes the pad block's moment, but the problem's block does not rotate; "
+            "build the simulation with the step (Simulation adds the rotation when a step "
+            "gives a moment)"
+        )
+    row = pad_rotation.moment_row(problem)
+    resultant_map = problem.resultant_map.copy()
+    resultant_base = problem.resultant_base.copy()
+    resultant_load = problem.resultant_load.copy()
+    resultant_map[row] = record.moment_map / record.scale
+    resultant_base[row] = record.moment_base / record.scale
+    resultant_load[row] = record.moment_load / record.scale
+    return attrs.evolve(
+        problem,
+        resultant_map=resultant_map,
+        resultant_base=resultant_base,
+        resultant_load=resultant_load,
+    )
+
+
 def targets(
-    problem: CondensedContact, controls: Controls, normal: float, tangential: float, forces
+    problem: CondensedContact,
+    controls: Controls,
+    normal: float,
+    tangential: float,
+    forces,
+    rotation: float = 0.0,
 ) -> np.ndarray:
     """The values the resultant rows of ``controlled(problem, controls)`` must reach.
 
-    ``normal`` is P or the approach, ``tangential`` Q or delta, as ``controls`` says;
-    ``forces`` are the force-control targets of every block (returned as they are when both
-    directions are force controlled).
+    ``normal`` is P or the approach, ``tangential`` Q or delta, ``rotation`` the actuator's
+    rotation theta_a or the moment M, as ``controls`` says; ``forces`` are the force-control
+    targets of every block (returned as they are when both directions are force
+    controlled), with the rotation's entry after them in a rotating problem.
     """
     forces = np.array(forces, dtype=float)
-    if controls.by_force:
+    record = problem.rotation
+    if record is not None and record.in_unknowns:
+        row = pad_rotation.moment_row(problem)
+        if controls.rotation == "moment":
+            forces[row] = rotation / record.scale
+        else:
+            forces[row] = rotation_stiffness(problem) * rotation
+    if controls.normal == "force" and controls.tangential == "force":
         return forces
     k = stiffness(problem)
     rows = _block_rows(problem)

@@ -59,7 +59,8 @@ class CycleResult:
     dissipated_energy : float
         E_d, integral of the energy density (N mm/mm = mJ per mm of thickness).
     loop_area : float
-        The area of the Q-delta loop (same unit): E_d again, through the block.
+        The area of the Q-delta loop (same unit): E_d again, through the block; with the
+        block's rotation, the work of its moment M d(theta) over the cycle is added.
     delta_amplitude, tangential_amplitude : float
         delta* and Q*.
     energy_ratio : float
@@ -114,6 +115,9 @@ class FrettingAnalysis:
         The step of each increment.
     tangential, delta, normal : ndarray
         Q, delta, P per increment.
+    moment, rotation : ndarray
+        M (N mm/mm, about the rig's pivot; NaN where the pad's model gives none) and the
+        actuator's rotation theta (rad) per increment.
     weights : ndarray
         Face length per pair (mm): the integral of a field over the face is weights @ field.
     cycles : tuple of CycleResult
@@ -131,6 +135,8 @@ class FrettingAnalysis:
     weights: np.ndarray = attrs.field(converter=_frozen)
     cycles: tuple[CycleResult, ...] = ()
     transition_ratio: float | None = None
+    moment: np.ndarray = attrs.field(default=(), converter=_frozen)
+    rotation: np.ndarray = attrs.field(default=(), converter=_frozen)
 
     def table(self) -> str:
         """One line per cycle: Q*, delta*, E_d, A and the regime (the command line's report)."""
@@ -164,8 +170,12 @@ def pair_weights(problem) -> np.ndarray:
     return t @ problem.lower_force_map[:, problem.layout.shear]
 
 
-def _loop_area(q: np.ndarray, d: np.ndarray) -> float:
-    return float(np.sum(0.5 * (q[1:] + q[:-1]) * np.diff(d)))
+def _loop_area(q: np.ndarray, d: np.ndarray, m=None, theta=None) -> float:
+    """The block's work over the loop: Q d(delta), plus M d(theta) when the block turns."""
+    area = float(np.sum(0.5 * (q[1:] + q[:-1]) * np.diff(d)))
+    if theta is not None and np.any(np.diff(theta) != 0.0):
+        area += float(np.sum(0.5 * (m[1:] + m[:-1]) * np.diff(theta)))
+    return area
 
 
 def _regime(states: np.ndarray) -> str:
@@ -194,6 +204,8 @@ def analyse(result) -> FrettingAnalysis:
     q = np.array([r.tangential for r in records])
     d = np.array([r.delta for r in records])
     p = np.array([r.normal for r in records])
+    m = np.array([getattr(r, "moment", math.nan) for r in records])
+    theta = np.array([getattr(r, "rotation", 0.0) for r in records])
     x = np.asarray(result.steps[0].x)
     found = []
     repaired = any(s.pair is not None for s in result.steps)  # finite sliding follows the pad
@@ -201,7 +213,7 @@ def analyse(result) -> FrettingAnalysis:
         members = np.flatnonzero(cycle == number)
         start = members[0] - 1
         loop = np.concatenate([[start], members]) if start >= 0 else members
-        found.append(_cycle(number, loop, records, q, d, p, x, weights, repaired))
+        found.append(_cycle(number, loop, records, q, d, p, x, weights, repaired, (m, theta)))
     return FrettingAnalysis(
         increment=np.arange(1, len(records) + 1),
         cycle=cycle,
@@ -212,10 +224,12 @@ def analyse(result) -> FrettingAnalysis:
         weights=weights,
         cycles=tuple(found),
         transition_ratio=transition_ratio(simulation, problem, result),
+        moment=m,
+        rotation=theta,
     )
 
 
-def _cycle(number, loop, records, q, d, p, x, weights, repaired=False) -> CycleResult:
+def _cycle(number, loop, records, q, d, p, x, weights, repaired=False, turns=None) -> CycleResult:
     slip = np.array([records[i].slip for i in loop])
     shear = np.array([records[i].shear for i in loop])
     every = np.array([records[i].states for i in loop])
@@ -249,7 +263,9 @@ def _cycle(number, loop, records, q, d, p, x, weights, repaired=False) -> CycleR
         slip_amplitude=amplitude,
         energy_density=density,
         dissipated_energy=energy,
-        loop_area=_loop_area(q[loop], d[loop]),
+        loop_area=_loop_area(
+            q[loop], d[loop], *((turns[0][loop], turns[1][loop]) if turns else (None, None))
+        ),
         delta_amplitude=d_star,
         tangential_amplitude=q_star,
         energy_ratio=energy / scale if scale > 0 else math.nan,

@@ -87,6 +87,9 @@ class Waveform:
         P(t) = P + P_a w(t + phase / 360): a cyclic normal load (phase in degrees).
     bulk, bulk_amplitude, bulk_phase : float
         The bulk stress sigma_B (MPa) the same way; 0 leaves it out.
+    moment, moment_amplitude, moment_phase : float or None, float, float
+        The moment M (N mm/mm) on the pad's block the same way (:mod:`fretbem.contact.rotation`);
+        None (the default) with no amplitude leaves the block's rotation as the rig holds it.
     """
 
     amplitude: float = attrs.field(converter=float, validator=finite)
@@ -102,6 +105,12 @@ class Waveform:
     bulk: float = attrs.field(default=0.0, converter=float, validator=finite)
     bulk_amplitude: float = attrs.field(default=0.0, converter=float, validator=finite)
     bulk_phase: float = attrs.field(default=0.0, converter=float, validator=finite)
+    moment: float | None = attrs.field(
+        default=None, converter=lambda v: None if v is None else float(v),
+        validator=attrs.validators.optional(finite),
+    )  # fmt: skip
+    moment_amplitude: float = attrs.field(default=0.0, converter=float, validator=finite)
+    moment_phase: float = attrs.field(default=0.0, converter=float, validator=finite)
 
     def __attrs_post_init__(self) -> None:
         if not self.amplitude > 0:
@@ -122,6 +131,11 @@ class Waveform:
             )
 
     @property
+    def has_moment(self) -> bool:
+        """Whether the history drives the pad block's moment."""
+        return self.moment is not None or self.moment_amplitude != 0.0
+
+    @property
     def has_bulk(self) -> bool:
         """Whether the history drives the bulk stress."""
         return self.bulk != 0.0 or self.bulk_amplitude != 0.0
@@ -132,7 +146,7 @@ class Waveform:
         return np.arange(1, self.cycles * n + 1) / n
 
     def values(self, t) -> dict[str, np.ndarray]:
-        """The drive (Q or delta), P and sigma_B at cycle times ``t``."""
+        """The drive (Q or delta), P, sigma_B and M at cycle times ``t``."""
         t = np.asarray(t, dtype=float)
         drive = self.amplitude * shape_value(self.shape, t)
         normal = self.normal + self.normal_amplitude * shape_value(
@@ -141,7 +155,10 @@ class Waveform:
         bulk = self.bulk + self.bulk_amplitude * shape_value(
             self.shape, t + self.bulk_phase / 360.0
         )
-        return {"drive": drive, "normal": normal, "bulk": bulk}
+        moment = (self.moment or 0.0) + self.moment_amplitude * shape_value(
+            self.shape, t + self.moment_phase / 360.0
+        )
+        return {"drive": drive, "normal": normal, "bulk": bulk, "moment": moment}
 
     def names(self) -> list[str]:
         """Step names: ``press``, then ``c<cycle>.<increment>`` (e.g. c1.01 ... c10.40)."""
@@ -168,6 +185,7 @@ class Waveform:
                 LoadStep(
                     name, float(v["normal"]), drive if force else 0.0, 1, loads,
                     delta=None if force else drive, cycle=cycles[k],
+                    moment=float(v["moment"]) if self.has_moment else None,
                 )
             )  # fmt: skip
         return tuple(out)

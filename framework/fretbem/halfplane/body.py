@@ -16,10 +16,11 @@ import numpy as np
 
 from fretbem import registry as bases
 from fretbem.basis import Basis, Refinement
-from fretbem.body import Body, ContactFace, ContactResponse
+from fretbem.body import BlockRotation, Body, ContactFace, ContactResponse
 from fretbem.conditions import LoadingBlock
 from fretbem.geometry.nurbs import NurbsCurve
 from fretbem.material import Material
+from fretbem.numerics.quadrature import QuadratureRule
 from fretbem.validators import positive
 
 from .influence import DEFAULT_DATUM, HalfPlaneFaceError
@@ -50,6 +51,9 @@ class HalfPlaneSolution:
     block_displacement : ndarray, shape (2,)
     loads : dict
         Load amplitudes by name.
+    rotation : float
+        The loading block's rotation (rad, counterclockwise, about the block's centre
+        :meth:`HalfPlaneBody.rotation_centre`); 0 for a block that does not rotate.
     """
 
     body: HalfPlaneBody
@@ -58,15 +62,22 @@ class HalfPlaneSolution:
     displacements: np.ndarray
     block_displacement: np.ndarray
     loads: dict
+    rotation: float = 0.0
 
-    def surface_displacement(self, x) -> np.ndarray:
-        """Surface displacement (m, 2) at abscissae ``x`` (anywhere on the surface line)."""
+    def surface_displacement(self, x, y=None) -> np.ndarray:
+        """Surface displacement (m, 2) at abscissae ``x`` (anywhere on the surface line);
+        ``y`` (m,), the points' heights, for the block rotation's share (default: the
+        surface line)."""
         x = np.asarray(x, dtype=float).ravel()
         surface = self.body.surface
         u = surface.node_map(x) @ self.tractions.ravel()
         u += self.block_displacement if self.body.loading_block is not None else 0.0
         if BULK in self.body.load_names:
             u += surface.bulk_displacement(x) * self.loads.get(BULK, 0.0)
+        if self.rotation:
+            level = self.body.surface_level(x, self.body.side)
+            points = np.column_stack([x, level if y is None else np.asarray(y, float).ravel()])
+            u += self.rotation * rotation_field(points, self.body.rotation_centre())
         return u
 
     def _face(self, segment: int):
@@ -89,7 +100,8 @@ class HalfPlaneSolution:
 
     def displacement(self, segment: int, params) -> np.ndarray:
         """Displacement (m, 2) at curve parameters of a face segment."""
-        return self.surface_displacement(self.points_at(segment, params)[:, 0])
+        points = self.points_at(segment, params)
+        return self.surface_displacement(points[:, 0], points[:, 1])
 
     def traction(self, segment: int, params) -> np.ndarray:
         """Traction (m, 2) on the body at curve parameters of a face segment, interpolated."""
@@ -98,6 +110,12 @@ class HalfPlaneSolution:
             face.collocation_matrix(), self.tractions[self._rows(segment)]
         )
         return face.evaluation_matrix(np.asarray(params, float)) @ coefficients
+
+
+def rotation_field(points: np.ndarray, centre) -> np.ndarray:
+    """Displacement (m, 2) of ``points`` per unit rigid rotation about ``centre``: e_z x (p - c)."""
+    arm = np.asarray(points, float) - np.asarray(centre, float)
+    return np.column_stack([-arm[:, 1], arm[:, 0]])
 
 
 def _face_curves(value) -> NurbsCurve | tuple[NurbsCurve, ...]:
@@ -277,6 +295,41 @@ class HalfPlaneBody(Body):
             self._cache["response"] = self._response()
         return self._cache["response"]
 
+    def rotation_centre(self) -> np.ndarray:
+        """The loading block's centre: above (a pad) or below (a specimen) the face's middle,
+        at the datum depth, where the rigid far field is held."""
+        points = self.surface.points
+        sign = 1.0 if self.side == "upper" else -1.0
+        surface = points[:, 1].min() if self.side == "upper" else points[:, 1].max()
+        return np.array([0.5 * (points[:, 0].min() + points[:, 0].max()),
+                         surface + sign * self.datum])  # fmt: skip
+
+    def _rotation(self, force: np.ndarray) -> BlockRotation:
+        """The block's rotation: the far field turns rigidly; its moment balances the face's."""
+        surface = self.surface
+        points = surface.points
+        n = len(points)
+        centre = self.rotation_centre()
+        moments = np.linalg.solve(
+            surface.collocation_matrix.T, _moment_integrals(surface.face, centre)
+        )  # int phi (x - cx) |dx| and int phi (y - cy) |dx| per node value
+        contact_moment = np.zeros((n, 2))
+        contact_moment[:, 0] = -moments[:, 1]
+        contact_moment[:, 1] = moments[:, 0]
+        contact_moment = contact_moment.ravel()
+        return BlockRotation(
+            centre=centre,
+            level=float(centre[1]),
+            face_map=rotation_field(points, centre),
+            m_base=0.0,
+            m_traction=-contact_moment,
+            m_block=np.zeros(2),
+            m_rotation=0.0,
+            m_load=np.zeros(len(self.load_names)),
+            r_rotation=np.zeros(2),
+            contact_moment=contact_moment,
+        )
+
     def _response(self) -> ContactResponse:
         surface = self.surface
         n = len(surface.points)
@@ -303,17 +356,42 @@ class HalfPlaneBody(Body):
         }
         for value in arrays.values():
             value.setflags(write=False)
-        return ContactResponse(**arrays, has_block=has_block)
+        rotation = self._rotation(force) if has_block else None
+        return ContactResponse(**arrays, has_block=has_block, rotation=rotation)
 
     def solution(
-        self, tag: str, tractions: np.ndarray, block: np.ndarray, loads: Mapping[str, float]
+        self,
+        tag: str,
+        tractions: np.ndarray,
+        block: np.ndarray,
+        loads: Mapping[str, float],
+        rotation: float = 0.0,
     ) -> HalfPlaneSolution:
-        """Face tractions (n, 2) on the body, displacements at the nodes, block and loads."""
+        """Face tractions (n, 2) on the body, displacements at the nodes, block, loads and
+        the block's rotation (rad, about :meth:`rotation_centre`)."""
         self._check_tag(tag)
         tractions = np.asarray(tractions, dtype=float).reshape(-1, 2)
         block = np.asarray(block, dtype=float)
         amplitudes = [float(loads.get(name, 0.0)) for name in self.load_names]
-        u = self.contact_response(tag).displacement(tractions, block, amplitudes)
+        response = self.contact_response(tag)
+        u = response.displacement(tractions, block, amplitudes)
+        if rotation:
+            u = u + float(rotation) * response.rotation.face_map
         return HalfPlaneSolution(
-            self, self.surface.points, tractions, u, block, {k: float(v) for k, v in loads.items()}
-        )
+            self, self.surface.points, tractions, u, block,
+            {k: float(v) for k, v in loads.items()}, float(rotation),
+        )  # fmt: skip
+
+
+def _moment_integrals(face, centre) -> np.ndarray:
+    """int phi_b (x - cx) |dx| and int phi_b (y - cy) |dx| over the face (n_functions, 2)."""
+    rule = QuadratureRule.gauss_legendre(12)
+    elements = np.repeat(np.arange(face.n_elements), rule.points.size)
+    local = np.tile(rule.points, face.n_elements)
+    m = face.map(elements, local)
+    weights = np.abs(m.tangents[:, 0]) * np.tile(rule.weights, face.n_elements)
+    out = np.zeros((face.n_functions, 2))
+    for j in range(2):
+        arm = (m.points[:, j] - centre[j]) * weights
+        np.add.at(out[:, j], face.connectivity[elements], m.values * arm[:, None])
+    return out

@@ -28,6 +28,16 @@ LOOPS_COLUMNS = {
         "(2D displacements need a datum), +x",
     ),
     "P": ("N/mm", "normal load carried by the pad's loading block, > 0 presses"),
+    "M": (
+        "N mm/mm",
+        "moment of the pad's loading block on the pad about the rig's pivot, "
+        "counterclockwise > 0 (empty where the pad's model gives none)",
+    ),
+    "theta": (
+        "rad",
+        "rotation of the actuator holding the pad's block (the block's plus M / k_r), "
+        "counterclockwise > 0",
+    ),
     "step": ("", "load step of the increment"),
 }
 #: units and meaning of every slip.csv column
@@ -48,7 +58,11 @@ CYCLE_KEYS = {
         "closed form)",
     ),
     "dissipated_energy": ("N mm/mm", "E_d: energy dissipated in the cycle per mm thickness"),
-    "loop_area": ("N mm/mm", "area of the Q-delta loop (E_d through the block)"),
+    "loop_area": (
+        "N mm/mm",
+        "area of the Q-delta loop (E_d through the block), plus the moment's work M d(theta) "
+        "when the pad's block rotates",
+    ),
     "delta_amplitude": ("mm", "delta*: half the range of delta over the cycle"),
     "Q_amplitude": ("N/mm", "Q*: half the range of Q over the cycle"),
     "energy_ratio": ("", "A = E_d / (4 delta* Q*)"),
@@ -81,10 +95,17 @@ def write_loops(analysis: FrettingAnalysis, path: Path) -> Path:
                     repr(float(analysis.tangential[k])),
                     repr(float(analysis.delta[k])),
                     repr(float(analysis.normal[k])),
+                    _number(analysis.moment[k] if len(analysis.moment) else float("nan")),
+                    repr(float(analysis.rotation[k] if len(analysis.rotation) else 0.0)),
                     csv_cell(analysis.step[k]),
                 ]
             )
     return path
+
+
+def _number(value: float) -> str:
+    """A CSV number, empty for NaN (no value)."""
+    return repr(float(value)) if np.isfinite(value) else ""
 
 
 def write_slip(analysis: FrettingAnalysis, path: Path) -> Path:

@@ -166,7 +166,7 @@ def body_solutions(result: SimulationResult, step: StepResult) -> dict:
     """Each body's full boundary solution at ``step`` ("upper" and "lower"); a step of a
     sliding run on its own pairing, the pad's slide added to its block's displacement."""
     if step.pair is None:
-        return result.simulation.pair.condensed().solutions(step.unknowns, step.loads)
+        return result.simulation.prepare().solutions(step.unknowns, step.loads)
     return step_solutions(result, step)
 
 

@@ -96,7 +96,23 @@ SUMMARY_KEYS = {
         "(the datum a 2D displacement needs), +x",
     ),
     "approach": ("mm", "normal approach of the pad's loading block against the same datum"),
-    "control": ("", "per direction (normal, tangential): force or displacement"),
+    "M": (
+        "N mm/mm",
+        "moment the pad's loading block applies to the pad about the rig's pivot ([rig] "
+        "pivot_height above the first-contact point; default the block's line), "
+        "counterclockwise (x right, y up) > 0; null where the pad's model gives none",
+    ),
+    "theta": (
+        "rad",
+        "rotation of the actuator holding the pad's block, counterclockwise > 0: the block's "
+        "own plus M / k_r ([rig] stiffness_rotation); 0 when the block does not rotate",
+    ),
+    "tilt": ("rad", "the pad block's own rotation about the pivot, counterclockwise > 0"),
+    "control": (
+        "",
+        "per direction (normal, tangential): force or displacement; rotation: rotation "
+        "(the actuator's imposed, 0 by default) or moment",
+    ),
     "integral_p": ("N/mm", "integral of p over the contact face"),
     "integral_q": ("N/mm", "integral of q over the contact face"),
     "iterations": ("", "Newton iterations of the step"),

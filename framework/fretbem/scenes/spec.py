@@ -306,6 +306,24 @@ KEYS: tuple[Key, ...] = (
         "presses), imposed instead of `P`; needs [contact] `zone_width`",
     ),
     Key(
+        "load",
+        "moment",
+        (*NUMBER, list),
+        "N mm/mm",
+        None,
+        "moment M the pad's loading block applies to the pad about the rig's pivot, "
+        "counterclockwise (x right, y up) > 0: the block then rotates freely under it",
+    ),
+    Key(
+        "load",
+        "rotation",
+        (*NUMBER, list),
+        "rad",
+        None,
+        "rotation of the actuator holding the pad's block, counterclockwise > 0, imposed "
+        "instead of `moment` (through [rig] `stiffness_rotation`); neither given: 0",
+    ),
+    Key(
         "load.cycle",
         "delta",
         NUMBER,
@@ -338,6 +356,16 @@ KEYS: tuple[Key, ...] = (
     Key("load.cycle", "bulk_amplitude", NUMBER, "MPa", 0.0, "cyclic bulk stress amplitude"),
     Key("load.cycle", "bulk_phase", NUMBER, "degrees", 0.0, "phase of sigma_B against the drive"),
     Key(
+        "load.cycle",
+        "M_amplitude",
+        NUMBER,
+        "N mm/mm",
+        0.0,
+        "cyclic moment on the pad's block: M(t) = M + M_amplitude w(t + M_phase / 360), "
+        "M the [load] `moment` (the mean)",
+    ),
+    Key("load.cycle", "M_phase", NUMBER, "degrees", 0.0, "phase of M against the drive"),
+    Key(
         "rig",
         "stiffness_x",
         NUMBER,
@@ -353,6 +381,26 @@ KEYS: tuple[Key, ...] = (
         "MPa",
         None,
         "normal stiffness of the rig (N/mm per mm); `approach` is then the actuator's",
+    ),
+    Key(
+        "rig",
+        "stiffness_rotation",
+        NUMBER,
+        "N mm/mm per rad",
+        None,
+        "rotational stiffness of the rig about its pivot: the pad's block tilts by "
+        "-M / k_r under the moment it carries (Q acts below the pivot); omitted: the block "
+        "does not rotate (unless [load] gives a moment or rotation)",
+    ),
+    Key(
+        "rig",
+        "pivot_height",
+        NUMBER,
+        "mm",
+        None,
+        "height of the pivot above the initial first-contact point, where the block's "
+        "rotation and moment M are taken; omitted: the pad block's line (the pad's top; "
+        "for a half-plane pad its datum depth, 10 mm)",
     ),
 )
 
@@ -437,10 +485,14 @@ class LoadSpec:
     approach: tuple[float, ...] | None = None
     cycle: tuple[int, ...] | None = None
     waveform: Any = None
+    moment: tuple[float, ...] | None = None
+    rotation: tuple[float, ...] | None = None
 
     def __attrs_post_init__(self) -> None:
         n = len(self.steps)
-        for name in ("P", "Q", "bulk", "increments", "delta", "approach", "cycle"):
+        for name in (
+            "P", "Q", "bulk", "increments", "delta", "approach", "cycle", "moment", "rotation"
+        ):  # fmt: skip
             if getattr(self, name) is None:
                 continue
             if len(getattr(self, name)) != n:
@@ -463,6 +515,8 @@ class RigSpec:
 
     stiffness_x: float | None = None
     stiffness_y: float | None = None
+    stiffness_rotation: float | None = None
+    pivot_height: float | None = None
 
 
 @attrs.frozen(eq=False)
@@ -691,13 +745,15 @@ def _cycle_load(section: dict) -> LoadSpec:
     _unknown("[load.cycle]", cycle, keys)
     for name, value in cycle.items():
         _check(f"[load.cycle] {name}", value, keys[name].kind)
-    other = sorted(set(section) - {"cycle", "P", "bulk"})
+    other = sorted(set(section) - {"cycle", "P", "bulk", "moment"})
     if other:
         raise SceneFileError(
             f"[load] {other} do not go with [load.cycle] (the waveform makes the steps); "
-            "keep only P and bulk (the mean values) in [load], or drop [load.cycle]"
+            "keep only P, bulk and moment (the mean values) in [load], or drop [load.cycle]"
         )
-    for name in ("P", "bulk"):
+    for name in ("P", "bulk", "moment"):
+        if name in section and not isinstance(section[name], list):
+            _check(f"[load] {name}", section[name], NUMBER)
         if isinstance(section.get(name), list):
             raise SceneFileError(
                 f"[load] {name} must be one number (the mean) with [load.cycle], got a list"
@@ -725,11 +781,16 @@ def _cycle_load(section: dict) -> LoadSpec:
             bulk=section.get("bulk", 0.0),
             bulk_amplitude=values["bulk_amplitude"],
             bulk_phase=values["bulk_phase"],
+            moment=section.get("moment"),
+            moment_amplitude=values["M_amplitude"],
+            moment_phase=values["M_phase"],
         )
     except (WaveformError, ValueError) as err:
         name = "delta" if "delta" in cycle else "Q"
         message = str(err).replace("Waveform.normal_amplitude", "P_amplitude")
         message = message.replace("Waveform.normal", "[load] P").replace("Waveform.amplitude", name)
+        message = message.replace("Waveform.moment_amplitude", "M_amplitude")
+        message = message.replace("Waveform.moment", "[load] moment")
         message = message.replace("Waveform.", "")
         raise SceneFileError(f"[load.cycle]: {message}") from None
     steps = waveform.steps()
@@ -743,6 +804,7 @@ def _cycle_load(section: dict) -> LoadSpec:
         delta=tuple(s.delta for s in steps) if displacement else None,
         cycle=tuple(s.cycle for s in steps),
         waveform=waveform,
+        moment=tuple(s.moment for s in steps) if waveform.has_moment else None,
     )
 
 
@@ -760,9 +822,25 @@ def _load(data: Mapping) -> LoadSpec:
                 f"[load] gives both {force} and {motion}: the {direction} direction is driven "
                 f"by force ({force}) or by displacement ({motion}); keep one of them"
             )
+    if "moment" in section and "rotation" in section:
+        raise SceneFileError(
+            "[load] gives both moment and rotation: the pad block's rotation is driven by "
+            "the moment on it (moment, N mm/mm) or by the actuator's rotation (rotation, rad); "
+            "keep one of them"
+        )
     lists = {
         k: section[k]
-        for k in ("steps", "P", "Q", "bulk", "increments", "delta", "approach")
+        for k in (
+            "steps",
+            "P",
+            "Q",
+            "bulk",
+            "increments",
+            "delta",
+            "approach",
+            "moment",
+            "rotation",
+        )
         if isinstance(section.get(k), list)
     }
     for name, value in lists.items():
@@ -782,7 +860,7 @@ def _load(data: Mapping) -> LoadSpec:
         default = keys[name].default
         raw = section.get(name, default if name != "Q" or n == len(default) else 0.0)
         values[name] = tuple(float(v) for v in _per_step(name, raw, n, NUMBER))
-    for name in ("delta", "approach"):
+    for name in ("delta", "approach", "moment", "rotation"):
         if name in section:
             values[name] = tuple(float(v) for v in _per_step(name, section[name], n, NUMBER))
     if "delta" in section:
@@ -882,9 +960,12 @@ def scene_from_dict(data: Mapping) -> Scene:
     _unknown("[rig]", rig_section, _keys("rig"))
     for name, value in rig_section.items():
         _check(f"[rig] {name}", value, _keys("rig")[name].kind)
+        if name == "pivot_height":
+            continue  # any height: the pivot may sit above or below the contact
         if not value > 0:
+            unit = "N mm/mm per rad" if name == "stiffness_rotation" else "N/mm per mm of travel"
             raise SceneFileError(
-                f"[rig] {name} must be > 0 (N/mm per mm of travel); leave it out for a rigid rig"
+                f"[rig] {name} must be > 0 ({unit}), got {value!r}; leave it out for a rigid rig"
             )
     contact_section = _table(data, "contact")
     _unknown("[contact]", contact_section, _keys("contact"))

@@ -178,6 +178,13 @@ def run_sliding(
     """
     if not every >= 0.0:
         raise SlidingError(f"every must be a number of pair spacings >= 0, got {every!r}")
+    if getattr(simulation, "rotates", False):
+        raise SlidingError(
+            "finite sliding re-pairs the faces as the pad slides, with the pad's block held "
+            "against rotation; a rotating block ([rig] stiffness_rotation, [load] moment or "
+            "rotation) is not followed by the re-pairing: set [contact] sliding = false, or "
+            "leave the rotation out"
+        )
     pair = simulation.pair
     if not isinstance(pair, NodeToSegmentPair):
         raise SlidingError(
@@ -201,7 +208,7 @@ def run_sliding(
         controls = load.controls
         tic, iterations, residuals = time.perf_counter(), 0, []
         fresh = np.zeros_like(seen)
-        start_n, start_t = simulation._start(problem, state, controls)
+        start_n, start_t, _ = simulation._start(problem, state, controls)
         if controls.tangential == "displacement":
             start_t += offset  # delta where the pad physically is
         start_loads = dict(state.loads)

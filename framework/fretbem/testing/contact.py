@@ -63,6 +63,22 @@ def _check_response(response: ContactResponse, n: int, k: int, who: str) -> None
             _require(
                 not np.any(getattr(response, name)), who, f"{name} is zero without a loading block"
             )
+    rotation = getattr(response, "rotation", None)
+    if rotation is not None:
+        _require(response.has_block, who, "a block rotation needs a loading block")
+        for name, shape in (
+            ("centre", (2,)),
+            ("face_map", (n, 2)),
+            ("m_traction", (2 * n,)),
+            ("m_block", (2,)),
+            ("m_load", (k,)),
+            ("r_rotation", (2,)),
+            ("contact_moment", (2 * n,)),
+        ):
+            _shape(np.asarray(getattr(rotation, name)), shape, who, f"BlockRotation.{name}")
+        _require(
+            np.isfinite(rotation.level) and np.isfinite(rotation.m_base), who, "finite rotation"
+        )
 
 
 def _check_contact_force(response: ContactResponse, who: str) -> np.ndarray:

@@ -44,6 +44,17 @@ VARIABLES: dict[str, tuple[str, str, str]] = {
     "P": ("N mm-1", "normal load", "per unit thickness, > 0 presses the upper body down"),
     "Q": ("N mm-1", "tangential load", "per unit thickness on the upper body, along +x"),
     "sigma_B": ("MPa", "bulk stress of the specimen", "along x, > 0 in tension"),
+    "M": (
+        "N",
+        "moment of the pad's loading block on the pad",
+        "N mm per mm thickness, about the rig's pivot, counterclockwise > 0",
+    ),
+    "theta": (
+        "rad",
+        "rotation of the actuator holding the pad's block",
+        "counterclockwise > 0: the block's own rotation plus M / k_r",
+    ),
+    "tilt": ("rad", "rotation of the pad's loading block", "about the pivot, counterclockwise > 0"),
     "e_p_max": ("1", "max pressure error", "max |p - p_exact| / p0"),
     "e_q_max": ("1", "max shear error", "max |q - q_exact| / (f p0)"),
     "e_p_l2": ("1", "RMS pressure error", "RMS of p - p_exact over the zone, / p0"),

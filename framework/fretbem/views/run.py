@@ -72,6 +72,9 @@ def run_dataset(result):
         ),
         "P": _var("step", np.array([s.normal for s in steps], float), "P"),
         "Q": _var("step", np.array([s.tangential for s in steps], float), "Q"),
+        "M": _var("step", np.array([getattr(s, "moment", math.nan) for s in steps], float), "M"),
+        "theta": _var("step", np.array([getattr(s, "rotation", 0.0) for s in steps]), "theta"),
+        "tilt": _var("step", np.array([getattr(s, "tilt", 0.0) for s in steps], float), "tilt"),
         "sigma_B": _var(
             "step", np.array([float((s.loads or {}).get("bulk", 0.0)) for s in steps]), "sigma_B"
         ),

@@ -263,6 +263,8 @@ def run_wear(wear: WearSimulation, *, progress=None) -> WearResult:
     n = 0
     while True:
         worn = WornPair.of(base, profile.offset).condensed() if n else problem
+        if n and simulation.rotates:  # the worn pair's pad block turns as the first's did
+            worn = simulation.rotating(worn)
         if n:  # the end of the last cycle, re-equilibrated on the new profile
             settle = attrs.evolve(wear.cycle_steps[-1], increments=1)
             state, _, _ = simulation.step(worn, state, settle)

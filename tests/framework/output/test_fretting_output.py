@@ -38,7 +38,7 @@ def _rows(path):
 def test_loops_csv_has_every_increment(saved):
     result, out = saved
     rows = _rows(out / "loops.csv")
-    assert rows[0] == ["increment", "cycle", "Q", "delta", "P", "step"]
+    assert rows[0] == ["increment", "cycle", "Q", "delta", "P", "M", "theta", "step"]
     assert len(rows) - 1 == 1 + 2 * 8
     analysis = analyse(result)
     np.testing.assert_allclose([float(r[2]) for r in rows[1:]], analysis.tangential, rtol=1e-15)
@@ -68,7 +68,16 @@ def test_slip_csv_and_summary_cycles(saved):
     assert summary["units"]["fretting"]["dissipated_energy"] == "N mm/mm"
     assert summary["steps"][1]["control"] == {"normal": "force", "tangential": "displacement"}
     units = json.loads((out / "units.json").read_text())
-    assert set(units["loops.csv"]) == {"increment", "cycle", "Q", "delta", "P", "step"}
+    assert set(units["loops.csv"]) == {
+        "increment",
+        "cycle",
+        "Q",
+        "delta",
+        "P",
+        "M",
+        "theta",
+        "step",
+    }
     assert units["slip.csv"]["slip_amplitude"]["unit"] == "mm"
 
 

@@ -116,4 +116,13 @@ def test_bad_scene_files(data, message):
 def test_every_key_has_unit_and_meaning():
     for key in KEYS:
         assert key.meaning, key
-        assert key.unit in ("", "mm", "MPa", "N/mm", "degrees"), key
+        assert key.unit in (
+            "",
+            "mm",
+            "MPa",
+            "N/mm",
+            "degrees",
+            "N mm/mm",
+            "rad",
+            "N mm/mm per rad",
+        ), key
