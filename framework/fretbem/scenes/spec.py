@@ -191,7 +191,7 @@ KEYS: tuple[Key, ...] = (
         (int,),
         "",
         61,
-        "`adaptive`: most node pairs of the last level (at most 241: a larger budget is "
+        "`adaptive`: most node pairs of the last level (at most 521: a larger budget is "
         "capped there, with a caution)",
     ),
     Key(
