@@ -271,3 +271,18 @@ def test_repairing_keeps_a_partial_slip_cycle(basis):
         assert np.max(np.abs(one.pressure - other.pressure)) < 0.003 * p0
         assert np.max(np.abs(one.shear - other.shear)) < 0.0012 * p0
         assert abs(one.tangential - other.tangential) < 1e-4 * 100.0  # measured 1.0e-5 of P
+
+
+@pytest.mark.parametrize("models", [("bem", "bem"), ("half-plane", "half-plane")])
+def test_a_curved_specimen_is_refused_from_python(models):
+    """The pad slides along one line: a specimen whose face is an arc (the reference
+    scene's) is refused with the reason, for either body model."""
+    from fretbem.contact.node_to_segment import NodeToSegmentPair
+    from fretbem.scenes.reference import cattaneo_mindlin
+    from fretbem.sliding import SlidingError
+
+    base = cattaneo_mindlin(pairs=21, models=dict(zip(("upper", "lower"), models, strict=True)))
+    pair = NodeToSegmentPair(base.pair.upper, base.pair.lower)
+    simulation = Simulation(pair, base.steps[:2], solver=base.solver, law=base.law)
+    with pytest.raises(SlidingError, match=r"face 'contact' is curved .*cannot follow an arc"):
+        run_sliding(simulation, note=None)

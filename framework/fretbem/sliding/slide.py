@@ -159,6 +159,34 @@ def _slid(record, offset: float):
     return attrs.evolve(record, delta=record.delta + offset, slip=record.slip + offset)
 
 
+#: how far (a fraction of its length) the specimen's face may depart from its chord and
+#: still be a straight track
+STRAIGHT = 1e-9
+
+
+def _check_track(pair: NodeToSegmentPair) -> None:
+    """The specimen's face must be straight: the pad slides along one line. All pairs share
+    one frame (the face's mean normal) and the pad's block translates without turning, so
+    on a curved specimen the pad would leave the arc rather than follow it, and the frame
+    would stay the start's while the contact's normal turned."""
+    body, tag = pair.side("lower")
+    points = body.contact_face(tag).points
+    chord = points[-1] - points[0] if len(points) > 1 else np.array([1.0, 0.0])
+    length = float(np.linalg.norm(chord))
+    if length == 0.0:
+        return
+    normal = np.array([-chord[1], chord[0]]) / length
+    departure = float(np.max(np.abs((points - points[0]) @ normal)))
+    if departure > STRAIGHT * length:
+        raise SlidingError(
+            f"finite sliding moves the pad along a straight track, but the specimen's face "
+            f"{tag!r} is curved (it departs from its chord by {departure:.3g} mm): the pairs "
+            "share one frame and the pad's block translates without turning, so the pad "
+            "cannot follow an arc; slide on a flat specimen ([specimen] shape = 'flat'; "
+            "Python: a straight lower face)"
+        )
+
+
 def _spacing(pair: NodeToSegmentPair) -> float:
     points = pair.pairing().points
     return float(np.min(np.linalg.norm(np.diff(points, axis=0), axis=1)))
@@ -191,6 +219,7 @@ def run_sliding(
             f"{type(pair).__name__}; use NodeToSegmentPair ([contact] pairing = "
             "'node-to-segment')"
         )
+    _check_track(pair)
     simulation = attrs.evolve(simulation, reference=None)
     tangent = pair.pairing().tangents[0]
     offset = float(pair.offset @ tangent)
