@@ -77,9 +77,13 @@ class NurbsBasis(Basis):
         elements = np.asarray(elements, dtype=np.intp)
         lo, hi = self.element_bounds[elements].T
         xi = lo + (np.asarray(local, float) + 1.0) * 0.5 * (hi - lo)
-        # stay inside the element's half-open span so scipy picks this element's functions
+        # stay inside the element's half-open span [lo, hi) so the span lookup picks this
+        # element's functions; on a short element far from 0, hi - 1e-13 (hi - lo) rounds
+        # back to hi (below half a unit in the last place: spans under about 5e-4 at
+        # parameters above 0.5), so the largest float below hi bounds it as well
         end = self.curve.knots[-1]
-        xi = np.where(hi < end, np.minimum(xi, hi - 1e-13 * (hi - lo)), xi)
+        inside = np.minimum(hi - 1e-13 * (hi - lo), np.nextafter(hi, -np.inf))
+        xi = np.where(hi < end, np.minimum(xi, inside), xi)
         values, derivatives, _ = rational_basis(
             self.curve.knots, self.degree, self.curve.weights, xi
         )

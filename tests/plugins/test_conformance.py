@@ -198,3 +198,30 @@ def test_check_basis_accepts_custom_curves_and_names_the_case():
         check_basis(_WrongDerivative, curves={"line": default_curves()["line"]})
     with pytest.raises(TypeError, match="Basis subclass"):
         check_basis(NurbsCurve)
+
+
+# ------------------------------------------------------------ short elements, far from 0
+
+
+@pytest.mark.parametrize("family", sorted(FAMILIES))
+@pytest.mark.parametrize("c0", [False, True])
+def test_short_elements_keep_their_own_functions_at_their_ends(family, c0):
+    """An element's functions at its own end (local +1) are its own, however short the
+    element and wherever it lies: graded faces put elements of 1e-4 of the parameter near
+    parameter 0.9, where nudging the end inside by 1e-13 of the span is below the float's
+    resolution. They were the next element's, which made the half-plane and BEM surface
+    integrals see elements of zero length and graded faces above about 360 points
+    oscillate (50 % of p0)."""
+    curve = NurbsCurve.line([0.0, 0.0], [2.0, 0.5])
+    fine = 0.9 + np.cumsum(np.full(12, 1e-4))
+    bounds = np.unique(np.concatenate([np.linspace(0.0, 0.9, 10), fine, [0.95, 1.0]]))
+    marks = [float(fine[5])] if c0 else []
+    basis = FAMILIES[family].discretise(curve, Refinement.explicit(bounds, c0_at=marks))
+    lo, hi = basis.element_bounds.T
+    for local, params in ((-1.0, lo), (1.0, hi)):
+        elements = np.arange(basis.n_elements)
+        m = basis.map(elements, np.full(elements.size, local))
+        assert np.allclose(m.points, curve.points(params), rtol=0.0, atol=1e-12)
+        inner = basis.map(elements, np.full(elements.size, local * (1.0 - 1e-9)))
+        assert np.allclose(m.values, inner.values, rtol=0.0, atol=1e-6)
+        assert np.allclose(m.tangents, inner.tangents, rtol=1e-6, atol=0.0)

@@ -120,7 +120,8 @@ def test_new_contact_is_reported(sliding):
 def test_repairing_keeps_the_cycle():
     """Re-paired before every increment (every = 0) or never (run): a fretting cycle in
     partial and gross slip on matching half-plane faces gives the same tractions to the
-    discretisation's level (measured 0.30 % of p0 for p, 0.09 % for q)."""
+    discretisation's level (measured 0.14 % of p0 for p, 0.08 % for q; 0.30 and 0.09 % when
+    the pairs followed the pad's block instead of its face)."""
     base = _base()
     pair = NodeToSegmentPair(base.pair.upper, base.pair.lower, slave="upper")
     steps = (
@@ -135,8 +136,8 @@ def test_repairing_keeps_the_cycle():
     assert repaired.repairings >= 10
     p0 = base.reference.hertz.peak_pressure
     for one, other in zip(plain.steps, repaired.steps, strict=True):
-        assert np.max(np.abs(one.pressure - other.pressure)) < 0.005 * p0
-        assert np.max(np.abs(one.shear - other.shear)) < 0.002 * p0
+        assert np.max(np.abs(one.pressure - other.pressure)) < 0.002 * p0
+        assert np.max(np.abs(one.shear - other.shear)) < 0.001 * p0
         assert abs(one.tangential - other.tangential) < 1e-6 * P
 
 

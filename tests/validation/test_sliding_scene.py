@@ -92,16 +92,18 @@ def test_gross_slip_both_ways_is_coulomb(cli_run):
 def test_pressure_is_hertz_where_the_pad_is(cli_run, python_run):
     """p within 0.6 % of p0 of Hertz's about the pad (as in test_sliding.py); the pairs are
     the step's own (x moved by the slide), and the pressure's centre is where the pairing
-    put the pad (Python route: within 1e-4 a; measured 1e-6 a)."""
+    put the pad's face (Python route: within 1e-4 a; measured 1e-6 a), which lags its block
+    by the half-planes' give under Q (1.86e-3 mm, the same either way)."""
     _, fields, steps, *_ = cli_run
     offsets = {s.name: float(s.pair.offset[0]) for s in python_run.result.steps}
-    assert offsets["slide"] == pytest.approx(SLIDE, abs=1e-9) and abs(offsets["back"]) < 1e-9
+    lag = SLIDE - offsets["slide"]
+    assert 1e-3 < lag < 3e-3 and offsets["back"] == pytest.approx(lag, rel=0.02)
     for name in ("press", "slide", "back"):
         field = fields[name]
         centre = np.sum(field["x"] * field["p"]) / np.sum(field["p"])
         assert abs(centre - offsets[name]) < 1e-4 * A
         assert np.max(np.abs(field["p"] - HERTZ.pressure(field["x"] - offsets[name]))) < 0.006 * P0
-    assert np.allclose(fields["slide"]["x"], fields["press"]["x"] + SLIDE, atol=1e-9)
+    assert np.allclose(fields["slide"]["x"], fields["press"]["x"] + offsets["slide"], atol=1e-9)
     assert steps["slide"]["delta"] == pytest.approx(SLIDE) and abs(steps["back"]["delta"]) < 1e-12
 
 
@@ -155,13 +157,13 @@ def test_fretting_analysis_reads_a_sliding_cycle():
     assert cycle.slip_amplitude[centre] == pytest.approx(1.0, rel=1e-2)
 
 
-def test_specimen_stresses_follow_the_pad(cli_run):
+def test_specimen_stresses_follow_the_pad(cli_run, python_run):
     """[stress] points 0.5 a deep below the slide's start and end (stress_points.csv), each
     step on its own pairing: McEwen's pressure plus Smith-Liu's shear q = +-f p centred where
-    the pad is (sliding), or nothing but the far field where it is not (measured within
-    0.03 % of p0 below the pad)."""
+    the pad's face is (sliding), or nothing but the far field where it is not (measured
+    within 0.03 % of p0 below the pad)."""
     *_, stress = cli_run
-    centre = {"press": 0.0, "slide": SLIDE, "back": 0.0}
+    centre = {s.name: float(s.pair.offset[0]) for s in python_run.result.steps}
     shear = {"press": 0.0, "slide": F, "back": -F}
     for row in stress:
         x, depth, name = float(row["x_mm"]), -float(row["y_mm"]), row["step"]

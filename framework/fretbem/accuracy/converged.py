@@ -26,8 +26,9 @@ __all__ = [
 ]
 
 #: pairs of the converged reference: NURBS faces 321 points, faces of an interpolatory
-#: family (quadratic Lagrange) 241: graded faces finer than about 360 NURBS or 250 Lagrange
-#: points oscillate (docs/explanation/adaptive.rst, "Limits")
+#: family (quadratic Lagrange) 241 (chosen when graded faces above about 360 points still
+#: oscillated; that defect is fixed, docs/explanation/adaptive.rst, "Limits", and the
+#: recorded benchmarks keep these references)
 REFERENCE_BUDGET = 321
 INTERPOLATORY_REFERENCE_BUDGET = 241
 

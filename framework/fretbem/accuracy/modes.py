@@ -253,10 +253,10 @@ def _fixed(simulation, mode: Accuracy, coarse, run_kwargs) -> object:
     return done(None, estimated, (n_coarse, pairs))
 
 
-#: most pairs of an adaptive level the mode solves: graded faces finer than about 360 NURBS
-#: or 250 quadratic Lagrange points oscillate (both body models, with or without C0 knots;
-#: docs/explanation/adaptive.rst, "Limits"), so larger budgets stop here and say so
-MAX_ADAPTIVE_PAIRS = 241
+#: most pairs of an adaptive level the mode solves, the finest verified (graded faces of 481
+#: to 521 points converge, both families and body models; docs/explanation/adaptive.rst,
+#: "Limits"); larger budgets stop here and say so
+MAX_ADAPTIVE_PAIRS = 521
 
 
 def adaptive_blocker(simulation) -> str | None:

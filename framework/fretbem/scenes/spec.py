@@ -191,7 +191,7 @@ KEYS: tuple[Key, ...] = (
         (int,),
         "",
         61,
-        "`adaptive`: most node pairs of the last level (at most 241: a larger budget is "
+        "`adaptive`: most node pairs of the last level (at most 521: a larger budget is "
         "capped there, with a caution)",
     ),
     Key(
@@ -230,8 +230,8 @@ KEYS: tuple[Key, ...] = (
         "",
         False,
         "finite sliding: the pairs are projected again as the pad slides (gross slip over "
-        'several contact widths); needs `pairing = "node-to-segment"`, a flat specimen and '
-        "half-plane bodies",
+        'several contact widths); needs `pairing = "node-to-segment"` and a flat specimen; '
+        "either body model",
     ),
     Key(
         "contact",

@@ -53,7 +53,9 @@ def sliding_scene(scene: Scene, zone: float, track: float, pad_elements: int) ->
     shape = scene.specimen.shape
     if getattr(shape, "kind", None) != "flat":
         raise SceneFileError(
-            "[contact] sliding = true slides the pad along a straight track, but [specimen] "
+            "[contact] sliding = true slides the pad along a straight track (the pairs share "
+            "one frame and the pad's block translates without turning, so the pad cannot "
+            "follow an arc), but [specimen] "
             f"shape = {getattr(shape, 'kind', type(shape).__name__)!r}; use [specimen] "
             "shape = 'flat'"
         )
