@@ -87,27 +87,8 @@ class HalfPlaneSurface:
         return self._cache["collocation_matrix"]
 
     def _per_value(self, per_coefficient: np.ndarray) -> np.ndarray:
-        """Rows of ``per_coefficient`` (m, N) taken through E^-1: per unit node value.
-
-        E of a spline or Lagrange face is banded (each node sees the few functions of its
-        element): a banded LU then costs O(N) per row where a dense one costs O(N^2).
-        """
-        matrix = self.collocation_matrix
-        rows, cols = np.nonzero(matrix)
-        lower, upper = int(np.max(rows - cols)), int(np.max(cols - rows))
-        n = matrix.shape[0]
-        if lower + upper + 1 > n // 4:
-            return np.linalg.solve(matrix.T, per_coefficient.T).T
-        # E^T has E's bands swapped: its lower band is E's upper one
-        bands = np.zeros((lower + upper + 1, n))
-        transposed = matrix.T
-        for k in range(-upper, lower + 1):  # diagonal k of E^T (k > 0 above)
-            diagonal = np.diagonal(transposed, k)
-            if k >= 0:
-                bands[lower - k, k:] = diagonal
-            else:
-                bands[lower - k, : n + k] = diagonal
-        return sla.solve_banded((upper, lower), bands, per_coefficient.T).T
+        """Rows of ``per_coefficient`` (m, N) taken through E^-1: per unit node value."""
+        return transposed_solve(self.collocation_matrix, per_coefficient)
 
     def coefficient_map(self, x) -> np.ndarray:
         """Displacement (m, 2, 2N) at surface abscissae ``x`` per traction coefficient.
@@ -167,6 +148,30 @@ class HalfPlaneSurface:
         out[0, :, 0] = weights
         out[1, :, 1] = weights
         return out.reshape(2, 2 * n)
+
+
+def transposed_solve(matrix: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """``rows @ matrix^-1`` (rows (m, N), matrix (N, N)), through a banded LU when it is banded.
+
+    E of a spline or Lagrange face is banded (each node sees the few functions of its
+    element): a banded LU then costs O(N) per row where a dense one costs O(N^2).
+    """
+    nonzero_rows, nonzero_cols = np.nonzero(matrix)
+    lower = int(np.max(nonzero_rows - nonzero_cols, initial=0))
+    upper = int(np.max(nonzero_cols - nonzero_rows, initial=0))
+    n = matrix.shape[0]
+    if lower + upper + 1 > n // 4:
+        return np.linalg.solve(matrix.T, rows.T).T
+    # the transpose has the bands swapped: its lower band is the matrix's upper one
+    bands = np.zeros((lower + upper + 1, n))
+    transposed = matrix.T
+    for k in range(-upper, lower + 1):  # diagonal k of the transpose (k > 0 above)
+        diagonal = np.diagonal(transposed, k)
+        if k >= 0:
+            bands[lower - k, k:] = diagonal
+        else:
+            bands[lower - k, : n + k] = diagonal
+    return sla.solve_banded((upper, lower), bands, rows.T).T
 
 
 def _shape_integrals(face: Basis) -> np.ndarray:
