@@ -14,17 +14,27 @@ ratios taken in the same round are what counts). Workflows:
   in one float32 product per chunk), in-plane and 3D;
 - ``halfplane``: the half-plane body model's cycle (scene built, five steps) against the
   BEM bodies of the same scene and against a numpy Toeplitz influence-coefficient peer
-  (``benchmarks/halfplane_peer.py``) on the same nodes, at 61 and 481 pairs;
+  (``benchmarks/halfplane_peer.py``) on the same nodes, at 61 and 481 pairs, and the BEM
+  bodies' cycle against the same peer; the process first runs both models on another pad
+  (imports, compiled loops), so no geometry cache holds the measured scene;
 - ``sweep``: ``fretbem sweep examples/fretting_map.toml`` (144 cases) default engine against
   ``--serial``, whole process;
 - ``demo``: ``fretbem demo`` with figures and VTK against ``python -c "import numpy,
-  scipy.linalg"``, whole process;
+  scipy.linalg"``, whole process; and the CPU seconds of drawing the demo's three PNGs
+  (``save_figures`` of the two 61-pair results, matplotlib already imported);
 - ``memory``: the up-front memory estimate against the measured peak (VmHWM) of a 961-pair
   cycle.
 
     git archive b0bd220 | tar -x -C /tmp/before
     python benchmarks/workflows.py --before /tmp/before --rounds 3 \
         --json docs/results/workflows.json
+    python benchmarks/performance_page.py
+
+The small cycles and the demo (issue 28 items 3 and 4) against the code before that work:
+
+    git archive 2e517d6 | tar -x -C /tmp/hp-before
+    OPENBLAS_NUM_THREADS=1 python benchmarks/workflows.py --before /tmp/hp-before \
+        --only halfplane demo --rounds 3 --json docs/results/workflows_small_cycles.json
     python benchmarks/performance_page.py
 """
 
@@ -88,17 +98,36 @@ from fretbem.simulation import run
 import halfplane_peer
 pairs = int(sys.argv[1])
 models = {"bem": {}, "halfplane": {"upper": "half-plane", "lower": "half-plane"}}
-run(scenes.cattaneo_mindlin(pairs=61, models=models["halfplane"]))  # imports, caches
+for m in models.values():  # imports, compiled loops: on another pad, so no cache holds the scene
+    run(scenes.cattaneo_mindlin(pairs=pairs, models=m, radius=71.0))
 out = {}
 for name, m in models.items():
-    t, c = time.perf_counter(), time.process_time()
-    run(scenes.cattaneo_mindlin(pairs=pairs, models=m))
+    c = time.process_time()
+    simulation = scenes.cattaneo_mindlin(pairs=pairs, models=m)
+    out[name + "_build"] = time.process_time() - c
+    run(simulation)
     out[name] = time.process_time() - c
 halfplane_peer.cycle(pairs)
 t = time.process_time()
 for _ in range(5):
     halfplane_peer.cycle(pairs)
 out["peer"] = (time.process_time() - t) / 5
+print(json.dumps(out))
+"""
+
+FIGURES_CHILD = r"""
+import json, tempfile, time
+from fretbem.scenes.reference import cattaneo_mindlin
+from fretbem.simulation import run
+results = [run(cattaneo_mindlin(basis=b, pairs=61)) for b in ("nurbs", "lagrange2")]
+t = time.process_time()
+from fretbem.output import figures
+import matplotlib.backends.backend_agg, matplotlib.figure
+out = {"import": time.process_time() - t}
+with tempfile.TemporaryDirectory() as directory:  # the demo's three PNGs, once per process
+    t = time.process_time()
+    figures.save_figures(results, directory)
+    out["figures"] = time.process_time() - t
 print(json.dumps(out))
 """
 
@@ -183,6 +212,7 @@ def one_round(tree: Path, tmp: Path, which: set[str]) -> dict:
         floor = _process([sys.executable, "-c", "import numpy, scipy.linalg"], tree, work)
         out["demo"] = {"demo_wall": demo[0], "demo_cpu": demo[1],
                        "floor_wall": floor[0], "floor_cpu": floor[1]}  # fmt: skip
+        out["figures"] = json.loads(_process([sys.executable, "-c", FIGURES_CHILD], tree, work)[2])
     if "memory" in which:
         out["memory"] = json.loads(
             _process([sys.executable, "-c", MEMORY_CHILD, "961"], tree, work)[2]
@@ -217,6 +247,7 @@ def ratios(m: dict) -> dict:
         if h:
             r[f"half-plane body / numpy Toeplitz peer, {pairs} pairs"] = h["halfplane"] / h["peer"]
             r[f"half-plane body / BEM bodies, {pairs} pairs"] = h["halfplane"] / h["bem"]
+            r[f"BEM bodies / numpy Toeplitz peer, {pairs} pairs"] = h["bem"] / h["peer"]
     if "sweep" in m:
         s = m["sweep"]
         r["sweep default / --serial, 144 cases (wall)"] = s["default_wall"] / s["serial_wall"]
@@ -225,6 +256,8 @@ def ratios(m: dict) -> dict:
         d = m["demo"]
         r["demo / numpy+scipy.linalg import (wall)"] = d["demo_wall"] / d["floor_wall"]
         r["demo / numpy+scipy.linalg import (CPU)"] = d["demo_cpu"] / d["floor_cpu"]
+    if "figures" in m:
+        r["demo's three PNGs, drawing (CPU s)"] = m["figures"]["figures"]
     if "memory" in m:
         r["memory estimate / measured peak, 961 pairs"] = (
             m["memory"]["estimate"] / m["memory"]["peak"]

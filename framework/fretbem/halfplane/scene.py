@@ -32,8 +32,10 @@ def half_plane_model(
     family: type[Basis],
     refinement: Mapping[str, Refinement],
     tag: str = "contact",
+    name: str | None = None,
 ) -> HalfPlaneBody:
-    """The ``label`` body ("upper": a pad above its surface; "lower": a specimen below it).
+    """The ``label`` body ("upper": a pad above its surface; "lower": a specimen below it),
+    named ``name`` (``label`` if None).
 
     Keeps the segments tagged ``tag`` (the face: one segment, or several end to end such as
     a rounded flat's fillet, flat and fillet) with their refinement and a loading block if
@@ -56,5 +58,5 @@ def half_plane_model(
         refinement=refinement.get(tag, Refinement()),
         loading_block=block,
         tag=tag,
-        name=label,
+        name=label if name is None else name,
     )

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import attrs
 import numpy as np
+import scipy.linalg as sla
 
 from fretbem.basis import Basis
 from fretbem.material import Material
@@ -78,8 +79,16 @@ class HalfPlaneSurface:
 
     @property
     def collocation_matrix(self) -> np.ndarray:
-        """E: traction coefficients to node values."""
-        return self.face.collocation_matrix()
+        """E: traction coefficients to node values (computed once)."""
+        if "collocation_matrix" not in self._cache:
+            matrix = self.face.collocation_matrix()
+            matrix.setflags(write=False)
+            self._cache["collocation_matrix"] = matrix
+        return self._cache["collocation_matrix"]
+
+    def _per_value(self, per_coefficient: np.ndarray) -> np.ndarray:
+        """Rows of ``per_coefficient`` (m, N) taken through E^-1: per unit node value."""
+        return transposed_solve(self.collocation_matrix, per_coefficient)
 
     def coefficient_map(self, x) -> np.ndarray:
         """Displacement (m, 2, 2N) at surface abscissae ``x`` per traction coefficient.
@@ -87,10 +96,14 @@ class HalfPlaneSurface:
         Column 2 b + j: unit coefficient of traction component j on shape function b.
         """
         integrals = surface_integrals(self.face, x, self.datum)
+        return self._displacement_map(integrals.log, integrals.sign)
+
+    def _displacement_map(self, log: np.ndarray, sign: np.ndarray) -> np.ndarray:
+        """(m, 2, 2N) from the ln and sign integrals (m, N) of N functions or node values."""
         c, sigma = self.compliance, side_sign(self.side)
-        m, n_f = integrals.log.shape
-        out = np.zeros((m, 2, n_f, 2))
-        log, jump = -c.log * integrals.log, sigma * c.jump * integrals.sign
+        m, n_f = log.shape
+        out = np.empty((m, 2, n_f, 2))
+        log, jump = -c.log * log, sigma * c.jump * sign
         out[:, 0, :, 0] = log
         out[:, 0, :, 1] = jump
         out[:, 1, :, 0] = -jump
@@ -107,13 +120,12 @@ class HalfPlaneSurface:
 
     def node_map(self, x) -> np.ndarray:
         """Displacement (m, 2, 2n) at surface abscissae ``x`` per unit node traction."""
-        per_coefficient = self.coefficient_map(x)
-        m = per_coefficient.shape[0]
-        n = self.face.n_functions
-        # per node value = per coefficient @ E^-1 (coefficients = E^-1 values), as one solve
-        blocks = np.moveaxis(per_coefficient.reshape(m, 2, n, 2), 2, -1).reshape(-1, n)
-        per_value = np.linalg.solve(self.collocation_matrix.T, blocks.T).T
-        return np.moveaxis(per_value.reshape(m, 2, 2, n), -1, 2).reshape(m, 2, 2 * n)
+        integrals = surface_integrals(self.face, x, self.datum)
+        m = integrals.log.shape[0]
+        # per node value = per coefficient @ E^-1 (coefficients = E^-1 values): the four
+        # blocks of the map are the ln and sign integrals times constants, so two solves
+        both = self._per_value(np.concatenate([integrals.log, integrals.sign]))
+        return self._displacement_map(both[:m], both[m:])
 
     def bulk_displacement(self, x) -> np.ndarray:
         """Surface displacement (m, 2) per unit far-field stress sigma_xx (the "bulk" load).
@@ -130,12 +142,36 @@ class HalfPlaneSurface:
     def contact_force(self) -> np.ndarray:
         """Resultant force (2, 2n) of the face tractions per unit node traction."""
         # int phi_b |dx| per coefficient, then per node value through E^-1
-        weights = np.linalg.solve(self.collocation_matrix.T, _shape_integrals(self.face))
+        weights = self._per_value(_shape_integrals(self.face)[None])[0]
         n = len(weights)
         out = np.zeros((2, n, 2))
         out[0, :, 0] = weights
         out[1, :, 1] = weights
         return out.reshape(2, 2 * n)
+
+
+def transposed_solve(matrix: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """``rows @ matrix^-1`` (rows (m, N), matrix (N, N)), through a banded LU when it is banded.
+
+    E of a spline or Lagrange face is banded (each node sees the few functions of its
+    element): a banded LU then costs O(N) per row where a dense one costs O(N^2).
+    """
+    nonzero_rows, nonzero_cols = np.nonzero(matrix)
+    lower = int(np.max(nonzero_rows - nonzero_cols, initial=0))
+    upper = int(np.max(nonzero_cols - nonzero_rows, initial=0))
+    n = matrix.shape[0]
+    if lower + upper + 1 > n // 4:
+        return np.linalg.solve(matrix.T, rows.T).T
+    # the transpose has the bands swapped: its lower band is the matrix's upper one
+    bands = np.zeros((lower + upper + 1, n))
+    transposed = matrix.T
+    for k in range(-upper, lower + 1):  # diagonal k of the transpose (k > 0 above)
+        diagonal = np.diagonal(transposed, k)
+        if k >= 0:
+            bands[lower - k, k:] = diagonal
+        else:
+            bands[lower - k, : n + k] = diagonal
+    return sla.solve_banded((upper, lower), bands, rows.T).T
 
 
 def _shape_integrals(face: Basis) -> np.ndarray:

@@ -11,6 +11,7 @@ is kept for the report).
 
 from __future__ import annotations
 
+import functools
 import math
 
 import attrs
@@ -270,7 +271,7 @@ def refinements(scene: Scene, family: type[Basis], zone: float, pad: bool) -> di
     for tag, end in near_zone.items():
         levels[tag] = Refinement.graded(scene.mesh.flank_elements, end, flank, degree=degree)
     tags = {s.tag for s in _face(scene, zone, pad)} | (
-        {s.tag for s in body.shape.boundary(zone).segments} if pad else set()
+        {s.tag for s in _geometry(body.shape, "boundary", zone).segments} if pad else set()
     )
     for tag in ("side_left", "side_right", "end_left", "end_right"):
         if tag in tags:
@@ -284,12 +285,41 @@ def _half_extent(shape) -> float:
 
 def _pad_face(scene: Scene, zone: float, pad: bool):
     """The pad's face at ``zone``; for the specimen of a sliding scene, its straight track."""
-    return track_face(zone) if scene.contact.sliding and not pad else scene.pad.shape.face(zone)
+    if scene.contact.sliding and not pad:
+        return track_face(zone)
+    return list(_geometry(scene.pad.shape, "face", zone))
 
 
 def _face(scene: Scene, zone: float, pad: bool):
     face = _pad_face(scene, zone, pad)
-    return face if pad else list(scene.specimen.shape.boundary(face, zone).segments)
+    return face if pad else list(_specimen_boundary(scene, face, zone).segments)
+
+
+def _specimen_boundary(scene: Scene, pad_face, zone: float):
+    return _geometry(scene.specimen.shape, "boundary", tuple(pad_face), zone)
+
+
+def _geometry(shape, method: str, *args):
+    """``shape.method(*args)``, kept for the shape and arguments (see :func:`_built`)."""
+    try:
+        return _built(shape, method, *args)
+    except TypeError:  # a shape with unhashable fields: build it each time
+        return _call(shape, method, *args)
+
+
+def _call(shape, method: str, *args):
+    if method == "face":
+        return tuple(shape.face(*args))
+    if method == "boundary" and len(args) == 2:  # a specimen: the pad's face, the zone
+        return shape.boundary(list(args[0]), args[1])
+    return getattr(shape, method)(*args)
+
+
+#: a scene build asks for each body's face and boundary four or five times, and a sweep or
+#: study builds the same shapes again for every case: they are built and checked once per
+#: (shape, arguments). Shapes, segments and boundaries are frozen; a specimen's key holds the
+#: pad's face segments themselves, which this cache hands out the same each time
+_built = functools.lru_cache(maxsize=64)(_call)
 
 
 def build(scene: Scene, **contact_overrides):
@@ -466,7 +496,10 @@ def body_model(scene: Scene, role: str, family: type[Basis], zone: float, refine
                 "use a flat specimen with support = 'ends'"
             )
         conditions = [Displacement("bottom")]
-    boundary = spec.shape.boundary(zone) if role == "pad" else spec.shape.boundary(pad_face, zone)
+    if role == "pad":
+        boundary = _geometry(spec.shape, "boundary", zone)
+    else:
+        boundary = _specimen_boundary(scene, pad_face, zone)
     try:
         model = registry.get(spec.model, "bodies")()
     except registry.UnknownPluginError as err:

@@ -13,8 +13,6 @@ from abc import ABC, abstractmethod
 from collections.abc import Mapping, Sequence
 from typing import ClassVar
 
-import attrs
-
 from fretbem.basis import Basis, Refinement
 from fretbem.bem.body import BemBody
 from fretbem.body import Body
@@ -62,7 +60,7 @@ class HalfPlaneModel(BodyModel):
     description = "elastic half-plane below the contact face (Flamant influence functions)"
 
     def build(self, scene, role, boundary, material, conditions, family, refinement) -> Body:
-        body = half_plane_model(
+        return half_plane_model(
             "upper" if role == "pad" else "lower",
             scene=scene,
             boundary=boundary,
@@ -70,5 +68,5 @@ class HalfPlaneModel(BodyModel):
             conditions=conditions,
             family=family,
             refinement=refinement,
+            name=role,  # named at construction: evolve would discretise the face again
         )
-        return attrs.evolve(body, name=role)

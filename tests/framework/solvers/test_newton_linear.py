@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from fretbem.solvers import newton_linear
 from fretbem.solvers.newton_linear import NewtonLinear, reduced_newton_step
 
 SEPARATED, STICK, SLIP = 0, 1, 2
@@ -96,9 +97,12 @@ def test_singular_reduced_system_raises():
 
 @pytest.mark.parametrize("seed", range(6))
 @pytest.mark.parametrize("m", [0, 2])
-def test_successive_patterns_through_one_factorisation(seed, m):
+@pytest.mark.parametrize("direct", [False, True])
+def test_successive_patterns_through_one_factorisation(seed, m, direct, monkeypatch):
     """A pattern a few pairs away is solved through the kept LU, bordered by the rows that
-    differ, and still equals the full dense solve; a far pattern refactorises."""
+    differ, and still equals the full dense solve; a far pattern refactorises. A system
+    smaller than DIRECT_BELOW is factorised afresh every step, with the same steps."""
+    monkeypatch.setattr(newton_linear, "DIRECT_BELOW", 10**9 if direct else 0)
     rng = np.random.default_rng(100 + seed)
     n = 60
     states = rng.choice([SEPARATED, STICK, SLIP], n)
@@ -121,4 +125,5 @@ def test_successive_patterns_through_one_factorisation(seed, m):
         separated = np.flatnonzero(states == SEPARATED)
         assert np.array_equal(step[separated], -residual[separated])
         assert np.array_equal(step[n + separated], -residual[n + separated])
-    assert linear.factorisations <= 2  # the near patterns went through the border
+    # the near patterns went through the border, unless every step factorises
+    assert linear.factorisations == 6 if direct else linear.factorisations <= 2

@@ -1,0 +1,132 @@
+"""The fast paths of the half-plane influence coefficients equal the plain ones.
+
+Newton in a bracket against bisection for the split point, the six-point rule of far
+elements against the twelve-point rule everywhere, the banded solve of E^T against the dense
+one: on single faces of both families (a line, a flattened arc) and on a joined face.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+
+from fretbem import registry as bases
+from fretbem.basis import Refinement
+from fretbem.geometry.nurbs import NurbsCurve
+from fretbem.halfplane import HalfPlaneSurface, influence, surface_integrals
+from fretbem.halfplane.joined import JoinedFace
+from fretbem.halfplane.surface import transposed_solve
+from fretbem.material import Material
+
+STEEL = Material(210000.0, 0.3)
+
+
+def _bisection(face, elements, targets):
+    """Frozen copy of the split-point search before the Newton one: 60 bisections."""
+    lo = np.full(len(elements), -1.0)
+    hi = np.full(len(elements), 1.0)
+    increasing = face.map(elements, hi).points[:, 0] > face.map(elements, lo).points[:, 0]
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        move_hi = (face.map(elements, mid).points[:, 0] > targets) == increasing
+        hi = np.where(move_hi, mid, hi)
+        lo = np.where(move_hi, lo, mid)
+    return 0.5 * (lo + hi)
+
+
+def _arc(elements: int, family: str):
+    radius, up = 3.0, math.pi / 2
+    phi = math.asin(1.0 / radius)
+    curve = NurbsCurve.arc([0.0, -radius], radius, up - phi, up + phi).flattened(0.0)
+    return bases.get(family).discretise(curve, Refinement(elements=elements))
+
+
+def _line(elements: int, family: str, start=-1.0, end=1.0):
+    curve = NurbsCurve.line([start, 0.0], [end, 0.0])
+    return bases.get(family).discretise(curve, Refinement(elements=elements))
+
+
+def _joined(family: str):
+    ends = [-1.0, -0.3, 0.4, 1.0]
+    return JoinedFace([_line(5, family, a, b) for a, b in itertools.pairwise(ends)])
+
+
+FACES = {
+    "line 7": lambda f: _line(7, f),
+    "line 40 reversed": lambda f: _line(40, f, 1.0, -1.0),
+    "arc 30": lambda f: _arc(30, f),
+    "joined 3 x 5": _joined,
+}
+
+
+def _field_points(face) -> np.ndarray:
+    elements, local = face.collocation()
+    nodes = face.map(elements, local).points[:, 0]
+    return np.concatenate([nodes, np.linspace(-1.6, 1.6, 41), [-1.0 - 1e-7, 1.0 + 1e-9]])
+
+
+@pytest.mark.parametrize("family", ["nurbs", "lagrange2"])
+@pytest.mark.parametrize("name", FACES)
+def test_split_points_equal_bisection(family, name):
+    face = FACES[name](family)
+    x = _field_points(face)
+    elements = np.searchsorted(np.sort(x), x) % face.n_elements  # any elements: miss or hit
+    inside = []
+    for e in range(face.n_elements):
+        ends = face.map(np.array([e, e]), np.array([-1.0, 1.0])).points[:, 0]
+        inside.append((e, x[(x > ends.min()) & (x < ends.max())]))
+    elements = np.concatenate([np.full(len(xs), e) for e, xs in inside])
+    targets = np.concatenate([xs for _, xs in inside])
+    assert targets.size > face.n_elements  # every element holds field points
+    newton = influence._invert(face, elements, targets)
+    np.testing.assert_allclose(newton, _bisection(face, elements, targets), rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("family", ["nurbs", "lagrange2"])
+@pytest.mark.parametrize("name", FACES)
+def test_far_rule_equals_the_twelve_point_rule(family, name, monkeypatch):
+    face = FACES[name](family)
+    x = _field_points(face)
+    fast = surface_integrals(face, x, 0.7)
+    monkeypatch.setattr(influence, "FAR_RATIO", math.inf)  # twelve points on every element
+    plain = surface_integrals(face, x, 0.7)
+    scale = np.abs(plain.log).max()
+    np.testing.assert_allclose(fast.log, plain.log, rtol=0, atol=1e-13 * scale)
+    np.testing.assert_allclose(fast.sign, plain.sign, rtol=0, atol=1e-13 * np.abs(plain.sign).max())
+
+
+@pytest.mark.parametrize("family", ["nurbs", "lagrange2"])
+@pytest.mark.parametrize("name", FACES)
+def test_banded_solve_equals_the_dense_one(family, name):
+    surface = HalfPlaneSurface(FACES[name](family), STEEL, "lower", datum=2.0)
+    matrix = surface.collocation_matrix
+    rows = np.random.default_rng(5).normal(size=(9, matrix.shape[0]))
+    np.testing.assert_allclose(
+        surface._per_value(rows), np.linalg.solve(matrix.T, rows.T).T, rtol=1e-12, atol=1e-12
+    )
+    # the node map is the coefficient map taken through E^-1
+    x = np.linspace(-0.8, 0.8, 5)
+    per_coefficient = surface.coefficient_map(x)
+    n = matrix.shape[0]
+    blocks = np.moveaxis(per_coefficient.reshape(len(x), 2, n, 2), 2, -1).reshape(-1, n)
+    dense = np.linalg.solve(matrix.T, blocks.T).T
+    dense = np.moveaxis(dense.reshape(len(x), 2, 2, n), -1, 2).reshape(len(x), 2, 2 * n)
+    scale = np.abs(dense).max()
+    np.testing.assert_allclose(surface.node_map(x), dense, rtol=0, atol=1e-13 * scale)
+
+
+@pytest.mark.parametrize(("lower", "upper"), [(0, 0), (1, 3), (3, 1), (2, 2), (0, 4)])
+def test_transposed_solve_of_any_band(lower, upper):
+    """Unequal bands (an E whose nodes lean to one side) and the dense fallback alike."""
+    rng = np.random.default_rng(lower + 7 * upper)
+    for n in (40, 9):  # banded, then dense (the band is not narrow next to n)
+        i, j = np.indices((n, n))
+        matrix = np.where((i - j <= lower) & (j - i <= upper), rng.normal(size=(n, n)), 0.0)
+        matrix += 4.0 * np.eye(n)
+        rows = rng.normal(size=(6, n))
+        np.testing.assert_allclose(
+            transposed_solve(matrix, rows) @ matrix, rows, rtol=0, atol=1e-12
+        )
