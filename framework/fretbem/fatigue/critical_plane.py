@@ -18,7 +18,7 @@ import attrs
 import numpy as np
 
 from .errors import FatigueInputError
-from .mcc import circle_bounds_xy, minimum_circumscribed_circle_xy
+from .mcc import _HALF_SQRT2, circle_bounds_xy, minimum_circumscribed_circle_xy
 from .planes import plane_grid, projection
 
 __all__ = [
@@ -206,18 +206,51 @@ def _make_criteria(methods, E, nu, findley_k, fatemi_socie_k, yield_strength):
     return criteria
 
 
-def _coarse(stress, criteria, theta, psi, E, nu):
-    """Best grid plane per point and criterion: (theta, psi) indices, pruned exact MCC."""
-    # single precision is enough to pick the best grid plane; the refinement is in double
-    coef = projection(theta, psi).astype(np.float32)
+def _coarse_columns(theta, psi, nu, *, strains: bool, shear: bool, in_plane: bool):
+    """Float32 coefficients (4, Q G): every linear plane quantity of the grid in one product.
+
+    Quantities, each a linear map of (sxx, syy, sxy, szz) on every grid plane: the normal
+    stress, the normal strain times E (Hooke: (1 + nu) sigma_n - nu tr sigma) if ``strains``,
+    and the shear path: its one component tau_e in-plane (a straight path), or tau_1, tau_2,
+    tau_1 + tau_2 and tau_1 - tau_2 (the extents the circle bounds need) in 3D.
+    """
+    coef = projection(theta, psi)  # (3, G, 4)
+    columns = [coef[0]]
+    if strains:
+        columns.append((1.0 + nu) * coef[0] - nu * np.array([1.0, 1.0, 0.0, 1.0]))
+    if shear and in_plane:
+        columns.append(coef[2])
+    elif shear:
+        columns += [coef[1], coef[2], coef[1] + coef[2], coef[1] - coef[2]]
+    return np.concatenate(columns).T.astype(np.float32)
+
+
+def _coarse(stress, criteria, columns, n_g, E, in_plane):
+    """Best grid plane per point and criterion: indices into the grid, pruned exact MCC.
+
+    Single precision picks the best grid plane (the refinement is in double): one product
+    with ``columns`` (:func:`_coarse_columns`) gives every quantity of every plane, and one
+    maximum and one minimum over the steps every summary the criteria and the bounds need.
+    """
+    n_t, n_p = stress.shape[:2]
+    data = (stress.astype(np.float32) @ columns).reshape(n_t, n_p, -1, n_g)
+    top, bottom = data.max(axis=0), data.min(axis=0)  # (P, Q, G)
+    q = {"normal_stress_max": top[:, 0]}
     with_swt = any(c.name == "swt" for c in criteria)
-    q = plane_quantities(stress.astype(np.float32), coef, E, nu, strains=with_swt)
-    n_p, n_g = q["normal_stress_max"].shape
-    px, py = q["path_x"], q["path_y"]
-    if not any(c.needs_shear and c.name != "swt" for c in criteria):
-        zero = np.zeros((n_p, n_g))
+    if with_swt:
+        q["normal_strain_amplitude"] = 0.5 * (top[:, 1] - bottom[:, 1]) / E
+    first = 1 + with_swt  # the first shear quantity
+    if not any(c.needs_shear for c in criteria):
+        zero = np.zeros((n_p, n_g), dtype=np.float32)
         return {c.name: _argbest(c, c.value(q, zero), c.secondary(q)) for c in criteria}
-    tau_lo, tau_hi = (b.reshape(n_p, n_g) for b in circle_bounds_xy(px, py))
+    span = top[:, first:] - bottom[:, first:]
+    if in_plane:  # straight shear path: the amplitude is half its range
+        tau = 0.5 * span[:, 0]
+        return {c.name: _argbest(c, c.value(q, tau), c.secondary(q)) for c in criteria}
+    rx, ry = span[:, 0], span[:, 1]
+    ru, rv = span[:, 2] * _HALF_SQRT2, span[:, 3] * _HALF_SQRT2
+    tau_lo = 0.5 * np.maximum(np.maximum(rx, ry), np.maximum(ru, rv))
+    tau_hi = 0.5 * np.sqrt(np.minimum(rx * rx + ry * ry, ru * ru + rv * rv))
     need = np.zeros((n_p, n_g), dtype=bool)
     for crit in criteria:
         if crit.name == "swt":
@@ -230,16 +263,12 @@ def _coarse(stress, criteria, theta, psi, E, nu):
         need |= hi >= best_lo - slack
     need &= tau_hi > tau_lo * (1.0 + 1e-12)
     tau = tau_lo.copy()
-    flat = np.flatnonzero(need.ravel())
-    if flat.size:
-        _, _, radius = minimum_circumscribed_circle_xy(px[:, flat], py[:, flat])
-        tau.ravel()[flat] = radius
-    best = {}
-    for crit in criteria:
-        values = crit.value(q, tau)
-        idx = _argbest(crit, values, crit.secondary(q))
-        best[crit.name] = idx
-    return best
+    point, plane = np.nonzero(need)
+    if point.size:
+        px = data[:, point, first, plane]
+        py = data[:, point, first + 1, plane]
+        tau[point, plane] = minimum_circumscribed_circle_xy(px, py)[2]
+    return {c.name: _argbest(c, c.value(q, tau), c.secondary(q)) for c in criteria}
 
 
 def _plane_stats(
@@ -305,6 +334,22 @@ def _in_plane_stats(stress, theta, E, nu, *, shear: bool, strains: bool) -> dict
     return out
 
 
+#: (step, point, plane) values per block of points in the per-point plane statistics: the
+#: temporaries of a block stay in cache (10,000 points, 4 criteria: 1.7x faster than one block)
+STATS_BLOCK = 1 << 15
+
+
+def _chunked_stats(stress, theta, psi, E, nu, **flags) -> dict:
+    """:func:`_plane_stats` over blocks of points; the same values (elementwise work)."""
+    n_t, n_p = stress.shape[:2]
+    size = max(1, STATS_BLOCK // (n_t * theta.shape[1]))
+    if size >= n_p:
+        return _plane_stats(stress, theta, psi, E, nu, **flags)
+    blocks = [slice(a, a + size) for a in range(0, n_p, size)]
+    parts = [_plane_stats(stress[:, b], theta[b], psi[b], E, nu, **flags) for b in blocks]
+    return {key: np.concatenate([part[key] for part in parts]) for key in parts[0]}
+
+
 def _columns(q: dict, cols: slice) -> dict:
     return {key: value[:, cols] for key, value in q.items()}
 
@@ -326,7 +371,7 @@ class _SharedPass:
         n_c, n_p, n_g = theta.shape
         th = theta.transpose(1, 0, 2).reshape(n_p, n_c * n_g)
         ps = psi.transpose(1, 0, 2).reshape(n_p, n_c * n_g)
-        q = _plane_stats(
+        q = _chunked_stats(
             self.stress,
             th,
             ps,
@@ -444,9 +489,19 @@ def critical_plane_parameters(
     )
     n_points = stress.shape[1]
     best = {c.name: np.empty(n_points, dtype=int) for c in criteria}
+    columns = _coarse_columns(
+        theta_g,
+        psi_g,
+        nu,
+        strains=any(c.name == "swt" for c in criteria),
+        shear=any(c.needs_shear for c in criteria),
+        in_plane=search.in_plane_only,
+    )
     for start in range(0, n_points, search.chunk_points):
         part = slice(start, start + search.chunk_points)
-        chunk_best = _coarse(stress[:, part], criteria, theta_g, psi_g, E, nu)
+        chunk_best = _coarse(
+            stress[:, part], criteria, columns, theta_g.size, E, search.in_plane_only
+        )
         for name, idx in chunk_best.items():
             best[name][part] = idx
     steps = (np.deg2rad(search.theta_step_deg), np.deg2rad(search.psi_step_deg))
