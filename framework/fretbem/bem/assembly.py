@@ -82,9 +82,9 @@ def _contiguous(*arrays):
     return tuple(np.ascontiguousarray(a) for a in arrays)
 
 
-#: bodies up to this many functions keep their blocks for reuse (H and G of 1,000 functions
-#: are 32 MB; a large body is assembled once, so a copy would only raise its peak memory)
-REUSE_MAX_FUNCTIONS = 1000
+#: bodies up to this many functions keep their blocks for reuse (H and G of 600 functions
+#: are 23 MB; a large body is assembled once, so a copy would only raise its peak memory)
+REUSE_MAX_FUNCTIONS = 600
 
 
 class BlockStore:
