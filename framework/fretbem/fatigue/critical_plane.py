@@ -12,6 +12,7 @@ of the minimum circumscribed circle of the shear-stress path on the plane.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Sequence
 
 import attrs
@@ -272,7 +273,7 @@ def _coarse(stress, criteria, columns, n_g, E, in_plane):
 
 
 def _plane_stats(
-    stress, theta, psi, E, nu, *, shear: bool, strains: bool, in_plane: bool = False
+    stress, theta, psi, E, nu, *, shear: bool, strains: bool, in_plane: bool = False, exact=None
 ) -> dict:
     """Summaries over the cycle on per-point planes ``theta``, ``psi`` (P, G), in double.
 
@@ -280,7 +281,9 @@ def _plane_stats(
     matrix products) and reductions over the steps; the shear amplitude is exact where its
     bounds differ (minimum circumscribed circle) and the common bound where they meet (a
     straight shear path). ``in_plane``: every plane contains z (psi = 90 degrees), whose
-    shear path is the straight line tau_e: its amplitude is half its range.
+    shear path is the straight line tau_e: its amplitude is half its range. ``exact``
+    (optional): ``exact(smax, tau_lo, tau_hi)`` -> (P, G) mask of the planes whose exact
+    amplitude can matter; the others keep the lower bound.
     """
     if in_plane:
         return _in_plane_stats(stress, theta, E, nu, shear=shear, strains=strains)
@@ -305,7 +308,11 @@ def _plane_stats(
         py = (sp * te).reshape(n_t, n_p * n_g)
         tau_lo, tau_hi = circle_bounds_xy(px, py)
         tau = tau_lo.copy()
-        flat = np.flatnonzero(tau_hi > tau_lo * (1.0 + 1e-12))
+        differ = tau_hi > tau_lo * (1.0 + 1e-12)
+        if exact is not None:
+            shape = (n_p, n_g)
+            differ &= exact(smax, tau_lo.reshape(shape), tau_hi.reshape(shape)).ravel()
+        flat = np.flatnonzero(differ)
         if flat.size:
             tau[flat] = minimum_circumscribed_circle_xy(px[:, flat], py[:, flat])[2]
         out["tau"] = tau.reshape(n_p, n_g)
@@ -339,14 +346,28 @@ def _in_plane_stats(stress, theta, E, nu, *, shear: bool, strains: bool) -> dict
 STATS_BLOCK = 1 << 15
 
 
-def _chunked_stats(stress, theta, psi, E, nu, **flags) -> dict:
-    """:func:`_plane_stats` over blocks of points; the same values (elementwise work)."""
+def _chunked_stats(stress, theta, psi, E, nu, *, exact=None, **flags) -> dict:
+    """:func:`_plane_stats` over blocks of points; the same values (elementwise work).
+
+    ``exact(block, smax, tau_lo, tau_hi)``, if given, is asked per block of points.
+    """
     n_t, n_p = stress.shape[:2]
     size = max(1, STATS_BLOCK // (n_t * theta.shape[1]))
-    if size >= n_p:
-        return _plane_stats(stress, theta, psi, E, nu, **flags)
     blocks = [slice(a, a + size) for a in range(0, n_p, size)]
-    parts = [_plane_stats(stress[:, b], theta[b], psi[b], E, nu, **flags) for b in blocks]
+    parts = [
+        _plane_stats(
+            stress[:, b],
+            theta[b],
+            psi[b],
+            E,
+            nu,
+            exact=None if exact is None else functools.partial(exact, b),
+            **flags,
+        )
+        for b in blocks
+    ]
+    if len(parts) == 1:
+        return parts[0]
     return {key: np.concatenate([part[key] for part in parts]) for key in parts[0]}
 
 
@@ -363,10 +384,14 @@ class _SharedPass:
         self.shear = any(c.needs_shear for c in criteria)
         self.strains = any(c.name == "swt" for c in criteria)
 
-    def __call__(self, theta: np.ndarray, psi: np.ndarray, *, strains: bool = False):
+    def __call__(self, theta: np.ndarray, psi: np.ndarray, *, strains: bool = False, against=None):
         """Planes (C, P, G) per criterion -> [(values, secondary, tau, q)] per criterion.
 
         ``strains`` computes the normal strain amplitude even without SWT (the final planes).
+        ``against``: per criterion (values, scale) of the planes these compete with; a plane
+        whose value cannot reach them (by its shear amplitude's upper bound) keeps the lower
+        bound, which cannot win either, instead of the exact circle. SWT's planes never need
+        the circle (the parameter has no shear term).
         """
         n_c, n_p, n_g = theta.shape
         th = theta.transpose(1, 0, 2).reshape(n_p, n_c * n_g)
@@ -380,6 +405,7 @@ class _SharedPass:
             shear=self.shear,
             strains=self.strains or strains,
             in_plane=self.in_plane,
+            exact=functools.partial(self._exact, n_g, against),
         )
         out = []
         for i, crit in enumerate(self.criteria):
@@ -387,6 +413,23 @@ class _SharedPass:
             tau = qc["tau"] if crit.needs_shear else np.zeros_like(qc["tau"])
             out.append((crit.value(qc, tau), crit.secondary(qc), tau, qc))
         return out
+
+    def _exact(self, n_g, against, block, smax, tau_lo, tau_hi) -> np.ndarray:
+        """Mask (P, C G) of the planes whose exact shear amplitude can change a decision."""
+        need = np.zeros(tau_lo.shape, dtype=bool)
+        for i, crit in enumerate(self.criteria):
+            cols = slice(i * n_g, (i + 1) * n_g)
+            if not crit.needs_shear:
+                continue
+            if against is None:
+                need[:, cols] = True
+                continue
+            q = {"normal_stress_max": smax[:, cols]}
+            top = np.maximum(crit.value(q, tau_lo[:, cols]), crit.value(q, tau_hi[:, cols]))
+            value, scale = against[i]
+            slack = MWCM_TIE_TOLERANCE * scale[block, None] if crit.name == "mwcm" else 0.0
+            need[:, cols] = top >= value[block, None] - slack
+        return need
 
 
 def _refine(evaluate, criteria, theta, psi, steps, levels, in_plane_only):
@@ -409,7 +452,9 @@ def _refine(evaluate, criteria, theta, psi, steps, levels, in_plane_only):
             offsets = np.array([[-ht, 0.0], [ht, 0.0], [0.0, -hp], [0.0, hp]])
         th = theta[:, :, None] + offsets[:, 0]
         ps = np.clip(psi[:, :, None] + offsets[:, 1], 0.0, np.pi / 2)
-        for i, (crit, (v, s, _, _)) in enumerate(zip(criteria, evaluate(th, ps), strict=True)):
+        against = list(zip(values, scale, strict=True))
+        candidates = evaluate(th, ps, against=against)
+        for i, (crit, (v, s, _, _)) in enumerate(zip(criteria, candidates, strict=True)):
             j = _argbest(crit, v, s)
             vj = v[rows, j]
             sj = None if s is None else s[rows, j]
@@ -436,7 +481,8 @@ def _refine(evaluate, criteria, theta, psi, steps, levels, in_plane_only):
         new_theta[i] = theta[i] + shift[0]
         if not in_plane_only:
             new_psi[i] = np.clip(psi[i] + shift[1], 0.0, np.pi / 2)
-    final = evaluate(new_theta[:, :, None], new_psi[:, :, None])
+    against = list(zip(values, scale, strict=True))
+    final = evaluate(new_theta[:, :, None], new_psi[:, :, None], against=against)
     for i, (crit, (v, s2, _, _)) in enumerate(zip(criteria, final, strict=True)):
         move = _better(
             crit, v[:, 0], None if s2 is None else s2[:, 0], values[i], second[i], scale[i]
