@@ -82,9 +82,10 @@ def _contiguous(*arrays):
     return tuple(np.ascontiguousarray(a) for a in arrays)
 
 
-#: bodies up to this many functions keep their blocks for reuse (H and G of 600 functions
-#: are 23 MB; a large body is assembled once, so a copy would only raise its peak memory)
-REUSE_MAX_FUNCTIONS = 600
+#: bodies up to this many functions keep their blocks for reuse (the adaptive mode stops at 241
+#: pairs, 319 functions in the reference scene; H and G of 400 functions
+#: are 10 MB; a large body is assembled once, so a copy would only raise its peak memory)
+REUSE_MAX_FUNCTIONS = 400
 
 
 class BlockStore:
