@@ -11,6 +11,7 @@ for the near pairs' graded rules. Nothing of size (2N)^2 is allocated besides H 
 
 from __future__ import annotations
 
+import collections
 import weakref
 
 import numpy as np
@@ -88,6 +89,10 @@ def _contiguous(*arrays):
 REUSE_MAX_FUNCTIONS = 400
 
 
+#: bodies whose segments keep their blocks (the adaptive mode assembles two per level)
+RECENT_BODIES = 4
+
+
 class BlockStore:
     """The regular part (far, mid and near pairs) of H and G per pair of discretised segments,
     and each segment's fixed rules.
@@ -96,12 +101,27 @@ class BlockStore:
     only on those two discretisations, the kernel, the rules and the loops; the rigid-body
     and singular terms come after it. A body re-meshed on one segment (the adaptive mode's
     levels) keeps the other segments' Basis objects, so their blocks are taken from here
-    instead of being integrated again. Keys are weak: a block goes with its segments.
+    instead of being integrated again. Keys are weak: a block goes with its segments. Only
+    the segments of the last :data:`RECENT_BODIES` bodies assembled keep theirs: a segment
+    that every level shares stays, each level's re-meshed face goes (its Basis may live on
+    in the boundary's own cache of discretisations, its blocks do not).
     """
 
     def __init__(self) -> None:
         self._blocks: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
         self._rules: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+        self._recent: collections.deque = collections.deque(maxlen=RECENT_BODIES)
+
+    def assembled(self, segments) -> None:
+        """Record a body's segments; forget what no recent body uses."""
+        self._recent.append(tuple(weakref.ref(b) for b in segments))
+        live = {id(b) for body in self._recent for r in body if (b := r()) is not None}
+        for store in (self._blocks, self._rules):
+            for basis in [b for b in store.keys() if id(b) not in live]:
+                del store[basis]
+        for by_rows in self._blocks.values():
+            for basis in [b for b in by_rows.keys() if id(b) not in live]:
+                del by_rows[basis]
 
     def get(self, columns, rows, key):
         """The (H, G) block of ``rows``' points against ``columns``' functions, or None."""
@@ -124,6 +144,7 @@ class BlockStore:
         """Forget every block and rule (tests, benchmarks)."""
         self._blocks = weakref.WeakKeyDictionary()
         self._rules = weakref.WeakKeyDictionary()
+        self._recent.clear()
 
 
 #: the process's store of regular blocks (see :class:`BlockStore`)
@@ -266,6 +287,8 @@ def assemble(assembler, shear_modulus: float, nu: float, loops) -> tuple[np.ndar
             (k, basis, rows, rules["values"], rows[rules["singular_rows"]],
              rules["singular_elements"], rules["sides"], rules["singular"])
         )  # fmt: skip
+    if reuse:
+        BLOCKS.assembled(segments)
     # rigid-body identity: subtract phi_a(s) * (row sum of the non-singular part of H)
     row_sums = h.reshape(n, 2, n, 2).sum(axis=2)
     for k, basis, rows, values, *_ in jobs:

@@ -57,3 +57,25 @@ def test_blocks_go_with_their_segments():
 
     gc.collect()
     assert len(assembly.BLOCKS._rules) == 0
+
+
+def test_only_recent_bodies_keep_their_blocks():
+    """Each re-meshed face's blocks go once RECENT_BODIES later bodies were assembled; the
+    segments every body shares stay."""
+    assembly.BLOCKS.clear()
+    simulation = cattaneo_mindlin(pairs=21)
+    bodies = [
+        remesh(simulation, np.array([0.05 * k]), 21, ratio=4.0).pair.upper
+        for k in range(assembly.RECENT_BODIES + 2)
+    ]
+    for body in bodies:
+        body.matrices()
+    first_face = bodies[0].face_segment(simulation.pair.upper_tag)[1]
+    last_face = bodies[-1].face_segment(simulation.pair.upper_tag)[1]
+    shared = next(s for s in bodies[0].segments if s is bodies[-1].segments[0])
+    settings = bodies[0].integration
+    assert assembly.BLOCKS.rules(first_face, settings) is None
+    assert assembly.BLOCKS.rules(last_face, settings) is not None
+    assert assembly.BLOCKS.rules(shared, settings) is not None
+    assert first_face not in assembly.BLOCKS._blocks
+    assert all(first_face not in rows for rows in assembly.BLOCKS._blocks.values())
