@@ -525,6 +525,29 @@ def dense_limits_section() -> list[str]:
     ]
 
 
+def searches_section(path: Path) -> list[str]:
+    """Fatigue search, adaptive mode and 3,841 pairs before and after (issue 28, items 1, 3
+    and 5): docs/results/searches.json, written from the benchmarks its ``commands`` name."""
+    if not path.exists():
+        return []
+    data = json.loads(path.read_text())
+    lines = [
+        "## Fatigue search, adaptive mode, the largest dense run",
+        "",
+        *data["about"],
+        "",
+        "| ratio | limit | before | after | met |",
+        "|---|---|---|---|---|",
+    ]
+    for row in data["rows"]:
+        before, after = row["before"], row["after"]
+        met = "yes" if after <= row["limit"] else "no"
+        lines.append(f"| {row['name']} | {row['limit']:g} | {before:.3g} | {after:.3g} | {met} |")
+    lines += ["", *data["why"], "", "Reproduce:", "", "```"]
+    lines += [*data["commands"], "```", ""]
+    return lines
+
+
 def write_page(
     json_path: str | Path,
     out: str | Path,
@@ -553,6 +576,7 @@ def write_page(
         lines += workflows_section(Path(workflows))
     lines += small_cycles_section(Path(small_cycles), Path(small_cycle_costs))
     lines += dense_limits_section()
+    lines += searches_section(Path(json_path).with_name("searches.json"))
     path = Path(out)
     path.write_text("\n".join(lines).rstrip() + "\n")
     return path

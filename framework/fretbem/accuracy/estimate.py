@@ -10,6 +10,8 @@ level's points (that level's own error) carried by the pair ratio to the finer l
 
 from __future__ import annotations
 
+import weakref
+
 import attrs
 import numpy as np
 
@@ -75,6 +77,10 @@ def contact_segment(body, tag: str):
         raise EstimateInputError(str(err)) from None
 
 
+#: positions along a tangent of a curve's dense samples, per curve (weak keys)
+_SAMPLED: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
 def parameter_of(curve, tangent: np.ndarray, samples: int = 2001):
     """Inverse of the position along ``tangent`` on ``curve``: position -> parameter.
 
@@ -82,7 +88,11 @@ def parameter_of(curve, tangent: np.ndarray, samples: int = 2001):
     monotonic along the tangent (a contact face is).
     """
     grid = np.linspace(0.0, 1.0, samples)
-    along = curve.points(grid) @ tangent
+    key = (np.asarray(tangent, float).tobytes(), samples)
+    sampled = _SAMPLED.setdefault(curve, {})
+    if key not in sampled:  # the faces' curves outlive the levels re-meshed on them
+        sampled[key] = curve.points(grid) @ tangent
+    along = sampled[key]
     if not (np.all(np.diff(along) > 0) or np.all(np.diff(along) < 0)):
         raise EstimateInputError(
             "the contact face folds back along the pair tangent; it cannot be addressed by "

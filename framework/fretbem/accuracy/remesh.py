@@ -86,11 +86,14 @@ def aligned_breakpoints(
         work = (np.interp(ends, grid, cumulative) - np.interp(starts, grid, cumulative)) / h
         return half, starts, ends, work
 
+    # without centring the gaps do not depend on h: their integrals are taken once
+    fixed_work = None if centred else layout(1.0)[3]
     target = elements - fixed
     lo_h, hi_h = 1e-7, 2.0
     for _ in range(80):
         h = math.sqrt(lo_h * hi_h)
-        total = np.maximum(layout(h)[3], 1.0).sum()
+        work = layout(h)[3] if centred else fixed_work / h
+        total = np.maximum(work, 1.0).sum()
         lo_h, hi_h = (h, hi_h) if total > target else (lo_h, h)
     _, starts, ends, work = layout(math.sqrt(lo_h * hi_h))
     counts = np.maximum(np.floor(work), 1).astype(int)

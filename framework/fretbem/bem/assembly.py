@@ -11,6 +11,9 @@ for the near pairs' graded rules. Nothing of size (2N)^2 is allocated besides H 
 
 from __future__ import annotations
 
+import collections
+import weakref
+
 import numpy as np
 
 from fretbem.numerics.graded import graded_rule
@@ -80,82 +83,189 @@ def _contiguous(*arrays):
     return tuple(np.ascontiguousarray(a) for a in arrays)
 
 
+#: bodies up to this many functions keep their blocks for reuse (the adaptive mode stops at 241
+#: pairs, 319 functions in the reference scene; H and G of 400 functions
+#: are 10 MB; a large body is assembled once, so a copy would only raise its peak memory)
+REUSE_MAX_FUNCTIONS = 400
+
+
+#: bodies whose segments keep their blocks (the adaptive mode assembles two per level)
+RECENT_BODIES = 4
+
+
+class BlockStore:
+    """The regular part (far, mid and near pairs) of H and G per pair of discretised segments,
+    and each segment's fixed rules.
+
+    The block of the rows collocated on segment r against the functions of segment k depends
+    only on those two discretisations, the kernel, the rules and the loops; the rigid-body
+    and singular terms come after it. A body re-meshed on one segment (the adaptive mode's
+    levels) keeps the other segments' Basis objects, so their blocks are taken from here
+    instead of being integrated again. Keys are weak: a block goes with its segments. Only
+    the segments of the last :data:`RECENT_BODIES` bodies assembled keep theirs: a segment
+    that every level shares stays, each level's re-meshed face goes (its Basis may live on
+    in the boundary's own cache of discretisations, its blocks do not).
+    """
+
+    def __init__(self) -> None:
+        self._blocks: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+        self._rules: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+        self._recent: collections.deque = collections.deque(maxlen=RECENT_BODIES)
+
+    def assembled(self, segments) -> None:
+        """Record a body's segments; forget what no recent body uses."""
+        self._recent.append(tuple(weakref.ref(b) for b in segments))
+        live = {id(b) for body in self._recent for r in body if (b := r()) is not None}
+        for store in (self._blocks, self._rules):
+            for basis in [b for b in store.keys() if id(b) not in live]:
+                del store[basis]
+        for by_rows in self._blocks.values():
+            for basis in [b for b in by_rows.keys() if id(b) not in live]:
+                del by_rows[basis]
+
+    def get(self, columns, rows, key):
+        """The (H, G) block of ``rows``' points against ``columns``' functions, or None."""
+        return self._blocks.get(columns, {}).get(rows, {}).get(key)
+
+    def put(self, columns, rows, key, h_block, g_block) -> None:
+        """Keep a block (copies)."""
+        by_rows = self._blocks.setdefault(columns, weakref.WeakKeyDictionary())
+        by_rows.setdefault(rows, {})[key] = (h_block.copy(), g_block.copy())
+
+    def rules(self, basis, settings) -> dict | None:
+        """The fixed rules of one segment (:func:`_segment_rules`), or None."""
+        return self._rules.get(basis, {}).get(settings)
+
+    def keep_rules(self, basis, settings, rules: dict) -> None:
+        """Keep a segment's rules (read-only from here on)."""
+        self._rules.setdefault(basis, {})[settings] = rules
+
+    def clear(self) -> None:
+        """Forget every block and rule (tests, benchmarks)."""
+        self._blocks = weakref.WeakKeyDictionary()
+        self._rules = weakref.WeakKeyDictionary()
+        self._recent.clear()
+
+
+#: the process's store of regular blocks (see :class:`BlockStore`)
+BLOCKS = BlockStore()
+
+
+def _segment_rules(basis, settings, element, local, parameter) -> dict:
+    """Every fixed rule of one segment, from one basis evaluation.
+
+    The far and mid rules and the distance samples of every element, the basis at the
+    segment's own collocation points (``element``, ``local``, ``parameter``) and both sides
+    of the singular rules of those points: all depend on the segment and the rules only.
+    """
+    far_rule = QuadratureRule.gauss_legendre(settings.far_points)
+    mid_rule = QuadratureRule.gauss_legendre(settings.mid_points)
+    per_element = np.concatenate([far_rule.points, mid_rule.points, START])
+    cut = np.cumsum([0, far_rule.points.size, mid_rule.points.size, START.size])
+    n_el = basis.n_elements
+    # singular pairs depend only on parameters: the element(s) holding each point
+    lo, hi = basis.element_bounds.T
+    sr, se = np.nonzero((parameter[:, None] >= lo - 1e-12) & (parameter[:, None] <= hi + 1e-12))
+    lo_s, hi_s = basis.element_bounds[se].T
+    center = np.clip(2.0 * (parameter[sr] - lo_s) / (hi_s - lo_s) - 1.0, -1, 1)
+    sides = _singular_rules(center, settings)
+    singular_local = np.concatenate(
+        [center[:, None]] + [np.concatenate([d["local"], d["log_local"]], 1) for d in sides],
+        axis=1,
+    )
+    q_sing = singular_local.shape[1]
+    m = basis.map(
+        np.concatenate(
+            [np.repeat(np.arange(n_el), per_element.size), element, np.repeat(se, q_sing)]
+        ),
+        np.concatenate([np.tile(per_element, n_el), local, singular_local.ravel()]),
+    )
+    a0 = n_el * per_element.size
+    a1 = a0 + element.size
+
+    def per_el(array, part):
+        return array[:a0].reshape(n_el, per_element.size, *array.shape[1:])[
+            :, cut[part] : cut[part + 1]
+        ]
+
+    far = _contiguous(
+        per_el(m.points, 0),
+        per_el(m.normals, 0),
+        per_el(m.jacobians, 0) * far_rule.weights,
+        per_el(m.values, 0),
+    )
+    mid = _contiguous(
+        per_el(m.points, 1),
+        per_el(m.normals, 1),
+        per_el(m.jacobians, 1) * mid_rule.weights,
+        per_el(m.values, 1),
+    )
+    samples = np.ascontiguousarray(per_el(m.points, 2)[:, ::2])
+    centres = 0.5 * (samples.max(axis=1) + samples.min(axis=1))
+    return {
+        "far": far,
+        "mid": mid,
+        "samples": samples,
+        "length": mid[2].sum(axis=1),
+        "centres": centres,
+        "radii": np.linalg.norm(samples - centres[:, None], axis=-1).max(axis=1),
+        "start_points": per_el(m.points, 2),
+        "start_tangents": per_el(m.tangents, 2),
+        "values": m.values[a0:a1],
+        "singular_rows": sr,
+        "singular_elements": se,
+        "sides": sides,
+        "singular": {
+            name: getattr(m, name)[a1:].reshape(len(se), q_sing, *getattr(m, name).shape[1:])
+            for name in ("points", "normals", "jacobians", "values")
+        },
+    }
+
+
 def assemble(assembler, shear_modulus: float, nu: float, loops) -> tuple[np.ndarray, np.ndarray]:
     """Dense H and G of ``assembler`` (an :class:`~fretbem.bem.integration.Assembler`).
 
-    ``loops`` is :mod:`fretbem.bem.compiled_loops` or :mod:`fretbem.bem.numpy_loops`.
+    ``loops`` is :mod:`fretbem.bem.compiled_loops` or :mod:`fretbem.bem.numpy_loops`. A body
+    of at most :data:`REUSE_MAX_FUNCTIONS` takes the rules and regular blocks of segments
+    it shares with bodies assembled before (:data:`BLOCKS`) and keeps its own.
     """
     n, s, colloc = assembler.n, assembler.settings, assembler.colloc
     h, g = np.zeros((2 * n, 2 * n)), np.zeros((2 * n, 2 * n))
-    far_rule = QuadratureRule.gauss_legendre(s.far_points)
-    mid_rule = QuadratureRule.gauss_legendre(s.mid_points)
-    per_element = np.concatenate([far_rule.points, mid_rule.points, START])
-    cut = np.cumsum([0, far_rule.points.size, mid_rule.points.size, START.size])
-    all_rows = np.arange(n)
+    segments = assembler.segments
+    reuse = n <= REUSE_MAX_FUNCTIONS
+    key = (shear_modulus, nu, s, loops.__name__)
+    starts = np.searchsorted(colloc.segment, np.arange(len(segments) + 1))  # rows in order
     jobs = []
-    for k, basis in enumerate(assembler.segments):
-        n_el = basis.n_elements
-        rows = np.flatnonzero(colloc.segment == k)
-        # singular pairs depend only on parameters: the element(s) holding each point
-        lo, hi = basis.element_bounds.T
-        params = colloc.parameter[rows][:, None]
-        sr, se = np.nonzero((params >= lo - 1e-12) & (params <= hi + 1e-12))
-        lo_s, hi_s = basis.element_bounds[se].T
-        center = np.clip(2.0 * (colloc.parameter[rows[sr]] - lo_s) / (hi_s - lo_s) - 1.0, -1, 1)
-        sides = _singular_rules(center, s)
-        singular_local = np.concatenate(
-            [center[:, None]] + [np.concatenate([d["local"], d["log_local"]], 1) for d in sides],
-            axis=1,
-        )
-        q_sing = singular_local.shape[1]
-        m = basis.map(
-            np.concatenate(
-                [
-                    np.repeat(np.arange(n_el), per_element.size),
-                    colloc.element[rows],
-                    np.repeat(se, q_sing),
-                ]
-            ),
-            np.concatenate(
-                [np.tile(per_element, n_el), colloc.local[rows], singular_local.ravel()]
-            ),
-        )
-        a0 = n_el * per_element.size
-        a1 = a0 + rows.size
-
-        def per_el(array, part, a0=a0, n_el=n_el):
-            return array[:a0].reshape(n_el, per_element.size, *array.shape[1:])[
-                :, cut[part] : cut[part + 1]
-            ]
-
-        far = _contiguous(
-            per_el(m.points, 0),
-            per_el(m.normals, 0),
-            per_el(m.jacobians, 0) * far_rule.weights,
-            per_el(m.values, 0),
-        )
-        mid = _contiguous(
-            per_el(m.points, 1),
-            per_el(m.normals, 1),
-            per_el(m.jacobians, 1) * mid_rule.weights,
-            per_el(m.values, 1),
-        )
-        samples = np.ascontiguousarray(per_el(m.points, 2)[:, ::2])
-        length = mid[2].sum(axis=1)
-        centres = 0.5 * (samples.max(axis=1) + samples.min(axis=1))
-        radii = np.linalg.norm(samples - centres[:, None], axis=-1).max(axis=1)
+    for k, basis in enumerate(segments):
+        columns = slice(2 * assembler.offsets[k], 2 * assembler.offsets[k + 1])
+        known = {
+            r: block
+            for r, row_basis in enumerate(segments)
+            if reuse and (block := BLOCKS.get(basis, row_basis, key)) is not None
+        }
+        todo = np.flatnonzero(~np.isin(colloc.segment, list(known)))
+        rows = np.arange(starts[k], starts[k + 1])
+        rules = BLOCKS.rules(basis, s) if reuse else None
+        if rules is None:
+            rules = _segment_rules(
+                basis, s, colloc.element[rows], colloc.local[rows], colloc.parameter[rows]
+            )
+            if reuse:
+                BLOCKS.keep_rules(basis, s, rules)
         cols = assembler.offsets[k] + basis.connectivity
+        length = rules["length"]
         pr, pe, kind = loops.classify_and_integrate(
-            all_rows, colloc.points, colloc.segment == k, colloc.parameter,
-            basis.element_bounds, samples, centres, radii, length, *far, *mid, cols,
-            s.far_ratio, s.near_ratio, shear_modulus, nu, h, g,
+            todo, colloc.points, colloc.segment == k, colloc.parameter,
+            basis.element_bounds, rules["samples"], rules["centres"], rules["radii"], length,
+            *rules["far"], *rules["mid"], cols, s.far_ratio, s.near_ratio, shear_modulus, nu,
+            h, g,
         )  # fmt: skip
         near = kind == loops.NEAR
-        pr, pe = pr[near], pe[near]
+        pr, pe = todo[pr[near]], pe[near]
         if pr.size:
             src = colloc.points[pr]
             center_near, distance = _closest(
-                basis, pe, src, per_el(m.points, 2), per_el(m.tangents, 2)
+                basis, pe, src, rules["start_points"], rules["start_tangents"]
             )
             local, weights = graded_rule(
                 center_near, 2.0 * distance / length[pe], s.graded_points, s.graded_ratio
@@ -167,11 +277,18 @@ def assemble(assembler, shear_modulus: float, nu: float, loops) -> tuple[np.ndar
                 near_map.normals.reshape(*shape, 2), near_map.jacobians.reshape(shape) * weights,
                 near_map.values.reshape(*shape, -1), cols[pe], shear_modulus, nu, h, g,
             )  # fmt: skip
-        singular = {
-            key: getattr(m, key)[a1:].reshape(len(se), q_sing, *getattr(m, key).shape[1:])
-            for key in ("points", "normals", "jacobians", "values")
-        }
-        jobs.append((k, basis, rows, m.values[a0:a1], rows[sr], se, sides, singular))
+        for r, row_basis in enumerate(segments):
+            block_rows = slice(2 * starts[r], 2 * starts[r + 1])
+            if r in known:
+                h[block_rows, columns], g[block_rows, columns] = known[r]
+            elif reuse:
+                BLOCKS.put(basis, row_basis, key, h[block_rows, columns], g[block_rows, columns])
+        jobs.append(
+            (k, basis, rows, rules["values"], rows[rules["singular_rows"]],
+             rules["singular_elements"], rules["sides"], rules["singular"])
+        )  # fmt: skip
+    if reuse:
+        BLOCKS.assembled(segments)
     # rigid-body identity: subtract phi_a(s) * (row sum of the non-singular part of H)
     row_sums = h.reshape(n, 2, n, 2).sum(axis=2)
     for k, basis, rows, values, *_ in jobs:

@@ -8,6 +8,7 @@ contact response is that system condensed onto the contact face's node tractions
 from __future__ import annotations
 
 import time
+import weakref
 from collections.abc import Mapping
 
 import attrs
@@ -36,6 +37,26 @@ __all__ = ["BemBody", "discretised"]
 def discretised(family: type[Basis], segment, refinement: Refinement) -> Basis:
     """``segment.discretised(family, refinement)`` (the segment keeps its discretisations)."""
     return segment.discretised(family, refinement)
+
+
+#: int phi_a dGamma per discretised segment (weak keys: shared by bodies that share it)
+_WEIGHTS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _segment_weights(basis: Basis) -> np.ndarray:
+    """int phi_a dGamma for the functions of one discretised segment (8-point Gauss)."""
+    if basis not in _WEIGHTS:
+        rule = QuadratureRule.gauss_legendre(8)
+        out = np.zeros(basis.n_functions)
+        elements = np.repeat(np.arange(basis.n_elements), rule.points.size)
+        local = np.tile(rule.points, basis.n_elements)
+        _, _, jac, _ = basis.geometry(elements, local)
+        values, _ = basis.shape_functions(elements, local)
+        weights = jac * np.tile(rule.weights, basis.n_elements)
+        np.add.at(out, basis.connectivity[elements], values * weights[:, None])
+        out.flags.writeable = False
+        _WEIGHTS[basis] = out
+    return _WEIGHTS[basis]
 
 
 @attrs.frozen(eq=False)
@@ -138,18 +159,9 @@ class BemBody(Body):
     def resultant_weights(self) -> np.ndarray:
         """int phi_a dGamma for every function: tractions coefficients to resultant force."""
         if "resultant" not in self._cache:
-            rule = QuadratureRule.gauss_legendre(8)
-            out = np.zeros(self.n_functions)
-            for k, basis in enumerate(self.segments):
-                elements = np.repeat(np.arange(basis.n_elements), rule.points.size)
-                local = np.tile(rule.points, basis.n_elements)
-                _, _, jac, _ = basis.geometry(elements, local)
-                values, _ = basis.shape_functions(elements, local)
-                weights = jac * np.tile(rule.weights, basis.n_elements)
-                np.add.at(
-                    out, self.offsets[k] + basis.connectivity[elements], values * weights[:, None]
-                )
-            self._cache["resultant"] = out
+            self._cache["resultant"] = np.concatenate(
+                [_segment_weights(basis) for basis in self.segments]
+            )
         return self._cache["resultant"]
 
     def moment_weights(self, centre) -> np.ndarray:

@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import importlib.util
 import sys
+import weakref
 from collections.abc import Sequence
 
 import attrs
@@ -131,22 +132,25 @@ class Collocation:
 
     @classmethod
     def of(cls, segments: Sequence[Basis]) -> Collocation:
-        """Collocation data of the discretised segments, in segment order."""
+        """Collocation data of the discretised segments, in segment order.
+
+        Each segment's points are evaluated once per Basis object (:data:`_SEGMENT_POINTS`):
+        bodies that share segments (re-meshed on one face) share them.
+        """
         parts = []
         for k, basis in enumerate(segments):
-            elements, local = basis.collocation()
-            points, _, _, normals = basis.geometry(elements, local)
-            parts.append(
-                (
-                    np.full(len(elements), k),
-                    elements,
-                    local,
-                    basis.collocation_parameters,
-                    points,
-                    normals,
-                )
-            )
+            own = _SEGMENT_POINTS.get(basis)
+            if own is None:
+                elements, local = basis.collocation()
+                points, _, _, normals = basis.geometry(elements, local)
+                own = (elements, local, basis.collocation_parameters, points, normals)
+                _SEGMENT_POINTS[basis] = own
+            parts.append((np.full(len(own[0]), k), *own))
         return cls(*(np.concatenate(column) for column in zip(*parts, strict=True)))
+
+
+#: collocation data per discretised segment (weak keys: it goes with the segment)
+_SEGMENT_POINTS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def offsets(segments: Sequence[Basis]) -> np.ndarray:

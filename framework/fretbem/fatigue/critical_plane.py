@@ -16,13 +16,14 @@ unless asked for (:data:`DEFAULT_METHODS` are the four critical-plane parameters
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Sequence
 
 import attrs
 import numpy as np
 
 from .errors import FatigueInputError
-from .mcc import circle_bounds_xy, minimum_circumscribed_circle_xy
+from .mcc import _HALF_SQRT2, circle_bounds_xy, minimum_circumscribed_circle_xy
 from .mean_stress import MeanStressCorrection
 from .planes import plane_grid, projection
 
@@ -233,18 +234,51 @@ def _make_criteria(methods, E, nu, findley_k, fatemi_socie_k, yield_strength, me
     return criteria
 
 
-def _coarse(stress, criteria, theta, psi, E, nu):
-    """Best grid plane per point and criterion: (theta, psi) indices, pruned exact MCC."""
-    # single precision is enough to pick the best grid plane; the refinement is in double
-    coef = projection(theta, psi).astype(np.float32)
+def _coarse_columns(theta, psi, nu, *, strains: bool, shear: bool, in_plane: bool):
+    """Float32 coefficients (4, Q G): every linear plane quantity of the grid in one product.
+
+    Quantities, each a linear map of (sxx, syy, sxy, szz) on every grid plane: the normal
+    stress, the normal strain times E (Hooke: (1 + nu) sigma_n - nu tr sigma) if ``strains``,
+    and the shear path: its one component tau_e in-plane (a straight path), or tau_1, tau_2,
+    tau_1 + tau_2 and tau_1 - tau_2 (the extents the circle bounds need) in 3D.
+    """
+    coef = projection(theta, psi)  # (3, G, 4)
+    columns = [coef[0]]
+    if strains:
+        columns.append((1.0 + nu) * coef[0] - nu * np.array([1.0, 1.0, 0.0, 1.0]))
+    if shear and in_plane:
+        columns.append(coef[2])
+    elif shear:
+        columns += [coef[1], coef[2], coef[1] + coef[2], coef[1] - coef[2]]
+    return np.concatenate(columns).T.astype(np.float32)
+
+
+def _coarse(stress, criteria, columns, n_g, E, in_plane):
+    """Best grid plane per point and criterion: indices into the grid, pruned exact MCC.
+
+    Single precision picks the best grid plane (the refinement is in double): one product
+    with ``columns`` (:func:`_coarse_columns`) gives every quantity of every plane, and one
+    maximum and one minimum over the steps every summary the criteria and the bounds need.
+    """
+    n_t, n_p = stress.shape[:2]
+    data = (stress.astype(np.float32) @ columns).reshape(n_t, n_p, -1, n_g)
+    top, bottom = data.max(axis=0), data.min(axis=0)  # (P, Q, G)
+    q = {"normal_stress_max": top[:, 0], "normal_stress_min": bottom[:, 0]}
     with_strain = any(c.needs_strain for c in criteria)
-    q = plane_quantities(stress.astype(np.float32), coef, E, nu, strains=with_strain)
-    n_p, n_g = q["normal_stress_max"].shape
-    px, py = q["path_x"], q["path_y"]
+    if with_strain:
+        q["normal_strain_amplitude"] = 0.5 * (top[:, 1] - bottom[:, 1]) / E
+    first = 1 + with_strain  # the first shear quantity
     if not any(c.needs_shear for c in criteria):
-        zero = np.zeros((n_p, n_g))
+        zero = np.zeros((n_p, n_g), dtype=np.float32)
         return {c.name: _argbest(c, c.value(q, zero), c.secondary(q)) for c in criteria}
-    tau_lo, tau_hi = (b.reshape(n_p, n_g) for b in circle_bounds_xy(px, py))
+    span = top[:, first:] - bottom[:, first:]
+    if in_plane:  # straight shear path: the amplitude is half its range
+        tau = 0.5 * span[:, 0]
+        return {c.name: _argbest(c, c.value(q, tau), c.secondary(q)) for c in criteria}
+    rx, ry = span[:, 0], span[:, 1]
+    ru, rv = span[:, 2] * _HALF_SQRT2, span[:, 3] * _HALF_SQRT2
+    tau_lo = 0.5 * np.maximum(np.maximum(rx, ry), np.maximum(ru, rv))
+    tau_hi = 0.5 * np.sqrt(np.minimum(rx * rx + ry * ry, ru * ru + rv * rv))
     need = np.zeros((n_p, n_g), dtype=bool)
     for crit in criteria:
         if not crit.needs_shear:
@@ -257,20 +291,16 @@ def _coarse(stress, criteria, theta, psi, E, nu):
         need |= hi >= best_lo - slack
     need &= tau_hi > tau_lo * (1.0 + 1e-12)
     tau = tau_lo.copy()
-    flat = np.flatnonzero(need.ravel())
-    if flat.size:
-        _, _, radius = minimum_circumscribed_circle_xy(px[:, flat], py[:, flat])
-        tau.ravel()[flat] = radius
-    best = {}
-    for crit in criteria:
-        values = crit.value(q, tau)
-        idx = _argbest(crit, values, crit.secondary(q))
-        best[crit.name] = idx
-    return best
+    point, plane = np.nonzero(need)
+    if point.size:
+        px = data[:, point, first, plane]
+        py = data[:, point, first + 1, plane]
+        tau[point, plane] = minimum_circumscribed_circle_xy(px, py)[2]
+    return {c.name: _argbest(c, c.value(q, tau), c.secondary(q)) for c in criteria}
 
 
 def _plane_stats(
-    stress, theta, psi, E, nu, *, shear: bool, strains: bool, in_plane: bool = False
+    stress, theta, psi, E, nu, *, shear: bool, strains: bool, in_plane: bool = False, exact=None
 ) -> dict:
     """Summaries over the cycle on per-point planes ``theta``, ``psi`` (P, G), in double.
 
@@ -278,7 +308,9 @@ def _plane_stats(
     matrix products) and reductions over the steps; the shear amplitude is exact where its
     bounds differ (minimum circumscribed circle) and the common bound where they meet (a
     straight shear path). ``in_plane``: every plane contains z (psi = 90 degrees), whose
-    shear path is the straight line tau_e: its amplitude is half its range.
+    shear path is the straight line tau_e: its amplitude is half its range. ``exact``
+    (optional): ``exact(smax, tau_lo, tau_hi)`` -> (P, G) mask of the planes whose exact
+    amplitude can matter; the others keep the lower bound.
     """
     if in_plane:
         return _in_plane_stats(stress, theta, E, nu, shear=shear, strains=strains)
@@ -303,7 +335,11 @@ def _plane_stats(
         py = (sp * te).reshape(n_t, n_p * n_g)
         tau_lo, tau_hi = circle_bounds_xy(px, py)
         tau = tau_lo.copy()
-        flat = np.flatnonzero(tau_hi > tau_lo * (1.0 + 1e-12))
+        differ = tau_hi > tau_lo * (1.0 + 1e-12)
+        if exact is not None:
+            shape = (n_p, n_g)
+            differ &= exact(smax, tau_lo.reshape(shape), tau_hi.reshape(shape)).ravel()
+        flat = np.flatnonzero(differ)
         if flat.size:
             tau[flat] = minimum_circumscribed_circle_xy(px[:, flat], py[:, flat])[2]
         out["tau"] = tau.reshape(n_p, n_g)
@@ -332,6 +368,36 @@ def _in_plane_stats(stress, theta, E, nu, *, shear: bool, strains: bool) -> dict
     return out
 
 
+#: (step, point, plane) values per block of points in the per-point plane statistics: the
+#: temporaries of a block stay in cache (10,000 points, 4 criteria: 1.7x faster than one block)
+STATS_BLOCK = 1 << 15
+
+
+def _chunked_stats(stress, theta, psi, E, nu, *, exact=None, **flags) -> dict:
+    """:func:`_plane_stats` over blocks of points; the same values (elementwise work).
+
+    ``exact(block, smax, tau_lo, tau_hi)``, if given, is asked per block of points.
+    """
+    n_t, n_p = stress.shape[:2]
+    size = max(1, STATS_BLOCK // (n_t * theta.shape[1]))
+    blocks = [slice(a, a + size) for a in range(0, n_p, size)]
+    parts = [
+        _plane_stats(
+            stress[:, b],
+            theta[b],
+            psi[b],
+            E,
+            nu,
+            exact=None if exact is None else functools.partial(exact, b),
+            **flags,
+        )
+        for b in blocks
+    ]
+    if len(parts) == 1:
+        return parts[0]
+    return {key: np.concatenate([part[key] for part in parts]) for key in parts[0]}
+
+
 def _columns(q: dict, cols: slice) -> dict:
     return {key: value[:, cols] for key, value in q.items()}
 
@@ -345,15 +411,19 @@ class _SharedPass:
         self.shear = any(c.needs_shear for c in criteria)
         self.strains = any(c.needs_strain for c in criteria)
 
-    def __call__(self, theta: np.ndarray, psi: np.ndarray, *, strains: bool = False):
+    def __call__(self, theta: np.ndarray, psi: np.ndarray, *, strains: bool = False, against=None):
         """Planes (C, P, G) per criterion -> [(values, secondary, tau, q)] per criterion.
 
         ``strains`` computes the normal strain amplitude even without SWT (the final planes).
+        ``against``: per criterion (values, scale) of the planes these compete with; a plane
+        whose value cannot reach them (by its shear amplitude's upper bound) keeps the lower
+        bound, which cannot win either, instead of the exact circle. SWT's planes never need
+        the circle (the parameter has no shear term).
         """
         n_c, n_p, n_g = theta.shape
         th = theta.transpose(1, 0, 2).reshape(n_p, n_c * n_g)
         ps = psi.transpose(1, 0, 2).reshape(n_p, n_c * n_g)
-        q = _plane_stats(
+        q = _chunked_stats(
             self.stress,
             th,
             ps,
@@ -362,6 +432,7 @@ class _SharedPass:
             shear=self.shear,
             strains=self.strains or strains,
             in_plane=self.in_plane,
+            exact=functools.partial(self._exact, n_g, against),
         )
         out = []
         for i, crit in enumerate(self.criteria):
@@ -369,6 +440,23 @@ class _SharedPass:
             tau = qc["tau"] if crit.needs_shear else np.zeros_like(qc["tau"])
             out.append((crit.value(qc, tau), crit.secondary(qc), tau, qc))
         return out
+
+    def _exact(self, n_g, against, block, smax, tau_lo, tau_hi) -> np.ndarray:
+        """Mask (P, C G) of the planes whose exact shear amplitude can change a decision."""
+        need = np.zeros(tau_lo.shape, dtype=bool)
+        for i, crit in enumerate(self.criteria):
+            cols = slice(i * n_g, (i + 1) * n_g)
+            if not crit.needs_shear:
+                continue
+            if against is None:
+                need[:, cols] = True
+                continue
+            q = {"normal_stress_max": smax[:, cols]}
+            top = np.maximum(crit.value(q, tau_lo[:, cols]), crit.value(q, tau_hi[:, cols]))
+            value, scale = against[i]
+            slack = MWCM_TIE_TOLERANCE * scale[block, None] if crit.name == "mwcm" else 0.0
+            need[:, cols] = top >= value[block, None] - slack
+        return need
 
 
 def _refine(evaluate, criteria, theta, psi, steps, levels, in_plane_only):
@@ -391,7 +479,9 @@ def _refine(evaluate, criteria, theta, psi, steps, levels, in_plane_only):
             offsets = np.array([[-ht, 0.0], [ht, 0.0], [0.0, -hp], [0.0, hp]])
         th = theta[:, :, None] + offsets[:, 0]
         ps = np.clip(psi[:, :, None] + offsets[:, 1], 0.0, np.pi / 2)
-        for i, (crit, (v, s, _, _)) in enumerate(zip(criteria, evaluate(th, ps), strict=True)):
+        against = list(zip(values, scale, strict=True))
+        candidates = evaluate(th, ps, against=against)
+        for i, (crit, (v, s, _, _)) in enumerate(zip(criteria, candidates, strict=True)):
             j = _argbest(crit, v, s)
             vj = v[rows, j]
             sj = None if s is None else s[rows, j]
@@ -419,7 +509,8 @@ def _refine(evaluate, criteria, theta, psi, steps, levels, in_plane_only):
         new_theta[i] = theta[i] + shift[0]
         if not in_plane_only:
             new_psi[i] = np.clip(psi[i] + shift[1], 0.0, np.pi / 2)
-    final = evaluate(new_theta[:, :, None], new_psi[:, :, None])
+    against = list(zip(values, scale, strict=True))
+    final = evaluate(new_theta[:, :, None], new_psi[:, :, None], against=against)
     for i, (crit, (v, s2, _, _)) in enumerate(zip(criteria, final, strict=True)):
         move = _better(
             crit, v[:, 0], None if s2 is None else s2[:, 0], values[i], second[i], scale[i]
@@ -476,9 +567,19 @@ def critical_plane_parameters(
     )
     n_points = stress.shape[1]
     best = {c.name: np.empty(n_points, dtype=int) for c in criteria}
+    columns = _coarse_columns(
+        theta_g,
+        psi_g,
+        nu,
+        strains=any(c.needs_strain for c in criteria),
+        shear=any(c.needs_shear for c in criteria),
+        in_plane=search.in_plane_only,
+    )
     for start in range(0, n_points, search.chunk_points):
         part = slice(start, start + search.chunk_points)
-        chunk_best = _coarse(stress[:, part], criteria, theta_g, psi_g, E, nu)
+        chunk_best = _coarse(
+            stress[:, part], criteria, columns, theta_g.size, E, search.in_plane_only
+        )
         for name, idx in chunk_best.items():
             best[name][part] = idx
     steps = (np.deg2rad(search.theta_step_deg), np.deg2rad(search.psi_step_deg))

@@ -1,0 +1,81 @@
+"""Regular H/G blocks and segment rules reused between bodies that share segments."""
+
+from __future__ import annotations
+
+import attrs
+import numpy as np
+import pytest
+
+from fretbem.accuracy.adaptive import remesh
+from fretbem.bem import assembly
+from fretbem.bem.integration import IntegrationSettings
+from fretbem.scenes import cattaneo_mindlin
+
+
+def _with_loops(body, compiled: bool):
+    return attrs.evolve(body, integration=IntegrationSettings(compiled=compiled))
+
+
+@pytest.mark.parametrize("basis", ["nurbs", "lagrange2"])
+@pytest.mark.parametrize("compiled", [False, True])
+def test_remeshed_body_reuses_blocks_and_equals_a_fresh_assembly(basis, compiled):
+    simulation = cattaneo_mindlin(basis=basis, pairs=21)
+    first = remesh(simulation, np.array([]), 21, ratio=1.0).pair.upper
+    second = remesh(simulation, np.array([0.1]), 31, ratio=4.0).pair.upper
+    first, second = _with_loops(first, compiled), _with_loops(second, compiled)
+    shared = [a is b for a, b in zip(first.segments, second.segments, strict=True)]
+    assert sum(shared) == len(shared) - 1  # only the contact face was re-meshed
+
+    assembly.BLOCKS.clear()
+    fresh_h, fresh_g = attrs.evolve(second).matrices()  # a fresh cache, nothing stored before
+    assembly.BLOCKS.clear()
+    first.matrices()
+    key_segments = [s for s, same in zip(second.segments, shared, strict=True) if same]
+    assert assembly.BLOCKS.rules(key_segments[0], second.integration) is not None
+    h, g = second.matrices()
+    # the same sums in the same order: equal to the last bit
+    assert np.array_equal(h, fresh_h)
+    assert np.array_equal(g, fresh_g)
+
+
+def test_large_bodies_keep_nothing(monkeypatch):
+    monkeypatch.setattr(assembly, "REUSE_MAX_FUNCTIONS", 10)
+    assembly.BLOCKS.clear()
+    body = cattaneo_mindlin(pairs=11).pair.upper
+    body.matrices()
+    assert all(assembly.BLOCKS.rules(s, body.integration) is None for s in body.segments)
+    assert assembly.BLOCKS.get(body.segments[0], body.segments[0], None) is None
+
+
+def test_blocks_go_with_their_segments():
+    assembly.BLOCKS.clear()
+    body = cattaneo_mindlin(pairs=11).pair.upper
+    body.matrices()
+    assert len(assembly.BLOCKS._rules) == len(body.segments)
+    del body
+    import gc
+
+    gc.collect()
+    assert len(assembly.BLOCKS._rules) == 0
+
+
+def test_only_recent_bodies_keep_their_blocks():
+    """Each re-meshed face's blocks go once RECENT_BODIES later bodies were assembled; the
+    segments every body shares stay."""
+    assembly.BLOCKS.clear()
+    simulation = cattaneo_mindlin(pairs=21)
+    bodies = [
+        remesh(simulation, np.array([0.05 * k]), 21, ratio=4.0).pair.upper
+        for k in range(assembly.RECENT_BODIES + 2)
+    ]
+    for body in bodies:
+        body.matrices()
+    first_face = bodies[0].face_segment(simulation.pair.upper_tag)[1]
+    last_face = bodies[-1].face_segment(simulation.pair.upper_tag)[1]
+    shared = next(s for s in bodies[0].segments if s is bodies[-1].segments[0])
+    settings = bodies[0].integration
+    assert assembly.BLOCKS.rules(first_face, settings) is None
+    assert assembly.BLOCKS.rules(last_face, settings) is not None
+    assert assembly.BLOCKS.rules(shared, settings) is not None
+    assert first_face not in assembly.BLOCKS._blocks
+    assert all(first_face not in rows for rows in assembly.BLOCKS._blocks.values())
