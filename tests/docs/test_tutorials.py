@@ -132,4 +132,5 @@ TESTED = {
     "verification/rounded_flat_pad.py",
     "verification/dissimilar_cylinders.py",
     "verification/bulk_beyond_limit.py",
+    "verification/tilted_pad.py",
 }
