@@ -56,14 +56,15 @@ class WearRequest:
     outputs: tuple[int, ...] = ()
     assess: tuple[int, ...] = ()
 
-    def simulation(self, simulation) -> WearSimulation:
-        """The wear history of ``simulation`` (the scene's), cycle increments applied."""
+    def simulation(self, simulation, sliding: bool = False) -> WearSimulation:
+        """The wear history of ``simulation`` (the scene's), cycle increments applied;
+        ``sliding``: with finite sliding (``[contact] sliding = true``)."""
         if self.increments is not None:
             steps = tuple(attrs.evolve(s, increments=self.increments) for s in simulation.steps)
             simulation = attrs.evolve(simulation, steps=steps)
         return WearSimulation(
             simulation, self.laws, self.cycles, self.cycle, self.control,
-            tuple(sorted({*self.outputs, *self.assess})),
+            tuple(sorted({*self.outputs, *self.assess})), sliding,
         )  # fmt: skip
 
 

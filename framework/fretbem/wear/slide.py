@@ -6,9 +6,11 @@ the simulation solving on it. :meth:`Track.step` advances it through a load step
 :func:`fretbem.sliding.slide.run_sliding` does (the faces projected again whenever the pad
 has moved a pair spacing, the friction memory carried to the new pairing), with a hook
 after every increment. :func:`simulate_sliding_cycle` uses that hook to wear the faces: a
-pair's depth increment goes to the specimen where the pair is along the track and to the
-pad at that point less the pad's slide (the increment's mid-point), so the specimen's scar
-spans the contact plus the stroke while the pad wears at its own points.
+pair's depth increment goes to each face at the material point the pair meets on it (at the
+increment's mid-point), so the specimen's scar spans the contact plus the stroke while the
+pad wears at its own points. Which points meet comes from the pair's relative tangential
+displacement (the slip plus the elastic part), not from the block's travel, which also
+counts the bodies' tangential compliance.
 """
 
 from __future__ import annotations
@@ -104,10 +106,13 @@ class Track:
         """How far the pad's block has moved along the track beyond the pairing's slide."""
         return 0.0 if state.virgin else _block_delta(self.problem, state.x)
 
+    def along(self) -> np.ndarray:
+        """The pairs' points along the track in this pairing (mm)."""
+        return self.problem.pairing.points @ self.tangent
+
     def positions(self, state: ContactState) -> np.ndarray:
-        """The pairs' positions along the track (mm, specimen's frame) at ``state``."""
-        along = self.problem.pairing.points @ self.tangent
-        return along + (self.block(state) if self.pair.slave_side() == "upper" else 0.0)
+        """The pairs' positions on the specimen (mm along its face) at ``state``."""
+        return self.pair.material(self.along(), np.asarray(state.slip))["lower"]
 
     def _moved(self, ahead: float, state: ContactState, name: str):
         slide = self.pair.slide() + ahead
@@ -123,6 +128,10 @@ class Track:
             self.pairings[key] = pair
         problem = pair.condensed()
         state = _carried(state, problem, ahead * self.tangent)
+        touching = state.states != PairState.SEPARATED
+        if touching.any():  # where the pad's surface is against its block's travel
+            pair = pair.rewear(pair.upper_wear, pair.lower_wear, float(state.slip[touching].mean()))
+            problem = pair.condensed()
         track = attrs.evolve(self, simulation=attrs.evolve(self.simulation, pair=pair),
                              problem=problem)  # fmt: skip
         return track, state
@@ -179,16 +188,14 @@ def simulate_sliding_cycle(
     energy, energy_sensitivity, work, work_sensitivity = (np.zeros(x.size) for _ in range(4))
     path = np.zeros(n)
     pressures, shears, positions, iterations = [], [], [], 0
-    slave_upper = track.pair.slave_side() == "upper"
 
     def wear(now: Track, before: ContactState, after: ContactState) -> None:
         layout = now.problem.layout
         ds = np.asarray(after.slip) - np.asarray(before.slip)
         p, q = after.x[layout.pressure], after.x[layout.shear]
         w = pair_weights(now.problem)
-        moved = 0.5 * (now.block(before) + now.block(after))
-        specimen = now.problem.pairing.points @ now.tangent + (moved if slave_upper else 0.0)
-        at = {"lower": specimen, "upper": specimen - (now.pair.slide() + moved)}
+        at = now.pair.material(now.along(), 0.5 * (np.asarray(before.slip) + after.slip))
+        specimen = at["lower"]
         for body in BODIES:
             depth[body] += deposit(x, weights, at[body], w * laws[body].depth(p, q, ds))
             sensitivities[body] += laws[body].pressure_sensitivity(p, q, ds)

@@ -72,12 +72,19 @@ class WornTrackPair(NodeToSegmentPair):
         Taken off every gap (mm): the pad moved rigidly toward the specimen so that a run
         from the unloaded bodies starts touching (0 during a wear history, whose state
         carries the approach).
+    shift : float
+        The pad's surface against the specimen's beyond the pairing's slide (mm): the mean
+        relative tangential displacement of the pairs in contact when the faces were
+        projected. The slide is the loading block's travel, which includes the bodies'
+        tangential compliance; the faces' material points meet where the relative
+        displacement puts them.
     """
 
     grid: np.ndarray = attrs.field(kw_only=True, converter=float_array)
     upper_wear: np.ndarray = attrs.field(kw_only=True, converter=float_array)
     lower_wear: np.ndarray = attrs.field(kw_only=True, converter=float_array)
     datum: float = attrs.field(default=0.0, kw_only=True, converter=float)
+    shift: float = attrs.field(default=0.0, kw_only=True, converter=float)
 
     @classmethod
     def of(cls, pair: NodeToSegmentPair, grid, upper, lower, datum=0.0) -> WornTrackPair:
@@ -91,11 +98,21 @@ class WornTrackPair(NodeToSegmentPair):
         """The pad's slide (mm along the track) this pairing was projected at."""
         return float(self.offset @ self._bare().tangents[0])
 
-    def wear_gap(self, positions: np.ndarray) -> np.ndarray:
-        """Both faces' depth (mm) facing the specimen's points at ``positions`` along the
-        track, the pad at this pairing's slide."""
-        lower = np.interp(positions, self.grid, self.lower_wear)
-        upper = np.interp(positions - self.slide(), self.grid, self.upper_wear)
+    def material(self, along: np.ndarray, moved) -> dict:
+        """Where the pairs at ``along`` (mm on the track, this pairing's points) are on each
+        face's grid when the pad has moved ``moved`` (mm, a relative tangential
+        displacement per pair, or a number) against the specimen in this pairing: the pair
+        nodes stay on their own face, the other face's point comes to them."""
+        if self.slave_side() == "upper":
+            return {"lower": along + moved, "upper": along - self.slide()}
+        return {"lower": along, "upper": along - self.slide() - moved}
+
+    def wear_gap(self, along: np.ndarray) -> np.ndarray:
+        """Both faces' depth (mm) at the pairs at ``along`` (mm on the track), the pad at
+        this pairing's slide and ``shift``."""
+        at = self.material(along, self.shift)
+        lower = np.interp(at["lower"], self.grid, self.lower_wear)
+        upper = np.interp(at["upper"], self.grid, self.upper_wear)
         return lower + upper
 
     def _bare(self) -> Pairing:
@@ -112,10 +129,11 @@ class WornTrackPair(NodeToSegmentPair):
             self._cache["pairing"] = attrs.evolve(bare, gap=bare.gap + worn - self.datum)
         return self._cache["pairing"]
 
-    def rewear(self, upper: np.ndarray, lower: np.ndarray) -> WornTrackPair:
-        """This pairing with other depths: the projection and the condensation reused, only
-        the gap differs."""
-        worn = attrs.evolve(self, upper_wear=upper, lower_wear=lower)
+    def rewear(self, upper: np.ndarray, lower: np.ndarray, shift=None) -> WornTrackPair:
+        """This pairing with other depths (and ``shift``, if given): the projection and the
+        condensation reused, only the gap differs."""
+        shift = self.shift if shift is None else shift
+        worn = attrs.evolve(self, upper_wear=upper, lower_wear=lower, shift=shift)
         worn._cache["bare"] = self._bare()
         worn._cache["covered"] = self._cache["covered"]
         if "condensed" in self._cache:

@@ -1,0 +1,133 @@
+"""Wear with finite sliding: the pairing follows the pad, each face wears at its own points.
+
+A cylinder (R = 70 mm) on a flat, both half-planes, P = 100 N/mm, f = 0.3, the pad's block
+driven +-0.2 mm in gross slip (about four contact half-widths): the energy and Archard
+volumes equal the summed work to round-off, the energy per cycle is 4 f P delta_s, the
+specimen's scar spans the contact plus the stroke while the pad's is the contact's width,
+and the worn contact carries P and Q = f P while sliding.
+"""
+
+import re
+
+import numpy as np
+import pytest
+
+from fretbem.scenes.builder import build
+from fretbem.scenes.file import scene_from_data
+from fretbem.sliding import SlidingError, solve_sliding
+from fretbem.wear.jump import JumpControl
+from fretbem.wear.law import JOULE, ArchardWear, EnergyWear, WearInputError
+from fretbem.wear.run import WearSimulation, run_wear
+
+P, F, DELTA = 100.0, 0.3, 0.2
+
+
+def _scene(pairs=31, increments=6, **contact):
+    data = {
+        "pad": {"shape": "cylinder", "radius": 70.0, "width": 6.5, "height": 16.25,
+                "model": "half-plane"},
+        "specimen": {"shape": "flat", "length": 20.0, "thickness": 10.0, "model": "half-plane"},
+        "material": {"E": 73400.0, "nu": 0.33},
+        "contact": {"friction": F, "pairs": pairs, "pairing": "node-to-segment",
+                    "sliding": True, "zone": 2.0, **contact},
+        "load": {"steps": ["press", "A", "B", "C"], "P": P, "delta": [0.0, DELTA, -DELTA, 0.0],
+                 "increments": [1, increments, 2 * increments, increments]},
+    }  # fmt: skip
+    return build(scene_from_data(data))[0]
+
+
+@pytest.fixture(scope="module")
+def energy_run():
+    laws = {"upper": EnergyWear(1e-5), "lower": EnergyWear(2e-5)}
+    simulation = _scene()
+    return simulation, laws, run_wear(WearSimulation(simulation, laws, 400, sliding=True))
+
+
+def _amplitude(simulation) -> float:
+    """delta_s: half the range of the centre pair's relative tangential displacement."""
+    steps = solve_sliding(simulation, say=lambda _: None).steps
+    middle = [float(np.asarray(s.tangential_displacement)[15]) for s in steps]
+    return 0.5 * (middle[1] - middle[2])
+
+
+def test_energy_volume_is_alpha_times_the_dissipated_energy(energy_run):
+    simulation, laws, result = energy_run
+    final = result.final
+    for body, law in laws.items():
+        assert final.profile.volume(body) == pytest.approx(law.alpha / JOULE * final.energy,
+                                                           rel=1e-12)  # fmt: skip
+    # the energy is the friction work of gross sliding: 4 f P delta_s a cycle (0.07 %)
+    per_cycle = final.energy / 400
+    assert per_cycle == pytest.approx(4 * F * P * _amplitude(simulation), rel=2e-3)
+
+
+def test_archard_volume_is_k_times_the_summed_p_ds():
+    laws = {"upper": ArchardWear(1e-9), "lower": ArchardWear(3e-9)}
+    result = run_wear(WearSimulation(_scene(pairs=21), laws, 100, sliding=True))
+    final = result.final
+    assert final.work > 0
+    for body, law in laws.items():
+        assert final.profile.volume(body) == pytest.approx(law.k * final.work, rel=1e-12)
+
+
+def test_the_specimen_scar_spans_the_contact_plus_the_stroke(energy_run):
+    """Specimen: the union of the contact over the cycle, 2 a + 2 delta_s (1.3 % under, at
+    the 1 % depth level); pad: the contact's own width (1.8 %)."""
+    simulation, _, result = energy_run
+    final, first = result.final, result.snapshots[0]
+    ends = [final.pair_x(k)[final.pressure[k] > 0] for k in range(3)]
+    union = max(e.max() for e in ends) - min(e.min() for e in ends)
+    scar = final.profile.scar_width("lower")
+    h = final.profile.x[1] - final.profile.x[0]
+    assert union - 0.02 * union <= scar <= union + h
+    touching = first.pair_x(0)[first.pressure[0] > 0]
+    start = touching.max() - touching.min()  # 2 a before wear
+    amplitude = _amplitude(simulation)
+    assert scar > start + 2 * amplitude - 2 * h
+    contact = ends[0].max() - ends[0].min()
+    assert final.profile.scar_width("upper") == pytest.approx(contact, rel=0.03)
+    assert scar > final.profile.scar_width("upper") + 1.5 * amplitude
+
+
+def test_the_worn_contact_carries_p_and_f_p_while_sliding(energy_run):
+    _, _, result = energy_run
+    worn = result.at(400)
+    for step in worn.steps:
+        assert step.normal == pytest.approx(P, rel=1e-9)
+    for name, sign in (("A", 1.0), ("B", -1.0)):
+        step = next(s for s in worn.steps if s.name == name)
+        assert step.tangential == pytest.approx(sign * F * P, rel=1e-9)
+
+
+BEM = {
+    "pad": {"shape": "cylinder", "radius": 70.0, "width": 6.5, "height": 16.25},
+    "specimen": {"shape": "flat", "length": 20.0, "thickness": 10.0},
+    "material": {"E": 73400.0, "nu": 0.33},
+    "contact": {"friction": F, "pairs": 21, "pairing": "node-to-segment", "sliding": True},
+    "load": {"steps": ["press", "A"], "P": P, "delta": [0.0, DELTA]},
+}
+NODE_TO_NODE = {
+    "pad": {"radius": 70.0, "model": "half-plane"},
+    "specimen": {"shape": "flat", "model": "half-plane"},
+    "material": {"E": 73400.0, "nu": 0.33},
+    "contact": {"friction": F, "pairs": 21},
+    "load": {"steps": ["press", "A"], "P": P, "Q": [0.0, 10.0]},
+}
+
+
+def test_wear_refuses_what_sliding_refuses_and_implicit_jumps():
+    """Finite ``bem`` bodies: wear with sliding answers as finite sliding does (today a
+    refusal naming the model key); node-to-node pairs and implicit jumps are refused."""
+    laws = {"upper": EnergyWear(1e-5), "lower": EnergyWear(1e-5)}
+    bem = build(scene_from_data(BEM))[0]
+    try:
+        solve_sliding(bem, say=lambda _: None)
+    except SlidingError as refusal:
+        with pytest.raises(SlidingError, match=re.escape(str(refusal))):
+            run_wear(WearSimulation(bem, laws, 10, sliding=True))
+    nodes = build(scene_from_data(NODE_TO_NODE))[0]
+    with pytest.raises(SlidingError, match="re-pairs the faces by projection"):
+        run_wear(WearSimulation(nodes, laws, 10, sliding=True))
+    implicit = JumpControl(scheme="implicit")
+    with pytest.raises(WearInputError, match="'implicit' is not available with finite"):
+        WearSimulation(_scene(pairs=21), laws, 10, sliding=True, control=implicit)
