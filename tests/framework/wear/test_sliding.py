@@ -7,11 +7,15 @@ specimen's scar spans the contact plus the stroke while the pad's is the contact
 and the worn contact carries P and Q = f P while sliding.
 """
 
+import csv
+import json
 import re
+from pathlib import Path
 
 import numpy as np
 import pytest
 
+from fretbem.app import cli
 from fretbem.scenes.builder import build
 from fretbem.scenes.file import scene_from_data
 from fretbem.sliding import SlidingError, solve_sliding
@@ -20,6 +24,7 @@ from fretbem.wear.law import JOULE, ArchardWear, EnergyWear, WearInputError
 from fretbem.wear.run import WearSimulation, run_wear
 
 P, F, DELTA = 100.0, 0.3, 0.2
+ROOT = Path(__file__).resolve().parents[3]
 
 
 def _scene(pairs=31, increments=6, **contact):
@@ -131,3 +136,32 @@ def test_wear_refuses_what_sliding_refuses_and_implicit_jumps():
     implicit = JumpControl(scheme="implicit")
     with pytest.raises(WearInputError, match="'implicit' is not available with finite"):
         WearSimulation(_scene(pairs=21), laws, 10, sliding=True, control=implicit)
+
+
+def test_the_example_scene_runs_with_sliding_and_writes_the_wear_files(tmp_path):
+    """examples/fretting_wear_sliding.toml through ``fretbem run`` (fewer cycles): the
+    files on the track grid, the volumes alpha E_d, the specimen's scar the wider."""
+    text = (ROOT / "examples" / "fretting_wear_sliding.toml").read_text()
+    text = text.replace("cycles = 2000", "cycles = 20").replace("output = [500, 1000]", "")
+    text = text.replace("pairs = 61", "pairs = 31").replace("[1, 10, 20]", "[1, 5, 10]")
+    (tmp_path / "scene.toml").write_text(text)
+    out = tmp_path / "out"
+    assert cli.main(["run", str(tmp_path / "scene.toml"), "--out", str(out)]) == 0
+    rows = list(csv.DictReader(open(out / "wear_summary.csv")))
+    assert [int(r["N"]) for r in rows] == [0, 20]
+    final = rows[-1]
+    for body in ("pad", "specimen"):
+        assert float(final[f"volume_{body}"]) == pytest.approx(
+            1.775e-4 / JOULE * float(final["energy"]), rel=1e-12
+        )
+    assert float(final["scar_width_specimen"]) > float(final["scar_width_pad"]) + 0.1
+    wear = list(csv.DictReader(open(out / "wear.csv")))
+    x = np.array([float(r["x"]) for r in wear if r["N"] == "20" and r["step"] == "B"])
+    p = np.array([float(r["p"]) for r in wear if r["N"] == "20" and r["step"] == "B"])
+    assert x.min() < -1.0 and x.max() > 1.0  # the track grid, not the pad's pairs
+    assert p[x > 0.8].max() == 0.0 and p.max() > 300  # the pad at +0.1 mm: p there only
+    assert json.loads((out / "wear.json").read_text())["settings"]["sliding"] is True
+    for name in ("wear_profiles.png", "wear_pressure.png", "wear_evolution.png", "wear.pvd"):
+        assert (out / name).exists()
+    face = (out / "vtk" / "wear_N20_specimen.vtp").read_text()
+    assert "wear_depth" in face and 'Name="p"' in face
