@@ -34,7 +34,7 @@ WEAR_KEYS: dict[str, tuple[str, str, str]] = {
     "relative_change": ("", "0.02", "the profile limit as a fraction of the unworn contact's "
                         "relief (the initial gap's spread over the contact, a^2/2R)"),
     "scheme": ("", '"explicit"', '`"explicit"` (limited by stability too) or `"implicit"` '
-               "(linearly implicit, stable for any jump)"),
+               "(linearly implicit, stable for any jump; not with [contact] sliding)"),
     "safety": ("", "0.5", "Delta N lambda allowed per jump (stability limit, < 2)"),
     "max_jump": ("cycles", "—", "upper bound on a jump"),
     "output": ("cycles", "[0, cycles]", "N at which profiles, p and q are kept (0 and cycles "
