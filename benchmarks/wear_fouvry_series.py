@@ -12,9 +12,10 @@ same scene). Prints one JSON row per radius (scar width and depth of each face, 
 and energy at every output N, peak pressure, contact width, the final profiles) and
 writes them to fouvry_series.json.
 
-    OPENBLAS_NUM_THREADS=1 python benchmarks/wear_fouvry_series.py 10,20,40,80
+    OPENBLAS_NUM_THREADS=1 python benchmarks/wear_fouvry_series.py 10,20,40,80 61 8
 
-(argument: the radii to run, mm; optional second argument: pairs, default 81)
+(arguments: the radii to run, mm; pairs, default 61; increments a stroke, default 8, so
+24 a cycle)
 """
 
 from __future__ import annotations
@@ -63,13 +64,13 @@ def amplitude(simulation) -> float:
     return 0.5 * (middle[1] - middle[2])
 
 
-def run_radius(radius: int, pairs: int) -> dict:
+def run_radius(radius: int, pairs: int, increments: int) -> dict:
     load, zone = SERIES[radius]
     a = np.sqrt(8 * load * radius * (1 - NU**2) / (np.pi * E))
     start = time.perf_counter()
     trial = 0.2
     delta = trial - amplitude(scene(radius, load, zone, trial, pairs)) + SLIDE
-    simulation = scene(radius, load, zone, delta, pairs)
+    simulation = scene(radius, load, zone, delta, pairs, increments)
     slide = amplitude(simulation)
     laws = {"upper": EnergyWear(ALPHA / 2), "lower": EnergyWear(ALPHA / 2)}
     wear = WearSimulation(simulation, laws, CYCLES, outputs=OUTPUTS, sliding=True,
@@ -80,7 +81,7 @@ def run_radius(radius: int, pairs: int) -> dict:
     touching = [final.pair_x(k)[final.pressure[k] > 0] for k in range(2)]
     return {
         "R": radius, "P": load, "a": a, "p0": 2 * load / (np.pi * a), "zone": zone,
-        "pairs": pairs, "delta_block": delta, "delta_s": slide,
+        "pairs": pairs, "increments": 3 * increments, "delta_block": delta, "delta_s": slide,
         "simulated": result.simulated, "seconds": time.perf_counter() - start,
         "scar_width_specimen": prof.scar_width("lower"),
         "scar_width_pad": prof.scar_width("upper"),
@@ -99,14 +100,15 @@ def run_radius(radius: int, pairs: int) -> dict:
 
 def main() -> None:
     radii = [int(r) for r in sys.argv[1].split(",")]
-    pairs = int(sys.argv[2]) if len(sys.argv) > 2 else 81
+    pairs = int(sys.argv[2]) if len(sys.argv) > 2 else 61
+    increments = int(sys.argv[3]) if len(sys.argv) > 3 else 8
     out = {}
     for radius in radii:
-        row = run_radius(radius, pairs)
+        row = run_radius(radius, pairs, increments)
         out[radius] = row
         shown = {k: v for k, v in row.items() if not isinstance(v, list) or k == "N"}
         print(json.dumps(shown), flush=True)
-        with open("fouvry_series.json", "w") as handle:
+        with open(f"fouvry_series_{sys.argv[1].replace(',', '-')}.json", "w") as handle:
             json.dump(out, handle, indent=1)
 
 

@@ -30,8 +30,8 @@ WEAR_COLUMNS = {
     "wear.csv": {
         "N": ("cycles", "cycles done"),
         "step": ("", "cycle step at whose end p and q are taken"),
-        "x": ("mm", "pair position (finite sliding: a point of the track grid, the "
-              "specimen's x for h_specimen, p and q, the pad's x as drawn for h_pad)"),
+        "x": ("mm", "pair position (finite sliding: a point of the specimen's grid along "
+              "the track; h_pad there is the pad's depth at its own x as drawn)"),
         "h_pad, h_specimen": ("mm", "wear depth of each face, along the pair normal"),
         "p": ("MPa", "contact pressure, > 0 in compression"),
         "q": ("MPa", "shear traction of the pad on the specimen, along +x"),
@@ -83,10 +83,13 @@ def wear_rows(report: WearReport) -> list[list]:
     rows = []
     for snap in report.result.snapshots:
         prof = snap.profile
+        pad = prof.upper
+        if prof.upper_x is not None:  # finite sliding: the pad's own points
+            pad = np.interp(prof.x, prof.upper_x, prof.upper, left=0.0, right=0.0)
         for k, name in enumerate(names):
             p, q = _tractions(snap, k)
             for j in range(len(prof.x)):
-                rows.append([snap.cycles, name, prof.x[j], prof.upper[j], prof.lower[j],
+                rows.append([snap.cycles, name, prof.x[j], pad[j], prof.lower[j],
                              p[j], q[j]])  # fmt: skip
     return rows
 
@@ -214,7 +217,7 @@ def save_wear_figures(report: WearReport, directory: Path) -> list[Path]:
     fig, axes = plt.subplots(1, 2, figsize=(10, 3.8), sharex=True)
     for ax, body in zip(axes, BODIES, strict=True):
         for snap, colour in zip(snaps, colours, strict=True):
-            ax.plot(snap.profile.x, 1e3 * snap.profile.depth(body), color=colour,
+            ax.plot(snap.profile.grid(body)[0], 1e3 * snap.profile.depth(body), color=colour,
                     label=f"N = {snap.cycles:g}")  # fmt: skip
         ax.set(title=f"{LABEL[body]} wear", xlabel="x (mm)", ylabel="wear depth (um)")
         ax.invert_yaxis()
@@ -272,7 +275,7 @@ def save_worn_faces(report: WearReport, directory: Path) -> list[Path]:
             if wear_run.sliding:
                 nodes = np.argsort(face.points[:, 0])
                 x = face.points[nodes, 0]
-                depth = np.interp(x, snap.profile.x, snap.profile.depth(body))
+                depth = np.interp(x, snap.profile.grid(body)[0], snap.profile.depth(body))
                 p, q = (np.interp(x, snap.pair_x(0), v[0], left=0.0, right=0.0)
                         for v in (snap.pressure, snap.shear))  # fmt: skip
                 tractions = {"p": p, "q": q} if body == "lower" else {}

@@ -36,7 +36,7 @@ from fretbem.sliding.slide import (
 from .cycle import CycleWear
 from .law import WearLaw
 from .profile import BODIES, WornProfile, pair_weights
-from .track import WornTrackPair, deposit, track_grid
+from .track import WornTrackPair, spread, track_grids
 
 __all__ = ["Track", "simulate_sliding_cycle"]
 
@@ -80,8 +80,9 @@ class Track:
             )
         _check_models(pair)
         if not isinstance(pair, WornTrackPair):
-            grid, _ = track_grid(pair)
-            pair = WornTrackPair.of(pair, grid, np.zeros(grid.size), np.zeros(grid.size))
+            grids = track_grids(pair, pair_weights(pair.condensed()))
+            zero = {body: np.zeros(grids[body][0].size) for body in BODIES}
+            pair = WornTrackPair.of(pair, grids, zero["upper"], zero["lower"])
         simulation = attrs.evolve(simulation, pair=pair, reference=None)
         return cls(simulation, pair.condensed(), pair.pairing().tangents[0], _spacing(pair))
 
@@ -91,9 +92,11 @@ class Track:
         return self.simulation.pair
 
     def unworn(self) -> WornProfile:
-        """No wear yet, on the track's grid."""
-        x, weights = track_grid(self.pair)
-        return WornProfile(x, weights, np.zeros(x.size), np.zeros(x.size))
+        """No wear yet, each face's depth at its own points (:func:`track_grids`)."""
+        grids = track_grids(self.pair, pair_weights(self.problem))
+        (upper, up_w), (lower, low_w) = grids["upper"], grids["lower"]
+        return WornProfile(lower, low_w, np.zeros(upper.size), np.zeros(lower.size),
+                           upper_x=upper, upper_weights=up_w)  # fmt: skip
 
     def worn(self, profile: WornProfile) -> Track:
         """The same pairing with the faces worn to ``profile`` (its grid)."""
@@ -181,31 +184,41 @@ def simulate_sliding_cycle(
     """Solve ``cycle`` from ``track`` and ``state``; the wear it causes, each face's on
     ``profile``'s grid (depth, energy and work there; the pressure sensitivities, p and q
     per pair) and the track at its end."""
-    x, weights = profile.x, profile.weights
+    grids = {body: profile.grid(body) for body in BODIES}
+    slave = track.pair.slave_side()
     n = track.problem.n_pairs
-    depth = {body: np.zeros(x.size) for body in BODIES}
+    depth = {body: np.zeros(grids[body][0].size) for body in BODIES}
     sensitivities = {body: np.zeros(n) for body in BODIES}
-    energy, energy_sensitivity, work, work_sensitivity = (np.zeros(x.size) for _ in range(4))
+    energy, energy_sensitivity, work, work_sensitivity = (
+        np.zeros(profile.x.size) for _ in range(4)
+    )
     path = np.zeros(n)
     pressures, shears, positions, iterations = [], [], [], 0
+
+    def place(body, now, before, after, w, volume):
+        """Depth on ``body``'s points of the pairs' ``volume``: at the slave's own nodes,
+        spread over what the pairs swept on the other face."""
+        x, weights = grids[body]
+        if body == slave:
+            return volume / weights
+        start = now.pair.material(now.along(), np.asarray(before.slip))[body]
+        end = now.pair.material(now.along(), np.asarray(after.slip))[body]
+        return spread(x, weights, start, end, w, volume)
 
     def wear(now: Track, before: ContactState, after: ContactState) -> None:
         layout = now.problem.layout
         ds = np.asarray(after.slip) - np.asarray(before.slip)
         p, q = after.x[layout.pressure], after.x[layout.shear]
         w = pair_weights(now.problem)
-        at = now.pair.material(now.along(), 0.5 * (np.asarray(before.slip) + after.slip))
-        specimen = at["lower"]
         for body in BODIES:
-            depth[body] += deposit(x, weights, at[body], w * laws[body].depth(p, q, ds))
+            depth[body] += place(body, now, before, after, w, w * laws[body].depth(p, q, ds))
             sensitivities[body] += laws[body].pressure_sensitivity(p, q, ds)
         touching = p > 0
         slid = np.where(touching, np.abs(ds), 0.0)
         ratio = np.divide(np.abs(q), p, out=np.zeros(n), where=touching)
-        energy[:] += deposit(x, weights, specimen, w * np.abs(q) * slid)
-        energy_sensitivity[:] += deposit(x, weights, specimen, w * ratio * slid)
-        work[:] += deposit(x, weights, specimen, w * p * slid)
-        work_sensitivity[:] += deposit(x, weights, specimen, w * slid)
+        for total, density in ((energy, np.abs(q) * slid), (energy_sensitivity, ratio * slid),
+                               (work, p * slid), (work_sensitivity, slid)):  # fmt: skip
+            total += place("lower", now, before, after, w, w * density)
         path[:] += np.abs(ds)
 
     for load in cycle:

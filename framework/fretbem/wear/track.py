@@ -1,18 +1,20 @@
 """Wear on a sliding contact: each face's depth on its own material points.
 
-When the pad slides (``[contact] sliding = true``) the pairs move along the specimen, so a
-depth per pair no longer belongs to a point of either face. Each face's wear depth is kept
-instead on a fixed grid of its own material coordinate: the distance along the track in
-the face's position as drawn (the specimen's x, and the pad's x before it moved). A pair
-deposits what it wears where it is: on the specimen at its position along the track, on
-the pad at that position less the pad's slide. The deposit splits each pair's volume
-between the two grid points either side of it (linear hats), so a face's volume
-``weights @ depth`` is exactly the sum of the pairs' ``w dh``; reading the depth back at a
-pair is the matching linear interpolation.
+When the pad slides (``[contact] sliding = true``) the pairs move along the other face, so
+a depth per pair no longer belongs to a point of both faces. Each face's depth is kept at
+its own material points, in the face's coordinate as drawn (the specimen's x, the pad's x
+before it slid):
 
-:class:`WornTrackPair` is the node-to-segment pair with both faces' wear added to its gap,
-read at each pair's material points for the pairing's own slide: re-paired at another
-slide (:mod:`fretbem.sliding`), it carries its wear with it.
+* the face whose nodes are the pairs (the slave, by default the coarser pad) at those
+  nodes: pair k always stands for the same node, so its depth is the pair's own;
+* the other face on a uniform grid along the track, four points a pair spacing. A pair's
+  increment of wear is spread over what it swept on that face in the increment (its face
+  length, carried from where it met the face at the increment's start to where it met it
+  at the end) and split linearly between grid points, so that the face's volume
+  ``weights @ depth`` is exactly the sum of the pairs' ``w dh``.
+
+The gap of a pairing reads each face's depth back at its pairs' material points
+(:class:`WornTrackPair`); re-projected at another slide, it carries its wear along.
 """
 
 from __future__ import annotations
@@ -24,25 +26,33 @@ from fretbem.contact.node_to_segment import NodeToSegmentPair
 from fretbem.contact.pairing import Pairing
 from fretbem.validators import float_array
 
-__all__ = ["WornTrackPair", "deposit", "track_grid"]
+__all__ = ["GRID_DENSITY", "WornTrackPair", "deposit", "spread", "track_grids"]
+
+#: grid points a pair spacing on the face the pairs slide along
+GRID_DENSITY = 4
 
 
-def track_grid(pair: NodeToSegmentPair) -> tuple[np.ndarray, np.ndarray]:
-    """The grid both faces' wear is kept on and its trapezoid weights (mm): uniform, as
-    fine as the finer face's nodes, over both faces' extent along the track."""
-    tangent = pair.pairing().tangents[0]
-    along = [
-        np.sort(pair.side(label)[0].contact_face(pair.side(label)[1]).points @ tangent)
-        for label in ("upper", "lower")
-    ]
-    step = min(float(np.min(np.diff(a))) for a in along)
-    low = min(a[0] for a in along)
-    high = max(a[-1] for a in along)
-    n = int(np.ceil((high - low) / step)) + 1
-    x = np.linspace(low, high, n)
-    weights = np.full(n, (high - low) / (n - 1))
-    weights[[0, -1]] *= 0.5
-    return x, weights
+def track_grids(pair: NodeToSegmentPair, weights: np.ndarray) -> dict:
+    """Each face's points along the track and their face lengths (mm), "upper" and
+    "lower": the slave face's are its nodes (the pairs at the pair's slide, and
+    ``weights``, the pairs' face lengths); the other face's a uniform grid over its
+    extent, :data:`GRID_DENSITY` points a pair spacing, with trapezoid weights."""
+    pairing = pair.pairing()
+    tangent = pairing.tangents[0]
+    slave = pair.slave_side()
+    along = pairing.points @ tangent
+    spacing = float(np.min(np.diff(along)))
+    slide = float(pair.offset @ tangent)
+    grids = {slave: (along - (slide if slave == "upper" else 0.0), np.asarray(weights, float))}
+    master = "upper" if slave == "lower" else "lower"
+    body, tag = pair.side(master)
+    face = np.sort(body.contact_face(tag).points @ tangent)
+    n = int(np.ceil((face[-1] - face[0]) * GRID_DENSITY / spacing)) + 1
+    x = np.linspace(face[0], face[-1], n)
+    step = np.full(n, (face[-1] - face[0]) / (n - 1))
+    step[[0, -1]] *= 0.5
+    grids[master] = (x, step)
+    return grids
 
 
 def deposit(x: np.ndarray, weights: np.ndarray, at: np.ndarray, volume: np.ndarray) -> np.ndarray:
@@ -58,16 +68,32 @@ def deposit(x: np.ndarray, weights: np.ndarray, at: np.ndarray, volume: np.ndarr
     return out / weights
 
 
+def spread(x, weights, start, end, width, volume) -> np.ndarray:
+    """Depth on the grid ``x`` of the volumes ``volume`` spread evenly over what each pair
+    swept: its face length ``width`` carried from ``start`` to ``end`` (mm), sampled at
+    half the grid's spacing; ``weights @ depth == volume.sum()``."""
+    half = 0.5 * float(x[1] - x[0])
+    m_path = max(1, int(np.ceil(np.max(np.abs(end - start), initial=0.0) / half)))
+    m_width = max(1, int(np.ceil(np.max(width, initial=0.0) / half)))
+    u = (np.arange(m_path) + 0.5) / m_path
+    v = (np.arange(m_width) + 0.5) / m_width - 0.5
+    at = (start[:, None, None] + u[None, :, None] * (end - start)[:, None, None]
+          + v[None, None, :] * width[:, None, None])  # fmt: skip
+    share = np.broadcast_to((volume / (m_path * m_width))[:, None, None], at.shape)
+    return deposit(x, weights, at.ravel(), share.ravel())
+
+
 @attrs.frozen(eq=False)
 class WornTrackPair(NodeToSegmentPair):
     """A node-to-segment pair whose gap carries both faces' wear at their material points.
 
     Attributes
     ----------
-    grid : ndarray
-        The material coordinate (mm along the track) the depths are given at.
+    upper_grid, lower_grid : ndarray
+        Each face's material points (mm along the track, the face as drawn) its depth is
+        given at (:func:`track_grids`).
     upper_wear, lower_wear : ndarray
-        Wear depth of the pad and of the specimen on ``grid`` (mm).
+        Wear depth of the pad and of the specimen at those points (mm).
     datum : float
         Taken off every gap (mm): the pad moved rigidly toward the specimen so that a run
         from the unloaded bodies starts touching (0 during a wear history, whose state
@@ -80,19 +106,21 @@ class WornTrackPair(NodeToSegmentPair):
         displacement puts them.
     """
 
-    grid: np.ndarray = attrs.field(kw_only=True, converter=float_array)
+    upper_grid: np.ndarray = attrs.field(kw_only=True, converter=float_array)
+    lower_grid: np.ndarray = attrs.field(kw_only=True, converter=float_array)
     upper_wear: np.ndarray = attrs.field(kw_only=True, converter=float_array)
     lower_wear: np.ndarray = attrs.field(kw_only=True, converter=float_array)
     datum: float = attrs.field(default=0.0, kw_only=True, converter=float)
     shift: float = attrs.field(default=0.0, kw_only=True, converter=float)
 
     @classmethod
-    def of(cls, pair: NodeToSegmentPair, grid, upper, lower, datum=0.0) -> WornTrackPair:
-        """``pair`` (its faces, slide and options) with the wear ``upper``, ``lower`` on
-        ``grid``."""
+    def of(cls, pair: NodeToSegmentPair, grids: dict, upper, lower) -> WornTrackPair:
+        """``pair`` (its faces, slide and options) with the wear ``upper``, ``lower`` at
+        the points ``grids[body][0]``."""
         fields = {f.name: getattr(pair, f.name) for f in attrs.fields(NodeToSegmentPair)
                   if f.init}  # fmt: skip
-        return cls(**fields, grid=grid, upper_wear=upper, lower_wear=lower, datum=datum)
+        return cls(**fields, upper_grid=grids["upper"][0], lower_grid=grids["lower"][0],
+                   upper_wear=upper, lower_wear=lower)  # fmt: skip
 
     def slide(self) -> float:
         """The pad's slide (mm along the track) this pairing was projected at."""
@@ -108,12 +136,16 @@ class WornTrackPair(NodeToSegmentPair):
         return {"lower": along, "upper": along - self.slide() - moved}
 
     def wear_gap(self, along: np.ndarray) -> np.ndarray:
-        """Both faces' depth (mm) at the pairs at ``along`` (mm on the track), the pad at
-        this pairing's slide and ``shift``."""
+        """Both faces' depth (mm) at the pairs at ``along`` (mm on the track, in order), the
+        pad at this pairing's slide and ``shift``: the slave face's at its nodes, the
+        other's read on its grid where the pairs meet it."""
         at = self.material(along, self.shift)
-        lower = np.interp(at["lower"], self.grid, self.lower_wear)
-        upper = np.interp(at["upper"], self.grid, self.upper_wear)
-        return lower + upper
+        slave = self.slave_side()
+        total = np.array(self.upper_wear if slave == "upper" else self.lower_wear)
+        master = "upper" if slave == "lower" else "lower"
+        grid = {"upper": self.upper_grid, "lower": self.lower_grid}[master]
+        wear = {"upper": self.upper_wear, "lower": self.lower_wear}[master]
+        return total + np.interp(at[master], grid, wear)
 
     def _bare(self) -> Pairing:
         if "bare" not in self._cache:

@@ -45,7 +45,8 @@ def _scene(pairs=31, increments=6, **contact):
 def energy_run():
     laws = {"upper": EnergyWear(1e-5), "lower": EnergyWear(2e-5)}
     simulation = _scene()
-    return simulation, laws, run_wear(WearSimulation(simulation, laws, 400, sliding=True))
+    wear = WearSimulation(simulation, laws, 400, outputs=[100], sliding=True)
+    return simulation, laws, run_wear(wear)
 
 
 def _amplitude(simulation) -> float:
@@ -76,22 +77,25 @@ def test_archard_volume_is_k_times_the_summed_p_ds():
 
 
 def test_the_specimen_scar_spans_the_contact_plus_the_stroke(energy_run):
-    """Specimen: the union of the contact over the cycle, 2 a + 2 delta_s (1.3 % under, at
-    the 1 % depth level); pad: the contact's own width (1.8 %)."""
+    """Specimen: 2 a + 2 delta_s, between the unworn and the worn contact's width plus the
+    stroke (measured 1.331 mm against 0.963 + 0.396 = 1.359 mm, 2 % under at the 1 %
+    depth level); pad: its contact's width, to a pair spacing (0.898 against 0.963 mm);
+    the peak pressure falls (136.8, 133.9, 126.3 MPa at N = 0, 100, 400)."""
     simulation, _, result = energy_run
     final, first = result.final, result.snapshots[0]
-    ends = [final.pair_x(k)[final.pressure[k] > 0] for k in range(3)]
-    union = max(e.max() for e in ends) - min(e.min() for e in ends)
-    scar = final.profile.scar_width("lower")
-    h = final.profile.x[1] - final.profile.x[0]
-    assert union - 0.02 * union <= scar <= union + h
-    touching = first.pair_x(0)[first.pressure[0] > 0]
-    start = touching.max() - touching.min()  # 2 a before wear
     amplitude = _amplitude(simulation)
-    assert scar > start + 2 * amplitude - 2 * h
-    contact = ends[0].max() - ends[0].min()
-    assert final.profile.scar_width("upper") == pytest.approx(contact, rel=0.03)
-    assert scar > final.profile.scar_width("upper") + 1.5 * amplitude
+
+    def width(snap, step=0):
+        touching = snap.pair_x(step)[snap.pressure[step] > 0]
+        return touching.max() - touching.min()
+
+    scar = final.profile.scar_width("lower")
+    assert width(first) + 2 * amplitude < scar
+    assert scar == pytest.approx(width(final) + 2 * amplitude, rel=0.03)
+    spacing = 1.2 * float(np.median(np.diff(final.profile.upper_x)))  # 0.064 mm
+    assert abs(final.profile.scar_width("upper") - width(final)) < spacing
+    peaks = [float(s.pressure.max()) for s in result.snapshots]
+    assert np.all(np.diff(peaks) < 0)
 
 
 def test_the_worn_contact_carries_p_and_f_p_while_sliding(energy_run):
