@@ -93,7 +93,8 @@ def run_radius(radius: int, pairs: int, increments: int) -> dict:
         "energy_J_per_mm": [s.energy / 1000 for s in result.snapshots],
         "volume_total": [s.profile.volume("upper") + s.profile.volume("lower")
                          for s in result.snapshots],
-        "x": prof.x.tolist(), "h_pad": prof.upper.tolist(), "h_specimen": prof.lower.tolist(),
+        "x": prof.x.tolist(), "h_specimen": prof.lower.tolist(),
+        "x_pad": prof.upper_x.tolist(), "h_pad": prof.upper.tolist(),
         "p_x": final.pair_x(0).tolist(), "p": final.pressure[0].tolist(),
     }  # fmt: skip
 

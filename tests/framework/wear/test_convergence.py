@@ -7,6 +7,8 @@ tolerances below are each the measured difference plus a margin.
 """
 
 import pytest
+from test_regimes import ENERGY, gross_slip
+from test_sliding import _scene as sliding_scene
 
 from fretbem.scenes.builder import build
 from fretbem.scenes.file import scene_from_data
@@ -14,9 +16,6 @@ from fretbem.scenes.reference import cattaneo_mindlin
 from fretbem.wear.jump import JumpControl
 from fretbem.wear.law import ArchardWear, EnergyWear
 from fretbem.wear.run import WearSimulation, run_wear
-
-from .test_regimes import ENERGY, gross_slip
-from .test_sliding import _scene as sliding_scene
 
 pytestmark = pytest.mark.slow
 
