@@ -128,6 +128,7 @@ class Track:
                 known = None  # let the projection name the pair that slid off the face
         if known is None:
             pair = _repaired(self.pair, slide, self.tangent, name, state.states)
+            ahead = slide - self.pair.slide()
             self.pairings[key] = pair
         problem = pair.condensed()
         state = _carried(state, problem, ahead * self.tangent)
