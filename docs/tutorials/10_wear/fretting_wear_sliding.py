@@ -47,12 +47,13 @@ print(f"{sliding.simulated} cycles simulated for {sliding.wear.cycles}")
 # %%
 # Worn profiles of both faces
 # ---------------------------
-# Each face's depth on its own coordinate: the specimen's x, and the pad's x as drawn
-# (before it slid). The specimen's scar is U-shaped and wider by the stroke.
+# Each face's depth at its own points: the specimen's on a grid along its face, the pad's
+# at its nodes (``profile.upper_x``, its x as drawn, before it slid). The specimen's scar
+# is U-shaped and wider by the stroke.
 fig, (pad, specimen) = plt.subplots(1, 2, figsize=(10, 3.8), sharex=True)
 for snap in sliding.snapshots[1:]:
     prof = snap.profile
-    pad.plot(prof.x, 1e3 * prof.upper, label=f"N = {snap.cycles}")
+    pad.plot(prof.upper_x, 1e3 * prof.upper, label=f"N = {snap.cycles}")
     specimen.plot(prof.x, 1e3 * prof.lower, label=f"N = {snap.cycles}")
 pad.set(xlabel="x on the pad (mm)", ylabel="wear depth (um)", title="pad")
 specimen.set(xlabel="x on the specimen (mm)", title="specimen")
