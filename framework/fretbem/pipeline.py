@@ -135,12 +135,14 @@ def _cycle_bar(bars, total: int):
     return hook
 
 
-def run_wear_request(simulation, request, fatigue_request, mode, say=_quiet, bars=None):
+def run_wear_request(
+    simulation, request, fatigue_request, mode, say=_quiet, bars=None, sliding=False
+):
     """The ``[wear]`` history of ``simulation`` and its assessments (stresses are evaluated
     when written, fatigue here) at the request's ``assess`` N; ``bars`` draws a bar over the
-    cycles."""
+    cycles; ``sliding``: with finite sliding (``[contact] sliding``)."""
     _wear_mesh(mode)
-    wear = request.simulation(simulation)
+    wear = request.simulation(simulation, sliding=sliding)
     say(f"wear: {wear.cycles} cycles of steps {[s.name for s in wear.cycle_steps]}")
     result = run_wear(wear, progress=_cycle_bar(bars, wear.cycles))
     say(f"wear: {result.simulated} cycles simulated, {len(result.jumps)} jumps")
@@ -178,18 +180,6 @@ def sliding_blocker(mode: accuracy.Accuracy, extras: Mapping | None) -> None:
             "default map (+-1.5 a about x = 0) covers only where the pad started; give "
             "[fatigue] map_x = [x_min, x_max] (mm) covering the track"
         )
-    for table in EXTRA_SLIDING:
-        if table in (extras or {}):
-            raise InputError(
-                f"[{table}] is not evaluated on a finite-sliding run ([contact] sliding = "
-                f"true): {EXTRA_SLIDING[table]}; remove [{table}] or set sliding = false"
-            )
-
-
-#: the requests a sliding run refuses, and why
-EXTRA_SLIDING = {
-    "wear": "the worn profile lives on fixed pairs, which sliding moves",
-}
 
 
 def _fallback(simulation):
@@ -229,7 +219,7 @@ def run_simulation(
     wear = wear_request(extras)
     if wear is not None:  # its laws, cycle and outputs checked against the history now
         _wear_mesh(mode)
-        wear.simulation(simulation)
+        wear.simulation(simulation, sliding=sliding)
     check_requests(simulation, stress, fatigue_request)  # refused before any solve
     timed = dict(phases or {})
     options = {} if progress is None else {"progress": progress}
@@ -268,7 +258,7 @@ def run_simulation(
     worn = None
     if wear is not None:
         tic = time.perf_counter()
-        worn = run_wear_request(simulation, wear, fatigue_request, mode, say, bars)
+        worn = run_wear_request(simulation, wear, fatigue_request, mode, say, bars, sliding)
         timed["wear"] = time.perf_counter() - tic
     return RunResult(result, reason, stress, fatigue, tuple(others), wear=worn, phases=timed)
 

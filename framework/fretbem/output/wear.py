@@ -30,7 +30,8 @@ WEAR_COLUMNS = {
     "wear.csv": {
         "N": ("cycles", "cycles done"),
         "step": ("", "cycle step at whose end p and q are taken"),
-        "x": ("mm", "pair position"),
+        "x": ("mm", "pair position (finite sliding: a point of the specimen's grid along "
+              "the track; h_pad there is the pad's depth at its own x as drawn)"),
         "h_pad, h_specimen": ("mm", "wear depth of each face, along the pair normal"),
         "p": ("MPa", "contact pressure, > 0 in compression"),
         "q": ("MPa", "shear traction of the pad on the specimen, along +x"),
@@ -64,16 +65,32 @@ WEAR_COLUMNS = {
 }  # fmt: skip
 
 
+def _tractions(snap, k: int) -> tuple[np.ndarray, np.ndarray]:
+    """p and q at the end of cycle step ``k`` on the profile's points: the pairs' own values,
+    or with finite sliding (the pairs moved) interpolated from where the pairs were, zero
+    outside the pad."""
+    if snap.positions is None:
+        return snap.pressure[k], snap.shear[k]
+    where, x = snap.positions[k], snap.profile.x
+    return tuple(
+        np.interp(x, where, v[k], left=0.0, right=0.0) for v in (snap.pressure, snap.shear)
+    )
+
+
 def wear_rows(report: WearReport) -> list[list]:
-    """wear.csv rows: one per output N, cycle step and pair."""
+    """wear.csv rows: one per output N, cycle step and pair (finite sliding: track point)."""
     names = [s.name for s in report.result.wear.cycle_steps]
     rows = []
     for snap in report.result.snapshots:
         prof = snap.profile
+        pad = prof.upper
+        if prof.upper_x is not None:  # finite sliding: the pad's own points
+            pad = np.interp(prof.x, prof.upper_x, prof.upper, left=0.0, right=0.0)
         for k, name in enumerate(names):
+            p, q = _tractions(snap, k)
             for j in range(len(prof.x)):
-                rows.append([snap.cycles, name, prof.x[j], prof.upper[j], prof.lower[j],
-                             snap.pressure[k, j], snap.shear[k, j]])  # fmt: skip
+                rows.append([snap.cycles, name, prof.x[j], pad[j], prof.lower[j],
+                             p[j], q[j]])  # fmt: skip
     return rows
 
 
@@ -92,7 +109,7 @@ def wear_summary_rows(report: WearReport) -> list[list]:
             + [prof.volume(b) for b in BODIES]
             + [prof.max_depth(b) for b in BODIES]
             + [prof.scar_width(b) for b in BODIES]
-            + [float(np.max(snap.pressure)), _contact_width(prof.x, snap.pressure[0])]
+            + [float(np.max(snap.pressure)), _contact_width(snap.pair_x(0), snap.pressure[0])]
         )
     return rows
 
@@ -128,6 +145,7 @@ def _settings(report: WearReport) -> dict:
         "safety": control.safety,
         "max_jump": control.max_jump,
         "outputs": list(wear.snapshot_cycles),
+        "sliding": wear.sliding,
     }  # fmt: skip
 
 
@@ -199,7 +217,7 @@ def save_wear_figures(report: WearReport, directory: Path) -> list[Path]:
     fig, axes = plt.subplots(1, 2, figsize=(10, 3.8), sharex=True)
     for ax, body in zip(axes, BODIES, strict=True):
         for snap, colour in zip(snaps, colours, strict=True):
-            ax.plot(snap.profile.x, 1e3 * snap.profile.depth(body), color=colour,
+            ax.plot(snap.profile.grid(body)[0], 1e3 * snap.profile.depth(body), color=colour,
                     label=f"N = {snap.cycles:g}")  # fmt: skip
         ax.set(title=f"{LABEL[body]} wear", xlabel="x (mm)", ylabel="wear depth (um)")
         ax.invert_yaxis()
@@ -208,8 +226,9 @@ def save_wear_figures(report: WearReport, directory: Path) -> list[Path]:
     first = report.result.wear.cycle_steps[0].name
     fig, ax = plt.subplots(figsize=(6.5, 4))
     for snap, colour in zip(snaps, colours, strict=True):
-        ax.plot(snap.profile.x, snap.pressure[0], color=colour, label=f"p, N = {snap.cycles:g}")
-        ax.plot(snap.profile.x, snap.shear[0], color=colour, ls="--", lw=0.8)
+        x = snap.pair_x(0)
+        ax.plot(x, snap.pressure[0], color=colour, label=f"p, N = {snap.cycles:g}")
+        ax.plot(x, snap.shear[0], color=colour, ls="--", lw=0.8)
     ax.set(title=f"p (solid) and q (dashed) at the end of step {first}", xlabel="x (mm)",
            ylabel="traction (MPa)")  # fmt: skip
     ax.legend(fontsize=7)
@@ -240,25 +259,37 @@ def _save(fig, path: Path, plt) -> Path:
 def save_worn_faces(report: WearReport, directory: Path) -> list[Path]:
     """vtk/wear_N<N>_<body>.vtp: each contact face at its worn position (point data
     wear_depth, the vector "wear" = -h n to magnify with Warp By Vector, p and q at the end
-    of the cycle's first step) and wear.pvd, one time step per output N."""
+    of the cycle's first step) and wear.pvd, one time step per output N. With finite
+    sliding each face is drawn at all its nodes where it was drawn, its depth read at its
+    material points; p and q (on the specimen's nodes) where the pad was at that step's
+    end."""
     folder = directory / "vtk"
     folder.mkdir(exist_ok=True)
-    pair = report.result.wear.simulation.pair
-    pairing = pair.pairing()
+    wear_run = report.result.wear
+    pair = wear_run.simulation.pair
     entries = []
     for index, snap in enumerate(report.result.snapshots):
         for part, body in enumerate(BODIES):
             owner, tag = pair.side(body)
             face = owner.contact_face(tag)
-            nodes = pairing.nodes(body)
-            depth = snap.profile.depth(body)
+            if wear_run.sliding:
+                nodes = np.argsort(face.points[:, 0])
+                x = face.points[nodes, 0]
+                depth = np.interp(x, snap.profile.grid(body)[0], snap.profile.depth(body))
+                p, q = (np.interp(x, snap.pair_x(0), v[0], left=0.0, right=0.0)
+                        for v in (snap.pressure, snap.shear))  # fmt: skip
+                tractions = {"p": p, "q": q} if body == "lower" else {}
+            else:
+                nodes = pair.pairing().nodes(body)
+                depth = snap.profile.depth(body)
+                tractions = {"p": snap.pressure[0], "q": snap.shear[0]}
             wear = -depth[:, None] * face.normals[nodes]
             points = face.points[nodes] + wear
             arrays = {
                 "points": np.column_stack([points, np.zeros(len(points))]),
                 "lines": [np.arange(len(points))],
                 "point_data": {"wear_depth": depth, "wear": np.column_stack(
-                    [wear, np.zeros(len(wear))]), "p": snap.pressure[0], "q": snap.shear[0]},
+                    [wear, np.zeros(len(wear))]), **tractions},
                 "cell_data": {},
                 "field_data": {"N": np.array([snap.cycles])},
             }  # fmt: skip

@@ -54,6 +54,11 @@ class CycleWear:
         The contact state at the end of the cycle (the start of the next).
     iterations : int
         Newton iterations of the cycle.
+    positions : ndarray (n_steps, n) or None
+        The pairs' positions along the specimen at the end of each step, where they move
+        (finite sliding: :mod:`fretbem.wear.slide`); None: the pairs stay where they are.
+        With sliding, ``depth``, ``energy`` and ``work`` (and their sensitivities to p) are
+        on the track's grid, not per pair.
     """
 
     depth: Mapping[str, np.ndarray]
@@ -67,6 +72,7 @@ class CycleWear:
     shear: np.ndarray
     state: ContactState
     iterations: int
+    positions: np.ndarray | None = None
 
     @property
     def sensitivity(self) -> np.ndarray:

@@ -45,6 +45,10 @@ class WornProfile:
     upper, lower : ndarray
         Wear depth of the pad and of the specimen, mm (>= 0, along the pair normal).
     cycles : int
+    upper_x, upper_weights : ndarray or None
+        The pad's own points and their face lengths when they differ from ``x`` and
+        ``weights`` (finite sliding: each face's depth at its own material points,
+        :mod:`fretbem.wear.track`); None: the pairs'.
     """
 
     x: np.ndarray = attrs.field(converter=float_array)
@@ -52,6 +56,14 @@ class WornProfile:
     upper: np.ndarray = attrs.field(converter=float_array)
     lower: np.ndarray = attrs.field(converter=float_array)
     cycles: int = 0
+    upper_x: np.ndarray | None = None
+    upper_weights: np.ndarray | None = None
+
+    def grid(self, body: str) -> tuple[np.ndarray, np.ndarray]:
+        """The points (mm) ``body``'s depths are given at and their face lengths (mm)."""
+        if body == "upper" and self.upper_x is not None:
+            return self.upper_x, self.upper_weights
+        return self.x, self.weights
 
     @classmethod
     def unworn(cls, problem: CondensedContact) -> WornProfile:
@@ -75,7 +87,7 @@ class WornProfile:
 
     def volume(self, body: str) -> float:
         """Worn volume of ``body`` per unit thickness, mm^3/mm."""
-        return float(self.weights @ self.depth(body))
+        return float(self.grid(body)[1] @ self.depth(body))
 
     def max_depth(self, body: str) -> float:
         """Largest wear depth of ``body``, mm."""
@@ -88,7 +100,7 @@ class WornProfile:
         top = np.max(depth, initial=0.0)
         if not top > 0:
             return float("nan"), float("nan")
-        worn = self.x[depth > level * top]
+        worn = self.grid(body)[0][depth > level * top]
         return float(worn.min()), float(worn.max())
 
     def scar_width(self, body: str, level: float = 0.01) -> float:

@@ -34,7 +34,7 @@ WEAR_KEYS: dict[str, tuple[str, str, str]] = {
     "relative_change": ("", "0.02", "the profile limit as a fraction of the unworn contact's "
                         "relief (the initial gap's spread over the contact, a^2/2R)"),
     "scheme": ("", '"explicit"', '`"explicit"` (limited by stability too) or `"implicit"` '
-               "(linearly implicit, stable for any jump)"),
+               "(linearly implicit, stable for any jump; not with [contact] sliding)"),
     "safety": ("", "0.5", "Delta N lambda allowed per jump (stability limit, < 2)"),
     "max_jump": ("cycles", "—", "upper bound on a jump"),
     "output": ("cycles", "[0, cycles]", "N at which profiles, p and q are kept (0 and cycles "
@@ -56,14 +56,15 @@ class WearRequest:
     outputs: tuple[int, ...] = ()
     assess: tuple[int, ...] = ()
 
-    def simulation(self, simulation) -> WearSimulation:
-        """The wear history of ``simulation`` (the scene's), cycle increments applied."""
+    def simulation(self, simulation, sliding: bool = False) -> WearSimulation:
+        """The wear history of ``simulation`` (the scene's), cycle increments applied;
+        ``sliding``: with finite sliding (``[contact] sliding = true``)."""
         if self.increments is not None:
             steps = tuple(attrs.evolve(s, increments=self.increments) for s in simulation.steps)
             simulation = attrs.evolve(simulation, steps=steps)
         return WearSimulation(
             simulation, self.laws, self.cycles, self.cycle, self.control,
-            tuple(sorted({*self.outputs, *self.assess})),
+            tuple(sorted({*self.outputs, *self.assess})), sliding,
         )  # fmt: skip
 
 

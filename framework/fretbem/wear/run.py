@@ -23,12 +23,14 @@ import numpy as np
 from fretbem.contact.law import ContactState
 from fretbem.results import SimulationResult
 from fretbem.simulation import LoadStep, Simulation, run
+from fretbem.sliding import solve_sliding
 from fretbem.solvers.newton import SolverConvergenceError
 
-from .cycle import simulate_cycle
+from .cycle import CycleWear, simulate_cycle
 from .jump import Jump, JumpControl, extrapolate
 from .law import ScarEdgeError, WearInputError, WearLaw
 from .profile import BODIES, WornPair, WornProfile
+from .slide import Track, simulate_sliding_cycle
 
 #: the step names of a waveform history ([load.cycle]): c<cycle>.<increment>
 WAVEFORM = re.compile(r"c(\d+)\.(\d+)")
@@ -59,6 +61,11 @@ class WearSimulation:
     control : JumpControl
     outputs : tuple of int
         The N at which snapshots are kept (0 and ``cycles`` are always kept).
+    sliding : bool
+        Finite sliding (``[contact] sliding``): the pairing follows the pad as it slides
+        and each face wears at its own material points (:mod:`fretbem.wear.slide`); the
+        pair must be a node-to-segment one. False: the pairs stay where they are (small
+        slip).
     """
 
     simulation: Simulation
@@ -67,6 +74,7 @@ class WearSimulation:
     cycle: tuple[str, ...] = attrs.field(default=(), converter=tuple)
     control: JumpControl = attrs.field(factory=JumpControl)
     outputs: tuple[int, ...] = attrs.field(default=(), converter=lambda v: tuple(int(n) for n in v))
+    sliding: bool = attrs.field(default=False, validator=attrs.validators.instance_of(bool))
 
     def __attrs_post_init__(self) -> None:
         if set(self.laws) != set(BODIES):
@@ -90,6 +98,13 @@ class WearSimulation:
             raise WearInputError(
                 f"[wear] cycle names step {unknown[0]!r}, which the load history does not "
                 f"have (its steps are {names})"
+            )
+        if self.sliding and self.control.scheme != "explicit":
+            raise WearInputError(
+                f"[wear] scheme = {self.control.scheme!r} is not available with finite "
+                "sliding ([contact] sliding = true): its linearisation ties each pair's depth "
+                "to its own pressure, which sliding spreads along the track; use scheme = "
+                "'explicit'"
             )
         if len(self.simulation.steps) < 2 and not self.cycle:
             raise WearInputError(
@@ -137,6 +152,9 @@ class WearSnapshot:
         Dissipated energy summed over the N cycles (N mm per mm of thickness).
     work : float
         Archard work sum(w p |ds|) over the N cycles (N mm per mm).
+    positions : ndarray (n_steps, n) or None
+        With finite sliding, where the pairs of ``pressure`` and ``shear`` were along the
+        specimen at each step's end; None: at ``profile.x``.
     """
 
     profile: WornProfile
@@ -144,6 +162,12 @@ class WearSnapshot:
     shear: np.ndarray
     energy: float
     work: float
+    positions: np.ndarray | None = None
+
+    def pair_x(self, step: int = 0) -> np.ndarray:
+        """The positions (mm along the specimen) of the pairs at the end of cycle step
+        ``step``."""
+        return self.profile.x if self.positions is None else self.positions[step]
 
     @property
     def cycles(self) -> int:
@@ -190,22 +214,84 @@ class WearResult:
 
     def at(self, cycles: int) -> SimulationResult:
         """The scene's whole load history solved on the profile at N = ``cycles``: a
-        SimulationResult for the stresses and the fatigue assessment after wear."""
-        return run(worn_simulation(self.wear.simulation, self.snapshot(cycles).profile))
+        SimulationResult for the stresses and the fatigue assessment after wear (with
+        finite sliding, run re-pairing as the pad slides, each face's wear carried along)."""
+        profile = self.snapshot(cycles).profile
+        simulation = worn_simulation(self.wear.simulation, profile, self.wear.sliding)
+        if self.wear.sliding:
+            return solve_sliding(simulation, say=lambda _: None)
+        return run(simulation)
 
 
 #: how many times a cycle whose Newton iteration fails is retried with doubled increments
 RETRIES = 2
 
 
-def _cycle(simulation: Simulation, problem, state: ContactState, wear: WearSimulation, n: int):
+class _Pairs:
+    """The wear history's contact on fixed pairs: the base pair's condensation, the gap
+    offset by the profile (:class:`~fretbem.wear.profile.WornPair`)."""
+
+    def __init__(self, wear: WearSimulation) -> None:
+        self.simulation = wear.simulation
+        self.base = wear.simulation.pair
+        self.problem = self.initial = wear.simulation.prepare()
+
+    def start(self) -> ContactState:
+        return ContactState.initial(self.problem)
+
+    def unworn(self) -> WornProfile:
+        return WornProfile.unworn(self.problem)
+
+    def wear(self, profile: WornProfile) -> None:
+        self.problem = WornPair.of(self.base, profile.offset).condensed()
+        if self.simulation.rotates:  # the worn pair's pad block turns as the first's did
+            self.problem = self.simulation.rotating(self.problem)
+
+    def step(self, state: ContactState, load: LoadStep) -> ContactState:
+        return self.simulation.step(self.problem, state, load)[0]
+
+    def cycle(self, state, steps, laws, profile) -> CycleWear:
+        return simulate_cycle(self.simulation, self.problem, state, steps, laws)
+
+
+class _Sliding:
+    """The wear history's contact with finite sliding: the pairing follows the pad
+    (:class:`~fretbem.wear.slide.Track`), each face's wear on the track's grid."""
+
+    def __init__(self, wear: WearSimulation) -> None:
+        self.track = Track.start(wear.simulation)
+        self.initial = self.track.problem
+
+    @property
+    def problem(self):
+        return self.track.problem
+
+    def start(self) -> ContactState:
+        return ContactState.initial(self.problem)
+
+    def unworn(self) -> WornProfile:
+        return self.track.unworn()
+
+    def wear(self, profile: WornProfile) -> None:
+        self.track = self.track.worn(profile)
+
+    def step(self, state: ContactState, load: LoadStep) -> ContactState:
+        self.track, state, _ = self.track.step(state, load)
+        return state
+
+    def cycle(self, state, steps, laws, profile) -> CycleWear:
+        cycle, self.track = simulate_sliding_cycle(self.track, state, steps, laws, profile)
+        return cycle
+
+
+def _cycle(contact, state: ContactState, wear: WearSimulation, n: int, profile: WornProfile):
     """One simulated cycle; a cycle whose solver fails is solved again with its steps'
     increments doubled (a sliding contact whose pairs all reach the cone together at a
     reversal can need finer increments than the unworn contact did)."""
     steps = wear.cycle_steps
     for attempt in range(RETRIES + 1):
         try:
-            return simulate_cycle(simulation, problem, state, steps, wear.laws)
+            return contact.cycle(state, steps, wear.laws, profile)
         except SolverConvergenceError as error:
             if attempt == RETRIES:
                 raise SolverConvergenceError(
@@ -236,11 +322,17 @@ def _relief(problem, pressure: np.ndarray) -> float:
     return float(np.ptp(problem.gap[touching])) if touching.any() else 0.0
 
 
-def worn_simulation(simulation: Simulation, profile: WornProfile) -> Simulation:
+def worn_simulation(simulation: Simulation, profile: WornProfile, sliding: bool = False):
     """``simulation`` on the worn contact: its pair's gap offset by the profile's depths
-    (the closest pairs brought to touch when every step imposes P, see WornPair)."""
+    (the closest pairs brought to touch when every step imposes P, see WornPair); with
+    ``sliding`` a :class:`~fretbem.wear.track.WornTrackPair` carrying each face's wear at
+    its material points, to run with finite sliding."""
     touching = all(getattr(s, "approach", None) is None for s in simulation.steps)
-    pair = WornPair.of(simulation.pair, profile.offset, touching=touching)
+    if sliding:
+        pair = Track.start(simulation).pair.rewear(profile.upper, profile.lower)
+        pair = pair.touching() if touching else pair
+    else:
+        pair = WornPair.of(simulation.pair, profile.offset, touching=touching)
     return attrs.evolve(simulation, pair=pair, name=f"{simulation.name} at N = {profile.cycles}")
 
 
@@ -250,34 +342,32 @@ def run_wear(wear: WearSimulation, *, progress=None) -> WearResult:
     ``progress(N, cycles)`` is called after each jump.
     """
     start = time.perf_counter()
-    simulation = wear.simulation
-    base = simulation.pair
-    problem = simulation.prepare()
-    state = ContactState.initial(problem)
+    contact = _Sliding(wear) if wear.sliding else _Pairs(wear)
+    state = contact.start()
     for load in wear.preload_steps:
-        state, _, _ = simulation.step(problem, state, load)
-    profile = WornProfile.unworn(problem)
+        state = contact.step(state, load)
+    profile = contact.unworn()
     targets = list(wear.snapshot_cycles)
     energy = work = 0.0
     snapshots, jumps, simulated = [], [], 0
     n = 0
     while True:
-        worn = WornPair.of(base, profile.offset).condensed() if n else problem
-        if n and simulation.rotates:  # the worn pair's pad block turns as the first's did
-            worn = simulation.rotating(worn)
         if n:  # the end of the last cycle, re-equilibrated on the new profile
-            settle = attrs.evolve(wear.cycle_steps[-1], increments=1)
-            state, _, _ = simulation.step(worn, state, settle)
-        cycle = _cycle(simulation, worn, state, wear, n)
+            contact.wear(profile)
+            state = contact.step(state, attrs.evolve(wear.cycle_steps[-1], increments=1))
+        cycle = _cycle(contact, state, wear, n, profile)
         simulated += 1
-        _check_edges(cycle.pressure, n, profile.x)
+        where = profile.x if cycle.positions is None else cycle.positions[0]
+        _check_edges(cycle.pressure, n, where)
         if n == targets[0]:
             targets.pop(0)
-            snapshots.append(WearSnapshot(profile, cycle.pressure, cycle.shear, energy, work))
+            snapshots.append(WearSnapshot(profile, cycle.pressure, cycle.shear, energy, work,
+                                          cycle.positions))  # fmt: skip
         if n >= wear.cycles:
             break
         if n == 0:
-            relief = _relief(problem, cycle.pressure)
+            relief = _relief(contact.initial, cycle.pressure)
+        worn = contact.problem
         jump = wear.control.jump(worn, cycle, targets[0] - n, first=n == 0, relief=relief)
         added, cycles = extrapolate(worn, cycle, jump.cycles, wear.control.scheme, profile.weights)
         if cycles < jump.cycles:

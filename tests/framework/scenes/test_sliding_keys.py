@@ -84,10 +84,11 @@ def test_the_track_covers_the_zone_and_the_largest_delta():
     assert build(own)[0].pair.lower.contact_face("contact").n_nodes == 102
 
 
-def test_sliding_refuses_wear_and_the_adaptive_mode():
+def test_sliding_refuses_implicit_wear_fatigue_without_map_and_the_adaptive_mode():
     simulation, _ = build(scene_from_data(BASE))
-    with pytest.raises(InputError, match=r"\[wear\] is not evaluated on a finite-sliding"):
-        run_simulation(simulation, sliding=True, extras={"wear": {}})
+    implicit = {"pad": 1e-5, "specimen": 1e-5, "cycles": 10, "scheme": "implicit"}
+    with pytest.raises(InputError, match=r"scheme = 'implicit' is not available with finite"):
+        run_simulation(simulation, sliding=True, extras={"wear": implicit})
     with pytest.raises(InputError, match=r"\[fatigue\] on a finite-sliding run .*map_x"):
         run_simulation(simulation, sliding=True, extras={"fatigue": {"material": "x"}})
     with pytest.raises(InputError, match=r"sliding = true needs mesh = 'fixed'"):
