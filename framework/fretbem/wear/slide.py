@@ -172,7 +172,7 @@ class Track:
         state and the Newton iterations."""
         track, controls, iterations = self, load.controls, 0
         displacement = controls.tangential == "displacement"
-        start_n, start_t = track.simulation._start(track.problem, state, controls)
+        start_n, start_t, _ = track.simulation._start(track.problem, state, controls)
         if displacement:
             start_t += track.pair.slide()  # delta where the pad physically is
         start_loads = dict(state.loads)

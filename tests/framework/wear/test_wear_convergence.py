@@ -8,7 +8,7 @@ tolerances below are each the measured difference plus a margin.
 
 import pytest
 from test_regimes import ENERGY, gross_slip
-from test_sliding import _scene as sliding_scene
+from test_sliding_wear import _scene as sliding_scene
 
 from fretbem.scenes.builder import build
 from fretbem.scenes.file import scene_from_data
