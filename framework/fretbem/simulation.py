@@ -422,6 +422,25 @@ def _turning(problem: CondensedContact) -> bool:
     return problem.rotation is not None and problem.rotation.in_unknowns
 
 
+def _no_balance(simulation: Simulation, problem, load: LoadStep, failure) -> str:
+    """The message of a rotating simulation whose step found no solution (the likely cause,
+    the block tipping, with the scene keys that turn it)."""
+    keys = [name for name, given in (
+        ("[load] moment", any(s.moment is not None for s in simulation.steps)),
+        ("[load.cycle] M_amplitude", any(s.moment is not None and s.cycle for s in
+                                         simulation.steps)),
+        ("[load] rotation", any(s.rotation is not None for s in simulation.steps)),
+        ("[rig] stiffness_rotation", math.isfinite(simulation.rig.rotational)),
+    ) if given]  # fmt: skip
+    by_moment = load.controls == Controls(rotation="moment")  # P, Q and M given
+    return pad_rotation.no_balance(
+        problem, load.name, str(failure).split(";")[0],
+        normal=load.normal if by_moment else None,
+        tangential=load.tangential if by_moment else None,
+        moment=load.moment if by_moment else None, keys=keys,
+    )  # fmt: skip
+
+
 def _between(start: Mapping[str, float], end: Mapping[str, float], frac: float) -> dict:
     """Load amplitudes a fraction ``frac`` of the way from ``start`` to ``end``."""
     names = dict.fromkeys([*start, *end])
@@ -460,7 +479,13 @@ def run(simulation: Simulation, *, progress=None, check: bool = True) -> Simulat
         def record(reached: ContactState, kept=increments) -> None:
             kept.append(IncrementRecord.of(problem, reached, simulation.rig))
 
-        state, iterations, residuals = simulation.step(problem, state, load, record)
+        try:
+            state, iterations, residuals = simulation.step(problem, state, load, record)
+        except SolverConvergenceError as failure:
+            if not simulation.rotates:
+                raise
+            message = _no_balance(simulation, problem, load, failure)
+            raise SolverConvergenceError(message, failure.residuals) from None
         seconds = time.perf_counter() - tic
         history.append(load.tangential if load.delta is None else state.tangential)
         step = StepResult.build(
