@@ -422,6 +422,19 @@ def _turning(problem: CondensedContact) -> bool:
     return problem.rotation is not None and problem.rotation.in_unknowns
 
 
+def _carried(simulation: Simulation, problem) -> None:
+    """Refuse, before solving, a step whose P, Q and M put the contact's centre d = (h Q -
+    M) / P beyond the candidate zone (by half its reach again: no contact there can carry
+    it); the solver would otherwise overflow on it."""
+    height, reach = pad_rotation.lever(problem)
+    for load in simulation.steps:
+        if load.controls != Controls(rotation="moment") or not load.normal > 0:
+            continue
+        centre = (height * load.tangential - load.moment) / load.normal
+        if not reach[0] * 1.5 <= centre <= reach[1] * 1.5:
+            raise LoadHistoryError(_no_balance(simulation, problem, load, "found before solving"))
+
+
 def _no_balance(simulation: Simulation, problem, load: LoadStep, failure) -> str:
     """The message of a rotating simulation whose step found no solution (the likely cause,
     the block tipping, with the scene keys that turn it)."""
@@ -468,6 +481,8 @@ def run(simulation: Simulation, *, progress=None, check: bool = True) -> Simulat
         "factorisation": sum(b.timings.get("factorisation", 0.0) for b in (pair.upper, pair.lower)),
         "condensation": problem.seconds,
     }
+    if simulation.rotates:
+        _carried(simulation, problem)
     friction = getattr(simulation.law, "friction", float("nan"))
     state = ContactState.initial(problem)
     history: list[float] = []

@@ -260,6 +260,16 @@ def moment_row(problem: CondensedContact) -> int:
     return 2 * len(problem.blocks)
 
 
+def lever(problem: CondensedContact) -> tuple[float, tuple[float, float]]:
+    """The pivot's height h above the first contact, and the candidate zone's ends (mm)
+    from that point along x: where the contact's centre can lie at all."""
+    rotation = _rotation(problem)
+    point = first_contact(problem)
+    points = problem.pairing.points[:, 0]
+    reach = (float(points.min() - point[0]), float(points.max() - point[0]))
+    return float(rotation.centre[1] - point[1]), reach
+
+
 def no_balance(problem: CondensedContact, step: str, reason: str, *, normal=None,
                tangential=None, moment=None, keys=()) -> str:  # fmt: skip
     """The message for a rotating block whose increment found no solution: the likely
@@ -269,11 +279,7 @@ def no_balance(problem: CondensedContact, step: str, reason: str, *, normal=None
     ``normal``, ``tangential`` and ``moment`` are the step's P, Q and M when force and
     moment drive it (the needed centre d = (h Q - M) / P is then stated); ``keys`` the scene
     keys that turn the block in this simulation."""
-    rotation = _rotation(problem)
-    point = first_contact(problem)
-    height = float(rotation.centre[1] - point[1])
-    points = problem.pairing.points[:, 0]
-    reach = (float(points.min() - point[0]), float(points.max() - point[0]))
+    height, reach = lever(problem)
     numbers = f"h = {height:.4g} mm (the pivot's height above the first contact)"
     if None not in (normal, tangential, moment) and normal > 0:
         centre = (height * tangential - moment) / normal
