@@ -687,6 +687,399 @@ def _adaptive_missed():
     return code == 0 and "above the tolerance" in out, out.strip()[-200:]
 
 
+# ------------------------------------------------------------------ rotation and mean stress
+# The pad block's rotation ([rig] stiffness_rotation, pivot_height, [load] moment, rotation,
+# [load.cycle] M_amplitude, M_phase) and the mean-stress corrections ([fatigue] mean_stress):
+# every key's hostile values, the keys against each other and against the other features,
+# and sweeps over them (their values honoured or refused before solving).
+
+#: half-plane bodies with the pivot at the contact: a moment there only shifts the contact
+HP = (
+    BASE.replace("radius = 70.0", 'radius = 70.0\nmodel = "half-plane"')
+    .replace(
+        '[specimen]\nshape = "cylinder"', '[specimen]\nshape = "cylinder"\nmodel = "half-plane"'
+    )
+    .replace("pairs = 11", "pairs = 21\nestimate = false")
+    + "[rig]\npivot_height = 0.0\n"
+)
+#: a cyclic history with a moment on the half-plane bodies
+CYCLE = HP.replace('steps = ["A", "B"]\n', "").replace(
+    "Q = [0.0, 18.0]", "moment = 1.0\n[load.cycle]\nQ = 9.0\nincrements = 8"
+)
+ROTATION_VALUES = ["nan", "inf", "-inf", '"x"', "true", "[]", "[1.0, 2.0, 3.0]", "{ a = 1 }",
+                   "0.0", "-1.0", "1e308", "-1e308", "1e-308"]  # fmt: skip
+ROTATION_KEYS = [
+    ("rig", "stiffness_rotation", BASE),
+    ("rig", "pivot_height", HP),
+    ("load", "moment", HP),
+    ("load", "rotation", HP),
+    ("load.cycle", "M_amplitude", CYCLE),
+    ("load.cycle", "M_phase", CYCLE),
+]
+
+
+def _named(code, text, name) -> tuple[bool, str]:
+    """Good: a run (0), a failed check (1) or a refusal (2) naming ``name``; no traceback."""
+    line = text.strip().splitlines()[-1] if text.strip() else ""
+    good = code in (0, 1, 2) and "Traceback" not in text
+    if code in (1, 2):
+        good = good and name in text
+    return good, f"exit {code}: {line[:200]}"
+
+
+for _table, _name, _base in ROTATION_KEYS:
+    for _value in ROTATION_VALUES:
+
+        @case("traceback", f"rotation key [{_table}] {_name} = {_value}", 60)
+        def _rotation_value(table=_table, name=_name, value=_value, base=_base):
+            if table == "load.cycle":
+                text = base.replace("increments = 8", f"increments = 8\n{name} = {value}")
+                if name == "M_phase":
+                    text = text.replace("increments = 8", "increments = 8\nM_amplitude = 2.0")
+            else:
+                text = with_key(table, name, value, base)
+            return _named(*run_text(text, seconds=55), name)
+
+
+for _value in ('"goodmann"', "1.0", "true", '["goodman"]', '""', '"Goodman"'):
+
+    @case("weak", f"[fatigue] mean_stress = {_value}")
+    def _mean_stress_value(value=_value):
+        text = _fatigue_scene("", methods='["stress_life"]', mean_stress=value)
+        return refused(*run_text(text), "mean_stress")
+
+
+for _methods, _correction, _words in (
+    ('["swt"]', '"goodman"', ("mean_stress", "stress_life")),
+    ('["strain_life"]', '"goodman"', ("mean_stress", "morrow")),
+    ('["strain_life"]', '"gerber"', ("mean_stress", "morrow")),
+    ('["stress_life", "strain_life"]', '"goodman"', ("mean_stress", "strain_life")),
+    ('["findley", "stress_life"]', '"morrow_true_fracture"', ("true_fracture_strength",)),
+):
+
+    @case("misleading", f"[fatigue] mean_stress = {_correction} with methods = {_methods}")
+    def _mean_stress_methods(methods=_methods, correction=_correction, words=_words):
+        # (Al 7050-T7451 has no true fracture strength: morrow_true_fracture names it)
+        text = _fatigue_scene("", methods=methods, mean_stress=correction)
+        return refused(*run_text(text), *words)
+
+
+for _methods, _correction in (('["stress_life"]', '"none"'), ('["stress_life"]', '"goodman"'),
+                              ('["stress_life"]', '"gerber"'), ('["stress_life"]', '"morrow"'),
+                              ('["strain_life"]', '"morrow"'),
+                              ('["swt", "stress_life"]', '"goodman"')):  # fmt: skip
+
+    @case("silent-wrong", f"mean_stress = {_correction}, methods = {_methods}: lives written", 120)
+    def _mean_stress_runs(methods=_methods, correction=_correction):
+        text = _fatigue_scene("", methods=methods, mean_stress=correction)
+        text = text.replace('"Al 7050-T7451"', '"Ti-6Al-4V"')  # sigma_f' and sigma_u sourced
+        out = WORK / f"ms-{time.perf_counter_ns()}"
+        path = scene_file(text)
+        code, said = cli("run", str(path), "--out", str(out), "--no-figures", "--no-vtk",
+                         seconds=110)  # fmt: skip
+        if code != 0:
+            return False, f"exit {code}: {said.strip()[-200:]}"
+        report = json.loads((out / "fatigue.json").read_text())
+        entry = next(iter(report["methods"].values())) if "methods" in report else report
+        text_ = json.dumps(report)
+        named = correction.strip('"') in text_ or correction == '"none"'
+        return named and bool(entry), f"fatigue.json names the correction: {named}"
+
+
+def _tip_case(text, *words):
+    code, out = run_text(text, seconds=55)
+    return refused(code, out, *words)
+
+
+@case("misleading", "a moment with Q below the pivot: the block tips, the keys named", 60)
+def _tips():
+    return _tip_case(with_key("load", "moment", "0.0"), "[load] moment", "pivot_height", "d =")
+
+
+@case("misleading", "a near-zero rotational stiffness: the spring named", 60)
+def _soft():
+    return _tip_case(with_key("rig", "stiffness_rotation", "1e-12"), "stiffness_rotation")
+
+
+@case("silent-wrong", "Lemke's method never solves a rotating block (fallback, moment 1e6)", 60)
+def _no_lemke_fallback():
+    code, out = run_text(with_key("load", "moment", "1e6"), seconds=55)
+    return code == 2 and "Lemke" not in out and "moment" in out, f"exit {code}: " + \
+        out.strip()[-200:]  # fmt: skip
+
+
+@case("misleading", "a rotation the contact cannot follow: the zone check names it", 60)
+def _zone_rotation():
+    code, out = run_text(with_key("load", "rotation", "1.0"), seconds=55)
+    tail = out.split("enlarge")[-1]  # the check's own advice names the zone: past it
+    return code in (1, 2) and "rotation" in tail, f"exit {code}: {out.strip()[-200:]}"
+
+
+for _solver in ("lemke",):
+    for _key, _value in (("stiffness_rotation", "1e5"), ("moment", "[0.0, 1.0]")):
+
+        @case("misleading", f"solver = {_solver!r} with {_key}: refused naming newton")
+        def _lcp(solver=_solver, key=_key, value=_value):
+            table = "rig" if key == "stiffness_rotation" else "load"
+            text = with_key("contact", "solver", f'"{solver}"', with_key(table, key, value, HP))
+            return refused(*run_text(text), "newton")
+
+
+SLIDING = """
+[pad]
+model = "half-plane"
+radius = 70.0
+[specimen]
+model = "half-plane"
+shape = "flat"
+length = 40.0
+thickness = 13.0
+[contact]
+pairs = 21
+pairing = "node-to-segment"
+sliding = true
+estimate = false
+[load]
+steps = ["A", "B"]
+P = 100.0
+delta = [0.0, 0.5]
+"""
+
+
+for _table, _key, _value in (("rig", "stiffness_rotation", "1e5"), ("load", "moment", "1.0"),
+                             ("load", "rotation", "[0.0, 0.0001]")):  # fmt: skip
+
+    @case("misleading", f"finite sliding with [{_table}] {_key}: refused naming the key")
+    def _sliding(table=_table, key=_key, value=_value):
+        return refused(*run_text(with_key(table, key, value, SLIDING)), key)
+
+
+for _label, _text in (
+    (
+        "moment with displacement control (delta)",
+        with_key("load", "moment", "1.0", HP.replace("Q = [0.0, 18.0]", "delta = [0.0, 0.0005]")),
+    ),
+    (
+        "rotation with displacement control (delta)",
+        with_key(
+            "load",
+            "rotation",
+            "[0.0, 0.0001]",
+            HP.replace("Q = [0.0, 18.0]", "delta = [0.0, 0.0005]"),
+        ),
+    ),
+    ("rotation spring on half-plane bodies", with_key("rig", "stiffness_rotation", "1e5", HP)),
+    ("rotation spring on bem bodies", with_key("rig", "stiffness_rotation", "1e5")),
+    ("moment on half-plane bodies", with_key("load", "moment", "[0.0, 2.0]", HP)),
+    (
+        "moment on a bem pad, pivot at the contact",
+        with_key("rig", "pivot_height", "0.0", with_key("load", "moment", "[0.0, 2.0]")),
+    ),
+    (
+        "cyclic moment (M_amplitude, M_phase)",
+        CYCLE.replace("increments = 8", "increments = 8\nM_amplitude = 2.0\nM_phase = 90.0"),
+    ),
+    (
+        "moment with node-to-segment pairing",
+        with_key("contact", "pairing", '"node-to-segment"', with_key("load", "moment", "1.0", HP)),
+    ),
+    (
+        "moment with the lagrange2 family",
+        with_key("contact", "basis", '"lagrange2"', with_key("load", "moment", "1.0", HP)),
+    ),
+):
+
+    @case("silent-wrong", f"{_label}: runs, M and tilt in summary.json", 120)
+    def _combination(text=_text):
+        out = WORK / f"rot-{time.perf_counter_ns()}"
+        code, said = cli("run", str(scene_file(text)), "--out", str(out), "--no-figures",
+                         "--no-vtk", seconds=110)  # fmt: skip
+        if code != 0:
+            return False, f"exit {code}: {said.strip()[-200:]}"
+        steps = json.loads((out / "summary.json").read_text())["steps"]
+        values = [(s["M"], s["tilt"]) for s in steps]
+        good = all(m is not None and t is not None for m, t in values)
+        return good and any(t != 0 for _, t in values), f"(M, tilt) {values[-1]}"
+
+
+WEAR = """
+[pad]
+shape = "cylinder"
+radius = 70.0
+width = 10.0
+height = 10.0
+model = "half-plane"
+[specimen]
+shape = "flat"
+length = 40.0
+thickness = 13.0
+support = "ends"
+model = "half-plane"
+[material]
+E = 116000.0
+nu = 0.342
+[contact]
+friction = 0.5
+pairs = 21
+zone = 3.0
+estimate = false
+[rig]
+stiffness_rotation = 2.0e5
+[load]
+steps = ["A", "B", "C", "D", "E"]
+P = 400.0
+Q = [0.0, 90.0, 0.0, -90.0, 0.0]
+[wear]
+law = "energy"
+pad = 1.8e-4
+specimen = 1.8e-4
+cycles = 10000
+"""
+
+
+@case("silent-wrong", "rotation with [wear]: worn and tilting, or refused by name", 240)
+def _wear_rotation():
+    out = WORK / f"wear-{time.perf_counter_ns()}"
+    code, said = cli("run", str(scene_file(WEAR)), "--out", str(out), "--no-figures", "--no-vtk",
+                     seconds=230)  # fmt: skip
+    if code == 2 and "rotat" in said:
+        return True, f"refused: {said.strip()[-160:]}"
+    if code != 0:
+        return False, f"exit {code}: {said.strip()[-200:]}"
+    steps = json.loads((out / "summary.json").read_text())["steps"]
+    worn = (out / "wear_summary.csv").exists()
+    return worn and steps[1]["tilt"] < 0, f"worn {worn}, tilt B {steps[1]['tilt']:.3g}"
+
+
+def _swept(parameters: str, scene_text: str):
+    """The rows of a serial sweep of ``parameters`` over ``scene_text``, sorted by case."""
+    import pandas as pd
+
+    code, text, _, out = _sweep(f"[parameters]\n{parameters}\n", scene_text, "--no-figures",
+                                seconds=230)  # fmt: skip
+    if code != 0:
+        raise RuntimeError(f"exit {code}: {text.strip()[-200:]}")
+    table = pd.concat(pd.read_parquet(p) for p in out.glob("cases-*.parquet"))
+    return table.sort_values("case")
+
+
+#: half-plane pad on a flat specimen on its ends, a bulk stress for the fatigue columns
+SWEEP_SCENE = HP.replace(
+    '[specimen]\nshape = "cylinder"\nmodel = "half-plane"',
+    '[specimen]\nshape = "flat"\nmodel = "half-plane"\nlength = 40.0\nthickness = 13.0\n'
+    'support = "ends"',
+).replace("Q = [0.0, 18.0]", "Q = [0.0, 18.0]\nbulk = [0.0, 40.0]")
+
+
+def _check_swept(path: str, values: list, scene_text: str, column: str = "p_max.B"):
+    """Every swept value honoured: each case's column equals a direct solve's."""
+    from fretbem.scenes.builder import build
+    from fretbem.scenes.spec import scene_from_dict
+    from fretbem.simulation import run
+    from fretbem.studies.sweep.cases import step_metrics
+    from fretbem.studies.sweep.spec import set_path
+
+    if sys.version_info >= (3, 11):
+        import tomllib
+    else:  # pragma: no cover
+        import tomli as tomllib
+    table = _swept(f'"{path}" = {json.dumps(values)}', scene_text)
+    got, want = [], []
+    for value, (_, row) in zip(values, table.iterrows(), strict=True):
+        data = tomllib.loads(scene_text)
+        set_path(data, path, value)
+        step = run(build(scene_from_dict(data))[0]).steps[1]
+        got.append(float(row[column]))
+        want.append(step_metrics(step)[column.split(".")[0]])
+    good = set(table["status"]) == {"ok"} and np.allclose(got, want, rtol=1e-9, atol=0)
+    return good, f"sweep {np.round(got, 6).tolist()} direct {np.round(want, 6).tolist()}"
+
+
+@case("silent-wrong", "sweep over load.moment: every value honoured", 240)
+def _sweep_moment():
+    return _check_swept(
+        "load.moment",
+        [0.0, 3.0, -3.0],
+        with_key("load", "moment", "0.0", SWEEP_SCENE),
+        "stick_width.B",
+    )
+
+
+@case("silent-wrong", "sweep over rig.stiffness_rotation: every value honoured", 240)
+def _sweep_stiffness():
+    scene = with_key("rig", "stiffness_rotation", "1e5",
+                     with_key("rig", "pivot_height", "3.0", SWEEP_SCENE))  # fmt: skip
+    return _check_swept("rig.stiffness_rotation", [3e4, 1e5, 1e6], scene)
+
+
+@case("silent-wrong", "sweep over rig.pivot_height: every value honoured", 240)
+def _sweep_pivot():
+    scene = with_key("rig", "stiffness_rotation", "1e5", SWEEP_SCENE)
+    return _check_swept("rig.pivot_height", [0.0, 2.0, 4.0], scene)
+
+
+@case("silent-wrong", "sweep over fatigue.mean_stress: every correction honoured", 240)
+def _sweep_mean_stress():
+    from fretbem.fatigue import fatigue_request_from_dict
+    from fretbem.fatigue.from_simulation import SimulationStressHistory
+    from fretbem.fatigue.run import run_fatigue
+    from fretbem.scenes.builder import build
+    from fretbem.scenes.spec import scene_from_dict
+    from fretbem.simulation import run
+
+    if sys.version_info >= (3, 11):
+        import tomllib
+    else:  # pragma: no cover
+        import tomli as tomllib
+    fatigue = {"material": "Ti-6Al-4V", "methods": ["stress_life"], "critical_distance": 0.05,
+               "map_points": [9, 5]}  # fmt: skip
+    corrections = ["none", "goodman", "gerber", "morrow"]
+    body = 'outputs = ["fatigue"]\n[parameters]\n'
+    body += f'"fatigue.mean_stress" = {json.dumps(corrections)}\n'
+    body += "[fatigue]\n" + "".join(f"{k} = {json.dumps(v)}\n" for k, v in fatigue.items())
+    code, text, _, out = _sweep(body, SWEEP_SCENE, "--no-figures", seconds=230)
+    if code != 0:
+        return False, f"exit {code}: {text.strip()[-200:]}"
+    import pandas as pd
+
+    table = pd.concat(pd.read_parquet(p) for p in out.glob("cases-*.parquet")).sort_values("case")
+    result = run(build(scene_from_dict(tomllib.loads(SWEEP_SCENE)))[0])
+    got, want = [], []
+    for correction, (_, row) in zip(corrections, table.iterrows(), strict=True):
+        report = run_fatigue(
+            SimulationStressHistory(result),
+            fatigue_request_from_dict({**fatigue, "mean_stress": correction}),
+        )
+        entry = report.methods["stress_life"]
+        got.append(float(row["stress_life.parameter"]))
+        want.append(float(entry.at_hot_spot.value[0]))
+    good = np.allclose(got, want, rtol=1e-9) and len(set(np.round(got, 9))) == len(got)
+    return good, f"sweep {np.round(got, 4).tolist()} direct {np.round(want, 4).tolist()}"
+
+
+for _path, _values, _scene, _words in (
+    ("fatigue.mean_stress", '["none", "goodmann"]', None, ("goodmann",)),
+    ("rig.stiffness_rotation", "[1e5, -1.0]", None, ("stiffness_rotation",)),
+    ("rig.pivot_height", "[0.0, 1e9]", None, ("pivot_height",)),
+    ("load.moment", '["x"]', None, ("load.moment",)),
+    ("load.moment", "[[1.0, 2.0, 3.0]]", None, ("moment",)),
+    ("load.rotation", "[0.0, 0.001]", "moment", ("moment and rotation",)),
+    ("load.cycle.M_amplitude", "[1.0, true]", "cycle", ("M_amplitude",)),
+):
+
+    @case("misleading", f"sweep {_path} = {_values}: refused before solving", 60)
+    def _sweep_bad(path=_path, values=_values, scene=_scene, words=_words):
+        base = {None: SWEEP_SCENE, "moment": with_key("load", "moment", "0.0", SWEEP_SCENE),
+                "cycle": CYCLE}[scene]  # fmt: skip
+        body = f'[parameters]\n"{path}" = {values}\n'
+        if path.startswith("fatigue"):
+            body = f'outputs = ["fatigue"]\n{body}[fatigue]\nmaterial = "Ti-6Al-4V"\n'
+            body += 'methods = ["stress_life"]\ncritical_distance = 0.05\n'
+        code, text, seconds, _ = _sweep(body, base, "--no-figures", seconds=55)
+        good = code == 2 and all(w in text for w in words) and "solved" not in text
+        return good, f"exit {code} {seconds:.1f} s: {text.strip()[-160:]}"
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--only", help="run one class")

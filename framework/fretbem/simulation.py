@@ -422,6 +422,38 @@ def _turning(problem: CondensedContact) -> bool:
     return problem.rotation is not None and problem.rotation.in_unknowns
 
 
+def _carried(simulation: Simulation, problem) -> None:
+    """Refuse, before solving, a step whose P, Q and M put the contact's centre d = (h Q -
+    M) / P beyond the candidate zone (by half its reach again: no contact there can carry
+    it); the solver would otherwise overflow on it."""
+    height, reach = pad_rotation.lever(problem)
+    for load in simulation.steps:
+        if load.controls != Controls(rotation="moment") or not load.normal > 0:
+            continue
+        centre = (height * load.tangential - load.moment) / load.normal
+        if not reach[0] * 1.5 <= centre <= reach[1] * 1.5:
+            raise LoadHistoryError(_no_balance(simulation, problem, load, "found before solving"))
+
+
+def _no_balance(simulation: Simulation, problem, load: LoadStep, failure) -> str:
+    """The message of a rotating simulation whose step found no solution (the likely cause,
+    the block tipping, with the scene keys that turn it)."""
+    keys = [name for name, given in (
+        ("[load] moment", any(s.moment is not None for s in simulation.steps)),
+        ("[load.cycle] M_amplitude", any(s.moment is not None and s.cycle for s in
+                                         simulation.steps)),
+        ("[load] rotation", any(s.rotation is not None for s in simulation.steps)),
+        ("[rig] stiffness_rotation", math.isfinite(simulation.rig.rotational)),
+    ) if given]  # fmt: skip
+    by_moment = load.controls == Controls(rotation="moment")  # P, Q and M given
+    return pad_rotation.no_balance(
+        problem, load.name, str(failure).split(";")[0],
+        normal=load.normal if by_moment else None,
+        tangential=load.tangential if by_moment else None,
+        moment=load.moment if by_moment else None, keys=keys,
+    )  # fmt: skip
+
+
 def _between(start: Mapping[str, float], end: Mapping[str, float], frac: float) -> dict:
     """Load amplitudes a fraction ``frac`` of the way from ``start`` to ``end``."""
     names = dict.fromkeys([*start, *end])
@@ -449,6 +481,8 @@ def run(simulation: Simulation, *, progress=None, check: bool = True) -> Simulat
         "factorisation": sum(b.timings.get("factorisation", 0.0) for b in (pair.upper, pair.lower)),
         "condensation": problem.seconds,
     }
+    if simulation.rotates:
+        _carried(simulation, problem)
     friction = getattr(simulation.law, "friction", float("nan"))
     state = ContactState.initial(problem)
     history: list[float] = []
@@ -460,7 +494,13 @@ def run(simulation: Simulation, *, progress=None, check: bool = True) -> Simulat
         def record(reached: ContactState, kept=increments) -> None:
             kept.append(IncrementRecord.of(problem, reached, simulation.rig))
 
-        state, iterations, residuals = simulation.step(problem, state, load, record)
+        try:
+            state, iterations, residuals = simulation.step(problem, state, load, record)
+        except SolverConvergenceError as failure:
+            if not simulation.rotates:
+                raise
+            message = _no_balance(simulation, problem, load, failure)
+            raise SolverConvergenceError(message, failure.residuals) from None
         seconds = time.perf_counter() - tic
         history.append(load.tangential if load.delta is None else state.tangential)
         step = StepResult.build(

@@ -261,6 +261,13 @@ def rotating(problem: CondensedContact, rig: Rig, target=None) -> CondensedConta
     row = pad_rotation.moment_row(out)
     scale = out.rotation.scale
     spring = rotation_stiffness(out) * rig.rotational_compliance * scale  # k L / k_r, per M / L
+    # beyond ~1e150 the row's products overflow in the solver's iterations
+    if not spring * np.max(np.abs(out.resultant_map[row]), initial=1.0) <= 1e150:
+        raise pad_rotation.RotationError(
+            f"[rig] stiffness_rotation = {rig.rotational:g} N mm/mm per rad is so soft that the "
+            "block's rotation row leaves the floating-point range; a block free to turn is "
+            "[load] moment = 0 (leave the spring out), a held one a stiffer spring"
+        )
     resultant_map = out.resultant_map.copy()
     resultant_base = out.resultant_base.copy()
     resultant_load = out.resultant_load.copy()

@@ -258,3 +258,39 @@ def rotating(problem: CondensedContact, target) -> CondensedContact:
 def moment_row(problem: CondensedContact) -> int:
     """Index of the moment row among the resultant rows of a rotating problem."""
     return 2 * len(problem.blocks)
+
+
+def lever(problem: CondensedContact) -> tuple[float, tuple[float, float]]:
+    """The pivot's height h above the first contact, and the candidate zone's ends (mm)
+    from that point along x: where the contact's centre can lie at all."""
+    rotation = _rotation(problem)
+    point = first_contact(problem)
+    points = problem.pairing.points[:, 0]
+    reach = (float(points.min() - point[0]), float(points.max() - point[0]))
+    return float(rotation.centre[1] - point[1]), reach
+
+
+def no_balance(problem: CondensedContact, step: str, reason: str, *, normal=None,
+               tangential=None, moment=None, keys=()) -> str:  # fmt: skip
+    """The message for a rotating block whose increment found no solution: the likely
+    cause (the block tips: the moment about the pivot needs the contact's centre outside
+    the zone) with the pivot's height, the zone and the scene keys that change them.
+
+    ``normal``, ``tangential`` and ``moment`` are the step's P, Q and M when force and
+    moment drive it (the needed centre d = (h Q - M) / P is then stated); ``keys`` the scene
+    keys that turn the block in this simulation."""
+    height, reach = lever(problem)
+    numbers = f"h = {height:.4g} mm (the pivot's height above the first contact)"
+    if None not in (normal, tangential, moment) and normal > 0:
+        centre = (height * tangential - moment) / normal
+        numbers += f", d = {centre:.4g} mm, the zone from {reach[0]:.4g} to {reach[1]:.4g} mm"
+    else:
+        numbers += f", the candidate zone from {reach[0]:.4g} to {reach[1]:.4g} mm about it"
+    turning = " or ".join(keys) or "a moment or rotation"
+    return (
+        f"load step {step!r}: no balance found for the pad block's rotation ({reason}); a "
+        f"block turned by {turning} tips when the moment about the pivot needs the contact's "
+        f"centre d = (h Q - M) / P outside the contact zone: here {numbers}; lower the moment "
+        "or rotation, give a stiffer [rig] stiffness_rotation, put [rig] pivot_height nearer "
+        "the contact (0: at it), or widen [contact] zone"
+    )

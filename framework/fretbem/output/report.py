@@ -110,9 +110,12 @@ def _scene(summary: dict) -> str:
         (s["step"], _num(s.get("P"), "g"), _num(s.get("Q"), "g"), _num(s.get("sigma_B", 0.0), "g"))
         for s in steps
     ]
-    return html_table(("", ""), rows, caption="scene") + html_table(
-        ("step", "P (N/mm)", "Q (N/mm)", "σ_B (MPa)"), loads, caption="loads"
-    )
+    header = ("step", "P (N/mm)", "Q (N/mm)", "σ_B (MPa)")
+    if any(s.get("tilt") for s in steps):  # a rotating block: its moment and tilt per step
+        header += ("M (N mm/mm)", "tilt (rad)")
+        loads = [(*row, _num(s.get("M"), ".4g"), _num(s.get("tilt"), ".3g"))
+                 for row, s in zip(loads, steps, strict=True)]  # fmt: skip
+    return html_table(("", ""), rows, caption="scene") + html_table(header, loads, caption="loads")
 
 
 def _zones(summary: dict) -> str:

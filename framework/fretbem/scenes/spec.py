@@ -400,12 +400,14 @@ KEYS: tuple[Key, ...] = (
         None,
         "height of the pivot above the initial first-contact point, where the block's "
         "rotation and moment M are taken; omitted: the pad block's line (the pad's top; "
-        "for a half-plane pad its datum depth, 10 mm)",
+        "for a half-plane pad its datum depth, 10 mm); at most 1e4 mm from the contact",
     ),
 )
 
 #: the largest Coulomb coefficient a scene may give (beyond it the loads overflow)
 MAX_FRICTION = 10.0
+#: the farthest a rig's pivot may sit from the contact, mm (10 m: beyond any fretting rig)
+MAX_PIVOT_HEIGHT = 1.0e4
 #: the highest basis degree a scene may ask for (higher degrees are ill-conditioned)
 MAX_DEGREE = 8
 
@@ -960,8 +962,14 @@ def scene_from_dict(data: Mapping) -> Scene:
     _unknown("[rig]", rig_section, _keys("rig"))
     for name, value in rig_section.items():
         _check(f"[rig] {name}", value, _keys("rig")[name].kind)
-        if name == "pivot_height":
-            continue  # any height: the pivot may sit above or below the contact
+        if name == "pivot_height":  # above or below the contact, within a rig's reach
+            if not abs(value) <= MAX_PIVOT_HEIGHT:
+                raise SceneFileError(
+                    f"[rig] pivot_height is the pivot's height above the first contact, within "
+                    f"{MAX_PIVOT_HEIGHT:g} mm of it (a rig's pivot; M = h Q grows with it), got "
+                    f"{value!r}; give the height in mm, or leave it out for the pad block's line"
+                )
+            continue
         if not value > 0:
             unit = "N mm/mm per rad" if name == "stiffness_rotation" else "N/mm per mm of travel"
             raise SceneFileError(

@@ -71,10 +71,12 @@ def with_fallback(simulation):
     when its solver is not the plain Newton solver (an explicit choice is kept).
 
     The run pipeline uses it to retry a run whose Newton iteration failed (bulk stress
-    already in the first step, for instance) instead of reporting the failure.
+    already in the first step, for instance) instead of reporting the failure. A simulation
+    whose pad block rotates gets None too: Lemke's LCP form keeps the force balance of a
+    non-rotating block (the Simulation refuses the Lemke solver for it).
     """
     solver = getattr(simulation, "solver", None)
-    if type(solver) is not SemiSmoothNewton:
+    if type(solver) is not SemiSmoothNewton or getattr(simulation, "rotates", False):
         return None
     fallback = FallbackSolver(
         primary=attrs.evolve(solver, max_substeps=0),

@@ -19,6 +19,14 @@ class LemkeError(ComputationError):
     """Lemke's method ended on a secondary ray or ran out of pivots: no solution found."""
 
 
+#: the message for an LCP whose entries are not finite numbers
+_NOT_FINITE = (
+    "the contact problem has entries that are not finite numbers (a load, stiffness or "
+    "compliance beyond the floating-point range): Lemke's method cannot solve it; check the "
+    "scene's loads and stiffnesses for values far outside their physical range"
+)
+
+
 @attrs.frozen(eq=False)
 class LcpSolution:
     """z and w = M z + q of a solved LCP, and the number of pivots taken.
@@ -45,6 +53,8 @@ def solve_lcp(m: np.ndarray, q: np.ndarray, *, max_pivots: int | None = None) ->
     n = len(q)
     if m.shape != (n, n):
         raise ValueError(f"solve_lcp: M must be square with the size of q ({n}), got {m.shape}")
+    if not (np.all(np.isfinite(m)) and np.all(np.isfinite(q))):
+        raise LemkeError(_NOT_FINITE)
     if np.all(q >= 0.0):
         return LcpSolution(np.zeros(n), q.copy(), 0)
     max_pivots = 50 * n if max_pivots is None else int(max_pivots)
@@ -106,6 +116,8 @@ def _lexicographic_min(tableau, candidates, column, n, tol, *, first=False, pref
             break
         k = differ[0]
         tied = tied[values[:, k] <= values[:, k].min() + scale]
+    if tied.size == 0:  # NaN ratios: the tableau overflowed while pivoting
+        raise LemkeError(_NOT_FINITE)
     return int(tied[0])
 
 

@@ -92,11 +92,13 @@ def equilibrium(
     step: str = "",
     tolerance: float = EQUILIBRIUM_TOLERANCE,
     raise_error: bool = True,
+    hint: str = "",
 ) -> CheckRecord:
     """Integral of p equals P and of q equals Q, within ``tolerance`` x P.
 
     Both residuals are scaled by P (the load that sets the contact size), so Q = 0 steps are
-    checked as strictly as loaded ones. Raises :class:`EquilibriumError` when violated.
+    checked as strictly as loaded ones. Raises :class:`EquilibriumError` when violated
+    (``hint``, a likelier cause, is added to its message).
     """
     scale = abs(float(normal))
     values = (integral_p, integral_q, normal, tangential)
@@ -111,7 +113,7 @@ def equilibrium(
             f"{integral_p:.6g} for P = {normal:.6g}, integral of q = {integral_q:.6g} for "
             f"Q = {tangential:.6g} (residual {residual:.3g} x P, allowed {tolerance:.3g}); refine "
             "the contact zone (more pairs) or the mesh, or check that E and the loads are of "
-            "comparable magnitude (units mm, N, MPa)",
+            f"comparable magnitude (units mm, N, MPa){hint}",
             residual,
         )
     return record
@@ -153,6 +155,7 @@ def zone_edge(
     *,
     step: str = "",
     raise_error: bool = True,
+    hint: str = "",
 ) -> CheckRecord:
     """The outermost pair at each end of the candidate zone must be separated.
 
@@ -176,7 +179,7 @@ def zone_edge(
         raise ContactZoneError(
             f"step {step!r}: the outermost pair of the candidate contact zone is in contact at "
             f"{where}, so the real contact may be wider than the zone; enlarge the scene's "
-            "`zone` (the candidate zone half-width) until its end pairs are separated",
+            f"`zone` (the candidate zone half-width) until its end pairs are separated{hint}",
             record.residual,
         )
     return record
@@ -378,17 +381,33 @@ def consistent(result) -> None:
                 )
 
 
+def _turning_hint(step) -> str:
+    """For a step whose pad block turns: the rotation as the likelier cause of a failed
+    equilibrium or zone check (a moment the contact cannot carry moves it off the zone)."""
+    tilt = getattr(step, "tilt", 0.0)
+    by_moment = getattr(getattr(step, "controls", None), "rotation", "rotation") == "moment"
+    if not by_moment and not tilt:
+        return ""
+    return (
+        f"; the pad block turns here (tilt {tilt:.3g} rad, M = {step.moment:.4g} N mm/mm): a "
+        "moment or rotation the contact cannot balance moves the contact out of the zone, so "
+        "check [load] moment or rotation and [rig] stiffness_rotation and pivot_height first"
+    )
+
+
 def check_step(step, friction: float, *, raise_error: bool = True) -> dict[str, CheckRecord]:
     """Every result check of one StepResult: equilibrium, zone edge, tangential hold."""
     blocks = np.concatenate([np.zeros(0), *step.pair_unknowns.blocks.values()])
     block = float(np.max(np.abs(blocks))) if blocks.size else 0.0
+    hint = _turning_hint(step)
     return {
         "equilibrium": equilibrium(
             step.resultant[0], step.resultant[1], step.normal, step.tangential, step=step.name,
-            raise_error=raise_error,
+            raise_error=raise_error, hint=hint,
         ),
         "zone_edge": zone_edge(
-            step.x, step.states, step.pressure, step=step.name, raise_error=raise_error
+            step.x, step.states, step.pressure, step=step.name, raise_error=raise_error,
+            hint=hint,
         ),
         "tangential_hold": tangential_hold(
             step.x, step.states, step.normal, step.tangential, friction,

@@ -70,16 +70,27 @@ def _scene(pad: str, specimen: str) -> dict:
 
 
 COMBINATIONS = [(pad, specimen) for pad in MODELS for specimen in MODELS]
+#: the combinations whose pad block turns against a rotational rig spring (each pad model once)
+ROTATING = {("bem", "half-plane"), ("half-plane", "bem")}
 
 
 @pytest.mark.parametrize(("pad", "specimen"), COMBINATIONS)
 def test_every_model_through_every_output(tmp_path, capsys, pad, specimen):
-    scene = _write(_scene(pad, specimen), tmp_path / "scene.toml")
+    """Two of the four combinations turn the pad's block (a rotational rig spring): M, theta
+    and tilt then reach summary.json, loops.csv, the netCDF file and the report."""
+    data = _scene(pad, specimen)
+    rotating = (pad, specimen) in ROTATING
+    if rotating:
+        data["rig"] = {"stiffness_rotation": 2.0e5}
+    scene = _write(data, tmp_path / "scene.toml")
     out = tmp_path / "out"
-    assert cli.main(["run", str(scene), "--out", str(out)]) == 0, capsys.readouterr().err
+    argv = ["run", str(scene), "--out", str(out), "--report", "--netcdf"]
+    assert cli.main(argv) == 0, capsys.readouterr().err
     printed = capsys.readouterr().out
     files = {p.name for p in out.iterdir()}
     assert {"results.csv", "summary.json", "units.json", "fatigue.json"} <= files
+    assert {"results.nc", "report.html", "loops.csv"} <= files
+    _rotation_reached_every_output(out, rotating)
     assert any(name.endswith(".png") for name in files)
     assert list((out / "vtk").glob("*.vtp")) and (out / "history.pvd").exists()
     assert any(name.startswith("stress_") for name in files)
@@ -91,6 +102,28 @@ def test_every_model_through_every_output(tmp_path, capsys, pad, specimen):
     for model, label in ((pad, "pad"), (specimen, "specimen")):
         line = f"VTK of the {model} body {label!r}: its face only (it has no far boundary)"
         assert printed.count(line) == (1 if model == "half-plane" else 0)
+
+
+def _rotation_reached_every_output(out: Path, rotating: bool) -> None:
+    """The block's tilt in summary.json, loops.csv, results.nc and the report: Q > 0 below
+    the pivot tilts the pad clockwise, the spring holds M = -k_r tilt; a held block: 0."""
+    from fretbem.views import read_netcdf
+
+    steps = json.loads((out / "summary.json").read_text())["steps"]
+    tilts = np.array([s["tilt"] for s in steps])
+    loops = np.genfromtxt(out / "loops.csv", delimiter=",", names=True, dtype=None,
+                          encoding="utf-8")  # fmt: skip
+    dataset = read_netcdf(out / "results.nc")
+    np.testing.assert_allclose(dataset["tilt"].values, tilts, rtol=1e-12, atol=0)
+    np.testing.assert_allclose(dataset["M"].values, [s["M"] for s in steps], rtol=1e-12)
+    report = (out / "report.html").read_text()
+    if not rotating:
+        assert not tilts.any() and "tilt (rad)" not in report
+        return
+    assert tilts[1] < 0 < tilts[3]  # Q = +45 then -45 N/mm
+    for step in steps:
+        assert step["M"] == pytest.approx(-2.0e5 * step["tilt"], rel=1e-9, abs=1e-9)
+    assert np.ptp(loops["M"]) > 0 and "tilt (rad)" in report
 
 
 def test_a_rounded_flat_half_plane_pad_through_every_output(tmp_path, capsys):

@@ -7,6 +7,7 @@ from __future__ import annotations
 import codecs
 import math
 
+import numpy as np
 import pytest
 
 from fretbem.errors import InputError, ResourceLimitError
@@ -286,3 +287,127 @@ def test_a_body_lower_than_its_face_sag_names_the_height(body):
     data[body].update(width=9.0, height=0.5)
     with pytest.raises(InputError, match=rf"\[{body}\]: a {body} 0.5 mm high .* sag"):
         build(scene_from_dict(data))
+
+
+# -- the pad block's rotation: its keys, a block that tips, the checks that name it ---------
+
+#: half-plane bodies (fast) with the pivot at the contact
+TURNING = {
+    "pad": {"model": "half-plane"},
+    "specimen": {"model": "half-plane"},
+    "contact": {"pairs": 21, "estimate": False},
+    "rig": {"pivot_height": 0.0},
+    "load": {"steps": ["A", "B"], "P": 100.0, "Q": [0.0, 18.0]},
+}
+
+
+def _turning(**tables) -> dict:
+    data = {k: dict(v) for k, v in TURNING.items()}
+    for name, values in tables.items():
+        data[name] = {**data.get(name, {}), **values}
+    return data
+
+
+@pytest.mark.parametrize("name", ["moment", "rotation"])
+@pytest.mark.parametrize(
+    "value",
+    [True, "1.5", {"a": 1}, math.nan, math.inf, [True, 1.0], ["x", 1.0], [math.nan, 0.0], []],
+    ids=repr,
+)
+def test_moment_and_rotation_refuse_every_wrong_value(name, value):
+    """[load] moment and rotation take a number or one per step: the key named otherwise
+    (they are not in the scalar-key matrix above, since they also take lists)."""
+    with pytest.raises(InputError, match=rf"\[load\] {name}"):
+        scene_from_dict(_turning(load={name: value}))
+
+
+@pytest.mark.parametrize("name", ["M_amplitude", "M_phase"])
+@pytest.mark.parametrize("value", [True, "1.0", [1.0], math.nan, -math.inf], ids=repr)
+def test_cyclic_moment_keys_refuse_wrong_values(name, value):
+    load = {"P": 100.0, "moment": 1.0, "cycle": {"Q": 9.0, "increments": 8, name: value}}
+    with pytest.raises(InputError, match=rf"\[load\.cycle\] {name}"):
+        scene_from_dict({**TURNING, "load": load})
+
+
+@pytest.mark.parametrize("value", [1.0e5, -1.0e5, 1.0e308, -1.0e308])
+def test_a_pivot_beyond_any_rig_is_refused(value):
+    """Reproducer: pivot_height = 1e308 ran, and M = h Q overflowed to null in summary.json."""
+    with pytest.raises(InputError, match=r"\[rig\] pivot_height .* within 10000 mm"):
+        scene_from_dict(_turning(rig={"pivot_height": value}))
+    scene_from_dict(_turning(rig={"pivot_height": -1.0e4}))  # the limit itself is taken
+
+
+def _solve(data):
+    from fretbem.pipeline import run_scene
+
+    return run_scene(scene_from_dict(data))
+
+
+@pytest.mark.parametrize(
+    ("tables", "words"),
+    [
+        # Q = 18 N/mm 10 mm below the datum's pivot with the block free: d = 1.8 mm
+        ({"rig": {}, "load": {"moment": 0.0}}, ("[load] moment", "d = 1.8 mm", "pivot_height")),
+        # reproducer: the Lemke fallback returned a solution that did not balance the loads
+        ({"load": {"moment": 1.0e6}}, ("[load] moment", "d = -1e+04 mm")),
+        # reproducers: IndexError in Lemke's ratio test on an overflowed tableau
+        ({"load": {"moment": 1.0e308}}, ("[load] moment",)),
+        ({"rig": {"stiffness_rotation": 1.0e-12}}, ("[rig] stiffness_rotation",)),
+        ({"load": {"P": 100.0, "moment": 1.0e308, "cycle": {"Q": 9.0, "increments": 8}}},
+         ("[load.cycle] M_amplitude",)),
+    ],
+)  # fmt: skip
+def test_a_block_that_tips_is_refused_naming_its_keys(tables, words):
+    """A rotating block whose step has no balance: one message naming the step, the likely
+    cause (the contact's centre d = (h Q - M) / P outside the zone) and the keys; never a
+    retry with Lemke's method (its LCP form holds a non-rotating block's balance)."""
+    from fretbem.solvers.newton import SolverConvergenceError
+
+    data = _turning(**{k: v for k, v in tables.items() if k != "load"})
+    if "load" in tables:
+        load = tables["load"]
+        data["load"] = load if "cycle" in load else {**data["load"], **load}
+    if tables.get("rig") == {}:
+        data["rig"] = {}
+    with pytest.raises((InputError, SolverConvergenceError)) as failure:
+        _solve(data)  # refused before solving where P, Q and M give d, else when solving
+    message = str(failure.value)
+    assert "no balance found for the pad block's rotation" in message
+    assert all(w in message for w in words), message
+    assert "Lemke" not in message and "lemke" not in message
+
+
+@pytest.mark.parametrize("stiffness", [1.0e-308, 1.0e-250])
+def test_a_spring_too_soft_for_floating_point_is_refused(stiffness):
+    """Reproducer: k_r = 1e-308 ended in an IndexError in Lemke's ratio test (after
+    overflow warnings); the spring is named, a free block is a zero moment."""
+    with pytest.raises(InputError, match=r"\[rig\] stiffness_rotation = .* so soft .* moment = 0"):
+        _solve(_turning(rig={"stiffness_rotation": stiffness}))
+
+
+def test_lemke_refuses_a_problem_that_is_not_finite():
+    """Reproducer: NaN ratios emptied the tie set: IndexError instead of a LemkeError."""
+    from fretbem.solvers.lemke import LemkeError, solve_lcp
+
+    with pytest.raises(LemkeError, match="not finite"):
+        solve_lcp(np.eye(2), np.array([-1.0, math.inf]))
+    with pytest.raises(LemkeError, match="not finite"):
+        solve_lcp(np.array([[1.0, math.nan], [0.0, 1.0]]), np.array([-1.0, -1.0]))
+
+
+def test_a_rotating_simulation_gets_no_lemke_fallback():
+    from fretbem.solvers.fallback import with_fallback
+
+    simulation, _ = build(scene_from_dict(_turning(rig={"stiffness_rotation": 1.0e5})))
+    assert simulation.rotates and with_fallback(simulation) is None
+    held, _ = build(scene_from_dict(TURNING))
+    assert not held.rotates and with_fallback(held) is not None
+
+
+def test_a_rotation_the_contact_cannot_follow_is_named_by_the_zone_check():
+    """A 1 rad rotation pushes the contact to the zone's end: the zone check says the block
+    turns and names the rotation keys, not only 'enlarge the zone'."""
+    from fretbem.verification.checks import ContactZoneError
+
+    with pytest.raises(ContactZoneError, match=r"the pad block turns here .*\[load\] moment or "):
+        _solve(_turning(load={"rotation": [0.0, 1.0]}))

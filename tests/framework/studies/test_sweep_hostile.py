@@ -87,6 +87,21 @@ def test_bad_values_are_refused_before_solving_naming_the_parameter(tmp_path, pa
         _sweep(tmp_path, parameters, options=options)
 
 
+@pytest.mark.parametrize(
+    ("path", "values", "words"),
+    [
+        ("contact.friction", [0.5, True], "must be .*got True"),
+        ("contact.pairs", [11, 11.0], "must be an integer, got 11.0"),
+        ("load.moment", [1.0, True], "moment must be .*got True"),
+    ],
+)
+def test_a_bad_value_equal_to_a_good_one_is_still_checked(tmp_path, path, values, words):
+    """Reproducer: the value check kept one of each equal value (true == 1, 11.0 == 11), so
+    [0.5, true] or [11, 11.0] reached the cases and failed there as error rows."""
+    with pytest.raises(SweepSpecError, match=rf"'{path}' = .*{words}"):
+        _sweep(tmp_path, {path: values})
+
+
 def test_a_huge_sweep_is_refused_with_its_size():
     parameters = {"load.P": {"start": 50.0, "stop": 150.0, "num": 1000},
                   "contact.friction": {"start": 0.2, "stop": 0.6, "num": 1000}}  # fmt: skip

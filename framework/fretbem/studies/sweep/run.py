@@ -471,7 +471,7 @@ def check_values(spec: SweepSpec, builder=None) -> None:
         return  # a custom builder reads its own scenes
 
     for parameter in spec.parameters:
-        for value in dict.fromkeys(map(_hashable, parameter.values)):
+        for value in {_hashable(v): v for v in parameter.values}.values():
             scene = copy.deepcopy(spec.scene)
             for other in spec.parameters:
                 chosen = value if other is parameter else other.values[0]
@@ -487,7 +487,11 @@ def check_values(spec: SweepSpec, builder=None) -> None:
 
 
 def _hashable(value):
-    return json.dumps(value, sort_keys=True) if isinstance(value, (list, dict)) else value
+    """A dict key per distinct value and type: ``true`` is not ``1``, nor ``2.0`` ``2``
+    (the reader takes one and refuses the other, so each is checked on its own)."""
+    if isinstance(value, (list, dict)):
+        return json.dumps(value, sort_keys=True)
+    return (type(value).__name__, value)
 
 
 def _plain(value):
