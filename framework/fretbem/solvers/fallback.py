@@ -36,6 +36,11 @@ class FallbackSolver(Solver):
     )
     max_substeps: int = attrs.field(default=0, validator=attrs.validators.ge(0))
 
+    @property
+    def displacement_control(self) -> bool:
+        """Whether both solvers take steps driven by displacement (and a rotating block)."""
+        return all(getattr(s, "displacement_control", True) for s in (self.primary, self.fallback))
+
     def solve_increment(
         self,
         problem: CondensedContact,
@@ -72,11 +77,13 @@ def with_fallback(simulation):
 
     The run pipeline uses it to retry a run whose Newton iteration failed (bulk stress
     already in the first step, for instance) instead of reporting the failure. A simulation
-    whose pad block rotates gets None too: Lemke's LCP form keeps the force balance of a
-    non-rotating block (the Simulation refuses the Lemke solver for it).
+    whose pad block rotates, or with a step driven by displacement (delta or approach), gets
+    None too: Lemke's LCP form keeps the force balance of a non-rotating, force-driven block
+    (the Simulation refuses the Lemke solver for those).
     """
     solver = getattr(simulation, "solver", None)
-    if type(solver) is not SemiSmoothNewton or getattr(simulation, "rotates", False):
+    driven = any(not step.controls.by_force for step in getattr(simulation, "steps", ()))
+    if type(solver) is not SemiSmoothNewton or getattr(simulation, "rotates", False) or driven:
         return None
     fallback = FallbackSolver(
         primary=attrs.evolve(solver, max_substeps=0),

@@ -404,6 +404,19 @@ def test_a_rotating_simulation_gets_no_lemke_fallback():
     assert not held.rotates and with_fallback(held) is not None
 
 
+def test_a_displacement_driven_simulation_gets_no_lemke_fallback():
+    """Lemke's LCP keeps the block's force rows: a history with a step driven by delta is
+    not retried by it (the Simulation refuses Lemke there), so a Newton failure is reported."""
+    from fretbem.solvers.fallback import FallbackSolver, with_fallback
+
+    data = _turning(load={"steps": ["A", "B"], "P": 100.0, "Q": [0.0, 0.0], "delta": [0.0, 1e-4]})
+    del data["load"]["Q"]
+    driven, _ = build(scene_from_dict(data))
+    assert any(not s.controls.by_force for s in driven.steps)
+    assert with_fallback(driven) is None
+    assert not FallbackSolver().displacement_control
+
+
 def test_a_rotation_the_contact_cannot_follow_is_named_by_the_zone_check():
     """A 1 rad rotation pushes the contact to the zone's end: the zone check says the block
     turns and names the rotation keys, not only 'enlarge the zone'."""
