@@ -350,6 +350,57 @@ def workflows_section(path: Path) -> list[str]:
     return [*lines, ""]
 
 
+#: the issue-28 targets of the sweep engines (benchmarks/sweep_benchmark.py --targets):
+#: (ratio, limit, True when the ratio must reach the limit rather than stay below it)
+SWEEP_TARGETS = (
+    ("sweep default / --serial, 144 cases (wall)", 1.1, False),
+    ("sweep default / --serial, 144 cases (CPU)", None, False),
+    ("sweep --serial / default, 1,440 cases (wall speed-up)", 1.6, True),
+    ("sweep default / --serial, 1,440 cases (CPU)", None, False),
+    ("10,000-case load sweep, default engine (wall s)", 60.0, False),
+    ("10,000-case load sweep, CPU s per case (ms)", None, False),
+)
+
+
+def sweeps_section(path: Path) -> list[str]:
+    """The sweep engines' targets, whole processes (benchmarks/sweep_benchmark.py --targets)."""
+    if not path.exists():
+        return []
+    data = json.loads(path.read_text())
+    ratios = data["ratios"]
+    labels = [k for k in ("before", "after") if k in ratios]
+    load = ", ".join(f"{v:.1f}" for v in data["load"])
+    lines = [
+        "## Sweeps: the engines",
+        "",
+        "`fretbem sweep` as whole processes (CPU of the process and its workers), before and",
+        "after alternating round by round in one run of `OPENBLAS_NUM_THREADS=1 python",
+        f"benchmarks/sweep_benchmark.py --targets` ({data['rounds']} rounds, medians;",
+        f"{data['machine']}; load average {load} at the start and the end: wall times on a",
+        "shared machine are stretched by the other jobs, and a 2-core speed-up needs two free",
+        "cores). The maps are `examples/fretting_map.toml` (144 cases, with its surface-stress",
+        "column) and the same with 10 x the Q values; the load sweep is 10 P x 1,000 Q",
+        "amplitudes of the reference scene (61 pairs), all below gross slip.",
+        "",
+        "| measurement | target | " + " | ".join(labels) + " | met |",
+        "|---|---|" + "---|" * len(labels) + "---|",
+    ]
+    for name, limit, at_least in SWEEP_TARGETS:
+        cells = [ratios[k].get(name) for k in labels]
+        if all(c is None for c in cells):
+            continue
+        text = ["—" if c is None else f"{c:.3g}" for c in cells]
+        after = cells[-1]
+        if limit is None:
+            target, met = "—", "—"
+        else:
+            target = f">= {limit:g}" if at_least else f"<= {limit:g}"
+            ok = after is not None and (after >= limit if at_least else after <= limit)
+            met = "yes" if ok else "no"
+        lines.append(f"| {name} | {target} | " + " | ".join(text) + f" | {met} |")
+    return [*lines, ""]
+
+
 def dense_limits_section() -> list[str]:
     """Where the dense formulation stops, from the up-front estimate's coefficients."""
     from fretbem.bem.resources import estimate_resources
@@ -381,7 +432,12 @@ def dense_limits_section() -> list[str]:
     ]
 
 
-def write_page(json_path: str | Path, out: str | Path, workflows: str | Path | None = None) -> Path:
+def write_page(
+    json_path: str | Path,
+    out: str | Path,
+    workflows: str | Path | None = None,
+    sweeps: str | Path | None = None,
+) -> Path:
     data = json.loads(Path(json_path).read_text())
     lines = [HEADER]
     for label in ("before", "after"):
@@ -401,6 +457,8 @@ def write_page(json_path: str | Path, out: str | Path, workflows: str | Path | N
     lines += halfplane_section(data)
     if workflows is not None:
         lines += workflows_section(Path(workflows))
+    if sweeps is not None:
+        lines += sweeps_section(Path(sweeps))
     lines += dense_limits_section()
     path = Path(out)
     path.write_text("\n".join(lines).rstrip() + "\n")
@@ -412,8 +470,9 @@ def main(argv=None) -> int:
     parser.add_argument("--json", default="docs/results/performance.json")
     parser.add_argument("--out", default="docs/performance.md")
     parser.add_argument("--workflows", default="docs/results/workflows.json")
+    parser.add_argument("--sweeps", default="docs/results/sweeps.json")
     args = parser.parse_args(argv)
-    print(f"wrote {write_page(args.json, args.out, args.workflows)}")
+    print(f"wrote {write_page(args.json, args.out, args.workflows, args.sweeps)}")
     return 0
 
 
