@@ -169,3 +169,21 @@ def test_pool_errors_of_a_lost_worker_leave_its_cases_for_the_next_run(tmp_path,
     rest = sweep_run.sweep(SCENE, parameters, out=tmp_path / "p", serial=True)
     assert rest.summary.stored == 4
     assert np.all(rest.table["status"] == "ok")
+
+
+def test_dask_workers_take_the_groups_this_process_prepared(tmp_path):
+    """A group this process has prepared is sent to the Dask workers: none assembles it."""
+    pytest.importorskip("distributed")
+    from dask.distributed import Client
+
+    parameters = {"load.P": [80.0, 100.0], "load.Q": {"values": [6.0, 12.0], "pattern": CYCLE}}
+    sweep_cases._GROUPS.clear()
+    serial = sweep_run.sweep(SCENE, parameters, out=tmp_path / "serial", serial=True)
+    assert (serial.table["assembly_seconds"] > 0).sum() == 1  # prepared here, kept
+    with sweep_run._local_cluster(2) as cluster, Client(cluster) as client:
+        shared = sweep_run.sweep(SCENE, parameters, out=tmp_path / "dask", client=client, batch=1)
+    assert shared.summary.mode == "dask"
+    assert (shared.table["assembly_seconds"] == 0).all()
+    assert not set(shared.table["worker"]) & set(serial.table["worker"])  # solved remotely
+    pd.testing.assert_frame_equal(_results(shared.table), _results(serial.table))
+    sweep_cases._GROUPS.clear()
