@@ -275,6 +275,9 @@ def main(argv=None) -> int:
         help="the issue-28 engine targets, whole processes (see the docstring)",
     )
     parser.add_argument("--before", type=Path, help="with --targets: a tree of the old code")
+    parser.add_argument(
+        "--after", type=Path, default=ROOT, help="with --targets: the new code (this checkout)"
+    )
     parser.add_argument("--rounds", type=int, default=3, help="with --targets")
     parser.add_argument("--no-10k", action="store_true", help="with --targets: skip the 10k sweep")
     parser.add_argument("--cases", type=int, default=1000)
@@ -284,7 +287,7 @@ def main(argv=None) -> int:
     parser.add_argument("--json", type=Path, default=None)
     args = parser.parse_args(argv)
     if args.targets:
-        trees = {"after": ROOT}
+        trees = {"after": args.after.resolve()}
         if args.before:
             trees = {"before": args.before.resolve(), **trees}
         load = [os.getloadavg()[0]]
