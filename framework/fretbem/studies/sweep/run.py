@@ -18,6 +18,7 @@ from __future__ import annotations
 import argparse
 import concurrent.futures
 import copy
+import gc
 import json
 import logging
 import math
@@ -91,10 +92,11 @@ TASKS_PER_WORKER = 8
 #: the engines of ``engine=`` / ``--engine`` (module docstring and docs/how-to/sweeps.rst)
 ENGINES = ("auto", "serial", "processes", "dask")
 #: serial seconds of remaining work above which the default engine hands the rest to a pool
-#: of forked processes: forking costs milliseconds (the workers inherit this process's
-#: prepared groups, nothing is assembled or pickled again) and each task returns its rows
-#: through a pipe, so the pool pays once the work is worth a few of its starts
-POOL_MIN_SECONDS = 1.0
+#: of forked processes. Forking costs milliseconds (the workers inherit this process's
+#: prepared groups, nothing is assembled or pickled again); the pool's own cost is about
+#: 0.2-0.3 CPU seconds (pages the workers copy on writing, one more store chunk per task),
+#: measured on the 144-case example map (about 1.4 s of solves: it stays in this process)
+POOL_MIN_SECONDS = 2.0
 
 
 class SweepError(ComputationError):
@@ -389,6 +391,9 @@ def _run_pool(queue, workers, builder, outputs, extras, on_rows, limit):
     """
     finished, lost, stopped = 0, [], False
     _POOL["work"] = (list(queue), builder, outputs, extras)
+    # the inherited objects out of the workers' garbage collector: its passes would write
+    # to every page holding one and copy it (copy-on-write), for nothing
+    gc.freeze()
     pool = concurrent.futures.ProcessPoolExecutor(
         workers, mp_context=multiprocessing.get_context("fork")
     )
@@ -407,6 +412,7 @@ def _run_pool(queue, workers, builder, outputs, extras, on_rows, limit):
                 break
     finally:
         pool.shutdown(wait=True, cancel_futures=True)
+        gc.unfreeze()
         _POOL.clear()
     return stopped, lost
 
