@@ -359,6 +359,7 @@ SWEEP_TARGETS = (
     ("sweep default / --serial, 1,440 cases (CPU)", None, False),
     ("10,000-case load sweep, default engine (wall s)", 60.0, False),
     ("10,000-case load sweep, CPU s per case (ms)", None, False),
+    ("10,000-case load sweep, CPU s / 2 cores (wall on two free cores at best)", None, False),
 )
 
 
@@ -375,7 +376,7 @@ def sweeps_section(path: Path) -> list[str]:
         "",
         "`fretbem sweep` as whole processes (CPU of the process and its workers), before and",
         "after alternating round by round in one run of `OPENBLAS_NUM_THREADS=1 python",
-        f"benchmarks/sweep_benchmark.py --targets` ({data['rounds']} rounds, medians;",
+        f"benchmarks/sweep_benchmark.py --targets` ({data['rounds']} round(s), medians;",
         f"{data['machine']}; load average {load} at the start and the end: wall times on a",
         "shared machine are stretched by the other jobs, and a 2-core speed-up needs two free",
         "cores). The maps are `examples/fretting_map.toml` (144 cases, with its surface-stress",
