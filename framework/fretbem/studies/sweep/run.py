@@ -682,6 +682,7 @@ def run_sweep(
     outputs = spec.options.get("outputs", ())
     outputs = (outputs,) if isinstance(outputs, str) else tuple(outputs)
     resolve_all(outputs)  # a bad name fails here, not on every case
+    sweep_cases.forget_outputs()  # the batches resolve them once, afresh
     check_size(spec)
     check_values(spec, builder)  # a bad value fails here, naming its parameter, not as error rows
     check_maps(spec, sweep_columns(spec, outputs))  # a map typo fails before any solve
