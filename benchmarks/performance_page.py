@@ -382,6 +382,7 @@ def sweeps_section(path: Path) -> list[str]:
         "cores). The maps are `examples/fretting_map.toml` (144 cases, with its surface-stress",
         "column) and the same with 10 x the Q values; the load sweep is 10 P x 1,000 Q",
         "amplitudes of the reference scene (61 pairs), all below gross slip.",
+        *([data["note"]] if data.get("note") else []),
         "",
         "| measurement | target | " + " | ".join(labels) + " | met |",
         "|---|---|" + "---|" * len(labels) + "---|",

@@ -93,10 +93,11 @@ TASKS_PER_WORKER = 8
 ENGINES = ("auto", "serial", "processes", "dask")
 #: serial seconds of remaining work above which the default engine hands the rest to a pool
 #: of forked processes. Forking costs milliseconds (the workers inherit this process's
-#: prepared groups, nothing is assembled or pickled again); the pool's own cost is about
-#: 0.2-0.3 CPU seconds (pages the workers copy on writing, one more store chunk per task),
-#: measured on the 144-case example map (about 1.4 s of solves: it stays in this process)
-POOL_MIN_SECONDS = 2.0
+#: prepared groups, nothing is assembled or pickled again); the pool's own cost, measured on
+#: the 144-case example map (1.3-2 s of solves, by the load), is 0.3 CPU seconds on a calm
+#: machine and up to 3 on a loaded one (pages the workers copy on writing, twice the store
+#: chunks, output columns): the example stays in this process, ten times it forks
+POOL_MIN_SECONDS = 5.0
 
 
 class SweepError(ComputationError):
