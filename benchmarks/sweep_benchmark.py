@@ -230,6 +230,8 @@ def targets(trees: dict[str, Path], rounds: int, work: Path, big: bool = True) -
     files = {name: _sweep_file(work, name, table, outputs)
              for name, table, outputs in TARGET_SWEEPS}  # fmt: skip
     runs: dict[str, list[dict]] = {label: [] for label in trees}
+    for tree in trees.values():  # unmeasured: bytecode and numba caches of a fresh tree
+        _sweep_process(tree, files["map144"], work / "warm-up", "--serial")
     for k in range(rounds):
         for label, tree in trees.items():
             one = {}
