@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 from fretbem.contact.law import CoulombFriction
-from fretbem.studies.sweep.cases import build_simulation
 from fretbem.simulation import LoadStep, run
 from fretbem.solvers.newton import SemiSmoothNewton
 from fretbem.solvers.step_memo import StepMemo
+from fretbem.studies.sweep.cases import build_simulation
 
 SCENE = {
     "scene": {"basis": "nurbs", "pairs": 21, "zone": 1.5},
