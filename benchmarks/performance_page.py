@@ -494,6 +494,59 @@ def _demo_seconds(data: dict) -> str:
     return f" (the demo's CPU: {before:.2f} s before, {after:.2f} s after)"
 
 
+#: the issue-28 targets of the sweep engines (benchmarks/sweep_benchmark.py --targets):
+#: (ratio, limit, True when the ratio must reach the limit rather than stay below it)
+SWEEP_TARGETS = (
+    ("sweep default / --serial, 144 cases (wall)", 1.1, False),
+    ("sweep default / --serial, 144 cases (CPU)", None, False),
+    ("sweep --serial / default, 1,440 cases (wall speed-up)", 1.6, True),
+    ("sweep default / --serial, 1,440 cases (CPU)", None, False),
+    ("10,000-case load sweep, default engine (wall s)", 60.0, False),
+    ("10,000-case load sweep, CPU s per case (ms)", None, False),
+    ("10,000-case load sweep, CPU s / 2 cores (wall on two free cores at best)", None, False),
+)
+
+
+def sweeps_section(path: Path) -> list[str]:
+    """The sweep engines' targets, whole processes (benchmarks/sweep_benchmark.py --targets)."""
+    if not path.exists():
+        return []
+    data = json.loads(path.read_text())
+    ratios = data["ratios"]
+    labels = [k for k in ("before", "after") if k in ratios]
+    load = ", ".join(f"{v:.1f}" for v in data["load"])
+    lines = [
+        "## Sweeps: the engines",
+        "",
+        "`fretbem sweep` as whole processes (CPU of the process and its workers), before and",
+        "after alternating round by round in one run of `OPENBLAS_NUM_THREADS=1 python",
+        f"benchmarks/sweep_benchmark.py --targets` ({data['rounds']} round(s), medians;",
+        f"{data['machine']}; load average {load} at the start and the end: wall times on a",
+        "shared machine are stretched by the other jobs, and a 2-core speed-up needs two free",
+        "cores). The maps are `examples/fretting_map.toml` (144 cases, with its surface-stress",
+        "column) and the same with 10 x the Q values; the load sweep is 10 P x 1,000 Q",
+        "amplitudes of the reference scene (61 pairs), all below gross slip.",
+        *([data["note"]] if data.get("note") else []),
+        "",
+        "| measurement | target | " + " | ".join(labels) + " | met |",
+        "|---|---|" + "---|" * len(labels) + "---|",
+    ]
+    for name, limit, at_least in SWEEP_TARGETS:
+        cells = [ratios[k].get(name) for k in labels]
+        if all(c is None for c in cells):
+            continue
+        text = ["—" if c is None else f"{c:.3g}" for c in cells]
+        after = cells[-1]
+        if limit is None:
+            target, met = "—", "—"
+        else:
+            target = f">= {limit:g}" if at_least else f"<= {limit:g}"
+            ok = after is not None and (after >= limit if at_least else after <= limit)
+            met = "yes" if ok else "no"
+        lines.append(f"| {name} | {target} | " + " | ".join(text) + f" | {met} |")
+    return [*lines, ""]
+
+
 def dense_limits_section() -> list[str]:
     """Where the dense formulation stops, from the up-front estimate's coefficients."""
     from fretbem.bem.resources import estimate_resources
@@ -554,6 +607,7 @@ def write_page(
     workflows: str | Path | None = None,
     small_cycles: str | Path = "docs/results/workflows_small_cycles.json",
     small_cycle_costs: str | Path = "docs/results/small_cycle_costs.json",
+    sweeps: str | Path | None = None,
 ) -> Path:
     data = json.loads(Path(json_path).read_text())
     lines = [HEADER]
@@ -575,6 +629,8 @@ def write_page(
     if workflows is not None:
         lines += workflows_section(Path(workflows))
     lines += small_cycles_section(Path(small_cycles), Path(small_cycle_costs))
+    if sweeps is not None:
+        lines += sweeps_section(Path(sweeps))
     lines += dense_limits_section()
     lines += searches_section(Path(json_path).with_name("searches.json"))
     path = Path(out)
@@ -587,8 +643,10 @@ def main(argv=None) -> int:
     parser.add_argument("--json", default="docs/results/performance.json")
     parser.add_argument("--out", default="docs/performance.md")
     parser.add_argument("--workflows", default="docs/results/workflows.json")
+    parser.add_argument("--sweeps", default="docs/results/sweeps.json")
     args = parser.parse_args(argv)
-    print(f"wrote {write_page(args.json, args.out, args.workflows)}")
+    written = write_page(args.json, args.out, args.workflows, sweeps=args.sweeps)
+    print(f"wrote {written}")
     return 0
 
 

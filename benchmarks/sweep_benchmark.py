@@ -2,6 +2,18 @@
 
     python benchmarks/sweep_benchmark.py [--cases 1000] [--radii 20] [--workers N] [--json F]
 
+The issue-28 targets of the sweep engines, whole processes of ``fretbem sweep`` (CPU of the
+process and its workers, and wall), before and after alternating round by round::
+
+    git archive <old commit> | tar -x -C /tmp/before
+    OPENBLAS_NUM_THREADS=1 python benchmarks/sweep_benchmark.py --targets \
+        --before /tmp/before --rounds 3 --json docs/results/sweeps.json
+    python benchmarks/performance_page.py
+
+``--targets`` (see ``targets``): the example map (144 cases) default engine against
+``--serial``; the same map with 10x its work (1,440 cases) default against ``--serial``;
+a 10,000-case load sweep at 61 pairs with the default engine.
+
 1. Reuse: on the reference scene (61 pairs) the assembly + condensation of one geometry
    against the solve of one load case on it, and a case built and solved from scratch.
 2. Load sweep: P x Q amplitude (a fully reversed cycle, every case below gross slip) on one
@@ -164,14 +176,137 @@ def cluster_start(workers: int) -> float:
     return time.perf_counter() - tic
 
 
+def _sweep_file(folder: Path, name: str, parameters: str, outputs: bool) -> Path:
+    """A sweep file on the reference scene (absolute path) with ``parameters`` (TOML)."""
+    scene = (ROOT / "examples" / "cattaneo_mindlin.toml").as_posix()
+    extra = 'outputs = ["fretbem.studies.sweep.outputs:surface_stress"]\n' if outputs else ""
+    path = folder / f"{name}.toml"
+    path.write_text(f'[sweep]\nscene = "{scene}"\nmode = "product"\n{extra}[parameters]\n'
+                    + parameters)  # fmt: skip
+    return path
+
+
+#: the target sweeps: (name, [parameters] table, extra output column)
+TARGET_SWEEPS = (
+    # the example's map (examples/fretting_map.toml)
+    ("map144", '"load.P" = { start = 60.0, stop = 140.0, num = 12 }\n'
+     '"load.Q" = { start = 0.0, stop = 44.0, num = 12, pattern = [0.0, 1.0, 0.0, -1.0, 0.0] }\n',
+     True),
+    # the same map with ten times the Q values: 10x the work
+    ("map1440", '"load.P" = { start = 60.0, stop = 140.0, num = 12 }\n'
+     '"load.Q" = { start = 0.0, stop = 44.0, num = 120, pattern = [0.0, 1.0, 0.0, -1.0, 0.0] }\n',
+     True),
+    # 10,000 load cases below gross slip (|Q| <= 0.95 f P_min)
+    ("load10k", '"load.P" = { start = 60.0, stop = 140.0, num = 10 }\n'
+     '"load.Q" = { start = 0.0, stop = 17.1, num = 1000, pattern = [0.0, 1.0, 0.0, -1.0, 0.0] }\n',
+     False),
+)  # fmt: skip
+
+
+def _sweep_process(tree: Path, sweep_file: Path, out: Path, *flags: str) -> tuple[float, float]:
+    """(wall, CPU of the process and its children) of one ``fretbem sweep`` process."""
+    import resource
+    import shutil
+    import subprocess
+
+    shutil.rmtree(out, ignore_errors=True)
+    env = {**os.environ, "PYTHONPATH": f"{tree / 'framework'}{os.pathsep}{tree / 'plugins'}",
+           "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}  # fmt: skip
+    command = [sys.executable, "-m", "fretbem.app.cli", "sweep", str(sweep_file), "--out",
+               str(out), "--no-figures", "--quiet", *flags]  # fmt: skip
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    tic = time.perf_counter()
+    done = subprocess.run(command, env=env, cwd=out.parent, capture_output=True, text=True)
+    wall = time.perf_counter() - tic
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if done.returncode != 0:
+        raise RuntimeError(f"{' '.join(command)} failed:\n{done.stderr}")
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return wall, cpu
+
+
+def targets(trees: dict[str, Path], rounds: int, work: Path, big: bool = True) -> dict:
+    """Medians over ``rounds`` interleaved rounds of every target sweep, per tree."""
+    files = {name: _sweep_file(work, name, table, outputs)
+             for name, table, outputs in TARGET_SWEEPS}  # fmt: skip
+    runs: dict[str, list[dict]] = {label: [] for label in trees}
+    for tree in trees.values():  # unmeasured: bytecode and numba caches of a fresh tree
+        _sweep_process(tree, files["map144"], work / "warm-up", "--serial")
+    for k in range(rounds):
+        for label, tree in trees.items():
+            one = {}
+            for name in ("map144", "map1440"):
+                for engine, flags in (("default", ()), ("serial", ("--serial",))):
+                    wall, cpu = _sweep_process(tree, files[name], work / f"{name}-{engine}", *flags)
+                    one[f"{name}_{engine}_wall"], one[f"{name}_{engine}_cpu"] = wall, cpu
+            if big:
+                wall, cpu = _sweep_process(tree, files["load10k"], work / "load10k")
+                one["load10k_default_wall"], one["load10k_default_cpu"] = wall, cpu
+            runs[label].append(one)
+            print(f"round {k + 1} {label}: " + ", ".join(f"{n} {v:.1f}" for n, v in one.items()),
+                  f"(load {os.getloadavg()[0]:.1f})", flush=True)  # fmt: skip
+    medians = {label: {n: statistics.median(r[n] for r in rs) for n in rs[0]}
+               for label, rs in runs.items()}  # fmt: skip
+    ratios = {}
+    for label, m in medians.items():
+        ratios[label] = {
+            "sweep default / --serial, 144 cases (wall)": m["map144_default_wall"]
+            / m["map144_serial_wall"],
+            "sweep default / --serial, 144 cases (CPU)": m["map144_default_cpu"]
+            / m["map144_serial_cpu"],
+            "sweep --serial / default, 1,440 cases (wall speed-up)": m["map1440_serial_wall"]
+            / m["map1440_default_wall"],
+            "sweep default / --serial, 1,440 cases (CPU)": m["map1440_default_cpu"]
+            / m["map1440_serial_cpu"],
+        }
+        if "load10k_default_wall" in m:
+            ratios[label]["10,000-case load sweep, default engine (wall s)"] = m[
+                "load10k_default_wall"
+            ]
+            ratios[label]["10,000-case load sweep, CPU s per case (ms)"] = (
+                1000 * m["load10k_default_cpu"] / 10_000
+            )
+            ratios[label][
+                "10,000-case load sweep, CPU s / 2 cores (wall on two free cores at best)"
+            ] = m["load10k_default_cpu"] / 2
+    return {"medians": medians, "ratios": ratios}
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument(
+        "--targets",
+        action="store_true",
+        help="the issue-28 engine targets, whole processes (see the docstring)",
+    )
+    parser.add_argument("--before", type=Path, help="with --targets: a tree of the old code")
+    parser.add_argument(
+        "--after", type=Path, default=ROOT, help="with --targets: the new code (this checkout)"
+    )
+    parser.add_argument("--rounds", type=int, default=3, help="with --targets")
+    parser.add_argument("--no-10k", action="store_true", help="with --targets: skip the 10k sweep")
     parser.add_argument("--cases", type=int, default=1000)
     parser.add_argument("--radii", type=int, default=20)
     parser.add_argument("--workers", type=int, default=None)
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--json", type=Path, default=None)
     args = parser.parse_args(argv)
+    if args.targets:
+        trees = {"after": args.after.resolve()}
+        if args.before:
+            trees = {"before": args.before.resolve(), **trees}
+        load = [os.getloadavg()[0]]
+        with tempfile.TemporaryDirectory() as tmp:
+            report = targets(trees, args.rounds, Path(tmp), big=not args.no_10k)
+        load.append(os.getloadavg()[0])
+        report.update(machine=f"{os.cpu_count()} cores, {platform.platform()}, Python "
+                      f"{platform.python_version()}", load=load, rounds=args.rounds)  # fmt: skip
+        for name in report["ratios"]["after"]:
+            cells = "".join(f"{report['ratios'][k].get(name, float('nan')):9.2f}" for k in trees)
+            print(f"{name:58s}{cells}")
+        if args.json:
+            args.json.write_text(json.dumps(report, indent=1))
+        return 0
     from fretbem.studies.sweep.run import machine_cores
 
     workers = args.workers or machine_cores()

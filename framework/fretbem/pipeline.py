@@ -199,6 +199,7 @@ def run_simulation(
     bars=None,
     phases: Mapping | None = None,
     sliding: bool = False,
+    memo=None,
 ) -> RunResult:
     """Solve ``simulation`` in ``mode``, check it, solve ``compare`` (simulations), and carry
     out the ``extras``' stress and fatigue requests. Raises the failed check's error.
@@ -206,7 +207,9 @@ def run_simulation(
 
     ``progress(k, n, step)`` follows the steps; ``bars(description, total)`` makes the
     progress bars of the adaptive levels and the fatigue assessment; ``phases`` are earlier
-    phases' seconds (e.g. the build), kept with this run's in ``RunResult.phases``."""
+    phases' seconds (e.g. the build), kept with this run's in ``RunResult.phases``;
+    ``memo`` (a :class:`~fretbem.solvers.step_memo.StepMemo`, for the cases of a sweep)
+    lends the load steps earlier runs on the same problem solved."""
     mode = mode or accuracy.Accuracy()
     if sliding:
         sliding_blocker(mode, extras)
@@ -230,7 +233,7 @@ def run_simulation(
         if sliding:
             result = solve_sliding(simulation, say=say, progress=progress)
         else:
-            result = accuracy.solve(simulation, mode, coarse=companion, **options)
+            result = accuracy.solve(simulation, mode, coarse=companion, memo=memo, **options)
     except SolverConvergenceError as failure:
         retry = None if sliding else with_fallback(simulation)
         if retry is None:
@@ -239,7 +242,9 @@ def run_simulation(
             "Lemke's method on the increments Newton fails on")  # fmt: skip
         coarse = None if companion is None else (lambda n: _fallback(companion(n)))
         result = accuracy.solve(retry, mode, coarse=coarse, **options)
-    check_steps(result)  # a failed check ends here: nothing is post-processed or written
+    # a failed check ends here: nothing is post-processed or written (the run checked each
+    # step as it solved it: only the consistency of the result is left)
+    check_steps(result, fresh=True)
     timed["solve"] = time.perf_counter() - tic
     others = []
     if compare:

@@ -24,6 +24,7 @@ from fretbem.contact.pairs import ContactPair
 from fretbem.contact.rotation import RotationError
 from fretbem.errors import InputError
 from fretbem.solvers.newton import IncrementResult, SemiSmoothNewton, Solver, SolverConvergenceError
+from fretbem.solvers.step_memo import Reached, StepMemo
 from fretbem.verification.checks import check_step, step_names
 from fretbem.verification.closed_forms import MindlinDeresiewicz
 
@@ -463,13 +464,17 @@ def _between(start: Mapping[str, float], end: Mapping[str, float], frac: float) 
     }
 
 
-def run(simulation: Simulation, *, progress=None, check: bool = True) -> SimulationResult:
+def run(
+    simulation: Simulation, *, progress=None, check: bool = True, memo: StepMemo | None = None
+) -> SimulationResult:
     """Prepare once and step through the whole history; returns per-step results.
 
     Every step's result passes the result checks (:func:`fretbem.verification.checks.check_step`:
     equilibrium, the candidate zone's edge, something holding the pad tangentially) before
     the next step starts; a failure raises its named ResultCheckError (``check=False``
     skips them, to inspect a failed run). ``progress(k, n, step)`` is called after each step.
+    ``memo`` (a :class:`~fretbem.solvers.step_memo.StepMemo`) supplies the first steps when
+    an earlier history on the same problem solved the same ones, and keeps those solved here.
     """
 
     start = time.perf_counter()
@@ -487,20 +492,28 @@ def run(simulation: Simulation, *, progress=None, check: bool = True) -> Simulat
     state = ContactState.initial(problem)
     history: list[float] = []
     steps = []
+    cursor = None if memo is None else memo.cursor(problem, simulation)
     for k, load in enumerate(simulation.steps, start=1):
         tic = time.perf_counter()
-        increments: list[IncrementRecord] = []
+        reached = None if cursor is None else cursor.find(load)
+        if reached is None:
+            increments: list[IncrementRecord] = []
 
-        def record(reached: ContactState, kept=increments) -> None:
-            kept.append(IncrementRecord.of(problem, reached, simulation.rig))
+            def record(end: ContactState, kept=increments) -> None:
+                kept.append(IncrementRecord.of(problem, end, simulation.rig))
 
-        try:
-            state, iterations, residuals = simulation.step(problem, state, load, record)
-        except SolverConvergenceError as failure:
-            if not simulation.rotates:
-                raise
-            message = _no_balance(simulation, problem, load, failure)
-            raise SolverConvergenceError(message, failure.residuals) from None
+            try:
+                state, iterations, residuals = simulation.step(problem, state, load, record)
+            except SolverConvergenceError as failure:
+                if not simulation.rotates:
+                    raise
+                message = _no_balance(simulation, problem, load, failure)
+                raise SolverConvergenceError(message, failure.residuals) from None
+            if cursor is not None:
+                cursor.keep(load, Reached(state, iterations, tuple(residuals), tuple(increments)))
+        else:
+            state, iterations = reached.state, reached.iterations
+            residuals, increments = list(reached.residuals), list(reached.increments)
         seconds = time.perf_counter() - tic
         history.append(load.tangential if load.delta is None else state.tangential)
         step = StepResult.build(

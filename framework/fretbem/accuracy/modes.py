@@ -305,6 +305,7 @@ def solve(
     progress=None,
     check: bool = True,
     bars=None,
+    memo=None,
 ):
     """Solve ``simulation`` in ``mode`` (default: fixed pairs with an estimate).
 
@@ -314,7 +315,8 @@ def solve(
     (why there is no estimate, else None). ``coarse(pairs)`` builds the fixed mode's
     companion level (default: the contact faces re-meshed uniformly). ``progress(k, n, step)``
     follows the steps of the (fixed) level; ``bars(description, total)`` makes a progress bar
-    (the adaptive levels).
+    (the adaptive levels). ``memo`` (a :class:`~fretbem.solvers.step_memo.StepMemo`) lends
+    the fixed level the load steps earlier runs on the same problem solved.
     """
     mode = mode or Accuracy()
     if mode.mesh == "adaptive":
@@ -322,6 +324,8 @@ def solve(
     kwargs = {"check": check}
     if progress is not None:
         kwargs["progress"] = progress
+    if memo is not None:
+        kwargs["memo"] = memo
     return _fixed(simulation, mode, coarse or _uniform(simulation), kwargs)
 
 

@@ -170,6 +170,11 @@ def _at_least(minimum: int):
     return check
 
 
+def _restore(cls, settings: dict):
+    """A solver of ``cls`` rebuilt from its init settings (unpickling)."""
+    return cls(**settings)
+
+
 @attrs.frozen
 class SemiSmoothNewton(Solver):
     """Semi-smooth (generalised) Newton method on the law's complementarity functions.
@@ -192,6 +197,12 @@ class SemiSmoothNewton(Solver):
     _linear: weakref.WeakKeyDictionary = attrs.field(
         init=False, factory=weakref.WeakKeyDictionary, repr=False, eq=False
     )
+
+    def __reduce__(self):
+        """Pickled (and copied) by its settings: the kept linear solvers are this process's
+        cache, in a weak dictionary that does not pickle; a copy starts without them."""
+        settings = {f.name: getattr(self, f.name) for f in attrs.fields(type(self)) if f.init}
+        return (_restore, (type(self), settings))
 
     def solve_increment(
         self,

@@ -449,7 +449,7 @@ def test_local_cluster_equals_serial_and_resumes(tmp_path):
         with Client(cluster) as client:
             assert len(client.scheduler_info()["workers"]) == 2  # still up: not ours to close
     # completed on a cluster of its own (started while this process solves the first tasks)
-    rest = sweep(SCENE, PARAMETERS, out=tmp_path / "dask", workers=2, batch=3,
+    rest = sweep(SCENE, PARAMETERS, out=tmp_path / "dask", engine="dask", workers=2, batch=3,
                  builder=build_simulation)  # fmt: skip
     assert rest.summary.stored == 18 and rest.summary.skipped == 6
     assert rest.summary.workers == 2 and rest.summary.mode == "dask"
@@ -580,13 +580,20 @@ def test_sweep_command(tmp_path, capsys):
     assert "cannot read" in capsys.readouterr().err
 
 
-def test_default_engine_stays_serial_when_the_work_is_small_next_to_a_cluster_start(tmp_path):
-    """A sweep whose estimated work is below PARALLEL_MIN_STARTS cluster starts never starts
-    a cluster: the default engine solves it in this process (the same table)."""
+def test_default_engine_stays_serial_when_the_work_is_small_next_to_a_parallel_start(
+    tmp_path, monkeypatch
+):
+    """A sweep whose estimated work is below the parallel engine's threshold (forked
+    processes: POOL_MIN_SECONDS; a Dask cluster: PARALLEL_MIN_STARTS cluster starts) never
+    starts one: the default engine solves it in this process (the same table)."""
     pd = pytest.importorskip("pandas")
     from fretbem.studies.sweep import run as sweep_run
     from fretbem.studies.sweep.cases import build_simulation
     from fretbem.studies.sweep.run import sweep
+
+    # above this sweep's work on any machine, however loaded (it is about 1 s)
+    monkeypatch.setattr(sweep_run, "POOL_MIN_SECONDS", 1e6)
+    monkeypatch.setattr(sweep_run, "CLUSTER_START_SECONDS", 1e6)
 
     # the builder keeps the failing radius a failing group (rows), as in the tests above
     serial = sweep(

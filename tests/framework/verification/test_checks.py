@@ -30,6 +30,19 @@ def reference():
     return run(cattaneo_mindlin(CattaneoMindlinScene(pairs=31)))
 
 
+def test_a_fresh_result_keeps_the_checks_of_its_run_and_an_edited_one_is_checked(reference):
+    """``fresh=True`` (the pipeline, straight after the solve) takes the records run() made
+    as it solved each step; a result with a step run() did not check is checked whole."""
+    import attrs
+
+    records = checks.check_steps(reference, fresh=True)
+    assert [r is s.checks for r, s in zip(records, reference.steps, strict=True)] == [True] * 5
+    step = attrs.evolve(reference.steps[1], pressure=2 * reference.steps[1].pressure, checks=None)
+    edited = attrs.evolve(reference, steps=(reference.steps[0], step))
+    with pytest.raises(checks.ConsistencyError, match="edited after the solve"):
+        checks.check_steps(edited, fresh=True)
+
+
 def test_reference_passes_every_check_with_small_residuals(reference):
     """Measured: equilibrium residual 5e-5 (p) / 7e-5 (q) x P, end pairs separated."""
     for records in checks.check_steps(reference):

@@ -33,6 +33,7 @@ from fretbem.scenes import builder as scene_build
 from fretbem.scenes.file import scene_from_data
 from fretbem.scenes.reference import CattaneoMindlinScene, cattaneo_mindlin
 from fretbem.simulation import LoadStep
+from fretbem.solvers.step_memo import StepMemo
 from fretbem.studies.sweep.outputs import resolve_all
 
 #: worst first: the regime of a cycle is the worst regime of its steps
@@ -208,23 +209,37 @@ def worst(regimes: Sequence[str]) -> str:
     return max(regimes, key=REGIMES.index)
 
 
-_GROUPS: OrderedDict[str, Any] = OrderedDict()
+#: the groups this process built last: (simulation, its StepMemo) by representative scene
+_GROUPS: OrderedDict[str, tuple[Any, StepMemo]] = OrderedDict()
 _KEEP = 2
 
 
-def _group_simulation(key: str, scene: dict) -> tuple[Any, float]:
-    """The group's condensed simulation, built here or taken from this process's cache."""
+def group_key(scene: Mapping) -> str:
+    """The key of a group's representative scene in this process's cache."""
+    return json.dumps(scene, sort_keys=True)
+
+
+def _group_simulation(key: str, scene: dict) -> tuple[Any, StepMemo, float]:
+    """The group's condensed simulation and step memo, built here or taken from this
+    process's cache (seconds spent building: 0 when cached)."""
     if key in _GROUPS:
         _GROUPS.move_to_end(key)
-        return _GROUPS[key], 0.0
+        return (*_GROUPS[key], 0.0)
     start = time.perf_counter()
     simulation = build_simulation(scene)
     simulation.prepare()
     seconds = time.perf_counter() - start
-    _GROUPS[key] = simulation
+    keep_group(key, simulation)
+    return (*_GROUPS[key], seconds)
+
+
+def keep_group(key: str, simulation) -> None:
+    """Keep a prepared group simulation in this process's cache (e.g. one sent by the
+    process that built it), with a new step memo."""
+    _GROUPS[key] = (simulation, StepMemo())
+    _GROUPS.move_to_end(key)
     while len(_GROUPS) > _KEEP:
         _GROUPS.popitem(last=False)
-    return simulation, seconds
 
 
 #: a case is one fixed-mesh level on the group's shared assembly (no companion estimate)
@@ -240,11 +255,12 @@ def _adaptive(scene: Mapping | None) -> bool:
     return isinstance(contact, Mapping) and contact.get("mesh") == "adaptive"
 
 
-def solve_case(simulation, loading: Loading, outputs=(), scene=None) -> dict[str, Any]:
+def solve_case(simulation, loading: Loading, outputs=(), scene=None, memo=None) -> dict[str, Any]:
     """Solve one case on the group's problem; returns its output columns.
 
     ``outputs`` are extra column functions (see ``sweep_outputs``) called with the result
-    and the case's ``scene`` dict.
+    and the case's ``scene`` dict; ``memo`` (a StepMemo of the group) lends the load steps
+    an earlier case of the group solved (e.g. the same normal load).
     """
 
     row: dict[str, Any] = {
@@ -266,8 +282,8 @@ def solve_case(simulation, loading: Loading, outputs=(), scene=None) -> dict[str
         record = parse_scene(scene)
         result = run_scene(record, mode=mode_of(record)).result
     else:
-        result = run_simulation(with_loading(simulation, loading), mode=FIXED).result
-    row["pairs"] = int(result.describe()["pairs"])
+        result = run_simulation(with_loading(simulation, loading), mode=FIXED, memo=memo).result
+    row["pairs"] = int(result.simulation.pair.n_pairs)
     row["solve_seconds"] = time.perf_counter() - tic
     row["solve_cpu_seconds"] = time.process_time() - cpu
     if any(not s.controls.by_force for s in getattr(result.simulation, "steps", ())):
@@ -290,12 +306,31 @@ def solve_case(simulation, loading: Loading, outputs=(), scene=None) -> dict[str
     return row
 
 
+#: output functions of the running sweep by their names: resolving them scans the installed
+#: entry points (about 5 ms, half a case), and the default engine solves its first cases one
+#: call each; emptied when a sweep starts (:func:`forget_outputs`)
+_OUTPUTS: dict[tuple[str, ...], tuple] = {}
+
+
+def _output_functions(outputs: Sequence[str]) -> tuple:
+    key = (outputs,) if isinstance(outputs, str) else tuple(outputs)
+    if key not in _OUTPUTS:
+        _OUTPUTS[key] = resolve_all(key)
+    return _OUTPUTS[key]
+
+
+def forget_outputs() -> None:
+    """Resolve the output functions again on the next batch (a new sweep starts)."""
+    _OUTPUTS.clear()
+
+
 def run_batch(
     scene: dict,
     cases: Sequence[tuple[int, dict, dict]],
     builder: Callable[[Mapping], Any] | None = None,
     outputs: Sequence[str] = (),
     extras: Mapping[str, Any] | None = None,
+    prepared=None,
 ) -> list[dict[str, Any]]:
     """Solve ``cases`` (index, parameter values, scene dict) on the bodies of ``scene``.
 
@@ -303,19 +338,24 @@ def run_batch(
     ("module:function"), called with the result and the case's scene plus ``extras`` (tables
     of the sweep file such as ``fatigue``). Never raises for a case: a failing case becomes a
     row with status "error" and the message; a group whose bodies cannot be built fails every
-    one of its cases that way.
+    one of its cases that way. ``prepared``: the group's simulation as another process
+    prepared it (pickled to this one), taken instead of assembling it here.
     """
 
     worker = f"{socket.gethostname()}:{os.getpid()}"
-    simulation, assembly, failure = None, 0.0, None
+    simulation, memo, assembly, failure = None, None, 0.0, None
     try:
-        functions = resolve_all(outputs)
+        functions = _output_functions(outputs)
         if builder is None:
-            simulation, assembly = _group_simulation(json.dumps(scene, sort_keys=True), scene)
+            key = group_key(scene)
+            if prepared is not None and key not in _GROUPS:
+                keep_group(key, prepared)
+            simulation, memo, assembly = _group_simulation(key, scene)
         else:
             tic = time.perf_counter()
             simulation = builder(scene)
             simulation.prepare()
+            memo = StepMemo()
             assembly = time.perf_counter() - tic
     except Exception as err:  # recorded on every case of the group, not fatal
         failure = _error(err)
@@ -327,7 +367,7 @@ def run_batch(
             if failure is not None:
                 raise GroupBuildError(f"the group's bodies could not be built: {failure}")
             context = {**(extras or {}), **case_scene}  # swept [fatigue] keys win
-            row.update(solve_case(simulation, loading, functions, context))
+            row.update(solve_case(simulation, loading, functions, context, memo))
         except Exception as err:
             row.update(status="error", error=_error(err), regime="")
         row["assembly_seconds"] = assembly
@@ -344,6 +384,9 @@ __all__ = [
     "Loading",
     "build_simulation",
     "case_loading",
+    "forget_outputs",
+    "group_key",
+    "keep_group",
     "parse_scene",
     "refused_steps",
     "representative",

@@ -1,10 +1,14 @@
-"""Parameter sweeps: many cases of one scene, grouped for reuse, run serially or on Dask.
+"""Parameter sweeps: many cases of one scene, grouped for reuse, run here, on forked worker
+processes or on Dask.
 
 ``sweep(scene, parameters, out=...)`` (or ``fretbem sweep SWEEP.toml``) expands the
 parameters into cases, groups them by what changes the condensed problem, splits the groups
-into batches, and solves the batches in this process (``serial=True``) or as tasks of a
-Dask cluster: a ``LocalCluster`` sized to the machine by default, any scheduler address, or
-a ``Client`` passed in. Every finished batch is stored at once (see ``sweep_store``), so an
+into batches, and solves the batches with one of the ``ENGINES``: in this process
+("serial"), on worker processes forked from it that inherit its prepared groups
+("processes", Linux), or as tasks of a Dask cluster ("dask": a ``LocalCluster``, any
+scheduler address, or a ``Client`` passed in). The default, "auto", starts in this process
+and forks the workers once the remaining work, estimated from the cases solved so far,
+pays for them. Every finished batch is stored at once (see ``sweep_store``), so an
 interrupted sweep re-run with the same description solves only the missing cases.
 Dask, pandas and pyarrow are imported only here, when a sweep runs.
 """
@@ -14,9 +18,11 @@ from __future__ import annotations
 import argparse
 import concurrent.futures
 import copy
+import gc
 import json
 import logging
 import math
+import multiprocessing
 import os
 import statistics
 import sys
@@ -33,12 +39,14 @@ from fretbem.output.staging import output_lock
 from fretbem.pipeline import requests
 from fretbem.scenes.file import scene_from_data
 
+from . import cases as sweep_cases
 from .cases import (
     CYCLE_COLUMNS,
     REGIMES,
     STEP_COLUMNS,
     TIMING_COLUMNS,
     case_loading,
+    group_key,
     representative,
     run_batch,
 )
@@ -80,6 +88,16 @@ PROBE_WINDOW = 25
 #: default tasks per worker: small enough to balance the last round, large enough that the
 #: per-task cost (scheduling, one Parquet chunk) stays below 1 % of the solves
 TASKS_PER_WORKER = 8
+
+#: the engines of ``engine=`` / ``--engine`` (module docstring and docs/how-to/sweeps.rst)
+ENGINES = ("auto", "serial", "processes", "dask")
+#: serial seconds of remaining work above which the default engine hands the rest to a pool
+#: of forked processes. Forking costs milliseconds (the workers inherit this process's
+#: prepared groups, nothing is assembled or pickled again); the pool's own cost, measured on
+#: the 144-case example map (1.3-2 s of solves, by the load), is 0.3 CPU seconds on a calm
+#: machine and up to 3 on a loaded one (pages the workers copy on writing, twice the store
+#: chunks, output columns): the example stays in this process, ten times it forks
+POOL_MIN_SECONDS = 5.0
 
 
 class SweepError(ComputationError):
@@ -348,7 +366,59 @@ def _solve_here(queue, builder, outputs, extras, on_rows, stop, max_tasks) -> in
     return finished
 
 
-def _run_dask(
+def fork_available() -> bool:
+    """Whether worker processes can be forked from this one (Linux: they inherit its
+    prepared groups; elsewhere forking a process with system frameworks loaded is unsafe)."""
+    return sys.platform.startswith("linux") and "fork" in multiprocessing.get_all_start_methods()
+
+
+#: what the forked workers of the running pool solve: set before the fork, read by them
+_POOL: dict[str, Any] = {}
+
+
+def _pool_task(index: int) -> list[dict]:
+    """Task ``index`` of the running pool, solved in a forked worker."""
+    tasks, builder, outputs, extras = _POOL["work"]
+    task = tasks[index]
+    return run_batch(task.scene, task.cases, builder, outputs, extras)
+
+
+def _run_pool(queue, workers, builder, outputs, extras, on_rows, limit):
+    """Solve the queued tasks on ``workers`` forked processes, storing each as it returns.
+
+    Returns (stopped early, errors of tasks lost with a worker). The workers
+    inherit this process's memory: the groups it prepared (``cases._GROUPS``), the builder
+    and the output functions are theirs without pickling; each task sends back its rows.
+    """
+    finished, lost, stopped = 0, [], False
+    _POOL["work"] = (list(queue), builder, outputs, extras)
+    # the inherited objects out of the workers' garbage collector: its passes would write
+    # to every page holding one and copy it (copy-on-write), for nothing
+    gc.freeze()
+    pool = concurrent.futures.ProcessPoolExecutor(
+        workers, mp_context=multiprocessing.get_context("fork")
+    )
+    try:
+        futures = [pool.submit(_pool_task, k) for k in range(len(queue))]
+        for future in concurrent.futures.as_completed(futures):
+            try:
+                rows = future.result()
+            except Exception as err:  # a worker that died (killed, out of memory)
+                lost.append(f"{type(err).__name__}: {err}")
+                continue
+            on_rows(rows)
+            finished += 1
+            if limit is not None and finished >= limit and finished < len(futures):
+                stopped = True
+                break
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
+        gc.unfreeze()
+        _POOL.clear()
+    return stopped, lost
+
+
+def _run_engine(
     tasks,
     client,
     scheduler,
@@ -358,20 +428,23 @@ def _run_dask(
     on_rows,
     limit,
     extras=None,
-    auto=False,
+    engine="dask",
     resplit=False,
 ):
-    """Run the tasks on Dask, storing each batch as it completes.
+    """Run the tasks on ``engine`` ("auto", "processes" or "dask"), storing each batch as it
+    completes.
 
-    Returns (workers, stopped early, errors of tasks lost to the cluster, mode): a lost
+    Returns (workers, stopped early, errors of tasks lost with a worker, mode): a lost
     task's cases stay unstored, for the next run.
 
-    Without a client, the cluster starts (or the scheduler is reached) in a thread while
-    this process solves the first tasks itself: the seconds a cluster takes to start are
-    not lost. With ``auto`` (the default engine: no scheduler, no worker count given) the
-    cluster starts only once the remaining work, estimated from the cases solved here so
-    far, is worth ``PARALLEL_MIN_STARTS`` cluster starts; a smaller sweep ends in this
-    process (mode "serial"). ``resplit`` cuts the remaining batches for the cluster's workers.
+    "auto" (the default engine) solves in this process until the remaining work, estimated
+    from the cases solved so far, is worth a parallel start: ``POOL_MIN_SECONDS`` for a pool
+    of forked processes (Linux), ``PARALLEL_MIN_STARTS`` cluster starts for a Dask
+    LocalCluster (elsewhere); a smaller sweep ends in this process (mode "serial").
+    "processes" forks the pool at once, after this process has prepared the first group.
+    "dask": without a client, the cluster starts (or the scheduler is reached) in a thread
+    while this process solves the first tasks itself. ``resplit`` cuts the remaining
+    batches for the workers.
     """
     queue = list(tasks)
     finished = 0
@@ -381,18 +454,31 @@ def _run_dask(
     def budget():
         return None if limit is None else limit - finished
 
-    if client is None and auto:
-        threshold = PARALLEL_MIN_STARTS * CLUSTER_START_SECONDS
+    forked = engine == "processes" or (engine == "auto" and fork_available() and workers > 1)
+    if engine == "auto":
+        if workers <= 1:
+            threshold = math.inf  # one core: nothing to gain from a parallel engine
+        elif forked:
+            threshold = POOL_MIN_SECONDS
+        else:
+            threshold = PARALLEL_MIN_STARTS * CLUSTER_START_SECONDS
 
-        def worth_a_cluster(rows):
+        def worth_it(rows):
             remaining = _remaining_seconds(rows, queue)
             return remaining is not None and remaining > threshold
 
-        finished += _solve_here(queue, builder, outputs, extras, on_rows, worth_a_cluster, budget())
+        finished += _solve_here(queue, builder, outputs, extras, on_rows, worth_it, budget())
         if not queue or (limit is not None and finished >= limit):
             return 1, bool(queue), lost, "serial"
-        if resplit:  # the batches were sized for one worker
-            queue = _split(queue, workers)
+    elif forked:  # the first case here: the workers inherit its group, prepared
+        finished += _solve_here(queue, builder, outputs, extras, on_rows, lambda rows: True, 1)
+        if not queue or (limit is not None and finished >= limit):
+            return workers, bool(queue), lost, "process"
+    if resplit and engine == "auto":  # the batches were sized for one worker
+        queue = _split(queue, workers)
+    if forked:
+        stopped, lost = _run_pool(queue, workers, builder, outputs, extras, on_rows, budget())
+        return workers, stopped, lost, "process"
     try:
         from dask.distributed import as_completed
     except ImportError as err:  # pragma: no cover - dask is a dependency
@@ -415,8 +501,18 @@ def _run_dask(
         if limit is not None and finished >= limit:
             return n_workers, bool(queue), lost, "dask"
         total = finished + len(queue)
+        shared = _share_prepared(client, queue, builder)
         futures = [
-            client.submit(run_batch, t.scene, t.cases, builder, outputs, extras, pure=False)
+            client.submit(
+                run_batch,
+                t.scene,
+                t.cases,
+                builder,
+                outputs,
+                extras,
+                shared.get(group_key(t.scene)),
+                pure=False,
+            )
             for t in queue
         ]
         for future in as_completed(futures):
@@ -437,6 +533,19 @@ def _run_dask(
         if cluster is not None:
             cluster.close()
     return n_workers, stopped, lost, "dask"
+
+
+def _share_prepared(client, queue: list[Task], builder) -> dict:
+    """The groups this process has prepared that queued tasks need, sent once to every
+    worker (futures by group key): the workers take them instead of assembling again."""
+    if builder is not None:
+        return {}
+    keys = {group_key(t.scene) for t in queue}
+    return {
+        key: client.scatter(sweep_cases._GROUPS[key][0], broadcast=True, hash=False)
+        for key in keys
+        if key in sweep_cases._GROUPS
+    }
 
 
 #: most cases of one sweep: planning holds every case's scene in memory (about 20 kB each
@@ -524,6 +633,37 @@ def sweep_columns(spec: SweepSpec, outputs: Sequence[str]) -> set[str] | None:
     return base | per_step | set(spec.paths) | declared
 
 
+def choose_engine(engine, serial, client, scheduler, workers) -> str:
+    """The engine of a sweep's options, or a SweepError naming the clash and the fix.
+
+    ``serial=True`` is ``engine="serial"``; a client or scheduler means "dask"; a worker
+    count without an engine asks for that many local processes ("processes" where they can
+    be forked, else a Dask LocalCluster); otherwise "auto".
+    """
+    if engine is not None and engine not in ENGINES:
+        raise SweepError(f"engine must be one of {', '.join(ENGINES)}, got {engine!r}")
+    remote = client is not None or scheduler is not None
+    if serial:
+        if engine not in (None, "serial"):
+            raise SweepError(f"serial=True (--serial) and engine {engine!r} clash: keep one")
+        engine = "serial"
+    if remote:
+        if engine not in (None, "dask"):
+            raise SweepError(
+                f"a Dask client or scheduler runs the sweep on Dask, not engine {engine!r}: "
+                "drop the client/scheduler (--scheduler) or the engine"
+            )
+        engine = "dask"
+    if engine is None:
+        engine = "auto" if workers is None else ("processes" if fork_available() else "dask")
+    if engine == "processes" and not fork_available():
+        raise SweepError(
+            "engine 'processes' forks worker processes, which needs Linux; use engine 'dask' "
+            "(--engine dask: a Dask LocalCluster) or 'serial'"
+        )
+    return engine
+
+
 def run_sweep(
     spec: SweepSpec,
     out: str | Path,
@@ -531,6 +671,7 @@ def run_sweep(
     client=None,
     scheduler: str | None = None,
     serial: bool = False,
+    engine: str | None = None,
     workers: int | None = None,
     batch: int | None = None,
     limit: int | None = None,
@@ -540,13 +681,13 @@ def run_sweep(
     """Run (or complete) ``spec`` into the store at ``out``; see ``sweep`` for the options."""
     if workers is not None and (isinstance(workers, bool) or workers < 1):
         raise SweepError(f"workers must be >= 1, got {workers!r}")
-    if serial and (client is not None or scheduler is not None):
-        raise SweepError("serial mode runs in this process: drop the client/scheduler")
+    engine = choose_engine(engine, serial, client, scheduler, workers)
     if limit is not None and limit < 1:
         raise SweepError(f"limit (tasks to run before stopping) must be >= 1, got {limit!r}")
     outputs = spec.options.get("outputs", ())
     outputs = (outputs,) if isinstance(outputs, str) else tuple(outputs)
     resolve_all(outputs)  # a bad name fails here, not on every case
+    sweep_cases.forget_outputs()  # the batches resolve them once, afresh
     check_size(spec)
     check_values(spec, builder)  # a bad value fails here, naming its parameter, not as error rows
     check_maps(spec, sweep_columns(spec, outputs))  # a map typo fails before any solve
@@ -555,11 +696,11 @@ def run_sweep(
     start = time.perf_counter()
     with output_lock(Path(out).expanduser().resolve()):  # two sweeps never share a store
         return _run_locked(spec, out, outputs, extras, start, client=client,
-                           scheduler=scheduler, serial=serial, workers=workers, batch=batch,
+                           scheduler=scheduler, engine=engine, workers=workers, batch=batch,
                            limit=limit, progress=progress, builder=builder)  # fmt: skip
 
 
-def _run_locked(spec, out, outputs, extras, start, *, client, scheduler, serial, workers,
+def _run_locked(spec, out, outputs, extras, start, *, client, scheduler, engine, workers,
                 batch, limit, progress, builder) -> SweepResult:  # fmt: skip
     """run_sweep with the store locked."""
     Path(out).parent.mkdir(parents=True, exist_ok=True)
@@ -577,13 +718,13 @@ def _run_locked(spec, out, outputs, extras, start, *, client, scheduler, serial,
     )
     done = store.done()
     connected = None
-    if not serial and client is None and scheduler is not None:
+    if engine == "dask" and client is None and scheduler is not None:
         _, connected = _connect(scheduler, 0)  # first, so the batches fit its workers
         client = connected
+    serial = engine == "serial"
     n_workers = 1 if serial else (workers or _cluster_threads(client) or machine_cores())
-    auto = not serial and client is None and scheduler is None and workers is None
     # the default engine starts as a serial run: batches sized for one worker (fewer chunks)
-    tasks = plan(spec, done, 1 if auto else n_workers, batch)
+    tasks = plan(spec, done, 1 if engine == "auto" else n_workers, batch)
     bar = _Progress(len(tasks), sum(len(t.cases) for t in tasks), progress)
     solved = 0
 
@@ -605,7 +746,7 @@ def _run_locked(spec, out, outputs, extras, start, *, client, scheduler, serial,
                     break
                 on_rows(run_batch(task.scene, task.cases, builder, outputs, extras))
         else:
-            n_workers, stopped, lost, mode = _run_dask(
+            n_workers, stopped, lost, mode = _run_engine(
                 tasks,
                 client,
                 scheduler,
@@ -615,7 +756,7 @@ def _run_locked(spec, out, outputs, extras, start, *, client, scheduler, serial,
                 on_rows,
                 limit,
                 extras,
-                auto,
+                engine,
                 resplit=batch is None,
             )
     finally:
@@ -645,6 +786,7 @@ def sweep(
     client=None,
     scheduler: str | None = None,
     serial: bool = False,
+    engine: str | None = None,
     workers: int | None = None,
     batch: int | None = None,
     limit: int | None = None,
@@ -671,9 +813,14 @@ def sweep(
     scheduler : str, optional
         Address of a running scheduler (``tcp://host:8786``); else a LocalCluster.
     serial : bool
-        Solve in this process, without Dask.
+        Solve in this process (``engine="serial"``).
+    engine : {"auto", "serial", "processes", "dask"}, optional
+        "auto" (the default) solves here and forks worker processes once the estimated
+        remaining work pays for them; "processes" forks them at once (Linux); "dask" runs
+        on a Dask LocalCluster, or on ``scheduler`` / ``client``.
     workers : int, optional
-        Local cluster processes (default: the machine's cores).
+        Worker processes (default: the machine's cores); alone, it asks for "processes"
+        (a Dask LocalCluster where processes cannot be forked).
     batch : int, optional
         Cases per task (default: ``TASKS_PER_WORKER`` tasks per worker, at most ``MAX_BATCH``
         cases each).
@@ -698,6 +845,7 @@ def sweep(
         client=client,
         scheduler=scheduler,
         serial=serial,
+        engine=engine,
         workers=workers,
         batch=batch,
         limit=limit,
@@ -707,7 +855,8 @@ def sweep(
 
 
 def sweep_command(argv: Sequence[str] | None = None) -> int:
-    """``fretbem sweep SWEEP.toml [--scheduler ADDRESS] [--serial] [--out DIR] [--workers N]``."""
+    """``fretbem sweep SWEEP.toml [--engine E] [--scheduler ADDRESS] [--serial] [--out DIR]
+    [--workers N]``."""
     parser = argparse.ArgumentParser(
         prog="fretbem sweep",
         description="Run a parameter sweep (fretting map) described in a sweep TOML file.",
@@ -722,12 +871,20 @@ def add_arguments(parser) -> None:
     parser.add_argument(
         "--scheduler", metavar="ADDRESS", help="Dask scheduler address, e.g. tcp://host:8786"
     )
-    parser.add_argument("--serial", action="store_true", help="solve in this process, no Dask")
+    parser.add_argument(
+        "--serial", action="store_true", help="solve in this process (--engine serial)"
+    )
+    parser.add_argument(
+        "--engine",
+        choices=ENGINES,
+        help="auto (default: in this process, forked workers once the work pays for them), "
+        "serial, processes (forked workers at once) or dask (a LocalCluster, or --scheduler)",
+    )
     parser.add_argument(
         "--out", metavar="DIR", help="store directory (default: [sweep] out, or <name>-sweep)"
     )
     parser.add_argument(
-        "--workers", type=int, metavar="N", help="local cluster processes (default: cores)"
+        "--workers", type=int, metavar="N", help="worker processes (default: cores)"
     )
     parser.add_argument("--batch", type=int, metavar="N", help="cases per task (default: auto)")
     parser.add_argument(
@@ -758,6 +915,7 @@ def run_command(args) -> int:
             out,
             scheduler=args.scheduler,
             serial=args.serial,
+            engine=getattr(args, "engine", None),
             workers=args.workers,
             batch=args.batch,
             limit=args.limit,
@@ -792,6 +950,7 @@ def _redraw(spec: SweepSpec, out: Path) -> int:
 
 __all__ = [
     "BLAS_ENV",
+    "ENGINES",
     "MAX_CASES",
     "POST_TABLES",
     "SweepError",
@@ -800,6 +959,8 @@ __all__ = [
     "Task",
     "add_arguments",
     "check_size",
+    "choose_engine",
+    "fork_available",
     "machine_cores",
     "plan",
     "run_command",

@@ -1,0 +1,189 @@
+"""The sweep engines: forked worker processes, the default's choice, prepared groups shared."""
+
+from __future__ import annotations
+
+import pickle
+
+import numpy as np
+import pytest
+
+from fretbem.studies.sweep import cases as sweep_cases
+from fretbem.studies.sweep import run as sweep_run
+from fretbem.studies.sweep.cases import TIMING_COLUMNS, build_simulation, representative
+from fretbem.studies.sweep.spec import SweepSpec
+
+pd = pytest.importorskip("pandas")
+
+#: the coarse reference-type scene of test_sweep.py (21 pairs)
+SCENE = {
+    "scene": {"basis": "nurbs", "pairs": 21, "zone": 1.5},
+    "geometry": {"radius": 70.0, "width": 6.5, "height": 16.25, "lower": "arc"},
+    "mesh": {"flank_elements": 8, "side_elements": 8, "top_elements": 6},
+    "material": {"E": 73400.0, "nu": 0.33},
+    "contact": {"friction": 0.3},
+    "load": {"P": 100.0, "Q": [0.0, 18.0, 0.0, -18.0, 0.0], "steps": ["A", "B", "C", "D", "E"]},
+}
+CYCLE = [0.0, 1.0, 0.0, -1.0, 0.0]
+#: two groups (radius), loads inside and beyond gross slip, two frictions
+PARAMETERS = {
+    "geometry.radius": [60.0, 70.0],
+    "load.P": [80.0, 100.0],
+    "load.Q": {"values": [0.0, 12.0, 40.0], "pattern": CYCLE},
+    "contact.friction": [0.3, 0.5],
+}
+
+needs_fork = pytest.mark.skipif(not sweep_run.fork_available(), reason="forks on Linux only")
+
+
+def _results(table):
+    return table.drop(columns=[c for c in TIMING_COLUMNS if c in table])
+
+
+@needs_fork
+def test_forked_processes_equal_serial_and_resume(tmp_path):
+    """Two forked workers (stopped after two tasks, then completed): the serial table."""
+    serial = sweep_run.sweep(SCENE, PARAMETERS, out=tmp_path / "serial", serial=True)
+    first = sweep_run.sweep(
+        SCENE, PARAMETERS, out=tmp_path / "p", engine="processes", workers=2, batch=4, limit=2
+    )
+    assert first.summary.mode == "process" and first.summary.stopped
+    rest = sweep_run.sweep(SCENE, PARAMETERS, out=tmp_path / "p", workers=2, batch=4)
+    assert rest.summary.mode == "process" and rest.summary.workers == 2
+    assert rest.summary.stored == 24 and rest.summary.skipped == first.summary.stored
+    assert rest.table["worker"].nunique() >= 2  # solved in several processes
+    pd.testing.assert_frame_equal(_results(rest.table), _results(serial.table))
+
+
+@needs_fork
+def test_default_engine_forks_once_the_work_pays_and_workers_do_not_assemble(tmp_path, monkeypatch):
+    """With the pool's threshold at 0 s the default engine forks after its probe cases; the
+    workers inherit the group this process prepared (no assembly of theirs) and the table
+    is the serial one."""
+    parameters = {"load.P": [80.0, 90.0, 100.0], "load.Q": {"values": [0.0, 6.0, 12.0, 18.0],
+                  "pattern": CYCLE}}  # fmt: skip
+    serial = sweep_run.sweep(SCENE, parameters, out=tmp_path / "serial", serial=True)
+    monkeypatch.setattr(sweep_run, "POOL_MIN_SECONDS", 0.0)
+    monkeypatch.setattr(sweep_run, "machine_cores", lambda: 2)
+    sweep_cases._GROUPS.clear()
+    auto = sweep_run.sweep(SCENE, parameters, out=tmp_path / "auto")
+    assert auto.summary.mode == "process" and auto.summary.workers == 2
+    table = auto.table
+    assert table["worker"].nunique() >= 2
+    assert (table["assembly_seconds"] > 0).sum() == 1  # the one assembly of this process
+    pd.testing.assert_frame_equal(_results(table), _results(serial.table))
+
+
+def test_default_engine_on_one_core_stays_in_this_process(tmp_path, monkeypatch):
+    monkeypatch.setattr(sweep_run, "POOL_MIN_SECONDS", 0.0)
+    monkeypatch.setattr(sweep_run, "machine_cores", lambda: 1)
+    parameters = {"load.Q": {"values": [0.0, 6.0, 12.0, 18.0], "pattern": CYCLE}}
+    auto = sweep_run.sweep(SCENE, parameters, out=tmp_path / "auto")
+    assert auto.summary.mode == "serial" and auto.summary.workers == 1
+
+
+def test_engine_options_that_clash_are_refused_naming_the_fix():
+    choose = sweep_run.choose_engine
+    assert choose(None, False, None, None, None) == "auto"
+    assert choose(None, True, None, None, None) == "serial"
+    assert choose(None, False, None, "tcp://h:8786", None) == "dask"
+    assert choose("dask", False, None, None, 3) == "dask"
+    expected = "processes" if sweep_run.fork_available() else "dask"
+    assert choose(None, False, None, None, 2) == expected
+    with pytest.raises(sweep_run.SweepError, match="one of auto, serial, processes, dask"):
+        choose("threads", False, None, None, None)
+    with pytest.raises(sweep_run.SweepError, match="clash"):
+        choose("processes", True, None, None, None)
+    with pytest.raises(sweep_run.SweepError, match="drop the client/scheduler"):
+        choose("processes", False, None, "tcp://h:8786", None)
+    with pytest.raises(sweep_run.SweepError, match="drop the client/scheduler"):
+        choose(None, True, None, "tcp://h:8786", None)
+
+
+def test_the_command_takes_an_engine(tmp_path, capsys):
+    import json
+
+    scene = tmp_path / "scene.toml"
+    scene.write_text(
+        "\n".join(
+            f"[{table}]\n" + "\n".join(f"{k} = {json.dumps(v)}" for k, v in keys.items())
+            for table, keys in SCENE.items()
+        )
+    )
+    sweep_file = tmp_path / "s.toml"
+    sweep_file.write_text(
+        '[sweep]\nscene = "scene.toml"\n[parameters]\n"load.P" = [90.0, 110.0]\n'
+        '"load.Q" = {values = [10.0], pattern = [0, 1, 0, -1, 0]}\n'
+    )
+    out = str(tmp_path / "out")
+    args = [str(sweep_file), "--out", out, "--no-figures", "--quiet"]
+    assert sweep_run.sweep_command([*args, "--engine", "serial"]) == 0
+    assert "on 1 serial worker" in capsys.readouterr().out
+    assert sweep_run.sweep_command([*args, "--engine", "serial", "--scheduler", "x:1"]) == 2
+    assert "drop the client/scheduler" in capsys.readouterr().err
+
+
+def test_a_prepared_group_pickles_and_is_taken_instead_of_assembling():
+    """The prepared simulation (condensed pair, solver without its kept LUs) pickles; a
+    process given it solves the group's cases without assembling, with the same numbers."""
+    spec = SweepSpec.from_mapping(SCENE, {"load.Q": {"values": [6.0, 12.0], "pattern": CYCLE}})
+    cases = [(c.index, c.values, c.scene) for c in spec.cases()]
+    scene = representative([c[2] for c in cases])
+    simulation = build_simulation(scene)
+    simulation.prepare()
+    copy = pickle.loads(pickle.dumps(simulation))
+    assert copy.solver == simulation.solver
+    sweep_cases._GROUPS.clear()
+    shipped = sweep_cases.run_batch(scene, cases, prepared=copy)
+    assert [r["assembly_seconds"] for r in shipped] == [0.0, 0.0]
+    sweep_cases._GROUPS.clear()
+    built = sweep_cases.run_batch(scene, cases)
+    assert built[0]["assembly_seconds"] > 0
+    for a, b in zip(shipped, built, strict=True):
+        for key, value in b.items():
+            if key not in TIMING_COLUMNS:
+                assert a[key] == pytest.approx(value, rel=1e-12, abs=1e-12), key
+    sweep_cases._GROUPS.clear()
+
+
+def test_pool_errors_of_a_lost_worker_leave_its_cases_for_the_next_run(tmp_path, monkeypatch):
+    """A worker that dies loses its task's cases (reported), the others are stored."""
+    if not sweep_run.fork_available():
+        pytest.skip("forks on Linux only")
+    import os
+
+    real = sweep_run.run_batch
+
+    def dying(scene, cases, *args):
+        if any(values["load.Q"] == 12.0 for _, values, _ in cases):
+            os._exit(3)
+        return real(scene, cases, *args)
+
+    monkeypatch.setattr(sweep_run, "run_batch", dying)
+    parameters = {"load.Q": {"values": [0.0, 6.0, 12.0, 18.0], "pattern": CYCLE}}
+    first = sweep_run.sweep(
+        SCENE, parameters, out=tmp_path / "p", engine="processes", workers=2, batch=1
+    )
+    assert first.summary.lost and "lost" in str(first.summary)
+    assert 12.0 not in set(first.table["load.Q"])
+    monkeypatch.setattr(sweep_run, "run_batch", real)
+    rest = sweep_run.sweep(SCENE, parameters, out=tmp_path / "p", serial=True)
+    assert rest.summary.stored == 4
+    assert np.all(rest.table["status"] == "ok")
+
+
+def test_dask_workers_take_the_groups_this_process_prepared(tmp_path):
+    """A group this process has prepared is sent to the Dask workers: none assembles it."""
+    pytest.importorskip("distributed")
+    from dask.distributed import Client
+
+    parameters = {"load.P": [80.0, 100.0], "load.Q": {"values": [6.0, 12.0], "pattern": CYCLE}}
+    sweep_cases._GROUPS.clear()
+    serial = sweep_run.sweep(SCENE, parameters, out=tmp_path / "serial", serial=True)
+    assert (serial.table["assembly_seconds"] > 0).sum() == 1  # prepared here, kept
+    with sweep_run._local_cluster(2) as cluster, Client(cluster) as client:
+        shared = sweep_run.sweep(SCENE, parameters, out=tmp_path / "dask", client=client, batch=1)
+    assert shared.summary.mode == "dask"
+    assert (shared.table["assembly_seconds"] == 0).all()
+    assert not set(shared.table["worker"]) & set(serial.table["worker"])  # solved remotely
+    pd.testing.assert_frame_equal(_results(shared.table), _results(serial.table))
+    sweep_cases._GROUPS.clear()
