@@ -31,6 +31,8 @@ from .newton_linear import NewtonLinear
 
 #: factor applied to the normal augmentation r_n when the Newton iteration cycles
 CYCLE_SOFTENING = 0.1
+#: the pair states as plain ints (an IntEnum member costs an attribute lookup per use)
+_STICK, _SLIP = int(PairState.STICK), int(PairState.SLIP)
 
 
 def _newton_linear(
@@ -301,7 +303,7 @@ class SemiSmoothNewton(Solver):
                 residual, evaluation = equations.through_stick(x, r_n, r_t, before, residual,
                                                                evaluation)  # fmt: skip
             states = evaluation.states
-            slipping = states == PairState.SLIP
+            slipping = states == _SLIP
             pattern = (states.tobytes(), np.where(slipping, evaluation.direction, 0.0).tobytes())
             if pattern in seen:
                 seen.clear()
@@ -400,11 +402,11 @@ class _Equations:
         saves an iteration there (the reference numbers are those of the plain iteration).
         ``residual`` and ``evaluation`` are the last :meth:`evaluate`'s, at x.
         """
-        was = (before.states == PairState.SLIP) & (evaluation.states == PairState.SLIP)
+        was = (before.states == _SLIP) & (evaluation.states == _SLIP)
         reversing = was & (before.direction * evaluation.direction < 0)
         if not reversing.any():
             return residual, evaluation
-        states = np.where(reversing, PairState.STICK, evaluation.states)
+        states = np.where(reversing, _STICK, evaluation.states)
         try:
             return self._on(states, evaluation.direction, x, r_n, r_t, residual)
         except NotImplementedError:

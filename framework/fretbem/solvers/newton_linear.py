@@ -48,8 +48,8 @@ class _Pattern:
         self.stick = self.states == _STICK
         self.slip = self.states == _SLIP
         self.coeff = np.where(self.slip, friction * np.asarray(direction, float), 0.0)
-        self.c = np.flatnonzero(self.contact)
-        self.s = np.flatnonzero(self.stick)
+        self.c = self.contact.nonzero()[0]
+        self.s = self.stick.nonzero()[0]
 
     def same(self, other: _Pattern) -> bool:
         """Whether both patterns give the same Jacobian (states and slip coefficients)."""
@@ -60,7 +60,7 @@ class _Pattern:
         normal = self.contact != other.contact
         tangential = (self.states != other.states) | (self.slip & (self.coeff != other.coeff))
         n = self.states.size
-        return np.concatenate([np.flatnonzero(normal), n + np.flatnonzero(tangential)])
+        return np.concatenate([normal.nonzero()[0], n + tangential.nonzero()[0]])
 
 
 class _Maps:
@@ -111,12 +111,12 @@ class _Maps:
         n = self.n
         out = np.empty((index.size, *x.shape[1:]))
         normal = index < n
-        pos, pairs = np.flatnonzero(normal), index[normal]
+        pos, pairs = normal.nonzero()[0], index[normal]
         touching = pattern.contact[pairs]
         dense_normal = self.normal[pairs[touching]] @ x if dense is None else dense[pos[touching]]
         out[pos[touching]] = self.r_n * dense_normal
         out[pos[~touching]] = x[pairs[~touching]]
-        pos, pairs = np.flatnonzero(~normal), index[~normal] - n
+        pos, pairs = (~normal).nonzero()[0], index[~normal] - n
         stick, slip = pattern.stick[pairs], pattern.slip[pairs]
         dense_stick = self.tangential[pairs[stick]] @ x if dense is None else dense[pos[stick]]
         out[pos[stick]] = -self.r_t * dense_stick
@@ -142,7 +142,7 @@ class _Factor:
         columns = np.concatenate([c, n + s, np.arange(2 * n, n_x)])
         k = columns.size
         kc, ks = c.size, s.size
-        self.slip_in_c = np.flatnonzero(pattern.slip[c])
+        self.slip_in_c = pattern.slip[c].nonzero()[0]
         slipping = c[self.slip_in_c]
         if maps.stacked is not None:
             # rows and columns of the reduced matrix are the same numbers of x: one gather
@@ -160,8 +160,8 @@ class _Factor:
         if info != 0:
             raise np.linalg.LinAlgError("singular reduced Newton matrix")
         self.sizes = (kc, ks)
-        sep = np.flatnonzero(~pattern.contact)
-        self.known = np.concatenate([sep, n + sep, n + np.flatnonzero(pattern.slip)])
+        sep = (~pattern.contact).nonzero()[0]
+        self.known = np.concatenate([sep, n + sep, n + pattern.slip.nonzero()[0]])
         self.bordered = np.zeros(0, dtype=int)  # rows with a kept column J^-1 e_row
         self.columns = np.empty((maps.n_x, 0), order="F")
         self.dense, self.dense_columns = np.empty((0, maps.n_x)), np.empty((0, 0))
@@ -200,7 +200,7 @@ class _Factor:
         kc, ks = self.sizes
         y = np.zeros(b.shape)
         y[self.known] = b[self.known]  # separated p and q; slip q's constant part
-        nonzero = self.known[np.flatnonzero(_flat(y[self.known]).any(axis=1))]
+        nonzero = self.known[_flat(y[self.known]).any(axis=1).nonzero()[0]]
         if nonzero.size:
             nx, tx, rx = maps.products(y, nonzero)
             known_rows = np.concatenate([maps.r_n * nx[c], -maps.r_t * tx[s], rx])
@@ -330,8 +330,8 @@ def _exact_rows(pattern: _Pattern, b: np.ndarray, dx: np.ndarray) -> np.ndarray:
     """dx with the pattern's identity rows solved exactly, as the reduced solve does: a
     separated pair's p and q land on exactly 0, a slipping pair's q on exactly c_i p."""
     n = pattern.states.size
-    separated = np.flatnonzero(~pattern.contact)
-    slipping = np.flatnonzero(pattern.slip)
+    separated = (~pattern.contact).nonzero()[0]
+    slipping = pattern.slip.nonzero()[0]
     dx[separated] = b[separated]
     dx[n + separated] = b[n + separated]
     dx[n + slipping] = b[n + slipping] + pattern.coeff[slipping] * dx[slipping]
