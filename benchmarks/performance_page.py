@@ -451,7 +451,7 @@ def small_cycles_section(ratios_path: Path, costs_path: Path) -> list[str]:
         "slip of an evaluation reused by the pattern continuations, the Coulomb evaluation",
         "makes fewer temporaries, and a step's result takes the block's measured motion from",
         "its last increment instead of measuring again (unknowns bit-identical, iteration",
-        "counts equal)" + _per_iteration(c, costs_path) + "; the displacement figure draws",
+        "counts equal)" + _per_iteration(c, costs_path) + ". The displacement figure draws",
         "every step in two panels (u_n with the closed gap above u_t, one colour per step,",
         "one marker per result) instead of two panels per step: the same curves on 2 axes",
         "instead of 10 (the demo's PNGs hold 9 axes instead of 17).",
@@ -508,18 +508,26 @@ def small_cycles_section(ratios_path: Path, costs_path: Path) -> list[str]:
 
 
 def _per_iteration(c: dict, costs_path: Path) -> str:
-    """The Newton iteration's CPU before (14d358e) and after, when both were measured."""
-    before_path = costs_path.with_name("small_cycle_costs_14d358e.json")
-    if not before_path.exists():
+    """The Newton iteration's CPU before (14d358e) and after, interleaved
+    (benchmarks/newton_iteration_cost.py), when measured."""
+    path = costs_path.with_name("newton_iteration_cost.json")
+    if not path.exists():
         return ""
-    b = json.loads(before_path.read_text())
+    n = json.loads(path.read_text())
     parts = []
-    for key, label in (("halfplane_61", "half-plane"), ("bem_61", "BEM")):
-        per = [1e6 * r[key]["newton"] / r[key]["iterations"] for r in (b, c)]
-        parts.append(f"{label} {per[0]:.0f} to {per[1]:.0f} µs")
+    for key, label in (("halfplane", "half-plane bodies"), ("bem", "BEM bodies")):
+        b, a = n["before"][key], n["after"][key]
+        parts.append(
+            f"{label} {1e6 * b['per_iteration']:.0f} to {1e6 * a['per_iteration']:.0f} µs "
+            f"per iteration, the five steps {1e3 * b['steps']:.1f} to {1e3 * a['steps']:.1f} ms"
+        )
     return (
-        ": CPU per Newton iteration at 61 pairs " + ", ".join(parts) + " (`small_cycle_costs.py`"
-        " run in a 14d358e tree just before, docs/results/small_cycle_costs_14d358e.json)"
+        ". At 61 pairs, 14d358e against this tree interleaved (`OPENBLAS_NUM_THREADS=1 python "
+        "benchmarks/newton_iteration_cost.py --before <14d358e tree> --rounds "
+        f"{n['rounds']}`, medians, load average "
+        + ", ".join(f"{v:.1f}" for v in n["load"])
+        + "): "
+        + "; ".join(parts)
     )
 
 
