@@ -286,8 +286,14 @@ class StepResult:
         return PairUnknowns.from_vector(self.unknowns, self.layout)
 
     @classmethod
-    def build(cls, simulation, problem, load, state, iterations, residuals, seconds, history):
-        """Collect a step's pair results, resultants and errors against the reference."""
+    def build(
+        cls, simulation, problem, load, state, iterations, residuals, seconds, history, *,
+        last: IncrementRecord | None = None,
+    ):  # fmt: skip
+        """Collect a step's pair results, resultants and errors against the reference.
+
+        ``last``, the record of the step's last increment (the same state), gives the
+        block's measured approach, delta, moment and rotation without measuring again."""
         x = problem.pairing.points[:, 0]
         unknowns = problem.unknowns(state.x)
         p, q = unknowns.pressure, unknowns.shear
@@ -297,8 +303,11 @@ class StepResult:
         errors, exact = None, None
         if simulation.reference is not None and not _gross_sliding(simulation.reference, history):
             errors, exact = errors_against_theory(simulation.reference, x, p, q, history)
-        rig = getattr(simulation, "rig", control.RIGID)
-        measured = control.measure(problem, state.x, problem.amplitudes(state.loads), rig)
+        if last is not None:
+            measured = attrs.asdict(last, recurse=False)
+        else:
+            rig = getattr(simulation, "rig", control.RIGID)
+            measured = control.measure(problem, state.x, problem.amplitudes(state.loads), rig)
         controls = load.controls
         return cls(
             name=load.name,

@@ -517,8 +517,9 @@ def run(
         seconds = time.perf_counter() - tic
         history.append(load.tangential if load.delta is None else state.tangential)
         step = StepResult.build(
-            simulation, problem, load, state, iterations, residuals, seconds, tuple(history)
-        )
+            simulation, problem, load, state, iterations, residuals, seconds, tuple(history),
+            last=increments[-1],
+        )  # fmt: skip
         step = attrs.evolve(step, increments=tuple(increments))
         if check:
             step = attrs.evolve(step, checks=check_step(step, friction))

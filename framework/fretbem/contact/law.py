@@ -185,13 +185,14 @@ class CoulombFriction(ContactLaw):
         contact = augmented > 0
         trial = q + r_t * slip
         bound = self.friction * np.maximum(augmented, 0.0)
-        stick = contact & (np.abs(trial) < bound)
-        sliding = contact & ~stick
+        # the bound is 0 off contact, so |trial| < bound only in contact; and there the
+        # sliding F_t = q - bound sign(trial) is q exactly (q - 0)
+        stick = np.abs(trial) < bound
         direction = np.sign(trial)
         f_n = np.where(contact, r_n * gap, p)
-        f_t = np.where(stick, -r_t * slip, np.where(sliding, q - bound * direction, q))
-        states = np.full(len(p), PairState.SEPARATED, dtype=int)
-        states[stick], states[sliding] = PairState.STICK, PairState.SLIP
+        f_t = np.where(stick, -r_t * slip, q - bound * direction)
+        # SEPARATED 0, STICK 1, SLIP 2 (PairState)
+        states = np.where(contact, 2 - stick.astype(int), 0)
         return LawEvaluation(f_n, f_t, states, direction)
 
     def evaluate_on(self, states, direction, p, q, gap, slip, r_n, r_t) -> LawEvaluation:

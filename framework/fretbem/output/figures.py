@@ -220,38 +220,58 @@ def traction_figure(
 def displacement_figure(
     results: SimulationResult | Sequence[SimulationResult], steps: Sequence[str] | None = None
 ) -> Figure:
-    """Relative normal (top row) and tangential (bottom row) displacements per step (Fig. 5)."""
+    """Relative normal (top) and tangential (bottom) displacements along the contact, one
+    line per step (colour) and result (marker), with the closed gap -g (paper Fig. 5).
+
+    Two panels hold every step: matplotlib's price is per axes (ticks and labels, about
+    30 ms each), not per line, and the steps' curves read best against each other."""
+    from matplotlib.lines import Line2D
+
     results = _as_list(results)
     names = _steps(results, steps)
     scale, xlabel = _scale(results)
-    fig = _figure((min(3.4 * len(names) + 0.8, 16.0), 6.0))
+    rows = -(-(len(names) + len(results) + 1) // 2)  # legend rows, two columns
+    height = 6.6 + 0.22 * rows
+    fig = _figure((9.5, height))
     axes = fig.subplots(
-        2, len(names), squeeze=False, sharex=True, sharey="row",
-        gridspec_kw={"left": 0.08, "right": 0.98, "top": 0.88, "bottom": 0.17, "wspace": 0.1,
-                     "hspace": 0.15},
+        2, 1, sharex=True,
+        gridspec_kw={"left": 0.09, "right": 0.98, "top": 1 - 0.55 / height,
+                     "bottom": (0.75 + 0.22 * rows) / height, "hspace": 0.08},
     )  # fmt: skip
     fig.suptitle("Relative displacements at the node pairs (upper minus lower body)")
     colors = _colors()
+    markers, styles = "osD^v<>", ("-", "--", ":", "-.")
     gap = results[0].simulation.pair.pairing().gap
-    rows = (("normal_displacement", "u_n", "o"), ("tangential_displacement", "u_t", "s"))
-    for col, name in enumerate(names):
-        for row, (field, symbol, marker) in enumerate(rows):
-            ax = axes[row, col]
-            for i, r in enumerate(results):
-                s, c = r[name], colors[i % len(colors)]
-                ax.plot(s.x / scale, 1e3 * getattr(s, field), marker + "-", ms=3, lw=0.8,
-                        mfc="none", color=c, label=_label(r))  # fmt: skip
-            ax.axhline(0.0, color="0.6", lw=0.5)
-            ax.grid(alpha=0.3)
-            ax.set_ylabel(f"{symbol} (µm)" if col == 0 else "")
-        x = results[0][name].x / scale
-        if results[0][name].pair is not None:  # finite sliding: the step's own pairing
-            gap = results[0][name].pair.pairing().gap
-        axes[0, col].plot(x, -1e3 * gap, ":", color="0.3", lw=1.2, label="−g (gap closed)")
-        axes[0, col].set_title(_step_title(results[0][name]), y=TITLE_Y)
-        axes[1, col].set_xlabel(xlabel)
-    handles, labels = axes[0, 0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="lower center", ncol=min(len(labels), 4), fontsize=LEGEND_SIZE)
+    own_gaps = any(results[0][name].pair is not None for name in names)  # finite sliding
+    fields = (("normal_displacement", "u_n"), ("tangential_displacement", "u_t"))
+    handles = []
+    for k, name in enumerate(names):
+        c = colors[k % len(colors)]
+        for i, r in enumerate(results):
+            s = r[name]
+            for ax, (field, _) in zip(axes, fields, strict=True):
+                ax.plot(s.x / scale, 1e3 * getattr(s, field), marker=markers[i % len(markers)],
+                        ls=styles[i % len(styles)], ms=3, lw=0.8, mfc="none", color=c)  # fmt: skip
+        step = results[0][name]
+        if own_gaps:  # each step's own pairing: its gap in the step's colour
+            step_gap = gap if step.pair is None else step.pair.pairing().gap
+            axes[0].plot(step.x / scale, -1e3 * step_gap, ":", color=c, lw=1.2)
+        handles.append(Line2D([], [], color=c, lw=2, label=_step_title(step)))
+    if not own_gaps:
+        x = results[0][names[0]].x / scale
+        axes[0].plot(x, -1e3 * gap, ":", color="0.3", lw=1.2)
+    for i, r in enumerate(results):
+        style = {"marker": markers[i % len(markers)], "ls": styles[i % len(styles)]}
+        handles.append(Line2D([], [], color="0.2", mfc="none", lw=0.8, ms=4, label=_label(r),
+                              **style))  # fmt: skip
+    gap_label = "−g (gap closed)" + (", per step" if own_gaps else "")
+    handles.append(Line2D([], [], color="0.3", ls=":", lw=1.2, label=gap_label))
+    for ax, (_, symbol) in zip(axes, fields, strict=True):
+        ax.axhline(0.0, color="0.6", lw=0.5)
+        ax.grid(alpha=0.3)
+        ax.set_ylabel(f"{symbol} (µm)")
+    axes[1].set_xlabel(xlabel)
+    fig.legend(handles=handles, loc="lower center", ncol=2, fontsize=LEGEND_SIZE)
     return fig
 
 

@@ -31,7 +31,7 @@ TABLE_ROWS = 12
 #: what each known figure shows (other PNG files are shown under their name)
 FIGURES = {
     "tractions.png": "Contact pressure p and shear q at each step, beside the closed form",
-    "displacements.png": "Relative normal and tangential displacements at the pairs",
+    "displacements.png": "Relative normal and tangential displacements at the pairs, per step",
     "states.png": "Pair states at every step, with the closed form's stick zone [e − c, e + c]",
     "history.png": "The load history, stick-zone width and peak shear, step by step",
     "surface_sigma_xx.png": "Surface sigma_xx of the stressed body over the steps",

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import weakref
 from abc import ABC, abstractmethod
+from collections import deque
 
 import attrs
 import numpy as np
@@ -30,6 +31,8 @@ from .newton_linear import NewtonLinear
 
 #: factor applied to the normal augmentation r_n when the Newton iteration cycles
 CYCLE_SOFTENING = 0.1
+#: the pair states as plain ints (an IntEnum member costs an attribute lookup per use)
+_STICK, _SLIP = int(PairState.STICK), int(PairState.SLIP)
 
 
 def _newton_linear(
@@ -224,24 +227,6 @@ class SemiSmoothNewton(Solver):
             return self._solve_increment(problem, law, forces, loads, previous, start)
 
     @staticmethod
-    def _kinematics(problem, bases, reference_slip, x):
-        """Deformed gap and slip increment of every pair at ``x``."""
-        normal_base, tangential_base, _ = bases
-        gap = problem.gap + normal_base + problem.normal_map @ x
-        slip = tangential_base + problem.tangential_map @ x - reference_slip
-        return gap, slip
-
-    @staticmethod
-    def _evaluate(problem, law, bases, forces, reference_slip, x, r_n, r_t):
-        resultant_base = bases[2]
-        layout = problem.layout
-        gap, slip = SemiSmoothNewton._kinematics(problem, bases, reference_slip, x)
-        evaluation = law.evaluate(x[layout.pressure], x[layout.shear], gap, slip, r_n, r_t)
-        f_b = resultant_base + problem.resultant_map @ x - forces
-        residual = np.concatenate([evaluation.normal, evaluation.tangential, f_b])
-        return residual, evaluation
-
-    @staticmethod
     def _newton_step(problem, law, evaluation, residual, r_n, r_t, linear) -> np.ndarray:
         """Solve J dx = -F: for Coulomb friction on the active rows only (separated and slip
         rows eliminated, through the LU of a nearby pattern: fretbem.solvers.newton_linear), else
@@ -264,61 +249,6 @@ class SemiSmoothNewton(Solver):
             # (QR with column pivoting): 2-5x cheaper than numpy's SVD-based lstsq
             return scipy.linalg.lstsq(jac, -residual, lapack_driver="gelsy")[0]
 
-    def _start_on_previous_pattern(
-        self, problem, law, bases, forces, reference_slip, x, r_n, r_t, start
-    ):
-        """Residual and pattern of the first iteration: the previous increment's pattern.
-
-        The first Newton step then solves that pattern's linear problem exactly. Its
-        residual must be the same pattern's (not the pattern the start point falls in,
-        which a load that moves every pair, like a bulk stress, changes wholesale).
-        """
-        residual, evaluation = self._evaluate(problem, law, bases, forces, reference_slip,
-                                              x, r_n, r_t)  # fmt: skip
-        states = np.asarray(start.states)
-        layout = problem.layout
-        q = x[layout.shear]
-        direction = np.where(q != 0.0, np.sign(q), evaluation.direction)
-        gap, slip = self._kinematics(problem, bases, reference_slip, x)
-        try:
-            pattern = law.evaluate_on(states, direction, x[layout.pressure], q, gap, slip, r_n, r_t)
-        except NotImplementedError:
-            return residual, attrs.evolve(evaluation, states=states)
-        n = problem.n_pairs
-        residual = np.concatenate([pattern.normal, pattern.tangential, residual[2 * n :]])
-        return residual, pattern
-
-    def _through_stick(
-        self, problem, law, bases, forces, reference_slip, x, r_n, r_t, before, residual, evaluation
-    ):
-        """Residual and pattern of the next step, with no pair reversing its slip in one step.
-
-        A pair that slipped one way and whose trial traction now points the other way is
-        taken sticking for the next step (its residual on that pattern): it reverses through
-        stick, as it does physically. Without this, when the stick window of the trial
-        traction, 2 f p / r_t, is narrow against the slip a step produces (r_t grows like
-        1 / (h log h) with the pair spacing h), an unloading step's reversing pairs jump from
-        slip to opposite slip, the stick zone drains away iteration after iteration and the
-        all-slip pattern is singular (the 481-pair half-plane cycle: 50 iterations and
-        4 halvings per unloading step). The solver applies it once the residual has grown
-        in an increment: a direct reversal is right for most pairs of a coarse contact and
-        saves an iteration there (the reference numbers are those of the plain iteration).
-        """
-        was = (before.states == PairState.SLIP) & (evaluation.states == PairState.SLIP)
-        reversing = was & (before.direction * evaluation.direction < 0)
-        if not reversing.any():
-            return residual, evaluation
-        states = np.where(reversing, PairState.STICK, evaluation.states)
-        gap, slip = self._kinematics(problem, bases, reference_slip, x)
-        layout = problem.layout
-        try:
-            pattern = law.evaluate_on(states, evaluation.direction, x[layout.pressure],
-                                      x[layout.shear], gap, slip, r_n, r_t)  # fmt: skip
-        except NotImplementedError:
-            return residual, evaluation
-        n = problem.n_pairs
-        return np.concatenate([pattern.normal, pattern.tangential, residual[2 * n :]]), pattern
-
     def _solve_increment(self, problem, law, forces, loads, previous, start) -> IncrementResult:
         """The Newton iteration of :meth:`solve_increment`.
 
@@ -329,34 +259,34 @@ class SemiSmoothNewton(Solver):
         layout = problem.layout
         r_n = 1.0 / np.mean(np.abs(np.diag(problem.normal_map[:, layout.pressure])))
         r_t = 1.0 / np.mean(np.abs(np.diag(problem.tangential_map[:, layout.shear])))
-        bases = problem.bases(loads)
         forces = np.asarray(forces, float)
-        reference_slip = previous.slip
+        equations = _Equations(problem, law, problem.bases(loads), forces, previous.slip)
         x = np.zeros(layout.size) if start is None else np.array(start.x, dtype=float)
-        args = (problem, law, bases, forces, reference_slip)
-        residual, evaluation = self._evaluate(*args, x, r_n, r_t)
+        residual, evaluation = equations.evaluate(x, r_n, r_t)
         if start is None:
             evaluation = attrs.evolve(evaluation, states=np.full(n, PairState.STICK, dtype=int))
         else:
-            residual, evaluation = self._start_on_previous_pattern(*args, x, r_n, r_t, start)
-        history, state_history, seen = [], [evaluation.states.copy()], set()
+            residual, evaluation = equations.on_previous_pattern(x, r_n, r_t, start, residual,
+                                                                 evaluation)  # fmt: skip
+        history, state_history, seen = [], deque([evaluation.states.copy()], maxlen=6), set()
         force_scale = max(np.max(np.abs(forces), initial=0.0), 1e-300)
+        tractions = layout.tractions
         guarded = False
+        linear = _newton_linear(self._linear, problem, law, r_n, r_t)
         for iteration in range(1, self.max_iterations + 1):
-            linear = _newton_linear(self._linear, problem, law, r_n, r_t)
             step = self._newton_step(problem, law, evaluation, residual, r_n, r_t, linear)
             x = x + step
             before = evaluation
-            residual, evaluation = self._evaluate(*args, x, r_n, r_t)
-            traction_scale = max(np.max(np.abs(x[layout.tractions])), 1e-300)
+            residual, evaluation = equations.evaluate(x, r_n, r_t)
+            traction_scale = max(np.abs(x[tractions]).max(initial=0.0), 1e-300)
             norm = max(
-                np.max(np.abs(residual[: 2 * n])) / traction_scale,
-                np.max(np.abs(residual[2 * n :]), initial=0.0) / force_scale,
+                np.abs(residual[: 2 * n]).max(initial=0.0) / traction_scale,
+                np.abs(residual[2 * n :]).max(initial=0.0) / force_scale,
             )
             history.append(float(norm))
             states = evaluation.states
             state_history.append(states.copy())
-            if force_scale > 1e-300 and np.all(states == PairState.SEPARATED) and n:
+            if n and force_scale > 1e-300 and not states.any():  # every pair SEPARATED (0)
                 # nothing touches but the blocks must carry a force: the next step would
                 # move a block held by nothing (a near-singular system); give up so the
                 # Simulation can sub-step the increment
@@ -378,21 +308,22 @@ class SemiSmoothNewton(Solver):
             # F is affine on each pattern (states, slip directions), so the Newton iterate
             # depends on the pattern only: a pattern seen before means an endless cycle.
             # Break it by softening the normal augmentation r_n (F keeps the same roots).
-            # once the residual grows, reversing pairs go through stick (_through_stick)
+            # once the residual grows, reversing pairs go through stick (through_stick)
             guarded = guarded or (len(history) > 1 and history[-1] > history[-2])
             if guarded:
-                residual, evaluation = self._through_stick(*args, x, r_n, r_t, before, residual,
-                                                           evaluation)  # fmt: skip
+                residual, evaluation = equations.through_stick(x, r_n, r_t, before, residual,
+                                                               evaluation)  # fmt: skip
             states = evaluation.states
-            slipping = states == PairState.SLIP
+            slipping = states == _SLIP
             pattern = (states.tobytes(), np.where(slipping, evaluation.direction, 0.0).tobytes())
             if pattern in seen:
                 seen.clear()
                 r_n *= CYCLE_SOFTENING
-                residual, evaluation = self._evaluate(*args, x, r_n, r_t)
+                linear = _newton_linear(self._linear, problem, law, r_n, r_t)
+                residual, evaluation = equations.evaluate(x, r_n, r_t)
             else:
                 seen.add(pattern)
-        recent = np.array(state_history[-6:])
+        recent = np.array(state_history)
         changing = np.flatnonzero(np.any(recent != recent[-1], axis=0))
         raise NewtonConvergenceError(
             f"the contact Newton iteration did not converge in {self.max_iterations} iterations "
@@ -405,3 +336,89 @@ class SemiSmoothNewton(Solver):
             history,
             changing,
         )
+
+
+class _Equations:
+    """F(x) of one increment: the law's functions and the block rows at fixed loads.
+
+    What does not change within the increment (the gap at x = 0, the bases, the maps, the
+    slices of x) is taken once; each evaluation keeps its gap and slip, which the pattern
+    continuations (:meth:`on_previous_pattern`, :meth:`through_stick`) reuse.
+    """
+
+    def __init__(self, problem: CondensedContact, law: ContactLaw, bases, forces, slip):
+        normal_base, self.tangential_base, self.resultant_base = bases
+        self.law, self.forces, self.reference_slip = law, forces, slip
+        self.n = problem.n_pairs
+        self.gap_base = problem.gap + normal_base
+        self.normal_map = problem.normal_map
+        self.tangential_map = problem.tangential_map
+        self.resultant_map = problem.resultant_map
+        self.pressure, self.shear = problem.layout.pressure, problem.layout.shear
+        self.size = problem.layout.size
+        self.gap = self.slip = None
+
+    def evaluate(self, x: np.ndarray, r_n: float, r_t: float):
+        """F(x) (a new array) and the law's evaluation at x; keeps x's gap and slip."""
+        gap = self.gap_base + self.normal_map @ x
+        slip = self.tangential_base + self.tangential_map @ x - self.reference_slip
+        self.gap, self.slip = gap, slip
+        evaluation = self.law.evaluate(x[self.pressure], x[self.shear], gap, slip, r_n, r_t)
+        n = self.n
+        residual = np.empty(self.size)
+        residual[:n] = evaluation.normal
+        residual[n : 2 * n] = evaluation.tangential
+        residual[2 * n :] = self.resultant_base + self.resultant_map @ x - self.forces
+        return residual, evaluation
+
+    def _on(self, states, direction, x, r_n, r_t, residual):
+        """Residual and evaluation continued on the pattern (states, direction) at the x of
+        the last :meth:`evaluate`; NotImplementedError if the law has no continuation."""
+        pattern = self.law.evaluate_on(states, direction, x[self.pressure], x[self.shear],
+                                       self.gap, self.slip, r_n, r_t)  # fmt: skip
+        n = self.n
+        out = residual.copy()
+        out[:n] = pattern.normal
+        out[n : 2 * n] = pattern.tangential
+        return out, pattern
+
+    def on_previous_pattern(self, x, r_n, r_t, start: ContactState, residual, evaluation):
+        """Residual and pattern of the first iteration: the previous increment's pattern.
+
+        The first Newton step then solves that pattern's linear problem exactly. Its
+        residual must be the same pattern's (not the pattern the start point falls in,
+        which a load that moves every pair, like a bulk stress, changes wholesale).
+        ``residual`` and ``evaluation`` are the last :meth:`evaluate`'s, at x.
+        """
+        states = np.asarray(start.states)
+        q = x[self.shear]
+        direction = np.where(q != 0.0, np.sign(q), evaluation.direction)
+        try:
+            return self._on(states, direction, x, r_n, r_t, residual)
+        except NotImplementedError:
+            return residual, attrs.evolve(evaluation, states=states)
+
+    def through_stick(self, x, r_n, r_t, before, residual, evaluation):
+        """Residual and pattern of the next step, with no pair reversing its slip in one step.
+
+        A pair that slipped one way and whose trial traction now points the other way is
+        taken sticking for the next step (its residual on that pattern): it reverses through
+        stick, as it does physically. Without this, when the stick window of the trial
+        traction, 2 f p / r_t, is narrow against the slip a step produces (r_t grows like
+        1 / (h log h) with the pair spacing h), an unloading step's reversing pairs jump from
+        slip to opposite slip, the stick zone drains away iteration after iteration and the
+        all-slip pattern is singular (the 481-pair half-plane cycle: 50 iterations and
+        4 halvings per unloading step). The solver applies it once the residual has grown
+        in an increment: a direct reversal is right for most pairs of a coarse contact and
+        saves an iteration there (the reference numbers are those of the plain iteration).
+        ``residual`` and ``evaluation`` are the last :meth:`evaluate`'s, at x.
+        """
+        was = (before.states == _SLIP) & (evaluation.states == _SLIP)
+        reversing = was & (before.direction * evaluation.direction < 0)
+        if not reversing.any():
+            return residual, evaluation
+        states = np.where(reversing, _STICK, evaluation.states)
+        try:
+            return self._on(states, evaluation.direction, x, r_n, r_t, residual)
+        except NotImplementedError:
+            return residual, evaluation

@@ -48,15 +48,19 @@ class _Pattern:
         self.stick = self.states == _STICK
         self.slip = self.states == _SLIP
         self.coeff = np.where(self.slip, friction * np.asarray(direction, float), 0.0)
-        self.c = np.flatnonzero(self.contact)
-        self.s = np.flatnonzero(self.stick)
+        self.c = self.contact.nonzero()[0]
+        self.s = self.stick.nonzero()[0]
+
+    def same(self, other: _Pattern) -> bool:
+        """Whether both patterns give the same Jacobian (states and slip coefficients)."""
+        return bool((self.states == other.states).all() and (self.coeff == other.coeff).all())
 
     def differing_rows(self, other: _Pattern) -> np.ndarray:
         """Row numbers (of the 2 n pair rows) where this pattern's Jacobian differs."""
         normal = self.contact != other.contact
         tangential = (self.states != other.states) | (self.slip & (self.coeff != other.coeff))
         n = self.states.size
-        return np.concatenate([np.flatnonzero(normal), n + np.flatnonzero(tangential)])
+        return np.concatenate([normal.nonzero()[0], n + tangential.nonzero()[0]])
 
 
 class _Maps:
@@ -66,6 +70,13 @@ class _Maps:
         self.normal, self.tangential, self.resultant = normal_map, tangential_map, resultant_map
         self.r_n, self.r_t = float(r_n), float(r_t)
         self.n, self.n_x = normal_map.shape
+        #: the Jacobian's contact rows stacked (r_n N; -r_t T; R), for small systems only
+        #: (their reduced matrix is then one gather of it; a large one would double memory)
+        self.stacked = None
+        if self.n_x < DIRECT_BELOW:
+            self.stacked = np.concatenate(
+                [self.r_n * normal_map, -self.r_t * tangential_map, resultant_map]
+            )
 
     def products(self, x: np.ndarray, nonzero: np.ndarray | None = None):
         """N x, T x and R x (x of shape (n_x,) or (n_x, cols)), using only rows ``nonzero``."""
@@ -100,12 +111,12 @@ class _Maps:
         n = self.n
         out = np.empty((index.size, *x.shape[1:]))
         normal = index < n
-        pos, pairs = np.flatnonzero(normal), index[normal]
+        pos, pairs = normal.nonzero()[0], index[normal]
         touching = pattern.contact[pairs]
         dense_normal = self.normal[pairs[touching]] @ x if dense is None else dense[pos[touching]]
         out[pos[touching]] = self.r_n * dense_normal
         out[pos[~touching]] = x[pairs[~touching]]
-        pos, pairs = np.flatnonzero(~normal), index[~normal] - n
+        pos, pairs = (~normal).nonzero()[0], index[~normal] - n
         stick, slip = pattern.stick[pairs], pattern.slip[pairs]
         dense_stick = self.tangential[pairs[stick]] @ x if dense is None else dense[pos[stick]]
         out[pos[stick]] = -self.r_t * dense_stick
@@ -130,6 +141,35 @@ class _Factor:
         c, s = pattern.c, pattern.s
         columns = np.concatenate([c, n + s, np.arange(2 * n, n_x)])
         k = columns.size
+        kc, ks = c.size, s.size
+        self.slip_in_c = pattern.slip[c].nonzero()[0]
+        slipping = c[self.slip_in_c]
+        if maps.stacked is not None:
+            # rows and columns of the reduced matrix are the same numbers of x: one gather
+            # (C order: its transpose is the F-ordered LAPACK input); dp of a slipping pair
+            # also moves its dq by c_i dp: that column folded in
+            rows = maps.stacked[columns]
+            if slipping.size:
+                rows[:, slipping] += rows[:, n + slipping] * pattern.coeff[slipping]
+            matrix = rows[:, columns]
+        else:
+            matrix = self._gathered(maps, c, s, columns, slipping, pattern.coeff[slipping])
+        self.lu, self.piv, info = (
+            (matrix, None, 0) if k == 0 else sla.lapack.dgetrf(matrix.T, overwrite_a=True)
+        )
+        if info != 0:
+            raise np.linalg.LinAlgError("singular reduced Newton matrix")
+        self.sizes = (kc, ks)
+        sep = (~pattern.contact).nonzero()[0]
+        self.known = np.concatenate([sep, n + sep, n + pattern.slip.nonzero()[0]])
+        self.bordered = np.zeros(0, dtype=int)  # rows with a kept column J^-1 e_row
+        self.columns = np.empty((maps.n_x, 0), order="F")
+        self.dense, self.dense_columns = np.empty((0, maps.n_x)), np.empty((0, 0))
+
+    @staticmethod
+    def _gathered(maps: _Maps, c, s, columns, slipping, coeff) -> np.ndarray:
+        """The reduced matrix gathered from the three maps (a large system keeps no stack)."""
+        k, n = columns.size, maps.n
         matrix = np.empty((k, k))  # C order: its transpose is the F-ordered LAPACK input
         kc, ks = c.size, s.size
         matrix[:kc] = maps.normal[np.ix_(c, columns)]
@@ -138,26 +178,14 @@ class _Factor:
         matrix[kc : kc + ks] *= -maps.r_t
         matrix[kc + ks :] = maps.resultant[:, columns]
         # dp of a slipping pair also moves its dq by c_i dp: fold that column in
-        self.slip_in_c = np.flatnonzero(pattern.slip[c])
-        slipping = c[self.slip_in_c]
+        slip_in_c = np.arange(kc)[np.isin(c, slipping)]
         if slipping.size:
-            coeff = pattern.coeff[slipping]
-            matrix[:kc, self.slip_in_c] += maps.r_n * maps.normal[np.ix_(c, n + slipping)] * coeff
-            matrix[kc : kc + ks, self.slip_in_c] -= (
+            matrix[:kc, slip_in_c] += maps.r_n * maps.normal[np.ix_(c, n + slipping)] * coeff
+            matrix[kc : kc + ks, slip_in_c] -= (
                 maps.r_t * maps.tangential[np.ix_(s, n + slipping)] * coeff
             )
-            matrix[kc + ks :, self.slip_in_c] += maps.resultant[:, n + slipping] * coeff
-        self.lu, self.piv, info = (
-            (matrix, None, 0) if k == 0 else sla.lapack.dgetrf(matrix.T, overwrite_a=True)
-        )
-        if info != 0:
-            raise np.linalg.LinAlgError("singular reduced Newton matrix")
-        self.sizes = (kc, ks)
-        sep = np.flatnonzero(~pattern.contact)
-        self.known = np.concatenate([sep, n + sep, n + np.flatnonzero(pattern.slip)])
-        self.bordered = np.zeros(0, dtype=int)  # rows with a kept column J^-1 e_row
-        self.columns = np.empty((maps.n_x, 0), order="F")
-        self.dense, self.dense_columns = np.empty((0, maps.n_x)), np.empty((0, 0))
+            matrix[kc + ks :, slip_in_c] += maps.resultant[:, n + slipping] * coeff
+        return matrix
 
     @property
     def size(self) -> int:
@@ -172,7 +200,7 @@ class _Factor:
         kc, ks = self.sizes
         y = np.zeros(b.shape)
         y[self.known] = b[self.known]  # separated p and q; slip q's constant part
-        nonzero = self.known[np.flatnonzero(_flat(y[self.known]).any(axis=1))]
+        nonzero = self.known[_flat(y[self.known]).any(axis=1).nonzero()[0]]
         if nonzero.size:
             nx, tx, rx = maps.products(y, nonzero)
             known_rows = np.concatenate([maps.r_n * nx[c], -maps.r_t * tx[s], rx])
@@ -258,7 +286,13 @@ class NewtonLinear:
         pattern = _Pattern(states, direction, self.friction)
         b = -np.asarray(residual, float)
         b[n : 2 * n] += pattern.coeff * residual[:n]  # the slip rows minus c_i x normal row
-        if self.factor is None or self.maps.n_x < DIRECT_BELOW:
+        if self.factor is None:
+            return self._refactor(pattern, b)
+        if self.maps.n_x < DIRECT_BELOW:
+            # small: factorised afresh, unless the pattern is the factorised one (the last
+            # iterations of an increment), whose LU gives the same step
+            if self.factor.pattern.same(pattern):
+                return self.factor.solve(b)
             return self._refactor(pattern, b)
         differing = self.factor.pattern.differing_rows(pattern)
         border = np.union1d(self.factor.bordered, differing)
@@ -296,8 +330,8 @@ def _exact_rows(pattern: _Pattern, b: np.ndarray, dx: np.ndarray) -> np.ndarray:
     """dx with the pattern's identity rows solved exactly, as the reduced solve does: a
     separated pair's p and q land on exactly 0, a slipping pair's q on exactly c_i p."""
     n = pattern.states.size
-    separated = np.flatnonzero(~pattern.contact)
-    slipping = np.flatnonzero(pattern.slip)
+    separated = (~pattern.contact).nonzero()[0]
+    slipping = pattern.slip.nonzero()[0]
     dx[separated] = b[separated]
     dx[n + separated] = b[n + separated]
     dx[n + slipping] = b[n + slipping] + pattern.coeff[slipping] * dx[slipping]

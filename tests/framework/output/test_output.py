@@ -194,3 +194,30 @@ def test_figures_join_pyplot_when_it_is_in_use(saved, tmp_path):
     before = set(plt.get_fignums())
     plot.save_figures(result, tmp_path)
     assert set(plt.get_fignums()) == before
+
+
+def test_displacement_figure_draws_every_step_in_two_panels(saved):
+    """displacements.png: u_n (with the closed gap) above u_t, every step's curve of every
+    result in them (the same data as one panel per step, in 2 axes instead of 2 per step),
+    and a legend entry per step and per result."""
+    from fretbem.output.figures import displacement_figure
+
+    result, _ = saved
+    other = run(cattaneo_mindlin(basis="lagrange2", pairs=PAIRS))
+    fig = displacement_figure([result, other])
+    top, bottom = fig.axes
+    scale = result.simulation.reference.hertz.half_width
+    for ax, field in ((top, "normal_displacement"), (bottom, "tangential_displacement")):
+        drawn = [(line.get_xdata(), line.get_ydata()) for line in ax.get_lines()]
+        for r in (result, other):
+            for step in r.steps:
+                expected = (step.x / scale, 1e3 * getattr(step, field))
+                assert any(
+                    np.array_equal(x, expected[0]) and np.array_equal(y, expected[1])
+                    for x, y in drawn
+                ), (field, step.name)
+    gap = -1e3 * result.simulation.pair.pairing().gap
+    assert any(np.array_equal(line.get_ydata(), gap) for line in top.get_lines())
+    labels = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert len(labels) == len(result.steps) + 2 + 1
+    assert all(any(f"step {s.name}:" in label for label in labels) for s in result.steps)
