@@ -55,6 +55,9 @@ def test_blocks_go_with_their_segments():
     del body
     import gc
 
+    from fretbem.scenes import builder
+
+    builder._built.cache_clear()  # the scene builder keeps recent shapes' faces and segments
     gc.collect()
     assert len(assembly.BLOCKS._rules) == 0
 
