@@ -29,7 +29,6 @@ from fretbem.results import SimulationResult, StepResult
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
-FIGURE_STEPS = ("B", "C", "D", "E")
 STATE_COLORS = ("#d9d9d9", "#4c72b0", "#dd5544")  # separated, stick, slip
 DPI = 100
 #: at most this many step panels per figure (2 rows x 3 columns); longer histories are
