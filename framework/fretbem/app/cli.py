@@ -31,6 +31,7 @@ from fretbem.output.write import WriteContext, chosen_writers, prepare_output
 from fretbem.scenes.builder import build
 from fretbem.scenes.file import load_scene
 from fretbem.scenes.reference import CattaneoMindlinScene, cattaneo_mindlin
+from fretbem.studies.convergence.study import main as study
 from fretbem.studies.sweep.run import add_arguments as sweep_arguments
 from fretbem.studies.sweep.run import run_command as sweep_command
 from fretbem.verification.checks import step_names
@@ -327,10 +328,6 @@ def _report(args: argparse.Namespace) -> int:
 
 
 def _convergence(args: argparse.Namespace) -> int:
-    # imported here: the study's modules (runs, figures, adaptive levels) are no part of
-    # any other command's start-up
-    from fretbem.studies.convergence.study import main as study
-
     return study(quick=args.quick, out=args.out)
 
 
