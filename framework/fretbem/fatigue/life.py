@@ -50,6 +50,16 @@ class LifeEstimate:
     message: str
 
 
+#: the Basquin/Coffin-Manson constants the strain-life curve (SWT, strain_life) reads
+STRAIN_LIFE_CONSTANTS = (
+    "E",
+    "fatigue_strength_coefficient",
+    "fatigue_strength_exponent",
+    "fatigue_ductility_coefficient",
+    "fatigue_ductility_exponent",
+)
+
+
 def _runout(method: str, parameter: float, runout_cycles: float, why: str) -> LifeEstimate:
     return LifeEstimate(
         method,
@@ -132,16 +142,7 @@ def _stress_life(amplitude, mean, correction, material, runout_cycles) -> LifeEs
 
 def _strain_life(amplitude, mean, correction, material, runout_cycles) -> LifeEstimate:
     """eps_a = (sigma_f' - sigma_m)/E (2N)^b + eps_f' (2N)^c (sigma_m = 0 without Morrow)."""
-    c = material.require(
-        (
-            "E",
-            "fatigue_strength_coefficient",
-            "fatigue_strength_exponent",
-            "fatigue_ductility_coefficient",
-            "fatigue_ductility_exponent",
-        ),
-        "the strain-life life",
-    )
+    c = material.require(STRAIN_LIFE_CONSTANTS, "the strain-life life")
     sf, b = c["fatigue_strength_coefficient"], c["fatigue_strength_exponent"]
     ef, cc = c["fatigue_ductility_coefficient"], c["fatigue_ductility_exponent"]
     shift = mean if correction == "morrow" else 0.0
@@ -207,16 +208,7 @@ def estimate_life(
         )
     m = material
     if method == "swt":
-        c = m.require(
-            (
-                "E",
-                "fatigue_strength_coefficient",
-                "fatigue_strength_exponent",
-                "fatigue_ductility_coefficient",
-                "fatigue_ductility_exponent",
-            ),
-            "the SWT life",
-        )
+        c = m.require(STRAIN_LIFE_CONSTANTS, "the SWT life")
         sf, b = c["fatigue_strength_coefficient"], c["fatigue_strength_exponent"]
         ef, cc = c["fatigue_ductility_coefficient"], c["fatigue_ductility_exponent"]
 
