@@ -269,12 +269,18 @@ ROUNDED_FLAT = {"nurbs": (60, 0.007, 0.02), "lagrange2": (63, 0.013, 0.024)}
 FLAT, EDGE = 0.3, 20.0
 
 
-def rounded_flat_run(moment, pairs, basis="nurbs"):
+def rounded_flat_load():
+    """The rounded flat's load P for a = 2 b (half-plane theory) and that a."""
     from fretbem.verification.rounded_flat import RoundedFlatPunch
 
     a = FLAT / 0.5
-    load = RoundedFlatPunch(FLAT, EDGE, E_STAR, F).load(a)
-    data = {
+    return RoundedFlatPunch(FLAT, EDGE, E_STAR, F).load(a), a
+
+
+def rounded_flat_scene(pairs, basis, a, load_table):
+    """The rounded flat on half-planes, pivot at the first-contact point, ``load_table``
+    its [load]."""
+    return {
         "pad": {"shape": "rounded-flat", "flat": FLAT, "edge_radius": EDGE, "width": 10.0,
                 "height": 10.0, "model": "half-plane"},
         "specimen": {"shape": "flat", "length": 40.0, "thickness": 13.0,
@@ -282,11 +288,16 @@ def rounded_flat_run(moment, pairs, basis="nurbs"):
         "material": {"E": E, "nu": NU},
         "contact": {"friction": F, "pairs": pairs, "basis": basis, "zone_width": 1.5 * a,
                     "estimate": False},
-        "load": {"steps": ["A", "B", "C"], "P": load, "Q": [0.0, 0.5 * F * load, 0.0],
-                 "moment": moment * load * a},
+        "load": load_table,
         "rig": {"pivot_height": 0.0},
     }  # fmt: skip
-    simulation, _ = build(scene_from_dict(data))
+
+
+def rounded_flat_run(moment, pairs, basis="nurbs"):
+    load, a = rounded_flat_load()
+    table = {"steps": ["A", "B", "C"], "P": load, "Q": [0.0, 0.5 * F * load, 0.0],
+             "moment": moment * load * a}  # fmt: skip
+    simulation, _ = build(scene_from_dict(rounded_flat_scene(pairs, basis, a, table)))
     return run(simulation), load, a
 
 
@@ -356,25 +367,12 @@ def test_tilted_rounded_flat_against_the_quadrature_solution(family, theta, reco
     integral solution for the tilted profile, evaluated by Gauss-Chebyshev quadrature
     (:class:`fretbem.verification.tilted_contact.TiltedContact`, checked against Hertz and
     the untilted closed form in tests/framework/verification)."""
-    from fretbem.verification.rounded_flat import RoundedFlatPunch
     from fretbem.verification.tilted_contact import TiltedContact
 
     pairs, p_tol, q_tol, m_tol = QUADRATURE[family]
-    a = FLAT / 0.5
-    load = RoundedFlatPunch(FLAT, EDGE, E_STAR, F).load(a)
-    data = {
-        "pad": {"shape": "rounded-flat", "flat": FLAT, "edge_radius": EDGE, "width": 10.0,
-                "height": 10.0, "model": "half-plane"},
-        "specimen": {"shape": "flat", "length": 40.0, "thickness": 13.0,
-                     "model": "half-plane"},
-        "material": {"E": E, "nu": NU},
-        "contact": {"friction": F, "pairs": pairs, "basis": family, "zone_width": 1.5 * a,
-                    "estimate": False},
-        "load": {"steps": ["A", "B"], "P": load, "Q": [0.0, 0.5 * F * load],
-                 "rotation": theta},
-        "rig": {"pivot_height": 0.0},
-    }  # fmt: skip
-    simulation, _ = build(scene_from_dict(data))
+    load, a = rounded_flat_load()
+    table = {"steps": ["A", "B"], "P": load, "Q": [0.0, 0.5 * F * load], "rotation": theta}
+    simulation, _ = build(scene_from_dict(rounded_flat_scene(pairs, family, a, table)))
     result = run(simulation)
     theory = TiltedContact(rounded_flat_slope, E_STAR, F)
     edges = theory.edges(load, theta, (-a, a))
