@@ -41,6 +41,16 @@ SCENE = {
 CYCLE = [0.0, 1.0, 0.0, -1.0, 0.0]
 
 
+def write_scene(path):
+    """SCENE as a scene file at ``path``."""
+    path.write_text(
+        "\n".join(
+            f"[{table}]\n" + "\n".join(f"{k} = {json.dumps(v)}" for k, v in keys.items())
+            for table, keys in SCENE.items()
+        )
+    )
+
+
 def _results(table):
     """The table without the columns that differ from run to run."""
     return table.drop(columns=[c for c in TIMING_COLUMNS if c in table])
@@ -559,13 +569,7 @@ def test_maps_select_with_where_and_draw_the_boundary_on_any_axes():
 def test_sweep_command(tmp_path, capsys):
     from fretbem.studies.sweep.run import sweep_command
 
-    scene = tmp_path / "scene.toml"
-    scene.write_text(
-        "\n".join(
-            f"[{table}]\n" + "\n".join(f"{k} = {json.dumps(v)}" for k, v in keys.items())
-            for table, keys in SCENE.items()
-        )
-    )
+    write_scene(tmp_path / "scene.toml")
     sweep_file = tmp_path / "s.toml"
     sweep_file.write_text(
         '[sweep]\nscene = "scene.toml"\n[parameters]\n"load.P" = [90.0, 110.0]\n'

@@ -6,6 +6,7 @@ import pickle
 
 import numpy as np
 import pytest
+from test_sweep import CYCLE, SCENE, write_scene
 
 from fretbem.studies.sweep import cases as sweep_cases
 from fretbem.studies.sweep import run as sweep_run
@@ -14,16 +15,6 @@ from fretbem.studies.sweep.spec import SweepSpec
 
 pd = pytest.importorskip("pandas")
 
-#: the coarse reference-type scene of test_sweep.py (21 pairs)
-SCENE = {
-    "scene": {"basis": "nurbs", "pairs": 21, "zone": 1.5},
-    "geometry": {"radius": 70.0, "width": 6.5, "height": 16.25, "lower": "arc"},
-    "mesh": {"flank_elements": 8, "side_elements": 8, "top_elements": 6},
-    "material": {"E": 73400.0, "nu": 0.33},
-    "contact": {"friction": 0.3},
-    "load": {"P": 100.0, "Q": [0.0, 18.0, 0.0, -18.0, 0.0], "steps": ["A", "B", "C", "D", "E"]},
-}
-CYCLE = [0.0, 1.0, 0.0, -1.0, 0.0]
 #: two groups (radius), loads inside and beyond gross slip, two frictions
 PARAMETERS = {
     "geometry.radius": [60.0, 70.0],
@@ -100,15 +91,7 @@ def test_engine_options_that_clash_are_refused_naming_the_fix():
 
 
 def test_the_command_takes_an_engine(tmp_path, capsys):
-    import json
-
-    scene = tmp_path / "scene.toml"
-    scene.write_text(
-        "\n".join(
-            f"[{table}]\n" + "\n".join(f"{k} = {json.dumps(v)}" for k, v in keys.items())
-            for table, keys in SCENE.items()
-        )
-    )
+    write_scene(tmp_path / "scene.toml")
     sweep_file = tmp_path / "s.toml"
     sweep_file.write_text(
         '[sweep]\nscene = "scene.toml"\n[parameters]\n"load.P" = [90.0, 110.0]\n'
