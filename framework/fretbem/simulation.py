@@ -29,7 +29,7 @@ from fretbem.verification.checks import check_step, step_names
 from fretbem.verification.closed_forms import MindlinDeresiewicz
 
 from .results import IncrementRecord, SimulationResult, StepResult
-from .validators import finite
+from .validators import finite, real_number
 
 
 class LoadHistoryError(InputError):
@@ -53,6 +53,22 @@ def _optional_float(value):
 def _optional_finite(instance, attribute, value) -> None:
     if value is not None:
         finite(instance, attribute, value)
+
+
+#: what the rotation drives of a step are and what to give instead of a bad one
+ROTATION_DRIVES = {
+    "moment": ("N mm/mm, the moment on the pad's block", "the moment in N mm/mm"),
+    "rotation": ("rad, the actuator's rotation", "the rotation in rad"),
+}
+
+
+def _rotation_drive(value, field) -> float | None:
+    """A step's moment or rotation: None, or a finite number (no True, no "1.0")."""
+    if value is None:
+        return None
+    what, give = ROTATION_DRIVES[field.name]
+    fix = f"give {give}, or None to leave the block's rotation as the rig holds it"
+    return real_number(f"LoadStep.{field.name}", value, what=what, fix=fix, error=InputError)
 
 
 @attrs.frozen
@@ -113,10 +129,10 @@ class LoadStep:
         default=0, converter=int, validator=attrs.validators.ge(0), kw_only=True
     )
     moment: float | None = attrs.field(
-        default=None, converter=_optional_float, validator=_optional_finite, kw_only=True
+        default=None, converter=attrs.Converter(_rotation_drive, takes_field=True), kw_only=True
     )
     rotation: float | None = attrs.field(
-        default=None, converter=_optional_float, validator=_optional_finite, kw_only=True
+        default=None, converter=attrs.Converter(_rotation_drive, takes_field=True), kw_only=True
     )
 
     def __attrs_post_init__(self) -> None:
