@@ -379,7 +379,7 @@ class Simulation:
             mid_n = 0.5 * (start_n + normal)
             mid_t = 0.5 * (start_t + tangential)
             mid_r = 0.5 * (start_r + rotation)
-            mid_loads = _between(state.loads, loads, 0.5)
+            mid_loads = loads_between(state.loads, loads, 0.5)
             half, it1, res1 = self._increment(
                 problem, state, mid_n, mid_t, mid_loads, depth + 1, controls, mid_r
             )
@@ -422,7 +422,7 @@ class Simulation:
             target_n = start_n + frac * (load.normal_target - start_n)
             target_t = start_t + frac * (load.tangential_target - start_t)
             target_r = start_r + frac * (load.rotation_target - start_r)
-            target_loads = _between(start_loads, load.loads, frac)
+            target_loads = loads_between(start_loads, load.loads, frac)
             state, its, res = self._increment(
                 problem, state, target_n, target_t, target_loads, controls=controls,
                 rotation=target_r,
@@ -471,8 +471,10 @@ def _no_balance(simulation: Simulation, problem, load: LoadStep, failure) -> str
     )  # fmt: skip
 
 
-def _between(start: Mapping[str, float], end: Mapping[str, float], frac: float) -> dict:
-    """Load amplitudes a fraction ``frac`` of the way from ``start`` to ``end``."""
+def loads_between(start: Mapping[str, float], end: Mapping[str, float], frac: float) -> dict:
+    """Named load amplitudes a fraction ``frac`` of the way from ``start`` to ``end``: a
+    load only one of them names is 0 in the other (a load a step drops ramps down to 0 over
+    its increments; one it adds ramps up). Every stepping loop uses this rule."""
     names = dict.fromkeys([*start, *end])
     return {
         name: start.get(name, 0.0) + frac * (end.get(name, 0.0) - start.get(name, 0.0))
@@ -554,5 +556,6 @@ __all__ = [
     "LoadHistoryError",
     "LoadStep",
     "Simulation",
+    "loads_between",
     "run",
 ]
