@@ -29,7 +29,7 @@ from fretbem.verification.checks import check_step, step_names
 from fretbem.verification.closed_forms import MindlinDeresiewicz
 
 from .results import IncrementRecord, SimulationResult, StepResult
-from .validators import finite
+from .validators import finite, real_number
 
 
 class LoadHistoryError(InputError):
@@ -53,6 +53,22 @@ def _optional_float(value):
 def _optional_finite(instance, attribute, value) -> None:
     if value is not None:
         finite(instance, attribute, value)
+
+
+#: what the rotation drives of a step are and what to give instead of a bad one
+ROTATION_DRIVES = {
+    "moment": ("N mm/mm, the moment on the pad's block", "the moment in N mm/mm"),
+    "rotation": ("rad, the actuator's rotation", "the rotation in rad"),
+}
+
+
+def _rotation_drive(value, field) -> float | None:
+    """A step's moment or rotation: None, or a finite number (no True, no "1.0")."""
+    if value is None:
+        return None
+    what, give = ROTATION_DRIVES[field.name]
+    fix = f"give {give}, or None to leave the block's rotation as the rig holds it"
+    return real_number(f"LoadStep.{field.name}", value, what=what, fix=fix, error=InputError)
 
 
 @attrs.frozen
@@ -113,10 +129,10 @@ class LoadStep:
         default=0, converter=int, validator=attrs.validators.ge(0), kw_only=True
     )
     moment: float | None = attrs.field(
-        default=None, converter=_optional_float, validator=_optional_finite, kw_only=True
+        default=None, converter=attrs.Converter(_rotation_drive, takes_field=True), kw_only=True
     )
     rotation: float | None = attrs.field(
-        default=None, converter=_optional_float, validator=_optional_finite, kw_only=True
+        default=None, converter=attrs.Converter(_rotation_drive, takes_field=True), kw_only=True
     )
 
     def __attrs_post_init__(self) -> None:
@@ -363,7 +379,7 @@ class Simulation:
             mid_n = 0.5 * (start_n + normal)
             mid_t = 0.5 * (start_t + tangential)
             mid_r = 0.5 * (start_r + rotation)
-            mid_loads = _between(state.loads, loads, 0.5)
+            mid_loads = loads_between(state.loads, loads, 0.5)
             half, it1, res1 = self._increment(
                 problem, state, mid_n, mid_t, mid_loads, depth + 1, controls, mid_r
             )
@@ -406,7 +422,7 @@ class Simulation:
             target_n = start_n + frac * (load.normal_target - start_n)
             target_t = start_t + frac * (load.tangential_target - start_t)
             target_r = start_r + frac * (load.rotation_target - start_r)
-            target_loads = _between(start_loads, load.loads, frac)
+            target_loads = loads_between(start_loads, load.loads, frac)
             state, its, res = self._increment(
                 problem, state, target_n, target_t, target_loads, controls=controls,
                 rotation=target_r,
@@ -455,8 +471,10 @@ def _no_balance(simulation: Simulation, problem, load: LoadStep, failure) -> str
     )  # fmt: skip
 
 
-def _between(start: Mapping[str, float], end: Mapping[str, float], frac: float) -> dict:
-    """Load amplitudes a fraction ``frac`` of the way from ``start`` to ``end``."""
+def loads_between(start: Mapping[str, float], end: Mapping[str, float], frac: float) -> dict:
+    """Named load amplitudes a fraction ``frac`` of the way from ``start`` to ``end``: a
+    load only one of them names is 0 in the other (a load a step drops ramps down to 0 over
+    its increments; one it adds ramps up). Every stepping loop uses this rule."""
     names = dict.fromkeys([*start, *end])
     return {
         name: start.get(name, 0.0) + frac * (end.get(name, 0.0) - start.get(name, 0.0))
@@ -538,5 +556,6 @@ __all__ = [
     "LoadHistoryError",
     "LoadStep",
     "Simulation",
+    "loads_between",
     "run",
 ]

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import numbers
 from typing import Any
 
 import numpy as np
@@ -83,6 +84,30 @@ def check_poisson(name: str, value: float) -> float:
     value = float(value)
     if not (math.isfinite(value) and -1.0 < value < 0.5):
         raise ValueError(f"{name} must be a Poisson's ratio in (-1, 0.5), got {value!r}")
+    return value
+
+
+def real_number(
+    where: str,
+    value: Any,
+    *,
+    what: str,
+    fix: str,
+    infinite: bool = False,
+    error: type[Exception] = ValueError,
+) -> float:
+    """A real number given from Python as a float: numpy scalars are taken, True/False and
+    strings refused (no silent coercion), NaN (and infinity unless ``infinite``) refused.
+
+    ``where`` names the argument (``Rig.pivot_height``), ``what`` says what it is (its unit),
+    ``fix`` what to give instead; every message names all three.
+    """
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        shown = repr(value) if not isinstance(value, str) else f'"{value}" (a string)'
+        raise error(f"{where} must be a number ({what}), got {shown}; {fix}")
+    value = float(value)
+    if math.isnan(value) or (math.isinf(value) and not infinite):
+        raise error(f"{where} must be a finite number ({what}), got {value!r}; {fix}")
     return value
 
 

@@ -32,6 +32,9 @@ from __future__ import annotations
 import attrs
 import numpy as np
 
+from fretbem.errors import InputError
+from fretbem.validators import real_number
+
 from . import rotation as pad_rotation
 from .condensation import CondensedContact
 
@@ -41,20 +44,52 @@ CONTROLS = ("force", "displacement")
 ROTATION_CONTROLS = ("rotation", "moment")
 
 
-def _stiffness(instance, attribute, value) -> None:
+#: the farthest a rig's pivot may sit from the contact, mm (10 m: beyond any fretting rig)
+MAX_PIVOT_HEIGHT = 1.0e4
+#: the unit of each rig stiffness
+STIFFNESS_UNITS = {
+    "tangential": "N/mm per mm of travel",
+    "normal": "N/mm per mm of travel",
+    "rotational": "N mm/mm per rad",
+}
+
+
+def check_stiffness(where: str, value: float, unit: str, *, rigid: str, error=InputError) -> float:
+    """``value`` unless it is not > 0 (NaN included): the message names ``where``, the unit
+    and ``rigid`` (how to ask for a rigid rig). The scene reader and :class:`Rig` share it."""
     if not value > 0:
-        raise ValueError(
-            f"Rig.{attribute.name} must be > 0 (force per thickness per mm; math.inf for a "
-            f"rigid rig), got {value!r}"
-        )
+        raise error(f"{where} must be > 0 ({unit}), got {value!r}; {rigid}")
+    return value
 
 
-def _pivot_height(instance, attribute, value) -> None:
-    if value is not None and not np.isfinite(value):
-        raise ValueError(
-            f"Rig.pivot_height must be a finite height in mm above the first-contact point, "
-            f"or None for the pad block's line; got {value!r}"
+def check_pivot_height(where: str, value: float, *, omit: str, error=InputError) -> float:
+    """``value`` unless the pivot is farther than ``MAX_PIVOT_HEIGHT`` from the contact
+    (NaN included); ``omit`` says how to ask for the block's line. Shared with the scene
+    reader, so a file and a script get the same message."""
+    if not abs(value) <= MAX_PIVOT_HEIGHT:
+        raise error(
+            f"{where} is the pivot's height above the first contact, within "
+            f"{MAX_PIVOT_HEIGHT:g} mm of it (a rig's pivot; M = h Q grows with it), got "
+            f"{value!r}; give the height in mm, or {omit} for the pad block's line"
         )
+    return value
+
+
+def _stiffness(value, field) -> float:
+    where, unit = f"Rig.{field.name}", STIFFNESS_UNITS[field.name]
+    rigid = "give math.inf (the default) for a rigid rig"
+    value = real_number(where, value, what=unit, fix=rigid, infinite=True, error=InputError)
+    return check_stiffness(where, value, unit, rigid=rigid)
+
+
+def _pivot_height(value) -> float | None:
+    if value is None:
+        return None
+    omit = "pass None"
+    where = "Rig.pivot_height"
+    fix = f"give the height in mm, or {omit} for the pad block's line"
+    value = real_number(where, value, what="mm above the first contact", fix=fix, error=InputError)
+    return check_pivot_height(where, value, omit=omit)
 
 
 @attrs.frozen
@@ -73,20 +108,20 @@ class Rig:
     pivot_height : float or None
         Height (mm) of the pivot above the initial first-contact point, where the block's
         rotation and moment are taken; None (the default): on the block's line (the pad's
-        top, the datum depth of a half-plane pad) above that point.
+        top, the datum depth of a half-plane pad) above that point; at most
+        ``MAX_PIVOT_HEIGHT`` (mm) above or below it.
     """
 
-    tangential: float = attrs.field(default=float("inf"), converter=float, validator=_stiffness)
-    normal: float = attrs.field(default=float("inf"), converter=float, validator=_stiffness)
+    tangential: float = attrs.field(
+        default=float("inf"), converter=attrs.Converter(_stiffness, takes_field=True)
+    )
+    normal: float = attrs.field(
+        default=float("inf"), converter=attrs.Converter(_stiffness, takes_field=True)
+    )
     rotational: float = attrs.field(
-        default=float("inf"), converter=float, validator=_stiffness, kw_only=True
+        default=float("inf"), converter=attrs.Converter(_stiffness, takes_field=True), kw_only=True
     )
-    pivot_height: float | None = attrs.field(
-        default=None,
-        converter=lambda v: None if v is None else float(v),
-        validator=_pivot_height,
-        kw_only=True,
-    )
+    pivot_height: float | None = attrs.field(default=None, converter=_pivot_height, kw_only=True)
 
     @property
     def compliances(self) -> tuple[float, float]:

@@ -595,6 +595,10 @@ def critical_plane_parameters(
     for i, (crit, (values, _, tau, q)) in enumerate(zip(criteria, final, strict=True)):
         smax, smin = q["normal_stress_max"][:, 0], q["normal_stress_min"][:, 0]
         strain = q["normal_strain_amplitude"]
+        if not crit.needs_shear:  # its search needs no shear: the plane's own, for the report
+            planes = projection(theta[i], psi[i])[:, :, None]  # (3, P, 1, 4): one per point
+            path = plane_quantities(stress, planes, E, nu, strains=False)
+            tau = minimum_circumscribed_circle_xy(path["path_x"], path["path_y"])[2][:, None]
         results[crit.name] = CriterionResult(
             method=crit.name,
             value=values[:, 0],

@@ -13,7 +13,7 @@ import numpy as np
 
 from fretbem.errors import InputError
 from fretbem.simulation import LoadStep
-from fretbem.validators import finite
+from fretbem.validators import finite, real_number
 
 #: the waveform shapes: value at the cycle fraction t (0 at t = 0, +1 at 1/4, -1 at 3/4)
 SHAPES = ("sine", "triangle")
@@ -65,6 +65,25 @@ def _per_cycle(instance, attribute, value) -> None:
         )
 
 
+#: the moment fields of a waveform: what each is (its unit) and what to give instead
+MOMENT_FIELDS = {
+    "moment": (
+        "N mm/mm, the mean moment on the pad's block",
+        "give the mean in N mm/mm, or None for no mean moment",
+    ),
+    "moment_amplitude": ("N mm/mm", "give the amplitude in N mm/mm, or 0 for a steady moment"),
+    "moment_phase": ("degrees", "give the phase of M against the drive in degrees, or 0"),
+}
+
+
+def _moment_value(value, field) -> float | None:
+    """A moment field: a finite number (None too for the mean); no True, no "1.0"."""
+    if value is None and field.name == "moment":
+        return None
+    what, fix = MOMENT_FIELDS[field.name]
+    return real_number(f"Waveform.{field.name}", value, what=what, fix=fix, error=WaveformError)
+
+
 @attrs.frozen
 class Waveform:
     """A fully reversed tangential cycle, repeated, with P and bulk stress cycling along.
@@ -106,11 +125,14 @@ class Waveform:
     bulk_amplitude: float = attrs.field(default=0.0, converter=float, validator=finite)
     bulk_phase: float = attrs.field(default=0.0, converter=float, validator=finite)
     moment: float | None = attrs.field(
-        default=None, converter=lambda v: None if v is None else float(v),
-        validator=attrs.validators.optional(finite),
-    )  # fmt: skip
-    moment_amplitude: float = attrs.field(default=0.0, converter=float, validator=finite)
-    moment_phase: float = attrs.field(default=0.0, converter=float, validator=finite)
+        default=None, converter=attrs.Converter(_moment_value, takes_field=True)
+    )
+    moment_amplitude: float = attrs.field(
+        default=0.0, converter=attrs.Converter(_moment_value, takes_field=True)
+    )
+    moment_phase: float = attrs.field(
+        default=0.0, converter=attrs.Converter(_moment_value, takes_field=True)
+    )
 
     def __attrs_post_init__(self) -> None:
         if not self.amplitude > 0:

@@ -20,7 +20,7 @@ from fretbem.wear.profile import BODIES
 
 from .vtk import write_pvd, write_vtp
 
-__all__ = ["WEAR_COLUMNS", "wear_rows", "wear_summary_rows", "write_wear"]
+__all__ = ["ROTATION_COLUMNS", "WEAR_COLUMNS", "wear_rows", "wear_summary_rows", "write_wear"]
 
 #: the body labels of the files: the pad is the upper body, the specimen the lower
 LABEL = {"upper": "pad", "lower": "specimen"}
@@ -35,6 +35,12 @@ WEAR_COLUMNS = {
         "h_pad, h_specimen": ("mm", "wear depth of each face, along the pair normal"),
         "p": ("MPa", "contact pressure, > 0 in compression"),
         "q": ("MPa", "shear traction of the pad on the specimen, along +x"),
+        "M": ("N mm/mm", "moment of the pad's loading block on the pad about the rig's pivot "
+              "at the step's end, counterclockwise > 0 (a rotating block only)"),
+        "theta": ("rad", "rotation of the actuator holding the pad's block (the block's plus "
+                  "M / k_r), counterclockwise > 0 (a rotating block only)"),
+        "tilt": ("rad", "the pad block's own rotation about the pivot, counterclockwise > 0 "
+                 "(a rotating block only)"),
     },
     "wear_summary.csv": {
         "N": ("cycles", "cycles done"),
@@ -45,6 +51,12 @@ WEAR_COLUMNS = {
         "scar_width_pad, scar_width_specimen": ("mm", "extent of depth > 1 % of the deepest"),
         "peak_pressure": ("MPa", "largest p over the cycle's step ends"),
         "contact_width": ("mm", "extent of p > 0 at the end of the cycle's first step"),
+        "M_amplitude": ("N mm/mm", "half the range of M over the cycle's step ends (a rotating "
+                        "block only)"),
+        "theta_amplitude": ("rad", "half the range of theta over the cycle's step ends (a "
+                            "rotating block only)"),
+        "tilt_amplitude": ("rad", "half the range of the tilt over the cycle's step ends (a "
+                           "rotating block only)"),
     },
     "wear_jumps.csv": {
         "N": ("cycles", "cycle the jump starts from"),
@@ -65,6 +77,22 @@ WEAR_COLUMNS = {
 }  # fmt: skip
 
 
+#: the columns of a rotating pad block, written only where the block rotates
+ROTATION_COLUMNS = {
+    "wear.csv": ("M", "theta", "tilt"),
+    "wear_summary.csv": ("M_amplitude", "theta_amplitude", "tilt_amplitude"),
+}
+
+
+def _rotates(report: WearReport) -> bool:
+    return report.result.snapshots[0].tilt is not None
+
+
+def _block(snap) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A rotating block's M, theta and tilt at the end of each cycle step at N."""
+    return snap.moment, snap.rotation, snap.tilt
+
+
 def _tractions(snap, k: int) -> tuple[np.ndarray, np.ndarray]:
     """p and q at the end of cycle step ``k`` on the profile's points: the pairs' own values,
     or with finite sliding (the pairs moved) interpolated from where the pairs were, zero
@@ -78,8 +106,10 @@ def _tractions(snap, k: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 def wear_rows(report: WearReport) -> list[list]:
-    """wear.csv rows: one per output N, cycle step and pair (finite sliding: track point)."""
+    """wear.csv rows: one per output N, cycle step and pair (finite sliding: track point);
+    a rotating block's M, theta and tilt at the step's end close each row."""
     names = [s.name for s in report.result.wear.cycle_steps]
+    turning = _rotates(report)
     rows = []
     for snap in report.result.snapshots:
         prof = snap.profile
@@ -88,9 +118,10 @@ def wear_rows(report: WearReport) -> list[list]:
             pad = np.interp(prof.x, prof.upper_x, prof.upper, left=0.0, right=0.0)
         for k, name in enumerate(names):
             p, q = _tractions(snap, k)
+            block = [float(v[k]) for v in _block(snap)] if turning else []
             for j in range(len(prof.x)):
                 rows.append([snap.cycles, name, prof.x[j], pad[j], prof.lower[j],
-                             p[j], q[j]])  # fmt: skip
+                             p[j], q[j], *block])  # fmt: skip
     return rows
 
 
@@ -100,7 +131,8 @@ def _contact_width(x: np.ndarray, p: np.ndarray) -> float:
 
 
 def wear_summary_rows(report: WearReport) -> list[list]:
-    """wear_summary.csv rows: one per output N."""
+    """wear_summary.csv rows: one per output N (a rotating block's amplitudes last)."""
+    turning = _rotates(report)
     rows = []
     for snap in report.result.snapshots:
         prof = snap.profile
@@ -110,6 +142,7 @@ def wear_summary_rows(report: WearReport) -> list[list]:
             + [prof.max_depth(b) for b in BODIES]
             + [prof.scar_width(b) for b in BODIES]
             + [float(np.max(snap.pressure)), _contact_width(snap.pair_x(0), snap.pressure[0])]
+            + ([0.5 * float(np.ptp(v)) for v in _block(snap)] if turning else [])
         )
     return rows
 
@@ -155,13 +188,14 @@ def write_wear(
     """Write ``report`` into ``directory`` (see the module docstring); returns the paths."""
     out = Path(directory)
     result = report.result
+    extra = ROTATION_COLUMNS if _rotates(report) else {}
     written = [
-        _csv(out / "wear.csv", ["N", "step", "x", "h_pad", "h_specimen", "p", "q"],
-             wear_rows(report)),
+        _csv(out / "wear.csv", ["N", "step", "x", "h_pad", "h_specimen", "p", "q",
+                                *extra.get("wear.csv", ())], wear_rows(report)),
         _csv(out / "wear_summary.csv",
              ["N", "energy", "archard_work", "volume_pad", "volume_specimen", "max_depth_pad",
               "max_depth_specimen", "scar_width_pad", "scar_width_specimen", "peak_pressure",
-              "contact_width"], wear_summary_rows(report)),
+              "contact_width", *extra.get("wear_summary.csv", ())], wear_summary_rows(report)),
         _csv(out / "wear_jumps.csv", ["N", "delta_N", "limit", "lambda", "max_rate"],
              [[n, j.cycles, j.limit, j.stability, j.rate] for n, j in result.jumps]),
     ]  # fmt: skip
@@ -189,7 +223,8 @@ def write_wear(
         "assessed": [a.cycles for a in report.assessments],
         "life": {str(a.cycles): fatigue_summary(a.fatigue)["methods"]
                  for a in report.assessments if a.fatigue is not None},
-        "units": {f: {k: {"unit": u, "meaning": m} for k, (u, m) in cols.items()}
+        "units": {f: {k: {"unit": u, "meaning": m} for k, (u, m) in cols.items()
+                      if k in extra.get(f, ()) or k not in ROTATION_COLUMNS.get(f, ())}
                   for f, cols in WEAR_COLUMNS.items()},
     }  # fmt: skip
     path = out / "wear.json"

@@ -17,6 +17,7 @@ from typing import Any
 import attrs
 
 from fretbem import registry
+from fretbem.contact.control import STIFFNESS_UNITS, check_pivot_height, check_stiffness
 from fretbem.fretting.waveform import SHAPES, Waveform, WaveformError
 from fretbem.geometry.boundary import Segment
 from fretbem.geometry.nurbs import NurbsCurve
@@ -406,8 +407,6 @@ KEYS: tuple[Key, ...] = (
 
 #: the largest Coulomb coefficient a scene may give (beyond it the loads overflow)
 MAX_FRICTION = 10.0
-#: the farthest a rig's pivot may sit from the contact, mm (10 m: beyond any fretting rig)
-MAX_PIVOT_HEIGHT = 1.0e4
 #: the highest basis degree a scene may ask for (higher degrees are ill-conditioned)
 MAX_DEGREE = 8
 
@@ -792,6 +791,7 @@ def _cycle_load(section: dict) -> LoadSpec:
         message = str(err).replace("Waveform.normal_amplitude", "P_amplitude")
         message = message.replace("Waveform.normal", "[load] P").replace("Waveform.amplitude", name)
         message = message.replace("Waveform.moment_amplitude", "M_amplitude")
+        message = message.replace("Waveform.moment_phase", "M_phase")
         message = message.replace("Waveform.moment", "[load] moment")
         message = message.replace("Waveform.", "")
         raise SceneFileError(f"[load.cycle]: {message}") from None
@@ -962,19 +962,14 @@ def scene_from_dict(data: Mapping) -> Scene:
     _unknown("[rig]", rig_section, _keys("rig"))
     for name, value in rig_section.items():
         _check(f"[rig] {name}", value, _keys("rig")[name].kind)
+        where = f"[rig] {name}"
         if name == "pivot_height":  # above or below the contact, within a rig's reach
-            if not abs(value) <= MAX_PIVOT_HEIGHT:
-                raise SceneFileError(
-                    f"[rig] pivot_height is the pivot's height above the first contact, within "
-                    f"{MAX_PIVOT_HEIGHT:g} mm of it (a rig's pivot; M = h Q grows with it), got "
-                    f"{value!r}; give the height in mm, or leave it out for the pad block's line"
-                )
+            check_pivot_height(where, value, omit="leave it out", error=SceneFileError)
             continue
-        if not value > 0:
-            unit = "N mm/mm per rad" if name == "stiffness_rotation" else "N/mm per mm of travel"
-            raise SceneFileError(
-                f"[rig] {name} must be > 0 ({unit}), got {value!r}; leave it out for a rigid rig"
-            )
+        unit = STIFFNESS_UNITS["rotational" if name == "stiffness_rotation" else "normal"]
+        check_stiffness(
+            where, value, unit, rigid="leave it out for a rigid rig", error=SceneFileError
+        )
     contact_section = _table(data, "contact")
     _unknown("[contact]", contact_section, _keys("contact"))
     contact = {}

@@ -37,7 +37,7 @@ from fretbem.contact.node_to_segment import NodeToSegmentPair
 from fretbem.contact.pairs import ContactDiscretisationError
 from fretbem.errors import InputError
 from fretbem.results import IncrementRecord, StepResult
-from fretbem.simulation import Simulation
+from fretbem.simulation import Simulation, loads_between
 from fretbem.verification.checks import check_step
 
 __all__ = ["SlidingError", "SlidingResult", "run_sliding"]
@@ -251,8 +251,7 @@ def run_sliding(
             frac = k / load.increments
             target_n = start_n + frac * (load.normal_target - start_n)
             target_t = start_t + frac * (load.tangential_target - start_t)
-            loads = {name: start_loads.get(name, 0.0) + frac * (v - start_loads.get(name, 0.0))
-                     for name, v in load.loads.items()}  # fmt: skip
+            loads = loads_between(start_loads, load.loads, frac)
             # where the pad's face will be (delta-driven: the block's coming move on top of
             # the face's slide so far) or is (force-driven), against the pairing
             ahead = 0.0 if state.virgin else _face_slide(problem, state)

@@ -24,6 +24,9 @@ from .profile import BODIES
 
 __all__ = ["CycleWear", "simulate_cycle"]
 
+#: what a rotating pad block reports at each step's end (CycleWear's fields)
+BLOCK_ROTATION = ("moment", "rotation", "tilt")
+
 
 @attrs.frozen(eq=False)
 class CycleWear:
@@ -59,6 +62,10 @@ class CycleWear:
         (finite sliding: :mod:`fretbem.wear.slide`); None: the pairs stay where they are.
         With sliding, ``depth``, ``energy`` and ``work`` (and their sensitivities to p) are
         on the track's grid, not per pair.
+    moment, rotation, tilt : ndarray (n_steps,) or None
+        Where the pad's block rotates (:attr:`fretbem.simulation.Simulation.rotates`), its
+        M, the actuator's rotation theta and the block's tilt at the end of each step (as
+        :class:`fretbem.results.StepResult` names them); None: the block does not rotate.
     """
 
     depth: Mapping[str, np.ndarray]
@@ -73,6 +80,9 @@ class CycleWear:
     state: ContactState
     iterations: int
     positions: np.ndarray | None = None
+    moment: np.ndarray | None = None
+    rotation: np.ndarray | None = None
+    tilt: np.ndarray | None = None
 
     @property
     def sensitivity(self) -> np.ndarray:
@@ -111,12 +121,17 @@ def simulate_cycle(
         path[:] += np.abs(ds)
         previous[0] = reached
 
+    turns = []  # the rotating block's M, theta and tilt at each step's end
     for load in cycle:
         state, its, _ = simulation.step(problem, state, load, wear)
         iterations += its
         pressures.append(state.x[layout.pressure].copy())
         shears.append(state.x[layout.shear].copy())
+        if simulation.rotates:
+            measured = simulation.measure(problem, state)
+            turns.append([measured[k] for k in BLOCK_ROTATION])
+    block = dict(zip(BLOCK_ROTATION, np.array(turns).T, strict=True)) if turns else {}
     return CycleWear(
         depth, sensitivities, energy, energy_sensitivity, work, work_sensitivity, path,
-        np.array(pressures), np.array(shears), state, iterations,
+        np.array(pressures), np.array(shears), state, iterations, **block,
     )  # fmt: skip

@@ -155,6 +155,9 @@ class WearSnapshot:
     positions : ndarray (n_steps, n) or None
         With finite sliding, where the pairs of ``pressure`` and ``shear`` were along the
         specimen at each step's end; None: at ``profile.x``.
+    moment, rotation, tilt : ndarray (n_steps,) or None
+        A rotating pad block's M (N mm/mm), the actuator's rotation theta and the block's
+        tilt (rad) at the end of each cycle step at N; None: the block does not rotate.
     """
 
     profile: WornProfile
@@ -163,6 +166,9 @@ class WearSnapshot:
     energy: float
     work: float
     positions: np.ndarray | None = None
+    moment: np.ndarray | None = None
+    rotation: np.ndarray | None = None
+    tilt: np.ndarray | None = None
 
     def pair_x(self, step: int = 0) -> np.ndarray:
         """The positions (mm along the specimen) of the pairs at the end of cycle step
@@ -362,7 +368,8 @@ def run_wear(wear: WearSimulation, *, progress=None) -> WearResult:
         if n == targets[0]:
             targets.pop(0)
             snapshots.append(WearSnapshot(profile, cycle.pressure, cycle.shear, energy, work,
-                                          cycle.positions))  # fmt: skip
+                                          cycle.positions, cycle.moment, cycle.rotation,
+                                          cycle.tilt))  # fmt: skip
         if n >= wear.cycles:
             break
         if n == 0:

@@ -23,7 +23,7 @@ import numpy as np
 from fretbem.contact.condensation import CondensedContact
 from fretbem.contact.law import ContactState, PairState
 from fretbem.contact.node_to_segment import NodeToSegmentPair
-from fretbem.simulation import LoadStep, Simulation
+from fretbem.simulation import LoadStep, Simulation, loads_between
 from fretbem.sliding.slide import (
     SlidingError,
     _block_delta,
@@ -180,8 +180,7 @@ class Track:
             frac = k / load.increments
             target_n = start_n + frac * (load.normal_target - start_n)
             target_t = start_t + frac * (load.tangential_target - start_t)
-            loads = {name: start_loads.get(name, 0.0) + frac * (v - start_loads.get(name, 0.0))
-                     for name, v in load.loads.items()}  # fmt: skip
+            loads = loads_between(start_loads, load.loads, frac)
             ahead = track.block(state)
             if displacement and not state.virgin:
                 ahead = target_t - track.pair.slide()

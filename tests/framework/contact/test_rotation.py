@@ -275,3 +275,59 @@ def test_every_pad_shape_turns(pad, model):
         for mine, theirs in zip(result.steps, same.steps, strict=True):
             np.testing.assert_allclose(mine.pressure, theirs.pressure, atol=1e-9 * 200.0)
             assert mine.tilt == pytest.approx(theirs.tilt, rel=1e-9, abs=1e-15)
+
+
+# a rig value from Python and the same value in a scene file: one message after the key
+RIG_VALUES = [
+    ("pivot_height", "pivot_height", 2.0e4, "within 10000 mm of it"),
+    ("pivot_height", "pivot_height", -2.0e4, "within 10000 mm of it"),
+    ("rotational", "stiffness_rotation", -1.0, r"must be > 0 \(N mm/mm per rad\)"),
+    ("rotational", "stiffness_rotation", 0.0, r"must be > 0 \(N mm/mm per rad\)"),
+    ("tangential", "stiffness_x", -5.0, r"must be > 0 \(N/mm per mm of travel\)"),
+]
+
+
+@pytest.mark.parametrize("field, key, value, cause", RIG_VALUES)
+def test_rig_from_python_is_checked_as_the_scene_file_is(field, key, value, cause):
+    with pytest.raises(InputError, match=cause) as from_python:
+        control.Rig(**{field: value})
+    data = {"pad": {"model": "half-plane"}, "specimen": {"model": "half-plane"}}
+    with pytest.raises(SceneFileError, match=cause) as from_file:
+        scene_from_dict({**data, "rig": {key: value}})
+    python, file = str(from_python.value), str(from_file.value)
+    assert python.startswith(f"Rig.{field} ") and file.startswith(f"[rig] {key} ")
+    # the same cause and range; the fix says how each writes a rigid rig / the block's line
+    cause_of = lambda message, key: message.removeprefix(key).split(";")[0]  # noqa: E731
+    assert cause_of(python, f"Rig.{field}") == cause_of(file, f"[rig] {key}")
+
+
+@pytest.mark.parametrize("value", [math.nan, -math.inf, "3.0", True, [1.0]])
+@pytest.mark.parametrize("field", ["pivot_height", "rotational", "tangential", "normal"])
+def test_rig_refuses_what_a_scene_file_refuses(field, value):
+    with pytest.raises(InputError, match=rf"^Rig\.{field} must be .*; give (.* )?(None|math\.inf)"):
+        control.Rig(**{field: value})
+
+
+def test_rig_takes_infinity_as_rigid_but_not_as_a_pivot():
+    assert control.Rig(math.inf, math.inf, rotational=math.inf) == control.RIGID
+    with pytest.raises(InputError, match="pivot_height must be a finite number"):
+        control.Rig(pivot_height=math.inf)
+
+
+def test_rig_takes_numpy_numbers_and_a_pivot_within_reach():
+    rig = control.Rig(np.float32(2.0), np.int64(3), rotational=np.float64(4.0), pivot_height=-1e4)
+    assert (rig.tangential, rig.normal, rig.rotational, rig.pivot_height) == (2.0, 3.0, 4.0, -1e4)
+    assert type(rig.normal) is float and control.Rig(pivot_height=None).pivot_height is None
+
+
+@pytest.mark.parametrize("field", ["moment", "rotation"])
+@pytest.mark.parametrize("value", [math.nan, math.inf, "1.0", True, None])
+def test_step_rotation_drives_from_python_are_checked(field, value):
+    if value is None:
+        assert getattr(LoadStep("A", 100.0, **{field: value}), field) is None
+        return
+    with pytest.raises(
+        InputError, match=rf"^LoadStep\.{field} must be a (finite )?number .*; give"
+    ):
+        LoadStep("A", 100.0, **{field: value})
+    assert getattr(LoadStep("A", 100.0, **{field: np.float32(0.5)}), field) == 0.5

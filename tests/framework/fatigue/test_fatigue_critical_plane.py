@@ -268,3 +268,45 @@ def test_bad_inputs_are_named():
         critical_plane_parameters(np.zeros((3, 2, 4)), E=E, nu=NU, methods=("findley",))
     with pytest.raises(FatigueInputError, match="unknown fatigue method"):
         critical_plane_parameters(np.zeros((3, 2, 4)), E=E, nu=NU, methods=("dang_van",))
+
+
+def plane_stresses_by_hand(stress, normal):
+    """Normal stress and shear vector paths on the plane of unit ``normal`` (3,): traction
+    sigma n, its normal part, the rest in a basis of the plane; (T,), (T, 2)."""
+    sxx, syy, sxy, szz = np.moveaxis(stress, -1, 0)
+    zero = np.zeros_like(sxx)
+    tensor = np.stack(
+        [np.stack([sxx, sxy, zero], -1), np.stack([sxy, syy, zero], -1),
+         np.stack([zero, zero, szz], -1)], -2,
+    )  # fmt: skip
+    traction = tensor @ normal
+    sigma_n = traction @ normal
+    e1 = np.cross(normal, [0.0, 0.0, 1.0] if abs(normal[2]) < 0.9 else [1.0, 0.0, 0.0])
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(normal, e1)
+    return sigma_n, np.stack([traction @ e1, traction @ e2], -1)
+
+
+@pytest.mark.parametrize(
+    "methods, in_plane",
+    [(("swt",), False), (("swt", "findley"), False), (("swt", "mwcm"), True),
+     (("stress_life", "strain_life"), False)],
+)  # fmt: skip
+def test_criteria_without_shear_report_their_planes_stresses(methods, in_plane):
+    """SWT, stress and strain life search without the shear; their results still carry the
+    critical plane's shear amplitude (minimum circle of the shear path) and normal stresses."""
+    s = random_history(13, n_points=5)
+    search = PlaneSearch(in_plane_only=in_plane)
+    results = critical_plane_parameters(s, methods=methods, search=search, **KW)
+    for name in methods:
+        r = results[name]
+        for p in range(s.shape[1]):
+            sigma_n, shear = plane_stresses_by_hand(s[:, p], r.normal[p])
+            tau = brute_force_radius(shear)
+            assert tau > 0.1  # these histories shear the critical planes (0.48 to 69 MPa)
+            assert r.shear_stress_amplitude[p] == pytest.approx(tau, rel=1e-9)
+            assert r.shear_strain_amplitude[p] == pytest.approx(tau / G, rel=1e-9)
+            assert r.normal_stress_max[p] == pytest.approx(sigma_n.max(), rel=1e-12, abs=1e-9)
+            amplitude, mean = np.ptp(sigma_n) / 2, (sigma_n.max() + sigma_n.min()) / 2
+            assert r.normal_stress_amplitude[p] == pytest.approx(amplitude, rel=1e-12)
+            assert r.normal_stress_mean[p] == pytest.approx(mean, rel=1e-12, abs=1e-9)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
@@ -110,3 +112,12 @@ def test_bad_cycle_tables_are_refused(load, message):
         return
     with pytest.raises(SceneFileError, match=message):
         scene_from_dict(_scene(load))
+
+
+@pytest.mark.parametrize("field", ["moment", "moment_amplitude", "moment_phase"])
+@pytest.mark.parametrize("value", [math.nan, -math.inf, "2.0", False])
+def test_moment_fields_from_python_name_the_field_cause_and_fix(field, value):
+    with pytest.raises(
+        WaveformError, match=rf"^Waveform\.{field} must be a (finite )?number .*; give"
+    ):
+        Waveform(amplitude=1.0, normal=100.0, **{field: value})

@@ -15,8 +15,8 @@ from fretbem.fatigue.run import run_fatigue
 from fretbem.scenes.builder import build
 from fretbem.scenes.spec import scene_from_dict
 from fretbem.simulation import run
-from fretbem.studies.sweep.cases import step_metrics
-from fretbem.studies.sweep.run import sweep
+from fretbem.studies.sweep.cases import rotation_metrics, step_metrics
+from fretbem.studies.sweep.run import sweep, sweep_columns
 from fretbem.studies.sweep.spec import SweepSpecError, set_path
 
 #: half-plane bodies (fast), a flat specimen on its ends carrying a bulk stress
@@ -55,9 +55,9 @@ def _direct(scene: dict, path: str, value):
     ],
 )
 def test_a_swept_rotation_key_is_honoured(tmp_path, path, values, tables):
-    """Each case's stick width, peak pressure and contact width at step B equal the direct
-    solve's with that value (the same discretisation: to round-off), and the values change
-    the answer (the block turns)."""
+    """Each case's stick width, peak pressure, contact width and the block's M, theta and
+    tilt at step B equal the direct solve's with that value (the same discretisation: to
+    round-off), and the values change the answer (the block turns)."""
     scene = _scene(**tables)
     table = sweep(scene, {path: values}, out=tmp_path / "s", serial=True, progress=False).table
     table = table.sort_values("case")
@@ -66,7 +66,7 @@ def test_a_swept_rotation_key_is_honoured(tmp_path, path, values, tables):
     for value, (_, row) in zip(values, table.iterrows(), strict=True):
         step = _direct(scene, path, value).steps[1]
         tilts.append(step.tilt)
-        for key, expected in step_metrics(step).items():
+        for key, expected in {**step_metrics(step), **rotation_metrics(step)}.items():
             if key in ("regime", "iterations"):
                 assert row[f"{key}.B"] == expected
             else:
@@ -114,3 +114,41 @@ def test_a_bad_swept_rotation_or_correction_is_refused_before_solving(
         sweep(_scene(**tables), {path: values}, out=tmp_path / "x", serial=True,
               progress=False, options=options)  # fmt: skip
     assert not (tmp_path / "x").exists() or not list((tmp_path / "x").glob("cases-*"))
+
+
+def test_the_rotation_columns_come_with_a_rotating_block_only(tmp_path):
+    """A rig without a rotational spring and no moment: no M, theta or tilt columns (the
+    block does not rotate), and the columns a [[maps]] may name say so before solving."""
+    from fretbem.studies.sweep.spec import Parameter, SweepSpec
+
+    plain = sweep(SCENE, {"load.P": [90.0, 110.0]}, out=tmp_path / "p", serial=True,
+                  progress=False).table  # fmt: skip
+    assert "stick_width.B" in plain and not {"M.B", "theta.B", "tilt.B"} & set(plain.columns)
+    spring = _scene(rig={"stiffness_rotation": 1.0e5})
+    for scene, turning in ((SCENE, False), (spring, True)):
+        spec = SweepSpec(scene=scene, parameters=[Parameter("load.P", (90.0, 110.0))])
+        assert ({"M.B", "theta.C", "tilt.A"} <= sweep_columns(spec, ())) == turning
+
+
+def test_a_cyclic_rotating_case_gives_its_last_cycles_amplitudes(tmp_path):
+    """One row per cyclic case: M, theta and tilt amplitudes (half the ranges over the
+    last cycle, its start increment included) as the direct run's increments give them;
+    the spring holds tilt = -M / k_r (the actuator at 0), so tilt* = M* / k_r."""
+    scene = _scene(rig={"stiffness_rotation": 1.0e5})
+    scene["load"] = {"P": 100.0, "cycle": {"Q": 12.0, "cycles": 2, "increments": 8}}
+    stiffness = [5.0e4, 2.0e5]
+    table = sweep(scene, {"rig.stiffness_rotation": stiffness}, out=tmp_path / "c",
+                  serial=True, progress=False).table.sort_values("case")  # fmt: skip
+    assert set(table["status"]) == {"ok"} and "tilt.B" not in table
+    for k_r, (_, row) in zip(stiffness, table.iterrows(), strict=True):
+        result = _direct(scene, "rig.stiffness_rotation", k_r)
+        records = [r for s in result.steps for r in s.increments]
+        cycle = [load.cycle for load in result.simulation.steps for _ in range(load.increments)]
+        loop = records[cycle.index(2) - 1 :]
+        for column, name in (("M_amplitude", "moment"), ("theta_amplitude", "rotation"),
+                             ("tilt_amplitude", "tilt")):  # fmt: skip
+            expected = 0.5 * np.ptp([getattr(r, name) for r in loop])
+            assert row[column] == pytest.approx(expected, rel=1e-9, abs=1e-18)
+        assert row["M_amplitude"] > 12.0  # Q* = 12 N/mm 3 mm below the pivot: M* ~ 3 Q*
+        assert row["theta_amplitude"] < 1e-15
+        assert row["tilt_amplitude"] == pytest.approx(row["M_amplitude"] / k_r, rel=1e-9)

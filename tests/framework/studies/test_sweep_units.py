@@ -18,6 +18,11 @@ from fretbem.studies.sweep.units import axis_label, unit_of
         ("stick_width.B", "mm"), ("sxx_max", "MPa"), ("sxx_max.B", "MPa"),
         ("e_q_max.D", "fraction of f p0"), ("swt.parameter", "MPa"), ("swt.life", "cycles"),
         ("fatemi_socie.parameter", "1"), ("mwcm.depth", "mm"), ("Q_peak", "N/mm"),
+        ("M.B", "N mm/mm"), ("theta.B", "rad"), ("tilt.C", "rad"), ("tilt_amplitude", "rad"),
+        ("M_amplitude", "N mm/mm"), ("theta_amplitude", "rad"), ("load.moment", "N mm/mm"),
+        ("load.moment[1]", "N mm/mm"), ("load.rotation", "rad"),
+        ("load.cycle.M_amplitude", "N mm/mm"), ("load.cycle.M_phase", "degrees"),
+        ("rig.stiffness_rotation", "N mm/mm per rad"), ("rig.pivot_height", "mm"),
     ],
 )  # fmt: skip
 def test_units_of_parameters_and_outputs(name, unit):

@@ -167,8 +167,30 @@ CYCLE_COLUMNS = ("dissipated_energy", "delta_amplitude", "Q_amplitude", "energy_
 CYCLE_REGIMES = {"stick": "full stick", "partial slip": "partial slip", "gross slip": "gross slip"}
 
 
+#: the pad block's rotation in a case whose block rotates, as the run's summary.json names
+#: them: per step (``M.B``) ...
+ROTATION_COLUMNS = ("M", "theta", "tilt")
+#: ... or, in a cyclic case, half their ranges over the last cycle
+ROTATION_CYCLE_COLUMNS = tuple(f"{name}_amplitude" for name in ROTATION_COLUMNS)
+
+
+def rotates(simulation) -> bool:
+    """Whether the pad block of ``simulation`` rotates (its rotation is an unknown)."""
+    return bool(getattr(simulation, "rotates", False))
+
+
+def scene_rotates(scene: Mapping, steps: Sequence) -> bool:
+    """Whether a scene dict with load ``steps`` turns the pad's block, as the Simulation it
+    builds would (:attr:`fretbem.simulation.Simulation.rotates`): a rotational rig spring,
+    or a step that gives a moment or a rotation."""
+    rig = scene.get("rig")
+    spring = isinstance(rig, Mapping) and rig.get("stiffness_rotation") is not None
+    return spring or any(getattr(step, "turns", False) for step in steps)
+
+
 def cycle_metrics(result) -> dict[str, Any] | None:
-    """Regime and fretting columns of the last load cycle of ``result`` (None: no cycles)."""
+    """Regime and fretting columns of the last load cycle of ``result`` (None: no cycles);
+    with a rotating pad block, the amplitudes of its M, theta and tilt over that cycle."""
     if not any(getattr(s, "cycle", 0) for s in result.simulation.steps):
         return None
     analysis = analyse(result)
@@ -177,6 +199,12 @@ def cycle_metrics(result) -> dict[str, Any] | None:
     row["transition_ratio"] = analysis.transition_ratio
     row["regime"] = CYCLE_REGIMES[last["regime"]]
     row["cycles"] = len(analysis.cycles)
+    if rotates(result.simulation):
+        records = [record for step in result.steps for record in step.increments]
+        loop = [records[k - 1] for k in analysis.cycles[-1].increments]
+        for column, name in zip(ROTATION_CYCLE_COLUMNS, ("moment", "rotation", "tilt"),
+                                strict=True):  # fmt: skip
+            row[column] = 0.5 * float(np.ptp([getattr(r, name) for r in loop]))
     return row
 
 
@@ -202,6 +230,11 @@ def step_metrics(step) -> dict[str, Any]:
         "q_max": float(np.max(np.abs(step.shear))),
         "iterations": int(step.iterations),
     }
+
+
+def rotation_metrics(step) -> dict[str, float]:
+    """M, theta and tilt of one solved step (a case whose pad block rotates)."""
+    return dict(zip(ROTATION_COLUMNS, (step.moment, step.rotation, step.tilt), strict=True))
 
 
 def worst(regimes: Sequence[str]) -> str:
@@ -295,8 +328,12 @@ def solve_case(simulation, loading: Loading, outputs=(), scene=None, memo=None) 
         row.update(cyclic)
     else:
         regimes = []
+        turning = rotates(result.simulation)
         for step in result.steps:
-            for key, value in step_metrics(step).items():
+            metrics = step_metrics(step)
+            if turning:
+                metrics.update(rotation_metrics(step))
+            for key, value in metrics.items():
                 row[f"{key}.{step.name}"] = value
             regimes.append(row[f"regime.{step.name}"])
         regime = worst(regimes)

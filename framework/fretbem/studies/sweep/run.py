@@ -43,6 +43,8 @@ from . import cases as sweep_cases
 from .cases import (
     CYCLE_COLUMNS,
     REGIMES,
+    ROTATION_COLUMNS,
+    ROTATION_CYCLE_COLUMNS,
     STEP_COLUMNS,
     TIMING_COLUMNS,
     case_loading,
@@ -627,9 +629,12 @@ def sweep_columns(spec: SweepSpec, outputs: Sequence[str]) -> set[str] | None:
         return None
     base = {"case", "status", "error", "regime", "friction", "P_max", "Q_peak", "pairs",
             "transition_ratio", "cycles", *CYCLE_COLUMNS, *TIMING_COLUMNS}  # fmt: skip
+    turning = sweep_cases.scene_rotates(scene, loading)  # the block's M, theta and tilt too
     per_step = {f"{c}.{s}" for c in STEP_COLUMNS for s in steps}
+    per_step |= {f"{c}.{s}" for c in ROTATION_COLUMNS for s in steps if turning}
     if any(getattr(step, "cycle", 0) for step in loading):  # a cyclic case: its last cycle
         per_step = {*CYCLE_COLUMNS, "transition_ratio", "cycles"}
+        per_step |= set(ROTATION_CYCLE_COLUMNS) if turning else set()
     return base | per_step | set(spec.paths) | declared
 
 

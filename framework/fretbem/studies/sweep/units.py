@@ -19,7 +19,9 @@ SCENE_KEYS = {
     "flat": "mm", "zone_width": "mm", "zone": "a (Hertz half-width)", "pairs": "1",
     "degree": "1", "tolerance": "1", "increments": "1", "delta": "mm", "approach": "mm",
     "cycles": "1", "P_amplitude": "N/mm", "P_phase": "degrees", "bulk_amplitude": "MPa",
-    "bulk_phase": "degrees", "stiffness_x": "MPa", "stiffness_y": "MPa",
+    "bulk_phase": "degrees", "stiffness_x": "MPa", "stiffness_y": "MPa", "moment": "N mm/mm",
+    "rotation": "rad", "M_amplitude": "N mm/mm", "M_phase": "degrees",
+    "stiffness_rotation": "N mm/mm per rad", "pivot_height": "mm",
 }  # fmt: skip
 #: output columns, by their name before the step (``stick_width.B``) or method
 OUTPUTS = {
@@ -29,6 +31,8 @@ OUTPUTS = {
     "solve_seconds": "s", "solve_cpu_seconds": "s", "assembly_seconds": "s",
     "dissipated_energy": "N mm/mm", "delta_amplitude": "mm", "Q_amplitude": "N/mm",
     "energy_ratio": "1", "transition_ratio": "1", "slip_amplitude_max": "mm", "cycles": "1",
+    "M": "N mm/mm", "theta": "rad", "tilt": "rad", "M_amplitude": "N mm/mm",
+    "theta_amplitude": "rad", "tilt_amplitude": "rad",
 }  # fmt: skip
 #: per-method fatigue columns (``swt.life``, ``mwcm.x``)
 METHOD_COLUMNS = {"life": "cycles", "x": "mm", "depth": "mm"}
