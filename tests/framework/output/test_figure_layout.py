@@ -1,0 +1,76 @@
+"""The demo's figures with three families: titles that fit, few ticks, unhinted glyphs only
+while saving (the figures' cost is per tick and per glyph; issue 28)."""
+
+from __future__ import annotations
+
+import matplotlib
+import pytest
+
+from fretbem.output import figures
+from fretbem.scenes.reference import cattaneo_mindlin
+from fretbem.simulation import run
+
+PAIRS = 31  # 3 k + 1: every family (the cubic lagrange3 too)
+FAMILIES = ("nurbs", "lagrange2", "lagrange3")
+
+
+@pytest.fixture(scope="module")
+def results():
+    """The reference cycle in the three families the demo draws."""
+    return [run(cattaneo_mindlin(basis=b, pairs=PAIRS)) for b in FAMILIES]
+
+
+def _drawn(fig):
+    fig.canvas.draw()
+    return fig.canvas.get_renderer()
+
+
+def test_traction_titles_of_three_families_fit_their_panels(results):
+    """Each step panel's two-line title (loads, every family's max e_q) stays inside the
+    figure and clear of its neighbours' titles (they ran into each other before)."""
+    fig = figures.traction_figure(results)
+    renderer = _drawn(fig)
+    boxes = [ax.title.get_window_extent(renderer) for ax in fig.axes]
+    width = fig.bbox.width
+    for ax, box in zip(fig.axes, boxes, strict=True):
+        assert all(name in ax.get_title() for name in FAMILIES)
+        assert box.x0 >= 0 and box.x1 <= width, ax.get_title()
+    for k, a in enumerate(boxes):
+        for b in boxes[k + 1 :]:
+            assert not a.overlaps(b)
+
+
+@pytest.mark.parametrize(
+    "make", [figures.traction_figure, figures.displacement_figure, figures.stick_slip_figure]
+)
+def test_panels_carry_at_most_tick_bins_intervals(results, make):
+    """Every axis has at most TICK_BINS + 1 major ticks in view (matplotlib's default puts
+    9-11 on a panel; each tick is five artists and a label to draw)."""
+    fig = make(results)
+    _drawn(fig)
+    for ax in fig.axes:
+        for axis, (lo, hi) in ((ax.xaxis, ax.get_xlim()), (ax.yaxis, ax.get_ylim())):
+            lo, hi = min(lo, hi), max(lo, hi)
+            shown = [t for t in axis.get_majorticklocs() if lo <= t <= hi]
+            assert 2 <= len(shown) <= figures.TICK_BINS + 1, (make.__name__, shown)
+
+
+def test_glyphs_are_unhinted_only_while_the_files_are_written(results, tmp_path, monkeypatch):
+    """save_figures draws without hinting and leaves the user's rcParams as they were; a
+    hinting the user chose is kept."""
+    seen = []
+    draw = matplotlib.backends.backend_agg.FigureCanvasAgg.draw
+
+    def spy(canvas):
+        seen.append(matplotlib.rcParams["text.hinting"])
+        return draw(canvas)
+
+    monkeypatch.setattr(matplotlib.backends.backend_agg.FigureCanvasAgg, "draw", spy)
+    before = matplotlib.rcParams["text.hinting"]
+    figures.save_figures(results, tmp_path / "a")
+    assert seen and set(seen) == {"no_hinting"}
+    assert matplotlib.rcParams["text.hinting"] == before
+    seen.clear()
+    with matplotlib.rc_context({"text.hinting": "native"}):
+        figures.save_figures(results, tmp_path / "b")
+    assert seen and set(seen) == {"native"}
