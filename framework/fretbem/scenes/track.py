@@ -76,6 +76,14 @@ def sliding_scene(scene: Scene, zone: float, track: float, pad_elements: int) ->
                     "which cannot turn along an arc; set [pad] model = 'bem' and [specimen] "
                     "model = 'bem', or slide on a flat specimen ([specimen] shape = 'flat')"
                 )
+        stress = scene.extras.get("stress", {})
+        if isinstance(stress, dict) and stress.get("body") == "upper":
+            raise SceneFileError(
+                "[stress] body = 'upper': the pad slides along the cylinder specimen's arc and "
+                "turns with it, so its fields are in its own turned axes, not the global frame "
+                "the stresses are given in; evaluate the specimen ([stress] body = 'lower'), "
+                "or slide on a flat specimen ([specimen] shape = 'flat')"
+            )
     ends, size = (shape.length, "length") if kind == "flat" else (shape.width, "width")
     if not zone <= track < ends / 2:
         raise SceneFileError(

@@ -72,6 +72,14 @@ def test_a_curved_track_on_half_plane_bodies_is_refused():
         build(scene_from_data(_cylinder(pad__model="bem")))
 
 
+def test_the_pads_stresses_on_an_arc_are_refused():
+    """The pad turns along the arc: its fields are in its own axes, so [stress] on it is
+    refused at reading (and by the evaluator from Python)."""
+    data = _cylinder(pad__model="bem", specimen__model="bem", stress__body="upper")
+    with pytest.raises(SceneFileError, match=r"\[stress\] body = 'upper'.*body = 'lower'"):
+        build(scene_from_data(data))
+
+
 def test_a_cylinder_track_past_the_specimen_is_refused():
     data = _cylinder(pad__model="bem", specimen__model="bem", specimen__width=5.0)
     with pytest.raises(SceneFileError, match=r"half-width 2.5 mm.*lengthen \[specimen\] width"):
