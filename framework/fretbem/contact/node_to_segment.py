@@ -30,8 +30,9 @@ class NodeToSegmentPair(ContactPair):
 
     All pairs share one frame, the lower face's mean normal (as node to node: the
     half-plane idealisation of a non-conformal contact); when the upper body is turned, its
-    axis turned with it (its face's mean normal reversed): the frame turns with the pad. Matching faces give the pairs of
-    :class:`~fretbem.contact.pairs.NodeToNodePair` (within round-off).
+    axis turned with it (its face's mean normal reversed): the frame turns with the pad.
+    Matching faces give the pairs of :class:`~fretbem.contact.pairs.NodeToNodePair`
+    (within round-off).
 
     Attributes
     ----------

@@ -14,8 +14,8 @@ import math
 import attrs
 
 from fretbem.geometry.boundary import Segment
-from fretbem.geometry.shapes import CylinderSpecimen
 from fretbem.geometry.nurbs import NurbsCurve
+from fretbem.geometry.shapes import CylinderSpecimen
 
 from .spec import Scene, SceneFileError
 

@@ -32,10 +32,11 @@ def _turned_scene(scene, angle: float):
     zone = builder.zone_half_width(scene)
     boundary = builder._specimen_boundary(scene, builder._pad_face(scene, zone, True), zone)
     turn = np.array([[math.cos(angle), -math.sin(angle)], [math.sin(angle), math.cos(angle)]])
-    segments = [
-        Segment(s.tag, attrs.evolve(s.curve, control_points=CENTRE + (s.curve.control_points - CENTRE) @ turn.T))
-        for s in boundary.segments
-    ]  # fmt: skip
+
+    def turned(curve):
+        return attrs.evolve(curve, control_points=CENTRE + (curve.control_points - CENTRE) @ turn.T)
+
+    segments = [Segment(s.tag, turned(s.curve)) for s in boundary.segments]
     return attrs.evolve(
         scene,
         specimen=attrs.evolve(scene.specimen, shape=NurbsShape(segments)),

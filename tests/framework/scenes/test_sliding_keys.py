@@ -65,8 +65,11 @@ def _cylinder(**changes):
 def test_a_curved_track_on_half_plane_bodies_is_refused():
     """A cylinder specimen's track is an arc the pad turns along: half-plane bodies (the
     example's) cannot turn; the key and both fixes are named."""
-    with pytest.raises(SceneFileError, match=r"\[pad\] model = 'half-plane'.*\[specimen\] "
-                                             r"model = 'bem'.*\[specimen\] shape = 'flat'"):
+    with pytest.raises(
+        SceneFileError,
+        match=r"\[pad\] model = 'half-plane'.*\[specimen\] "
+        r"model = 'bem'.*\[specimen\] shape = 'flat'",
+    ):
         build(scene_from_data(_cylinder()))
     with pytest.raises(SceneFileError, match=r"\[specimen\] model = 'half-plane'"):
         build(scene_from_data(_cylinder(pad__model="bem")))
