@@ -169,9 +169,10 @@ def test_sliding_along_the_arc_is_the_pad_turned_where_it_slid(reference_arc):
 
 def test_larger_bodies_slide_with_the_hertz_pressure_of_both_radii():
     """A pad four times as wide on a specimen 40 x 20 mm: the pad hardly bends and the
-    pressure along the arc is Hertz's with R* = 35 mm within 0.27 % of p0 (0.12 % at the
-    start; measured, 61 pairs), the contact centred on the pad's axis, Q = f P."""
-    simulation, sliding, twins, hertz = study(pairs=61, pad=(26.0, 16.25), specimen=(40.0, 20.0))
+    pressure along the arc is Hertz's with R* = 35 mm within 0.30 % of p0 (0.19 % at the
+    start; measured, 31 pairs; 0.27 % at 61), the contact centred on the pad's axis,
+    Q = f P."""
+    simulation, sliding, twins, hertz = study(pairs=31, pad=(26.0, 16.25), specimen=(40.0, 20.0))
     rows = measures(simulation, sliding, twins, hertz)
     check(rows, hertz=0.004)
     for row in rows:
@@ -199,10 +200,12 @@ def test_sliding_along_the_arc_at_several_loads_pair_counts_and_families(basis, 
 @pytest.mark.slow
 @pytest.mark.parametrize(
     ("basis", "pairs", "hertz"),
-    [("nurbs", 97, 0.004), ("lagrange2", 61, None), ("lagrange2", 97, None)],
+    [("nurbs", 61, 0.004), ("nurbs", 97, 0.004), ("lagrange2", 61, None), ("lagrange2", 97, None)],
 )
 def test_larger_bodies_at_another_pair_count_and_family(basis, pairs, hertz):
-    """nurbs 97: within 0.4 % of Hertz as at 61. lagrange2 meets Hertz less closely on
+    """nurbs 61 and 97: within 0.4 % of Hertz as at 31 (0.27 % measured at 61; at 41 the
+    pairs fall so on the contact's edges that the largest error is 6.7 %, at the start
+    without sliding too, so 41 is not among these). lagrange2 meets Hertz less closely on
     these curved faces without sliding too (3.2 % at 61 pairs, 2.4 % at 97 at the start);
     sliding stays within that (2.1 % and 1.5 %, measured)."""
     simulation, sliding, twins, hertz_form = study(
@@ -286,7 +289,7 @@ def test_the_specimens_stresses_follow_the_pad_and_the_pads_are_refused():
     a, p0 = hertz.half_width, hertz.peak_pressure
     data = copy.deepcopy(BASE)
     data["contact"]["pairs"] = 41
-    data["load"].update(steps=["press", "slide"], delta=[0.0, 3 * a], increments=[1, 6])
+    data["load"].update(steps=["press", "slide"], delta=[0.0, 3 * a], increments=[1, 3])
     simulation, _ = build(scene_from_data(data))
     result = solve_sliding(simulation, say=lambda _: None)
     track = Track.of(simulation.pair)
