@@ -63,10 +63,11 @@ class SlidingResult:
     steps : tuple of StepResult
         Per step; ``x`` are the pair positions on the lower face where the pad was then.
     offsets : tuple of float
-        The pad's slide (mm along the tangent) carried in the pairing at each step's end.
+        The pad's slide (mm along the track: the tangent, or the arc's length) carried in
+        the pairing at each step's end.
     positions : tuple of float
         The pad block's tangential displacement at each step's end (mm): offset plus the
-        block unknown, the delta of displacement control.
+        block unknown (along the pad's own tangent), the delta of displacement control.
     pairs : tuple of NodeToSegmentPair
         The pairing at the end of each step.
     notes : tuple of str
