@@ -282,15 +282,19 @@ class Simulation:
         problem is exactly that of a non-rotating block."""
         return bool(np.isfinite(self.rig.rotational)) or any(s.turns for s in self.steps)
 
-    def frame(self) -> tuple[np.ndarray, np.ndarray]:
-        """Mean normal and tangent of the pair: loads act along these."""
-        normal = self.pair.pairing().normals.mean(axis=0)
+    def frame(self, side: str | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Mean normal and tangent of the pair: loads act along these; in the axes of the
+        body on ``side`` (its block's: they differ for a pad turned along an arc) or of the
+        pair frame (None)."""
+        pairing = self.pair.pairing()
+        normal = pairing.normals.mean(axis=0) if side is None else pairing.axes(side)[0].mean(0)
         normal /= np.linalg.norm(normal)
         return normal, np.array([normal[1], -normal[0]])
 
     def forces(self, normal_load: float, tangential_load: float) -> np.ndarray:
-        """Block forces for given P and Q (upper block), plus the lower block's own force."""
-        n, t = self.frame()
+        """Block forces for given P and Q (upper block, in its axes), plus the lower
+        block's own force."""
+        n, t = self.frame("upper")
         forces = [-normal_load * n + tangential_load * t]
         block = self.pair.lower.loading_block
         if block is not None:

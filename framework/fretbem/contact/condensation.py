@@ -125,19 +125,25 @@ class CondensedContact:
         for label, sign in SIDES:
             body = pair.side(label)[0]
             response = responses[label]
-            frame = -lower_frame if label == "upper" else lower_frame
+            # the pair frame in the body's own axes (a turned pad's differ: Pairing.axes)
+            body_normals, body_tangents = pairing.axes(label)
+            frame = np.stack([-body_normals, body_tangents], axis=-1)
+            frame = -frame if label == "upper" else frame
             load_columns = [names.index(name) for name in body.load_names]
-            relative_base += sign * pairing.gather(label, response.base)
+            relative_base += sign * pairing.to_frame(label, pairing.gather(label, response.base))
             face_nodes = response.n_nodes
             # pair-point rows first, projected on the pair frame, then the traction columns
             gathered = pairing.gather(label, response.traction_map)  # (n, 2, 2 face nodes)
-            for target, direction in ((normal_map, normals), (tangential_map, tangents)):
+            directions = ((normal_map, body_normals), (tangential_map, body_tangents))
+            for target, direction in directions:
                 projected = (sign * direction[:, 0, None]) * gathered[:, 0]
                 projected += (sign * direction[:, 1, None]) * gathered[:, 1]
                 columns = pairing.pull(label, projected.reshape(n, face_nodes, 2), axis=1)
                 target[:, layout.tractions] += _per_pair(columns, frame)
             del gathered
-            relative_load[:, :, load_columns] += sign * pairing.gather(label, response.load_map)
+            relative_load[:, :, load_columns] += sign * pairing.to_frame(
+                label, pairing.gather(label, response.load_map), axis=1
+            )
             force = pairing.pull(label, response.contact_force.reshape(2, face_nodes, 2), axis=1)
             if label == "lower":
                 lower_force_map[:, layout.tractions] = _per_pair(force, frame)
@@ -145,8 +151,8 @@ class CondensedContact:
                 cols = layout.block(label)
                 block_rows = slice(2 * blocks.index(label), 2 * blocks.index(label) + 2)
                 block = sign * pairing.gather(label, response.block_map)  # (n, 2, 2)
-                normal_map[:, cols] += np.einsum("pd,pdc->pc", normals, block)
-                tangential_map[:, cols] += np.einsum("pd,pdc->pc", tangents, block)
+                normal_map[:, cols] += np.einsum("pd,pdc->pc", body_normals, block)
+                tangential_map[:, cols] += np.einsum("pd,pdc->pc", body_tangents, block)
                 r_traction = pairing.pull(label, response.r_traction.reshape(2, face_nodes, 2), 1)
                 resultant_base[block_rows] = response.r_base
                 resultant_map[block_rows, layout.tractions] = _per_pair(r_traction, frame)
@@ -154,8 +160,10 @@ class CondensedContact:
                 resultant_load[block_rows, :] = _scatter_columns(
                     response.r_load, load_columns, names
                 )
-        rotation = None
-        if pad_rotation.PAD in blocks and responses[pad_rotation.PAD].rotation is not None:
+        rotation = None  # a turned pad (sliding along an arc) reports no moment: its
+        # rotation record's centre and pivot would mix its axes with the pair frame's
+        turnable = pad_rotation.PAD in blocks and pairing.turn == 0.0
+        if turnable and responses[pad_rotation.PAD].rotation is not None:
             rotation = pad_rotation.condensed(
                 pairing, layout, names, pair.side(pad_rotation.PAD)[0],
                 responses[pad_rotation.PAD], -lower_frame, _per_pair,
@@ -226,6 +234,7 @@ class CondensedContact:
         for label, _ in SIDES:
             body, tag = self.pair.side(label)
             on_body = pair_traction[..., 0] * (-1.0 if label == "upper" else 1.0)
+            on_body = self.pairing.to_body(label, on_body)
             face = self.pairing.scatter(label, on_body, body.contact_face(tag).n_nodes)
             turned = unknowns.rotation(label)
             if turned:  # about the body's own centre: the pivot's translation moved to delta

@@ -165,9 +165,12 @@ class Controls:
         return self.normal == "force" and self.tangential == "force" and self.rotation == "rotation"
 
 
-def frame(problem: CondensedContact) -> tuple[np.ndarray, np.ndarray]:
-    """Mean normal n and tangent t of the pair: the loads and the block motion act along them."""
-    normal = problem.pairing.normals.mean(axis=0)
+def frame(problem: CondensedContact, side: str | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Mean normal n and tangent t of the pair: the loads and the block motion act along them;
+    in the axes of the body on ``side`` (its block's), or of the pair frame (None). They
+    differ only for a turned pad (:attr:`~fretbem.contact.pairing.Pairing.turn`)."""
+    normals = problem.pairing.normals if side is None else problem.pairing.axes(side)[0]
+    normal = normals.mean(axis=0)
     normal = normal / np.linalg.norm(normal)
     return normal, np.array([normal[1], -normal[0]])
 
@@ -180,12 +183,13 @@ def _block_rows(problem: CondensedContact) -> slice:
 
 def motion_rows(problem: CondensedContact) -> np.ndarray:
     """(2, n_x): approach and delta of the pad's block against the datum, per unit x."""
-    n, t = frame(problem)
+    n, t = frame(problem, "upper")
     layout = problem.layout
     rows = np.zeros((2, layout.size))
     rows[0, layout.block("upper")] = -n
     rows[1, layout.block("upper")] = t
     if "lower" in problem.blocks:
+        n, t = frame(problem, "lower")
         rows[0, layout.block("lower")] = n
         rows[1, layout.block("lower")] = -t
     return rows
@@ -206,7 +210,7 @@ def measure(
     actuator's (the block's plus the rig springs' travel, P / k_n and Q / k_t); M, the
     block's moment about the pivot, ``rotation`` the actuator's (theta + M / k_r) and
     ``tilt`` the block's own theta (M is NaN where the pad's model gives no moment)."""
-    n, t = frame(problem)
+    n, t = frame(problem, "upper")
     beta = np.asarray(beta, float)
     _, _, base = problem.bases(beta)
     force = (base + problem.resultant_map @ x)[_block_rows(problem)]
@@ -250,7 +254,7 @@ def controlled(problem: CondensedContact, controls: Controls, rig: Rig = RIGID) 
         return problem
     if controls.rotation == "moment":
         problem = _moment_controlled(problem)
-    n, t = frame(problem)
+    n, t = frame(problem, "upper")
     rows = _block_rows(problem)
     k = stiffness(problem)
     motion = motion_rows(problem) * k

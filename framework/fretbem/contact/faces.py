@@ -67,6 +67,26 @@ class FaceField:
         inverses = tuple(np.linalg.inv(b.collocation_matrix()) for b in segments)
         return cls(segments, np.concatenate([[0], np.cumsum(sizes)]), inverses)
 
+    def turned(self, angle: float, pivot: np.ndarray) -> FaceField:
+        """The same face turned rigidly by ``angle`` (rad) about ``pivot``: its curves and
+        geometry coefficients turned (a NURBS curve turns with its control points), its
+        bases and node values unchanged."""
+        c, s = np.cos(angle), np.sin(angle)
+        turn = np.array([[c, -s], [s, c]])
+
+        def moved(points):
+            return pivot + (np.asarray(points) - pivot) @ turn.T
+
+        segments = tuple(
+            attrs.evolve(
+                b,
+                curve=attrs.evolve(b.curve, control_points=moved(b.curve.control_points)),
+                geometry_coefficients=moved(b.geometry_coefficients),
+            )
+            for b in self.segments
+        )
+        return attrs.evolve(self, segments=segments)
+
     @property
     def n_nodes(self) -> int:
         """Number of face nodes."""

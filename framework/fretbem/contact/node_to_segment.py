@@ -17,7 +17,7 @@ import numpy as np
 from fretbem.errors import UnsupportedError
 
 from .faces import FaceField, FaceProjectionError, nearest_nodes
-from .pairing import Pairing
+from .pairing import Pairing, turning
 from .pairs import ContactDiscretisationError, ContactPair, check_overlap
 from .transfer import TRANSFERS
 
@@ -29,8 +29,10 @@ class NodeToSegmentPair(ContactPair):
     """Lower face nodes paired with the upper face by projection along the pair normal.
 
     All pairs share one frame, the lower face's mean normal (as node to node: the
-    half-plane idealisation of a non-conformal contact). Matching faces give the pairs of
-    :class:`~fretbem.contact.pairs.NodeToNodePair` (within round-off).
+    half-plane idealisation of a non-conformal contact); when the upper body is turned, its
+    axis turned with it (its face's mean normal reversed): the frame turns with the pad.
+    Matching faces give the pairs of :class:`~fretbem.contact.pairs.NodeToNodePair`
+    (within round-off).
 
     Attributes
     ----------
@@ -50,6 +52,13 @@ class NodeToSegmentPair(ContactPair):
         A slave node past the ends of the other face: ``"refuse"`` (default: the faces
         must cover each other) or ``"open"`` (the pair faces nothing and stays open, at its
         distance from the nearer end; what a face sliding off the other's end needs).
+    turn : float
+        Rigid rotation (rad, counterclockwise) of the upper body about ``pivot``, applied
+        before ``offset``: a pad slid along an arc turns about the arc's centre. The upper
+        body keeps its own axes (:attr:`~fretbem.contact.pairing.Pairing.turn`); the pair
+        frame turns with it.
+    pivot : ndarray, shape (2,)
+        The point the upper body turns about.
     """
 
     offset: np.ndarray = attrs.field(
@@ -62,6 +71,10 @@ class NodeToSegmentPair(ContactPair):
     )
     uncovered: str = attrs.field(
         default="refuse", validator=attrs.validators.in_(("refuse", "open"))
+    )
+    turn: float = attrs.field(default=0.0, converter=float)
+    pivot: np.ndarray = attrs.field(
+        factory=lambda: np.zeros(2), converter=lambda v: np.asarray(v, float).reshape(2)
     )
 
     description = "lower face nodes projected on the upper face's exact geometry (faces may differ)"
@@ -93,22 +106,38 @@ class NodeToSegmentPair(ContactPair):
     def _field(self, side: str) -> FaceField:
         body, tag = self.side(side)
         try:
-            return FaceField.of(body, tag)
+            field = FaceField.of(body, tag)
         except FaceProjectionError as err:
             raise ContactDiscretisationError(f"contact pair (node to segment): {err}") from None
+        return field.turned(self.turn, self.pivot) if side == "upper" and self.turn else field
+
+    def _face(self, side: str) -> tuple[np.ndarray, np.ndarray]:
+        """The face's nodes and outward normals, the upper one's turned about the pivot."""
+        face = self.side(side)[0].contact_face(self.side(side)[1])
+        if side != "upper" or not self.turn:
+            return face.points, face.normals
+        turn = turning(self.turn)
+        return self.pivot + (face.points - self.pivot) @ turn.T, face.normals @ turn.T
+
+    def placed(self, side: str) -> np.ndarray:
+        """The face's nodes where the pairing places them (the upper turned, then offset)."""
+        points = self._face(side)[0]
+        return points + self.offset if side == "upper" else points
 
     def _pair_up(self) -> Pairing:
         slave = self.slave_side()
         master = "upper" if slave == "lower" else "lower"
-        faces = {label: self.side(label)[0].contact_face(self.side(label)[1])
-                 for label in ("lower", "upper")}  # fmt: skip
-        normals = faces["lower"].normals
+        faces = {label: self._face(label) for label in ("lower", "upper")}
+        normals = faces["lower"][1]
         mean_normal = normals.mean(axis=0) / np.linalg.norm(normals.mean(axis=0))
+        if self.turn:  # the frame turns with the pad: its axis, the face's mean normal reversed
+            normals = -faces["upper"][1]
+            mean_normal = normals.mean(axis=0) / np.linalg.norm(normals.mean(axis=0))
         mean_tangent = np.array([mean_normal[1], -mean_normal[0]])
         # positions of each face as placed: the upper body displaced by ``offset``
         placed = {"lower": np.zeros(2), "upper": self.offset}
         fields = {label: self._field(label) for label in ("lower", "upper")}
-        slave_points = faces[slave].points + placed[slave]
+        slave_points = faces[slave][0] + placed[slave]
         order = np.argsort(slave_points @ mean_tangent)
         points = slave_points[order]
         master_tag = self.side(master)[1]
@@ -150,7 +179,7 @@ class NodeToSegmentPair(ContactPair):
             up_normals = fields["upper"].normals(segment, params)
             up_normals[~covered] = -mean_normal
         else:
-            up_normals = faces["upper"].normals[order]
+            up_normals = faces["upper"][1][order]
         self.check_facing(upper_points, up_normals, mean_normal)
         lower_points = points if slave == "lower" else master_points
         gap = np.where(covered, (upper_points - lower_points) @ mean_normal, distance)
@@ -160,7 +189,7 @@ class NodeToSegmentPair(ContactPair):
         transfer = TRANSFERS[self.transfer](
             fields[master],
             fields[slave],
-            (faces[master].points + placed[master]) @ mean_tangent,
+            (faces[master][0] + placed[master]) @ mean_tangent,
             mean_tangent,
             order,
             shift=float((placed[master] - placed[slave]) @ mean_tangent),
@@ -170,7 +199,7 @@ class NodeToSegmentPair(ContactPair):
         nodes = {slave: order, master: nearest_nodes(interpolation)}
         interpolations = {master: interpolation}
         if not covered.all():  # a pair facing nothing moves with neither face: it stays open
-            select = np.zeros((n, faces[slave].n_nodes))
+            select = np.zeros((n, len(faces[slave][0])))
             select[np.flatnonzero(covered), order[covered]] = 1.0
             interpolations[slave] = select
         return Pairing(
@@ -182,6 +211,7 @@ class NodeToSegmentPair(ContactPair):
             gap=np.maximum(gap, 0.0),
             interpolation=interpolations,
             transfer={master: transfer},
+            turn=self.turn,
         )
 
 

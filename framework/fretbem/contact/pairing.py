@@ -11,7 +11,13 @@ from collections.abc import Mapping
 import attrs
 import numpy as np
 
-__all__ = ["Pairing"]
+__all__ = ["Pairing", "turning"]
+
+
+def turning(angle: float) -> np.ndarray:
+    """The 2 x 2 matrix turning a vector by ``angle`` (rad, counterclockwise)."""
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[c, -s], [s, c]])
 
 
 def _frozen_array(value) -> np.ndarray:
@@ -47,6 +53,11 @@ class Pairing:
     interpolation : mapping of "lower"/"upper" to ndarray (n, n_face), optional
     transfer : mapping of "lower"/"upper" to ndarray (n_face, n), optional
         Face-node tractions per unit pair traction (default: W.T, or the node selection).
+    turn : float
+        How far (rad, counterclockwise) the upper body is turned from its own axes, which
+        its displacements, tractions and block are given in (0: the axes of the pair frame;
+        a pad that slides along an arc turns with it). :meth:`axes` gives the pair frame in
+        each body's axes.
     """
 
     lower_nodes: np.ndarray = attrs.field(converter=_frozen_array)
@@ -57,6 +68,7 @@ class Pairing:
     gap: np.ndarray = attrs.field(converter=_frozen_array)
     interpolation: Mapping[str, np.ndarray] = attrs.field(factory=dict)
     transfer: Mapping[str, np.ndarray] = attrs.field(factory=dict)
+    turn: float = attrs.field(default=0.0, converter=float)
 
     @property
     def n_pairs(self) -> int:
@@ -66,6 +78,27 @@ class Pairing:
     def nodes(self, side: str) -> np.ndarray:
         """Face node of each pair on ``side`` ("lower" or "upper")."""
         return {"lower": self.lower_nodes, "upper": self.upper_nodes}[side]
+
+    def axes(self, side: str) -> tuple[np.ndarray, np.ndarray]:
+        """The pair normals and tangents in the axes of the body on ``side``: those of the
+        pair frame, or for a turned upper body the same directions seen from its axes."""
+        if side != "upper" or self.turn == 0.0:
+            return self.normals, self.tangents
+        back = turning(-self.turn)
+        return self.normals @ back.T, self.tangents @ back.T
+
+    def to_frame(self, side: str, vectors: np.ndarray, axis: int = -1) -> np.ndarray:
+        """Vectors given in the axes of the body on ``side`` (components along ``axis``) in
+        the pair frame's axes: turned by ``turn`` for the upper body, else unchanged."""
+        if side != "upper" or self.turn == 0.0:
+            return vectors
+        return np.moveaxis(np.tensordot(turning(self.turn), vectors, axes=([1], [axis])), 0, axis)
+
+    def to_body(self, side: str, vectors: np.ndarray, axis: int = -1) -> np.ndarray:
+        """Vectors in the pair frame's axes seen from the axes of the body on ``side``."""
+        if side != "upper" or self.turn == 0.0:
+            return vectors
+        return np.moveaxis(np.tensordot(turning(-self.turn), vectors, axes=([1], [axis])), 0, axis)
 
     def gather(self, side: str, values: np.ndarray, axis: int = 0) -> np.ndarray:
         """Face-node values along ``axis`` -> values at the pair points (W @ values)."""

@@ -284,9 +284,9 @@ def _half_extent(shape) -> float:
 
 
 def _pad_face(scene: Scene, zone: float, pad: bool):
-    """The pad's face at ``zone``; for the specimen of a sliding scene, its straight track."""
+    """The pad's face at ``zone``; for the specimen of a sliding scene, its track."""
     if scene.contact.sliding and not pad:
-        return track_face(zone)
+        return track_face(zone, scene.specimen.shape)
     return list(_geometry(scene.pad.shape, "face", zone))
 
 

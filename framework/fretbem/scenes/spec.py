@@ -231,8 +231,8 @@ KEYS: tuple[Key, ...] = (
         "",
         False,
         "finite sliding: the pairs are projected again as the pad slides (gross slip over "
-        'several contact widths); needs `pairing = "node-to-segment"` and a flat specimen; '
-        "either body model",
+        'several contact widths); needs `pairing = "node-to-segment"` and a flat specimen '
+        "(either body model) or a cylinder specimen (an arc the pad turns along; `bem` bodies)",
     ),
     Key(
         "contact",

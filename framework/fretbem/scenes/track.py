@@ -1,9 +1,10 @@
 """The specimen's track for finite sliding (``[contact] sliding = true``).
 
 A pad that slides several contact widths needs the specimen's contact segment (the face it
-is paired on) to cover the whole slide: the track is a straight contact segment of
-half-width ``[contact] track_width`` (default: the candidate zone plus the largest
-displacement ``delta`` of the history), meshed twice as finely as the pad's zone.
+is paired on) to cover the whole slide: the track is a contact segment of half-width
+``[contact] track_width`` (default: the candidate zone plus the largest displacement
+``delta`` of the history), meshed twice as finely as the pad's zone; straight on a flat
+specimen, a circular arc on a cylinder specimen (the pad turns with the arc as it slides).
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ import attrs
 
 from fretbem.geometry.boundary import Segment
 from fretbem.geometry.nurbs import NurbsCurve
+from fretbem.geometry.shapes import CylinderSpecimen
 
 from .spec import Scene, SceneFileError
 
@@ -33,9 +35,14 @@ def track_half_width(scene: Scene, zone: float) -> float:
     return zone + max(deltas, default=0.0)
 
 
-def track_face(track: float) -> list[Segment]:
-    """The straight face the flat specimen is built from: one contact segment, -track to
-    track at y = 0 (the specimen's flanks run from its ends to it)."""
+def track_face(track: float, specimen=None) -> list[Segment]:
+    """The face the specimen's track is built from: one contact segment over |x| <= track,
+    straight at y = 0 for a flat specimen (its flanks run from its ends to it), for a
+    cylinder specimen the arc its boundary mirrors (as it mirrors a cylinder pad's face)."""
+    if isinstance(specimen, CylinderSpecimen):
+        r = specimen.radius
+        half, down = math.asin(track / r), -math.pi / 2
+        return [Segment("contact", NurbsCurve.arc([0.0, r], r, down - half, down + half))]
     return [Segment("contact", NurbsCurve.line([-track, 0.0], [track, 0.0]))]
 
 
@@ -51,20 +58,39 @@ def sliding_scene(scene: Scene, zone: float, track: float, pad_elements: int) ->
             "'node-to-segment'"
         )
     shape = scene.specimen.shape
-    if getattr(shape, "kind", None) != "flat":
+    kind = getattr(shape, "kind", type(shape).__name__)
+    if kind not in ("flat", "cylinder"):
         raise SceneFileError(
-            "[contact] sliding = true slides the pad along a straight track (the pairs share "
-            "one frame and the pad's block translates without turning, so the pad cannot "
-            "follow an arc), but [specimen] "
-            f"shape = {getattr(shape, 'kind', type(shape).__name__)!r}; use [specimen] "
-            "shape = 'flat'"
+            "[contact] sliding = true slides the pad along a track the scene builds on a flat "
+            "specimen (straight) or a cylinder specimen (a circular arc the pad turns along), "
+            f"but [specimen] shape = {kind!r}; use [specimen] shape = 'flat' or 'cylinder' (a "
+            "hand-made circular face slides from Python: fretbem.sliding.run_sliding)"
         )
-    if not zone <= track < shape.length / 2:
+    if kind == "cylinder":
+        for role in ("pad", "specimen"):
+            if getattr(scene, role).model == "half-plane":
+                raise SceneFileError(
+                    f"[contact] sliding = true on a cylinder specimen slides the pad along an "
+                    f"arc, turning it with the arc, but [{role}] model = 'half-plane': a "
+                    "half-plane's elasticity is that of a straight surface fixed in its axes, "
+                    "which cannot turn along an arc; set [pad] model = 'bem' and [specimen] "
+                    "model = 'bem', or slide on a flat specimen ([specimen] shape = 'flat')"
+                )
+        stress = scene.extras.get("stress", {})
+        if isinstance(stress, dict) and stress.get("body") == "upper":
+            raise SceneFileError(
+                "[stress] body = 'upper': the pad slides along the cylinder specimen's arc and "
+                "turns with it, so its fields are in its own turned axes, not the global frame "
+                "the stresses are given in; evaluate the specimen ([stress] body = 'lower'), "
+                "or slide on a flat specimen ([specimen] shape = 'flat')"
+            )
+    ends, size = (shape.length, "length") if kind == "flat" else (shape.width, "width")
+    if not zone <= track < ends / 2:
         raise SceneFileError(
             f"[contact] sliding: the track (half-width {track:.4g} mm, [contact] track_width or "
             f"the zone {zone:.4g} mm plus the largest [load] delta) must lie between the zone "
-            f"and the specimen's ends (half-length {shape.length / 2:.4g} mm); lengthen "
-            "[specimen] length, or set [contact] track_width within those bounds"
+            f"and the specimen's ends (half-{size} {ends / 2:.4g} mm); lengthen [specimen] "
+            f"{size}, or set [contact] track_width within those bounds"
         )
     specimen = scene.specimen
     if specimen.pairs is not None or specimen.elements is not None:

@@ -19,6 +19,7 @@ from fretbem.results import AccuracyRecord, SimulationResult
 from fretbem.simulation import Simulation
 
 from .slide import run_sliding
+from .track import Track
 
 __all__ = ["NO_ESTIMATE", "solve_sliding", "step_solutions"]
 
@@ -70,10 +71,16 @@ def step_solutions(result: SimulationResult, step) -> dict:
     """Each body's boundary solution ("upper", "lower") at ``step``: on the simulation's
     pair, or for a step of a sliding run on its own pairing with the pad's slide added to
     its block's displacement (the specimen's fields stay where they are; the pad's carry
-    it along the track)."""
+    it along the track). On an arc the pad's fields are in its own axes, as drawn: the
+    slide along the arc is added along its own tangent, its turn (s / R) is not."""
     if getattr(step, "pair", None) is None:
         return result.simulation.prepare().solutions(step.unknowns, step.loads)
     problem = step.pair.condensed()
     x = np.array(step.unknowns, dtype=float)
-    x[problem.layout.block("upper")] += np.asarray(getattr(step.pair, "offset", 0.0))
+    slide = np.asarray(getattr(step.pair, "offset", 0.0))
+    turn = getattr(step.pair, "turn", 0.0)
+    if turn:  # the arc's slide s = turn / rate, along the pad's own tangent
+        track = Track.of(result.simulation.pair)
+        slide = track.slide_of(step.pair) * problem.pairing.axes("upper")[1][0]
+    x[problem.layout.block("upper")] += slide
     return problem.solutions(x, step.loads)

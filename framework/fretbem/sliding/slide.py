@@ -17,6 +17,11 @@ tangential displacement) is the previous state seen through the new pairing with
 where it physically was, so no slip is invented or lost by re-pairing. Points of the other
 face that come into contact for the first time are reported, once per step.
 
+The track is the specimen's face (:class:`~fretbem.sliding.track.Track`): straight, the pad
+offset along it; or a circular arc (a convex or concave cylindrical specimen), the pad
+turned about the arc's centre by s / R as it slides, so it stays on the arc and normal to
+it, with the pair frame turning with it and P and Q along the local normal and tangent.
+
 Both body models slide. On finite ``bem`` bodies the pressure's centre runs ahead of the
 pad's axis in the sense of Q (0.134 mm on the reference scene's 6.5 mm pad at Q = f P): the
 pad bends under Q as a cantilever held by its block and its tilted cylinder touches off its
@@ -40,6 +45,8 @@ from fretbem.results import IncrementRecord, StepResult
 from fretbem.simulation import Simulation, loads_between
 from fretbem.verification.checks import check_step
 
+from .track import STRAIGHT, Track, TrackError
+
 __all__ = ["SlidingError", "SlidingResult", "run_sliding"]
 
 
@@ -56,10 +63,11 @@ class SlidingResult:
     steps : tuple of StepResult
         Per step; ``x`` are the pair positions on the lower face where the pad was then.
     offsets : tuple of float
-        The pad's slide (mm along the tangent) carried in the pairing at each step's end.
+        The pad's slide (mm along the track: the tangent, or the arc's length) carried in
+        the pairing at each step's end.
     positions : tuple of float
         The pad block's tangential displacement at each step's end (mm): offset plus the
-        block unknown, the delta of displacement control.
+        block unknown (along the pad's own tangent), the delta of displacement control.
     pairs : tuple of NodeToSegmentPair
         The pairing at the end of each step.
     notes : tuple of str
@@ -82,10 +90,14 @@ class SlidingResult:
         raise KeyError(f"no step {name!r}; steps are {[s.name for s in self.steps]}")
 
 
-def _repaired(pair: NodeToSegmentPair, offset: float, tangent: np.ndarray, step: str, states):
-    """The pair projected again with the upper body ``offset`` along the tangent; a pair in
+def _repaired(pair: NodeToSegmentPair, offset: float, track, step: str, states):
+    """The pair projected again with the upper body slid ``offset`` along ``track`` (a
+    :class:`~fretbem.sliding.track.Track`, or the tangent of a straight one); a pair in
     contact that the other face no longer reaches is an error."""
-    moved = attrs.evolve(pair, offset=offset * tangent, uncovered="open")
+    if isinstance(track, Track):
+        moved = track.placed(pair, offset)
+    else:
+        moved = attrs.evolve(pair, offset=offset * track, uncovered="open")
     try:
         moved.pairing()
     except ContactDiscretisationError as err:
@@ -133,17 +145,21 @@ def _face_slide(problem, state: ContactState) -> float:
     return float(np.sum(pressure * state.slip) / pressure.sum())
 
 
-def _loaded(pair: NodeToSegmentPair, states: np.ndarray) -> tuple[str, np.ndarray]:
+def _loaded(pair: NodeToSegmentPair, states: np.ndarray, track: Track | None = None):
     """The master face (label) and which of its nodes lie within the contact: between the
-    outermost pairs not separated."""
+    outermost pairs not separated (positions along ``track``; None: a straight one)."""
     pairing = pair.pairing()
     master = "upper" if pair.slave_side() == "lower" else "lower"
-    body, tag = pair.side(master)
-    tangent = pairing.tangents[0]
-    along = body.contact_face(tag).points @ tangent
-    if master == "upper":
-        along = along + pair.offset @ tangent
-    touching = pairing.points[states != PairState.SEPARATED] @ tangent
+    touching = pairing.points[states != PairState.SEPARATED]
+    if track is None or track.straight:
+        body, tag = pair.side(master)
+        tangent = pairing.tangents[0]
+        along = body.contact_face(tag).points @ tangent
+        if master == "upper":
+            along = along + pair.offset @ tangent
+        touching = touching @ tangent
+    else:
+        along, touching = track.along(pair.placed(master)), track.along(touching)
     if touching.size == 0:
         return master, np.zeros(along.shape, dtype=bool)
     return master, (along >= touching.min()) & (along <= touching.max())
@@ -159,16 +175,11 @@ def _slid(record, offset: float):
     return attrs.evolve(record, delta=record.delta + offset, slip=record.slip + offset)
 
 
-#: how far (a fraction of its length) the specimen's face may depart from its chord and
-#: still be a straight track
-STRAIGHT = 1e-9
-
-
 def _check_track(pair: NodeToSegmentPair) -> None:
-    """The specimen's face must be straight: the pad slides along one line. All pairs share
-    one frame (the face's mean normal) and the pad's block translates without turning, so
-    on a curved specimen the pad would leave the arc rather than follow it, and the frame
-    would stay the start's while the contact's normal turned."""
+    """The specimen's face must be straight, for a run that follows straight tracks only
+    (wear with finite sliding): its pad is offset along one line and never turned, so on a
+    curved specimen it would leave the arc. :func:`run_sliding` itself also follows
+    circular arcs (:class:`~fretbem.sliding.track.Track`)."""
     body, tag = pair.side("lower")
     points = body.contact_face(tag).points
     chord = points[-1] - points[0] if len(points) > 1 else np.array([1.0, 0.0])
@@ -179,11 +190,10 @@ def _check_track(pair: NodeToSegmentPair) -> None:
     departure = float(np.max(np.abs((points - points[0]) @ normal)))
     if departure > STRAIGHT * length:
         raise SlidingError(
-            f"finite sliding moves the pad along a straight track, but the specimen's face "
-            f"{tag!r} is curved (it departs from its chord by {departure:.3g} mm): the pairs "
-            "share one frame and the pad's block translates without turning, so the pad "
-            "cannot follow an arc; slide on a flat specimen ([specimen] shape = 'flat'; "
-            "Python: a straight lower face)"
+            f"this run moves the pad along a straight track only, but the specimen's face "
+            f"{tag!r} is curved (it departs from its chord by {departure:.3g} mm): the pad is "
+            "offset without turning, so it cannot follow an arc; slide on a flat specimen "
+            "([specimen] shape = 'flat'; Python: a straight lower face), or without wear"
         )
 
 
@@ -226,15 +236,18 @@ def run_sliding(
             f"{type(pair).__name__}; use NodeToSegmentPair ([contact] pairing = "
             "'node-to-segment')"
         )
-    _check_track(pair)
+    try:
+        track = Track.of(pair)
+    except TrackError as err:
+        raise SlidingError(str(err)) from None
     simulation = attrs.evolve(simulation, reference=None)
-    tangent = pair.pairing().tangents[0]
-    offset = float(pair.offset @ tangent)
+    tangent = track.tangent
+    offset = track.slide_of(pair)
     spacing = _spacing(pair)
     problem = pair.condensed()
     state = ContactState.initial(problem)
     friction = getattr(simulation.law, "friction", float("nan"))
-    master, seen = _loaded(pair, state.states)
+    master, seen = _loaded(pair, state.states, track)
     notes: list[str] = []
     results, offsets, positions, pairs, history = [], [], [], [], []
     repairings = 0
@@ -259,9 +272,13 @@ def run_sliding(
                 ahead += target_t - offset - _block_delta(problem, state.x)
             if abs(ahead) > every * spacing and ahead != 0.0:
                 offset += ahead
-                pair = _repaired(pair, offset, tangent, load.name, state.states)
+                pair = _repaired(pair, offset, track, load.name, state.states)
+                shift = ahead * tangent
+                if not track.straight and not state.virgin:  # the block turns with the pad
+                    block = state.x[problem.layout.block("upper")]
+                    shift = block - track.carried(pair, block, ahead)
                 problem = pair.condensed()
-                state = _carried(state, problem, ahead * tangent)
+                state = _carried(state, problem, shift)
                 simulation = attrs.evolve(simulation, pair=pair)
                 repairings += 1
             driven_t = target_t - offset if controls.tangential == "displacement" else target_t
@@ -271,14 +288,17 @@ def run_sliding(
             iterations += its
             residuals += res
             increments.append(_slid(IncrementRecord.of(problem, state, simulation.rig), offset))
-            master, loaded = _loaded(pair, state.states)
+            master, loaded = _loaded(pair, state.states, track)
             fresh |= loaded & ~seen if seen.any() else np.zeros_like(loaded)
             seen = seen | loaded
         if fresh.any():
-            body, tag = pair.side(master)
-            along = body.contact_face(tag).points[fresh] @ tangent
-            if master == "upper":
-                along = along + offset
+            if track.straight:
+                body, tag = pair.side(master)
+                along = body.contact_face(tag).points[fresh] @ tangent
+                if master == "upper":
+                    along = along + offset
+            else:
+                along = track.along(pair.placed(master)[fresh])
             message = (
                 f"step {load.name!r}: {int(fresh.sum())} new point(s) of the {master} face came "
                 f"into contact, from {along.min():.4g} to {along.max():.4g} mm along the surface "

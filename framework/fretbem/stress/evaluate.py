@@ -84,6 +84,13 @@ class StressEvaluator:
     def _solution(self, index: int):
         step = self.result.steps[index]
         if getattr(step, "pair", None) is not None:  # finite sliding: the step's own pairing
+            if self.body == "upper" and getattr(step.pair, "turn", 0.0):
+                raise StressInputError(
+                    f"step {step.name!r}: the pad slid along an arc and turned with it "
+                    f"({step.pair.turn:.4g} rad), so its fields are in its own turned axes, not "
+                    "the global frame the stresses are given in; evaluate the specimen's "
+                    "stresses ([stress] body = 'lower'), or slide on a flat specimen"
+                )
             return step_solutions(self.result, step)[self.body]
         return self.problem.solutions(step.unknowns, step.loads)[self.body]
 
