@@ -1,19 +1,26 @@
-"""Compiled (numba) critical-plane search: every criterion's planes, point by point, in one loop.
+"""Compiled (numba) critical-plane search: every criterion's planes in one pass per level.
 
 The numpy search (:mod:`.critical_plane`) projects the stresses of every (step, point, plane)
-into arrays and reduces them; here one loop per point computes each plane's normal and shear
-stresses step by step and keeps only their running maxima and minima, for all criteria at
-once, so the (step, point, plane) array never exists. The algorithm is the numpy search's,
-decision for decision: the coarse grid (in double precision here, float32 there), the exact
-minimum circumscribed circle only where its bounds leave a plane's rank open, the pattern
-search with halving steps that evaluates every criterion's candidates together, the parabolic
-step and the final evaluation. Neighbouring planes are reached by rotating the cosines and
-sines of the current plane (no trigonometric call per candidate).
+into arrays and reduces them; here the loops compute each plane's normal and shear stresses
+step by step and keep only their running maxima and minima, so no (step, point, plane) array
+exists. The algorithm is the numpy search's, decision for decision: the best plane of the
+coarse grid per criterion, the exact minimum circumscribed circle only where its bounds leave a
+plane's rank open, the pattern search with halving steps, the parabolic step, the final
+evaluation. What differs is how, not what:
+
+- the coarse grid is evaluated point by point in double precision (numpy: float32);
+- the coarse grid's exact circles are taken in decreasing order of the bound of each
+  criterion's value and stop once no remaining plane can reach the best (numpy: every plane
+  whose bound reaches the best lower bound); both find the plane of largest exact value;
+- the refinement runs over blocks of points: every criterion's candidate planes of a level,
+  for all the block's points, in one loop over the steps (vectorised over the points);
+- neighbouring planes are reached by rotating the cosines and sines of the current plane, and
+  a plane's circle starts from the support points of the plane it moved from (the circle is
+  unique: only the number of rounds changes).
 
 Functions are compiled on first use and cached on disk (``cache=True``), so a fresh process
 pays numba's import and the cache load. Importing this module imports numba:
-:mod:`.critical_plane` imports it only when the search is large enough to repay it, or when
-numba is loaded already.
+:mod:`.critical_plane` imports it only when numba is loaded already or the search repays it.
 """
 
 from __future__ import annotations
@@ -24,76 +31,26 @@ import numba
 import numpy as np
 
 _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
+#: the plane loops: no NaN (the stresses are checked finite), fused multiply-adds; infinities
+#: stay meaningful (the running extremes start at -inf and inf)
+_LOOPS = {**_JIT, "fastmath": {"nnan", "contract", "nsz"}}
 
 #: criterion codes (the order of :data:`fretbem.fatigue.critical_plane.METHODS`)
 SWT, FINDLEY, FATEMI_SOCIE, MWCM, STRESS_LIFE, STRAIN_LIFE = range(6)
 #: mean-stress correction kinds of stress_life: none, 1 - m/L (Goodman, Morrow), 1 - (m/L)^2
 NO_CORRECTION, LINEAR, GERBER = range(3)
-#: rows of the per-plane summaries: sigma_n, E eps_n, then the shear extents
-_SN_MAX, _SN_MIN, _EN_MAX, _EN_MIN = range(4)
-#: in-plane: tau_e; 3D: tau_1, tau_2, tau_1 + tau_2, tau_1 - tau_2
-_SHEAR = 4
+#: points per block of the refinement (the length of its vectorised loops)
+BLOCK = 64
+#: padding (doubles) of the rows of the work arrays: 5 cache lines, not a multiple of 4 KiB
+_PAD = 40
 
 _HALF_SQRT2 = 0.5 * math.sqrt(2.0)
 _INSIDE = 1e-10  # as mcc.INSIDE_TOLERANCE
 _TIE = 1e-10  # as critical_plane.MWCM_TIE_TOLERANCE
+_COS_HALF_PI = math.cos(0.5 * math.pi)  # the numpy search's cos(psi) at psi = 90 degrees
 
 
-@numba.njit(**_JIT)
-def _summaries(mean, half, sxy, szz, trace, nu, c2, s2, sp, cp, n, in_plane, out):
-    """Running max / min over the steps of every plane's quantities into ``out`` (12, n)."""
-    n_t = mean.size
-    a = 1.0 + nu
-    for g in range(n):
-        for r in range(0, 12, 2):
-            out[r, g] = -np.inf
-            out[r + 1, g] = np.inf
-    for t in range(n_t):
-        m, h, xy, zz, tr = mean[t], half[t], sxy[t], szz[t], nu * trace[t]
-        if in_plane:
-            for g in range(n):
-                ee = m + h * c2[g] + xy * s2[g]
-                te = xy * c2[g] - h * s2[g]
-                en = a * ee - tr
-                out[0, g] = max(out[0, g], ee)
-                out[1, g] = min(out[1, g], ee)
-                out[2, g] = max(out[2, g], en)
-                out[3, g] = min(out[3, g], en)
-                out[4, g] = max(out[4, g], te)
-                out[5, g] = min(out[5, g], te)
-        else:
-            for g in range(n):
-                ee = m + h * c2[g] + xy * s2[g]
-                te = xy * c2[g] - h * s2[g]
-                sn = (sp[g] * sp[g]) * ee + (cp[g] * cp[g]) * zz
-                en = a * sn - tr
-                px = (sp[g] * cp[g]) * (ee - zz)
-                py = sp[g] * te
-                u, v = px + py, px - py
-                out[0, g] = max(out[0, g], sn)
-                out[1, g] = min(out[1, g], sn)
-                out[2, g] = max(out[2, g], en)
-                out[3, g] = min(out[3, g], en)
-                out[4, g] = max(out[4, g], px)
-                out[5, g] = min(out[5, g], px)
-                out[6, g] = max(out[6, g], py)
-                out[7, g] = min(out[7, g], py)
-                out[8, g] = max(out[8, g], u)
-                out[9, g] = min(out[9, g], u)
-                out[10, g] = max(out[10, g], v)
-                out[11, g] = min(out[11, g], v)
-
-
-@numba.njit(**_JIT)
-def _bounds(out, g):
-    """Lower and upper bounds of the circumscribed radius of plane ``g``'s shear path."""
-    rx = out[4, g] - out[5, g]
-    ry = out[6, g] - out[7, g]
-    ru = (out[8, g] - out[9, g]) * _HALF_SQRT2
-    rv = (out[10, g] - out[11, g]) * _HALF_SQRT2
-    lower = 0.5 * max(max(rx, ry), max(ru, rv))
-    upper = 0.5 * math.sqrt(min(rx * rx + ry * ry, ru * ru + rv * rv))
-    return lower, upper
+# --------------------------------------------------------------------------- circles
 
 
 @numba.njit(**_JIT)
@@ -111,26 +68,79 @@ def _circumcircle(px, py, qx, qy, rx, ry):
 
 
 @numba.njit(**_JIT)
-def _circle(x, y):
+def _encloses(x, y, sup, q, cx, cy, r):
+    """Whether the circle (cx, cy, r) holds the support points and q (with the slack of
+    :func:`fretbem.fatigue.mcc._smallest_with`)."""
+    slack = _INSIDE * r + 1e-300
+    for k in range(4):
+        i = q if k == 3 else sup[k]
+        if math.hypot(x[i] - cx, y[i] - cy) > r + slack:
+            return False
+    return True
+
+
+@numba.njit(**_JIT)
+def _smallest_with(x, y, sup, q):
+    """Smallest circle of the support points ``sup`` (3 indices) and point ``q`` on its
+    boundary (the candidates of :func:`fretbem.fatigue.mcc._smallest_with`, in its order);
+    ``sup`` becomes the new support."""
+    qx, qy = x[q], y[q]
+    pick, bx, by, br = -1, 0.0, 0.0, np.inf
+    for c in range(6):
+        if c < 3:
+            i = sup[c]
+            ccx, ccy = 0.5 * (x[i] + qx), 0.5 * (y[i] + qy)
+            cr = 0.5 * math.hypot(x[i] - qx, y[i] - qy)
+        else:
+            i, j = (
+                (sup[0], sup[1]) if c == 3 else ((sup[0], sup[2]) if c == 4 else (sup[1], sup[2]))
+            )
+            ccx, ccy, cr = _circumcircle(x[i], y[i], x[j], y[j], qx, qy)
+        if math.isfinite(cr) and cr < br and _encloses(x, y, sup, q, ccx, ccy, cr):
+            pick, bx, by, br = c, ccx, ccy, cr
+    if pick < 3:
+        a = sup[pick]
+        sup[0], sup[1] = a, a
+    elif pick == 3:
+        pass  # sup[0], sup[1] stay
+    elif pick == 4:
+        sup[1] = sup[2]
+    else:
+        sup[0], sup[1] = sup[1], sup[2]
+    sup[2] = q
+    return bx, by, br
+
+
+@numba.njit(**_JIT)
+def _circle(x, y, sup):
     """Radius of the smallest circle enclosing the points ``x``, ``y``: the support-set
-    iteration of :func:`fretbem.fatigue.mcc.minimum_circumscribed_circle_xy`, one set."""
+    iteration of :func:`fretbem.fatigue.mcc.minimum_circumscribed_circle_xy`, one set.
+
+    ``sup`` (3 indices) starts the iteration where ``sup[0] >= 0`` (the support of a nearby
+    plane's path) and returns the support found."""
     m = x.size
-    a, best = 0, -1.0
-    for i in range(m):
-        d = (x[i] - x[0]) ** 2 + (y[i] - y[0]) ** 2
-        if d > best:
-            a, best = i, d
-    b, best = 0, -1.0
-    for i in range(m):
-        d = (x[i] - x[a]) ** 2 + (y[i] - y[a]) ** 2
-        if d > best:
-            b, best = i, d
-    cx, cy = 0.5 * (x[a] + x[b]), 0.5 * (y[a] + y[b])
-    radius = 0.5 * math.sqrt(best)
-    sx = np.array([x[a], x[b], x[b]])
-    sy = np.array([y[a], y[b], y[b]])
-    ax = np.empty(4)
-    ay = np.empty(4)
+    if min(sup[0], min(sup[1], sup[2])) < 0 or max(sup[0], max(sup[1], sup[2])) >= m:
+        a, best = 0, -1.0
+        for i in range(m):
+            d = (x[i] - x[0]) ** 2 + (y[i] - y[0]) ** 2
+            if d > best:
+                a, best = i, d
+        b, best = 0, -1.0
+        for i in range(m):
+            d = (x[i] - x[a]) ** 2 + (y[i] - y[a]) ** 2
+            if d > best:
+                b, best = i, d
+        sup[0], sup[1], sup[2] = a, b, b
+        cx, cy = 0.5 * (x[a] + x[b]), 0.5 * (y[a] + y[b])
+        radius = 0.5 * math.sqrt(best)
+    else:
+        a, b, c = sup[0], sup[1], sup[2]
+        cx, cy = 0.5 * (x[a] + x[b]), 0.5 * (y[a] + y[b])
+        radius = 0.5 * math.hypot(x[a] - x[b], y[a] - y[b])
+        if c != b and c != a:  # three supports: grow the circle of the first two by the third
+            sup[2] = b
+            if math.hypot(x[c] - cx, y[c] - cy) > radius * (1.0 + _INSIDE) + 1e-300:
+                cx, cy, radius = _smallest_with(x, y, sup, c)
     for _ in range(200):
         far, dmax = 0, -1.0
         for i in range(m):
@@ -139,69 +149,169 @@ def _circle(x, y):
                 far, dmax = i, d
         if not math.sqrt(dmax) > radius * (1.0 + _INSIDE) + 1e-300:
             return radius
-        qx, qy = x[far], y[far]
-        ax[:3], ay[:3] = sx, sy
-        ax[3], ay[3] = qx, qy
-        pick, pcx, pcy, pr = -1, 0.0, 0.0, np.inf
-        for c in range(6):  # the candidates of mcc._smallest_with, in its order
-            if c < 3:
-                ccx, ccy = 0.5 * (sx[c] + qx), 0.5 * (sy[c] + qy)
-                cr = 0.5 * math.hypot(sx[c] - qx, sy[c] - qy)
-            else:
-                i, j = (0, 1) if c == 3 else ((0, 2) if c == 4 else (1, 2))
-                ccx, ccy, cr = _circumcircle(sx[i], sy[i], sx[j], sy[j], qx, qy)
-            if not math.isfinite(cr):
-                continue
-            slack = _INSIDE * cr + 1e-300
-            inside = True
-            for k in range(4):
-                if math.hypot(ax[k] - ccx, ay[k] - ccy) > cr + slack:
-                    inside = False
-                    break
-            if inside and cr < pr:
-                pick, pcx, pcy, pr = c, ccx, ccy, cr
-        i, j = (
-            (pick, pick)
-            if pick < 3
-            else ((0, 1) if pick == 3 else ((0, 2) if pick == 4 else (1, 2)))
-        )
-        nx0, ny0, nx1, ny1 = sx[i], sy[i], sx[j], sy[j]
-        sx[0], sy[0], sx[1], sy[1], sx[2], sy[2] = nx0, ny0, nx1, ny1, qx, qy
-        cx, cy, radius = pcx, pcy, pr
+        cx, cy, radius = _smallest_with(x, y, sup, far)
     return radius
 
 
 @numba.njit(**_JIT)
-def _exact_tau(mean, half, sxy, szz, c2, s2, sp, cp, x, y):
-    """The exact shear amplitude of one plane: its path over the steps and its circle."""
-    for t in range(mean.size):
-        ee = mean[t] + half[t] * c2 + sxy[t] * s2
-        te = sxy[t] * c2 - half[t] * s2
-        x[t] = (sp * cp) * (ee - szz[t])
+def _exact_tau(m, h, xy, zz, b, c2, s2, sp, cp, x, y, sup):
+    """The exact shear amplitude of one plane of point ``b``: its path and its circle."""
+    for t in range(x.size):
+        ee = m[t, b] + h[t, b] * c2 + xy[t, b] * s2
+        te = xy[t, b] * c2 - h[t, b] * s2
+        x[t] = (sp * cp) * (ee - zz[t, b])
         y[t] = sp * te
-    return _circle(x, y)
+    return _circle(x, y, sup)
+
+
+# --------------------------------------------------------------------------- plane sums
+
+
+@numba.njit(**_LOOPS)
+def _reset(out, start, stop):
+    for g in range(start, stop):
+        for r in range(0, 12, 2):
+            out[r, g] = -np.inf
+            out[r + 1, g] = np.inf
+
+
+@numba.njit(**_LOOPS)
+def _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, sp, cp, in_plane, out):
+    """Running max / min over the steps of every grid plane at point ``p`` into ``out``
+    (12, G): sigma_n, E eps_n and the shear extents (in-plane tau_e; 3D tau_1, tau_2, their
+    sum and difference)."""
+    n_g = c2.size
+    a = 1.0 + nu
+    _reset(out, 0, n_g)
+    for t in range(m.shape[0]):
+        mt, ht, xyt, zzt, trt = m[t, p], h[t, p], xy[t, p], zz[t, p], nu * tr[t, p]
+        if in_plane:
+            for g in range(n_g):
+                ee = mt + ht * c2[g] + xyt * s2[g]
+                te = xyt * c2[g] - ht * s2[g]
+                en = a * ee - trt
+                out[0, g] = max(out[0, g], ee)
+                out[1, g] = min(out[1, g], ee)
+                out[2, g] = max(out[2, g], en)
+                out[3, g] = min(out[3, g], en)
+                out[4, g] = max(out[4, g], te)
+                out[5, g] = min(out[5, g], te)
+        else:
+            for g in range(n_g):
+                ee = mt + ht * c2[g] + xyt * s2[g]
+                te = xyt * c2[g] - ht * s2[g]
+                sn = (sp[g] * sp[g]) * ee + (cp[g] * cp[g]) * zzt
+                en = a * sn - trt
+                px = (sp[g] * cp[g]) * (ee - zzt)
+                py = sp[g] * te
+                out[0, g] = max(out[0, g], sn)
+                out[1, g] = min(out[1, g], sn)
+                out[2, g] = max(out[2, g], en)
+                out[3, g] = min(out[3, g], en)
+                out[4, g] = max(out[4, g], px)
+                out[5, g] = min(out[5, g], px)
+                out[6, g] = max(out[6, g], py)
+                out[7, g] = min(out[7, g], py)
+                out[8, g] = max(out[8, g], px + py)
+                out[9, g] = min(out[9, g], px + py)
+                out[10, g] = max(out[10, g], px - py)
+                out[11, g] = min(out[11, g], px - py)
+
+
+@numba.njit(**_LOOPS)
+def _block_summaries(m, h, xy, zz, tr, nb, nu, c2, s2, sp, cp, start, in_plane, out):
+    """:func:`_grid_summaries` of planes ``start:start + nb``, plane ``start + b`` of point b.
+
+    Plane by plane with the running extremes in registers: few planes per point here, and
+    the loop over the steps stores nothing."""
+    a = 1.0 + nu
+    n_t = m.shape[0]
+    for b in range(nb):
+        g = start + b
+        c, s = c2[g], s2[g]
+        if in_plane:
+            hi0 = hi1 = hi2 = -np.inf
+            lo0 = lo1 = lo2 = np.inf
+            for t in range(n_t):
+                ee = m[t, b] + h[t, b] * c + xy[t, b] * s
+                te = xy[t, b] * c - h[t, b] * s
+                en = a * ee - nu * tr[t, b]
+                hi0, lo0 = max(hi0, ee), min(lo0, ee)
+                hi1, lo1 = max(hi1, en), min(lo1, en)
+                hi2, lo2 = max(hi2, te), min(lo2, te)
+            out[0, g], out[1, g], out[2, g], out[3, g] = hi0, lo0, hi1, lo1
+            out[4, g], out[5, g] = hi2, lo2
+            continue
+        sp2, cp2, spcp, spg = sp[g] * sp[g], cp[g] * cp[g], sp[g] * cp[g], sp[g]
+        hi0 = hi1 = hi2 = hi3 = hi4 = hi5 = -np.inf
+        lo0 = lo1 = lo2 = lo3 = lo4 = lo5 = np.inf
+        for t in range(n_t):
+            ee = m[t, b] + h[t, b] * c + xy[t, b] * s
+            te = xy[t, b] * c - h[t, b] * s
+            sn = sp2 * ee + cp2 * zz[t, b]
+            en = a * sn - nu * tr[t, b]
+            px = spcp * (ee - zz[t, b])
+            py = spg * te
+            hi0, lo0 = max(hi0, sn), min(lo0, sn)
+            hi1, lo1 = max(hi1, en), min(lo1, en)
+            hi2, lo2 = max(hi2, px), min(lo2, px)
+            hi3, lo3 = max(hi3, py), min(lo3, py)
+            hi4, lo4 = max(hi4, px + py), min(lo4, px + py)
+            hi5, lo5 = max(hi5, px - py), min(lo5, px - py)
+        out[0, g], out[1, g], out[2, g], out[3, g] = hi0, lo0, hi1, lo1
+        out[4, g], out[5, g], out[6, g], out[7, g] = hi2, lo2, hi3, lo3
+        out[8, g], out[9, g], out[10, g], out[11, g] = hi4, lo4, hi5, lo5
 
 
 @numba.njit(**_JIT)
-def _value(code, smax, smin, ea, tau, par):
-    """The parameter of criterion ``code`` (``par``: k, yield, G, correction kind, limit)."""
+def _shear_bounds(out, start, stop, in_plane, lo, hi):
+    """Lower and upper bounds of each plane's shear amplitude (equal in-plane: a straight path)."""
+    for g in range(start, stop):
+        if in_plane:
+            lo[g] = 0.5 * (out[4, g] - out[5, g])
+            hi[g] = lo[g]
+            continue
+        rx = out[4, g] - out[5, g]
+        ry = out[6, g] - out[7, g]
+        ru = (out[8, g] - out[9, g]) * _HALF_SQRT2
+        rv = (out[10, g] - out[11, g]) * _HALF_SQRT2
+        lo[g] = 0.5 * max(max(rx, ry), max(ru, rv))
+        hi[g] = 0.5 * math.sqrt(min(rx * rx + ry * ry, ru * ru + rv * rv))
+
+
+@numba.njit(**_JIT)
+def _values(code, par, E, out, tau, start, stop, value):
+    """The parameter of criterion ``code`` on planes ``start:stop`` with shear amplitudes
+    ``tau`` (``par``: k, yield strength, G, mean-stress correction kind, its limit)."""
     if code == SWT:
-        return smax * ea
-    if code == STRAIN_LIFE:
-        return ea
-    if code == STRESS_LIFE:
-        amp, mean = 0.5 * (smax - smin), 0.5 * (smax + smin)
-        kind = par[3]
-        if kind == NO_CORRECTION:
-            return amp + 0.0 * mean
-        ratio = mean / par[4]
-        factor = 1.0 - ratio * ratio if kind == GERBER else 1.0 - ratio
-        return amp / factor if factor > 0.0 else np.inf
-    if code == FINDLEY:
-        return tau + par[0] * smax
-    if code == FATEMI_SOCIE:
-        return (tau / par[2]) * (1.0 + par[0] * smax / par[1])
-    return tau  # MWCM
+        for g in range(start, stop):
+            value[g] = out[0, g] * (0.5 * (out[2, g] - out[3, g]) / E)
+    elif code == STRAIN_LIFE:
+        for g in range(start, stop):
+            value[g] = 0.5 * (out[2, g] - out[3, g]) / E
+    elif code == STRESS_LIFE:
+        for g in range(start, stop):
+            amp, mean = 0.5 * (out[0, g] - out[1, g]), 0.5 * (out[0, g] + out[1, g])
+            if par[3] == NO_CORRECTION:
+                value[g] = amp + 0.0 * mean
+                continue
+            ratio = mean / par[4]
+            factor = 1.0 - ratio * ratio if par[3] == GERBER else 1.0 - ratio
+            value[g] = amp / factor if factor > 0.0 else np.inf
+    elif code == FINDLEY:
+        for g in range(start, stop):
+            value[g] = tau[g] + par[0] * out[0, g]
+    elif code == FATEMI_SOCIE:
+        for g in range(start, stop):
+            value[g] = (tau[g] / par[2]) * (1.0 + par[0] * out[0, g] / par[1])
+    else:  # MWCM
+        for g in range(start, stop):
+            value[g] = tau[g]
+
+
+@numba.njit(**_JIT)
+def _needs_shear(code):
+    return code == FINDLEY or code == FATEMI_SOCIE or code == MWCM
 
 
 @numba.njit(**_JIT)
@@ -212,159 +322,255 @@ def _better(code, new, new2, old, old2, scale):
     return (new > old + tol) or ((new >= old - tol) and (new2 > old2))
 
 
-@numba.njit(**_JIT)
-def _needs_shear(code):
-    return code == FINDLEY or code == FATEMI_SOCIE or code == MWCM
+# --------------------------------------------------------------------------- coarse grid
 
 
 @numba.njit(**_JIT)
-def _evaluate(
-    point, c2, s2, sp, cp, n, per, codes, par, nu, E, in_plane, against, current, scale, res
-):
-    """Plane quantities and parameter values of ``n`` planes, ``per`` per criterion in order.
-
-    ``res`` (5, n): value, tau, sigma_n max, sigma_n min, normal strain amplitude. With
-    ``against``, a plane whose value cannot beat its criterion's ``current`` keeps the lower
-    bound of its shear amplitude (as the numpy search's ``_SharedPass._exact``).
-    """
-    mean, half, sxy, szz, trace, out, x, y = point
-    _summaries(mean, half, sxy, szz, trace, nu, c2, s2, sp, cp, n, in_plane, out)
-    for g in range(n):
-        ci = g // per
-        code = codes[ci]
-        smax, smin = out[0, g], out[1, g]
-        ea = 0.5 * (out[2, g] - out[3, g]) / E
-        tau = 0.0
-        if _needs_shear(code):
-            if in_plane:
-                tau = 0.5 * (out[4, g] - out[5, g])
-            else:
-                lo, hi = _bounds(out, g)
-                tau = lo
-                if hi > lo * (1.0 + 1e-12):
-                    need = True
-                    if against:
-                        top = max(
-                            _value(code, smax, smin, ea, lo, par[ci]),
-                            _value(code, smax, smin, ea, hi, par[ci]),
-                        )
-                        slack = _TIE * scale[ci] if code == MWCM else 0.0
-                        need = top >= current[ci] - slack
-                    if need:
-                        tau = _exact_tau(mean, half, sxy, szz, c2[g], s2[g], sp[g], cp[g], x, y)
-        res[0, g] = _value(code, smax, smin, ea, tau, par[ci])
-        res[1, g] = tau
-        res[2, g] = smax
-        res[3, g] = smin
-        res[4, g] = ea
-
-
-@numba.njit(**_JIT)
-def _coarse(point, grid, codes, par, nu, E, in_plane, tau, best):
-    """Index of the best grid plane of every criterion into ``best`` (as numpy's _coarse)."""
-    mean, half, sxy, szz, trace, out, x, y = point
+def _coarse(data, p, grid, codes, par, nu, E, in_plane, work, best, sup):
+    """Index of the best grid plane of every criterion at point ``p`` of the step data, into
+    ``best``; the grid circles as the module docstring says."""
+    m, h, xy, zz, tr, x, y = data
+    out, lo, hi, tau, value, vlo, vhi, done = work
+    n_g = grid.shape[1]
+    order = np.empty(n_g, dtype=np.int64)
     c2, s2, sp, cp = grid[0], grid[1], grid[2], grid[3]
-    n_g = c2.size
-    _summaries(mean, half, sxy, szz, trace, nu, c2, s2, sp, cp, n_g, in_plane, out)
-    any_shear = False
+    _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, sp, cp, in_plane, out)
+    shear = False
     for code in codes:
-        any_shear = any_shear or _needs_shear(code)
-    for g in range(n_g):
-        tau[g] = 0.0
-        if any_shear and in_plane:
-            tau[g] = 0.5 * (out[4, g] - out[5, g])
-    if any_shear and not in_plane:
-        # the exact circle only on planes whose upper bound reaches the best lower bound
-        need = np.zeros(n_g, dtype=np.bool_)
-        hi_tau = np.empty(n_g)
+        shear = shear or _needs_shear(code)
+    if shear:
+        _shear_bounds(out, 0, n_g, in_plane, lo, hi)
         for g in range(n_g):
-            tau[g], hi_tau[g] = _bounds(out, g)
-        for ci in range(codes.size):
-            code = codes[ci]
-            if not _needs_shear(code):
-                continue
-            best_lo = -np.inf
-            for g in range(n_g):
-                ea = 0.5 * (out[2, g] - out[3, g]) / E
-                a = _value(code, out[0, g], out[1, g], ea, tau[g], par[ci])
-                b = _value(code, out[0, g], out[1, g], ea, hi_tau[g], par[ci])
-                best_lo = max(best_lo, min(a, b))
-            slack = _TIE * abs(best_lo) if code == MWCM else 0.0
-            for g in range(n_g):
-                ea = 0.5 * (out[2, g] - out[3, g]) / E
-                a = _value(code, out[0, g], out[1, g], ea, tau[g], par[ci])
-                b = _value(code, out[0, g], out[1, g], ea, hi_tau[g], par[ci])
-                if max(a, b) >= best_lo - slack:
-                    need[g] = True
-        for g in range(n_g):
-            if need[g] and hi_tau[g] > tau[g] * (1.0 + 1e-12):
-                tau[g] = _exact_tau(mean, half, sxy, szz, c2[g], s2[g], sp[g], cp[g], x, y)
+            tau[g] = lo[g]
+            done[g] = in_plane or not hi[g] > lo[g] * (1.0 + 1e-12)
     for ci in range(codes.size):
         code = codes[ci]
-        top, arg, arg2 = -np.inf, 0, 0
-        first = True
-        for g in range(n_g):
-            ea = 0.5 * (out[2, g] - out[3, g]) / E
-            t = tau[g] if _needs_shear(code) else 0.0
-            v = _value(code, out[0, g], out[1, g], ea, t, par[ci])
-            if first or v > top:
-                top, arg, first = v, g, False
-        if code == MWCM:  # ties within the tolerance: the largest normal stress
-            tol = _TIE * max(abs(top), 1e-300)
-            second = -np.inf
-            arg2 = -1
+        if shear and _needs_shear(code) and not in_plane:
+            # exact circles in decreasing order of the value's upper bound, while it can win
+            _values(code, par[ci], E, out, lo, 0, n_g, vlo)
+            _values(code, par[ci], E, out, hi, 0, n_g, vhi)
             for g in range(n_g):
-                if tau[g] >= top - tol and (arg2 < 0 or out[0, g] > second):
-                    second, arg2 = out[0, g], g
-            arg = arg2
+                a, b = vlo[g], vhi[g]
+                vlo[g], vhi[g] = min(a, b), max(a, b)
+            top = -np.inf
+            for g in range(n_g):
+                top = max(top, vlo[g])
+            slack = _TIE * abs(top) if code == MWCM else 0.0
+            n_open = 0  # the planes whose bound reaches the best lower bound, open ones first
+            for g in range(n_g):
+                if not done[g] and vhi[g] >= top - slack:
+                    order[n_open] = g
+                    n_open += 1
+            while n_open:
+                pick = 0
+                for i in range(1, n_open):
+                    if vhi[order[i]] > vhi[order[pick]]:
+                        pick = i
+                arg = order[pick]
+                slack = _TIE * abs(top) if code == MWCM else 0.0
+                if not vhi[arg] >= top - slack:
+                    break
+                n_open -= 1
+                order[pick] = order[n_open]
+                sup[0] = -1
+                tau[arg] = _exact_tau(
+                    m, h, xy, zz, p, c2[arg], s2[arg], sp[arg], cp[arg], x, y, sup
+                )
+                done[arg] = True
+                _values(code, par[ci], E, out, tau, arg, arg + 1, value)
+                top = max(top, value[arg])
+        _values(code, par[ci], E, out, tau, 0, n_g, value)
+        arg = 0
+        for g in range(1, n_g):
+            if value[g] > value[arg]:
+                arg = g
+        if code == MWCM:  # ties within the tolerance: the largest normal stress
+            tol = _TIE * max(abs(value[arg]), 1e-300)
+            top, arg = value[arg], -1
+            for g in range(n_g):
+                if value[g] >= top - tol and (arg < 0 or out[0, g] > out[0, arg]):
+                    arg = g
         best[ci] = arg
 
 
-@numba.njit(**_JIT)
-def _argbest(code, res, start, count):
-    """Index (from ``start``) of the best of ``count`` candidates of one criterion."""
-    arg = start
-    for g in range(start + 1, start + count):
-        if res[0, g] > res[0, arg]:
-            arg = g
-    if code == MWCM:
-        top = res[0, arg]
-        tol = _TIE * max(abs(top), 1e-300)
-        arg2 = -1
-        for g in range(start, start + count):
-            if res[0, g] >= top - tol and (arg2 < 0 or res[2, g] > res[2, arg2]):
-                arg2 = g
-        arg = arg2
-    return arg
+# --------------------------------------------------------------------------- refinement
 
 
 @numba.njit(**_JIT)
-def _shifted(c2, s2, sp, cp, psi, dp, cos2t, sin2t, cosp, sinp):
-    """cos 2theta, sin 2theta, sin psi, cos psi, psi of the plane moved by (dt, dp); psi is
-    clipped to [0, pi/2] as the numpy search clips it."""
-    nc2 = c2 * cos2t - s2 * sin2t
-    ns2 = s2 * cos2t + c2 * sin2t
-    npsi = psi + dp
-    if dp == 0.0:
-        return nc2, ns2, sp, cp, psi
-    if npsi >= 0.5 * np.pi:
-        return nc2, ns2, 1.0, math.cos(0.5 * np.pi), 0.5 * np.pi
-    if npsi <= 0.0:
-        return nc2, ns2, 0.0, 1.0, 0.0
-    return nc2, ns2, sp * cosp + cp * sinp, cp * cosp - sp * sinp, npsi
+def _cos_sin(x):
+    """cos x, sin x; Taylor series below 0.1 (exact to round-off there), libm above."""
+    if abs(x) >= 0.1:
+        return math.cos(x), math.sin(x)
+    x2 = x * x
+    c = 1.0 - x2 / 2.0 * (1.0 - x2 / 12.0 * (1.0 - x2 / 30.0 * (1.0 - x2 / 56.0)))
+    s = x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0))))
+    return c, s
 
 
 @numba.njit(**_JIT)
-def _parabola(res, lo, centre, h):
-    """The step to the vertex of the parabola through res[0, lo], centre, res[0, lo + 1] at
-    -h, 0, h; none where it opens upwards, at most h (the numpy search's nan_to_num, clip)."""
-    curv = res[0, lo] - 2.0 * centre + res[0, lo + 1]
+def _evaluate(data, nb, planes, n_rep, per, codes, par, nu, E, in_plane, against, cur, work):
+    """Quantities and values of ``n_rep`` planes per point of a block of ``nb`` points; plane
+    ``r nb + b`` is point b's, of criterion ``r // per``. With ``against``, a plane that cannot
+    beat its criterion's current value keeps the lower bound of its shear amplitude (the numpy
+    search's ``_SharedPass._exact``); the exact circles start from the current plane's support.
+    """
+    m, h, xy, zz, tr, x, y = data
+    c2, s2, sp, cp, psup = planes
+    out, lo, hi, tau, value, vlo, vhi, _ = work
+    cvalue, cscale, csup = cur
+    for r in range(n_rep):
+        _block_summaries(m, h, xy, zz, tr, nb, nu, c2, s2, sp, cp, r * nb, in_plane, out)
+    for ci in range(codes.size):
+        code = codes[ci]
+        start, stop = ci * per * nb, (ci + 1) * per * nb
+        if _needs_shear(code):
+            _shear_bounds(out, start, stop, in_plane, lo, hi)
+            for g in range(start, stop):
+                tau[g] = lo[g]
+            if not in_plane:
+                if against:
+                    _values(code, par[ci], E, out, lo, start, stop, vlo)
+                    _values(code, par[ci], E, out, hi, start, stop, vhi)
+                for g in range(start, stop):
+                    if not hi[g] > lo[g] * (1.0 + 1e-12):
+                        psup[g, 0] = -1
+                        continue
+                    b = g % nb
+                    k = ci * nb + b
+                    if against:
+                        slack = _TIE * cscale[k] if code == MWCM else 0.0
+                        if not max(vlo[g], vhi[g]) >= cvalue[k] - slack:
+                            psup[g, 0] = -1
+                            continue
+                    psup[g, 0], psup[g, 1], psup[g, 2] = csup[k, 0], csup[k, 1], csup[k, 2]
+                    tau[g] = _exact_tau(m, h, xy, zz, b, c2[g], s2[g], sp[g], cp[g], x, y, psup[g])
+        else:
+            for g in range(start, stop):
+                tau[g] = 0.0
+        _values(code, par[ci], E, out, tau, start, stop, value)
+
+
+@numba.njit(**_JIT)
+def _parabola(v_lo, centre, v_hi, h):
+    """The step to the vertex of the parabola through v_lo, centre, v_hi at -h, 0, h; none
+    where it opens upwards, at most h (the numpy search's where, nan_to_num and clip)."""
+    curv = v_lo - 2.0 * centre + v_hi
     d = 0.0
     if curv < 0:
-        d = 0.5 * h * (res[0, lo] - res[0, lo + 1]) / curv
+        d = 0.5 * h * (v_lo - v_hi) / curv
     if math.isnan(d):
         d = 0.0
     return min(max(d, -h), h)
+
+
+@numba.njit(**_JIT)
+def _moved(c2, s2, sp, cp, psi, dt, dp):
+    """cos 2theta, sin 2theta, sin psi, cos psi, psi of the plane turned by (dt, dp); psi is
+    clipped to [0, pi/2] as the numpy search clips it."""
+    nc2, ns2 = c2, s2
+    if dt != 0.0:
+        rc, rs = _cos_sin(2.0 * dt)
+        nc2, ns2 = c2 * rc - s2 * rs, s2 * rc + c2 * rs
+    if dp == 0.0:
+        return nc2, ns2, sp, cp, psi
+    npsi = psi + dp
+    if npsi >= 0.5 * np.pi:
+        return nc2, ns2, 1.0, _COS_HALF_PI, 0.5 * np.pi
+    if npsi <= 0.0:
+        return nc2, ns2, 0.0, 1.0, 0.0
+    rc, rs = _cos_sin(dp)
+    return nc2, ns2, sp * rc + cp * rs, cp * rc - sp * rs, npsi
+
+
+@numba.njit(**_JIT)
+def _refine_block(data, nb, cur_planes, cur_angles, cur, cand, cand_angles, codes, par, nu, E,
+                  steps, levels, in_plane, work):  # fmt: skip
+    """The numpy search's ``_refine`` for a block of points: every criterion's candidates of a
+    level in one :func:`_evaluate`."""
+    c2, s2, sp, cp, csup = cur_planes
+    th, ps = cur_angles
+    cvalue, cscale, _ = cur
+    second = np.empty(cvalue.size)
+    n_c = codes.size
+    k = 2 if in_plane else 4
+    out = work[0]
+    value = work[4]
+    # the start planes, exact
+    for i in range(n_c * nb):
+        csup[i, 0] = -1
+    _evaluate(data, nb, cur_planes, n_c, 1, codes, par, nu, E, in_plane, False, cur, work)
+    for i in range(n_c * nb):
+        cvalue[i] = value[i]
+        second[i] = out[0, i]
+        cscale[i] = max(abs(cvalue[i]), 1e-300)
+    q2, qs2, qsp, qcp, qsup = cand
+    qth, qps = cand_angles
+    for level in range(levels + 1):
+        last = level == levels
+        ht = steps[0] / 2 ** min(level + 1, levels)
+        hp = steps[1] / 2 ** min(level + 1, levels)
+        for ci in range(n_c):
+            for j in range(k):
+                dt = (-ht if j == 0 else ht) if j < 2 else 0.0
+                dp = 0.0 if j < 2 else (-hp if j == 2 else hp)
+                for b in range(nb):
+                    i = ci * nb + b
+                    g = (ci * k + j) * nb + b
+                    q2[g], qs2[g], qsp[g], qcp[g], qps[g] = _moved(
+                        c2[i], s2[i], sp[i], cp[i], ps[i], dt, dp
+                    )
+                    qth[g] = th[i] + dt
+        _evaluate(data, nb, cand, n_c * k, k, codes, par, nu, E, in_plane, not last, cur, work)
+        if not last:
+            for ci in range(n_c):
+                code = codes[ci]
+                for b in range(nb):
+                    i = ci * nb + b
+                    arg = (ci * k) * nb + b
+                    for j in range(1, k):
+                        g = (ci * k + j) * nb + b
+                        if value[g] > value[arg]:
+                            arg = g
+                    if code == MWCM:
+                        tol = _TIE * max(abs(value[arg]), 1e-300)
+                        top, arg = value[arg], -1
+                        for j in range(k):
+                            g = (ci * k + j) * nb + b
+                            if value[g] >= top - tol and (arg < 0 or out[0, g] > out[0, arg]):
+                                arg = g
+                    if _better(code, value[arg], out[0, arg], cvalue[i], second[i], cscale[i]):
+                        th[i], ps[i] = qth[arg], qps[arg]
+                        c2[i], s2[i], sp[i], cp[i] = q2[arg], qs2[arg], qsp[arg], qcp[arg]
+                        cvalue[i], second[i] = value[arg], out[0, arg]
+                        if qsup[arg, 0] >= 0:
+                            csup[i, 0], csup[i, 1], csup[i, 2] = (
+                                qsup[arg, 0],
+                                qsup[arg, 1],
+                                qsup[arg, 2],
+                            )
+            continue
+        # one parabolic step per angle through the last level's three values
+        for ci in range(n_c):
+            for b in range(nb):
+                i = ci * nb + b
+                g0 = (ci * k) * nb + b
+                dt = _parabola(value[g0], cvalue[i], value[g0 + nb], ht)
+                dp = 0.0
+                if not in_plane:
+                    dp = _parabola(value[g0 + 2 * nb], cvalue[i], value[g0 + 3 * nb], hp)
+                q2[i], qs2[i], qsp[i], qcp[i], qps[i] = _moved(
+                    c2[i], s2[i], sp[i], cp[i], ps[i], dt, dp
+                )
+                qth[i] = th[i] + dt
+        _evaluate(data, nb, cand, n_c, 1, codes, par, nu, E, in_plane, True, cur, work)
+        for ci in range(n_c):
+            for b in range(nb):
+                i = ci * nb + b
+                if _better(codes[ci], value[i], out[0, i], cvalue[i], second[i], cscale[i]):
+                    th[i], ps[i] = qth[i], qps[i]
+                    c2[i], s2[i], sp[i], cp[i] = q2[i], qs2[i], qsp[i], qcp[i]
+                    if qsup[i, 0] >= 0:
+                        csup[i, 0], csup[i, 1], csup[i, 2] = qsup[i, 0], qsup[i, 1], qsup[i, 2]
 
 
 @numba.njit(**_JIT)
@@ -383,116 +589,86 @@ def search(stress, grid, grid_theta, grid_psi, codes, par, nu, E, steps, levels,
     theta_out = np.empty((n_c, n_p))
     psi_out = np.empty((n_c, n_p))
     res_out = np.empty((5, n_c, n_p))
-    mean, half = np.empty(n_t), np.empty(n_t)
-    sxy, szz, trace = np.empty(n_t), np.empty(n_t), np.empty(n_t)
-    out = np.empty((12, max(n_g, n_c * k)))
-    x, y = np.empty(n_t), np.empty(n_t)
-    point = (mean, half, sxy, szz, trace, out, x, y)
-    tau_g = np.empty(n_g)
+    nb_max = min(BLOCK, n_p)
+    # rows of one array each, padded so that rows do not start a multiple of 4 KiB apart
+    # (the loops stream many rows at once: rows that share L1 sets evict each other)
+    steps_rows = np.empty((7, n_t * nb_max + _PAD))
+    data = (
+        steps_rows[0, : n_t * nb_max].reshape((n_t, nb_max)),
+        steps_rows[1, : n_t * nb_max].reshape((n_t, nb_max)),
+        steps_rows[2, : n_t * nb_max].reshape((n_t, nb_max)),
+        steps_rows[3, : n_t * nb_max].reshape((n_t, nb_max)),
+        steps_rows[4, : n_t * nb_max].reshape((n_t, nb_max)),
+        steps_rows[5, :n_t],
+        steps_rows[6, :n_t],
+    )
+    m, h, xy, zz, tr = data[0], data[1], data[2], data[3], data[4]
+    size = max(n_g, n_c * k * nb_max)
+    rows = np.empty((18, size + _PAD))
+    work = (
+        rows[:12],
+        rows[12, :size],
+        rows[13, :size],
+        rows[14, :size],
+        rows[15, :size],
+        rows[16, :size],
+        rows[17, :size],
+        np.empty(size, dtype=np.bool_),
+    )
+    n_cur = n_c * nb_max
+    cur_rows = np.empty((8, n_cur + _PAD))
+    cur_planes = (
+        cur_rows[0, :n_cur],
+        cur_rows[1, :n_cur],
+        cur_rows[2, :n_cur],
+        cur_rows[3, :n_cur],
+        np.full((n_cur, 3), -1, dtype=np.int64),
+    )
+    cur_angles = (cur_rows[4, :n_cur], cur_rows[5, :n_cur])
+    cur = (cur_rows[6, :n_cur], cur_rows[7, :n_cur], cur_planes[4])
+    n_q = n_c * k * nb_max
+    cand_rows = np.empty((6, n_q + _PAD))
+    cand = (
+        cand_rows[0, :n_q],
+        cand_rows[1, :n_q],
+        cand_rows[2, :n_q],
+        cand_rows[3, :n_q],
+        np.full((n_q, 3), -1, dtype=np.int64),
+    )
+    cand_angles = (cand_rows[4, :n_q], cand_rows[5, :n_q])
     best = np.empty(n_c, dtype=np.int64)
-    # the current plane of each criterion, and its value
-    th, ps = np.empty(n_c), np.empty(n_c)
-    c2, s2, sp, cp = np.empty(n_c), np.empty(n_c), np.empty(n_c), np.empty(n_c)
-    value, second, scale = np.empty(n_c), np.empty(n_c), np.empty(n_c)
-    res = np.empty((5, n_c * k))
-    one = np.empty((5, n_c))
-    cc2, cs2, csp, ccp = np.empty(n_c * k), np.empty(n_c * k), np.empty(n_c * k), np.empty(n_c * k)
-    cth, cps = np.empty(n_c * k), np.empty(n_c * k)
-    # rotations of every level (and of the parabolic step's level)
-    rot = np.empty((levels + 1, 6))
-    for level in range(levels + 1):
-        ht = steps[0] / 2 ** (level + 1) if level < levels else steps[0] / 2**levels
-        hp = steps[1] / 2 ** (level + 1) if level < levels else steps[1] / 2**levels
-        rot[level] = ht, hp, math.cos(2 * ht), math.sin(2 * ht), math.cos(hp), math.sin(hp)
-    dt = np.empty(k)
-    dp = np.empty(k)
-    for p in range(n_p):
+    sup = np.empty(3, dtype=np.int64)
+    c2, s2, sp, cp, _ = cur_planes
+    th, ps = cur_angles
+    for p0 in range(0, n_p, nb_max):
+        nb = min(nb_max, n_p - p0)
         for t in range(n_t):
-            sxx_, syy_, sxy_, szz_ = (
-                stress[t, p, 0],
-                stress[t, p, 1],
-                stress[t, p, 2],
-                stress[t, p, 3],
-            )
-            mean[t] = 0.5 * (sxx_ + syy_)
-            half[t] = 0.5 * (sxx_ - syy_)
-            sxy[t] = sxy_
-            szz[t] = szz_
-            trace[t] = 2.0 * mean[t] + szz_
-        _coarse(point, grid, codes, par, nu, E, in_plane, tau_g, best)
-        for ci in range(n_c):
-            g = best[ci]
-            th[ci], ps[ci] = grid_theta[g], grid_psi[g]
-            c2[ci], s2[ci], sp[ci], cp[ci] = grid[0, g], grid[1, g], grid[2, g], grid[3, g]
-        _evaluate(point, c2, s2, sp, cp, n_c, 1, codes, par, nu, E, in_plane, False, value,
-                  scale, one)  # fmt: skip
-        for ci in range(n_c):
-            value[ci] = one[0, ci]
-            second[ci] = one[2, ci]
-            scale[ci] = max(abs(value[ci]), 1e-300)
-        for level in range(levels + 1):
-            ht, hp, cos2t, sin2t, cosp, sinp = rot[level]
-            dt[0], dt[1] = -ht, ht
-            dp[0], dp[1] = 0.0, 0.0
-            if not in_plane:
-                dt[2], dt[3] = 0.0, 0.0
-                dp[2], dp[3] = -hp, hp
+            for b in range(nb):
+                sxx, syy = stress[t, p0 + b, 0], stress[t, p0 + b, 1]
+                m[t, b] = 0.5 * (sxx + syy)
+                h[t, b] = 0.5 * (sxx - syy)
+                xy[t, b] = stress[t, p0 + b, 2]
+                zz[t, b] = stress[t, p0 + b, 3]
+                tr[t, b] = 2.0 * m[t, b] + zz[t, b]
+        for b in range(nb):
+            _coarse(data, b, grid, codes, par, nu, E, in_plane, work, best, sup)
             for ci in range(n_c):
-                for j in range(k):
-                    g = ci * k + j
-                    sign = 1.0 if (dt[j] > 0 or dp[j] > 0) else -1.0
-                    r2t = cos2t if dt[j] != 0 else 1.0
-                    s2t = sign * sin2t if dt[j] != 0 else 0.0
-                    rp = cosp if dp[j] != 0 else 1.0
-                    sq = sign * sinp if dp[j] != 0 else 0.0
-                    cc2[g], cs2[g], csp[g], ccp[g], cps[g] = _shifted(
-                        c2[ci], s2[ci], sp[ci], cp[ci], ps[ci], dp[j], r2t, s2t, rp, sq
-                    )
-                    cth[g] = th[ci] + dt[j]
-            last = level == levels
-            _evaluate(point, cc2, cs2, csp, ccp, n_c * k, k, codes, par, nu, E, in_plane,
-                      not last, value, scale, res)  # fmt: skip
-            if not last:
-                for ci in range(n_c):
-                    j = _argbest(codes[ci], res, ci * k, k)
-                    if _better(codes[ci], res[0, j], res[2, j], value[ci], second[ci], scale[ci]):
-                        th[ci], ps[ci] = cth[j], cps[j]
-                        c2[ci], s2[ci], sp[ci], cp[ci] = cc2[j], cs2[j], csp[j], ccp[j]
-                        value[ci], second[ci] = res[0, j], res[2, j]
-                continue
-            # one parabolic step per angle through the last level's three values
-            for ci in range(n_c):
-                shift_t = _parabola(res, ci * k, value[ci], ht)
-                nth = th[ci] + shift_t
-                nps = ps[ci]
-                if not in_plane:
-                    shift_p = _parabola(res, ci * k + 2, value[ci], hp)
-                    nps = min(max(ps[ci] + shift_p, 0.0), 0.5 * np.pi)
-                r2t, s2t = math.cos(2 * shift_t), math.sin(2 * shift_t)
-                cc2[ci] = c2[ci] * r2t - s2[ci] * s2t
-                cs2[ci] = s2[ci] * r2t + c2[ci] * s2t
-                if nps == ps[ci]:
-                    csp[ci], ccp[ci] = sp[ci], cp[ci]
-                elif nps == 0.5 * np.pi:
-                    csp[ci], ccp[ci] = 1.0, math.cos(0.5 * np.pi)
-                elif nps == 0.0:
-                    csp[ci], ccp[ci] = 0.0, 1.0
-                else:
-                    dq = nps - ps[ci]
-                    csp[ci] = sp[ci] * math.cos(dq) + cp[ci] * math.sin(dq)
-                    ccp[ci] = cp[ci] * math.cos(dq) - sp[ci] * math.sin(dq)
-                cth[ci], cps[ci] = nth, nps
-            _evaluate(point, cc2, cs2, csp, ccp, n_c, 1, codes, par, nu, E, in_plane, True,
-                      value, scale, one)  # fmt: skip
-            for ci in range(n_c):
-                if _better(codes[ci], one[0, ci], one[2, ci], value[ci], second[ci], scale[ci]):
-                    th[ci], ps[ci] = cth[ci], cps[ci]
-                    c2[ci], s2[ci], sp[ci], cp[ci] = cc2[ci], cs2[ci], csp[ci], ccp[ci]
-        _evaluate(point, c2, s2, sp, cp, n_c, 1, codes, par, nu, E, in_plane, False, value,
-                  scale, one)  # fmt: skip
+                g, i = best[ci], ci * nb + b
+                th[i], ps[i] = grid_theta[g], grid_psi[g]
+                c2[i], s2[i], sp[i], cp[i] = grid[0, g], grid[1, g], grid[2, g], grid[3, g]
+        _refine_block(data, nb, cur_planes, cur_angles, cur, cand, cand_angles, codes, par, nu,
+                      E, steps, levels, in_plane, work)  # fmt: skip
+        # the final planes, exact (each circle starts from its own support)
+        _evaluate(data, nb, cur_planes, n_c, 1, codes, par, nu, E, in_plane, False, cur, work)
+        out, tau, value = work[0], work[3], work[4]
         for ci in range(n_c):
-            theta_out[ci, p] = th[ci]
-            psi_out[ci, p] = ps[ci]
-            for r in range(5):
-                res_out[r, ci, p] = one[r, ci]
+            for b in range(nb):
+                i = ci * nb + b
+                theta_out[ci, p0 + b] = th[i]
+                psi_out[ci, p0 + b] = ps[i]
+                res_out[0, ci, p0 + b] = value[i]
+                res_out[1, ci, p0 + b] = tau[i]
+                res_out[2, ci, p0 + b] = out[0, i]
+                res_out[3, ci, p0 + b] = out[1, i]
+                res_out[4, ci, p0 + b] = 0.5 * (out[2, i] - out[3, i]) / E
     return theta_out, psi_out, res_out
