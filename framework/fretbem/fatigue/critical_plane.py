@@ -32,8 +32,10 @@ from .planes import plane_grid, projection
 __all__ = [
     "DEFAULT_METHODS",
     "METHODS",
+    "SEARCH_CHOICE",
     "CriterionResult",
     "PlaneSearch",
+    "SearchChoice",
     "critical_plane_parameters",
     "plane_quantities",
 ]
@@ -64,8 +66,8 @@ class PlaneSearch:
         Points evaluated at once on the coarse grid (memory ~ steps x chunk x planes).
     compiled : bool or None
         True: the compiled (numba) search (:mod:`.compiled_search`), False: the numpy search;
-        None chooses the compiled one where numba is loaded already or the search is large
-        enough to repay loading it (:data:`COMPILED_MIN_WORK`).
+        None (default) chooses by a ski rental on loading numba (:class:`SearchChoice`). Both
+        find the same planes and values (to round-off, 1e-12 relative measured).
     """
 
     in_plane_only: bool = False
@@ -73,7 +75,9 @@ class PlaneSearch:
     psi_step_deg: float = 10.0
     refine_levels: int = 5
     chunk_points: int = 400
-    compiled: bool | None = None
+    compiled: bool | None = attrs.field(
+        default=None, validator=attrs.validators.optional(attrs.validators.instance_of(bool))
+    )
 
 
 @attrs.frozen(eq=False)
@@ -527,23 +531,74 @@ def _refine(evaluate, criteria, theta, psi, steps, levels, in_plane_only):
     return np.mod(theta, np.pi), psi
 
 
-#: (step, point, plane) evaluations from which the compiled search repays loading numba
-#: (~0.45 s) in a process that has not loaded it: the numpy search spends about 0.45 s on
-#: 2.5e7 of them (10,000 points, 9 steps, 3D grid, 4 criteria) and 0.1 s in-plane on 3e6
-COMPILED_MIN_WORK = 2.5e7
+#: numpy search time per (step, point, plane) evaluation, s: 0.53 s for 10,000 points, 9 steps
+#: and 325 grid + 240 refinement planes (3D, four criteria; in-plane 0.11 s for 36 + 120)
+NUMPY_SECONDS_PER_EVALUATION = 1e-8
+#: what the compiled search costs before its first point, s: numba's import and set-up (about
+#: 0.45 s, paid once per process by whichever compiled loop runs first) and the cached kernel
+#: (about 0.06 s); benchmarks/fatigue_grid.py
+NUMBA_LOAD_SECONDS, KERNEL_LOAD_SECONDS = 0.45, 0.06
+
+
+class SearchChoice:
+    """The ski rental between the numpy and the compiled (numba) critical-plane search.
+
+    The numpy search runs until the numpy work this process has done, plus the search at
+    hand, would have paid for loading the compiled one (numba's load only where no other
+    compiled loop has loaded it); from then on, and at once for a search that large, the
+    compiled search runs. A one-off small search never pays for numba, and no choice costs
+    more than twice the better one. One instance, :data:`SEARCH_CHOICE`, per process;
+    ``reset()`` forgets the record (tests, benchmarks).
+    """
+
+    def __init__(self) -> None:
+        #: (step, point, plane) evaluations this process has done with the numpy search
+        self.spent = 0.0
+
+    def compiled(self, evaluations: float) -> bool:
+        """Whether a search of ``evaluations`` more evaluations should be the compiled one."""
+        if f"{__package__}.compiled_search" in sys.modules:  # loaded: its cost is paid
+            return True
+        if importlib.util.find_spec("numba") is None:
+            return False
+        cost = KERNEL_LOAD_SECONDS + (0.0 if "numba" in sys.modules else NUMBA_LOAD_SECONDS)
+        return (self.spent + evaluations) * NUMPY_SECONDS_PER_EVALUATION >= cost
+
+    def record(self, evaluations: float) -> None:
+        """Count a search done with numpy."""
+        self.spent += evaluations
+
+    def reset(self) -> None:
+        """Forget the numpy work done so far."""
+        self.spent = 0.0
+
+
+#: the process's record (see :class:`SearchChoice`)
+SEARCH_CHOICE = SearchChoice()
+
+
+def _evaluations(search: PlaneSearch, shape, n_planes: int, n_criteria: int) -> float:
+    """(step, point, plane) evaluations of a search: the grid and the refinement (about 15
+    planes per criterion and candidate direction)."""
+    refine = 15 * n_criteria * (2 if search.in_plane_only else 4)
+    return float(shape[0]) * shape[1] * (n_planes + refine)
 
 
 def _use_compiled(search: PlaneSearch, shape, n_planes: int, n_criteria: int) -> bool:
-    """Whether to run the compiled search: as asked, or where numba is loaded already or the
-    work repays loading it (the refinement counts as 15 planes per criterion and level pair)."""
+    """Whether to run the compiled search: as ``search.compiled`` asks, or by the ski rental
+    (:data:`SEARCH_CHOICE`), which counts the numpy searches it lets run."""
+    if search.compiled is True and importlib.util.find_spec("numba") is None:
+        raise FatigueInputError(
+            "PlaneSearch(compiled=True) needs numba, which is not installed: pip install "
+            "numba, or leave compiled=None to use it only where it is available"
+        )
     if search.compiled is not None:
         return search.compiled
-    if importlib.util.find_spec("numba") is None:
-        return False
-    if "numba" in sys.modules:
+    evaluations = _evaluations(search, shape, n_planes, n_criteria)
+    if SEARCH_CHOICE.compiled(evaluations):
         return True
-    refine = 15 * n_criteria * (2 if search.in_plane_only else 4)
-    return shape[0] * shape[1] * (n_planes + refine) >= COMPILED_MIN_WORK
+    SEARCH_CHOICE.record(evaluations)
+    return False
 
 
 def _compiled_parameters(stress, criteria, search, theta_g, psi_g, E, nu) -> dict:
