@@ -2,7 +2,9 @@
 
 Both run the same algorithm (coarse grid, pruned exact circles, pattern search, parabolic
 step), so they must agree on every criterion's plane and value to round-off: measured 6e-16
-relative on the values and 6e-11 degrees on the planes over the histories below.
+relative on the values and 6e-11 degrees on the planes over the histories below. (This module
+sorts after the other search tests: once the compiled search is loaded, the default search of
+the process is the compiled one, and those tests probe the numpy search's internals.)
 """
 
 from __future__ import annotations
