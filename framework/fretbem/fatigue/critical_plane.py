@@ -4,7 +4,10 @@ strain life.
 Each parameter is maximised over material planes (3D by default, see :mod:`.planes`): a coarse
 grid over the quarter sphere, exact shear amplitudes (minimum circumscribed circle) only where
 cheap bounds cannot rule a plane out, then a local pattern search around each point's best
-plane with halving steps. Strains come from Hooke's law (isotropic, linear elastic).
+plane with halving steps. Strains come from Hooke's law (isotropic, linear elastic). The
+search runs in numpy here or compiled (:mod:`.compiled_search`, numba), the same algorithm
+and the same answers to round-off; :class:`SearchChoice` picks one by a ski rental on
+loading numba.
 
 Names say what they are: ``*_amplitude`` is half the range over the cycle, ``*_max`` the largest
 value over the cycle, ``*_mean`` the average of max and min. The shear amplitude is the radius
