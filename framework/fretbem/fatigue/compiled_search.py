@@ -464,13 +464,13 @@ def _parabola(v_lo, centre, v_hi, h):
 
 
 @numba.njit(**_JIT)
-def _moved(c2, s2, sp, cp, psi, dt, dp):
+def _moved(c2, s2, sp, cp, psi, dt, dp, turn):
     """cos 2theta, sin 2theta, sin psi, cos psi, psi of the plane turned by (dt, dp); psi is
-    clipped to [0, pi/2] as the numpy search clips it."""
+    clipped to [0, pi/2] as the numpy search clips it. ``turn``: cos 2dt, sin 2dt, cos dp,
+    sin dp."""
     nc2, ns2 = c2, s2
     if dt != 0.0:
-        rc, rs = _cos_sin(2.0 * dt)
-        nc2, ns2 = c2 * rc - s2 * rs, s2 * rc + c2 * rs
+        nc2, ns2 = c2 * turn[0] - s2 * turn[1], s2 * turn[0] + c2 * turn[1]
     if dp == 0.0:
         return nc2, ns2, sp, cp, psi
     npsi = psi + dp
@@ -478,8 +478,14 @@ def _moved(c2, s2, sp, cp, psi, dt, dp):
         return nc2, ns2, 1.0, _COS_HALF_PI, 0.5 * np.pi
     if npsi <= 0.0:
         return nc2, ns2, 0.0, 1.0, 0.0
-    rc, rs = _cos_sin(dp)
-    return nc2, ns2, sp * rc + cp * rs, cp * rc - sp * rs, npsi
+    return nc2, ns2, sp * turn[2] + cp * turn[3], cp * turn[2] - sp * turn[3], npsi
+
+
+@numba.njit(**_JIT)
+def _turn(dt, dp, turn):
+    """cos 2dt, sin 2dt, cos dp, sin dp into ``turn``."""
+    turn[0], turn[1] = _cos_sin(2.0 * dt)
+    turn[2], turn[3] = _cos_sin(dp)
 
 
 @numba.njit(**_JIT)
@@ -491,6 +497,7 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cand, cand_angles, code
     th, ps = cur_angles
     cvalue, cscale, _ = cur
     second = np.empty(cvalue.size)
+    turn = np.empty(4)
     n_c = codes.size
     k = 2 if in_plane else 4
     out = work[0]
@@ -513,11 +520,12 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cand, cand_angles, code
             for j in range(k):
                 dt = (-ht if j == 0 else ht) if j < 2 else 0.0
                 dp = 0.0 if j < 2 else (-hp if j == 2 else hp)
+                _turn(dt, dp, turn)
                 for b in range(nb):
                     i = ci * nb + b
                     g = (ci * k + j) * nb + b
                     q2[g], qs2[g], qsp[g], qcp[g], qps[g] = _moved(
-                        c2[i], s2[i], sp[i], cp[i], ps[i], dt, dp
+                        c2[i], s2[i], sp[i], cp[i], ps[i], dt, dp, turn
                     )
                     qth[g] = th[i] + dt
         _evaluate(data, nb, cand, n_c * k, k, codes, par, nu, E, in_plane, not last, cur, work)
@@ -558,8 +566,9 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cand, cand_angles, code
                 dp = 0.0
                 if not in_plane:
                     dp = _parabola(value[g0 + 2 * nb], cvalue[i], value[g0 + 3 * nb], hp)
+                _turn(dt, dp, turn)
                 q2[i], qs2[i], qsp[i], qcp[i], qps[i] = _moved(
-                    c2[i], s2[i], sp[i], cp[i], ps[i], dt, dp
+                    c2[i], s2[i], sp[i], cp[i], ps[i], dt, dp, turn
                 )
                 qth[i] = th[i] + dt
         _evaluate(data, nb, cand, n_c, 1, codes, par, nu, E, in_plane, True, cur, work)
