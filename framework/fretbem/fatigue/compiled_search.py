@@ -326,9 +326,10 @@ def _better(code, new, new2, old, old2, scale):
 
 
 @numba.njit(**_JIT)
-def _coarse(data, p, grid, codes, par, nu, E, in_plane, work, best, sup):
+def _coarse(data, p, grid, codes, par, nu, E, in_plane, work, best, found, sup):
     """Index of the best grid plane of every criterion at point ``p`` of the step data, into
-    ``best``; the grid circles as the module docstring says."""
+    ``best``, and its quantities (value, tau, sigma_n max and min, normal strain amplitude)
+    into ``found`` (5, C); the grid circles as the module docstring says."""
     m, h, xy, zz, tr, x, y = data
     out, lo, hi, tau, value, vlo, vhi, done = work
     n_g = grid.shape[1]
@@ -391,6 +392,11 @@ def _coarse(data, p, grid, codes, par, nu, E, in_plane, work, best, sup):
                 if value[g] >= top - tol and (arg < 0 or out[0, g] > out[0, arg]):
                     arg = g
         best[ci] = arg
+        found[0, ci] = value[arg]
+        found[1, ci] = tau[arg] if _needs_shear(code) else 0.0
+        found[2, ci] = out[0, arg]
+        found[3, ci] = out[1, arg]
+        found[4, ci] = 0.5 * (out[2, arg] - out[3, arg]) / E
 
 
 # --------------------------------------------------------------------------- refinement
@@ -489,10 +495,22 @@ def _turn(dt, dp, turn):
 
 
 @numba.njit(**_JIT)
-def _refine_block(data, nb, cur_planes, cur_angles, cur, cand, cand_angles, codes, par, nu, E,
-                  steps, levels, in_plane, work):  # fmt: skip
+def _keep(cres, i, value, tau, out, g, E):
+    """The quantities of evaluated plane ``g`` as current plane ``i``'s."""
+    cres[0, i] = value[g]
+    cres[1, i] = tau[g]
+    cres[2, i] = out[0, g]
+    cres[3, i] = out[1, g]
+    cres[4, i] = 0.5 * (out[2, g] - out[3, g]) / E
+
+
+@numba.njit(**_JIT)
+def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles, codes, par,
+                  nu, E, steps, levels, in_plane, work):  # fmt: skip
     """The numpy search's ``_refine`` for a block of points: every criterion's candidates of a
-    level in one :func:`_evaluate`."""
+    level in one :func:`_evaluate`. ``cres`` (5, C nb): the current planes' quantities (value,
+    tau, sigma_n max and min, normal strain amplitude), from the grid in, the final ones out:
+    a plane that wins has its exact circle (one that cannot win keeps a bound, never wins)."""
     c2, s2, sp, cp, csup = cur_planes
     th, ps = cur_angles
     cvalue, cscale, _ = cur
@@ -502,13 +520,11 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cand, cand_angles, code
     k = 2 if in_plane else 4
     out = work[0]
     value = work[4]
-    # the start planes, exact
+    # the start planes: the coarse grid's exact quantities (``cres``, kept up to date below)
     for i in range(n_c * nb):
         csup[i, 0] = -1
-    _evaluate(data, nb, cur_planes, n_c, 1, codes, par, nu, E, in_plane, False, cur, work)
-    for i in range(n_c * nb):
-        cvalue[i] = value[i]
-        second[i] = out[0, i]
+        cvalue[i] = cres[0, i]
+        second[i] = cres[2, i]
         cscale[i] = max(abs(cvalue[i]), 1e-300)
     q2, qs2, qsp, qcp, qsup = cand
     qth, qps = cand_angles
@@ -550,6 +566,7 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cand, cand_angles, code
                         th[i], ps[i] = qth[arg], qps[arg]
                         c2[i], s2[i], sp[i], cp[i] = q2[arg], qs2[arg], qsp[arg], qcp[arg]
                         cvalue[i], second[i] = value[arg], out[0, arg]
+                        _keep(cres, i, value, work[3], out, arg, E)
                         if qsup[arg, 0] >= 0:
                             csup[i, 0], csup[i, 1], csup[i, 2] = (
                                 qsup[arg, 0],
@@ -576,6 +593,7 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cand, cand_angles, code
             for b in range(nb):
                 i = ci * nb + b
                 if _better(codes[ci], value[i], out[0, i], cvalue[i], second[i], cscale[i]):
+                    _keep(cres, i, value, work[3], out, i, E)
                     th[i], ps[i] = qth[i], qps[i]
                     c2[i], s2[i], sp[i], cp[i] = q2[i], qs2[i], qsp[i], qcp[i]
                     if qsup[i, 0] >= 0:
@@ -646,6 +664,8 @@ def search(stress, grid, grid_theta, grid_psi, codes, par, nu, E, steps, levels,
     )
     cand_angles = (cand_rows[4, :n_q], cand_rows[5, :n_q])
     best = np.empty(n_c, dtype=np.int64)
+    found = np.empty((5, n_c))
+    cres = np.empty((5, n_cur + _PAD))
     sup = np.empty(3, dtype=np.int64)
     c2, s2, sp, cp, _ = cur_planes
     th, ps = cur_angles
@@ -660,24 +680,20 @@ def search(stress, grid, grid_theta, grid_psi, codes, par, nu, E, steps, levels,
                 zz[t, b] = stress[t, p0 + b, 3]
                 tr[t, b] = 2.0 * m[t, b] + zz[t, b]
         for b in range(nb):
-            _coarse(data, b, grid, codes, par, nu, E, in_plane, work, best, sup)
+            _coarse(data, b, grid, codes, par, nu, E, in_plane, work, best, found, sup)
             for ci in range(n_c):
                 g, i = best[ci], ci * nb + b
+                for r in range(5):
+                    cres[r, i] = found[r, ci]
                 th[i], ps[i] = grid_theta[g], grid_psi[g]
                 c2[i], s2[i], sp[i], cp[i] = grid[0, g], grid[1, g], grid[2, g], grid[3, g]
-        _refine_block(data, nb, cur_planes, cur_angles, cur, cand, cand_angles, codes, par, nu,
-                      E, steps, levels, in_plane, work)  # fmt: skip
-        # the final planes, exact (each circle starts from its own support)
-        _evaluate(data, nb, cur_planes, n_c, 1, codes, par, nu, E, in_plane, False, cur, work)
-        out, tau, value = work[0], work[3], work[4]
+        _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles, codes,
+                      par, nu, E, steps, levels, in_plane, work)  # fmt: skip
         for ci in range(n_c):
             for b in range(nb):
                 i = ci * nb + b
                 theta_out[ci, p0 + b] = th[i]
                 psi_out[ci, p0 + b] = ps[i]
-                res_out[0, ci, p0 + b] = value[i]
-                res_out[1, ci, p0 + b] = tau[i]
-                res_out[2, ci, p0 + b] = out[0, i]
-                res_out[3, ci, p0 + b] = out[1, i]
-                res_out[4, ci, p0 + b] = 0.5 * (out[2, i] - out[3, i]) / E
+                for r in range(5):
+                    res_out[r, ci, p0 + b] = cres[r, i]
     return theta_out, psi_out, res_out
