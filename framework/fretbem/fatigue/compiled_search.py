@@ -176,16 +176,25 @@ def _reset(out, start, stop):
 
 
 @numba.njit(**_LOOPS)
-def _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, sp, cp, in_plane, out):
+def _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratch):
     """Running max / min over the steps of every grid plane at point ``p`` into ``out``
     (12, G): sigma_n, E eps_n and the shear extents (in-plane tau_e; 3D tau_1, tau_2, their
-    sum and difference)."""
-    n_g = c2.size
+    sum and difference).
+
+    In-plane the planes are ``c2``, ``s2`` (cos and sin 2theta). In 3D the grid is
+    ``axes`` = (cos 2theta, sin 2theta (n_theta), sin psi, cos psi (n_psi)): plane
+    ``j n_theta + i`` is (theta_i, psi_j), and the last plane is theta = psi = 0.
+    sigma_ee and tau_e depend on theta alone and tau_1 = sin psi cos psi (sigma_ee - szz),
+    tau_2 = sin psi tau_e scale them by factors >= 0: their extremes over the steps are
+    taken per theta and scaled (exactly: rounding is monotone), once per row of psi.
+    """
     a = 1.0 + nu
-    _reset(out, 0, n_g)
-    for t in range(m.shape[0]):
-        mt, ht, xyt, zzt, trt = m[t, p], h[t, p], xy[t, p], zz[t, p], nu * tr[t, p]
-        if in_plane:
+    n_t = m.shape[0]
+    if in_plane:
+        n_g = c2.size
+        _reset(out, 0, n_g)
+        for t in range(n_t):
+            mt, ht, xyt, trt = m[t, p], h[t, p], xy[t, p], nu * tr[t, p]
             for g in range(n_g):
                 ee = mt + ht * c2[g] + xyt * s2[g]
                 te = xyt * c2[g] - ht * s2[g]
@@ -196,26 +205,55 @@ def _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, sp, cp, in_plane, out):
                 out[3, g] = min(out[3, g], en)
                 out[4, g] = max(out[4, g], te)
                 out[5, g] = min(out[5, g], te)
-        else:
-            for g in range(n_g):
-                ee = mt + ht * c2[g] + xyt * s2[g]
-                te = xyt * c2[g] - ht * s2[g]
-                sn = (sp[g] * sp[g]) * ee + (cp[g] * cp[g]) * zzt
+        return
+    tc2, ts2, psp, pcp = axes
+    n_th, n_ps = tc2.size, psp.size
+    n_g = n_th * n_ps + 1
+    _reset(out, 0, n_g)
+    ee_t, te_t = scratch[0], scratch[1]
+    d_hi, d_lo, te_hi, te_lo = scratch[2], scratch[3], scratch[4], scratch[5]
+    for i in range(n_th):
+        d_hi[i], te_hi[i] = -np.inf, -np.inf
+        d_lo[i], te_lo[i] = np.inf, np.inf
+    last = n_g - 1
+    for t in range(n_t):
+        mt, ht, xyt, zzt, trt = m[t, p], h[t, p], xy[t, p], zz[t, p], nu * tr[t, p]
+        for i in range(n_th):
+            ee = mt + ht * tc2[i] + xyt * ts2[i]
+            te = xyt * tc2[i] - ht * ts2[i]
+            ee_t[i], te_t[i] = ee, te
+            d_hi[i], d_lo[i] = max(d_hi[i], ee - zzt), min(d_lo[i], ee - zzt)
+            te_hi[i], te_lo[i] = max(te_hi[i], te), min(te_lo[i], te)
+        for j in range(n_ps):
+            sp2, cp2, spcp, spj = psp[j] * psp[j], pcp[j] * pcp[j], psp[j] * pcp[j], psp[j]
+            row = j * n_th
+            for i in range(n_th):
+                g = row + i
+                sn = sp2 * ee_t[i] + cp2 * zzt
                 en = a * sn - trt
-                px = (sp[g] * cp[g]) * (ee - zzt)
-                py = sp[g] * te
+                px = spcp * (ee_t[i] - zzt)
+                py = spj * te_t[i]
                 out[0, g] = max(out[0, g], sn)
                 out[1, g] = min(out[1, g], sn)
                 out[2, g] = max(out[2, g], en)
                 out[3, g] = min(out[3, g], en)
-                out[4, g] = max(out[4, g], px)
-                out[5, g] = min(out[5, g], px)
-                out[6, g] = max(out[6, g], py)
-                out[7, g] = min(out[7, g], py)
                 out[8, g] = max(out[8, g], px + py)
                 out[9, g] = min(out[9, g], px + py)
                 out[10, g] = max(out[10, g], px - py)
                 out[11, g] = min(out[11, g], px - py)
+        # theta = psi = 0: the normal is z (sigma_n = szz, no shear on it)
+        out[0, last] = max(out[0, last], zzt)
+        out[1, last] = min(out[1, last], zzt)
+        out[2, last] = max(out[2, last], a * zzt - trt)
+        out[3, last] = min(out[3, last], a * zzt - trt)
+    for j in range(n_ps):
+        spcp, spj = psp[j] * pcp[j], psp[j]
+        row = j * n_th
+        for i in range(n_th):
+            out[4, row + i], out[5, row + i] = spcp * d_hi[i], spcp * d_lo[i]
+            out[6, row + i], out[7, row + i] = spj * te_hi[i], spj * te_lo[i]
+    for r in range(4, 12):
+        out[r, last] = 0.0
 
 
 @numba.njit(**_LOOPS)
@@ -326,7 +364,8 @@ def _better(code, new, new2, old, old2, scale):
 
 
 @numba.njit(**_JIT)
-def _coarse(data, p, grid, codes, par, nu, E, in_plane, work, best, found, sup):
+def _coarse(data, p, grid, axes, rank, codes, par, nu, E, in_plane, work, scratch, best, found,
+            sup):  # fmt: skip
     """Index of the best grid plane of every criterion at point ``p`` of the step data, into
     ``best``, and its quantities (value, tau, sigma_n max and min, normal strain amplitude)
     into ``found`` (5, C); the grid circles as the module docstring says."""
@@ -335,7 +374,7 @@ def _coarse(data, p, grid, codes, par, nu, E, in_plane, work, best, found, sup):
     n_g = grid.shape[1]
     order = np.empty(n_g, dtype=np.int64)
     c2, s2, sp, cp = grid[0], grid[1], grid[2], grid[3]
-    _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, sp, cp, in_plane, out)
+    _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratch)
     shear = False
     for code in codes:
         shear = shear or _needs_shear(code)
@@ -381,15 +420,21 @@ def _coarse(data, p, grid, codes, par, nu, E, in_plane, work, best, found, sup):
                 _values(code, par[ci], E, out, tau, arg, arg + 1, value)
                 top = max(top, value[arg])
         _values(code, par[ci], E, out, tau, 0, n_g, value)
+        # exact ties (infinite stress_life values, symmetric states) go to the plane that
+        # comes first in the numpy search's grid order, ``rank``
         arg = 0
         for g in range(1, n_g):
-            if value[g] > value[arg]:
+            if value[g] > value[arg] or (value[g] == value[arg] and rank[g] < rank[arg]):
                 arg = g
         if code == MWCM:  # ties within the tolerance: the largest normal stress
             tol = _TIE * max(abs(value[arg]), 1e-300)
             top, arg = value[arg], -1
             for g in range(n_g):
-                if value[g] >= top - tol and (arg < 0 or out[0, g] > out[0, arg]):
+                if value[g] >= top - tol and (
+                    arg < 0
+                    or out[0, g] > out[0, arg]
+                    or (out[0, g] == out[0, arg] and rank[g] < rank[arg])
+                ):
                     arg = g
         best[ci] = arg
         found[0, ci] = value[arg]
@@ -601,13 +646,17 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
 
 
 @numba.njit(**_JIT)
-def search(stress, grid, grid_theta, grid_psi, codes, par, nu, E, steps, levels, in_plane):
+def search(
+    stress, grid, axes, rank, grid_theta, grid_psi, codes, par, nu, E, steps, levels, in_plane
+):
     """Critical planes and their quantities of every criterion at every point.
 
     ``stress`` (T, P, 4); ``grid`` (4, G): cos 2theta, sin 2theta, sin psi, cos psi of the
-    coarse planes at angles ``grid_theta``, ``grid_psi``; ``codes`` (C,) criterion codes,
-    ``par`` (C, 5) their constants. Returns theta, psi (C, P) and (5, C, P): value, shear
-    amplitude, sigma_n max, sigma_n min, normal strain amplitude on the critical planes.
+    coarse planes at angles ``grid_theta``, ``grid_psi``, in 3D ordered as ``axes`` says
+    (:func:`_grid_summaries`), ``rank`` their places in the numpy search's grid; ``codes``
+    (C,) criterion codes, ``par`` (C, 5) their constants. Returns theta, psi (C, P) and
+    (5, C, P): value, shear amplitude, sigma_n max, sigma_n min, normal strain amplitude on
+    the critical planes.
     """
     n_t, n_p = stress.shape[0], stress.shape[1]
     n_c = codes.size
@@ -664,6 +713,7 @@ def search(stress, grid, grid_theta, grid_psi, codes, par, nu, E, steps, levels,
     )
     cand_angles = (cand_rows[4, :n_q], cand_rows[5, :n_q])
     best = np.empty(n_c, dtype=np.int64)
+    scratch = np.empty((6, axes[0].size + _PAD))
     found = np.empty((5, n_c))
     cres = np.empty((5, n_cur + _PAD))
     sup = np.empty(3, dtype=np.int64)
@@ -680,7 +730,8 @@ def search(stress, grid, grid_theta, grid_psi, codes, par, nu, E, steps, levels,
                 zz[t, b] = stress[t, p0 + b, 3]
                 tr[t, b] = 2.0 * m[t, b] + zz[t, b]
         for b in range(nb):
-            _coarse(data, b, grid, codes, par, nu, E, in_plane, work, best, found, sup)
+            _coarse(data, b, grid, axes, rank, codes, par, nu, E, in_plane, work, scratch, best,
+                    found, sup)  # fmt: skip
             for ci in range(n_c):
                 g, i = best[ci], ci * nb + b
                 for r in range(5):

@@ -6,8 +6,7 @@ grid over the quarter sphere, exact shear amplitudes (minimum circumscribed circ
 cheap bounds cannot rule a plane out, then a local pattern search around each point's best
 plane with halving steps. Strains come from Hooke's law (isotropic, linear elastic). The
 search runs in numpy here or compiled (:mod:`.compiled_search`, numba), the same algorithm
-and the same answers to round-off; :class:`SearchChoice` picks one by a ski rental on
-loading numba.
+and the same answers to round-off; :func:`use_compiled` picks one by the search's size.
 
 Names say what they are: ``*_amplitude`` is half the range over the cycle, ``*_max`` the largest
 value over the cycle, ``*_mean`` the average of max and min. The shear amplitude is the radius
@@ -21,7 +20,6 @@ from __future__ import annotations
 
 import functools
 import importlib.util
-import sys
 from collections.abc import Sequence
 
 import attrs
@@ -33,14 +31,15 @@ from .mean_stress import MeanStressCorrection
 from .planes import plane_grid, projection
 
 __all__ = [
+    "COMPILED_MIN_EVALUATIONS",
     "DEFAULT_METHODS",
     "METHODS",
-    "SEARCH_CHOICE",
     "CriterionResult",
     "PlaneSearch",
-    "SearchChoice",
     "critical_plane_parameters",
     "plane_quantities",
+    "search_evaluations",
+    "use_compiled",
 ]
 
 #: the parameter names, in report order
@@ -69,8 +68,8 @@ class PlaneSearch:
         Points evaluated at once on the coarse grid (memory ~ steps x chunk x planes).
     compiled : bool or None
         True: the compiled (numba) search (:mod:`.compiled_search`), False: the numpy search;
-        None (default) chooses by a ski rental on loading numba (:class:`SearchChoice`). Both
-        find the same planes and values (to round-off, 1e-12 relative measured).
+        None (default) chooses the compiled one for searches large enough to repay loading
+        numba (:func:`use_compiled`). Both find the same planes and values to round-off.
     """
 
     in_plane_only: bool = False
@@ -534,74 +533,42 @@ def _refine(evaluate, criteria, theta, psi, steps, levels, in_plane_only):
     return np.mod(theta, np.pi), psi
 
 
-#: numpy search time per (step, point, plane) evaluation, s: 0.53 s for 10,000 points, 9 steps
-#: and 325 grid + 240 refinement planes (3D, four criteria; in-plane 0.11 s for 36 + 120)
-NUMPY_SECONDS_PER_EVALUATION = 1e-8
-#: what the compiled search costs before its first point, s: numba's import and set-up (about
-#: 0.45 s, paid once per process by whichever compiled loop runs first) and the cached kernel
-#: (about 0.06 s); benchmarks/fatigue_grid.py
-NUMBA_LOAD_SECONDS, KERNEL_LOAD_SECONDS = 0.45, 0.06
+#: (step, point, plane) evaluations from which the compiled search is the default: about
+#: what loading numba (0.45 s) and the cached kernel (0.06 s) cost at the numpy search's
+#: 1e-8 s per evaluation (0.53 s for 10,000 points, 9 steps, 325 grid + 240 refinement planes
+#: in 3D; 0.11 s for 36 + 120 in-plane); benchmarks/fatigue_grid.py
+COMPILED_MIN_EVALUATIONS = 5e7
 
 
-class SearchChoice:
-    """The ski rental between the numpy and the compiled (numba) critical-plane search.
-
-    The numpy search runs until the numpy work this process has done, plus the search at
-    hand, would have paid for loading the compiled one (numba's load only where no other
-    compiled loop has loaded it); from then on, and at once for a search that large, the
-    compiled search runs. A one-off small search never pays for numba, and no choice costs
-    more than twice the better one. One instance, :data:`SEARCH_CHOICE`, per process;
-    ``reset()`` forgets the record (tests, benchmarks).
-    """
-
-    def __init__(self) -> None:
-        #: (step, point, plane) evaluations this process has done with the numpy search
-        self.spent = 0.0
-
-    def compiled(self, evaluations: float) -> bool:
-        """Whether a search of ``evaluations`` more evaluations should be the compiled one."""
-        if f"{__package__}.compiled_search" in sys.modules:  # loaded: its cost is paid
-            return True
-        if importlib.util.find_spec("numba") is None:
-            return False
-        cost = KERNEL_LOAD_SECONDS + (0.0 if "numba" in sys.modules else NUMBA_LOAD_SECONDS)
-        return (self.spent + evaluations) * NUMPY_SECONDS_PER_EVALUATION >= cost
-
-    def record(self, evaluations: float) -> None:
-        """Count a search done with numpy."""
-        self.spent += evaluations
-
-    def reset(self) -> None:
-        """Forget the numpy work done so far."""
-        self.spent = 0.0
-
-
-#: the process's record (see :class:`SearchChoice`)
-SEARCH_CHOICE = SearchChoice()
-
-
-def _evaluations(search: PlaneSearch, shape, n_planes: int, n_criteria: int) -> float:
+def search_evaluations(search: PlaneSearch, n_steps: int, n_points: int, n_criteria: int) -> float:
     """(step, point, plane) evaluations of a search: the grid and the refinement (about 15
     planes per criterion and candidate direction)."""
+    theta, _ = plane_grid(
+        in_plane_only=search.in_plane_only,
+        theta_step_deg=search.theta_step_deg,
+        psi_step_deg=search.psi_step_deg,
+    )
     refine = 15 * n_criteria * (2 if search.in_plane_only else 4)
-    return float(shape[0]) * shape[1] * (n_planes + refine)
+    return float(n_steps) * n_points * (theta.size + refine)
 
 
-def _use_compiled(search: PlaneSearch, shape, n_planes: int, n_criteria: int) -> bool:
-    """Whether to run the compiled search: as ``search.compiled`` asks, or by the ski rental
-    (:data:`SEARCH_CHOICE`), which counts the numpy searches it lets run."""
-    if search.compiled is True and importlib.util.find_spec("numba") is None:
+def use_compiled(search: PlaneSearch, n_steps: int, n_points: int, n_criteria: int) -> bool:
+    """Whether a search runs compiled: as ``search.compiled`` says, or (None) where numba is
+    installed and the search has at least :data:`COMPILED_MIN_EVALUATIONS` evaluations.
+
+    The choice depends on the search alone, not on what the process ran before, so the same
+    search gives the same bits every time (the two paths agree to round-off, not to the bit).
+    """
+    installed = importlib.util.find_spec("numba") is not None
+    if search.compiled is True and not installed:
         raise FatigueInputError(
             "PlaneSearch(compiled=True) needs numba, which is not installed: pip install "
             "numba, or leave compiled=None to use it only where it is available"
         )
     if search.compiled is not None:
         return search.compiled
-    evaluations = _evaluations(search, shape, n_planes, n_criteria)
-    if SEARCH_CHOICE.compiled(evaluations):
-        return True
-    SEARCH_CHOICE.record(evaluations)
-    return False
+    evaluations = search_evaluations(search, n_steps, n_points, n_criteria)
+    return installed and evaluations >= COMPILED_MIN_EVALUATIONS
 
 
 def _compiled_parameters(stress, criteria, search, theta_g, psi_g, E, nu) -> dict:
@@ -622,11 +589,21 @@ def _compiled_parameters(stress, criteria, search, theta_g, psi_g, E, nu) -> dic
             for c in criteria
         ]
     )
+    thetas = theta_g if search.in_plane_only else np.unique(theta_g[:-1])
+    psis = psi_g[: max(1, (theta_g.size - 1) // thetas.size)]
+    order = np.arange(theta_g.size)
+    if not search.in_plane_only:  # row by row of psi (plane_grid goes theta by theta)
+        rows = np.arange(psis.size)[:, None] + psis.size * np.arange(thetas.size)[None, :]
+        order = np.append(rows.ravel(), theta_g.size - 1)
+        theta_g, psi_g = theta_g[order], psi_g[order]
     grid = np.stack([np.cos(2 * theta_g), np.sin(2 * theta_g), np.sin(psi_g), np.cos(psi_g)])
+    axes = (np.cos(2 * thetas), np.sin(2 * thetas), np.sin(psis), np.cos(psis))
     steps = np.deg2rad([search.theta_step_deg, search.psi_step_deg])
     theta, psi, res = compiled.search(
         np.ascontiguousarray(stress),
         grid,
+        axes,
+        order,
         theta_g,
         psi_g,
         codes,
@@ -701,7 +678,7 @@ def critical_plane_parameters(
         theta_step_deg=search.theta_step_deg,
         psi_step_deg=search.psi_step_deg,
     )
-    if _use_compiled(search, stress.shape, theta_g.size, len(criteria)):
+    if use_compiled(search, stress.shape[0], stress.shape[1], len(criteria)):
         return _compiled_parameters(stress, criteria, search, theta_g, psi_g, E, nu)
     n_points = stress.shape[1]
     best = {c.name: np.empty(n_points, dtype=int) for c in criteria}

@@ -2,15 +2,12 @@
 
 Both run the same algorithm (coarse grid, pruned exact circles, pattern search, parabolic
 step), so they must agree on every criterion's plane and value to round-off: measured 6e-16
-relative on the values and 6e-11 degrees on the planes over the histories below. (This module
-sorts after the other search tests: once the compiled search is loaded, the default search of
-the process is the compiled one, and those tests probe the numpy search's internals.)
+relative on the values and 6e-11 degrees on the planes over the histories below.
 """
 
 from __future__ import annotations
 
 import importlib.util
-import sys
 
 import numpy as np
 import pytest
@@ -177,36 +174,37 @@ def test_compiled_search_edge_histories():
     assert_same(*both(many, PlaneSearch(in_plane_only=True)))
 
 
-def test_the_ski_rental_runs_numpy_until_loading_numba_pays(monkeypatch):
-    """A small search in a process without the compiled search stays in numpy, the record
-    grows with every numpy search, and a search as large as numba's load switches."""
-    choice = cp.SearchChoice()
-    monkeypatch.delitem(sys.modules, "fretbem.fatigue.compiled_search", raising=False)
-    monkeypatch.delitem(sys.modules, "numba", raising=False)
-    cost = (cp.NUMBA_LOAD_SECONDS + cp.KERNEL_LOAD_SECONDS) / cp.NUMPY_SECONDS_PER_EVALUATION
-    assert not choice.compiled(0.5 * cost)
-    choice.record(0.5 * cost)
-    assert not choice.compiled(0.4 * cost)
-    assert choice.compiled(0.6 * cost)
-    assert cp.SearchChoice().compiled(1.01 * cost)
-    choice.reset()
-    assert choice.spent == 0.0
+def test_the_default_choice_is_by_the_search_size_alone():
+    """Compiled from COMPILED_MIN_EVALUATIONS on, whatever ran before in the process: the
+    benchmark's 10,000-point 3D search is compiled, its in-plane search and small ones numpy."""
+    search, in_plane = PlaneSearch(), PlaneSearch(in_plane_only=True)
+    assert cp.search_evaluations(search, 9, 10_000, 4) == 9 * 10_000 * (325 + 240)
+    assert cp.use_compiled(search, 9, 10_000, 4)
+    assert not cp.use_compiled(in_plane, 9, 10_000, 4)
+    assert not cp.use_compiled(search, 5, 100, 2)
+    assert cp.use_compiled(PlaneSearch(compiled=True), 5, 100, 2)
+    assert not cp.use_compiled(PlaneSearch(compiled=False), 9, 10_000, 4)
 
 
-def test_the_ski_rental_takes_the_compiled_search_once_it_is_loaded(monkeypatch):
-    import fretbem.fatigue.compiled_search as loaded
+def test_the_same_search_twice_gives_the_same_bits():
+    """A search repeated after compiled ones (numba loaded) takes the same path again."""
+    stress = plane_strain_history(n=20)
+    first = critical_plane_parameters(stress, **KW)
+    both(stress)
+    again = critical_plane_parameters(stress, **KW)
+    for method in first:
+        np.testing.assert_array_equal(first[method].value, again[method].value)
+        np.testing.assert_array_equal(
+            first[method].normal_angle_deg, again[method].normal_angle_deg
+        )
 
-    monkeypatch.setitem(sys.modules, "fretbem.fatigue.compiled_search", loaded)
-    assert cp.SearchChoice().compiled(1.0)
 
-
-def test_the_ski_rental_without_numba_stays_in_numpy(monkeypatch):
+def test_without_numba_the_search_stays_in_numpy(monkeypatch):
     real = importlib.util.find_spec
     monkeypatch.setattr(
         importlib.util, "find_spec", lambda name, *a: None if name == "numba" else real(name, *a)
     )
-    monkeypatch.delitem(sys.modules, "fretbem.fatigue.compiled_search", raising=False)
-    assert not cp.SearchChoice().compiled(1e15)
+    assert not cp.use_compiled(PlaneSearch(), 9, 10**6, 4)
     with pytest.raises(FatigueInputError, match=r"PlaneSearch\(compiled=True\) needs numba"):
         critical_plane_parameters(
             plane_strain_history(n=2), search=PlaneSearch(compiled=True), **KW
