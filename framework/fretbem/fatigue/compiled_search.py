@@ -5,22 +5,27 @@ into arrays and reduces them; here the loops compute each plane's normal and she
 step by step and keep only their running maxima and minima, so no (step, point, plane) array
 exists. The algorithm is the numpy search's, decision for decision: the best plane of the
 coarse grid per criterion, the exact minimum circumscribed circle only where its bounds leave a
-plane's rank open, the pattern search with halving steps, the parabolic step, the final
-evaluation. What differs is how, not what:
+plane's rank open, the pattern search with halving steps, the parabolic step. What differs is
+how, not what (the answers agree to round-off, tests/framework/fatigue/test_search_compiled.py):
 
-- the coarse grid is evaluated point by point in double precision (numpy: float32);
+- the coarse grid is evaluated point by point in double precision (numpy: float32), row by
+  row of psi; the extremes of the two shear components are taken once per theta and scaled
+  (on a tilted plane they are in-plane quantities times factors >= 0 that do not depend on
+  the step); exact ties go to the plane that comes first in the numpy search's grid;
 - the coarse grid's exact circles are taken in decreasing order of the bound of each
   criterion's value and stop once no remaining plane can reach the best (numpy: every plane
   whose bound reaches the best lower bound); both find the plane of largest exact value;
 - the refinement runs over blocks of points: every criterion's candidate planes of a level,
-  for all the block's points, in one loop over the steps (vectorised over the points);
+  for all the block's points, in one evaluation; it starts from the grid's quantities and
+  keeps the winning candidates' (numpy evaluates the start and the final planes again);
 - neighbouring planes are reached by rotating the cosines and sines of the current plane, and
   a plane's circle starts from the support points of the plane it moved from (the circle is
   unique: only the number of rounds changes).
 
 Functions are compiled on first use and cached on disk (``cache=True``), so a fresh process
 pays numba's import and the cache load. Importing this module imports numba:
-:mod:`.critical_plane` imports it only when numba is loaded already or the search repays it.
+:mod:`.critical_plane` imports it only for searches large enough to repay it
+(:func:`fretbem.fatigue.critical_plane.use_compiled`) or when asked to.
 """
 
 from __future__ import annotations
