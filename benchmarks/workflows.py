@@ -13,7 +13,9 @@ while numpy, scipy and matplotlib load their bytecode). Workflows:
   the same scene without those tables, whole process;
 - ``fatigue``: the critical-plane search, all four criteria, on 10,000 points and a
   9-step cycle, against its projection floor (every (step, point, plane) of the coarse grid
-  in one float32 product per chunk), in-plane and 3D;
+  in one float32 product per chunk), in-plane and 3D; the compiled search where the tree has
+  it (``PlaneSearch(compiled=True)``, after a warm-up: numba's load is the rig's), and the
+  numpy search beside it;
 - ``halfplane``: the half-plane body model's cycle (scene built, five steps) against the
   BEM bodies of the same scene and against a numpy Toeplitz influence-coefficient peer
   (``benchmarks/halfplane_peer.py``) on the same nodes, at 61 and 481 pairs, and the BEM
@@ -67,6 +69,12 @@ x, z = np.linspace(-0.75, 0.75, 100), np.linspace(0.0, 0.5, 100)
 X, Z = np.meshgrid(x, z)
 stress = cm.stress_at(np.stack([X.ravel(), Z.ravel()], axis=1))[last_full_reversal(cm.driver)]
 consts = dict(findley_k=0.3, fatemi_socie_k=0.5, yield_strength=941.8)
+# trees with the compiled search time it (and the numpy search beside it): the search's own
+# cost after a warm-up, as before; loading numba is the whole process's (the rig workflow)
+import attrs
+paths = {"search": {"compiled": True}, "search_numpy": {"compiled": False}}
+if "compiled" not in attrs.fields_dict(PlaneSearch):
+    paths = {"search": {}}
 out = {}
 for in_plane in (True, False):
     search = PlaneSearch(in_plane_only=in_plane)
@@ -77,18 +85,23 @@ for in_plane in (True, False):
         s32 = stress.astype(np.float32)
         for a in range(0, s32.shape[1], search.chunk_points):
             s32[:, a:a + search.chunk_points] @ coef
-    def full():
+    def full(path):
         # the four critical-plane parameters (METHODS[:4]: the same in trees without
         # stress_life and strain_life, so before/after time the same work)
         critical_plane_parameters(stress, E=116000.0, nu=0.342, methods=METHODS[:4],
-                                  search=search, **consts)
-    full(); floor()
-    tf, tc = [], []
+                                  search=PlaneSearch(in_plane_only=in_plane, **paths[path]),
+                                  **consts)
+    floor()
+    for path in paths:
+        full(path)
+    tf, tc = [], {path: [] for path in paths}
     for _ in range(3):
         t = time.process_time(); floor(); tf.append(time.process_time() - t)
-        t = time.process_time(); full(); tc.append(time.process_time() - t)
+        for path in paths:
+            t = time.process_time(); full(path); tc[path].append(time.process_time() - t)
     key = "in_plane" if in_plane else "3d"
-    out[key] = {"floor": statistics.median(tf), "search": statistics.median(tc)}
+    out[key] = {"floor": statistics.median(tf)}
+    out[key].update({path: statistics.median(times) for path, times in tc.items()})
 print(json.dumps(out))
 """
 
@@ -254,6 +267,10 @@ def ratios(m: dict) -> dict:
         for key, label in (("in_plane", "in-plane"), ("3d", "3D")):
             f = m["fatigue"][key]
             r[f"fatigue search {label} / projection floor"] = f["search"] / f["floor"]
+            if "search_numpy" in f:
+                r[f"fatigue search {label}, numpy path / projection floor"] = (
+                    f["search_numpy"] / f["floor"]
+                )
     for pairs in (61, 481):
         h = m.get(f"halfplane_{pairs}")
         if h:

@@ -4,7 +4,9 @@ strain life.
 Each parameter is maximised over material planes (3D by default, see :mod:`.planes`): a coarse
 grid over the quarter sphere, exact shear amplitudes (minimum circumscribed circle) only where
 cheap bounds cannot rule a plane out, then a local pattern search around each point's best
-plane with halving steps. Strains come from Hooke's law (isotropic, linear elastic).
+plane with halving steps. Strains come from Hooke's law (isotropic, linear elastic). The
+search runs in numpy here or compiled (:mod:`.compiled_search`, numba), the same algorithm
+and the same answers to round-off; :func:`use_compiled` picks one by the search's size.
 
 Names say what they are: ``*_amplitude`` is half the range over the cycle, ``*_max`` the largest
 value over the cycle, ``*_mean`` the average of max and min. The shear amplitude is the radius
@@ -17,6 +19,7 @@ unless asked for (:data:`DEFAULT_METHODS` are the four critical-plane parameters
 from __future__ import annotations
 
 import functools
+import importlib.util
 from collections.abc import Sequence
 
 import attrs
@@ -28,12 +31,15 @@ from .mean_stress import MeanStressCorrection
 from .planes import plane_grid, projection
 
 __all__ = [
+    "COMPILED_MIN_EVALUATIONS",
     "DEFAULT_METHODS",
     "METHODS",
     "CriterionResult",
     "PlaneSearch",
     "critical_plane_parameters",
     "plane_quantities",
+    "search_evaluations",
+    "use_compiled",
 ]
 
 #: the parameter names, in report order
@@ -60,6 +66,10 @@ class PlaneSearch:
         Halvings of the step in the local pattern search around each best plane.
     chunk_points : int
         Points evaluated at once on the coarse grid (memory ~ steps x chunk x planes).
+    compiled : bool or None
+        True: the compiled (numba) search (:mod:`.compiled_search`), False: the numpy search;
+        None (default) chooses the compiled one for searches large enough to repay loading
+        numba (:func:`use_compiled`). Both find the same planes and values to round-off.
     """
 
     in_plane_only: bool = False
@@ -67,6 +77,9 @@ class PlaneSearch:
     psi_step_deg: float = 10.0
     refine_levels: int = 5
     chunk_points: int = 400
+    compiled: bool | None = attrs.field(
+        default=None, validator=attrs.validators.optional(attrs.validators.instance_of(bool))
+    )
 
 
 @attrs.frozen(eq=False)
@@ -520,6 +533,106 @@ def _refine(evaluate, criteria, theta, psi, steps, levels, in_plane_only):
     return np.mod(theta, np.pi), psi
 
 
+#: (step, point, plane) evaluations from which the compiled search is the default: about
+#: what loading numba (0.45 s) and the cached kernel (0.06 s) cost at the numpy search's
+#: 1e-8 s per evaluation (0.53 s for 10,000 points, 9 steps, 325 grid + 240 refinement planes
+#: in 3D; 0.11 s for 36 + 120 in-plane); benchmarks/fatigue_grid.py
+COMPILED_MIN_EVALUATIONS = 5e7
+
+
+def search_evaluations(search: PlaneSearch, n_steps: int, n_points: int, n_criteria: int) -> float:
+    """(step, point, plane) evaluations of a search: the grid and the refinement (about 15
+    planes per criterion and candidate direction)."""
+    theta, _ = plane_grid(
+        in_plane_only=search.in_plane_only,
+        theta_step_deg=search.theta_step_deg,
+        psi_step_deg=search.psi_step_deg,
+    )
+    refine = 15 * n_criteria * (2 if search.in_plane_only else 4)
+    return float(n_steps) * n_points * (theta.size + refine)
+
+
+def use_compiled(search: PlaneSearch, n_steps: int, n_points: int, n_criteria: int) -> bool:
+    """Whether a search runs compiled: as ``search.compiled`` says, or (None) where numba is
+    installed and the search has at least :data:`COMPILED_MIN_EVALUATIONS` evaluations.
+
+    The choice depends on the search alone, not on what the process ran before, so the same
+    search gives the same bits every time (the two paths agree to round-off, not to the bit).
+    """
+    installed = importlib.util.find_spec("numba") is not None
+    if search.compiled is True and not installed:
+        raise FatigueInputError(
+            "PlaneSearch(compiled=True) needs numba, which is not installed: pip install "
+            "numba, or leave compiled=None to use it only where it is available"
+        )
+    if search.compiled is not None:
+        return search.compiled
+    evaluations = search_evaluations(search, n_steps, n_points, n_criteria)
+    return installed and evaluations >= COMPILED_MIN_EVALUATIONS
+
+
+def _compiled_parameters(stress, criteria, search, theta_g, psi_g, E, nu) -> dict:
+    """:func:`critical_plane_parameters` by the compiled search (:mod:`.compiled_search`)."""
+    from . import compiled_search as compiled  # numba: loaded only when chosen
+
+    codes = np.array([METHODS.index(c.name) for c in criteria], dtype=np.int64)
+    kinds = {"none": compiled.NO_CORRECTION, "gerber": compiled.GERBER}
+    par = np.array(
+        [
+            [
+                c.k,
+                c.sy,
+                c.G,
+                kinds.get(c.mean_stress.name, compiled.LINEAR),
+                c.mean_stress.limit or 1.0,
+            ]
+            for c in criteria
+        ]
+    )
+    thetas = theta_g if search.in_plane_only else np.unique(theta_g[:-1])
+    psis = psi_g[: max(1, (theta_g.size - 1) // thetas.size)]
+    order = np.arange(theta_g.size)
+    if not search.in_plane_only:  # row by row of psi (plane_grid goes theta by theta)
+        rows = np.arange(psis.size)[:, None] + psis.size * np.arange(thetas.size)[None, :]
+        order = np.append(rows.ravel(), theta_g.size - 1)
+        theta_g, psi_g = theta_g[order], psi_g[order]
+    grid = np.stack([np.cos(2 * theta_g), np.sin(2 * theta_g), np.sin(psi_g), np.cos(psi_g)])
+    axes = (np.cos(2 * thetas), np.sin(2 * thetas), np.sin(psis), np.cos(psis))
+    steps = np.deg2rad([search.theta_step_deg, search.psi_step_deg])
+    theta, psi, res = compiled.search(
+        np.ascontiguousarray(stress),
+        grid,
+        axes,
+        order,
+        theta_g,
+        psi_g,
+        codes,
+        par,
+        float(nu),
+        float(E),
+        steps,
+        int(search.refine_levels),
+        bool(search.in_plane_only),
+    )
+    G = E / (2.0 * (1.0 + nu))
+    results = {}
+    for i, crit in enumerate(criteria):
+        value, tau, smax, smin, strain = res[:, i]
+        results[crit.name] = CriterionResult(
+            method=crit.name,
+            value=value,
+            normal_angle_deg=np.rad2deg(np.mod(theta[i], np.pi)),
+            normal_tilt_deg=90.0 - np.rad2deg(psi[i]),
+            shear_stress_amplitude=tau,
+            normal_stress_max=smax,
+            normal_stress_amplitude=0.5 * (smax - smin),
+            normal_stress_mean=0.5 * (smax + smin),
+            normal_strain_amplitude=strain,
+            shear_strain_amplitude=tau / G,
+        )
+    return results
+
+
 def _validate_stress(stress) -> np.ndarray:
     arr = np.asarray(stress, dtype=float)
     if arr.ndim != 3 or arr.shape[2] != 4 or arr.shape[0] < 2 or arr.shape[1] < 1:
@@ -565,6 +678,8 @@ def critical_plane_parameters(
         theta_step_deg=search.theta_step_deg,
         psi_step_deg=search.psi_step_deg,
     )
+    if use_compiled(search, stress.shape[0], stress.shape[1], len(criteria)):
+        return _compiled_parameters(stress, criteria, search, theta_g, psi_g, E, nu)
     n_points = stress.shape[1]
     best = {c.name: np.empty(n_points, dtype=int) for c in criteria}
     columns = _coarse_columns(

@@ -1,0 +1,755 @@
+"""Compiled (numba) critical-plane search: every criterion's planes in one pass per level.
+
+The numpy search (:mod:`.critical_plane`) projects the stresses of every (step, point, plane)
+into arrays and reduces them; here the loops compute each plane's normal and shear stresses
+step by step and keep only their running maxima and minima, so no (step, point, plane) array
+exists. The algorithm is the numpy search's, decision for decision: the best plane of the
+coarse grid per criterion, the exact minimum circumscribed circle only where its bounds leave a
+plane's rank open, the pattern search with halving steps, the parabolic step. What differs is
+how, not what (the answers agree to round-off, tests/framework/fatigue/test_search_compiled.py):
+
+- the coarse grid is evaluated point by point in double precision (numpy: float32), row by
+  row of psi; the extremes of the two shear components are taken once per theta and scaled
+  (on a tilted plane they are in-plane quantities times factors >= 0 that do not depend on
+  the step); exact ties go to the plane that comes first in the numpy search's grid;
+- the coarse grid's exact circles are taken in decreasing order of the bound of each
+  criterion's value and stop once no remaining plane can reach the best (numpy: every plane
+  whose bound reaches the best lower bound); both find the plane of largest exact value;
+- the refinement runs over blocks of points: every criterion's candidate planes of a level,
+  for all the block's points, in one evaluation; it starts from the grid's quantities and
+  keeps the winning candidates' (numpy evaluates the start and the final planes again);
+- neighbouring planes are reached by rotating the cosines and sines of the current plane, and
+  a plane's circle starts from the support points of the plane it moved from (the circle is
+  unique: only the number of rounds changes).
+
+Functions are compiled on first use and cached on disk (``cache=True``), so a fresh process
+pays numba's import and the cache load. Importing this module imports numba:
+:mod:`.critical_plane` imports it only for searches large enough to repay it
+(:func:`fretbem.fatigue.critical_plane.use_compiled`) or when asked to.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+_JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
+#: the plane loops: no NaN (the stresses are checked finite), fused multiply-adds; infinities
+#: stay meaningful (the running extremes start at -inf and inf)
+_LOOPS = {**_JIT, "fastmath": {"nnan", "contract", "nsz"}}
+
+#: criterion codes (the order of :data:`fretbem.fatigue.critical_plane.METHODS`)
+SWT, FINDLEY, FATEMI_SOCIE, MWCM, STRESS_LIFE, STRAIN_LIFE = range(6)
+#: mean-stress correction kinds of stress_life: none, 1 - m/L (Goodman, Morrow), 1 - (m/L)^2
+NO_CORRECTION, LINEAR, GERBER = range(3)
+#: points per block of the refinement (the length of its vectorised loops)
+BLOCK = 64
+#: padding (doubles) of the rows of the work arrays: 5 cache lines, not a multiple of 4 KiB
+_PAD = 40
+
+_HALF_SQRT2 = 0.5 * math.sqrt(2.0)
+_INSIDE = 1e-10  # as mcc.INSIDE_TOLERANCE
+_TIE = 1e-10  # as critical_plane.MWCM_TIE_TOLERANCE
+_COS_HALF_PI = math.cos(0.5 * math.pi)  # the numpy search's cos(psi) at psi = 90 degrees
+
+
+# --------------------------------------------------------------------------- circles
+
+
+@numba.njit(**_JIT)
+def _circumcircle(px, py, qx, qy, rx, ry):
+    bx, by = qx - px, qy - py
+    cx, cy = rx - px, ry - py
+    d = 2.0 * (bx * cy - by * cx)
+    bb = bx * bx + by * by
+    cc = cx * cx + cy * cy
+    if not abs(d) > 1e-14 * max(max(bb, cc), 1e-300):
+        return px, py, np.inf
+    ux = (cy * bb - by * cc) / d
+    uy = (bx * cc - cx * bb) / d
+    return px + ux, py + uy, math.hypot(ux, uy)
+
+
+@numba.njit(**_JIT)
+def _encloses(x, y, sup, q, cx, cy, r):
+    """Whether the circle (cx, cy, r) holds the support points and q (with the slack of
+    :func:`fretbem.fatigue.mcc._smallest_with`)."""
+    slack = _INSIDE * r + 1e-300
+    for k in range(4):
+        i = q if k == 3 else sup[k]
+        if math.hypot(x[i] - cx, y[i] - cy) > r + slack:
+            return False
+    return True
+
+
+@numba.njit(**_JIT)
+def _smallest_with(x, y, sup, q):
+    """Smallest circle of the support points ``sup`` (3 indices) and point ``q`` on its
+    boundary (the candidates of :func:`fretbem.fatigue.mcc._smallest_with`, in its order);
+    ``sup`` becomes the new support."""
+    qx, qy = x[q], y[q]
+    pick, bx, by, br = -1, 0.0, 0.0, np.inf
+    for c in range(6):
+        if c < 3:
+            i = sup[c]
+            ccx, ccy = 0.5 * (x[i] + qx), 0.5 * (y[i] + qy)
+            cr = 0.5 * math.hypot(x[i] - qx, y[i] - qy)
+        else:
+            i, j = (
+                (sup[0], sup[1]) if c == 3 else ((sup[0], sup[2]) if c == 4 else (sup[1], sup[2]))
+            )
+            ccx, ccy, cr = _circumcircle(x[i], y[i], x[j], y[j], qx, qy)
+        if math.isfinite(cr) and cr < br and _encloses(x, y, sup, q, ccx, ccy, cr):
+            pick, bx, by, br = c, ccx, ccy, cr
+    if pick < 3:
+        a = sup[pick]
+        sup[0], sup[1] = a, a
+    elif pick == 3:
+        pass  # sup[0], sup[1] stay
+    elif pick == 4:
+        sup[1] = sup[2]
+    else:
+        sup[0], sup[1] = sup[1], sup[2]
+    sup[2] = q
+    return bx, by, br
+
+
+@numba.njit(**_JIT)
+def _circle(x, y, sup):
+    """Radius of the smallest circle enclosing the points ``x``, ``y``: the support-set
+    iteration of :func:`fretbem.fatigue.mcc.minimum_circumscribed_circle_xy`, one set.
+
+    ``sup`` (3 indices) starts the iteration where ``sup[0] >= 0`` (the support of a nearby
+    plane's path) and returns the support found."""
+    m = x.size
+    if min(sup[0], min(sup[1], sup[2])) < 0 or max(sup[0], max(sup[1], sup[2])) >= m:
+        a, best = 0, -1.0
+        for i in range(m):
+            d = (x[i] - x[0]) ** 2 + (y[i] - y[0]) ** 2
+            if d > best:
+                a, best = i, d
+        b, best = 0, -1.0
+        for i in range(m):
+            d = (x[i] - x[a]) ** 2 + (y[i] - y[a]) ** 2
+            if d > best:
+                b, best = i, d
+        sup[0], sup[1], sup[2] = a, b, b
+        cx, cy = 0.5 * (x[a] + x[b]), 0.5 * (y[a] + y[b])
+        radius = 0.5 * math.sqrt(best)
+    else:
+        a, b, c = sup[0], sup[1], sup[2]
+        cx, cy = 0.5 * (x[a] + x[b]), 0.5 * (y[a] + y[b])
+        radius = 0.5 * math.hypot(x[a] - x[b], y[a] - y[b])
+        if c != b and c != a:  # three supports: grow the circle of the first two by the third
+            sup[2] = b
+            if math.hypot(x[c] - cx, y[c] - cy) > radius * (1.0 + _INSIDE) + 1e-300:
+                cx, cy, radius = _smallest_with(x, y, sup, c)
+    for _ in range(200):
+        far, dmax = 0, -1.0
+        for i in range(m):
+            d = (x[i] - cx) ** 2 + (y[i] - cy) ** 2
+            if d > dmax:
+                far, dmax = i, d
+        if not math.sqrt(dmax) > radius * (1.0 + _INSIDE) + 1e-300:
+            return radius
+        cx, cy, radius = _smallest_with(x, y, sup, far)
+    return radius
+
+
+@numba.njit(**_JIT)
+def _exact_tau(m, h, xy, zz, b, c2, s2, sp, cp, x, y, sup):
+    """The exact shear amplitude of one plane of point ``b``: its path and its circle."""
+    for t in range(x.size):
+        ee = m[t, b] + h[t, b] * c2 + xy[t, b] * s2
+        te = xy[t, b] * c2 - h[t, b] * s2
+        x[t] = (sp * cp) * (ee - zz[t, b])
+        y[t] = sp * te
+    return _circle(x, y, sup)
+
+
+# --------------------------------------------------------------------------- plane sums
+
+
+@numba.njit(**_LOOPS)
+def _reset(out, start, stop):
+    for g in range(start, stop):
+        for r in range(0, 12, 2):
+            out[r, g] = -np.inf
+            out[r + 1, g] = np.inf
+
+
+@numba.njit(**_LOOPS)
+def _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratch):
+    """Running max / min over the steps of every grid plane at point ``p`` into ``out``
+    (12, G): sigma_n, E eps_n and the shear extents (in-plane tau_e; 3D tau_1, tau_2, their
+    sum and difference).
+
+    In-plane the planes are ``c2``, ``s2`` (cos and sin 2theta). In 3D the grid is
+    ``axes`` = (cos 2theta, sin 2theta (n_theta), sin psi, cos psi (n_psi)): plane
+    ``j n_theta + i`` is (theta_i, psi_j), and the last plane is theta = psi = 0.
+    sigma_ee and tau_e depend on theta alone and tau_1 = sin psi cos psi (sigma_ee - szz),
+    tau_2 = sin psi tau_e scale them by factors >= 0: their extremes over the steps are
+    taken per theta and scaled (exactly: rounding is monotone), once per row of psi.
+    """
+    a = 1.0 + nu
+    n_t = m.shape[0]
+    if in_plane:
+        n_g = c2.size
+        _reset(out, 0, n_g)
+        for t in range(n_t):
+            mt, ht, xyt, trt = m[t, p], h[t, p], xy[t, p], nu * tr[t, p]
+            for g in range(n_g):
+                ee = mt + ht * c2[g] + xyt * s2[g]
+                te = xyt * c2[g] - ht * s2[g]
+                en = a * ee - trt
+                out[0, g] = max(out[0, g], ee)
+                out[1, g] = min(out[1, g], ee)
+                out[2, g] = max(out[2, g], en)
+                out[3, g] = min(out[3, g], en)
+                out[4, g] = max(out[4, g], te)
+                out[5, g] = min(out[5, g], te)
+        return
+    tc2, ts2, psp, pcp = axes
+    n_th, n_ps = tc2.size, psp.size
+    n_g = n_th * n_ps + 1
+    _reset(out, 0, n_g)
+    ee_t, te_t = scratch[0], scratch[1]
+    d_hi, d_lo, te_hi, te_lo = scratch[2], scratch[3], scratch[4], scratch[5]
+    for i in range(n_th):
+        d_hi[i], te_hi[i] = -np.inf, -np.inf
+        d_lo[i], te_lo[i] = np.inf, np.inf
+    last = n_g - 1
+    for t in range(n_t):
+        mt, ht, xyt, zzt, trt = m[t, p], h[t, p], xy[t, p], zz[t, p], nu * tr[t, p]
+        for i in range(n_th):
+            ee = mt + ht * tc2[i] + xyt * ts2[i]
+            te = xyt * tc2[i] - ht * ts2[i]
+            ee_t[i], te_t[i] = ee, te
+            d_hi[i], d_lo[i] = max(d_hi[i], ee - zzt), min(d_lo[i], ee - zzt)
+            te_hi[i], te_lo[i] = max(te_hi[i], te), min(te_lo[i], te)
+        for j in range(n_ps):
+            sp2, cp2, spcp, spj = psp[j] * psp[j], pcp[j] * pcp[j], psp[j] * pcp[j], psp[j]
+            row = j * n_th
+            for i in range(n_th):
+                g = row + i
+                sn = sp2 * ee_t[i] + cp2 * zzt
+                en = a * sn - trt
+                px = spcp * (ee_t[i] - zzt)
+                py = spj * te_t[i]
+                out[0, g] = max(out[0, g], sn)
+                out[1, g] = min(out[1, g], sn)
+                out[2, g] = max(out[2, g], en)
+                out[3, g] = min(out[3, g], en)
+                out[8, g] = max(out[8, g], px + py)
+                out[9, g] = min(out[9, g], px + py)
+                out[10, g] = max(out[10, g], px - py)
+                out[11, g] = min(out[11, g], px - py)
+        # theta = psi = 0: the normal is z (sigma_n = szz, no shear on it)
+        out[0, last] = max(out[0, last], zzt)
+        out[1, last] = min(out[1, last], zzt)
+        out[2, last] = max(out[2, last], a * zzt - trt)
+        out[3, last] = min(out[3, last], a * zzt - trt)
+    for j in range(n_ps):
+        spcp, spj = psp[j] * pcp[j], psp[j]
+        row = j * n_th
+        for i in range(n_th):
+            out[4, row + i], out[5, row + i] = spcp * d_hi[i], spcp * d_lo[i]
+            out[6, row + i], out[7, row + i] = spj * te_hi[i], spj * te_lo[i]
+    for r in range(4, 12):
+        out[r, last] = 0.0
+
+
+@numba.njit(**_LOOPS)
+def _block_summaries(m, h, xy, zz, tr, nb, nu, c2, s2, sp, cp, start, in_plane, out):
+    """:func:`_grid_summaries` of planes ``start:start + nb``, plane ``start + b`` of point b.
+
+    Plane by plane with the running extremes in registers: few planes per point here, and
+    the loop over the steps stores nothing."""
+    a = 1.0 + nu
+    n_t = m.shape[0]
+    for b in range(nb):
+        g = start + b
+        c, s = c2[g], s2[g]
+        if in_plane:
+            hi0 = hi1 = hi2 = -np.inf
+            lo0 = lo1 = lo2 = np.inf
+            for t in range(n_t):
+                ee = m[t, b] + h[t, b] * c + xy[t, b] * s
+                te = xy[t, b] * c - h[t, b] * s
+                en = a * ee - nu * tr[t, b]
+                hi0, lo0 = max(hi0, ee), min(lo0, ee)
+                hi1, lo1 = max(hi1, en), min(lo1, en)
+                hi2, lo2 = max(hi2, te), min(lo2, te)
+            out[0, g], out[1, g], out[2, g], out[3, g] = hi0, lo0, hi1, lo1
+            out[4, g], out[5, g] = hi2, lo2
+            continue
+        sp2, cp2, spcp, spg = sp[g] * sp[g], cp[g] * cp[g], sp[g] * cp[g], sp[g]
+        hi0 = hi1 = hi2 = hi3 = hi4 = hi5 = -np.inf
+        lo0 = lo1 = lo2 = lo3 = lo4 = lo5 = np.inf
+        for t in range(n_t):
+            ee = m[t, b] + h[t, b] * c + xy[t, b] * s
+            te = xy[t, b] * c - h[t, b] * s
+            sn = sp2 * ee + cp2 * zz[t, b]
+            en = a * sn - nu * tr[t, b]
+            px = spcp * (ee - zz[t, b])
+            py = spg * te
+            hi0, lo0 = max(hi0, sn), min(lo0, sn)
+            hi1, lo1 = max(hi1, en), min(lo1, en)
+            hi2, lo2 = max(hi2, px), min(lo2, px)
+            hi3, lo3 = max(hi3, py), min(lo3, py)
+            hi4, lo4 = max(hi4, px + py), min(lo4, px + py)
+            hi5, lo5 = max(hi5, px - py), min(lo5, px - py)
+        out[0, g], out[1, g], out[2, g], out[3, g] = hi0, lo0, hi1, lo1
+        out[4, g], out[5, g], out[6, g], out[7, g] = hi2, lo2, hi3, lo3
+        out[8, g], out[9, g], out[10, g], out[11, g] = hi4, lo4, hi5, lo5
+
+
+@numba.njit(**_JIT)
+def _shear_bounds(out, start, stop, in_plane, lo, hi):
+    """Lower and upper bounds of each plane's shear amplitude (equal in-plane: a straight path)."""
+    for g in range(start, stop):
+        if in_plane:
+            lo[g] = 0.5 * (out[4, g] - out[5, g])
+            hi[g] = lo[g]
+            continue
+        rx = out[4, g] - out[5, g]
+        ry = out[6, g] - out[7, g]
+        ru = (out[8, g] - out[9, g]) * _HALF_SQRT2
+        rv = (out[10, g] - out[11, g]) * _HALF_SQRT2
+        lo[g] = 0.5 * max(max(rx, ry), max(ru, rv))
+        hi[g] = 0.5 * math.sqrt(min(rx * rx + ry * ry, ru * ru + rv * rv))
+
+
+@numba.njit(**_JIT)
+def _values(code, par, E, out, tau, start, stop, value):
+    """The parameter of criterion ``code`` on planes ``start:stop`` with shear amplitudes
+    ``tau`` (``par``: k, yield strength, G, mean-stress correction kind, its limit)."""
+    if code == SWT:
+        for g in range(start, stop):
+            value[g] = out[0, g] * (0.5 * (out[2, g] - out[3, g]) / E)
+    elif code == STRAIN_LIFE:
+        for g in range(start, stop):
+            value[g] = 0.5 * (out[2, g] - out[3, g]) / E
+    elif code == STRESS_LIFE:
+        for g in range(start, stop):
+            amp, mean = 0.5 * (out[0, g] - out[1, g]), 0.5 * (out[0, g] + out[1, g])
+            if par[3] == NO_CORRECTION:
+                value[g] = amp + 0.0 * mean
+                continue
+            ratio = mean / par[4]
+            factor = 1.0 - ratio * ratio if par[3] == GERBER else 1.0 - ratio
+            value[g] = amp / factor if factor > 0.0 else np.inf
+    elif code == FINDLEY:
+        for g in range(start, stop):
+            value[g] = tau[g] + par[0] * out[0, g]
+    elif code == FATEMI_SOCIE:
+        for g in range(start, stop):
+            value[g] = (tau[g] / par[2]) * (1.0 + par[0] * out[0, g] / par[1])
+    else:  # MWCM
+        for g in range(start, stop):
+            value[g] = tau[g]
+
+
+@numba.njit(**_JIT)
+def _needs_shear(code):
+    return code == FINDLEY or code == FATEMI_SOCIE or code == MWCM
+
+
+@numba.njit(**_JIT)
+def _better(code, new, new2, old, old2, scale):
+    if code != MWCM:
+        return new > old
+    tol = _TIE * scale
+    return (new > old + tol) or ((new >= old - tol) and (new2 > old2))
+
+
+# --------------------------------------------------------------------------- coarse grid
+
+
+@numba.njit(**_JIT)
+def _coarse(data, p, grid, axes, rank, codes, par, nu, E, in_plane, work, scratch, best, found,
+            sup):  # fmt: skip
+    """Index of the best grid plane of every criterion at point ``p`` of the step data, into
+    ``best``, and its quantities (value, tau, sigma_n max and min, normal strain amplitude)
+    into ``found`` (5, C); the grid circles as the module docstring says."""
+    m, h, xy, zz, tr, x, y = data
+    out, lo, hi, tau, value, vlo, vhi, done = work
+    n_g = grid.shape[1]
+    order = np.empty(n_g, dtype=np.int64)
+    c2, s2, sp, cp = grid[0], grid[1], grid[2], grid[3]
+    _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratch)
+    shear = False
+    for code in codes:
+        shear = shear or _needs_shear(code)
+    if shear:
+        _shear_bounds(out, 0, n_g, in_plane, lo, hi)
+        for g in range(n_g):
+            tau[g] = lo[g]
+            done[g] = in_plane or not hi[g] > lo[g] * (1.0 + 1e-12)
+    for ci in range(codes.size):
+        code = codes[ci]
+        if shear and _needs_shear(code) and not in_plane:
+            # exact circles in decreasing order of the value's upper bound, while it can win
+            _values(code, par[ci], E, out, lo, 0, n_g, vlo)
+            _values(code, par[ci], E, out, hi, 0, n_g, vhi)
+            for g in range(n_g):
+                a, b = vlo[g], vhi[g]
+                vlo[g], vhi[g] = min(a, b), max(a, b)
+            top = -np.inf
+            for g in range(n_g):
+                top = max(top, vlo[g])
+            slack = _TIE * abs(top) if code == MWCM else 0.0
+            n_open = 0  # the planes whose bound reaches the best lower bound, open ones first
+            for g in range(n_g):
+                if not done[g] and vhi[g] >= top - slack:
+                    order[n_open] = g
+                    n_open += 1
+            while n_open:
+                pick = 0
+                for i in range(1, n_open):
+                    if vhi[order[i]] > vhi[order[pick]]:
+                        pick = i
+                arg = order[pick]
+                slack = _TIE * abs(top) if code == MWCM else 0.0
+                if not vhi[arg] >= top - slack:
+                    break
+                n_open -= 1
+                order[pick] = order[n_open]
+                sup[0] = -1
+                tau[arg] = _exact_tau(
+                    m, h, xy, zz, p, c2[arg], s2[arg], sp[arg], cp[arg], x, y, sup
+                )
+                done[arg] = True
+                _values(code, par[ci], E, out, tau, arg, arg + 1, value)
+                top = max(top, value[arg])
+        _values(code, par[ci], E, out, tau, 0, n_g, value)
+        # exact ties (infinite stress_life values, symmetric states) go to the plane that
+        # comes first in the numpy search's grid order, ``rank``
+        arg = 0
+        for g in range(1, n_g):
+            if value[g] > value[arg] or (value[g] == value[arg] and rank[g] < rank[arg]):
+                arg = g
+        if code == MWCM:  # ties within the tolerance: the largest normal stress
+            tol = _TIE * max(abs(value[arg]), 1e-300)
+            top, arg = value[arg], -1
+            for g in range(n_g):
+                if value[g] >= top - tol and (
+                    arg < 0
+                    or out[0, g] > out[0, arg]
+                    or (out[0, g] == out[0, arg] and rank[g] < rank[arg])
+                ):
+                    arg = g
+        best[ci] = arg
+        found[0, ci] = value[arg]
+        found[1, ci] = tau[arg] if _needs_shear(code) else 0.0
+        found[2, ci] = out[0, arg]
+        found[3, ci] = out[1, arg]
+        found[4, ci] = 0.5 * (out[2, arg] - out[3, arg]) / E
+
+
+# --------------------------------------------------------------------------- refinement
+
+
+@numba.njit(**_JIT)
+def _cos_sin(x):
+    """cos x, sin x; Taylor series below 0.1 (exact to round-off there), libm above."""
+    if abs(x) >= 0.1:
+        return math.cos(x), math.sin(x)
+    x2 = x * x
+    c = 1.0 - x2 / 2.0 * (1.0 - x2 / 12.0 * (1.0 - x2 / 30.0 * (1.0 - x2 / 56.0)))
+    s = x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0))))
+    return c, s
+
+
+@numba.njit(**_JIT)
+def _evaluate(data, nb, planes, n_rep, per, codes, par, nu, E, in_plane, against, cur, work):
+    """Quantities and values of ``n_rep`` planes per point of a block of ``nb`` points; plane
+    ``r nb + b`` is point b's, of criterion ``r // per``. With ``against``, a plane that cannot
+    beat its criterion's current value keeps the lower bound of its shear amplitude (the numpy
+    search's ``_SharedPass._exact``); the exact circles start from the current plane's support.
+    """
+    m, h, xy, zz, tr, x, y = data
+    c2, s2, sp, cp, psup = planes
+    out, lo, hi, tau, value, vlo, vhi, _ = work
+    cvalue, cscale, csup = cur
+    for r in range(n_rep):
+        _block_summaries(m, h, xy, zz, tr, nb, nu, c2, s2, sp, cp, r * nb, in_plane, out)
+    for ci in range(codes.size):
+        code = codes[ci]
+        start, stop = ci * per * nb, (ci + 1) * per * nb
+        if _needs_shear(code):
+            _shear_bounds(out, start, stop, in_plane, lo, hi)
+            for g in range(start, stop):
+                tau[g] = lo[g]
+            if not in_plane:
+                if against:
+                    _values(code, par[ci], E, out, lo, start, stop, vlo)
+                    _values(code, par[ci], E, out, hi, start, stop, vhi)
+                for g in range(start, stop):
+                    if not hi[g] > lo[g] * (1.0 + 1e-12):
+                        psup[g, 0] = -1
+                        continue
+                    b = g % nb
+                    k = ci * nb + b
+                    if against:
+                        slack = _TIE * cscale[k] if code == MWCM else 0.0
+                        if not max(vlo[g], vhi[g]) >= cvalue[k] - slack:
+                            psup[g, 0] = -1
+                            continue
+                    psup[g, 0], psup[g, 1], psup[g, 2] = csup[k, 0], csup[k, 1], csup[k, 2]
+                    tau[g] = _exact_tau(m, h, xy, zz, b, c2[g], s2[g], sp[g], cp[g], x, y, psup[g])
+        else:
+            for g in range(start, stop):
+                tau[g] = 0.0
+        _values(code, par[ci], E, out, tau, start, stop, value)
+
+
+@numba.njit(**_JIT)
+def _parabola(v_lo, centre, v_hi, h):
+    """The step to the vertex of the parabola through v_lo, centre, v_hi at -h, 0, h; none
+    where it opens upwards, at most h (the numpy search's where, nan_to_num and clip)."""
+    curv = v_lo - 2.0 * centre + v_hi
+    d = 0.0
+    if curv < 0:
+        d = 0.5 * h * (v_lo - v_hi) / curv
+    if math.isnan(d):
+        d = 0.0
+    return min(max(d, -h), h)
+
+
+@numba.njit(**_JIT)
+def _moved(c2, s2, sp, cp, psi, dt, dp, turn):
+    """cos 2theta, sin 2theta, sin psi, cos psi, psi of the plane turned by (dt, dp); psi is
+    clipped to [0, pi/2] as the numpy search clips it. ``turn``: cos 2dt, sin 2dt, cos dp,
+    sin dp."""
+    nc2, ns2 = c2, s2
+    if dt != 0.0:
+        nc2, ns2 = c2 * turn[0] - s2 * turn[1], s2 * turn[0] + c2 * turn[1]
+    if dp == 0.0:
+        return nc2, ns2, sp, cp, psi
+    npsi = psi + dp
+    if npsi >= 0.5 * np.pi:
+        return nc2, ns2, 1.0, _COS_HALF_PI, 0.5 * np.pi
+    if npsi <= 0.0:
+        return nc2, ns2, 0.0, 1.0, 0.0
+    return nc2, ns2, sp * turn[2] + cp * turn[3], cp * turn[2] - sp * turn[3], npsi
+
+
+@numba.njit(**_JIT)
+def _turn(dt, dp, turn):
+    """cos 2dt, sin 2dt, cos dp, sin dp into ``turn``."""
+    turn[0], turn[1] = _cos_sin(2.0 * dt)
+    turn[2], turn[3] = _cos_sin(dp)
+
+
+@numba.njit(**_JIT)
+def _keep(cres, i, value, tau, out, g, E):
+    """The quantities of evaluated plane ``g`` as current plane ``i``'s."""
+    cres[0, i] = value[g]
+    cres[1, i] = tau[g]
+    cres[2, i] = out[0, g]
+    cres[3, i] = out[1, g]
+    cres[4, i] = 0.5 * (out[2, g] - out[3, g]) / E
+
+
+@numba.njit(**_JIT)
+def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles, codes, par,
+                  nu, E, steps, levels, in_plane, work):  # fmt: skip
+    """The numpy search's ``_refine`` for a block of points: every criterion's candidates of a
+    level in one :func:`_evaluate`. ``cres`` (5, C nb): the current planes' quantities (value,
+    tau, sigma_n max and min, normal strain amplitude), from the grid in, the final ones out:
+    a plane that wins has its exact circle (one that cannot win keeps a bound, never wins)."""
+    c2, s2, sp, cp, csup = cur_planes
+    th, ps = cur_angles
+    cvalue, cscale, _ = cur
+    second = np.empty(cvalue.size)
+    turn = np.empty(4)
+    n_c = codes.size
+    k = 2 if in_plane else 4
+    out = work[0]
+    value = work[4]
+    # the start planes: the coarse grid's exact quantities (``cres``, kept up to date below)
+    for i in range(n_c * nb):
+        csup[i, 0] = -1
+        cvalue[i] = cres[0, i]
+        second[i] = cres[2, i]
+        cscale[i] = max(abs(cvalue[i]), 1e-300)
+    q2, qs2, qsp, qcp, qsup = cand
+    qth, qps = cand_angles
+    for level in range(levels + 1):
+        last = level == levels
+        ht = steps[0] / 2 ** min(level + 1, levels)
+        hp = steps[1] / 2 ** min(level + 1, levels)
+        for ci in range(n_c):
+            for j in range(k):
+                dt = (-ht if j == 0 else ht) if j < 2 else 0.0
+                dp = 0.0 if j < 2 else (-hp if j == 2 else hp)
+                _turn(dt, dp, turn)
+                for b in range(nb):
+                    i = ci * nb + b
+                    g = (ci * k + j) * nb + b
+                    q2[g], qs2[g], qsp[g], qcp[g], qps[g] = _moved(
+                        c2[i], s2[i], sp[i], cp[i], ps[i], dt, dp, turn
+                    )
+                    qth[g] = th[i] + dt
+        _evaluate(data, nb, cand, n_c * k, k, codes, par, nu, E, in_plane, not last, cur, work)
+        if not last:
+            for ci in range(n_c):
+                code = codes[ci]
+                for b in range(nb):
+                    i = ci * nb + b
+                    arg = (ci * k) * nb + b
+                    for j in range(1, k):
+                        g = (ci * k + j) * nb + b
+                        if value[g] > value[arg]:
+                            arg = g
+                    if code == MWCM:
+                        tol = _TIE * max(abs(value[arg]), 1e-300)
+                        top, arg = value[arg], -1
+                        for j in range(k):
+                            g = (ci * k + j) * nb + b
+                            if value[g] >= top - tol and (arg < 0 or out[0, g] > out[0, arg]):
+                                arg = g
+                    if _better(code, value[arg], out[0, arg], cvalue[i], second[i], cscale[i]):
+                        th[i], ps[i] = qth[arg], qps[arg]
+                        c2[i], s2[i], sp[i], cp[i] = q2[arg], qs2[arg], qsp[arg], qcp[arg]
+                        cvalue[i], second[i] = value[arg], out[0, arg]
+                        _keep(cres, i, value, work[3], out, arg, E)
+                        if qsup[arg, 0] >= 0:
+                            csup[i, 0], csup[i, 1], csup[i, 2] = (
+                                qsup[arg, 0],
+                                qsup[arg, 1],
+                                qsup[arg, 2],
+                            )
+            continue
+        # one parabolic step per angle through the last level's three values
+        for ci in range(n_c):
+            for b in range(nb):
+                i = ci * nb + b
+                g0 = (ci * k) * nb + b
+                dt = _parabola(value[g0], cvalue[i], value[g0 + nb], ht)
+                dp = 0.0
+                if not in_plane:
+                    dp = _parabola(value[g0 + 2 * nb], cvalue[i], value[g0 + 3 * nb], hp)
+                _turn(dt, dp, turn)
+                q2[i], qs2[i], qsp[i], qcp[i], qps[i] = _moved(
+                    c2[i], s2[i], sp[i], cp[i], ps[i], dt, dp, turn
+                )
+                qth[i] = th[i] + dt
+        _evaluate(data, nb, cand, n_c, 1, codes, par, nu, E, in_plane, True, cur, work)
+        for ci in range(n_c):
+            for b in range(nb):
+                i = ci * nb + b
+                if _better(codes[ci], value[i], out[0, i], cvalue[i], second[i], cscale[i]):
+                    _keep(cres, i, value, work[3], out, i, E)
+                    th[i], ps[i] = qth[i], qps[i]
+                    c2[i], s2[i], sp[i], cp[i] = q2[i], qs2[i], qsp[i], qcp[i]
+                    if qsup[i, 0] >= 0:
+                        csup[i, 0], csup[i, 1], csup[i, 2] = qsup[i, 0], qsup[i, 1], qsup[i, 2]
+
+
+@numba.njit(**_JIT)
+def search(
+    stress, grid, axes, rank, grid_theta, grid_psi, codes, par, nu, E, steps, levels, in_plane
+):
+    """Critical planes and their quantities of every criterion at every point.
+
+    ``stress`` (T, P, 4); ``grid`` (4, G): cos 2theta, sin 2theta, sin psi, cos psi of the
+    coarse planes at angles ``grid_theta``, ``grid_psi``, in 3D ordered as ``axes`` says
+    (:func:`_grid_summaries`), ``rank`` their places in the numpy search's grid; ``codes``
+    (C,) criterion codes, ``par`` (C, 5) their constants. Returns theta, psi (C, P) and
+    (5, C, P): value, shear amplitude, sigma_n max, sigma_n min, normal strain amplitude on
+    the critical planes.
+    """
+    n_t, n_p = stress.shape[0], stress.shape[1]
+    n_c = codes.size
+    n_g = grid.shape[1]
+    k = 2 if in_plane else 4
+    theta_out = np.empty((n_c, n_p))
+    psi_out = np.empty((n_c, n_p))
+    res_out = np.empty((5, n_c, n_p))
+    nb_max = min(BLOCK, n_p)
+    # rows of one array each, padded so that rows do not start a multiple of 4 KiB apart
+    # (the loops stream many rows at once: rows that share L1 sets evict each other)
+    steps_rows = np.empty((7, n_t * nb_max + _PAD))
+    data = (
+        steps_rows[0, : n_t * nb_max].reshape((n_t, nb_max)),
+        steps_rows[1, : n_t * nb_max].reshape((n_t, nb_max)),
+        steps_rows[2, : n_t * nb_max].reshape((n_t, nb_max)),
+        steps_rows[3, : n_t * nb_max].reshape((n_t, nb_max)),
+        steps_rows[4, : n_t * nb_max].reshape((n_t, nb_max)),
+        steps_rows[5, :n_t],
+        steps_rows[6, :n_t],
+    )
+    m, h, xy, zz, tr = data[0], data[1], data[2], data[3], data[4]
+    size = max(n_g, n_c * k * nb_max)
+    rows = np.empty((18, size + _PAD))
+    work = (
+        rows[:12],
+        rows[12, :size],
+        rows[13, :size],
+        rows[14, :size],
+        rows[15, :size],
+        rows[16, :size],
+        rows[17, :size],
+        np.empty(size, dtype=np.bool_),
+    )
+    n_cur = n_c * nb_max
+    cur_rows = np.empty((8, n_cur + _PAD))
+    cur_planes = (
+        cur_rows[0, :n_cur],
+        cur_rows[1, :n_cur],
+        cur_rows[2, :n_cur],
+        cur_rows[3, :n_cur],
+        np.full((n_cur, 3), -1, dtype=np.int64),
+    )
+    cur_angles = (cur_rows[4, :n_cur], cur_rows[5, :n_cur])
+    cur = (cur_rows[6, :n_cur], cur_rows[7, :n_cur], cur_planes[4])
+    n_q = n_c * k * nb_max
+    cand_rows = np.empty((6, n_q + _PAD))
+    cand = (
+        cand_rows[0, :n_q],
+        cand_rows[1, :n_q],
+        cand_rows[2, :n_q],
+        cand_rows[3, :n_q],
+        np.full((n_q, 3), -1, dtype=np.int64),
+    )
+    cand_angles = (cand_rows[4, :n_q], cand_rows[5, :n_q])
+    best = np.empty(n_c, dtype=np.int64)
+    scratch = np.empty((6, axes[0].size + _PAD))
+    found = np.empty((5, n_c))
+    cres = np.empty((5, n_cur + _PAD))
+    sup = np.empty(3, dtype=np.int64)
+    c2, s2, sp, cp, _ = cur_planes
+    th, ps = cur_angles
+    for p0 in range(0, n_p, nb_max):
+        nb = min(nb_max, n_p - p0)
+        for t in range(n_t):
+            for b in range(nb):
+                sxx, syy = stress[t, p0 + b, 0], stress[t, p0 + b, 1]
+                m[t, b] = 0.5 * (sxx + syy)
+                h[t, b] = 0.5 * (sxx - syy)
+                xy[t, b] = stress[t, p0 + b, 2]
+                zz[t, b] = stress[t, p0 + b, 3]
+                tr[t, b] = 2.0 * m[t, b] + zz[t, b]
+        for b in range(nb):
+            _coarse(data, b, grid, axes, rank, codes, par, nu, E, in_plane, work, scratch, best,
+                    found, sup)  # fmt: skip
+            for ci in range(n_c):
+                g, i = best[ci], ci * nb + b
+                for r in range(5):
+                    cres[r, i] = found[r, ci]
+                th[i], ps[i] = grid_theta[g], grid_psi[g]
+                c2[i], s2[i], sp[i], cp[i] = grid[0, g], grid[1, g], grid[2, g], grid[3, g]
+        _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles, codes,
+                      par, nu, E, steps, levels, in_plane, work)  # fmt: skip
+        for ci in range(n_c):
+            for b in range(nb):
+                i = ci * nb + b
+                theta_out[ci, p0 + b] = th[i]
+                psi_out[ci, p0 + b] = ps[i]
+                for r in range(5):
+                    res_out[r, ci, p0 + b] = cres[r, i]
+    return theta_out, psi_out, res_out
