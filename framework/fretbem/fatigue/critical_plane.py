@@ -618,6 +618,8 @@ def _compiled_parameters(stress, criteria, search, theta_g, psi_g, E, nu) -> dic
     results = {}
     for i, crit in enumerate(criteria):
         value, tau, smax, smin, strain = res[:, i]
+        if not crit.needs_shear:  # its search needs no shear: the plane's own, for the report
+            tau = _plane_shear_amplitude(stress, theta[i], psi[i], E, nu)
         results[crit.name] = CriterionResult(
             method=crit.name,
             value=value,
@@ -631,6 +633,14 @@ def _compiled_parameters(stress, criteria, search, theta_g, psi_g, E, nu) -> dic
             shear_strain_amplitude=tau / G,
         )
     return results
+
+
+def _plane_shear_amplitude(stress, theta, psi, E, nu) -> np.ndarray:
+    """The shear amplitude on each point's plane (theta, psi): what a criterion whose search
+    needs no shear (SWT, stress_life, strain_life) reports of its critical plane."""
+    planes = projection(theta, psi)[:, :, None]  # (3, P, 1, 4): one plane per point
+    path = plane_quantities(stress, planes, E, nu, strains=False)
+    return minimum_circumscribed_circle_xy(path["path_x"], path["path_y"])[2]
 
 
 def _validate_stress(stress) -> np.ndarray:
@@ -711,9 +721,7 @@ def critical_plane_parameters(
         smax, smin = q["normal_stress_max"][:, 0], q["normal_stress_min"][:, 0]
         strain = q["normal_strain_amplitude"]
         if not crit.needs_shear:  # its search needs no shear: the plane's own, for the report
-            planes = projection(theta[i], psi[i])[:, :, None]  # (3, P, 1, 4): one per point
-            path = plane_quantities(stress, planes, E, nu, strains=False)
-            tau = minimum_circumscribed_circle_xy(path["path_x"], path["path_y"])[2][:, None]
+            tau = _plane_shear_amplitude(stress, theta[i], psi[i], E, nu)[:, None]
         results[crit.name] = CriterionResult(
             method=crit.name,
             value=values[:, 0],
