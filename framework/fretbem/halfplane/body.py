@@ -192,8 +192,9 @@ class HalfPlaneBody(Body):
             parts = [family.discretise(curve, self.refinement) for curve in self.curves]
             face = parts[0] if len(parts) == 1 else JoinedFace(parts)
             self._cache["surface"] = HalfPlaneSurface(
-                face, self.material, self.side, self.datum, self.bulk_origin
-            )
+                face, self.material, self.side, self.datum, self.bulk_origin,
+                shared_as=(family.name, self.curves, self.refinement),
+            )  # fmt: skip
         return self._cache["surface"]
 
     @property
