@@ -138,41 +138,58 @@ def _column(values: np.ndarray, like: np.ndarray) -> np.ndarray:
 class _Factor:
     """The LU of one pattern's reduced matrix; solves J y = b on that pattern for any b."""
 
-    def __init__(self, maps: _Maps, pattern: _Pattern):
+    def __init__(self, maps: _Maps, pattern: _Pattern, previous: _Factor | None = None):
         self.maps, self.pattern = maps, pattern
         n, n_x = maps.n, maps.n_x
         c, s = pattern.c, pattern.s
         columns = np.concatenate([c, n + s, np.arange(2 * n, n_x)])
-        k = columns.size
         kc, ks = c.size, s.size
+        self.size = columns.size
         self.slip_in_c = pattern.slip[c].nonzero()[0]
         slipping = c[self.slip_in_c]
-        if maps.stacked is not None:
-            # rows and columns of the reduced matrix are the same numbers of x: one gather
-            # (C order: its transpose is the F-ordered LAPACK input); dp of a slipping pair
-            # also moves its dq by c_i dp: that column folded in
-            rows = maps.stacked[columns]
-            if slipping.size:
-                rows[:, slipping] += rows[:, n + slipping] * pattern.coeff[slipping]
-            matrix = rows[:, columns]
-        else:
-            matrix = self._gathered(maps, c, s, columns, slipping, pattern.coeff[slipping])
-        self.size = k
         self.split = None
-        if maps.normal_part is None:
+        if maps.normal_part is not None:
+            self._factor_split(columns, slipping, previous)
+        else:
+            if maps.stacked is not None:
+                # rows and columns of the reduced matrix are the same numbers of x: one gather
+                # (C order: its transpose is the F-ordered LAPACK input); dp of a slipping pair
+                # also moves its dq by c_i dp: that column folded in
+                rows = maps.stacked[columns]
+                if slipping.size:
+                    rows[:, slipping] += rows[:, n + slipping] * pattern.coeff[slipping]
+                matrix = rows[:, columns]
+            else:
+                matrix = self._gathered(maps, c, s, columns, slipping, pattern.coeff[slipping])
             self.lu, self.piv = _lu(matrix)
-        else:  # block lower triangular: the normal block, then the tangential one
-            normal = maps.normal_part[columns]
-            a, b = normal.nonzero()[0], (~normal).nonzero()[0]
-            self.split = (a, b, matrix[np.ix_(b, a)])
-            self.lu, self.piv = _lu(matrix[np.ix_(a, a)])
-            self.lu_t, self.piv_t = _lu(matrix[np.ix_(b, b)])
         self.sizes = (kc, ks)
         sep = (~pattern.contact).nonzero()[0]
         self.known = np.concatenate([sep, n + sep, n + pattern.slip.nonzero()[0]])
         self.bordered = np.zeros(0, dtype=int)  # rows with a kept column J^-1 e_row
         self.columns = np.empty((maps.n_x, 0), order="F")
         self.dense, self.dense_columns = np.empty((0, maps.n_x)), np.empty((0, 0))
+
+    def _factor_split(self, columns: np.ndarray, slipping: np.ndarray, previous) -> None:
+        """The block lower triangular system of uncoupled maps: the normal block (gap and
+        normal block rows, whose shear columns are zero, so no slip column folds into
+        them) and the tangential one with its rows' normal columns (the coupling). The
+        normal block's LU is the previous factor's when the contact set is the same (the
+        steps after the first of a cycle change stick and slip only)."""
+        maps, n = self.maps, self.maps.n
+        normal = maps.normal_part[columns]
+        a, b = normal.nonzero()[0], (~normal).nonzero()[0]
+        normal_x, tangential_x = columns[a], columns[b]
+        rows = _rows(maps, tangential_x)
+        if slipping.size:
+            rows[:, slipping] += rows[:, n + slipping] * self.pattern.coeff[slipping]
+        self.split = (a, b, rows[:, normal_x])
+        self.lu_t, self.piv_t = _lu(rows[:, tangential_x])
+        self.normal_x = normal_x
+        if (previous is not None and previous.split is not None
+                and np.array_equal(previous.normal_x, normal_x)):  # fmt: skip
+            self.lu, self.piv = previous.lu, previous.piv
+        else:
+            self.lu, self.piv = _lu(_rows(maps, normal_x)[:, normal_x])
 
     @staticmethod
     def _gathered(maps: _Maps, c, s, columns, slipping, coeff) -> np.ndarray:
@@ -259,6 +276,22 @@ class _Factor:
         dense[:count] = self.dense[:count]
         dense_columns[:count, :count] = self.dense_columns[:count, :count]
         self.columns, self.dense, self.dense_columns = columns, dense, dense_columns
+
+
+def _rows(maps: _Maps, numbers: np.ndarray) -> np.ndarray:
+    """The Jacobian's contact rows (r_n N; -r_t T; R) of the numbers of x given (C order)."""
+    if maps.stacked is not None:
+        return maps.stacked[numbers]
+    n = maps.n
+    out = np.empty((numbers.size, maps.n_x))
+    normal, extra = numbers < n, numbers >= 2 * n
+    tangential = ~(normal | extra)
+    out[normal] = maps.normal[numbers[normal]]
+    out[normal] *= maps.r_n
+    out[tangential] = maps.tangential[numbers[tangential] - n]
+    out[tangential] *= -maps.r_t
+    out[extra] = maps.resultant[numbers[extra] - 2 * n]
+    return out
 
 
 def _lu(matrix: np.ndarray):
@@ -375,8 +408,11 @@ class NewtonLinear:
         return self._refactor(pattern, b)
 
     def _refactor(self, pattern: _Pattern, b: np.ndarray) -> np.ndarray:
-        self.factor = None  # free the old LU first
-        self.factor = _Factor(self.maps, pattern)
+        previous, self.factor = self.factor, None
+        if self.maps.normal_part is None:
+            previous = None  # free the old LU first
+        self.factor = _Factor(self.maps, pattern, previous)
+        del previous
         self.factorisations += 1
         return self.factor.solve(b)
 
