@@ -80,6 +80,19 @@ class _Maps:
         #: the numbers of x (equations and unknowns alike) of the normal problem when it does
         #: not depend on the tangential one (None if it does): see :func:`normal_part`
         self.normal_part = normal_part(normal_map, tangential_map, resultant_map)
+        #: the column ranges (pressures, shears, blocks) where N and T are not all zero: the
+        #: products skip the rest (identical bodies: the shear columns of N, the pressure
+        #: columns of T, half of each product)
+        self.normal_ranges = _nonzero_ranges(normal_map, self.n)
+        self.tangential_ranges = _nonzero_ranges(tangential_map, self.n)
+
+    def normal_times(self, x: np.ndarray) -> np.ndarray:
+        """N x, over N's non-zero column ranges only."""
+        return _product(self.normal, self.normal_ranges, x)
+
+    def tangential_times(self, x: np.ndarray) -> np.ndarray:
+        """T x, over T's non-zero column ranges only."""
+        return _product(self.tangential, self.tangential_ranges, x)
 
     def products(self, x: np.ndarray, nonzero: np.ndarray | None = None):
         """N x, T x and R x (x of shape (n_x,) or (n_x, cols)), using only rows ``nonzero``."""
@@ -87,7 +100,7 @@ class _Maps:
             part = x[nonzero]
             return (self.normal[:, nonzero] @ part, self.tangential[:, nonzero] @ part,
                     self.resultant[:, nonzero] @ part)  # fmt: skip
-        return self.normal @ x, self.tangential @ x, self.resultant @ x
+        return self.normal_times(x), self.tangential_times(x), self.resultant @ x
 
     def apply(self, pattern: _Pattern, x: np.ndarray) -> tuple[np.ndarray, float]:
         """J x on ``pattern`` (every row) and the largest row product (for a relative size)."""
@@ -231,9 +244,12 @@ class _Factor:
             u = _lu_solve(self.lu, self.piv, rhs)
         else:
             normal, tangential, coupling = self.split
-            u = np.empty(rhs.shape)
-            u[normal] = u_n = _lu_solve(self.lu, self.piv, rhs[normal])
-            u[tangential] = _lu_solve(self.lu_t, self.piv_t, rhs[tangential] - coupling @ u_n)
+            u = np.zeros(rhs.shape)
+            rhs_n, rhs_t = rhs[normal], rhs[tangential]
+            if rhs_n.any():  # a shear's unit (a bordered row of the tangential block) has none
+                u[normal] = u_n = _lu_solve(self.lu, self.piv, rhs_n)
+                rhs_t -= coupling @ u_n
+            u[tangential] = _lu_solve(self.lu_t, self.piv_t, rhs_t)
         dp = u[:kc]
         y[c] = dp
         y[n + s] = u[kc : kc + ks]
@@ -291,6 +307,26 @@ def _rows(maps: _Maps, numbers: np.ndarray) -> np.ndarray:
     out[tangential] = maps.tangential[numbers[tangential] - n]
     out[tangential] *= -maps.r_t
     out[extra] = maps.resultant[numbers[extra] - 2 * n]
+    return out
+
+
+def _nonzero_ranges(matrix: np.ndarray, n: int) -> tuple[slice, ...] | None:
+    """Which of the column ranges (pressures, shears, blocks) of a (., 2 n + m) map hold a
+    non-zero; None if all of them (the plain product is then used)."""
+    ranges = (slice(0, n), slice(n, 2 * n), slice(2 * n, matrix.shape[1]))
+    kept = tuple(r for r in ranges if matrix[:, r].any())
+    return None if len(kept) == len(ranges) else kept
+
+
+def _product(matrix: np.ndarray, ranges: tuple[slice, ...] | None, x: np.ndarray) -> np.ndarray:
+    """matrix @ x over the column ``ranges`` only (all columns if None)."""
+    if ranges is None:
+        return matrix @ x
+    if not ranges:
+        return np.zeros((matrix.shape[0], *x.shape[1:]))
+    out = matrix[:, ranges[0]] @ x[ranges[0]]
+    for columns in ranges[1:]:
+        out += matrix[:, columns] @ x[columns]
     return out
 
 
