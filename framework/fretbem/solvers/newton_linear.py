@@ -192,17 +192,22 @@ class _Factor:
         normal = maps.normal_part[columns]
         a, b = normal.nonzero()[0], (~normal).nonzero()[0]
         normal_x, tangential_x = columns[a], columns[b]
-        rows = _rows(maps, tangential_x)
+        ka, kb = a.size, b.size
+        # the tangential rows over the normal columns (the coupling), their own columns and
+        # the slipping pairs' shear columns, which fold into their pressure columns (the
+        # first of the normal columns are the pairs in contact, c)
+        rows = _block(maps, tangential_x, np.concatenate([normal_x, tangential_x, n + slipping]))
+        coupling = rows[:, :ka]
         if slipping.size:
-            rows[:, slipping] += rows[:, n + slipping] * self.pattern.coeff[slipping]
-        self.split = (a, b, rows[:, normal_x])
-        self.lu_t, self.piv_t = _lu(rows[:, tangential_x])
+            coupling[:, self.slip_in_c] += rows[:, ka + kb :] * self.pattern.coeff[slipping]
+        self.split = (a, b, coupling)
+        self.lu_t, self.piv_t = _lu(np.ascontiguousarray(rows[:, ka : ka + kb]))
         self.normal_x = normal_x
         if (previous is not None and previous.split is not None
                 and np.array_equal(previous.normal_x, normal_x)):  # fmt: skip
             self.lu, self.piv = previous.lu, previous.piv
         else:
-            self.lu, self.piv = _lu(_rows(maps, normal_x)[:, normal_x])
+            self.lu, self.piv = _lu(_block(maps, normal_x, normal_x))
 
     @staticmethod
     def _gathered(maps: _Maps, c, s, columns, slipping, coeff) -> np.ndarray:
@@ -294,19 +299,19 @@ class _Factor:
         self.columns, self.dense, self.dense_columns = columns, dense, dense_columns
 
 
-def _rows(maps: _Maps, numbers: np.ndarray) -> np.ndarray:
-    """The Jacobian's contact rows (r_n N; -r_t T; R) of the numbers of x given (C order)."""
+def _block(maps: _Maps, rows: np.ndarray, columns: np.ndarray) -> np.ndarray:
+    """The Jacobian's contact rows (r_n N; -r_t T; R) ``rows`` (increasing numbers of x) over
+    ``columns`` (C order)."""
     if maps.stacked is not None:
-        return maps.stacked[numbers]
+        return maps.stacked[np.ix_(rows, columns)]
     n = maps.n
-    out = np.empty((numbers.size, maps.n_x))
-    normal, extra = numbers < n, numbers >= 2 * n
-    tangential = ~(normal | extra)
-    out[normal] = maps.normal[numbers[normal]]
-    out[normal] *= maps.r_n
-    out[tangential] = maps.tangential[numbers[tangential] - n]
-    out[tangential] *= -maps.r_t
-    out[extra] = maps.resultant[numbers[extra] - 2 * n]
+    out = np.empty((rows.size, columns.size))
+    k1, k2 = np.searchsorted(rows, [n, 2 * n])
+    out[:k1] = maps.normal[np.ix_(rows[:k1], columns)]
+    out[:k1] *= maps.r_n
+    out[k1:k2] = maps.tangential[np.ix_(rows[k1:k2] - n, columns)]
+    out[k1:k2] *= -maps.r_t
+    out[k2:] = maps.resultant[np.ix_(rows[k2:] - 2 * n, columns)]
     return out
 
 
