@@ -39,6 +39,11 @@ SPLIT_BORDER_FRACTION = 0.15
 #: systems of fewer unknowns are factorised afresh every step: their LU (about 70 us at
 #: 120 unknowns) costs less than the bordered solve's bookkeeping
 DIRECT_BELOW = 160
+#: systems of at least this many unknowns split the Newton system of uncoupled maps (and skip
+#: their zero column ranges); below, numpy's fixed cost per call outweighs the halved LU.
+#: Steps of the half-plane reference cycle, split over coupled in one process (load 7-12):
+#: 1.07 at 61 pairs, 1.12 at 121, 0.85 at 241, 0.69 at 481
+SPLIT_FROM = 400
 #: a bordered solve is accepted when its residual is below this fraction of the size of
 #: the row products (a direct LU solve leaves about 1e-15)
 ACCEPT_RESIDUAL = 1e-12
@@ -84,12 +89,13 @@ class _Maps:
             )
         #: the numbers of x (equations and unknowns alike) of the normal problem when it does
         #: not depend on the tangential one (None if it does): see :func:`normal_part`
-        self.normal_part = normal_part(normal_map, tangential_map, resultant_map)
+        large = self.n_x >= SPLIT_FROM
+        self.normal_part = normal_part(normal_map, tangential_map, resultant_map) if large else None
         #: the column ranges (pressures, shears, blocks) where N and T are not all zero: the
         #: products skip the rest (identical bodies: the shear columns of N, the pressure
         #: columns of T, half of each product)
-        self.normal_ranges = _nonzero_ranges(normal_map, self.n)
-        self.tangential_ranges = _nonzero_ranges(tangential_map, self.n)
+        self.normal_ranges = _nonzero_ranges(normal_map, self.n) if large else None
+        self.tangential_ranges = _nonzero_ranges(tangential_map, self.n) if large else None
 
     def normal_times(self, x: np.ndarray) -> np.ndarray:
         """N x, over N's non-zero column ranges only."""

@@ -63,19 +63,25 @@ def test_a_twin_with_other_nodes_computes_its_own():
 def _cycle(monkeypatch, coupled: bool, **kwargs):
     if coupled:
         monkeypatch.setattr(newton_linear, "normal_part", lambda *maps: None)
-    result = run(scenes.cattaneo_mindlin(models=HALF_PLANES, **kwargs))
+    else:  # the split solve at this small size too (it is the default from SPLIT_FROM)
+        monkeypatch.setattr(newton_linear, "SPLIT_FROM", 0)
+    simulation = scenes.cattaneo_mindlin(models=HALF_PLANES, **kwargs)
+    result = run(simulation)
+    linear = simulation.solver._linear[simulation.pair.condensed()]
+    assert (linear.maps.normal_part is None) == coupled
     monkeypatch.undo()
     return result
 
 
 @pytest.mark.parametrize(
     "kwargs",
-    [dict(pairs=61), dict(pairs=61, basis="lagrange2"),
+    [dict(pairs=61), dict(pairs=61, basis="lagrange2"), dict(pairs=241),
      dict(pairs=41, increments=3, tangential=(0.0, 25.0, -25.0, 29.0), names=tuple("ABCD"))],
 )  # fmt: skip
 def test_uncoupled_solve_gives_the_coupled_answer(kwargs, monkeypatch):
-    """The reference cycles (and one to near gross slip, by increments): the same unknowns
-    to 1e-12 and the same iterations, through the split solve and the coupled one."""
+    """The reference cycles (and one to near gross slip, by increments; 241 pairs through
+    bordered solves): the same unknowns to 1e-12 and the same iterations, through the split
+    solve and the coupled one."""
     split = _cycle(monkeypatch, False, **kwargs)
     coupled = _cycle(monkeypatch, True, **kwargs)
     for a, b in zip(split.steps, coupled.steps, strict=True):

@@ -166,6 +166,16 @@ def uncoupled_problem(rng, n, states):
     return normal, tangential, resultant, states, direction, residual
 
 
+def test_small_systems_keep_the_coupled_solve():
+    """Under SPLIT_FROM unknowns the split does not pay (numpy's cost per call): not used."""
+    rng = np.random.default_rng(12)
+    n = 10
+    normal, tangential, resultant, *_ = uncoupled_problem(rng, n, np.full(n, STICK))
+    linear = NewtonLinear(normal, tangential, resultant, 0.3, 1.7, 0.8)
+    assert 2 * n + 2 < newton_linear.SPLIT_FROM
+    assert linear.maps.normal_part is None
+
+
 def test_normal_part_only_when_the_coupling_is_exactly_zero():
     rng = np.random.default_rng(11)
     n = 10
@@ -188,6 +198,7 @@ def test_uncoupled_steps_equal_the_full_solve(seed, direct, monkeypatch):
     """Identical bodies: the normal block and then the tangential one, through two LUs of
     half the order (bordered or refactorised), give the full dense solve's step."""
     monkeypatch.setattr(newton_linear, "DIRECT_BELOW", 10**9 if direct else 0)
+    monkeypatch.setattr(newton_linear, "SPLIT_FROM", 0)
     rng = np.random.default_rng(200 + seed)
     n = 60
     states = rng.choice([SEPARATED, STICK, SLIP], n)
