@@ -32,11 +32,16 @@ NODE_TOLERANCE = 1e-12
 
 
 class SharedIntegrals:
-    """The node integrals of one projection, in the order of increasing x, computed once."""
+    """The node integrals of one projection, in the order of increasing x, computed once.
+
+    Kept only until every face that joined has taken them (``members``, ``served``): each
+    face builds its own traction map from them, so a kept copy would only cost memory.
+    """
 
     def __init__(self, nodes: np.ndarray):
         self.nodes = nodes  # node abscissae, increasing-x order
         self.value: np.ndarray | None = None
+        self.members = self.served = 0
 
     def matches(self, nodes: np.ndarray) -> bool:
         """Whether a face with node abscissae ``nodes`` (increasing-x order) has these."""
@@ -58,14 +63,20 @@ class NodeIntegrals:
 
     def get(self, compute: Callable[[], np.ndarray]) -> np.ndarray:
         """The integrals in this face's node order (computed by ``compute`` when first asked)."""
-        if self.shared is None:
+        shared = self.shared
+        if shared is None:
             return compute()
-        if self.shared.value is None:
+        shared.served += 1
+        if shared.value is None:
             value = compute()
-            value.setflags(write=False)
-            self.shared.value = _reversed(value) if self.reverse else value
+            if shared.served < shared.members:  # a twin will ask
+                value.setflags(write=False)
+                shared.value = _reversed(value) if self.reverse else value
             return value
-        return _reversed(self.shared.value) if self.reverse else self.shared.value
+        value = _reversed(shared.value) if self.reverse else shared.value
+        if shared.served >= shared.members:
+            shared.value = None
+        return value
 
 
 def _reversed(both: np.ndarray) -> np.ndarray:
@@ -88,7 +99,8 @@ def node_integrals(
     nodes: np.ndarray,
 ) -> NodeIntegrals:
     """The sharing of a face of ``curves`` (discretised by ``family`` at ``refinement``)
-    whose nodes lie at abscissae ``nodes``; a face without a twin shares with nobody yet."""
+    whose nodes lie at abscissae ``nodes``, joined as one more member; a face without a
+    twin shares with nobody yet."""
     nodes = np.asarray(nodes, float)
     reverse = bool(nodes.size > 1 and nodes[-1] < nodes[0])
     uniform = refinement.toward is None and refinement.at is None and not refinement.c0_at
@@ -113,4 +125,5 @@ def node_integrals(
     if shared is None or not shared.matches(nodes):
         shared = SharedIntegrals(nodes)
         _entries[key] = shared
+    shared.members += 1
     return NodeIntegrals(shared, reverse and uniform)

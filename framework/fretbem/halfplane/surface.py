@@ -61,6 +61,10 @@ class HalfPlaneSurface:
     def __attrs_post_init__(self) -> None:
         side_sign(self.side)
         check_face(self.face)
+        if self.shared_as is not None:  # joined now: a twin made later finds this face
+            self._cache["shared"] = node_integrals(
+                *self.shared_as, self.side, self.datum, self.points[:, 0]
+            )
 
     @property
     def compliance(self) -> FlamantCompliance:
@@ -123,10 +127,8 @@ class HalfPlaneSurface:
             x = self.points[:, 0]
             if self.shared_as is None:
                 both = self._node_integrals(x)
-            else:  # kept: the entry lives while a surface holds it
-                sharing = node_integrals(*self.shared_as, self.side, self.datum, x)
-                self._cache["shared"] = sharing
-                both = sharing.get(lambda: self._node_integrals(x))
+            else:
+                both = self._cache["shared"].get(lambda: self._node_integrals(x))
             self._cache["traction_map"] = self._displacement_map(both[: x.size], both[x.size :])
             self._cache["traction_map"].setflags(write=False)
         return self._cache["traction_map"]

@@ -39,6 +39,16 @@ def test_twin_faces_share_their_integrals(basis, monkeypatch):
     alone = lower.node_map(lower.points[:, 0])
     scale = np.abs(alone).max()
     assert np.abs(lower.traction_map - alone).max() <= 1e-13 * scale
+    assert upper._cache["shared"].shared.value is None  # both took them: nothing kept
+
+
+def test_a_face_without_twin_keeps_nothing():
+    """Half-plane pad on a BEM specimen: the pad's integrals are not kept after use."""
+    simulation = scenes.cattaneo_mindlin(models={"upper": "half-plane"}, pairs=41)
+    simulation.pair.condensed()
+    sharing = simulation.pair.upper.surface._cache["shared"].shared
+    assert sharing.value is None  # (an earlier scene's pad of this shape may have joined)
+    assert sharing.served == sharing.members
 
 
 def test_faces_that_differ_share_nothing():
@@ -58,6 +68,11 @@ def test_a_twin_with_other_nodes_computes_its_own():
     moved = shared.node_integrals("nurbs", (), Refinement(), "upper", 10.0, nodes + 1e-6)
     assert again.shared is first.shared
     assert moved.shared is not first.shared
+    # computed once by the first member to ask, handed to the second, then dropped
+    calls = []
+    value = first.get(lambda: calls.append(1) or np.arange(50.0).reshape(10, 5))
+    assert np.array_equal(again.get(lambda: calls.append(2)), value) and calls == [1]
+    assert first.shared.value is None
 
 
 def _cycle(monkeypatch, coupled: bool, **kwargs):
