@@ -383,16 +383,17 @@ def normal_part(normal_map, tangential_map, resultant_map) -> np.ndarray | None:
     resultant row no shear enters is normal).
     """
     n, n_x = normal_map.shape
-    if n == 0 or resultant_map.shape[0] != n_x - 2 * n:
-        return None
+    if n == 0 or resultant_map.shape[0] != n_x - 2 * n or normal_map[:, n : 2 * n].any():
+        return None  # (the gap depends on the shear: a coupled problem is told at once)
     extra = np.arange(2 * n, n_x)
     column_normal = ~tangential_map[:, extra].any(axis=0)
     row_normal = ~resultant_map[:, n : 2 * n].any(axis=1)
     part = np.zeros(n_x, dtype=bool)
     part[:n] = True
     part[extra] = column_normal & row_normal
-    rows = np.concatenate([normal_map, resultant_map[part[extra]]])
-    if rows[:, ~part].any():
+    tangential = ~part
+    tangential[n : 2 * n] = False  # the gap rows' shear columns are checked above
+    if normal_map[:, tangential].any() or resultant_map[part[extra]][:, ~part].any():
         return None
     return part
 
