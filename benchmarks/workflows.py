@@ -16,11 +16,13 @@ while numpy, scipy and matplotlib load their bytecode). Workflows:
   in one float32 product per chunk), in-plane and 3D; the compiled search where the tree has
   it (``PlaneSearch(compiled=True)``, after a warm-up: numba's load is the rig's), and the
   numpy search beside it;
-- ``halfplane``: the half-plane body model's cycle (scene built, five steps) against the
+- ``halfplane``: the half-plane body model's cycle (scene built cold, five steps) against the
   BEM bodies of the same scene and against a numpy Toeplitz influence-coefficient peer
   (``benchmarks/halfplane_peer.py``) on the same nodes, at 61 and 481 pairs, and the BEM
   bodies' cycle against the same peer; the process first runs both models on another pad
-  (imports, compiled loops), so no geometry cache holds the measured scene;
+  (imports, compiled loops), so no geometry cache holds the measured scene, and clears the
+  scene builder's cache before each model (the BEM bodies' build would otherwise serve the
+  half-plane one);
 - ``sweep``: ``fretbem sweep examples/fretting_map.toml`` (144 cases) default engine against
   ``--serial``, whole process;
 - ``demo``: ``fretbem demo`` with figures and VTK against ``python -c "import numpy,
@@ -108,7 +110,7 @@ print(json.dumps(out))
 HALFPLANE_CHILD = r"""
 import json, sys, time
 sys.path.insert(0, sys.argv[2])
-from fretbem.scenes import reference as scenes
+from fretbem.scenes import builder, reference as scenes
 from fretbem.simulation import run
 import halfplane_peer
 pairs = int(sys.argv[1])
@@ -117,6 +119,8 @@ for m in models.values():  # imports, compiled loops: on another pad, so no cach
     run(scenes.cattaneo_mindlin(pairs=pairs, models=m, radius=71.0))
 out = {}
 for name, m in models.items():
+    if hasattr(builder, "_built"):  # cold for each model: the BEM run built the same shapes
+        builder._built.cache_clear()
     c = time.process_time()
     simulation = scenes.cattaneo_mindlin(pairs=pairs, models=m)
     out[name + "_build"] = time.process_time() - c

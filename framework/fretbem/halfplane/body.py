@@ -26,7 +26,7 @@ from fretbem.validators import positive
 from .influence import DEFAULT_DATUM, HalfPlaneFaceError
 from .joined import JoinedFace
 from .stresses import HalfPlaneStressOperator
-from .surface import HalfPlaneSurface
+from .surface import HalfPlaneSurface, transposed_solve
 
 #: the history-driven load a half-plane specimen (no loading block) responds to
 BULK = "bulk"
@@ -192,8 +192,9 @@ class HalfPlaneBody(Body):
             parts = [family.discretise(curve, self.refinement) for curve in self.curves]
             face = parts[0] if len(parts) == 1 else JoinedFace(parts)
             self._cache["surface"] = HalfPlaneSurface(
-                face, self.material, self.side, self.datum, self.bulk_origin
-            )
+                face, self.material, self.side, self.datum, self.bulk_origin,
+                shared_as=(family.name, self.curves, self.refinement),
+            )  # fmt: skip
         return self._cache["surface"]
 
     @property
@@ -310,9 +311,10 @@ class HalfPlaneBody(Body):
         points = surface.points
         n = len(points)
         centre = self.rotation_centre()
-        moments = np.linalg.solve(
-            surface.collocation_matrix.T, _moment_integrals(surface.face, centre)
-        )  # int phi (x - cx) |dx| and int phi (y - cy) |dx| per node value
+        # int phi (x - cx) |dx| and int phi (y - cy) |dx| per node value (E^-T, banded)
+        moments = transposed_solve(
+            surface.collocation_matrix, _moment_integrals(surface.face, centre).T
+        ).T
         contact_moment = np.zeros((n, 2))
         contact_moment[:, 0] = -moments[:, 1]
         contact_moment[:, 1] = moments[:, 0]

@@ -19,6 +19,7 @@ from fretbem.validators import positive
 
 from .influence import DEFAULT_DATUM, FlamantCompliance, check_face, side_sign, surface_integrals
 from .joined import JoinedFace
+from .shared import node_integrals
 
 
 @attrs.frozen(eq=False)
@@ -41,6 +42,10 @@ class HalfPlaneSurface:
         tractions.
     bulk_origin : float
         x at which the bulk-stress displacement u_x = eps (x - bulk_origin) is zero.
+    shared_as : tuple or None
+        (family name, curves, refinement) the face was discretised from: a face of another
+        surface with the same projection then shares its influence integrals
+        (:mod:`fretbem.halfplane.shared`); None computes them alone.
     """
 
     face: Basis | JoinedFace = attrs.field(
@@ -50,11 +55,16 @@ class HalfPlaneSurface:
     side: str = attrs.field(default="lower")
     datum: float = attrs.field(default=DEFAULT_DATUM, converter=float, validator=positive)
     bulk_origin: float = attrs.field(default=0.0, converter=float)
+    shared_as: tuple | None = attrs.field(default=None, kw_only=True)
     _cache: dict = attrs.field(init=False, factory=dict, repr=False)
 
     def __attrs_post_init__(self) -> None:
         side_sign(self.side)
         check_face(self.face)
+        if self.shared_as is not None:  # joined now: a twin made later finds this face
+            self._cache["shared"] = node_integrals(
+                *self.shared_as, self.side, self.datum, self.points[:, 0]
+            )
 
     @property
     def compliance(self) -> FlamantCompliance:
@@ -114,18 +124,28 @@ class HalfPlaneSurface:
     def traction_map(self) -> np.ndarray:
         """Displacement (n, 2, 2n) at the nodes per unit node traction (column 2 a + j)."""
         if "traction_map" not in self._cache:
-            self._cache["traction_map"] = self.node_map(self.points[:, 0])
+            x = self.points[:, 0]
+            if self.shared_as is None:
+                both = self._node_integrals(x)
+            else:
+                both = self._cache["shared"].get(lambda: self._node_integrals(x))
+            self._cache["traction_map"] = self._displacement_map(both[: x.size], both[x.size :])
             self._cache["traction_map"].setflags(write=False)
         return self._cache["traction_map"]
 
     def node_map(self, x) -> np.ndarray:
         """Displacement (m, 2, 2n) at surface abscissae ``x`` per unit node traction."""
+        both = self._node_integrals(x)
+        m = both.shape[0] // 2
+        return self._displacement_map(both[:m], both[m:])
+
+    def _node_integrals(self, x) -> np.ndarray:
+        """The ln integrals over the rows of the sign integrals (2 m, n) at abscissae ``x``,
+        per unit node value."""
         integrals = surface_integrals(self.face, x, self.datum)
-        m = integrals.log.shape[0]
         # per node value = per coefficient @ E^-1 (coefficients = E^-1 values): the four
         # blocks of the map are the ln and sign integrals times constants, so two solves
-        both = self._per_value(np.concatenate([integrals.log, integrals.sign]))
-        return self._displacement_map(both[:m], both[m:])
+        return self._per_value(np.concatenate([integrals.log, integrals.sign]))
 
     def bulk_displacement(self, x) -> np.ndarray:
         """Surface displacement (m, 2) per unit far-field stress sigma_xx (the "bulk" load).

@@ -260,7 +260,9 @@ class SemiSmoothNewton(Solver):
         r_n = 1.0 / np.mean(np.abs(np.diag(problem.normal_map[:, layout.pressure])))
         r_t = 1.0 / np.mean(np.abs(np.diag(problem.tangential_map[:, layout.shear])))
         forces = np.asarray(forces, float)
-        equations = _Equations(problem, law, problem.bases(loads), forces, previous.slip)
+        linear = _newton_linear(self._linear, problem, law, r_n, r_t)
+        equations = _Equations(problem, law, problem.bases(loads), forces, previous.slip,
+                               None if linear is None else linear.maps)  # fmt: skip
         x = np.zeros(layout.size) if start is None else np.array(start.x, dtype=float)
         residual, evaluation = equations.evaluate(x, r_n, r_t)
         if start is None:
@@ -272,7 +274,6 @@ class SemiSmoothNewton(Solver):
         force_scale = max(np.max(np.abs(forces), initial=0.0), 1e-300)
         tractions = layout.tractions
         guarded = False
-        linear = _newton_linear(self._linear, problem, law, r_n, r_t)
         for iteration in range(1, self.max_iterations + 1):
             step = self._newton_step(problem, law, evaluation, residual, r_n, r_t, linear)
             x = x + step
@@ -346,8 +347,11 @@ class _Equations:
     continuations (:meth:`on_previous_pattern`, :meth:`through_stick`) reuse.
     """
 
-    def __init__(self, problem: CondensedContact, law: ContactLaw, bases, forces, slip):
+    def __init__(self, problem: CondensedContact, law: ContactLaw, bases, forces, slip,
+                 maps=None):  # fmt: skip
         normal_base, self.tangential_base, self.resultant_base = bases
+        #: the Newton linear solver's maps, whose products skip all-zero column ranges
+        self.maps = maps
         self.law, self.forces, self.reference_slip = law, forces, slip
         self.n = problem.n_pairs
         self.gap_base = problem.gap + normal_base
@@ -360,8 +364,12 @@ class _Equations:
 
     def evaluate(self, x: np.ndarray, r_n: float, r_t: float):
         """F(x) (a new array) and the law's evaluation at x; keeps x's gap and slip."""
-        gap = self.gap_base + self.normal_map @ x
-        slip = self.tangential_base + self.tangential_map @ x - self.reference_slip
+        if self.maps is None:
+            gap = self.gap_base + self.normal_map @ x
+            slip = self.tangential_base + self.tangential_map @ x - self.reference_slip
+        else:
+            gap = self.gap_base + self.maps.normal_times(x)
+            slip = self.tangential_base + self.maps.tangential_times(x) - self.reference_slip
         self.gap, self.slip = gap, slip
         evaluation = self.law.evaluate(x[self.pressure], x[self.shear], gap, slip, r_n, r_t)
         n = self.n

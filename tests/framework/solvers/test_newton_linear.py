@@ -151,3 +151,69 @@ def test_unchanged_pattern_reuses_its_factorisation(m):
         expected = fresh.step(residual, states, direction)
         assert np.array_equal(linear.step(residual, states, direction), expected)
     assert linear.factorisations == 1
+
+
+def uncoupled_problem(rng, n, states):
+    """Maps of identical bodies: the gap and the normal block resultant (block column and row
+    1) do not depend on the shear or the tangential block component (column and row 0)."""
+    normal, tangential, resultant, states, direction, residual = problem(rng, n, 2, states)
+    normal[:, n : 2 * n] = 0.0
+    normal[:, 2 * n] = 0.0
+    tangential[:, :n] = 0.0
+    tangential[:, 2 * n + 1] = 0.0
+    resultant[0, :n] = resultant[1, n:] = 0.0
+    resultant[0, 2 * n] = 0.0  # the block rows carry no stiffness of their own
+    return normal, tangential, resultant, states, direction, residual
+
+
+def test_small_systems_keep_the_coupled_solve():
+    """Under SPLIT_FROM unknowns the split does not pay (numpy's cost per call): not used."""
+    rng = np.random.default_rng(12)
+    n = 10
+    normal, tangential, resultant, *_ = uncoupled_problem(rng, n, np.full(n, STICK))
+    linear = NewtonLinear(normal, tangential, resultant, 0.3, 1.7, 0.8)
+    assert 2 * n + 2 < newton_linear.SPLIT_FROM
+    assert linear.maps.normal_part is None
+
+
+def test_normal_part_only_when_the_coupling_is_exactly_zero():
+    rng = np.random.default_rng(11)
+    n = 10
+    normal, tangential, resultant, *_ = uncoupled_problem(rng, n, np.full(n, STICK))
+    part = newton_linear.normal_part(normal, tangential, resultant)
+    assert part.tolist() == [True] * n + [False] * n + [False, True]
+    for coupling in ((normal, 3, n + 4), (normal, 0, 2 * n), (resultant, 1, n + 2)):
+        target, row, column = coupling
+        kept = target[row, column]
+        target[row, column] = 1e-300  # round-off is a coupling too
+        assert newton_linear.normal_part(normal, tangential, resultant) is None
+        target[row, column] = kept
+    coupled = problem(rng, n, 2, np.full(n, STICK))
+    assert newton_linear.normal_part(*coupled[:3]) is None
+
+
+@pytest.mark.parametrize("seed", range(4))
+@pytest.mark.parametrize("direct", [False, True])
+def test_uncoupled_steps_equal_the_full_solve(seed, direct, monkeypatch):
+    """Identical bodies: the normal block and then the tangential one, through two LUs of
+    half the order (bordered or refactorised), give the full dense solve's step."""
+    monkeypatch.setattr(newton_linear, "DIRECT_BELOW", 10**9 if direct else 0)
+    monkeypatch.setattr(newton_linear, "SPLIT_FROM", 0)
+    rng = np.random.default_rng(200 + seed)
+    n = 60
+    states = rng.choice([SEPARATED, STICK, SLIP], n)
+    states[: n // 2] = STICK
+    normal, tangential, resultant, states, direction, residual = uncoupled_problem(rng, n, states)
+    f, r_n, r_t = 0.3, 1.7, 0.8
+    linear = NewtonLinear(normal, tangential, resultant, f, r_n, r_t)
+    assert linear.maps.normal_part is not None
+    for change in (0, 1, 3, 25):
+        states = states.copy()
+        moved = rng.choice(np.arange(n // 2, n), change, replace=False)
+        states[moved] = rng.choice([SEPARATED, STICK, SLIP], change)
+        residual = rng.standard_normal(2 * n + 2)
+        jac = full_jacobian(normal, tangential, resultant, states, direction, f, r_n, r_t)
+        expected = np.linalg.solve(jac, -residual)
+        step = linear.step(residual, states, direction)
+        assert np.max(np.abs(step - expected)) <= 1e-12 * np.max(np.abs(expected))
+        assert linear.factor.split is not None
