@@ -183,9 +183,10 @@ def test_error_non_increasing_with_the_budget(name):
     converged solution of 281 pairs against it; each error is known to that much). The
     band is measured, not set: 0.046 to 0.059 % away and 0.021 to 0.023 % in L2 on the
     reference scene and the wide contact, 0.26 / 0.046 % on the mixed faces, 0.16 /
-    0.085 % on the rig, 0.068 / 0.063 % on steel on aluminium. Everywhere (the reference's own element at a transition cannot
-    follow the square root between its points: 0.3 to 0.5 % of p0 at 321 pairs) the error
-    stays below the measured bound from budget 61 up. On the reference scene and the wide
+    0.085 % on the rig, 0.068 / 0.063 % on steel on aluminium. Everywhere (the
+    reference's own element at a transition cannot follow the square root between its
+    points: 0.3 to 0.5 % of p0 at 321 pairs) the error stays below the measured bound from
+    budget 61 up. On the reference scene and the wide
     contact the estimate is 0.1 to 5 times the error away from the transitions wherever
     that is above 0.1 %."""
     scene, first, last, top = SWEEPS[name]

@@ -380,7 +380,7 @@ def knot_moves(
 #: knot's and the knot stays where the coarser level put it. Unbounded, the rig's step E
 #: knot (0.661 mm, its slip zone narrower than a spacing at 83 pairs) walked onto step A's
 #: boundary at 0.653 mm and q away from the transitions rose 0.39 -> 0.93 % from budget 71
-#: to 83; bounded, 0.39 -> 0.37 %. Only on levels whose knots a settled node-to-node level
+#: to 83; bounded, 0.39 -> 0.38 %. Only on levels whose knots a settled node-to-node level
 #: of at least ``first`` pairs handed on (coarser ones misplace knots by more: bounded
 #: there, the rig at 31 pairs rose 4.0 -> 9.6 %), and not for edge knots (bounded, steel
 #: on aluminium at 161 pairs rose 0.22 -> 0.65 %); docs/explanation/adaptive.rst, "Limits"
