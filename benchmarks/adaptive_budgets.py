@@ -1,11 +1,15 @@
 """The adaptive mode at budgets 31 to 241 on several scenes, against a converged solution.
 
 For each scene: the converged reference (:func:`fretbem.accuracy.converged.reference`, the
-adaptive mode at 321 pairs without early stop), then the adaptive mode at every budget of
-the list with a tolerance no estimate meets (so each budget is spent), its errors against
-the reference (:func:`fretbem.accuracy.converged.errors_against`: max everywhere, max away
-from the transitions, L2), its estimate and its time. Writes
-docs/results/adaptive_budgets.csv (the machine's load average is a column).
+adaptive mode at 321 pairs without early stop) and its resolution
+(:func:`fretbem.accuracy.converged.resolution`: a second converged solution, 281 pairs,
+against it), then the adaptive mode at every budget of the list with a tolerance no
+estimate meets (so each budget is spent), its errors against the reference
+(:func:`fretbem.accuracy.converged.errors_against`: max everywhere, max away from the
+transitions, L2), its estimate and its time, and how far each error away from the
+transitions and in L2 rises above the best smaller budget's ("rise_*"; the band is twice
+the resolution, "band_far" and "band_l2"). Writes docs/results/adaptive_budgets.csv (the
+machine's load average is a column).
 
     python benchmarks/adaptive_budgets.py [--scenes ref100 wide ...] [--budgets 31 41 ...]
 """
@@ -53,8 +57,12 @@ def study(name: str, budgets) -> list[dict]:
     simulation = SCENES[name]()
     tic = time.perf_counter()
     best = converged.reference(simulation)
+    known = converged.resolution(simulation, best)
+    band_far = 2 * max(known["p_far"], known["q_far"])
+    band_l2 = 2 * max(known["p_l2"], known["q_l2"])
     print(f"{name}: reference {best.result.steps[0].x.size} pairs, "
-          f"{time.perf_counter() - tic:.1f} s", flush=True)  # fmt: skip
+          f"{time.perf_counter() - tic:.1f} s; band away {100 * band_far:.3f} %, "
+          f"L2 {100 * band_l2:.3f} %", flush=True)  # fmt: skip
     rows = []
     for budget in budgets:
         tic = time.perf_counter()
@@ -72,6 +80,9 @@ def study(name: str, budgets) -> list[dict]:
             **{k: round(100 * v, 4) for k, v in error.items()},
             "est_p_max": round(100 * est["e_p_max"], 4),
             "est_q_max": round(100 * est["e_q_max"], 4),
+            **{f"rise_{k}": 0.0 for k in ("p_far", "q_far", "p_l2", "q_l2")},
+            "band_far": round(100 * band_far, 4),
+            "band_l2": round(100 * band_l2, 4),
             "seconds": round(seconds, 3),
             "notes": " | ".join(out.notes),
             "load": os.getloadavg()[0],
@@ -84,6 +95,11 @@ def study(name: str, budgets) -> list[dict]:
             f"{seconds:.2f} s {'(notes)' if row['notes'] else ''}",
             flush=True,
         )
+    for key in ("p_far", "q_far", "p_l2", "q_l2"):
+        for i, row in enumerate(rows[1:], start=1):
+            row[f"rise_{key}"] = round(max(0.0, row[key] - min(r[key] for r in rows[:i])), 4)
+    worst = {k: max(r[f"rise_{k}"] for r in rows) for k in ("p_far", "q_far", "p_l2", "q_l2")}
+    print(f"  most rise over a smaller budget (%): {worst}", flush=True)
     return rows
 
 

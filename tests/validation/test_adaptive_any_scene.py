@@ -143,53 +143,74 @@ SCENES = {
     "rig": lambda: from_file("fretting_rig.toml"),
     "dissimilar": lambda: from_file("adaptive_dissimilar.toml"),
 }
-#: per scene: (first budget checked, last budget, most rise of the error away from the
-#: transitions over the best smaller budget, most rise in L2, most error everywhere from
-#: budget 61 up); fractions of p0, f p0; measured (docs/results/adaptive_budgets.csv) plus
-#: a margin. The reference scene, the wide contact and the mixed faces meet a band of 0.1
-#: to 0.2 % (measured 0.055 and 0.076 %); the rig (q away rises 0.56 % from budget 71 to
-#: 83: knots of different steps closer than the layout's merge distance, without points of
-#: their own, do not settle) and steel on aluminium (0.07 % away from 61 up, 3.7 %
-#: everywhere at 61: Goodman slip-zone knots that do not all settle) are misses, listed
-#: with their measured rise; the mixed faces' reference is 241 pairs, so their sweep stops
-#: at 201.
-BANDS = {
-    "ref60": (31, 241, 0.001, 0.0005, 0.006),
-    "ref100": (31, 241, 0.001, 0.0005, 0.006),
-    "ref160": (31, 241, 0.001, 0.0005, 0.006),
-    "wide": (31, 241, 0.001, 0.0005, 0.006),
-    "mixed": (31, 201, 0.002, 0.001, 0.011),
-    "rig": (31, 241, 0.006, 0.0005, 0.021),
-    "dissimilar": (61, 241, 0.001, 0.0005, 0.04),
+#: per sweep: (scene, first budget, last budget, most error everywhere from budget 61 up,
+#: measured plus a margin, fractions of p0 and f p0); the mixed faces' reference is 241
+#: pairs, so their sweep stops at 201
+SWEEPS = {
+    "ref60": ("ref60", 31, 241, 0.006),
+    "ref100": ("ref100", 31, 241, 0.006),
+    "ref160": ("ref160", 31, 241, 0.006),
+    "wide": ("wide", 31, 241, 0.006),
+    "mixed": ("mixed", 31, 201, 0.011),
+    "rig from 61": ("rig", 61, 241, 0.021),
+    "rig": ("rig", 31, 241, 0.021),
+    "dissimilar from 61": ("dissimilar", 61, 241, 0.05),
+    "dissimilar": ("dissimilar", 31, 241, 0.05),
+}
+#: sweeps whose error still rises by more than the band, with the measured rises
+#: (docs/results/adaptive_budgets.csv, docs/explanation/adaptive.rst, "Limits"); strict:
+#: a sweep that meets the band fails here until it is moved out of this list
+MISSES = {
+    "ref60": "36 pairs over 31: 0.054 % away (band 0.049 %)",
+    "ref160": "36 pairs over 31: 0.048 % away (band 0.046 %)",
+    "rig": "q away 1.19 / 1.06 % at budgets 51 / 61 against 0.73 % at 41 (band 0.16 %)",
+    "dissimilar": "below 61 pairs: q away 10.9 / 7.1 / 9.5 / 5.1 % at 31 / 36 / 41 / 51",
 }
 
 
+def _sweep_param(name):
+    if name in MISSES:
+        return pytest.param(name, marks=pytest.mark.xfail(strict=True, reason=MISSES[name]))
+    return name
+
+
 @pytest.mark.slow
-@pytest.mark.parametrize("name", list(SCENES))
+@pytest.mark.parametrize("name", [_sweep_param(n) for n in SWEEPS])
 def test_error_non_increasing_with_the_budget(name):
-    """Every budget of BUDGETS: away from the transitions and in L2 the error never rises
-    by more than the scene's band over the best smaller budget; everywhere (the
+    """Every budget of BUDGETS: away from the transitions and in L2 the error against the
+    converged solution never rises over the best smaller budget's by more than the band,
+    twice the converged solution's own resolution (:func:`converged.resolution`: a second
+    converged solution of 281 pairs against it; each error is known to that much). The
+    band is measured, not set: 0.046 to 0.059 % away and 0.021 to 0.023 % in L2 on the
+    reference scene and the wide contact, 0.26 / 0.046 % on the mixed faces, 0.16 /
+    0.085 % on the rig, 0.068 / 0.063 % on steel on aluminium. Everywhere (the
     reference's own element at a transition cannot follow the square root between its
-    points: 0.3 to 0.5 % of p0 at 321 pairs) it stays below the measured bound. On the
-    reference scene the estimate is 0.39 to 4.6 times the error away from the
-    transitions wherever that is above 0.1 %."""
-    first, last, band_far, band_l2, top = BANDS[name]
-    simulation = SCENES[name]()
+    points: 0.3 to 0.5 % of p0 at 321 pairs) the error stays below the measured bound from
+    budget 61 up. On the reference scene and the wide
+    contact the estimate is 0.1 to 5 times the error away from the transitions wherever
+    that is above 0.1 %."""
+    scene, first, last, top = SWEEPS[name]
+    simulation = SCENES[scene]()
     best = converged.reference(simulation)
+    known = converged.resolution(simulation, best)
+    bands = {
+        "far": 2.0 * max(known["p_far"], known["q_far"]),
+        "l2": 2.0 * max(known["p_l2"], known["q_l2"]),
+    }
     rows = []
     for budget in (b for b in BUDGETS if first <= b <= last):
         out = spend(simulation, budget)
         est = {k: max(e[f"e_{k}_max"] for e in out.estimate.values()) for k in "pq"}
         rows.append((budget, converged.errors_against(out.result, best), est))
-    for key, band in (("p_far", band_far), ("q_far", band_far), ("p_l2", band_l2),
-                      ("q_l2", band_l2)):  # fmt: skip
+    for key in ("p_far", "q_far", "p_l2", "q_l2"):
+        band = bands["l2" if key.endswith("l2") else "far"]
         values = [e[key] for _, e, _ in rows]
         for i in range(1, len(values)):
-            assert values[i] <= min(values[:i]) + band, (key, rows[i][0], values)
+            assert values[i] <= min(values[:i]) + band, (key, rows[i][0], band, values)
     for budget, e, est in rows:
         if budget >= 61:
             assert max(e["p_max"], e["q_max"]) <= top, (budget, e)
-        if name.startswith("ref") or name == "wide":
+        if scene.startswith("ref") or scene == "wide":
             for k in "pq":
                 if e[f"{k}_far"] > 0.001:
                     assert 0.1 <= est[k] / e[f"{k}_far"] <= 5.0, (budget, k, est, e)

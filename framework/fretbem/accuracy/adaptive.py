@@ -22,6 +22,7 @@ from fretbem.simulation import run
 
 from . import estimate
 from .knots import (
+    FALLBACK_REACH,
     Transitions,
     fit_transitions,
     knot_moves,
@@ -347,6 +348,7 @@ def settle(
     iterations: int,
     tolerance: float | None = None,
     relative: bool = True,
+    reach: float | None = None,
 ):
     """Solve an aligned level and move its knots onto its own discrete transitions.
 
@@ -363,7 +365,7 @@ def settle(
     levels = [_solve(aligned(simulation, found, pairs, settings))]
     used, history, residual = [found], [], []
     for k in range(iterations + 1):
-        edge_moves, boundary_moves = knot_moves(levels[-1], used[-1])
+        edge_moves, boundary_moves = knot_moves(levels[-1], used[-1], reach)
         moves = np.concatenate([edge_moves, boundary_moves])
         positions = np.concatenate([used[-1].edges, used[-1].boundaries])
         scale = knot_spacings(levels[-1], used[-1]) if relative else _half_width(levels[-1])
@@ -408,6 +410,7 @@ def run_adaptive(
     previous = None
     notes: list[str] = []
     handed = found[-1]
+    coarse = True  # whether the knots handed on come from a coarse level (no fallback bound)
     for index, pairs in enumerate(counts):
         # the first aligned level only hands on transitions and a coarse error; any later
         # one may be the answer (the estimate can stop the run there)
@@ -417,8 +420,9 @@ def run_adaptive(
             iterations, tolerance = settings.edge_iterations, settings.edge_tolerance
         count = handed.all.size
         solved, used, residual = settle(
-            simulation, handed, pairs, settings, iterations, tolerance, relative=index > 0
-        )
+            simulation, handed, pairs, settings, iterations, tolerance, relative=index > 0,
+            reach=FALLBACK_REACH if index > 0 and not coarse else None,
+        )  # fmt: skip
         if used[-1].all.size < count:
             notes.append(
                 f"{count} transitions were merged into {used[-1].all.size} to fit {pairs} "

@@ -21,8 +21,10 @@ __all__ = [
     "INTERPOLATORY_REFERENCE_BUDGET",
     "NEAR",
     "REFERENCE_BUDGET",
+    "SECOND_BUDGET",
     "errors_against",
     "reference",
+    "resolution",
 ]
 
 #: pairs of the converged reference: NURBS faces 321 points, faces of an interpolatory
@@ -35,19 +37,39 @@ INTERPOLATORY_REFERENCE_BUDGET = 241
 #: points closer than this many reference point spacings to a reference knot are "near"
 NEAR = 2.0
 
+#: pairs of the second converged solution that measures the reference's own resolution
+#: (:func:`resolution`), per reference budget: about 7/8 of it
+SECOND_BUDGET = {REFERENCE_BUDGET: 281, INTERPOLATORY_REFERENCE_BUDGET: 201}
+
+
+def _reference_budget(simulation) -> int:
+    pair = simulation.pair
+    smooth = not any(
+        getattr(body.family, "interpolatory", False) for body in (pair.upper, pair.lower)
+    )
+    return REFERENCE_BUDGET if smooth else INTERPOLATORY_REFERENCE_BUDGET
+
 
 def reference(simulation, budget: int | None = None):
     """The converged solution: the adaptive mode at ``budget`` pairs with no early stop
     (levels of about 31, 61, 121 and ``budget`` pairs, knots settled on each). Returns its
     :class:`~fretbem.accuracy.adaptive.AdaptiveResult`."""
     if budget is None:
-        pair = simulation.pair
-        smooth = not any(
-            getattr(body.family, "interpolatory", False) for body in (pair.upper, pair.lower)
-        )
-        budget = REFERENCE_BUDGET if smooth else INTERPOLATORY_REFERENCE_BUDGET
+        budget = _reference_budget(simulation)
 
     return run_adaptive(simulation, AdaptiveSettings(budget=budget, tolerance=1e-9, max_levels=4))
+
+
+def resolution(simulation, converged, budget: int | None = None) -> dict[str, float]:
+    """How well ``converged`` (from :func:`reference`) knows the answer: the errors (keys of
+    :func:`errors_against`) of a second converged solution of ``budget`` pairs (default
+    :data:`SECOND_BUDGET` of the scene's reference budget) against it. An error against
+    the reference is known to about this much, so a rise between two budgets smaller than
+    twice it is not a measured rise (the band of ``benchmarks/adaptive_budgets.py`` and of
+    the tests)."""
+    if budget is None:
+        budget = SECOND_BUDGET[_reference_budget(simulation)]
+    return errors_against(reference(simulation, budget).result, converged)
 
 
 def errors_against(result, converged) -> dict[str, float]:

@@ -1,0 +1,49 @@
+"""Knot moves of the adaptive mode where a knot's point has no transition next to it."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from fretbem.accuracy import knots
+from fretbem.contact.pairs import SLIP, STICK
+
+X = np.linspace(0.0, 1.0, 11)  # points 0.1 apart
+
+
+def states(*runs):
+    """States of the 11 points from (state, count) runs."""
+    out = np.concatenate([np.full(n, s) for s, n in runs])
+    assert out.size == X.size
+    return out
+
+
+def test_a_knot_with_a_change_beside_it_moves_to_the_change():
+    # stick up to x = 0.5, slip from 0.6: the change lies between them (0.55)
+    level = [states((STICK, 6), (SLIP, 5))]
+    move = knots._fallback(X, level, 0.4, 4, 0.1, knots.FALLBACK_REACH, SLIP, (STICK,))
+    assert np.isclose(move, 0.15)
+
+
+def test_a_knot_far_from_every_change_stays():
+    """The nearest stick-slip change is 3.5 spacings off: another knot's (the rig's step E
+    knot walked onto step A's boundary, docs/explanation/adaptive.rst, "Limits")."""
+    level = [states((STICK, 9), (SLIP, 2))]
+    assert knots._fallback(X, level, 0.5, 5, 0.1, knots.FALLBACK_REACH, SLIP, (STICK,)) == 0.0
+
+
+def test_a_knot_without_a_point_always_moves_to_the_nearest_change():
+    level = [states((STICK, 9), (SLIP, 2))]
+    move = knots._fallback(X, level, 0.52, None, 0.1, knots.FALLBACK_REACH, SLIP, (STICK,))
+    assert np.isclose(move, 0.85 - 0.52)
+
+
+def test_no_change_at_all_leaves_the_knot():
+    level = [states((STICK, 11))]
+    assert knots._fallback(X, level, 0.52, None, 0.1, knots.FALLBACK_REACH, SLIP, (STICK,)) == 0.0
+
+
+def test_without_a_reach_a_knot_moves_to_any_nearest_change():
+    """Knots handed on by a coarse level (fewer points than the uniform first level, or
+    faces paired by projection) lie farther off: they keep the unbounded move."""
+    level = [states((STICK, 9), (SLIP, 2))]
+    assert np.isclose(knots._fallback(X, level, 0.5, 5, 0.1, None, SLIP, (STICK,)), 0.35)
