@@ -75,16 +75,17 @@ class NurbsBasis(Basis):
 
     def shape_functions(self, elements, local):
         elements = np.asarray(elements, dtype=np.intp)
+        knots = self.curve.knots
         lo, hi = self.element_bounds[elements].T
         xi = lo + (np.asarray(local, float) + 1.0) * 0.5 * (hi - lo)
-        # stay inside the element's half-open span [lo, hi) so the span lookup picks this
-        # element's functions; on a short element far from 0, hi - 1e-13 (hi - lo) rounds
-        # back to hi (below half a unit in the last place: spans under about 5e-4 at
-        # parameters above 0.5), so the largest float below hi bounds it as well
-        end = self.curve.knots[-1]
+        # each point takes its element's knot span (no search); it is evaluated at most at the
+        # largest float below hi - 1e-13 (hi - lo), where the span search of the curve's own
+        # evaluation would still find this element (the values are those of that search)
+        end = knots[-1]
         inside = np.minimum(hi - 1e-13 * (hi - lo), np.nextafter(hi, -np.inf))
         xi = np.where(hi < end, np.minimum(xi, inside), xi)
+        spans = np.searchsorted(knots, self.element_bounds[:, 0], side="right") - 1
         values, derivatives, _ = rational_basis(
-            self.curve.knots, self.degree, self.curve.weights, xi
+            knots, self.degree, self.curve.weights, xi, spans[elements]
         )
         return values, derivatives * (0.5 * (hi - lo))[:, None]

@@ -2,9 +2,9 @@
 
 Same signatures, classes and formulas (:mod:`fretbem.bem.assembly` runs on either): pairs
 are classified by whole arrays; the far field, most of the pairs, is evaluated on dense
-(rows, elements, points) blocks with the non-far pairs' weights zeroed (in numpy that beats
-gathering them) and added into H and G column by column; mid, near and singular pairs are
-gathered and scattered in place with ``np.add.at``.
+(elements, rows, points) blocks with the non-far pairs masked out after the sum over the
+points (in numpy that beats gathering them) and added into H and G through strided views;
+mid, near and singular pairs are gathered and scattered in place with ``np.add.at``.
 """
 
 from __future__ import annotations
@@ -17,8 +17,9 @@ FAR, MID, NEAR, SINGULAR = 0, 1, 2, 3
 
 #: pairs integrated per chunk (bounds the (pairs, points, 2, 2) kernel temporaries)
 CHUNK = 8192
-#: kernel evaluations per far-field block (about 13 MB per kernel array)
-FAR_BLOCK = 200_000
+#: kernel evaluations per far-field block of rows (64 kB per temporary: they stay in cache
+#: and below the allocator's threshold for fresh pages)
+FAR_BLOCK = 8192
 
 
 def scatter_blocks(rows, cols, blocks, matrix):
@@ -42,31 +43,94 @@ def _integrate(sources, x, n, jw, phi, rows, cols, shear_modulus, nu, h, g):
 
 
 def _far_field(src, rows, is_far, x, n, jw, phi, cols, shear_modulus, nu, h, g):
-    """Far pairs on dense (rows, elements, points) blocks, non-far weights zero."""
+    """Far pairs on dense (elements, rows, points) blocks; non-far pairs masked out after the
+    sum over the points.
+
+    The kernel's seven distinct components (U is symmetric), the weights folded in, are
+    written into one (elements, 7, rows, points) array and summed against the functions by
+    one batched matrix product per block of rows; blocks hold about :data:`FAR_BLOCK`
+    kernel evaluations, so the temporaries stay in cache.
+    """
+    n_el, n_q, n_loc = phi.shape
     n_cols = h.shape[1] // 2
-    distinct = all(np.unique(cols[:, a]).size == cols.shape[0] for a in range(cols.shape[1]))
-    block = max(1, FAR_BLOCK // max(x.shape[0] * x.shape[1], 1))
+    a = 1.0 - 2.0 * nu
+    t_scale = -1.0 / (4.0 * np.pi * (1.0 - nu))
+    u_scale = 1.0 / (8.0 * np.pi * shear_modulus * (1.0 - nu))
+    log_coef = -(3.0 - 4.0 * nu) * 0.5
+    xx, xy = x[:, None, :, 0], x[:, None, :, 1]  # (e, 1, q)
+    nx, ny = n[:, None, :, 0], n[:, None, :, 1]
+    tw, uw = (t_scale * jw)[:, None, :], (u_scale * jw)[:, None, :]
+    columns = [_progression(cols[:, b]) for b in range(n_loc)]
+    block = max(16, FAR_BLOCK // max(n_el * n_q, 1))
+    h_view, g_view = h.reshape(-1, 2, n_cols, 2), g.reshape(-1, 2, n_cols, 2)
+    buffer = np.empty((n_el, 7, min(block, len(rows)), n_q))
     for start in range(0, len(rows), block):
         part = slice(start, start + block)
-        t, u = kernels.traction_and_displacement(
-            src[part, None, None, :], x[None], n[None], shear_modulus=shear_modulus, nu=nu
-        )
-        weight = jw[None] * is_far[part, :, None]
         r = rows[part]
-        for kernel, target in ((t, h), (u, g)):
-            blocks = np.einsum("ceqij,ceq,eqa->ciaej", kernel, weight, phi, optimize=True)
-            view = target.reshape(-1, 2, n_cols, 2)
-            for a in range(cols.shape[1]):
-                if distinct and np.all(np.diff(r) == 1):
-                    view[r[0] : r[-1] + 1, :, cols[:, a], :] += blocks[:, :, a]
-                else:
-                    index = (
-                        r[:, None, None, None],
-                        np.arange(2)[:, None, None],
-                        cols[:, a][:, None],
-                        np.arange(2),
-                    )
-                    np.add.at(view, index, blocks[:, :, a])
+        c = len(r)
+        k = buffer[:, :, :c] if c < buffer.shape[2] else buffer
+        rx = xx - src[part, 0][None, :, None]  # (e, c, q)
+        ry = xy - src[part, 1][None, :, None]
+        rxx, ryy, rxy = rx * rx, ry * ry, rx * ry
+        d2 = rxx + ryy
+        inv = 1.0 / d2
+        ux, uy, uxy = rxx * inv, ryy * inv, rxy * inv
+        scale = tw * inv
+        dr_dn = rx * nx
+        dr_dn += ry * ny
+        dr_dn *= scale  # t_scale w (dr/dn) / r
+        skew = rx * ny
+        skew -= ry * nx
+        skew *= scale
+        skew *= a  # t_scale w (1 - 2 nu)(r_x n_y - r_y n_x) / r^2
+        two = dr_dn * 2.0
+        np.multiply(two, ux, out=k[:, 0])
+        k[:, 0] += a * dr_dn  # T00 = dr_dn (a + 2 ux)
+        np.multiply(two, uxy, out=k[:, 1])
+        np.add(k[:, 1], skew, out=k[:, 2])  # T10
+        k[:, 1] -= skew  # T01
+        np.multiply(two, uy, out=k[:, 3])
+        k[:, 3] += a * dr_dn  # T11
+        log_term = np.log(d2)
+        log_term *= log_coef  # (3 - 4 nu) ln(1/r)
+        np.add(log_term, ux, out=k[:, 4])
+        k[:, 4] *= uw  # U00
+        np.multiply(uw, uxy, out=k[:, 5])  # U01 = U10
+        np.add(log_term, uy, out=k[:, 6])
+        k[:, 6] *= uw  # U11
+        summed = np.matmul(k.reshape(n_el, 7 * c, n_q), phi).reshape(n_el, 7, c, n_loc)
+        summed *= is_far[part].T[:, None, :, None]
+        rows_at = _progression(r)
+        for b in range(n_loc):
+            at = columns[b]
+            if rows_at is not None and at is not None:
+                for index, (m, i, j) in enumerate(COMPONENTS):
+                    view = (h_view, g_view)[m]
+                    view[rows_at, i, at, j] += summed[:, index, :, b].T
+                g_view[rows_at, 1, at, 0] += summed[:, 5, :, b].T
+            else:
+                blocks = np.empty((2, c, 2, n_el, 2))  # [H or G, row, i, element, j]
+                for index, (m, i, j) in enumerate(COMPONENTS):
+                    blocks[m, :, i, :, j] = summed[:, index, :, b].T
+                blocks[1, :, 1, :, 0] = blocks[1, :, 0, :, 1]
+                index = (r[:, None, None, None], np.arange(2)[:, None, None],
+                         cols[:, b][:, None], np.arange(2))  # fmt: skip
+                np.add.at(h_view, index, blocks[0])
+                np.add.at(g_view, index, blocks[1])
+
+
+def _progression(index: np.ndarray) -> slice | None:
+    """``index`` as a slice if it is an increasing arithmetic progression (else None)."""
+    if index.size == 1:
+        return slice(int(index[0]), int(index[0]) + 1)
+    step = int(index[1] - index[0])
+    if step <= 0 or np.any(np.diff(index) != step):
+        return None
+    return slice(int(index[0]), int(index[-1]) + 1, step)
+
+
+#: (matrix, i, j) of the seven far-field kernel components, in their order (U_10 = U_01)
+COMPONENTS = ((0, 0, 0), (0, 0, 1), (0, 1, 0), (0, 1, 1), (1, 0, 0), (1, 0, 1), (1, 1, 1))
 
 
 def classify_and_integrate(
