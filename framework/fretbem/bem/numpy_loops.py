@@ -15,7 +15,7 @@ from . import kernels
 
 FAR, MID, NEAR, SINGULAR = 0, 1, 2, 3
 
-#: pairs integrated per chunk (bounds the (pairs, points, 2, 2) kernel temporaries)
+#: kernel evaluations per chunk of per-pair rules (64 kB per temporary)
 CHUNK = 8192
 #: kernel evaluations per far-field block of rows (64 kB per temporary: they stay in cache
 #: and below the allocator's threshold for fresh pages)
@@ -30,47 +30,24 @@ def scatter_blocks(rows, cols, blocks, matrix):
     np.add.at(matrix.reshape(-1), (r * matrix.shape[1] + c).ravel(), blocks.ravel())
 
 
-def _integrate(sources, x, n, jw, phi, rows, cols, shear_modulus, nu, h, g):
-    """Per-pair rules (pair p: points x[p], J w jw[p], values phi[p]) into H and G."""
-    for start in range(0, len(rows), CHUNK):
-        part = slice(start, start + CHUNK)
-        t, u = kernels.traction_and_displacement(
-            sources[part, None, :], x[part], n[part], shear_modulus=shear_modulus, nu=nu
-        )
-        weighted = jw[part, :, None] * phi[part]
-        scatter_blocks(rows[part], cols[part], np.einsum("pqij,pqa->piaj", t, weighted), h)
-        scatter_blocks(rows[part], cols[part], np.einsum("pqij,pqa->piaj", u, weighted), g)
-
-
-def _far_field(src, rows, is_far, x, n, jw, phi, cols, shear_modulus, nu, h, g):
-    """Far pairs on dense (elements, rows, points) blocks; non-far pairs masked out after the
-    sum over the points.
-
-    The kernel's seven distinct components (U is symmetric), the weights folded in, are
-    written into one (elements, 7, rows, points) array and summed against the functions by
-    one batched matrix product per block of rows; blocks hold about :data:`FAR_BLOCK`
-    kernel evaluations, so the temporaries stay in cache.
+class _Kernel:
+    """The constants of the Kelvin kernel's seven distinct weighted components (T, and U,
+    which is symmetric), in the formulas of :func:`~fretbem.bem.kernels.traction_and_displacement`.
     """
-    n_el, n_q, n_loc = phi.shape
-    n_cols = h.shape[1] // 2
-    a = 1.0 - 2.0 * nu
-    t_scale = -1.0 / (4.0 * np.pi * (1.0 - nu))
-    u_scale = 1.0 / (8.0 * np.pi * shear_modulus * (1.0 - nu))
-    log_coef = -(3.0 - 4.0 * nu) * 0.5
-    xx, xy = x[:, None, :, 0], x[:, None, :, 1]  # (e, 1, q)
-    nx, ny = n[:, None, :, 0], n[:, None, :, 1]
-    tw, uw = (t_scale * jw)[:, None, :], (u_scale * jw)[:, None, :]
-    columns = [_progression(cols[:, b]) for b in range(n_loc)]
-    block = max(16, FAR_BLOCK // max(n_el * n_q, 1))
-    h_view, g_view = h.reshape(-1, 2, n_cols, 2), g.reshape(-1, 2, n_cols, 2)
-    buffer = np.empty((n_el, 7, min(block, len(rows)), n_q))
-    for start in range(0, len(rows), block):
-        part = slice(start, start + block)
-        r = rows[part]
-        c = len(r)
-        k = buffer[:, :, :c] if c < buffer.shape[2] else buffer
-        rx = xx - src[part, 0][None, :, None]  # (e, c, q)
-        ry = xy - src[part, 1][None, :, None]
+
+    def __init__(self, shear_modulus: float, nu: float):
+        self.a = 1.0 - 2.0 * nu
+        self.t_scale = -1.0 / (4.0 * np.pi * (1.0 - nu))
+        self.u_scale = 1.0 / (8.0 * np.pi * shear_modulus * (1.0 - nu))
+        self.log_coef = -(3.0 - 4.0 * nu) * 0.5
+
+    def components(self, rx, ry, nx, ny, tw, uw, out) -> None:
+        """Write T00, T01, T10, T11, U00, U01, U11 times the weights into ``out[0..6]``.
+
+        ``rx, ry``: field point minus source; ``nx, ny``: the field point's normal; ``tw, uw``:
+        the weight times t_scale and u_scale; all broadcast to the shape of each ``out[k]``.
+        """
+        a = self.a
         rxx, ryy, rxy = rx * rx, ry * ry, rx * ry
         d2 = rxx + ryy
         inv = 1.0 / d2
@@ -84,20 +61,80 @@ def _far_field(src, rows, is_far, x, n, jw, phi, cols, shear_modulus, nu, h, g):
         skew *= scale
         skew *= a  # t_scale w (1 - 2 nu)(r_x n_y - r_y n_x) / r^2
         two = dr_dn * 2.0
-        np.multiply(two, ux, out=k[:, 0])
-        k[:, 0] += a * dr_dn  # T00 = dr_dn (a + 2 ux)
-        np.multiply(two, uxy, out=k[:, 1])
-        np.add(k[:, 1], skew, out=k[:, 2])  # T10
-        k[:, 1] -= skew  # T01
-        np.multiply(two, uy, out=k[:, 3])
-        k[:, 3] += a * dr_dn  # T11
+        np.multiply(two, ux, out=out[0])
+        out[0] += a * dr_dn  # T00 = dr_dn (a + 2 ux)
+        np.multiply(two, uxy, out=out[1])
+        np.add(out[1], skew, out=out[2])  # T10
+        out[1] -= skew  # T01
+        np.multiply(two, uy, out=out[3])
+        out[3] += a * dr_dn  # T11
         log_term = np.log(d2)
-        log_term *= log_coef  # (3 - 4 nu) ln(1/r)
-        np.add(log_term, ux, out=k[:, 4])
-        k[:, 4] *= uw  # U00
-        np.multiply(uw, uxy, out=k[:, 5])  # U01 = U10
-        np.add(log_term, uy, out=k[:, 6])
-        k[:, 6] *= uw  # U11
+        log_term *= self.log_coef  # (3 - 4 nu) ln(1/r)
+        np.add(log_term, ux, out=out[4])
+        out[4] *= uw  # U00
+        np.multiply(uw, uxy, out=out[5])  # U01 = U10
+        np.add(log_term, uy, out=out[6])
+        out[6] *= uw  # U11
+
+
+#: (matrix, i, j) of the seven kernel components, in their order (U_10 = U_01)
+COMPONENTS = ((0, 0, 0), (0, 0, 1), (0, 1, 0), (0, 1, 1), (1, 0, 0), (1, 0, 1), (1, 1, 1))
+
+
+def _integrate(sources, x, n, jw, phi, rows, cols, shear_modulus, nu, h, g):
+    """Per-pair rules (pair p: points x[p], J w jw[p], values phi[p]) into H and G."""
+    kernel = _Kernel(shear_modulus, nu)
+    n_q, n_loc = phi.shape[1], phi.shape[2]
+    chunk = max(1, CHUNK // n_q)
+    for start in range(0, len(rows), chunk):
+        part = slice(start, start + chunk)
+        src, xp, np_ = sources[part], x[part], n[part]
+        count = len(src)
+        k = np.empty((count, 7, n_q))
+        kernel.components(
+            xp[..., 0] - src[:, 0, None], xp[..., 1] - src[:, 1, None], np_[..., 0],
+            np_[..., 1], kernel.t_scale * jw[part], kernel.u_scale * jw[part],
+            k.transpose(1, 0, 2),
+        )  # fmt: skip
+        # a batched matrix product would be faster, but its sums may differ in the last bit
+        # with the pair's place in the batch, and blocks reused between bodies must equal a
+        # fresh assembly's exactly (tests/framework/bem/test_block_reuse.py)
+        summed = np.einsum("pkq,pqa->pka", k, phi[part])  # (pairs, 7, local functions)
+        blocks = np.empty((2, count, 2, n_loc, 2))  # [H or G, pair, i, a, j]
+        for index, (m, i, j) in enumerate(COMPONENTS):
+            blocks[m, :, i, :, j] = summed[:, index]
+        blocks[1, :, 1, :, 0] = summed[:, 5]
+        scatter_blocks(rows[part], cols[part], blocks[0], h)
+        scatter_blocks(rows[part], cols[part], blocks[1], g)
+
+
+def _far_field(src, rows, is_far, x, n, jw, phi, cols, shear_modulus, nu, h, g):
+    """Far pairs on dense (elements, rows, points) blocks; non-far pairs masked out after the
+    sum over the points.
+
+    The kernel's seven weighted components (:class:`_Kernel`) are written into one
+    (elements, 7, rows, points) array and summed against the functions by one batched
+    matrix product per block of rows; blocks hold about :data:`FAR_BLOCK` kernel
+    evaluations, so the temporaries stay in cache.
+    """
+    kernel = _Kernel(shear_modulus, nu)
+    n_el, n_q, n_loc = phi.shape
+    n_cols = h.shape[1] // 2
+    xx, xy = x[:, None, :, 0], x[:, None, :, 1]  # (e, 1, q)
+    nx, ny = n[:, None, :, 0], n[:, None, :, 1]
+    tw, uw = (kernel.t_scale * jw)[:, None, :], (kernel.u_scale * jw)[:, None, :]
+    columns = [_progression(cols[:, b]) for b in range(n_loc)]
+    block = max(16, FAR_BLOCK // max(n_el * n_q, 1))
+    h_view, g_view = h.reshape(-1, 2, n_cols, 2), g.reshape(-1, 2, n_cols, 2)
+    buffer = np.empty((n_el, 7, min(block, len(rows)), n_q))
+    for start in range(0, len(rows), block):
+        part = slice(start, start + block)
+        r = rows[part]
+        c = len(r)
+        k = buffer[:, :, :c] if c < buffer.shape[2] else buffer
+        rx = xx - src[part, 0][None, :, None]  # (e, c, q)
+        ry = xy - src[part, 1][None, :, None]
+        kernel.components(rx, ry, nx, ny, tw, uw, k.transpose(1, 0, 2, 3))
         summed = np.matmul(k.reshape(n_el, 7 * c, n_q), phi).reshape(n_el, 7, c, n_loc)
         summed *= is_far[part].T[:, None, :, None]
         rows_at = _progression(r)
@@ -127,10 +164,6 @@ def _progression(index: np.ndarray) -> slice | None:
     if step <= 0 or np.any(np.diff(index) != step):
         return None
     return slice(int(index[0]), int(index[-1]) + 1, step)
-
-
-#: (matrix, i, j) of the seven far-field kernel components, in their order (U_10 = U_01)
-COMPONENTS = ((0, 0, 0), (0, 0, 1), (0, 1, 0), (0, 1, 1), (1, 0, 0), (1, 0, 1), (1, 1, 1))
 
 
 def classify_and_integrate(
