@@ -11,8 +11,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import kernels
-
 FAR, MID, NEAR, SINGULAR = 0, 1, 2, 3
 
 #: kernel evaluations per chunk of per-pair rules (64 kB per temporary)
@@ -41,11 +39,12 @@ class _Kernel:
         self.u_scale = 1.0 / (8.0 * np.pi * shear_modulus * (1.0 - nu))
         self.log_coef = -(3.0 - 4.0 * nu) * 0.5
 
-    def components(self, rx, ry, nx, ny, tw, uw, out) -> None:
+    def components(self, rx, ry, nx, ny, tw, uw, out, log_term=None) -> None:
         """Write T00, T01, T10, T11, U00, U01, U11 times the weights into ``out[0..6]``.
 
         ``rx, ry``: field point minus source; ``nx, ny``: the field point's normal; ``tw, uw``:
         the weight times t_scale and u_scale; all broadcast to the shape of each ``out[k]``.
+        ``log_term`` replaces U's (3 - 4 nu) ln(1/r) (the singular rules split it).
         """
         a = self.a
         rxx, ryy, rxy = rx * rx, ry * ry, rx * ry
@@ -68,8 +67,9 @@ class _Kernel:
         out[1] -= skew  # T01
         np.multiply(two, uy, out=out[3])
         out[3] += a * dr_dn  # T11
-        log_term = np.log(d2)
-        log_term *= self.log_coef  # (3 - 4 nu) ln(1/r)
+        if log_term is None:
+            log_term = np.log(d2)
+            log_term *= self.log_coef  # (3 - 4 nu) ln(1/r)
         np.add(log_term, ux, out=out[4])
         out[4] *= uw  # U00
         np.multiply(uw, uxy, out=out[5])  # U01 = U10
@@ -201,15 +201,26 @@ def integrate_singular(
     rows, points, x, n, jw, phi, at_source, t, safe, log_jw, log_phi, cols, shear_modulus, nu,
     h, g,
 ):  # fmt: skip
-    """One side of elements split at their collocation point (see _compiled)."""
-    src = points[rows][:, None, :]
-    t_kernel = kernels.traction(src, x, n, nu=nu)
-    h_blocks = np.einsum("pqij,pq,pqa->piaj", t_kernel, jw, phi - at_source[:, None, :])
-    scatter_blocks(rows, cols, h_blocks, h)
-    log_coef, smooth = kernels.displacement_parts(src, x, shear_modulus=shear_modulus, nu=nu)
-    dist = np.linalg.norm(x - src, axis=-1)
-    log_factor = -np.log(dist / t) - np.log(safe)[:, None]
-    kernel = smooth + (log_coef * log_factor)[..., None, None] * np.eye(2)
-    g_blocks = np.einsum("pqij,pq,pqa->piaj", kernel, jw, phi)
-    g_blocks += log_coef * np.einsum("pq,pqa,ij->piaj", log_jw, log_phi, np.eye(2))
-    scatter_blocks(rows, cols, g_blocks, g)
+    """Elements split at their collocation point, pair by pair (see _compiled): H by singularity
+    subtraction, G's ln(1/r) as ln(t / r) - ln(side length) on the Gauss rule plus the
+    log-weighted rule."""
+    kernel = _Kernel(shear_modulus, nu)
+    src = points[rows]
+    rx, ry = x[..., 0] - src[:, 0, None], x[..., 1] - src[:, 1, None]
+    log_term = np.log(np.sqrt(rx * rx + ry * ry) / t)
+    log_term += np.log(safe)[:, None]
+    log_term *= -(3.0 - 4.0 * nu)  # (3 - 4 nu) ln(1/r), its ln(1/t) part on the log rule
+    k = np.empty((len(rows), 7, x.shape[1]))
+    kernel.components(rx, ry, n[..., 0], n[..., 1], kernel.t_scale * jw, kernel.u_scale * jw,
+                      k.transpose(1, 0, 2), log_term=log_term)  # fmt: skip
+    h_sums = np.einsum("pkq,pqa->pka", k[:, :4], phi - at_source[:, None, :])
+    g_sums = np.einsum("pkq,pqa->pka", k[:, 4:], phi)
+    log_sums = (kernel.u_scale * (3.0 - 4.0 * nu)) * np.einsum("pq,pqa->pa", log_jw, log_phi)
+    blocks = np.empty((2, len(rows), 2, phi.shape[2], 2))  # [H or G, pair, i, a, j]
+    for index, (m, i, j) in enumerate(COMPONENTS):
+        blocks[m, :, i, :, j] = (h_sums if m == 0 else g_sums)[:, index - 4 * m]
+    blocks[1, :, 1, :, 0] = g_sums[:, 1]
+    blocks[1, :, 0, :, 0] += log_sums
+    blocks[1, :, 1, :, 1] += log_sums
+    scatter_blocks(rows, cols, blocks[0], h)
+    scatter_blocks(rows, cols, blocks[1], g)
