@@ -108,5 +108,5 @@ def _element_table(basis: NurbsBasis) -> tuple[np.ndarray, ...]:
     return table
 
 
-#: :func:`_element_table` per discretised segment (weak keys: it goes with the segment)
+#: ``_element_table`` per discretised segment (weak keys: it goes with the segment)
 _TABLES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()

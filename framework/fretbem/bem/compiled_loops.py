@@ -239,7 +239,8 @@ def integrate_singular(
     rows, points, x, n, jw, phi, at_source, t, safe, log_jw, log_phi, cols, shear_modulus, nu,
     h, g,
 ):  # fmt: skip
-    """One side of elements split at their collocation point (see Assembler._singular).
+    """Elements split at their collocation point, pair by pair (both sides' pairs may come
+    in one call; see ``fretbem.bem.assembly._singular_sides``).
 
     H: traction kernel against phi - phi(source), bounded after the subtraction. G: the
     smooth part r_i r_j / r^2 and ln(1/r) = -ln t - ln(r / t), the -ln t part by the

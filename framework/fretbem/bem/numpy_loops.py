@@ -112,9 +112,9 @@ def _far_field(src, rows, is_far, x, n, jw, phi, cols, shear_modulus, nu, h, g):
     """Far pairs on dense (elements, rows, points) blocks; non-far pairs masked out after the
     sum over the points.
 
-    The kernel's seven weighted components (:class:`_Kernel`) are written into one
+    The kernel's seven weighted components (``_Kernel``) are written into one
     (elements, 7, rows, points) array and summed against the functions by one batched
-    matrix product per block of rows; blocks hold about :data:`FAR_BLOCK` kernel
+    matrix product per block of rows; blocks hold about ``FAR_BLOCK`` kernel
     evaluations, so the temporaries stay in cache.
     """
     kernel = _Kernel(shear_modulus, nu)

@@ -261,7 +261,7 @@ def _block_rotation(body, tag, system, block_rows, band) -> BlockRotation:
     )
 
 
-#: face nodes above which :meth:`_Band.left` is one sparse product
+#: face nodes above which ``_Band.left`` is one sparse product
 SPARSE_LEFT_MIN = 200
 
 
