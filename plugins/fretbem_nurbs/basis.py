@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import weakref
+
 import numpy as np
 
 from fretbem.basis import Basis, Refinement
@@ -75,16 +77,36 @@ class NurbsBasis(Basis):
 
     def shape_functions(self, elements, local):
         elements = np.asarray(elements, dtype=np.intp)
-        lo, hi = self.element_bounds[elements].T
-        xi = lo + (np.asarray(local, float) + 1.0) * 0.5 * (hi - lo)
-        # stay inside the element's half-open span [lo, hi) so the span lookup picks this
-        # element's functions; on a short element far from 0, hi - 1e-13 (hi - lo) rounds
-        # back to hi (below half a unit in the last place: spans under about 5e-4 at
-        # parameters above 0.5), so the largest float below hi bounds it as well
-        end = self.curve.knots[-1]
-        inside = np.minimum(hi - 1e-13 * (hi - lo), np.nextafter(hi, -np.inf))
-        xi = np.where(hi < end, np.minimum(xi, inside), xi)
+        lo, width, bound, spans = _element_table(self)
+        width = width[elements]
+        xi = lo[elements] + (np.asarray(local, float) + 1.0) * 0.5 * width
+        xi = np.minimum(xi, bound[elements])
         values, derivatives, _ = rational_basis(
-            self.curve.knots, self.degree, self.curve.weights, xi
+            self.curve.knots, self.degree, self.curve.weights, xi, spans[elements]
         )
-        return values, derivatives * (0.5 * (hi - lo))[:, None]
+        return values, derivatives * (0.5 * width)[:, None]
+
+
+def _element_table(basis: NurbsBasis) -> tuple[np.ndarray, ...]:
+    """Per element: its start, its width, the largest parameter evaluated in it, its knot
+    span (computed once per discretised segment).
+
+    Each point takes its element's knot span (no search); it is evaluated at most at the
+    largest float below hi - 1e-13 (hi - lo) (the last element: up to its end), where the
+    span search of the curve's own evaluation would still find this element.
+    """
+    table = _TABLES.get(basis)
+    if table is None:
+        knots = basis.curve.knots
+        lo, hi = basis.element_bounds.T
+        width = hi - lo
+        bound = np.where(
+            hi < knots[-1], np.minimum(hi - 1e-13 * width, np.nextafter(hi, -np.inf)), np.inf
+        )
+        spans = np.searchsorted(knots, lo, side="right") - 1
+        table = _TABLES[basis] = (lo.copy(), width, bound, spans)
+    return table
+
+
+#: ``_element_table`` per discretised segment (weak keys: it goes with the segment)
+_TABLES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()

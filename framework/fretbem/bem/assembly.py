@@ -202,6 +202,10 @@ def _segment_rules(basis, settings, element, local, parameter) -> dict:
     )
     samples = np.ascontiguousarray(per_el(m.points, 2)[:, ::2])
     centres = 0.5 * (samples.max(axis=1) + samples.min(axis=1))
+    singular = {
+        name: getattr(m, name)[a1:].reshape(len(se), q_sing, *getattr(m, name).shape[1:])
+        for name in ("points", "normals", "jacobians", "values")
+    }
     return {
         "far": far,
         "mid": mid,
@@ -214,12 +218,29 @@ def _segment_rules(basis, settings, element, local, parameter) -> dict:
         "values": m.values[a0:a1],
         "singular_rows": sr,
         "singular_elements": se,
-        "sides": sides,
-        "singular": {
-            name: getattr(m, name)[a1:].reshape(len(se), q_sing, *getattr(m, name).shape[1:])
-            for name in ("points", "normals", "jacobians", "values")
-        },
+        "singular_sides": _singular_sides(singular, sides, settings),
     }
+
+
+def _singular_sides(data: dict, sides: list[dict], settings) -> tuple:
+    """The arguments of ``integrate_singular`` for both sides of the split elements at once
+    (side -1's pairs, then side +1's): points, normals, J w and values of the Gauss rule,
+    the values at the source, t, the side lengths, J w and values of the log rule."""
+    q_gauss, q_log = settings.singular_points, settings.log_points
+    at_source = data["values"][:, 0]
+    parts = []
+    start = 1
+    for side in sides:
+        gauss = slice(start, start + q_gauss)
+        log = slice(start + q_gauss, start + q_gauss + q_log)
+        start += q_gauss + q_log
+        parts.append(
+            (data["points"][:, gauss], data["normals"][:, gauss],
+             data["jacobians"][:, gauss] * side["weights"], data["values"][:, gauss],
+             at_source, side["t"], side["safe"], data["jacobians"][:, log] * side["log_weights"],
+             data["values"][:, log])
+        )  # fmt: skip
+    return _contiguous(*(np.concatenate(pair) for pair in zip(*parts, strict=True)))
 
 
 def assemble(assembler, shear_modulus: float, nu: float, loops) -> tuple[np.ndarray, np.ndarray]:
@@ -285,7 +306,7 @@ def assemble(assembler, shear_modulus: float, nu: float, loops) -> tuple[np.ndar
                 BLOCKS.put(basis, row_basis, key, h[block_rows, columns], g[block_rows, columns])
         jobs.append(
             (k, basis, rows, rules["values"], rows[rules["singular_rows"]],
-             rules["singular_elements"], rules["sides"], rules["singular"])
+             rules["singular_elements"], rules["singular_sides"])
         )  # fmt: skip
     if reuse:
         BLOCKS.assembled(segments)
@@ -295,23 +316,13 @@ def assemble(assembler, shear_modulus: float, nu: float, loops) -> tuple[np.ndar
         cols = assembler.offsets[k] + basis.connectivity[colloc.element[rows]]
         blocks = -np.einsum("pa,pij->piaj", values, row_sums[rows])
         loops.scatter_blocks(rows, cols, np.ascontiguousarray(blocks), h)
-    q_gauss, q_log = s.singular_points, s.log_points
-    for k, basis, _, _, rows, elements, sides, data in jobs:
+    for k, basis, _, _, rows, elements, singular in jobs:
         if not rows.size:
             continue
         cols = assembler.offsets[k] + basis.connectivity[elements]
-        at_source = np.ascontiguousarray(data["values"][:, 0])
-        start = 1
-        for side in sides:
-            gauss = slice(start, start + q_gauss)
-            log = slice(start + q_gauss, start + q_gauss + q_log)
-            start += q_gauss + q_log
-            loops.integrate_singular(
-                rows, colloc.points, *_contiguous(data["points"][:, gauss],
-                data["normals"][:, gauss]), data["jacobians"][:, gauss] * side["weights"],
-                np.ascontiguousarray(data["values"][:, gauss]), at_source, side["t"],
-                side["safe"], data["jacobians"][:, log] * side["log_weights"],
-                np.ascontiguousarray(data["values"][:, log]), cols, shear_modulus, nu,
-                h, g,
-            )  # fmt: skip
+        # both sides of every split element in one call: the pairs of side -1, then side +1
+        loops.integrate_singular(
+            np.concatenate([rows, rows]), colloc.points, *singular,
+            np.concatenate([cols, cols]), shear_modulus, nu, h, g,
+        )  # fmt: skip
     return h, g

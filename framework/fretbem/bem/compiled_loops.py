@@ -29,17 +29,15 @@ FAR, MID, NEAR, SINGULAR = 0, 1, 2, 3
 
 
 @numba.njit(**_JIT)
-def _integrate_pair(s, row, e, x, n, jw, phi, cols, t_scale, u_scale, a, log_coef, h, g):
-    """Add one element's integral against one collocation point to H and G (rows 2 s + i)."""
+def _integrate_pair(s, row, e, x, n, jw, phi, cols, t_scale, u_scale, a, log_coef, h, g, acc):
+    """Add one element's integral against one collocation point to H and G (rows 2 s + i).
+
+    ``acc`` is a (7, n_local) scratch of the caller's (zeroed here): no allocation per pair.
+    """
     n_q, n_loc = phi.shape[1], phi.shape[2]
     sx, sy = row[0], row[1]
-    h00 = np.zeros(n_loc)
-    h01 = np.zeros(n_loc)
-    h10 = np.zeros(n_loc)
-    h11 = np.zeros(n_loc)
-    g00 = np.zeros(n_loc)
-    g01 = np.zeros(n_loc)
-    g11 = np.zeros(n_loc)
+    acc[:, :n_loc] = 0.0
+    h00, h01, h10, h11, g00, g01, g11 = acc[0], acc[1], acc[2], acc[3], acc[4], acc[5], acc[6]
     for q in range(n_q):
         rx = x[e, q, 0] - sx
         ry = x[e, q, 1] - sy
@@ -124,6 +122,7 @@ def classify_and_integrate(
     t_scale = -1.0 / (4.0 * np.pi * (1.0 - nu))
     u_scale = 1.0 / (8.0 * np.pi * shear_modulus * (1.0 - nu))
     log_coef = -(3.0 - 4.0 * nu)
+    acc = np.empty((7, far_phi.shape[2]))
     left_p = np.empty(n_rows * 8 + 64, dtype=np.int64)
     left_e = np.empty_like(left_p)
     left_c = np.empty_like(left_p)
@@ -162,12 +161,12 @@ def classify_and_integrate(
             if kind == FAR:
                 _integrate_pair(
                     s, row, e, far_x, far_n, far_jw, far_phi, cols, t_scale, u_scale, a,
-                    log_coef, h, g,
+                    log_coef, h, g, acc,
                 )  # fmt: skip
             elif kind == MID:
                 _integrate_pair(
                     s, row, e, mid_x, mid_n, mid_jw, mid_phi, cols, t_scale, u_scale, a,
-                    log_coef, h, g,
+                    log_coef, h, g, acc,
                 )  # fmt: skip
             else:
                 if n_left == left_p.shape[0]:
@@ -211,10 +210,13 @@ def dense_far_field(points, x, n, jw, phi, cols, shear_modulus, nu, h, g):
     t_scale = -1.0 / (4.0 * np.pi * (1.0 - nu))
     u_scale = 1.0 / (8.0 * np.pi * shear_modulus * (1.0 - nu))
     log_coef = -(3.0 - 4.0 * nu)
+    acc = np.empty((7, phi.shape[2]))
     for s in range(points.shape[0]):
         row = points[s]
         for e in range(x.shape[0]):
-            _integrate_pair(s, row, e, x, n, jw, phi, cols, t_scale, u_scale, a, log_coef, h, g)
+            _integrate_pair(
+                s, row, e, x, n, jw, phi, cols, t_scale, u_scale, a, log_coef, h, g, acc
+            )
 
 
 @numba.njit(**_JIT)
@@ -224,9 +226,12 @@ def integrate_pairs(rows, points, x, n, jw, phi, cols, shear_modulus, nu, h, g):
     t_scale = -1.0 / (4.0 * np.pi * (1.0 - nu))
     u_scale = 1.0 / (8.0 * np.pi * shear_modulus * (1.0 - nu))
     log_coef = -(3.0 - 4.0 * nu)
+    acc = np.empty((7, phi.shape[2]))
     for p in range(rows.shape[0]):
         s = rows[p]
-        _integrate_pair(s, points[s], p, x, n, jw, phi, cols, t_scale, u_scale, a, log_coef, h, g)
+        _integrate_pair(
+            s, points[s], p, x, n, jw, phi, cols, t_scale, u_scale, a, log_coef, h, g, acc
+        )
 
 
 @numba.njit(**_JIT)
@@ -234,7 +239,8 @@ def integrate_singular(
     rows, points, x, n, jw, phi, at_source, t, safe, log_jw, log_phi, cols, shear_modulus, nu,
     h, g,
 ):  # fmt: skip
-    """One side of elements split at their collocation point (see Assembler._singular).
+    """Elements split at their collocation point, pair by pair (both sides' pairs may come
+    in one call; see ``fretbem.bem.assembly._singular_sides``).
 
     H: traction kernel against phi - phi(source), bounded after the subtraction. G: the
     smooth part r_i r_j / r^2 and ln(1/r) = -ln t - ln(r / t), the -ln t part by the

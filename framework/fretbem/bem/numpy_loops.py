@@ -2,23 +2,22 @@
 
 Same signatures, classes and formulas (:mod:`fretbem.bem.assembly` runs on either): pairs
 are classified by whole arrays; the far field, most of the pairs, is evaluated on dense
-(rows, elements, points) blocks with the non-far pairs' weights zeroed (in numpy that beats
-gathering them) and added into H and G column by column; mid, near and singular pairs are
-gathered and scattered in place with ``np.add.at``.
+(elements, rows, points) blocks with the non-far pairs masked out after the sum over the
+points (in numpy that beats gathering them) and added into H and G through strided views;
+mid, near and singular pairs are gathered and scattered in place with ``np.add.at``.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from . import kernels
-
 FAR, MID, NEAR, SINGULAR = 0, 1, 2, 3
 
-#: pairs integrated per chunk (bounds the (pairs, points, 2, 2) kernel temporaries)
+#: kernel evaluations per chunk of per-pair rules (64 kB per temporary)
 CHUNK = 8192
-#: kernel evaluations per far-field block (about 13 MB per kernel array)
-FAR_BLOCK = 200_000
+#: kernel evaluations per far-field block of rows (64 kB per temporary: they stay in cache
+#: and below the allocator's threshold for fresh pages)
+FAR_BLOCK = 8192
 
 
 def scatter_blocks(rows, cols, blocks, matrix):
@@ -29,44 +28,142 @@ def scatter_blocks(rows, cols, blocks, matrix):
     np.add.at(matrix.reshape(-1), (r * matrix.shape[1] + c).ravel(), blocks.ravel())
 
 
+class _Kernel:
+    """The constants of the Kelvin kernel's seven distinct weighted components (T, and U,
+    which is symmetric), in the formulas of :func:`~fretbem.bem.kernels.traction_and_displacement`.
+    """
+
+    def __init__(self, shear_modulus: float, nu: float):
+        self.a = 1.0 - 2.0 * nu
+        self.t_scale = -1.0 / (4.0 * np.pi * (1.0 - nu))
+        self.u_scale = 1.0 / (8.0 * np.pi * shear_modulus * (1.0 - nu))
+        self.log_coef = -(3.0 - 4.0 * nu) * 0.5
+
+    def components(self, rx, ry, nx, ny, tw, uw, out, log_term=None) -> None:
+        """Write T00, T01, T10, T11, U00, U01, U11 times the weights into ``out[0..6]``.
+
+        ``rx, ry``: field point minus source; ``nx, ny``: the field point's normal; ``tw, uw``:
+        the weight times t_scale and u_scale; all broadcast to the shape of each ``out[k]``.
+        ``log_term`` replaces U's (3 - 4 nu) ln(1/r) (the singular rules split it).
+        """
+        a = self.a
+        rxx, ryy, rxy = rx * rx, ry * ry, rx * ry
+        d2 = rxx + ryy
+        inv = 1.0 / d2
+        ux, uy, uxy = rxx * inv, ryy * inv, rxy * inv
+        scale = tw * inv
+        dr_dn = rx * nx
+        dr_dn += ry * ny
+        dr_dn *= scale  # t_scale w (dr/dn) / r
+        skew = rx * ny
+        skew -= ry * nx
+        skew *= scale
+        skew *= a  # t_scale w (1 - 2 nu)(r_x n_y - r_y n_x) / r^2
+        two = dr_dn * 2.0
+        np.multiply(two, ux, out=out[0])
+        out[0] += a * dr_dn  # T00 = dr_dn (a + 2 ux)
+        np.multiply(two, uxy, out=out[1])
+        np.add(out[1], skew, out=out[2])  # T10
+        out[1] -= skew  # T01
+        np.multiply(two, uy, out=out[3])
+        out[3] += a * dr_dn  # T11
+        if log_term is None:
+            log_term = np.log(d2)
+            log_term *= self.log_coef  # (3 - 4 nu) ln(1/r)
+        np.add(log_term, ux, out=out[4])
+        out[4] *= uw  # U00
+        np.multiply(uw, uxy, out=out[5])  # U01 = U10
+        np.add(log_term, uy, out=out[6])
+        out[6] *= uw  # U11
+
+
+#: (matrix, i, j) of the seven kernel components, in their order (U_10 = U_01)
+COMPONENTS = ((0, 0, 0), (0, 0, 1), (0, 1, 0), (0, 1, 1), (1, 0, 0), (1, 0, 1), (1, 1, 1))
+
+
 def _integrate(sources, x, n, jw, phi, rows, cols, shear_modulus, nu, h, g):
     """Per-pair rules (pair p: points x[p], J w jw[p], values phi[p]) into H and G."""
-    for start in range(0, len(rows), CHUNK):
-        part = slice(start, start + CHUNK)
-        t, u = kernels.traction_and_displacement(
-            sources[part, None, :], x[part], n[part], shear_modulus=shear_modulus, nu=nu
-        )
-        weighted = jw[part, :, None] * phi[part]
-        scatter_blocks(rows[part], cols[part], np.einsum("pqij,pqa->piaj", t, weighted), h)
-        scatter_blocks(rows[part], cols[part], np.einsum("pqij,pqa->piaj", u, weighted), g)
+    kernel = _Kernel(shear_modulus, nu)
+    n_q, n_loc = phi.shape[1], phi.shape[2]
+    chunk = max(1, CHUNK // n_q)
+    for start in range(0, len(rows), chunk):
+        part = slice(start, start + chunk)
+        src, xp, np_ = sources[part], x[part], n[part]
+        count = len(src)
+        k = np.empty((count, 7, n_q))
+        kernel.components(
+            xp[..., 0] - src[:, 0, None], xp[..., 1] - src[:, 1, None], np_[..., 0],
+            np_[..., 1], kernel.t_scale * jw[part], kernel.u_scale * jw[part],
+            k.transpose(1, 0, 2),
+        )  # fmt: skip
+        # a batched matrix product would be faster, but its sums may differ in the last bit
+        # with the pair's place in the batch, and blocks reused between bodies must equal a
+        # fresh assembly's exactly (tests/framework/bem/test_block_reuse.py)
+        summed = np.einsum("pkq,pqa->pka", k, phi[part])  # (pairs, 7, local functions)
+        blocks = np.empty((2, count, 2, n_loc, 2))  # [H or G, pair, i, a, j]
+        for index, (m, i, j) in enumerate(COMPONENTS):
+            blocks[m, :, i, :, j] = summed[:, index]
+        blocks[1, :, 1, :, 0] = summed[:, 5]
+        scatter_blocks(rows[part], cols[part], blocks[0], h)
+        scatter_blocks(rows[part], cols[part], blocks[1], g)
 
 
 def _far_field(src, rows, is_far, x, n, jw, phi, cols, shear_modulus, nu, h, g):
-    """Far pairs on dense (rows, elements, points) blocks, non-far weights zero."""
+    """Far pairs on dense (elements, rows, points) blocks; non-far pairs masked out after the
+    sum over the points.
+
+    The kernel's seven weighted components (``_Kernel``) are written into one
+    (elements, 7, rows, points) array and summed against the functions by one batched
+    matrix product per block of rows; blocks hold about ``FAR_BLOCK`` kernel
+    evaluations, so the temporaries stay in cache.
+    """
+    kernel = _Kernel(shear_modulus, nu)
+    n_el, n_q, n_loc = phi.shape
     n_cols = h.shape[1] // 2
-    distinct = all(np.unique(cols[:, a]).size == cols.shape[0] for a in range(cols.shape[1]))
-    block = max(1, FAR_BLOCK // max(x.shape[0] * x.shape[1], 1))
+    xx, xy = x[:, None, :, 0], x[:, None, :, 1]  # (e, 1, q)
+    nx, ny = n[:, None, :, 0], n[:, None, :, 1]
+    tw, uw = (kernel.t_scale * jw)[:, None, :], (kernel.u_scale * jw)[:, None, :]
+    columns = [_progression(cols[:, b]) for b in range(n_loc)]
+    block = max(16, FAR_BLOCK // max(n_el * n_q, 1))
+    h_view, g_view = h.reshape(-1, 2, n_cols, 2), g.reshape(-1, 2, n_cols, 2)
+    buffer = np.empty((n_el, 7, min(block, len(rows)), n_q))
     for start in range(0, len(rows), block):
         part = slice(start, start + block)
-        t, u = kernels.traction_and_displacement(
-            src[part, None, None, :], x[None], n[None], shear_modulus=shear_modulus, nu=nu
-        )
-        weight = jw[None] * is_far[part, :, None]
         r = rows[part]
-        for kernel, target in ((t, h), (u, g)):
-            blocks = np.einsum("ceqij,ceq,eqa->ciaej", kernel, weight, phi, optimize=True)
-            view = target.reshape(-1, 2, n_cols, 2)
-            for a in range(cols.shape[1]):
-                if distinct and np.all(np.diff(r) == 1):
-                    view[r[0] : r[-1] + 1, :, cols[:, a], :] += blocks[:, :, a]
-                else:
-                    index = (
-                        r[:, None, None, None],
-                        np.arange(2)[:, None, None],
-                        cols[:, a][:, None],
-                        np.arange(2),
-                    )
-                    np.add.at(view, index, blocks[:, :, a])
+        c = len(r)
+        k = buffer[:, :, :c] if c < buffer.shape[2] else buffer
+        rx = xx - src[part, 0][None, :, None]  # (e, c, q)
+        ry = xy - src[part, 1][None, :, None]
+        kernel.components(rx, ry, nx, ny, tw, uw, k.transpose(1, 0, 2, 3))
+        summed = np.matmul(k.reshape(n_el, 7 * c, n_q), phi).reshape(n_el, 7, c, n_loc)
+        summed *= is_far[part].T[:, None, :, None]
+        rows_at = _progression(r)
+        for b in range(n_loc):
+            at = columns[b]
+            if rows_at is not None and at is not None:
+                for index, (m, i, j) in enumerate(COMPONENTS):
+                    view = (h_view, g_view)[m]
+                    view[rows_at, i, at, j] += summed[:, index, :, b].T
+                g_view[rows_at, 1, at, 0] += summed[:, 5, :, b].T
+            else:
+                blocks = np.empty((2, c, 2, n_el, 2))  # [H or G, row, i, element, j]
+                for index, (m, i, j) in enumerate(COMPONENTS):
+                    blocks[m, :, i, :, j] = summed[:, index, :, b].T
+                blocks[1, :, 1, :, 0] = blocks[1, :, 0, :, 1]
+                index = (r[:, None, None, None], np.arange(2)[:, None, None],
+                         cols[:, b][:, None], np.arange(2))  # fmt: skip
+                np.add.at(h_view, index, blocks[0])
+                np.add.at(g_view, index, blocks[1])
+
+
+def _progression(index: np.ndarray) -> slice | None:
+    """``index`` as a slice if it is an increasing arithmetic progression (else None)."""
+    if index.size == 1:
+        return slice(int(index[0]), int(index[0]) + 1)
+    step = int(index[1] - index[0])
+    if step <= 0 or np.any(np.diff(index) != step):
+        return None
+    return slice(int(index[0]), int(index[-1]) + 1, step)
 
 
 def classify_and_integrate(
@@ -104,15 +201,26 @@ def integrate_singular(
     rows, points, x, n, jw, phi, at_source, t, safe, log_jw, log_phi, cols, shear_modulus, nu,
     h, g,
 ):  # fmt: skip
-    """One side of elements split at their collocation point (see _compiled)."""
-    src = points[rows][:, None, :]
-    t_kernel = kernels.traction(src, x, n, nu=nu)
-    h_blocks = np.einsum("pqij,pq,pqa->piaj", t_kernel, jw, phi - at_source[:, None, :])
-    scatter_blocks(rows, cols, h_blocks, h)
-    log_coef, smooth = kernels.displacement_parts(src, x, shear_modulus=shear_modulus, nu=nu)
-    dist = np.linalg.norm(x - src, axis=-1)
-    log_factor = -np.log(dist / t) - np.log(safe)[:, None]
-    kernel = smooth + (log_coef * log_factor)[..., None, None] * np.eye(2)
-    g_blocks = np.einsum("pqij,pq,pqa->piaj", kernel, jw, phi)
-    g_blocks += log_coef * np.einsum("pq,pqa,ij->piaj", log_jw, log_phi, np.eye(2))
-    scatter_blocks(rows, cols, g_blocks, g)
+    """Elements split at their collocation point, pair by pair (see _compiled): H by singularity
+    subtraction, G's ln(1/r) as ln(t / r) - ln(side length) on the Gauss rule plus the
+    log-weighted rule."""
+    kernel = _Kernel(shear_modulus, nu)
+    src = points[rows]
+    rx, ry = x[..., 0] - src[:, 0, None], x[..., 1] - src[:, 1, None]
+    log_term = np.log(np.sqrt(rx * rx + ry * ry) / t)
+    log_term += np.log(safe)[:, None]
+    log_term *= -(3.0 - 4.0 * nu)  # (3 - 4 nu) ln(1/r), its ln(1/t) part on the log rule
+    k = np.empty((len(rows), 7, x.shape[1]))
+    kernel.components(rx, ry, n[..., 0], n[..., 1], kernel.t_scale * jw, kernel.u_scale * jw,
+                      k.transpose(1, 0, 2), log_term=log_term)  # fmt: skip
+    h_sums = np.einsum("pkq,pqa->pka", k[:, :4], phi - at_source[:, None, :])
+    g_sums = np.einsum("pkq,pqa->pka", k[:, 4:], phi)
+    log_sums = (kernel.u_scale * (3.0 - 4.0 * nu)) * np.einsum("pq,pqa->pa", log_jw, log_phi)
+    blocks = np.empty((2, len(rows), 2, phi.shape[2], 2))  # [H or G, pair, i, a, j]
+    for index, (m, i, j) in enumerate(COMPONENTS):
+        blocks[m, :, i, :, j] = (h_sums if m == 0 else g_sums)[:, index - 4 * m]
+    blocks[1, :, 1, :, 0] = g_sums[:, 1]
+    blocks[1, :, 0, :, 0] += log_sums
+    blocks[1, :, 1, :, 1] += log_sums
+    scatter_blocks(rows, cols, blocks[0], h)
+    scatter_blocks(rows, cols, blocks[1], g)

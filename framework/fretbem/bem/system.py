@@ -261,6 +261,10 @@ def _block_rotation(body, tag, system, block_rows, band) -> BlockRotation:
     )
 
 
+#: face nodes above which ``_Band.left`` is one sparse product
+SPARSE_LEFT_MIN = 200
+
+
 def _chunks(size: int, step: int = 512):
     """Slices of ``step`` covering range(size)."""
     return [slice(start, min(start + step, size)) for start in range(0, size, step)]
@@ -277,10 +281,16 @@ class _Band:
         self.upper = int(max(np.max(cols - rows, initial=0), 0))
 
     def left(self, x: np.ndarray) -> np.ndarray:
-        """E @ x along the first axis, diagonal by diagonal, in column blocks (the products'
-        temporaries stay small)."""
+        """E @ x along the first axis: diagonal by diagonal in column blocks (the products'
+        temporaries stay small), or for a face of more than :data:`SPARSE_LEFT_MIN` nodes as
+        one sparse product, a single pass over x (7x faster at 481 pairs, and worth loading
+        scipy.sparse, about 10 ms, which the run path does not otherwise)."""
         n = self.size
         shape, x = x.shape, x.reshape(n, -1)
+        if n > SPARSE_LEFT_MIN:
+            from scipy import sparse
+
+            return (sparse.csr_array(self.matrix) @ x).reshape(shape)
         out = np.zeros(x.shape)
         for block in _chunks(x.shape[1]):
             for d in range(-self.lower, self.upper + 1):  # E[i, i + d]

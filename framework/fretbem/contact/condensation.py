@@ -139,7 +139,7 @@ class CondensedContact:
                 projected = (sign * direction[:, 0, None]) * gathered[:, 0]
                 projected += (sign * direction[:, 1, None]) * gathered[:, 1]
                 columns = pairing.pull(label, projected.reshape(n, face_nodes, 2), axis=1)
-                target[:, layout.tractions] += _per_pair(columns, frame)
+                _per_pair(columns, frame, add_to=target[:, layout.tractions])
             del gathered
             relative_load[:, :, load_columns] += sign * pairing.to_frame(
                 label, pairing.gather(label, response.load_map), axis=1
@@ -253,13 +253,21 @@ class CondensedContact:
         return np.asarray(block, float) + theta * np.array([-offset[1], offset[0]]), theta
 
 
-def _per_pair(operator: np.ndarray, frame: np.ndarray) -> np.ndarray:
-    """Operator (..., n, 2) per pair traction component -> (..., 2 n) per unit (p, q)."""
-    out = np.empty((*operator.shape[:-2], 2, operator.shape[-2]))
-    for s in range(2):  # out[..., s, k] = sum_j operator[..., k, j] frame[k, j, s]
-        np.multiply(operator[..., 0], frame[:, 0, s], out=out[..., s, :])
-        out[..., s, :] += operator[..., 1] * frame[:, 1, s]
-    return out.reshape(*operator.shape[:-2], -1)
+def _per_pair(operator: np.ndarray, frame: np.ndarray, add_to: np.ndarray | None = None):
+    """Operator (..., n, 2) per pair traction component -> (..., 2 n) per unit (p, q); with
+    ``add_to`` (a (..., 2 n) view) added into it in place instead (no (..., 2 n) temporary)."""
+    shape = (*operator.shape[:-2], 2, operator.shape[-2])
+    if add_to is None:
+        out = np.empty(shape)
+        for s in range(2):  # out[..., s, k] = sum_j operator[..., k, j] frame[k, j, s]
+            np.multiply(operator[..., 0], frame[:, 0, s], out=out[..., s, :])
+            out[..., s, :] += operator[..., 1] * frame[:, 1, s]
+        return out.reshape(*operator.shape[:-2], -1)
+    view = add_to.reshape(shape)  # splits the last axis (unit stride): a view, never a copy
+    for s in range(2):
+        view[..., s, :] += operator[..., 0] * frame[:, 0, s]
+        view[..., s, :] += operator[..., 1] * frame[:, 1, s]
+    return add_to
 
 
 def _scatter_columns(values: np.ndarray, columns: list[int], names: tuple[str, ...]):
