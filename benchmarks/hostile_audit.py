@@ -1097,6 +1097,8 @@ PY_RECORDS = (
     ("fretbem:CoulombFriction", {"friction": 0.3}),
     ("fretbem.wear:ArchardWear", {"k": 1e-8}),
     ("fretbem.wear:EnergyWear", {"alpha": 2e-4}),
+    ("fretbem.wear.jump:JumpControl", {"max_change": 1e-4, "relative_change": 0.05,
+                                       "safety": 0.5, "max_jump": 100}),
     ("fretbem.contact.control:Rig", {"tangential": 1e4, "normal": 1e5, "rotational": 1e6,
                                      "pivot_height": 10.0}),
     ("fretbem.geometry.shapes:CylinderPad", {"radius": 70.0, "width": 6.5, "height": 16.25}),
@@ -1113,6 +1115,7 @@ PY_RECORDS = (
 PY_NONE = {("LoadStep", f) for f in ("normal", "approach", "delta", "moment", "rotation")} | {
     ("Rig", "pivot_height"), ("Waveform", "moment"), ("Refinement", "degree"),
     ("Displacement", "x"), ("Displacement", "y"), ("Traction", "x"), ("Traction", "y"),
+    ("JumpControl", "max_change"), ("JumpControl", "max_jump"),
 }  # fmt: skip
 #: (record, field) where infinity is valid (a rigid rig)
 PY_INF = {("Rig", "tangential"), ("Rig", "normal"), ("Rig", "rotational")}

@@ -18,6 +18,7 @@ from fretbem.errors import InputError
 from fretbem.fretting import Waveform
 from fretbem.geometry.shapes import CylinderPad, CylinderSpecimen, FlatSpecimen, RoundedFlatPad
 from fretbem.wear import ArchardWear, EnergyWear
+from fretbem.wear.jump import JumpControl
 
 #: (record, valid keyword arguments): each builds a valid record
 RECORDS = {
@@ -44,6 +45,10 @@ RECORDS = {
     "CoulombFriction": (CoulombFriction, {"friction": 0.3}),
     "ArchardWear": (ArchardWear, {"k": 1e-8}),
     "EnergyWear": (EnergyWear, {"alpha": 2e-4}),
+    "JumpControl": (
+        JumpControl,
+        {"max_change": 1e-4, "relative_change": 0.05, "safety": 0.5, "max_jump": 100},
+    ),
     "Rig": (
         Rig,
         {"tangential": 1e4, "normal": 1e5, "rotational": 1e6, "pivot_height": 10.0},
@@ -65,6 +70,7 @@ RECORDS = {
 NONE_ALLOWED = {
     ("LoadStep", name) for name in ("normal", "approach", "delta", "moment", "rotation")
 } | {("Rig", "pivot_height"), ("Waveform", "moment"), ("Refinement", "degree")}
+NONE_ALLOWED |= {("JumpControl", "max_change"), ("JumpControl", "max_jump")}
 NONE_ALLOWED |= {(record, axis) for record in ("Displacement", "Traction") for axis in "xy"}
 #: the fields where infinity is valid (a rigid rig)
 INFINITY_ALLOWED = {("Rig", "tangential"), ("Rig", "normal"), ("Rig", "rotational")}
