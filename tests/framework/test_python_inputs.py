@@ -19,6 +19,7 @@ from fretbem.fretting import Waveform
 from fretbem.geometry.shapes import CylinderPad, CylinderSpecimen, FlatSpecimen, RoundedFlatPad
 from fretbem.wear import ArchardWear, EnergyWear
 from fretbem.wear.jump import JumpControl
+from fretbem.wear.run import WearSimulation
 
 #: (record, valid keyword arguments): each builds a valid record
 RECORDS = {
@@ -153,6 +154,10 @@ def test_whole_numbers_as_integral_floats_still_count():
         (lambda: Waveform(1e-3, 100.0, cycles=True), r"Waveform\.cycles must be a whole number"),
         (lambda: Waveform(1e-3, 100.0, increments="40"), r"Waveform\.increments must be a whole"),
         (lambda: Refinement(4, degree="2"), r"Refinement\.degree must be a whole number >= 1"),
+        # the counts are converted before the simulation is looked at
+        (lambda: WearSimulation(None, {}, True), r"WearSimulation\.cycles must be a whole"),
+        (lambda: WearSimulation(None, {}, "1000"), r"WearSimulation\.cycles must be a whole"),
+        (lambda: WearSimulation(None, {}, 10, outputs=[2.5]), r"outputs\[0\] must be a whole"),
         (lambda: CoulombFriction(-0.1), r"CoulombFriction\.friction must be >= 0, got -0\.1"),
         (lambda: Material(73400.0, 0.5), r"Material\.nu: Poisson's ratio nu must lie in"),
     ],
