@@ -1080,6 +1080,83 @@ for _path, _values, _scene, _words in (
         return good, f"exit {code} {seconds:.1f} s: {text.strip()[-160:]}"
 
 
+# ------------------------------------------------------------- Python records (no file)
+
+#: the public records a script builds for a run, each with valid keyword arguments; every
+#: numeric field is then given True, "3", nan, inf and None (where None means nothing)
+PY_RECORDS = (
+    ("fretbem:LoadStep", {"name": "A", "normal": 100.0, "tangential": 5.0, "increments": 2}),
+    ("fretbem:LoadStep", {"name": "A", "normal": None, "approach": 1e-3, "delta": 1e-3,
+                          "cycle": 1, "moment": 5.0}),
+    ("fretbem:LoadStep", {"name": "A", "normal": 100.0, "rotation": 1e-4}),
+    ("fretbem.fretting:Waveform", {
+        "amplitude": 1e-3, "normal": 100.0, "cycles": 2, "increments": 8,
+        "normal_amplitude": 10.0, "normal_phase": 90.0, "bulk": 50.0, "bulk_amplitude": 20.0,
+        "bulk_phase": 0.0, "moment": 1.0, "moment_amplitude": 2.0, "moment_phase": 0.0}),
+    ("fretbem:Material", {"E": 73400.0, "nu": 0.33}),
+    ("fretbem:CoulombFriction", {"friction": 0.3}),
+    ("fretbem.wear:ArchardWear", {"k": 1e-8}),
+    ("fretbem.wear:EnergyWear", {"alpha": 2e-4}),
+    ("fretbem.wear.jump:JumpControl", {"max_change": 1e-4, "relative_change": 0.05,
+                                       "safety": 0.5, "max_jump": 100}),
+    ("fretbem.contact.control:Rig", {"tangential": 1e4, "normal": 1e5, "rotational": 1e6,
+                                     "pivot_height": 10.0}),
+    ("fretbem.geometry.shapes:CylinderPad", {"radius": 70.0, "width": 6.5, "height": 16.25}),
+    ("fretbem.geometry.shapes:RoundedFlatPad", {"flat": 2.0, "edge_radius": 5.0,
+                                                "width": 10.0, "height": 10.0}),
+    ("fretbem.geometry.shapes:FlatSpecimen", {"length": 40.0, "thickness": 13.0}),
+    ("fretbem.geometry.shapes:CylinderSpecimen", {"radius": 70.0, "width": 6.5,
+                                                  "height": 16.25}),
+    ("fretbem.conditions:Displacement", {"tag": "bottom", "x": 0.0, "y": 1e-3}),
+    ("fretbem.conditions:Traction", {"tag": "end", "x": 1.0, "y": 0.0, "load": "bulk"}),
+    ("fretbem:Refinement", {"elements": 8, "degree": 2, "ratio": 4.0}),
+)  # fmt: skip
+#: (record, field) where None is a valid value with a meaning
+PY_NONE = {("LoadStep", f) for f in ("normal", "approach", "delta", "moment", "rotation")} | {
+    ("Rig", "pivot_height"), ("Waveform", "moment"), ("Refinement", "degree"),
+    ("Displacement", "x"), ("Displacement", "y"), ("Traction", "x"), ("Traction", "y"),
+    ("JumpControl", "max_change"), ("JumpControl", "max_jump"),
+}  # fmt: skip
+#: (record, field) where infinity is valid (a rigid rig)
+PY_INF = {("Rig", "tangential"), ("Rig", "normal"), ("Rig", "rotational")}
+PY_BAD = (("True", True), ("string", "3"), ("nan", float("nan")), ("inf", float("inf")),
+          ("None", None))  # fmt: skip
+
+
+def _python_record(path: str, valid: dict, field: str, bad) -> tuple[bool, str]:
+    """Good if the record refuses ``bad`` with one InputError line naming the field."""
+    import importlib
+
+    from fretbem.errors import InputError
+
+    module, name = path.split(":")
+    record = getattr(importlib.import_module(module), name)
+    try:
+        built = record(**{**valid, field: bad})
+    except InputError as err:
+        text = str(err)
+        return field in text and "\n" not in text, f"InputError: {text[:200]}"
+    except BaseException as err:
+        return False, f"{type(err).__name__} (not InputError): {str(err)[:160]}"
+    return False, f"accepted: {field} = {getattr(built, field)!r}"
+
+
+for _path, _valid in PY_RECORDS:
+    _record = _path.split(":")[1]
+    for _field, _value in _valid.items():
+        if isinstance(_value, str) or _field == "name":
+            continue
+        for _label, _bad in PY_BAD:
+            if _bad is None and (_record, _field) in PY_NONE:
+                continue
+            if _label == "inf" and (_record, _field) in PY_INF:
+                continue
+
+            @case("python", f"{_record}.{_field} = {_label} from Python", 10)
+            def _python(path=_path, valid=_valid, field=_field, bad=_bad):
+                return _python_record(path, valid, field, bad)
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--only", help="run one class")

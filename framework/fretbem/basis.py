@@ -18,7 +18,7 @@ import numpy as np
 
 from fretbem.geometry.nurbs import NurbsCurve
 
-from .validators import float_array, shape
+from .validators import count_field, float_array, number_field, shape, whole_number
 
 
 @attrs.frozen(eq=False)
@@ -83,6 +83,14 @@ def _as_breakpoints(value) -> tuple[float, ...] | None:
     return tuple(float(v) for v in at)
 
 
+def _degree(value) -> int | None:
+    """A requested degree: None (the family's default) or a whole number >= 1."""
+    if value is None:
+        return None
+    fix = "give the basis degree, or None for the family's default"
+    return whole_number("Refinement.degree", value, low=1, fix=fix)
+
+
 @attrs.frozen
 class Refinement:
     """How finely one segment is discretised.
@@ -107,12 +115,19 @@ class Refinement:
         smoother across elements repeat the knot there); empty for full continuity.
     """
 
-    elements: int = attrs.field(default=4, converter=int, validator=attrs.validators.ge(1))
-    degree: int | None = attrs.field(default=None)
+    elements: int = attrs.field(
+        default=4, converter=count_field("give the number of elements on the segment")
+    )
+    degree: int | None = attrs.field(default=None, converter=_degree)
     toward: tuple[tuple[float, float], ...] | None = attrs.field(
         default=None, converter=_as_intervals, validator=_check_toward
     )
-    ratio: float = attrs.field(default=1.0, converter=float, validator=attrs.validators.ge(1.0))
+    ratio: float = attrs.field(
+        default=1.0,
+        converter=number_field(
+            "largest over smallest element", "give a ratio >= 1 (1: uniform)", low=1.0
+        ),
+    )
     at: tuple[float, ...] | None = attrs.field(default=None, converter=_as_breakpoints)
     c0_at: tuple[float, ...] = attrs.field(
         default=(), converter=lambda v: tuple(float(x) for x in np.ravel(v))

@@ -7,21 +7,53 @@ no condition names is traction free).
 
 from __future__ import annotations
 
+import math
+import numbers
 from collections.abc import Callable
 from typing import Union
 
 import attrs
 import numpy as np
 
-from .validators import finite
+from .errors import InputError
+from .validators import as_scalar
 
 Component = Union[float, Callable[[np.ndarray], np.ndarray], None]  # noqa: UP007
 
 
-def _component(instance, attribute, value) -> None:
+def _component(value, instance, attribute) -> Component:
+    """A number (numpy's too, as a float; no True, no "3"), finite, or a callable, or None."""
     if value is None or callable(value):
-        return
-    finite(instance, attribute, value)
+        return value
+    value = as_scalar(value)
+    where = f"{type(instance).__name__}.{attribute.name}"
+    fix = "give a number, a function of the points (m, 2) -> (m,), or None to leave it free"
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        shown = f'the string "{value}"' if isinstance(value, str) else repr(value)
+        raise InputError(f"{where} must be a number, got {shown}; {fix}")
+    if not math.isfinite(value):
+        raise InputError(f"{where} must be finite, got {value!r}; {fix}")
+    return float(value)
+
+
+#: a component field: checked and stored as a float, a callable or None
+_COMPONENT = attrs.Converter(_component, takes_self=True, takes_field=True)
+
+
+def _force(value) -> tuple[float, float]:
+    """The block's resultant (Fx, Fy): two finite numbers (no True, no "3")."""
+    fix = "give (Fx, Fy) in N/mm, e.g. (0.0, -100.0)"
+    pair = tuple(value) if isinstance(value, (tuple, list, np.ndarray)) else None
+    if pair is None or len(pair) != 2:
+        raise InputError(f"LoadingBlock.force must be a pair (Fx, Fy), got {value!r}; {fix}")
+    pair = tuple(as_scalar(v) for v in pair)
+    for name, v in zip(("Fx", "Fy"), pair, strict=True):
+        if isinstance(v, (bool, np.bool_)) or not isinstance(v, numbers.Real):
+            shown = f'the string "{v}"' if isinstance(v, str) else repr(v)
+            raise InputError(f"LoadingBlock.force {name} must be a number, got {shown}; {fix}")
+        if not math.isfinite(v):
+            raise InputError(f"LoadingBlock.force {name} must be finite, got {v!r}; {fix}")
+    return tuple(float(v) for v in pair)
 
 
 def evaluate(component: Component, points: np.ndarray) -> np.ndarray:
@@ -54,8 +86,8 @@ class Displacement:
     """
 
     tag: str
-    x: Component = attrs.field(default=0.0, validator=_component)
-    y: Component = attrs.field(default=0.0, validator=_component)
+    x: Component = attrs.field(default=0.0, converter=_COMPONENT)
+    y: Component = attrs.field(default=0.0, converter=_COMPONENT)
 
 
 @attrs.frozen
@@ -75,8 +107,8 @@ class Traction:
     """
 
     tag: str
-    x: Component = attrs.field(default=0.0, validator=_component)
-    y: Component = attrs.field(default=0.0, validator=_component)
+    x: Component = attrs.field(default=0.0, converter=_COMPONENT)
+    y: Component = attrs.field(default=0.0, converter=_COMPONENT)
     load: str | None = attrs.field(default=None, validator=attrs.validators.optional(_load_name))
 
 
@@ -95,9 +127,7 @@ class LoadingBlock:
     """
 
     tag: str
-    force: tuple[float, float] = attrs.field(
-        default=(0.0, 0.0), converter=lambda f: tuple(float(v) for v in f), validator=finite
-    )
+    force: tuple[float, float] = attrs.field(default=(0.0, 0.0), converter=_force)
 
 
 Condition = Union[Displacement, Traction, LoadingBlock]  # noqa: UP007

@@ -4,7 +4,17 @@ from __future__ import annotations
 
 import attrs
 
-from .validators import poisson, positive
+from .errors import InputError
+from .validators import flag_field, number_field
+
+
+def _poisson(where: str, value: float) -> None:
+    """A Poisson's ratio in (-1, 0.5), NaN refused, in the words of the kernels' check."""
+    if not (-1.0 < value < 0.5):
+        raise InputError(
+            f"{where}: Poisson's ratio nu must lie in (-1, 0.5) for a stable isotropic "
+            f"material, got {value!r}; give e.g. 0.3 for a metal"
+        )
 
 
 @attrs.frozen
@@ -21,9 +31,16 @@ class Material:
         Plane stress instead of the default plane strain.
     """
 
-    E: float = attrs.field(converter=float, validator=positive)
-    nu: float = attrs.field(converter=float, validator=poisson)
-    plane_stress: bool = False
+    E: float = attrs.field(
+        converter=number_field("Young's modulus, MPa", "give E in MPa", low=0.0, low_open=True)
+    )
+    nu: float = attrs.field(
+        converter=number_field("Poisson's ratio", "give nu in (-1, 0.5)", check=_poisson)
+    )
+    plane_stress: bool = attrs.field(
+        default=False,
+        converter=flag_field("give True for plane stress, False (the default) for plane strain"),
+    )
 
     @property
     def shear_modulus(self) -> float:

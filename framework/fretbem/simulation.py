@@ -8,6 +8,7 @@ frozen :class:`~fretbem.contact.law.ContactState` records.
 from __future__ import annotations
 
 import math
+import numbers
 import time
 from collections.abc import Mapping
 
@@ -29,7 +30,7 @@ from fretbem.verification.checks import check_step, step_names
 from fretbem.verification.closed_forms import MindlinDeresiewicz
 
 from .results import IncrementRecord, SimulationResult, StepResult
-from .validators import finite, real_number
+from .validators import as_scalar, count_field, number_field, real_number
 
 
 class LoadHistoryError(InputError):
@@ -37,22 +38,33 @@ class LoadHistoryError(InputError):
 
 
 def _load_amplitudes(value) -> dict[str, float]:
-    return {str(name): float(amplitude) for name, amplitude in dict(value).items()}
+    """Each named load's amplitude: a number (no True, no "3"), finite."""
+    if not isinstance(value, Mapping):
+        raise InputError(
+            f"LoadStep.loads must be a mapping of load name to amplitude, got {value!r}; give "
+            'e.g. {"bulk": 150.0}, or {} for no named load'
+        )
+    out = {}
+    for name, amplitude in value.items():
+        amplitude = as_scalar(amplitude)
+        where = f"LoadStep.loads[{name!r}]"
+        if isinstance(amplitude, (bool, np.bool_)) or not isinstance(amplitude, numbers.Real):
+            shown = f'the string "{amplitude}"' if isinstance(amplitude, str) else repr(amplitude)
+            raise InputError(
+                f"{where} must be a number, got {shown} (the amplitude of the named load); "
+                "give the amplitude (e.g. the bulk stress in MPa), or leave the load out for 0"
+            )
+        out[str(name)] = float(amplitude)
+    return out
 
 
 def _finite_loads(instance, attribute, value) -> None:
     bad = {name: a for name, a in value.items() if not math.isfinite(a)}
     if bad:
-        raise ValueError(f"LoadStep.loads must be finite numbers, got {bad!r}")
-
-
-def _optional_float(value):
-    return None if value is None else float(value)
-
-
-def _optional_finite(instance, attribute, value) -> None:
-    if value is not None:
-        finite(instance, attribute, value)
+        raise InputError(
+            f"LoadStep.loads must be finite numbers, got {bad!r}; give each amplitude as a "
+            "finite number, or leave the load out for 0"
+        )
 
 
 #: what the rotation drives of a step are and what to give instead of a bad one
@@ -113,20 +125,46 @@ class LoadStep:
     """
 
     name: str
-    normal: float | None = attrs.field(converter=_optional_float, validator=_optional_finite)
-    tangential: float = attrs.field(default=0.0, converter=float, validator=finite)
-    increments: int = attrs.field(default=1, converter=int, validator=attrs.validators.ge(1))
+    normal: float | None = attrs.field(
+        converter=number_field(
+            "the normal load P, N/mm", "give P in N/mm, or None when approach drives the step",
+            none=True,
+        )
+    )  # fmt: skip
+    tangential: float = attrs.field(
+        default=0.0,
+        converter=number_field(
+            "the tangential load Q, N/mm", "give Q in N/mm, or 0 when delta drives the step"
+        ),
+    )
+    increments: int = attrs.field(
+        default=1, converter=count_field("give the number of equal sub-increments (1: none)")
+    )
     loads: Mapping[str, float] = attrs.field(
         factory=dict, converter=_load_amplitudes, validator=_finite_loads, hash=False
     )
     delta: float | None = attrs.field(
-        default=None, converter=_optional_float, validator=_optional_finite, kw_only=True
+        default=None,
+        converter=number_field(
+            "the pad block's tangential displacement, mm",
+            "give delta in mm, or None when Q drives the step",
+            none=True,
+        ),
+        kw_only=True,
     )
     approach: float | None = attrs.field(
-        default=None, converter=_optional_float, validator=_optional_finite, kw_only=True
+        default=None,
+        converter=number_field(
+            "the pad block's normal approach, mm",
+            "give the approach in mm, or None when P drives the step",
+            none=True,
+        ),
+        kw_only=True,
     )
     cycle: int = attrs.field(
-        default=0, converter=int, validator=attrs.validators.ge(0), kw_only=True
+        default=0,
+        converter=count_field("give the load cycle of the step (1, 2, ...; 0: none)", low=0),
+        kw_only=True,
     )
     moment: float | None = attrs.field(
         default=None, converter=attrs.Converter(_rotation_drive, takes_field=True), kw_only=True

@@ -4,9 +4,13 @@ from __future__ import annotations
 
 import math
 import numbers
+from collections.abc import Callable
 from typing import Any
 
+import attrs
 import numpy as np
+
+from .errors import InputError
 
 
 def finite(instance: Any, attribute: Any, value: Any) -> None:
@@ -109,6 +113,96 @@ def real_number(
     if math.isnan(value) or (math.isinf(value) and not infinite):
         raise error(f"{where} must be a finite number ({what}), got {value!r}; {fix}")
     return value
+
+
+def _shown(value: Any) -> str:
+    return f'the string "{value}"' if isinstance(value, str) else repr(value)
+
+
+def as_scalar(value: Any) -> Any:
+    """A 0-d numpy array of numbers as its number (``float()`` took it before); else as is."""
+    if isinstance(value, np.ndarray) and value.ndim == 0 and value.dtype.kind in "iuf":
+        return value.item()
+    return value
+
+
+def number_field(
+    what: str,
+    fix: str,
+    *,
+    none: bool = False,
+    low: float | None = None,
+    low_open: bool = False,
+    check: Callable[[str, float], None] | None = None,
+    error: type[Exception] = InputError,
+) -> attrs.Converter:
+    """Converter of a record's real-number field: numpy scalars and ints taken (as a float),
+    True/False, strings and (unless ``none``) None refused, then NaN and infinity, then a
+    value below ``low``; or ``check(where, value)`` instead of the finite and range checks.
+
+    Every message reads ``Record.field must be <want>, got <value> (<what>); <fix>``, the
+    first words those of the finite/positive validators the records used before.
+    """
+
+    def convert(value: Any, instance: Any, field: Any) -> float | None:
+        if value is None and none:
+            return None
+        where = f"{type(instance).__name__}.{field.name}"
+        value = as_scalar(value)
+
+        def refuse(want: str) -> Exception:
+            return error(f"{where} must be {want}, got {_shown(value)} ({what}); {fix}")
+
+        if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+            raise refuse("a number")
+        value = float(value)
+        if check is not None:
+            check(where, value)
+            return value
+        if not math.isfinite(value):
+            raise refuse("finite")
+        if low is not None and (value <= low if low_open else value < low):
+            raise refuse(f"{'>' if low_open else '>='} {low:g}")
+        return value
+
+    return attrs.Converter(convert, takes_self=True, takes_field=True)
+
+
+def whole_number(
+    where: str, value: Any, *, low: int, fix: str, error: type[Exception] = InputError
+) -> int:
+    """A whole number >= ``low`` given from Python as an int: numpy integers and integral
+    floats (``2.0``) taken, True/False, strings and fractions (``2.5``) refused."""
+    value = as_scalar(value)
+    ok = not isinstance(value, bool) and isinstance(value, numbers.Real)
+    if ok and not isinstance(value, numbers.Integral):
+        ok = math.isfinite(float(value)) and float(value).is_integer()
+    if not ok or int(value) < low:
+        raise error(f"{where} must be a whole number >= {low}, got {_shown(value)}; {fix}")
+    return int(value)
+
+
+def count_field(fix: str, *, low: int = 1, error: type[Exception] = InputError) -> attrs.Converter:
+    """Converter of a record's whole-number field through :func:`whole_number`."""
+
+    def convert(value: Any, instance: Any, field: Any) -> int:
+        where = f"{type(instance).__name__}.{field.name}"
+        return whole_number(where, value, low=low, fix=fix, error=error)
+
+    return attrs.Converter(convert, takes_self=True, takes_field=True)
+
+
+def flag_field(fix: str, *, error: type[Exception] = InputError) -> attrs.Converter:
+    """Converter of a record's yes/no field: True or False (numpy's too), nothing else
+    (``"no"`` would be true)."""
+
+    def convert(value: Any, instance: Any, field: Any) -> bool:
+        if not isinstance(value, (bool, np.bool_)):
+            where = f"{type(instance).__name__}.{field.name}"
+            raise error(f"{where} must be True or False, got {value!r}; {fix}")
+        return bool(value)
+
+    return attrs.Converter(convert, takes_self=True, takes_field=True)
 
 
 # -- values read from a file (TOML): strict, no coercion, the key named in every message -----

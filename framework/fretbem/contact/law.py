@@ -23,7 +23,7 @@ import attrs
 import numpy as np
 
 from fretbem.errors import InputError
-from fretbem.validators import non_negative
+from fretbem.validators import number_field
 
 
 class PairState(IntEnum):
@@ -173,7 +173,11 @@ class CoulombFriction(ContactLaw):
         Coulomb coefficient f >= 0.
     """
 
-    friction: float = attrs.field(converter=float, validator=non_negative)
+    friction: float = attrs.field(
+        converter=number_field(
+            "the Coulomb coefficient f", "give f >= 0 (0: frictionless)", low=0.0
+        )
+    )
 
     def coulomb_form(self) -> float:
         """f: this law is the Coulomb cone the solvers' fast paths are written for."""

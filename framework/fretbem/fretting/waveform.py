@@ -13,7 +13,7 @@ import numpy as np
 
 from fretbem.errors import InputError
 from fretbem.simulation import LoadStep
-from fretbem.validators import finite, real_number
+from fretbem.validators import number_field, real_number, whole_number
 
 #: the waveform shapes: value at the cycle fraction t (0 at t = 0, +1 at 1/4, -1 at 3/4)
 SHAPES = ("sine", "triangle")
@@ -46,23 +46,27 @@ def _check_choice(name: str, options: tuple[str, ...]):
 
 
 def _whole(minimum: int):
-    def check(instance, attribute, value) -> None:
-        if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
-            raise WaveformError(
-                f"Waveform.{attribute.name} must be a whole number >= {minimum}, got {value!r}"
-            )
+    """Converter of a count: a whole number >= ``minimum`` (numpy's too; no True, no "4")."""
 
-    return check
+    def convert(value, field) -> int:
+        fix = "give it as a whole number (no quotes)"
+        where = f"Waveform.{field.name}"
+        return whole_number(where, value, low=minimum, fix=fix, error=WaveformError)
+
+    return attrs.Converter(convert, takes_field=True)
 
 
 def _per_cycle(instance, attribute, value) -> None:
-    _whole(4)(instance, attribute, value)
     if value % 4:
         raise WaveformError(
             f"Waveform.increments (per cycle) must be a multiple of 4 so the increments land "
             f"on the peaks (+amplitude at 1/4, -amplitude at 3/4 of the cycle), got {value}; "
             f"use e.g. {4 * max(1, round(value / 4))}"
         )
+
+
+def _number(what: str, fix: str):
+    return number_field(what, fix, error=WaveformError)
 
 
 #: the moment fields of a waveform: what each is (its unit) and what to give instead
@@ -111,19 +115,32 @@ class Waveform:
         None (the default) with no amplitude leaves the block's rotation as the rig holds it.
     """
 
-    amplitude: float = attrs.field(converter=float, validator=finite)
-    normal: float = attrs.field(converter=float, validator=finite)
+    amplitude: float = attrs.field(
+        converter=_number("Q* in N/mm or delta* in mm", "give the drive's amplitude, > 0")
+    )
+    normal: float = attrs.field(converter=_number("the mean P, N/mm", "give the mean P in N/mm"))
     control: str = attrs.field(
         default="displacement", validator=_check_choice("control", ("force", "displacement"))
     )
-    cycles: int = attrs.field(default=1, validator=_whole(1))
-    increments: int = attrs.field(default=40, validator=_per_cycle)
+    cycles: int = attrs.field(default=1, converter=_whole(1))
+    increments: int = attrs.field(default=40, converter=_whole(4), validator=_per_cycle)
     shape: str = attrs.field(default="sine", validator=_check_choice("shape", SHAPES))
-    normal_amplitude: float = attrs.field(default=0.0, converter=float, validator=finite)
-    normal_phase: float = attrs.field(default=0.0, converter=float, validator=finite)
-    bulk: float = attrs.field(default=0.0, converter=float, validator=finite)
-    bulk_amplitude: float = attrs.field(default=0.0, converter=float, validator=finite)
-    bulk_phase: float = attrs.field(default=0.0, converter=float, validator=finite)
+    normal_amplitude: float = attrs.field(
+        default=0.0, converter=_number("N/mm", "give P's amplitude in N/mm, or 0 for a steady P")
+    )
+    normal_phase: float = attrs.field(
+        default=0.0, converter=_number("degrees", "give the phase of P against the drive, or 0")
+    )
+    bulk: float = attrs.field(
+        default=0.0, converter=_number("the mean bulk stress, MPa", "give it in MPa, or 0")
+    )
+    bulk_amplitude: float = attrs.field(
+        default=0.0, converter=_number("MPa", "give the bulk stress amplitude in MPa, or 0")
+    )
+    bulk_phase: float = attrs.field(
+        default=0.0,
+        converter=_number("degrees", "give the phase of the bulk stress against the drive, or 0"),
+    )
     moment: float | None = attrs.field(
         default=None, converter=attrs.Converter(_moment_value, takes_field=True)
     )

@@ -22,7 +22,7 @@ import attrs
 import numpy as np
 
 from fretbem.errors import InputError
-from fretbem.validators import positive
+from fretbem.validators import number_field
 
 from .boundary import Boundary, Segment
 from .nurbs import NurbsCurve
@@ -39,6 +39,13 @@ __all__ = [
 
 class ShapeError(InputError):
     """Dimensions that do not make the shape (e.g. a zone wider than the face)."""
+
+
+def _length(what: str):
+    """Converter of a shape's length: a finite number > 0 in mm, ShapeError naming the field."""
+    return number_field(
+        f"{what}, mm", "give it in mm, > 0", low=0.0, low_open=True, error=ShapeError
+    )
 
 
 def _arcs(center: Sequence[float], radius: float, angles: Sequence[float]) -> list[NurbsCurve]:
@@ -101,9 +108,9 @@ class CylinderPad:
         R, the pad's width w (x from -w/2 to w/2) and height h (top edge at y = h), mm.
     """
 
-    radius: float = attrs.field(converter=float, validator=positive)
-    width: float = attrs.field(converter=float, validator=positive)
-    height: float = attrs.field(converter=float, validator=positive)
+    radius: float = attrs.field(converter=_length("the face's radius R"))
+    width: float = attrs.field(converter=_length("the width w"))
+    height: float = attrs.field(converter=_length("the height h"))
     kind = "cylinder"
 
     def __attrs_post_init__(self) -> None:
@@ -146,10 +153,10 @@ class RoundedFlatPad:
         b, r, the pad's width w and height h, mm.
     """
 
-    flat: float = attrs.field(converter=float, validator=positive)
-    edge_radius: float = attrs.field(converter=float, validator=positive)
-    width: float = attrs.field(converter=float, validator=positive)
-    height: float = attrs.field(converter=float, validator=positive)
+    flat: float = attrs.field(converter=_length("the flat's half-width b"))
+    edge_radius: float = attrs.field(converter=_length("the fillets' radius r"))
+    width: float = attrs.field(converter=_length("the width w"))
+    height: float = attrs.field(converter=_length("the height h"))
     kind = "rounded-flat"
 
     def __attrs_post_init__(self) -> None:
@@ -217,8 +224,8 @@ class FlatSpecimen:
         L (x from -L/2 to L/2) and t (bottom at y = -t), mm.
     """
 
-    length: float = attrs.field(converter=float, validator=positive)
-    thickness: float = attrs.field(converter=float, validator=positive)
+    length: float = attrs.field(converter=_length("the length L"))
+    thickness: float = attrs.field(converter=_length("the thickness t"))
     kind = "flat"
 
     @property
@@ -252,9 +259,9 @@ class CylinderSpecimen:
         R (equal to the pad's), width w and height h (bottom at y = -h), mm.
     """
 
-    radius: float = attrs.field(converter=float, validator=positive)
-    width: float = attrs.field(converter=float, validator=positive)
-    height: float = attrs.field(converter=float, validator=positive)
+    radius: float = attrs.field(converter=_length("the face's radius R"))
+    width: float = attrs.field(converter=_length("the width w"))
+    height: float = attrs.field(converter=_length("the height h"))
     kind = "cylinder"
 
     def __attrs_post_init__(self) -> None:

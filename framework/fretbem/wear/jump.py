@@ -26,11 +26,13 @@ a body's volume is its coefficient times the summed energy (or work) in both sch
 from __future__ import annotations
 
 import math
+import numbers
 
 import attrs
 import numpy as np
 
 from fretbem.contact.condensation import CondensedContact
+from fretbem.validators import as_scalar, whole_number
 
 from .cycle import CycleWear
 from .law import WearInputError
@@ -42,14 +44,31 @@ __all__ = ["SCHEMES", "Jump", "JumpControl", "JumpWear", "extrapolate", "stabili
 SCHEMES = ("explicit", "implicit")
 
 
-def _positive(instance, attribute, value) -> None:
-    if isinstance(value, bool) or not (math.isfinite(value) and value > 0):
-        raise WearInputError(f"[wear] {attribute.name} must be a finite number > 0, got {value!r}")
+def _positive(value, field) -> float | None:
+    """A finite number > 0 (numpy's too, as a float; no True, no "0.5"); None for max_change."""
+    if value is None and field.name == "max_change":
+        return None
+    value = as_scalar(value)
+    number = isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
+    if not (number and math.isfinite(value) and value > 0):
+        fix = "give a number > 0" + (", or None" if field.name == "max_change" else "")
+        raise WearInputError(
+            f"[wear] {field.name} must be a finite number > 0, got {value!r}; {fix}"
+        )
+    return float(value)
 
 
-def _whole(instance, attribute, value) -> None:
-    if value is not None and (isinstance(value, bool) or int(value) != value or value < 1):
-        raise WearInputError(f"[wear] {attribute.name} must be a whole number >= 1, got {value!r}")
+def _whole(value) -> int | None:
+    """None, or a whole number >= 1 (numpy's too; no True, no "3", no 2.5)."""
+    if value is None:
+        return None
+    return whole_number(
+        "[wear] max_jump",
+        value,
+        low=1,
+        fix="give the most cycles of one jump, or None for no bound",
+        error=WearInputError,
+    )
 
 
 def _scheme(instance, attribute, value) -> None:
@@ -83,11 +102,13 @@ class JumpControl:
     """
 
     max_change: float | None = attrs.field(
-        default=None, validator=attrs.validators.optional(_positive)
+        default=None, converter=attrs.Converter(_positive, takes_field=True)
     )
-    relative_change: float = attrs.field(default=0.02, converter=float, validator=_positive)
-    safety: float = attrs.field(default=0.5, converter=float, validator=_positive)
-    max_jump: int | None = attrs.field(default=None, validator=_whole)
+    relative_change: float = attrs.field(
+        default=0.02, converter=attrs.Converter(_positive, takes_field=True)
+    )
+    safety: float = attrs.field(default=0.5, converter=attrs.Converter(_positive, takes_field=True))
+    max_jump: int | None = attrs.field(default=None, converter=_whole)
     stability: bool = attrs.field(default=True, validator=attrs.validators.instance_of(bool))
     scheme: str = attrs.field(default="explicit", validator=_scheme)
 

@@ -10,6 +10,7 @@ name through the ``fretbem.wear_laws`` entry-point group.
 from __future__ import annotations
 
 import math
+import numbers
 from abc import ABC, abstractmethod
 
 import attrs
@@ -34,10 +35,11 @@ class ScarEdgeError(ResultCheckError):
 
 
 def _coefficient(name: str):
-    """Converter to a float coefficient >= 0 (booleans and text refused), naming ``name``."""
+    """Converter to a float coefficient >= 0 (booleans and text refused, numpy scalars taken),
+    naming ``name``."""
 
     def convert(value) -> float:
-        ok = isinstance(value, (int, float)) and not isinstance(value, bool)
+        ok = isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
         if not (ok and math.isfinite(value) and value >= 0):
             raise WearInputError(
                 f"{name} must be a finite number >= 0 (0: the body does not wear), got {value!r}"

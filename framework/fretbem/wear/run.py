@@ -25,6 +25,7 @@ from fretbem.results import SimulationResult
 from fretbem.simulation import LoadStep, Simulation, run
 from fretbem.sliding import solve_sliding
 from fretbem.solvers.newton import SolverConvergenceError
+from fretbem.validators import count_field, whole_number
 
 from .cycle import CycleWear, simulate_cycle
 from .jump import Jump, JumpControl, extrapolate
@@ -40,6 +41,15 @@ __all__ = ["WearResult", "WearSimulation", "WearSnapshot", "run_wear", "worn_sim
 
 def _laws(value) -> dict:
     return dict(value)
+
+
+def _outputs(value) -> tuple[int, ...]:
+    """The snapshot cycles: whole numbers >= 0 (no True, no "100", no 2.5)."""
+    fix = "give the cycle numbers N at which to keep the worn profile, e.g. [1000, 10000]"
+    return tuple(
+        whole_number(f"WearSimulation.outputs[{k}]", n, low=0, fix=fix, error=WearInputError)
+        for k, n in enumerate(value)
+    )
 
 
 @attrs.frozen(eq=False)
@@ -70,10 +80,12 @@ class WearSimulation:
 
     simulation: Simulation
     laws: Mapping[str, WearLaw] = attrs.field(converter=_laws)
-    cycles: int = attrs.field(converter=int)
+    cycles: int = attrs.field(
+        converter=count_field("give the total number of load cycles N", error=WearInputError)
+    )
     cycle: tuple[str, ...] = attrs.field(default=(), converter=tuple)
     control: JumpControl = attrs.field(factory=JumpControl)
-    outputs: tuple[int, ...] = attrs.field(default=(), converter=lambda v: tuple(int(n) for n in v))
+    outputs: tuple[int, ...] = attrs.field(default=(), converter=_outputs)
     sliding: bool = attrs.field(default=False, validator=attrs.validators.instance_of(bool))
 
     def __attrs_post_init__(self) -> None:

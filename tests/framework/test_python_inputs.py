@@ -1,0 +1,184 @@
+"""Every number of the public records a user builds from Python for a run is checked as the
+scene reader checks it: True, "3", NaN, infinity and None (where a number is required) are
+refused with one InputError naming ``Record.field``, its cause and a fix; numpy scalars
+and ints are taken as before (the record stores a plain float or int)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from fretbem import LoadStep, Material, Refinement
+from fretbem.conditions import Displacement, LoadingBlock, Traction
+from fretbem.contact.control import Rig
+from fretbem.contact.law import CoulombFriction
+from fretbem.errors import InputError
+from fretbem.fretting import Waveform
+from fretbem.geometry.shapes import CylinderPad, CylinderSpecimen, FlatSpecimen, RoundedFlatPad
+from fretbem.wear import ArchardWear, EnergyWear
+from fretbem.wear.jump import JumpControl
+from fretbem.wear.run import WearSimulation
+
+#: (record, valid keyword arguments): each builds a valid record
+RECORDS = {
+    "LoadStep": (LoadStep, {"name": "A", "normal": 100.0, "tangential": 5.0}),
+    "LoadStep-delta": (LoadStep, {"name": "A", "normal": None, "approach": 1e-3, "delta": 1e-3}),
+    "LoadStep-rotation": (LoadStep, {"name": "A", "normal": 100.0, "rotation": 1e-4}),
+    "LoadStep-moment": (LoadStep, {"name": "A", "normal": 100.0, "moment": 5.0}),
+    "Waveform": (
+        Waveform,
+        {
+            "amplitude": 1e-3,
+            "normal": 100.0,
+            "normal_amplitude": 10.0,
+            "normal_phase": 90.0,
+            "bulk": 50.0,
+            "bulk_amplitude": 20.0,
+            "bulk_phase": 0.0,
+            "moment": 1.0,
+            "moment_amplitude": 2.0,
+            "moment_phase": 0.0,
+        },
+    ),
+    "Material": (Material, {"E": 73400.0, "nu": 0.33}),
+    "CoulombFriction": (CoulombFriction, {"friction": 0.3}),
+    "ArchardWear": (ArchardWear, {"k": 1e-8}),
+    "EnergyWear": (EnergyWear, {"alpha": 2e-4}),
+    "JumpControl": (
+        JumpControl,
+        {"max_change": 1e-4, "relative_change": 0.05, "safety": 0.5, "max_jump": 100},
+    ),
+    "Rig": (
+        Rig,
+        {"tangential": 1e4, "normal": 1e5, "rotational": 1e6, "pivot_height": 10.0},
+    ),
+    "CylinderPad": (CylinderPad, {"radius": 70.0, "width": 6.5, "height": 16.25}),
+    "RoundedFlatPad": (
+        RoundedFlatPad,
+        {"flat": 2.0, "edge_radius": 5.0, "width": 10.0, "height": 10.0},
+    ),
+    "FlatSpecimen": (FlatSpecimen, {"length": 40.0, "thickness": 13.0}),
+    "CylinderSpecimen": (CylinderSpecimen, {"radius": 70.0, "width": 6.5, "height": 16.25}),
+    "Displacement": (Displacement, {"tag": "bottom", "x": 0.0, "y": 1e-3}),
+    "Traction": (Traction, {"tag": "end", "x": 1.0, "y": 0.0, "load": "bulk"}),
+    "Refinement": (Refinement, {"elements": 8, "degree": 2, "toward": [(0.0, 0.0)], "ratio": 4.0}),
+    "LoadStep-ints": (LoadStep, {"name": "A", "normal": 100.0, "increments": 2, "cycle": 1}),
+    "Waveform-ints": (Waveform, {"amplitude": 1e-3, "normal": 100.0, "cycles": 2}),
+}
+#: the fields where None is a valid value (it then means something)
+NONE_ALLOWED = {
+    ("LoadStep", name) for name in ("normal", "approach", "delta", "moment", "rotation")
+} | {("Rig", "pivot_height"), ("Waveform", "moment"), ("Refinement", "degree")}
+NONE_ALLOWED |= {("JumpControl", "max_change"), ("JumpControl", "max_jump")}
+NONE_ALLOWED |= {(record, axis) for record in ("Displacement", "Traction") for axis in "xy"}
+#: the fields where infinity is valid (a rigid rig)
+INFINITY_ALLOWED = {("Rig", "tangential"), ("Rig", "normal"), ("Rig", "rotational")}
+BAD = {"True": True, "string": "3", "nan": math.nan, "inf": math.inf, "None": None}
+
+
+def _cases():
+    for label, (record, valid) in RECORDS.items():
+        name = record.__name__
+        for field, value in valid.items():
+            if not isinstance(value, (int, float)) or field == "name":
+                continue
+            if label.startswith("LoadStep") and field == "normal" and label != "LoadStep":
+                continue  # the other LoadStep rows carry P only to be valid
+            for bad_label, bad in BAD.items():
+                if bad is None and (name, field) in NONE_ALLOWED:
+                    continue
+                if bad == math.inf and (name, field) in INFINITY_ALLOWED:
+                    continue
+                yield pytest.param(record, valid, field, bad, id=f"{label}.{field}={bad_label}")
+
+
+@pytest.mark.parametrize(("record", "valid", "field", "bad"), list(_cases()))
+def test_a_bad_number_is_refused_naming_the_field(record, valid, field, bad):
+    with pytest.raises(InputError) as error:
+        record(**{**valid, field: bad})
+    message = str(error.value)
+    assert field in message, message
+    assert "\n" not in message
+    # cause and fix: what was given is shown, and a way out is offered
+    shown = "3" if isinstance(bad, str) else repr(bad)
+    assert shown in message, message
+    assert any(word in message for word in ("give", "0: the body does not wear")), message
+
+
+@pytest.mark.parametrize("label", list(RECORDS))
+def test_numpy_scalars_and_ints_are_taken_as_before(label):
+    record, valid = RECORDS[label]
+    plain = record(**valid)
+    as_numpy = {
+        k: (np.int64(v) if isinstance(v, int) else np.float32(v))
+        if isinstance(v, (int, float)) and not isinstance(v, bool)
+        else v
+        for k, v in valid.items()
+    }
+    converted = record(**as_numpy)
+    for field, value in valid.items():
+        if isinstance(value, (int, float)):
+            got, want = getattr(converted, field), getattr(plain, field)
+            assert type(got) is type(want), (field, type(got))
+            assert got == pytest.approx(want, rel=1e-6), field
+            assert not isinstance(got, np.generic), field
+
+
+def test_whole_numbers_as_integral_floats_still_count():
+    step = LoadStep("A", 100, 0, 2.0, cycle=np.int32(3))
+    assert (step.increments, step.cycle, step.normal, step.tangential) == (2, 3, 100.0, 0.0)
+    assert type(step.increments) is int and type(step.normal) is float
+    with pytest.raises(
+        InputError, match=r"LoadStep\.increments must be a whole number >= 1, got 2\.5"
+    ):
+        LoadStep("A", 100.0, increments=2.5)
+    with pytest.raises(InputError, match=r"Refinement\.elements must be a whole number >= 1"):
+        Refinement(elements=True)
+
+
+@pytest.mark.parametrize(
+    ("build", "message"),
+    [
+        (lambda: LoadStep("A", 100.0, loads={"bulk": "150"}), r"loads\['bulk'\] must be a number"),
+        (lambda: LoadStep("A", 100.0, loads={"bulk": True}), r"loads\['bulk'\] must be a number"),
+        (lambda: LoadStep("A", 100.0, loads={"bulk": math.nan}), r"LoadStep\.loads must be finite"),
+        (lambda: LoadStep("A", 100.0, loads=None), r"LoadStep\.loads must be a mapping"),
+        (lambda: Material(73400.0, 0.3, plane_stress="no"), r"plane_stress must be True or False"),
+        (lambda: Material(73400.0, 0.3, plane_stress=1), r"plane_stress must be True or False"),
+        (lambda: LoadingBlock("top", (0.0, "3")), r"LoadingBlock\.force Fy must be a number"),
+        (lambda: LoadingBlock("top", (True, 0.0)), r"LoadingBlock\.force Fx must be a number"),
+        (lambda: LoadingBlock("top", (0.0, math.nan)), r"LoadingBlock\.force Fy must be finite"),
+        (lambda: LoadingBlock("top", (0.0, 1.0, 2.0)), r"LoadingBlock\.force must be a pair"),
+        (lambda: Waveform(1e-3, 100.0, cycles=True), r"Waveform\.cycles must be a whole number"),
+        (lambda: Waveform(1e-3, 100.0, increments="40"), r"Waveform\.increments must be a whole"),
+        (lambda: Refinement(4, degree="2"), r"Refinement\.degree must be a whole number >= 1"),
+        # the counts are converted before the simulation is looked at
+        (lambda: WearSimulation(None, {}, True), r"WearSimulation\.cycles must be a whole"),
+        (lambda: WearSimulation(None, {}, "1000"), r"WearSimulation\.cycles must be a whole"),
+        (lambda: WearSimulation(None, {}, 10, outputs=[2.5]), r"outputs\[0\] must be a whole"),
+        (lambda: CoulombFriction(-0.1), r"CoulombFriction\.friction must be >= 0, got -0\.1"),
+        (lambda: Material(73400.0, 0.5), r"Material\.nu: Poisson's ratio nu must lie in"),
+    ],
+)  # fmt: skip
+def test_other_bad_inputs_are_named(build, message):
+    with pytest.raises(InputError, match=message) as error:
+        build()
+    assert "; give" in str(error.value) or "mapping" in str(error.value)
+
+
+def test_valid_records_keep_their_values():
+    """No valid input changes: the stored values are what float()/int() gave before."""
+    assert LoadingBlock("top", np.array([0, -100])).force == (0.0, -100.0)
+    assert Displacement("bottom", x=np.float32(0.5), y=None).x == np.float32(0.5)
+    assert Traction("end", x=lambda p: p[:, 0]).y == 0.0
+    assert Material(73400, 0, np.bool_(True)).plane_stress is True
+    assert CoulombFriction(0).friction == 0.0
+    assert Refinement(np.int64(3), degree=np.int64(2)).degree == 2
+    # a 0-d array (what some numpy reductions give) is its number, as float() took it
+    step = LoadStep("A", np.array(100.0), np.array(5), np.array(2))
+    assert (step.normal, step.tangential, step.increments) == (100.0, 5.0, 2)
+    assert type(step.normal) is float and type(step.increments) is int
+    with pytest.raises(InputError, match=r"LoadStep\.tangential must be a number"):
+        LoadStep("A", 100.0, np.array([1.0, 2.0]))
