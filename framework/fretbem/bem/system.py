@@ -275,20 +275,29 @@ class _Band:
         rows, cols = np.nonzero(matrix)
         self.lower = int(max(np.max(rows - cols, initial=0), 0))
         self.upper = int(max(np.max(cols - rows, initial=0), 0))
+        #: E[i, i + d] at index i for every diagonal d (0 where i + d is outside)
+        self.diagonals = {}
+        for d in range(-self.lower, self.upper + 1):
+            diagonal = np.zeros(self.size)
+            diagonal[max(-d, 0) : self.size - max(d, 0)] = np.diagonal(matrix, d)
+            self.diagonals[d] = diagonal
 
     def left(self, x: np.ndarray) -> np.ndarray:
-        """E @ x along the first axis, diagonal by diagonal, in column blocks (the products'
-        temporaries stay small)."""
+        """E @ x along the first axis, tile by tile: each tile of the product takes its few
+        diagonals while it stays in cache (whole columns per diagonal went to memory once per
+        diagonal: 0.69 s against 0.13 s at 2,881 pairs); the terms of a row are summed in
+        diagonal order, as before, so the sums are the same."""
         n = self.size
         shape, x = x.shape, x.reshape(n, -1)
         out = np.zeros(x.shape)
-        for block in _chunks(x.shape[1]):
-            for d in range(-self.lower, self.upper + 1):  # E[i, i + d]
-                diagonal = np.diagonal(self.matrix, d)[:, None]
-                if d >= 0:
-                    out[: n - d, block] += diagonal * x[d:, block]
-                else:
-                    out[-d:, block] += diagonal * x[: n + d, block]
+        for columns in _chunks(x.shape[1], 4096):
+            for rows in _chunks(n, 32):
+                for d in range(-self.lower, self.upper + 1):  # out[i] += E[i, i + d] x[i + d]
+                    lo, hi = max(rows.start, -d), min(rows.stop, n - d)
+                    if lo < hi:
+                        out[lo:hi, columns] += (
+                            self.diagonals[d][lo:hi, None] * x[lo + d : hi + d, columns]
+                        )
         return out.reshape(shape)
 
     def solve_transposed(self, rhs: np.ndarray) -> np.ndarray:
