@@ -310,7 +310,23 @@ class _Band:
                 bands[upper - d, d:] = diagonal
             else:
                 bands[upper - d, : self.size + d] = diagonal
-        return sla.solve_banded((lower, upper), bands, rhs, overwrite_b=True, check_finite=False)
+        if lower == upper == 1 or self.size == 1 or rhs.ndim != 2 or not rhs.flags.f_contiguous:
+            return sla.solve_banded(
+                (lower, upper), bands, rhs, overwrite_b=True, check_finite=False
+            )
+        # solve_banded's own gbsv (= gbtrf, then gbtrs on every column), with the columns
+        # taken a chunk at a time so that each chunk stays in cache (1.41 -> 1.05 s for
+        # 15,364 columns at 3,841 pairs); each column's arithmetic is the same
+        factor = np.zeros((2 * lower + upper + 1, self.size), order="F")
+        factor[lower:] = bands
+        lu, pivots, info = sla.lapack.dgbtrf(factor, lower, upper, overwrite_ab=True)
+        if info < 0:  # pragma: no cover - LAPACK argument error
+            raise ValueError(f"dgbtrf: illegal argument {-info}")
+        if info > 0:
+            raise np.linalg.LinAlgError("the face's collocation matrix E is singular")
+        for chunk in _chunks(rhs.shape[1], 32):
+            rhs[:, chunk], info = sla.lapack.dgbtrs(lu, lower, upper, rhs[:, chunk], pivots)
+        return rhs
 
 
 @attrs.frozen(eq=False)
