@@ -106,6 +106,21 @@ def _solve_parameters(h, g, kinds, known, load_known, solves_u, block_dofs, cont
     A is factorised with row pivoting, not as A^T (which moved the 961-pair unknowns by
     1.4e-9: the condensed problem amplifies round-off). The LU is not kept (NaN if singular).
     """
+    matrix, parameters = collocation_system(
+        h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs
+    )
+    lu, piv, info = sla.lapack.dgetrf(matrix, overwrite_a=True)  # A = P L U
+    del matrix
+    if info != 0:
+        return np.full(parameters.shape, np.nan)
+    out, info = sla.lapack.dgetrs(lu, piv, parameters, overwrite_b=True)
+    return out if info == 0 else np.full(parameters.shape, np.nan)
+
+
+def collocation_system(h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs):
+    """The collocation matrix A (H with the columns of traction unknowns from -G) and the
+    parameter columns [z0 rhs, block columns, contact columns, load columns], both F-ordered
+    (benchmarks/dense_floor.py times their solve in other precisions)."""
     size = len(kinds)
     fixed_u, fixed_t = kinds == DISPLACEMENT, kinds == TRACTION
     k = load_known.shape[0]
@@ -123,12 +138,7 @@ def _solve_parameters(h, g, kinds, known, load_known, solves_u, block_dofs, cont
     matrix = _fortran_copy(h)
     solves_t = np.flatnonzero(~solves_u)
     matrix[:, solves_t] = -g[:, solves_t]
-    lu, piv, info = sla.lapack.dgetrf(matrix, overwrite_a=True)  # A = P L U
-    del matrix
-    if info != 0:
-        return np.full(parameters.shape, np.nan)
-    out, info = sla.lapack.dgetrs(lu, piv, parameters, overwrite_b=True)
-    return out if info == 0 else np.full(parameters.shape, np.nan)
+    return matrix, parameters
 
 
 def _fortran_copy(matrix: np.ndarray, tile: int = 512) -> np.ndarray:
