@@ -133,8 +133,13 @@ class BemBody(Body):
 
     @property
     def offsets(self) -> np.ndarray:
-        """First global function index of each segment, and the total at the end."""
-        return offsets(self.segments)
+        """First global function index of each segment, and the total at the end (computed
+        once: the contact response asks for it per segment, 22 times per call)."""
+        if "offsets" not in self._cache:
+            first = offsets(self.segments)
+            first.flags.writeable = False
+            self._cache["offsets"] = first
+        return self._cache["offsets"]
 
     @property
     def n_functions(self) -> int:
