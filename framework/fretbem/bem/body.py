@@ -41,19 +41,35 @@ def discretised(family: type[Basis], segment, refinement: Refinement) -> Basis:
 
 #: int phi_a dGamma per discretised segment (weak keys: shared by bodies that share it)
 _WEIGHTS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+#: each discretised segment's functions sampled on 8-point Gauss rules per element (weak
+#: keys): the resultant and the moment weights integrate them, and the adaptive mode's levels
+#: keep every segment but the contact face, so a level samples only its new face
+_SAMPLES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _segment_samples(basis: Basis) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Function indices (points, p+1), points (points, 2), values (points, p+1) and
+    quadrature weights with the Jacobian (points,) of one segment's 8-point Gauss rules."""
+    if basis not in _SAMPLES:
+        rule = QuadratureRule.gauss_legendre(8)
+        elements = np.repeat(np.arange(basis.n_elements), rule.points.size)
+        local = np.tile(rule.points, basis.n_elements)
+        points, _, jac, _ = basis.geometry(elements, local)
+        values, _ = basis.shape_functions(elements, local)
+        weights = jac * np.tile(rule.weights, basis.n_elements)
+        samples = (basis.connectivity[elements], points, values, weights)
+        for array in samples:
+            array.flags.writeable = False
+        _SAMPLES[basis] = samples
+    return _SAMPLES[basis]
 
 
 def _segment_weights(basis: Basis) -> np.ndarray:
     """int phi_a dGamma for the functions of one discretised segment (8-point Gauss)."""
     if basis not in _WEIGHTS:
-        rule = QuadratureRule.gauss_legendre(8)
+        functions, _, values, weights = _segment_samples(basis)
         out = np.zeros(basis.n_functions)
-        elements = np.repeat(np.arange(basis.n_elements), rule.points.size)
-        local = np.tile(rule.points, basis.n_elements)
-        _, _, jac, _ = basis.geometry(elements, local)
-        values, _ = basis.shape_functions(elements, local)
-        weights = jac * np.tile(rule.weights, basis.n_elements)
-        np.add.at(out, basis.connectivity[elements], values * weights[:, None])
+        np.add.at(out, functions, values * weights[:, None])
         out.flags.writeable = False
         _WEIGHTS[basis] = out
     return _WEIGHTS[basis]
@@ -117,8 +133,13 @@ class BemBody(Body):
 
     @property
     def offsets(self) -> np.ndarray:
-        """First global function index of each segment, and the total at the end."""
-        return offsets(self.segments)
+        """First global function index of each segment, and the total at the end (computed
+        once: the contact response asks for it per segment, 22 times per call)."""
+        if "offsets" not in self._cache:
+            first = offsets(self.segments)
+            first.flags.writeable = False
+            self._cache["offsets"] = first
+        return self._cache["offsets"]
 
     @property
     def n_functions(self) -> int:
@@ -167,19 +188,14 @@ class BemBody(Body):
     def moment_weights(self, centre) -> np.ndarray:
         """int phi_a (x - cx) dGamma and int phi_a (y - cy) dGamma for every function (N, 2):
         traction coefficients to their moment about ``centre``."""
-        rule = QuadratureRule.gauss_legendre(8)
         centre = np.asarray(centre, float)
         out = np.zeros((self.n_functions, 2))
         for k, basis in enumerate(self.segments):
-            elements = np.repeat(np.arange(basis.n_elements), rule.points.size)
-            local = np.tile(rule.points, basis.n_elements)
-            points, _, jac, _ = basis.geometry(elements, local)
-            values, _ = basis.shape_functions(elements, local)
-            weights = jac * np.tile(rule.weights, basis.n_elements)
+            functions, points, values, weights = _segment_samples(basis)
             for j in range(2):
                 np.add.at(
                     out[:, j],
-                    self.offsets[k] + basis.connectivity[elements],
+                    self.offsets[k] + functions,
                     values * ((points[:, j] - centre[j]) * weights)[:, None],
                 )
         return out

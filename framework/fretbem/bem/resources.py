@@ -22,7 +22,9 @@ from fretbem.errors import ResourceLimitError
 #: and the condensed maps (H and G are released once a body's contact system is built).
 #: Fitted with BYTES_PER_DOF to the peak RSS of benchmarks/large_problems.py (the growth over
 #: the imports: 174 MiB at 2236 DOFs, 340 at 4156, 1030 at 7996: 16.9 bytes per dofs^2 at
-#: the largest); the estimate is within 0.9-1.15x of those peaks.
+#: the largest); the estimate is within 0.9-1.15x of those peaks. At 15,676 DOFs (3,841
+#: pairs) the peak is 3,335 MiB since the condensation stopped copying the face's response
+#: (3,791 before): the estimate, 4,149 MiB, is 1.24x it, kept for its margin at small sizes.
 BYTES_PER_DOF2 = 16
 #: bytes per DOF: the assembly's and the steps' transients that grow with the boundary
 BYTES_PER_DOF = 20_000

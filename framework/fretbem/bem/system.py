@@ -106,6 +106,21 @@ def _solve_parameters(h, g, kinds, known, load_known, solves_u, block_dofs, cont
     A is factorised with row pivoting, not as A^T (which moved the 961-pair unknowns by
     1.4e-9: the condensed problem amplifies round-off). The LU is not kept (NaN if singular).
     """
+    matrix, parameters = collocation_system(
+        h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs
+    )
+    lu, piv, info = sla.lapack.dgetrf(matrix, overwrite_a=True)  # A = P L U
+    del matrix
+    if info != 0:
+        return np.full(parameters.shape, np.nan)
+    out, info = sla.lapack.dgetrs(lu, piv, parameters, overwrite_b=True)
+    return out if info == 0 else np.full(parameters.shape, np.nan)
+
+
+def collocation_system(h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs):
+    """The collocation matrix A (H with the columns of traction unknowns from -G) and the
+    parameter columns [z0 rhs, block columns, contact columns, load columns], both F-ordered
+    (benchmarks/dense_floor.py times their solve in other precisions)."""
     size = len(kinds)
     fixed_u, fixed_t = kinds == DISPLACEMENT, kinds == TRACTION
     k = load_known.shape[0]
@@ -123,12 +138,7 @@ def _solve_parameters(h, g, kinds, known, load_known, solves_u, block_dofs, cont
     matrix = _fortran_copy(h)
     solves_t = np.flatnonzero(~solves_u)
     matrix[:, solves_t] = -g[:, solves_t]
-    lu, piv, info = sla.lapack.dgetrf(matrix, overwrite_a=True)  # A = P L U
-    del matrix
-    if info != 0:
-        return np.full(parameters.shape, np.nan)
-    out, info = sla.lapack.dgetrs(lu, piv, parameters, overwrite_b=True)
-    return out if info == 0 else np.full(parameters.shape, np.nan)
+    return matrix, parameters
 
 
 def _fortran_copy(matrix: np.ndarray, tile: int = 512) -> np.ndarray:
@@ -146,13 +156,18 @@ def _fortran_copy(matrix: np.ndarray, tile: int = 512) -> np.ndarray:
 
 
 def face_rows(body: Body, tag: str) -> tuple[np.ndarray, np.ndarray]:
-    """Collocation rows and global function indices of the segments tagged ``tag``."""
-    segments = sorted(body._indices(tag, "the contact pair"))
-    rows = np.flatnonzero(np.isin(body.collocation.segment, segments))
-    functions = np.concatenate(
-        [np.arange(*body.function_slice(k).indices(body.n_functions)) for k in segments]
-    )
-    return rows, functions
+    """Collocation rows and global function indices of the segments tagged ``tag`` (kept
+    in the body's cache, read-only: the contact response asks for them four times)."""
+    key = ("face rows", tag)
+    if key not in body._cache:
+        segments = sorted(body._indices(tag, "the contact pair"))
+        rows = np.flatnonzero(np.isin(body.collocation.segment, segments))
+        functions = np.concatenate(
+            [np.arange(*body.function_slice(k).indices(body.n_functions)) for k in segments]
+        )
+        rows.flags.writeable = functions.flags.writeable = False
+        body._cache[key] = rows, functions
+    return body._cache[key]
 
 
 def face_values_matrix(body: Body, tag: str) -> np.ndarray:
@@ -279,12 +294,20 @@ class _Band:
         rows, cols = np.nonzero(matrix)
         self.lower = int(max(np.max(rows - cols, initial=0), 0))
         self.upper = int(max(np.max(cols - rows, initial=0), 0))
+        #: E[i, i + d] at index i for every diagonal d (0 where i + d is outside)
+        self.diagonals = {}
+        for d in range(-self.lower, self.upper + 1):
+            diagonal = np.zeros(self.size)
+            diagonal[max(-d, 0) : self.size - max(d, 0)] = np.diagonal(matrix, d)
+            self.diagonals[d] = diagonal
+        self._factor = None
 
     def left(self, x: np.ndarray) -> np.ndarray:
-        """E @ x along the first axis: diagonal by diagonal in column blocks (the products'
-        temporaries stay small), or for a face of more than :data:`SPARSE_LEFT_MIN` nodes as
+        """E @ x along the first axis: for a face of more than :data:`SPARSE_LEFT_MIN` nodes as
         one sparse product, a single pass over x (7x faster at 481 pairs, and worth loading
-        scipy.sparse, about 10 ms, which the run path does not otherwise)."""
+        scipy.sparse, about 10 ms, which the run path does not otherwise); below, tile by tile,
+        each tile of the product taking its few diagonals while it stays in cache, the terms
+        of a row summed in diagonal order."""
         n = self.size
         shape, x = x.shape, x.reshape(n, -1)
         if n > SPARSE_LEFT_MIN:
@@ -292,18 +315,46 @@ class _Band:
 
             return (sparse.csr_array(self.matrix) @ x).reshape(shape)
         out = np.zeros(x.shape)
-        for block in _chunks(x.shape[1]):
-            for d in range(-self.lower, self.upper + 1):  # E[i, i + d]
-                diagonal = np.diagonal(self.matrix, d)[:, None]
-                if d >= 0:
-                    out[: n - d, block] += diagonal * x[d:, block]
-                else:
-                    out[-d:, block] += diagonal * x[: n + d, block]
+        for columns in _chunks(x.shape[1], 4096):
+            tile = max(32, 2**15 // max(columns.stop - columns.start, 1))  # 256 kB and more
+            for rows in _chunks(n, tile):
+                for d in range(-self.lower, self.upper + 1):  # out[i] += E[i, i + d] x[i + d]
+                    lo, hi = max(rows.start, -d), min(rows.stop, n - d)
+                    if lo < hi:
+                        out[lo:hi, columns] += (
+                            self.diagonals[d][lo:hi, None] * x[lo + d : hi + d, columns]
+                        )
         return out.reshape(shape)
 
     def solve_transposed(self, rhs: np.ndarray) -> np.ndarray:
-        """E^-T rhs for rhs (n, cols), in place when rhs is F-ordered."""
+        """E^-T rhs for rhs (n, cols), in place when rhs is F-ordered.
+
+        ``scipy.linalg.solve_banded``'s own arithmetic (gbsv: gbtrf, then gbtrs on every
+        column; gtsv for a tridiagonal E), with E^T factorised once for every solve and the
+        columns taken 32 at a time so that each chunk stays in cache (1.41 -> 1.05 s for
+        15,364 columns at 3,841 pairs); each column's arithmetic is the same.
+        """
         lower, upper = self.upper, self.lower  # bandwidths of E^T
+        bands = self._transposed_bands()
+        if lower == upper == 1 or self.size == 1 or rhs.ndim != 2 or not rhs.flags.f_contiguous:
+            return sla.solve_banded(
+                (lower, upper), bands, rhs, overwrite_b=True, check_finite=False
+            )
+        if self._factor is None:
+            factor = np.zeros((2 * lower + upper + 1, self.size), order="F")
+            factor[lower:] = bands
+            lu, pivots, info = sla.lapack.dgbtrf(factor, lower, upper, overwrite_ab=True)
+            if info != 0:
+                raise np.linalg.LinAlgError("the face's collocation matrix E is singular")
+            self._factor = lu, pivots
+        lu, pivots = self._factor
+        for chunk in _chunks(rhs.shape[1], 32):
+            rhs[:, chunk], _ = sla.lapack.dgbtrs(lu, lower, upper, rhs[:, chunk], pivots)
+        return rhs
+
+    def _transposed_bands(self) -> np.ndarray:
+        """E^T in LAPACK's band storage (``solve_banded``'s ``ab``)."""
+        lower, upper = self.upper, self.lower
         bands = np.zeros((lower + upper + 1, self.size))
         for d in range(-lower, upper + 1):  # E^T[i, i + d] = E[i + d, i] into row upper - d
             diagonal = np.diagonal(self.matrix, -d)
@@ -311,7 +362,7 @@ class _Band:
                 bands[upper - d, d:] = diagonal
             else:
                 bands[upper - d, : self.size + d] = diagonal
-        return sla.solve_banded((lower, upper), bands, rhs, overwrite_b=True, check_finite=False)
+        return bands
 
 
 @attrs.frozen(eq=False)

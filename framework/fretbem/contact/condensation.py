@@ -133,14 +133,15 @@ class CondensedContact:
             relative_base += sign * pairing.to_frame(label, pairing.gather(label, response.base))
             face_nodes = response.n_nodes
             # pair-point rows first, projected on the pair frame, then the traction columns
-            gathered = pairing.gather(label, response.traction_map)  # (n, 2, 2 face nodes)
+            gathered = _gather(pairing, label, response.traction_map)  # (n, 2, 2 face nodes)
+            projected, term = np.empty((n, 2 * face_nodes)), np.empty((n, 2 * face_nodes))
             directions = ((normal_map, body_normals), (tangential_map, body_tangents))
             for target, direction in directions:
-                projected = (sign * direction[:, 0, None]) * gathered[:, 0]
-                projected += (sign * direction[:, 1, None]) * gathered[:, 1]
-                columns = pairing.pull(label, projected.reshape(n, face_nodes, 2), axis=1)
+                np.multiply(sign * direction[:, 0, None], gathered[:, 0], out=projected)
+                projected += np.multiply(sign * direction[:, 1, None], gathered[:, 1], out=term)
+                columns = _gather(pairing, label, projected.reshape(n, face_nodes, 2), 1, pull=True)
                 _per_pair(columns, frame, add_to=target[:, layout.tractions])
-            del gathered
+            del gathered, projected, term
             relative_load[:, :, load_columns] += sign * pairing.to_frame(
                 label, pairing.gather(label, response.load_map), axis=1
             )
@@ -251,6 +252,20 @@ class CondensedContact:
         centre = body.contact_response(self.pair.side(pad_rotation.PAD)[1]).rotation.centre
         offset = centre - self.rotation.centre
         return np.asarray(block, float) + theta * np.array([-offset[1], offset[0]]), theta
+
+
+def _gather(pairing: Pairing, side: str, values: np.ndarray, axis: int = 0, pull=False):
+    """``pairing.gather`` (``pull`` if asked), as a view where the pairs take the face nodes
+    one each, in order or in reverse order (node to node: no copy of a face-sized operator)."""
+    if side in pairing.interpolation or side in pairing.transfer:
+        return (pairing.pull if pull else pairing.gather)(side, values, axis)
+    nodes = pairing.nodes(side)
+    size = values.shape[axis]
+    if nodes.size == size and size:
+        step = 1 if nodes[0] == 0 else -1
+        if np.array_equal(nodes, np.arange(size)[::step]):
+            return values[(slice(None),) * axis + (slice(None, None, step),)]
+    return pairing.gather(side, values, axis)
 
 
 def _per_pair(operator: np.ndarray, frame: np.ndarray, add_to: np.ndarray | None = None):
