@@ -140,7 +140,9 @@ class Boundary:
     def __attrs_post_init__(self) -> None:
         if not self.segments:
             raise BoundaryError("a boundary needs at least one segment")
-        ends = [(s.curve.points([0.0])[0], s.curve.points([1.0])[0]) for s in self.segments]
+        # one evaluation per segment serves every check: its samples include both ends
+        polylines = [_samples(s.curve, 64) for s in self.segments]
+        ends = [(line[0], line[-1]) for line in polylines]
         extent = np.concatenate([s.curve.control_points for s in self.segments])
         size = max(np.ptp(extent, axis=0).max(), 1e-300)
         for k, seg in enumerate(self.segments):
@@ -157,7 +159,6 @@ class Boundary:
                     f"the next segment ({nxt.tag!r}) starts at {ends[(k + 1) % len(ends)][0]} "
                     f"(gap {gap:.3g}); list the segments in order of travel, end to start"
                 )
-        polylines = [_samples(s.curve, 64) for s in self.segments]
         crossing = _crossings(polylines)
         if crossing is not None:
             i, j = crossing

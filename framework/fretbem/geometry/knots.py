@@ -42,9 +42,11 @@ def check(knots: np.ndarray, degree: int, n_control_points: int) -> None:
             f"knot vector must be open (first and last knots repeated degree + 1 = {degree + 1} "
             f"times) so the curve starts and ends at its end control points; got {knots!r}"
         )
-    interior, counts = np.unique(knots[degree + 1 : -degree - 1], return_counts=True)
-    if np.any(counts > degree):
-        bad = interior[counts > degree][0]
+    # sorted now: a knot repeated more than p times equals the knot p places on
+    interior = knots[degree + 1 : -degree - 1]
+    repeated = interior[degree:] == interior[:-degree]
+    if repeated.any():
+        bad = interior[degree:][repeated][0]
         raise KnotVectorError(
             f"interior knot {bad} is repeated more than degree = {degree} times, which makes the "
             "curve discontinuous; split it into two segments instead"

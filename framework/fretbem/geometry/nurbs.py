@@ -297,6 +297,8 @@ class NurbsCurve:
     def reparametrised(self, domain: tuple[float, float] = (0.0, 1.0)) -> NurbsCurve:
         """The same curve with its knots mapped linearly onto ``domain``."""
         lo, hi = self.domain
+        if (lo, hi) == (domain[0], domain[1]):  # the map is the identity: the curve itself
+            return self
         knots = domain[0] + (self.knots - lo) * (domain[1] - domain[0]) / (hi - lo)
         return attrs.evolve(self, knots=knots)
 
