@@ -82,16 +82,18 @@ def rational_basis(
 DENSE_REFINE_MAX = 400
 
 
-def _collocation_matrix(knots: np.ndarray, degree: int, sites: np.ndarray, *, dense=False):
-    """Matrix of all B-spline functions at ``sites`` (rows) for refinement: CSC or dense.
+def _collocation_matrix(basis: tuple, sites: int, n_functions: int, *, dense=False):
+    """Matrix of all B-spline functions at the first ``sites`` points of ``basis`` (the
+    ``bspline_basis`` triple) for refinement: CSC or dense.
 
     Each row has degree + 1 non-zeros, so refining to n control points costs O(n p^2)
     memory and time instead of the O(n^2) / O(n^3) of a dense interpolation solve.
     """
-    values, _, first = bspline_basis(knots, degree, sites)
-    rows = np.repeat(np.arange(len(sites)), degree + 1)
-    cols = (first[:, None] + np.arange(degree + 1)).ravel()
-    shape = (len(sites), knots.size - degree - 1)
+    values, first = basis[0][:sites], basis[2][:sites]
+    local = values.shape[1]
+    rows = np.repeat(np.arange(sites), local)
+    cols = (first[:, None] + np.arange(local)).ravel()
+    shape = (sites, n_functions)
     if dense:
         matrix = np.zeros(shape)
         np.add.at(matrix, (rows, cols), values.ravel())
@@ -99,6 +101,14 @@ def _collocation_matrix(knots: np.ndarray, degree: int, sites: np.ndarray, *, de
     from scipy import sparse
 
     return sparse.csc_array((values.ravel(), (rows, cols)), shape=shape)
+
+
+def _curve_points(basis: tuple, homogeneous: np.ndarray) -> np.ndarray:
+    """Curve points at the points of ``basis`` (the ``bspline_basis`` triple) from the
+    homogeneous control points (w x, w y, w)."""
+    values, _, first = basis
+    hom = np.einsum("ma,mak->mk", values, homogeneous[first[:, None] + np.arange(values.shape[1])])
+    return hom[:, :2] / hom[:, 2:]
 
 
 @attrs.frozen(eq=False)
@@ -246,9 +256,16 @@ class NurbsCurve:
                 f"({self.degree} -> {degree})"
             )
         sites = kv.greville(new_knots, degree)
+        # check away from the interpolation sites too: midpoints of every span of both vectors
+        breaks = np.union1d(kv.breakpoints(new_knots), kv.breakpoints(self.knots))
+        probes = np.concatenate([sites, 0.5 * (breaks[1:] + breaks[:-1])])
+        # one basis evaluation per knot vector serves the solve (its first rows, the sites)
+        # and the check (all rows); the functions at a point do not depend on the others
+        new_basis = bspline_basis(new_knots, degree, probes)
+        old_basis = bspline_basis(self.knots, self.degree, probes)
         dense = sites.size <= DENSE_REFINE_MAX
-        new_matrix = _collocation_matrix(new_knots, degree, sites, dense=dense)
-        old_matrix = _collocation_matrix(self.knots, self.degree, sites, dense=True)
+        new_matrix = _collocation_matrix(new_basis, sites.size, sites.size, dense=dense)
+        old_matrix = _collocation_matrix(old_basis, sites.size, self.n_control_points, dense=True)
         try:  # banded (Schoenberg-Whitney): a sparse LU is linear in the control points
             if dense:
                 transform = np.linalg.solve(new_matrix, old_matrix)
@@ -263,12 +280,11 @@ class NurbsCurve:
                 "knots closer than round-off make the refined space degenerate; merge them"
             )
         transform[np.abs(transform) < 1e-14] = 0.0
-        hom = transform @ self._homogeneous()
+        old_hom = self._homogeneous()
+        hom = transform @ old_hom
         refined = NurbsCurve(degree, new_knots, hom[:, :2] / hom[:, 2:], hom[:, 2])
-        # check away from the interpolation sites: midpoints of every span of both vectors
-        breaks = np.union1d(kv.breakpoints(new_knots), kv.breakpoints(self.knots))
-        probes = np.concatenate([sites, 0.5 * (breaks[1:] + breaks[:-1])])
-        mismatch = np.max(np.abs(refined.points(probes) - self.points(probes)))
+        new_points = _curve_points(new_basis, refined._homogeneous())
+        mismatch = np.max(np.abs(new_points - _curve_points(old_basis, old_hom)))
         size = np.ptp(self.control_points, axis=0).max()
         if mismatch > 1e-9 * max(size, 1.0):
             raise ValueError(
