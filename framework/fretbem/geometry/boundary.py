@@ -7,7 +7,7 @@ import numpy as np
 
 from fretbem.errors import InputError
 
-from .nurbs import NurbsCurve
+from .nurbs import NurbsCurve, sample_points
 
 
 class BoundaryError(InputError):
@@ -42,10 +42,6 @@ class Segment:
         if key not in self._discretised:
             self._discretised[key] = family.discretise(self.curve, refinement)
         return self._discretised[key]
-
-
-def _samples(curve: NurbsCurve, count: int) -> np.ndarray:
-    return curve.points(np.linspace(0.0, 1.0, count))
 
 
 def _edges(polylines: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
@@ -141,7 +137,7 @@ class Boundary:
         if not self.segments:
             raise BoundaryError("a boundary needs at least one segment")
         # one evaluation per segment serves every check: its samples include both ends
-        polylines = [_samples(s.curve, 64) for s in self.segments]
+        polylines = sample_points([s.curve for s in self.segments], np.linspace(0.0, 1.0, 64))
         ends = [(line[0], line[-1]) for line in polylines]
         extent = np.concatenate([s.curve.control_points for s in self.segments])
         size = max(np.ptp(extent, axis=0).max(), 1e-300)

@@ -111,6 +111,20 @@ def _curve_points(basis: tuple, homogeneous: np.ndarray) -> np.ndarray:
     return hom[:, :2] / hom[:, 2:]
 
 
+def sample_points(curves, xi: np.ndarray) -> list[np.ndarray]:
+    """Points of each curve at the same parameters ``xi``, shape (m, 2) each: curves on the
+    same knot vector (a shape's arcs, its lines) share one basis evaluation."""
+    xi = np.asarray(xi, dtype=float)
+    bases: dict = {}
+    out = []
+    for curve in curves:
+        key = (curve.degree, curve.knots.tobytes())
+        if key not in bases:
+            bases[key] = bspline_basis(curve.knots, curve.degree, xi)
+        out.append(_curve_points(bases[key], curve._homogeneous()))
+    return out
+
+
 @attrs.frozen(eq=False)
 class NurbsCurve:
     """A planar NURBS curve on an open knot vector.
