@@ -30,7 +30,7 @@ def bspline_basis(
     xi = np.minimum(np.maximum(xi, knots[0]), knots[-1])  # np.clip's result, 3x faster
     n = knots.size - degree - 1
     if span is None:
-        span = np.clip(np.searchsorted(knots, xi, side="right") - 1, degree, n - 1)
+        span = np.minimum(np.maximum(np.searchsorted(knots, xi, side="right") - 1, degree), n - 1)
     # knots span + 1 - p .. span + p, one row each: the recursion's and the derivatives'
     window = knots[np.arange(1 - degree, degree + 1)[:, None] + span]
     left = [None] + [xi - window[degree - j] for j in range(1, degree + 1)]
@@ -215,7 +215,11 @@ class NurbsCurve:
         return len(self.control_points)
 
     def _homogeneous(self) -> np.ndarray:
-        return np.column_stack([self.control_points * self.weights[:, None], self.weights])
+        """Control points in homogeneous form (w x, w y, w), shape (n, 3)."""
+        out = np.empty((len(self.weights), 3))
+        np.multiply(self.control_points, self.weights[:, None], out=out[:, :2])
+        out[:, 2] = self.weights
+        return out
 
     def _homogeneous_at(self, xi):
         """Homogeneous point (w x, w y, w) and its derivative at ``xi``, each (m, 3)."""
@@ -271,7 +275,7 @@ class NurbsCurve:
             )
         sites = kv.greville(new_knots, degree)
         # check away from the interpolation sites too: midpoints of every span of both vectors
-        breaks = np.union1d(kv.breakpoints(new_knots), kv.breakpoints(self.knots))
+        breaks = kv.breakpoints(np.concatenate([new_knots, self.knots]))
         probes = np.concatenate([sites, 0.5 * (breaks[1:] + breaks[:-1])])
         # one basis evaluation per knot vector serves the solve (its first rows, the sites)
         # and the check (all rows); the functions at a point do not depend on the others
