@@ -113,8 +113,8 @@ def main() -> None:
         if key == "peer":
             continue
         shown = "  ".join(
-            f"{name} {result[name][key] * 1e3:6.2f} ms ({result[name][key] / result[name]['peer']:.1f}x"
-            " the peer's cycle)"
+            f"{name} {result[name][key] * 1e3:6.2f} ms "
+            f"({result[name][key] / result[name]['peer']:.1f}x the peer's cycle)"
             for name in trees
         )
         ratio = (
