@@ -37,7 +37,8 @@ def check(knots: np.ndarray, degree: int, n_control_points: int) -> None:
         )
     if knots[-1] <= knots[0]:
         raise KnotVectorError("knot vector spans an empty parameter interval; knots must increase")
-    if np.any(knots[: degree + 1] != knots[0]) or np.any(knots[-degree - 1 :] != knots[-1]):
+    # non-decreasing: the first p + 1 knots are equal when the (p + 1)-th is the first
+    if knots[degree] != knots[0] or knots[-degree - 1] != knots[-1]:
         raise KnotVectorError(
             f"knot vector must be open (first and last knots repeated degree + 1 = {degree + 1} "
             f"times) so the curve starts and ends at its end control points; got {knots!r}"

@@ -167,9 +167,8 @@ class NurbsCurve:
         """Straight segment from ``start`` to ``end`` (equally spaced control points)."""
         start, end = np.asarray(start, float), np.asarray(end, float)
         s = np.linspace(0.0, 1.0, degree + 1)[:, None]
-        return cls(
-            degree, kv.open_uniform(degree, 1), start + s * (end - start), np.ones(degree + 1)
-        )
+        knots = [0.0] * (degree + 1) + [1.0] * (degree + 1)  # kv.open_uniform(degree, 1)
+        return cls(degree, knots, start + s * (end - start), [1.0] * (degree + 1))
 
     @classmethod
     def arc(cls, center, radius: float, start_angle: float, end_angle: float) -> NurbsCurve:
@@ -184,24 +183,26 @@ class NurbsCurve:
             raise ValueError(f"arc sweep must be in (0, 2 pi] in magnitude, got {sweep!r}")
         pieces = max(1, math.ceil(abs(sweep) / (math.pi / 2) - 1e-12))
         half = sweep / pieces / 2
-        center = np.asarray(center, float)
-        points, weights = [], []
+        cx, cy = (float(c) for c in np.asarray(center, float))
+        points, weights = [], []  # in Python floats: the same IEEE operations as on arrays
+
+        def at(scale, angle):
+            return (cx + scale * math.cos(angle), cy + scale * math.sin(angle))
+
         for i in range(pieces):
             a0 = start_angle + 2 * i * half
             mid = a0 + half
             if i == 0:
-                points.append(center + radius * np.array([math.cos(a0), math.sin(a0)]))
+                points.append(at(radius, a0))
                 weights.append(1.0)
-            points.append(
-                center + radius / math.cos(half) * np.array([math.cos(mid), math.sin(mid)])
-            )
+            points.append(at(radius / math.cos(half), mid))
             weights.append(math.cos(half))
             a1 = a0 + 2 * half
-            points.append(center + radius * np.array([math.cos(a1), math.sin(a1)]))
+            points.append(at(radius, a1))
             weights.append(1.0)
-        inner = np.repeat(np.arange(1, pieces) / pieces, 2)
-        knots = np.concatenate([[0, 0, 0], inner, [1, 1, 1]])
-        return cls(2, knots, np.array(points), np.array(weights))
+        inner = [k / pieces for k in range(1, pieces) for _ in range(2)]
+        knots = [0.0, 0.0, 0.0, *inner, 1.0, 1.0, 1.0]
+        return cls(2, knots, points, weights)
 
     # -- evaluation -------------------------------------------------------------------------
     @property
