@@ -30,6 +30,7 @@ import json, statistics, sys, time
 import attrs
 sys.path.insert(0, sys.argv[2])
 from fretbem import basis
+from fretbem.geometry import nurbs
 from fretbem.scenes import builder, reference as scenes
 from fretbem.scenes.file import load_scene
 from fretbem.simulation import run
@@ -57,6 +58,8 @@ def cold():
     builder._built.cache_clear()
     if hasattr(basis, "_graded"):  # the graded breakpoints (older trees keep none)
         basis._graded.cache_clear()
+    if hasattr(nurbs, "_OPERATORS"):  # nor a refinement operator
+        nurbs._OPERATORS.clear()
 
 
 for case in CASES.values():  # imports and first calls

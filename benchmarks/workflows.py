@@ -111,6 +111,7 @@ HALFPLANE_CHILD = r"""
 import json, sys, time
 sys.path.insert(0, sys.argv[2])
 from fretbem import basis
+from fretbem.geometry import nurbs
 from fretbem.scenes import builder, reference as scenes
 from fretbem.simulation import run
 import halfplane_peer
@@ -124,6 +125,8 @@ for name, m in models.items():
         builder._built.cache_clear()
     if hasattr(basis, "_graded"):  # and the same gradings (older trees keep none)
         basis._graded.cache_clear()
+    if hasattr(nurbs, "_OPERATORS"):  # nor a refinement operator
+        nurbs._OPERATORS.clear()
     c = time.process_time()
     simulation = scenes.cattaneo_mindlin(pairs=pairs, models=m)
     out[name + "_build"] = time.process_time() - c

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import threading
 
 import attrs
 import numpy as np
@@ -123,6 +124,68 @@ def sample_points(curves, xi: np.ndarray) -> list[np.ndarray]:
             bases[key] = bspline_basis(curve.knots, curve.degree, xi)
         out.append(_curve_points(bases[key], curve._homogeneous()))
     return out
+
+
+def _refinement_operator(
+    knots: np.ndarray, degree: int, new_knots: np.ndarray, new_degree: int
+) -> tuple[np.ndarray, tuple, tuple]:
+    """T (Pw_new = T @ Pw_old) from one spline space to a finer one, and the basis triples of
+    both at the probes of the refinement's check (the Greville sites first); see
+    :meth:`NurbsCurve.refine`.
+
+    T depends on the knot vectors and degrees only, not on the curve: the segments of a
+    scene refined alike (a body's sides, the faces' contact arcs) share one solve. Kept in
+    :data:`_OPERATORS` up to ``DENSE_REFINE_MAX`` sites.
+    """
+    key = (degree, knots.tobytes(), new_degree, new_knots.shape, new_knots.tobytes())
+    operator = _OPERATORS.get(key)
+    if operator is not None:
+        return operator
+    kv.check(new_knots, new_degree, new_knots.size - new_degree - 1)
+    if new_degree < degree or new_knots[0] != knots[0] or new_knots[-1] != knots[-1]:
+        raise ValueError(
+            f"refinement must keep the domain {(float(knots[0]), float(knots[-1]))} and may "
+            f"not lower the degree ({degree} -> {new_degree})"
+        )
+    sites = kv.greville(new_knots, new_degree)
+    # check away from the interpolation sites too: midpoints of every span of both vectors
+    breaks = kv.breakpoints(np.concatenate([new_knots, knots]))
+    probes = np.concatenate([sites, 0.5 * (breaks[1:] + breaks[:-1])])
+    # one basis evaluation per knot vector serves the solve (its first rows, the sites)
+    # and the check (all rows); the functions at a point do not depend on the others
+    new_basis = bspline_basis(new_knots, new_degree, probes)
+    old_basis = bspline_basis(knots, degree, probes)
+    dense = sites.size <= DENSE_REFINE_MAX
+    new_matrix = _collocation_matrix(new_basis, sites.size, sites.size, dense=dense)
+    old_matrix = _collocation_matrix(old_basis, sites.size, knots.size - degree - 1, dense=True)
+    try:  # banded (Schoenberg-Whitney): a sparse LU is linear in the control points
+        if dense:
+            transform = np.linalg.solve(new_matrix, old_matrix)
+        else:
+            from scipy.sparse.linalg import splu
+
+            transform = splu(new_matrix).solve(old_matrix)
+    except (RuntimeError, np.linalg.LinAlgError):  # "Factor is exactly singular"
+        transform = np.full(old_matrix.shape, np.nan)
+    if not np.all(np.isfinite(transform)):
+        raise ValueError(
+            "knots closer than round-off make the refined space degenerate; merge them"
+        )
+    transform[np.abs(transform) < 1e-14] = 0.0
+    operator = (transform, new_basis, old_basis)
+    for array in (transform, *new_basis, *old_basis):
+        array.setflags(write=False)
+    if dense:
+        with _OPERATORS_LOCK:  # sweeps may build scenes in threads
+            if len(_OPERATORS) >= 256:  # the oldest goes first
+                _OPERATORS.pop(next(iter(_OPERATORS)))
+            _OPERATORS[key] = operator
+    return operator
+
+
+#: refinement operators by (degree, knots, new degree, new knots): see _refinement_operator
+_OPERATORS: dict = {}
+_OPERATORS_LOCK = threading.Lock()
 
 
 @attrs.frozen(eq=False)
@@ -268,40 +331,14 @@ class NurbsCurve:
         """
         degree = self.degree if new_degree is None else int(new_degree)
         new_knots = np.asarray(new_knots, float)
-        kv.check(new_knots, degree, new_knots.size - degree - 1)
-        if degree < self.degree or new_knots[0] != self.knots[0] or new_knots[-1] != self.knots[-1]:
-            raise ValueError(
-                f"refinement must keep the domain {self.domain} and may not lower the degree "
-                f"({self.degree} -> {degree})"
-            )
-        sites = kv.greville(new_knots, degree)
-        # check away from the interpolation sites too: midpoints of every span of both vectors
-        breaks = kv.breakpoints(np.concatenate([new_knots, self.knots]))
-        probes = np.concatenate([sites, 0.5 * (breaks[1:] + breaks[:-1])])
-        # one basis evaluation per knot vector serves the solve (its first rows, the sites)
-        # and the check (all rows); the functions at a point do not depend on the others
-        new_basis = bspline_basis(new_knots, degree, probes)
-        old_basis = bspline_basis(self.knots, self.degree, probes)
-        dense = sites.size <= DENSE_REFINE_MAX
-        new_matrix = _collocation_matrix(new_basis, sites.size, sites.size, dense=dense)
-        old_matrix = _collocation_matrix(old_basis, sites.size, self.n_control_points, dense=True)
-        try:  # banded (Schoenberg-Whitney): a sparse LU is linear in the control points
-            if dense:
-                transform = np.linalg.solve(new_matrix, old_matrix)
-            else:
-                from scipy.sparse.linalg import splu
-
-                transform = splu(new_matrix).solve(old_matrix)
-        except (RuntimeError, np.linalg.LinAlgError):  # "Factor is exactly singular"
-            transform = np.full(old_matrix.shape, np.nan)
-        if not np.all(np.isfinite(transform)):
-            raise ValueError(
-                "knots closer than round-off make the refined space degenerate; merge them"
-            )
-        transform[np.abs(transform) < 1e-14] = 0.0
+        transform, new_basis, old_basis = _refinement_operator(
+            self.knots, self.degree, new_knots, degree
+        )
+        transform = transform.copy()
         old_hom = self._homogeneous()
         hom = transform @ old_hom
         refined = NurbsCurve(degree, new_knots, hom[:, :2] / hom[:, 2:], hom[:, 2])
+        # the check is the curve's own: a space that lacks the old one may still hold a curve
         new_points = _curve_points(new_basis, refined._homogeneous())
         mismatch = np.max(np.abs(new_points - _curve_points(old_basis, old_hom)))
         size = np.ptp(self.control_points, axis=0).max()

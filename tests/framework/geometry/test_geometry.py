@@ -465,3 +465,19 @@ def test_interior_knot_repeated_more_than_degree_is_named():
     knots = [0, 0, 0, 0.25, 0.5, 0.5, 0.5, 0.75, 0.75, 0.75, 1, 1, 1]
     with pytest.raises(kv.KnotVectorError, match=r"interior knot 0\.5 is repeated more"):
         kv.check(np.array(knots, float), 2, len(knots) - 3)
+
+
+def test_shared_refinement_operator_still_checks_each_curve():
+    """Curves on one knot vector share the refinement operator, but the check is each
+    curve's: a straight polyline fits a space without its knot, a bent one does not."""
+    knots, coarser = [0.0, 0.0, 0.5, 1.0, 1.0], [0.0, 0.0, 0.25, 1.0, 1.0]
+    straight = NurbsCurve(1, knots, [[0.0, 0.0], [0.5, 0.0], [1.0, 0.0]], np.ones(3))
+    bent = NurbsCurve(1, knots, [[0.0, 0.0], [0.5, 1.0], [1.0, 0.0]], np.ones(3))
+    refined, transform = straight.refine(coarser)
+    np.testing.assert_allclose(refined.points(np.linspace(0, 1, 9)),
+                               straight.points(np.linspace(0, 1, 9)), atol=1e-14)  # fmt: skip
+    transform[0, 0] = 7.0  # the caller's copy: the shared operator is not changed
+    with pytest.raises(ValueError, match="do not contain the curve's spline space"):
+        bent.refine(coarser)
+    again, _ = straight.refine(coarser)
+    np.testing.assert_array_equal(again.control_points, refined.control_points)
