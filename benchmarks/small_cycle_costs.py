@@ -30,6 +30,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import halfplane_peer
 
+from fretbem import basis
+from fretbem.geometry import nurbs
 from fretbem.scenes import builder
 from fretbem.scenes import reference as scenes
 from fretbem.simulation import run
@@ -54,6 +56,10 @@ def cycle(pairs: int, models: dict) -> dict:
     """CPU seconds of one cold cycle by phase, and its Newton iterations."""
     if hasattr(builder, "_built"):  # cold: no shape built before (older trees keep none)
         builder._built.cache_clear()
+    if hasattr(basis, "_graded"):  # nor a grading computed (older trees keep none)
+        basis._graded.cache_clear()
+    if hasattr(nurbs, "_OPERATORS"):  # nor a refinement operator
+        nurbs._OPERATORS.clear()
     start = time.process_time()
     simulation = scenes.cattaneo_mindlin(pairs=pairs, models=models)
     built = time.process_time()

@@ -178,17 +178,23 @@ class Refinement:
             return np.array(self.at)
         if self.toward is None or self.ratio == 1.0:
             return np.linspace(0.0, 1.0, self.elements + 1)
-        s = np.linspace(0.0, 1.0, 4001)
-        dist = np.min(
-            [np.maximum(np.maximum(lo - s, s - hi), 0.0) for lo, hi in self.toward], axis=0
-        )
-        far = max(dist.max(), 1e-300)
-        density = 1.0 / (1.0 + (self.ratio - 1.0) * dist / far)
-        cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (density[1:] + density[:-1]))])
-        levels = np.linspace(0.0, cumulative[-1], self.elements + 1)
-        out = np.interp(levels, cumulative, s)
-        out[0], out[-1] = 0.0, 1.0
-        return out
+        return _graded(self.elements, self.toward, self.ratio).copy()
+
+
+@functools.lru_cache(maxsize=256)
+def _graded(elements: int, toward: tuple, ratio: float) -> np.ndarray:
+    """Graded breakpoints (see :meth:`Refinement.breakpoints`), computed once per grading:
+    a scene's corner grading serves four segments of each body."""
+    s = np.linspace(0.0, 1.0, 4001)
+    dist = np.min([np.maximum(np.maximum(lo - s, s - hi), 0.0) for lo, hi in toward], axis=0)
+    far = max(dist.max(), 1e-300)
+    density = 1.0 / (1.0 + (ratio - 1.0) * dist / far)
+    cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (density[1:] + density[:-1]))])
+    levels = np.linspace(0.0, cumulative[-1], elements + 1)
+    out = np.interp(levels, cumulative, s)
+    out[0], out[-1] = 0.0, 1.0
+    out.setflags(write=False)
+    return out
 
 
 @attrs.frozen(eq=False)

@@ -15,7 +15,11 @@ from .errors import InputError
 
 def finite(instance: Any, attribute: Any, value: Any) -> None:
     """Reject NaN and infinite numbers, naming the field."""
-    if not np.all(np.isfinite(np.asarray(value, dtype=float))):
+    if type(value) is float:  # the common scalar, without numpy's per-call cost
+        ok = math.isfinite(value)
+    else:
+        ok = np.isfinite(np.asarray(value, dtype=float)).all()
+    if not ok:
         raise ValueError(
             f"{type(instance).__name__}.{attribute.name} must be finite, got {value!r}"
         )
@@ -24,7 +28,7 @@ def finite(instance: Any, attribute: Any, value: Any) -> None:
 def positive(instance: Any, attribute: Any, value: Any) -> None:
     """Require every entry to be finite and > 0."""
     finite(instance, attribute, value)
-    if not np.all(np.asarray(value, dtype=float) > 0):
+    if not (value > 0 if type(value) is float else np.all(np.asarray(value, dtype=float) > 0)):
         raise ValueError(f"{type(instance).__name__}.{attribute.name} must be > 0, got {value!r}")
 
 

@@ -28,6 +28,12 @@ def _merge_breakpoints(existing: np.ndarray, requested: np.ndarray) -> np.ndarra
     return np.unique(merged)
 
 
+def _among(values: np.ndarray, sorted_set: np.ndarray) -> np.ndarray:
+    """Whether each of ``values`` equals an entry of the sorted ``sorted_set``."""
+    at = np.minimum(np.searchsorted(sorted_set, values), sorted_set.size - 1)
+    return sorted_set[at] == values
+
+
 class NurbsBasis(Basis):
     """Isogeometric (IGABEM) family: exact geometry, collocation at Greville abscissae."""
 
@@ -55,7 +61,7 @@ class NurbsBasis(Basis):
             wanted = _merge_breakpoints(existing, refinement.breakpoints())
         else:  # explicit breakpoints are kept where they are (the curve's own knots added)
             wanted = np.union1d(existing, refinement.breakpoints())
-        new = np.setdiff1d(wanted, existing)
+        new = wanted[~_among(wanted, existing)]  # np.setdiff1d of sorted distinct values
         if refinement.c0_at:  # C0 there: the knot repeated to multiplicity = degree
             new = np.sort(np.concatenate([new, np.repeat(refinement.c0_at, degree - 1)]))
         if new.size:

@@ -7,7 +7,7 @@ import numpy as np
 
 from fretbem.errors import InputError
 
-from .nurbs import NurbsCurve
+from .nurbs import NurbsCurve, sample_points
 
 
 class BoundaryError(InputError):
@@ -42,10 +42,6 @@ class Segment:
         if key not in self._discretised:
             self._discretised[key] = family.discretise(self.curve, refinement)
         return self._discretised[key]
-
-
-def _samples(curve: NurbsCurve, count: int) -> np.ndarray:
-    return curve.points(np.linspace(0.0, 1.0, count))
 
 
 def _edges(polylines: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
@@ -84,11 +80,14 @@ def _orient(p, q, r):
     )
 
 
-def _crossings(polylines: list[np.ndarray]) -> tuple[int, int] | None:
-    """First pair of non-adjacent segments whose sample polylines properly intersect."""
-    edges, owner = _edges(polylines)
+def _crossings(edges: np.ndarray, owner: np.ndarray, pairs) -> tuple[int, int] | None:
+    """First pair of non-adjacent segments whose sample polylines properly intersect.
+
+    ``pairs``: the candidate edge pairs (:func:`_candidate_pairs` with any pad >= 0: edges
+    that cross have overlapping boxes, so a padded superset finds the same first pair).
+    """
     a, b = edges[:, 0], edges[:, 1]
-    i, j = _candidate_pairs(edges, 0.0)
+    i, j = pairs
     o1 = _orient(a[i], b[i], a[j])
     o2 = _orient(a[i], b[i], b[j])
     o3 = _orient(a[j], b[j], a[i])
@@ -109,10 +108,12 @@ def _point_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.linalg.norm(p - (a + t[:, None] * d), axis=1)
 
 
-def _touching(polylines: list[np.ndarray], tolerance: float) -> tuple[int, int, np.ndarray] | None:
-    """First pair of non-adjacent sample edges closer than ``tolerance`` (a pinch point)."""
-    edges, owner = _edges(polylines)
-    i, j = _candidate_pairs(edges, tolerance)
+def _touching(
+    edges: np.ndarray, owner: np.ndarray, pairs, tolerance: float
+) -> tuple[int, int, np.ndarray] | None:
+    """First pair of non-adjacent sample edges closer than ``tolerance`` (a pinch point);
+    ``pairs``: the candidate edge pairs, :func:`_candidate_pairs` padded by ``tolerance``."""
+    i, j = pairs
     a, b, c, d = edges[i, 0], edges[i, 1], edges[j, 0], edges[j, 1]
     gap = np.minimum.reduce(
         [_point_segment(c, a, b), _point_segment(d, a, b), _point_segment(a, c, d),
@@ -140,7 +141,9 @@ class Boundary:
     def __attrs_post_init__(self) -> None:
         if not self.segments:
             raise BoundaryError("a boundary needs at least one segment")
-        ends = [(s.curve.points([0.0])[0], s.curve.points([1.0])[0]) for s in self.segments]
+        # one evaluation per segment serves every check: its samples include both ends
+        polylines = sample_points([s.curve for s in self.segments], np.linspace(0.0, 1.0, 64))
+        ends = [(line[0], line[-1]) for line in polylines]
         extent = np.concatenate([s.curve.control_points for s in self.segments])
         size = max(np.ptp(extent, axis=0).max(), 1e-300)
         for k, seg in enumerate(self.segments):
@@ -157,15 +160,17 @@ class Boundary:
                     f"the next segment ({nxt.tag!r}) starts at {ends[(k + 1) % len(ends)][0]} "
                     f"(gap {gap:.3g}); list the segments in order of travel, end to start"
                 )
-        polylines = [_samples(s.curve, 64) for s in self.segments]
-        crossing = _crossings(polylines)
+        # one sweep for both checks: the pairs whose boxes come within the pinch tolerance
+        edges, owner = _edges(polylines)
+        pairs = _candidate_pairs(edges, 1e-9 * size)
+        crossing = _crossings(edges, owner, pairs)
         if crossing is not None:
             i, j = crossing
             raise BoundaryError(
                 f"boundary crosses itself: segments {i} ({self.segments[i].tag!r}) and {j} "
                 f"({self.segments[j].tag!r}) intersect; a body's boundary must be a simple curve"
             )
-        touching = _touching(polylines, 1e-9 * size)
+        touching = _touching(edges, owner, pairs, 1e-9 * size)
         if touching is not None:
             i, j, where = touching
             raise BoundaryError(

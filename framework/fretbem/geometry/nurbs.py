@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import threading
 
 import attrs
 import numpy as np
@@ -30,7 +31,7 @@ def bspline_basis(
     xi = np.minimum(np.maximum(xi, knots[0]), knots[-1])  # np.clip's result, 3x faster
     n = knots.size - degree - 1
     if span is None:
-        span = np.clip(np.searchsorted(knots, xi, side="right") - 1, degree, n - 1)
+        span = np.minimum(np.maximum(np.searchsorted(knots, xi, side="right") - 1, degree), n - 1)
     # knots span + 1 - p .. span + p, one row each: the recursion's and the derivatives'
     window = knots[np.arange(1 - degree, degree + 1)[:, None] + span]
     left = [None] + [xi - window[degree - j] for j in range(1, degree + 1)]
@@ -82,16 +83,18 @@ def rational_basis(
 DENSE_REFINE_MAX = 400
 
 
-def _collocation_matrix(knots: np.ndarray, degree: int, sites: np.ndarray, *, dense=False):
-    """Matrix of all B-spline functions at ``sites`` (rows) for refinement: CSC or dense.
+def _collocation_matrix(basis: tuple, sites: int, n_functions: int, *, dense=False):
+    """Matrix of all B-spline functions at the first ``sites`` points of ``basis`` (the
+    ``bspline_basis`` triple) for refinement: CSC or dense.
 
     Each row has degree + 1 non-zeros, so refining to n control points costs O(n p^2)
     memory and time instead of the O(n^2) / O(n^3) of a dense interpolation solve.
     """
-    values, _, first = bspline_basis(knots, degree, sites)
-    rows = np.repeat(np.arange(len(sites)), degree + 1)
-    cols = (first[:, None] + np.arange(degree + 1)).ravel()
-    shape = (len(sites), knots.size - degree - 1)
+    values, first = basis[0][:sites], basis[2][:sites]
+    local = values.shape[1]
+    rows = np.repeat(np.arange(sites), local)
+    cols = (first[:, None] + np.arange(local)).ravel()
+    shape = (sites, n_functions)
     if dense:
         matrix = np.zeros(shape)
         np.add.at(matrix, (rows, cols), values.ravel())
@@ -99,6 +102,90 @@ def _collocation_matrix(knots: np.ndarray, degree: int, sites: np.ndarray, *, de
     from scipy import sparse
 
     return sparse.csc_array((values.ravel(), (rows, cols)), shape=shape)
+
+
+def _curve_points(basis: tuple, homogeneous: np.ndarray) -> np.ndarray:
+    """Curve points at the points of ``basis`` (the ``bspline_basis`` triple) from the
+    homogeneous control points (w x, w y, w)."""
+    values, _, first = basis
+    hom = np.einsum("ma,mak->mk", values, homogeneous[first[:, None] + np.arange(values.shape[1])])
+    return hom[:, :2] / hom[:, 2:]
+
+
+def sample_points(curves, xi: np.ndarray) -> list[np.ndarray]:
+    """Points of each curve at the same parameters ``xi``, shape (m, 2) each: curves on the
+    same knot vector (a shape's arcs, its lines) share one basis evaluation."""
+    xi = np.asarray(xi, dtype=float)
+    bases: dict = {}
+    out = []
+    for curve in curves:
+        key = (curve.degree, curve.knots.tobytes())
+        if key not in bases:
+            bases[key] = bspline_basis(curve.knots, curve.degree, xi)
+        out.append(_curve_points(bases[key], curve._homogeneous()))
+    return out
+
+
+def _refinement_operator(
+    knots: np.ndarray, degree: int, new_knots: np.ndarray, new_degree: int
+) -> tuple[np.ndarray, tuple, tuple]:
+    """T (Pw_new = T @ Pw_old) from one spline space to a finer one, and the basis triples of
+    both at the probes of the refinement's check (the Greville sites first); see
+    :meth:`NurbsCurve.refine`.
+
+    T depends on the knot vectors and degrees only, not on the curve: the segments of a
+    scene refined alike (a body's sides, the faces' contact arcs) share one solve. Kept in
+    :data:`_OPERATORS` up to ``DENSE_REFINE_MAX`` sites.
+    """
+    key = (degree, knots.tobytes(), new_degree, new_knots.shape, new_knots.tobytes())
+    operator = _OPERATORS.get(key)
+    if operator is not None:
+        return operator
+    kv.check(new_knots, new_degree, new_knots.size - new_degree - 1)
+    if new_degree < degree or new_knots[0] != knots[0] or new_knots[-1] != knots[-1]:
+        raise ValueError(
+            f"refinement must keep the domain {(float(knots[0]), float(knots[-1]))} and may "
+            f"not lower the degree ({degree} -> {new_degree})"
+        )
+    sites = kv.greville(new_knots, new_degree)
+    # check away from the interpolation sites too: midpoints of every span of both vectors
+    breaks = kv.breakpoints(np.concatenate([new_knots, knots]))
+    probes = np.concatenate([sites, 0.5 * (breaks[1:] + breaks[:-1])])
+    # one basis evaluation per knot vector serves the solve (its first rows, the sites)
+    # and the check (all rows); the functions at a point do not depend on the others
+    new_basis = bspline_basis(new_knots, new_degree, probes)
+    old_basis = bspline_basis(knots, degree, probes)
+    dense = sites.size <= DENSE_REFINE_MAX
+    new_matrix = _collocation_matrix(new_basis, sites.size, sites.size, dense=dense)
+    old_matrix = _collocation_matrix(old_basis, sites.size, knots.size - degree - 1, dense=True)
+    try:  # banded (Schoenberg-Whitney): a sparse LU is linear in the control points
+        if dense:
+            transform = np.linalg.solve(new_matrix, old_matrix)
+        else:
+            from scipy.sparse.linalg import splu
+
+            transform = splu(new_matrix).solve(old_matrix)
+    except (RuntimeError, np.linalg.LinAlgError):  # "Factor is exactly singular"
+        transform = np.full(old_matrix.shape, np.nan)
+    if not np.all(np.isfinite(transform)):
+        raise ValueError(
+            "knots closer than round-off make the refined space degenerate; merge them"
+        )
+    transform[np.abs(transform) < 1e-14] = 0.0
+    operator = (transform, new_basis, old_basis)
+    for array in (transform, *new_basis, *old_basis):
+        array.setflags(write=False)
+    if dense:
+        with _OPERATORS_LOCK:  # sweeps may build scenes in threads
+            if len(_OPERATORS) >= 256:  # the oldest goes first
+                _OPERATORS.pop(next(iter(_OPERATORS)))
+            _OPERATORS[key] = operator
+    return operator
+
+
+#: refinement operators by (degree, knots, new degree, new knots): see _refinement_operator
+_OPERATORS: dict = {}
+_OPERATORS_LOCK = threading.Lock()
 
 
 @attrs.frozen(eq=False)
@@ -143,9 +230,8 @@ class NurbsCurve:
         """Straight segment from ``start`` to ``end`` (equally spaced control points)."""
         start, end = np.asarray(start, float), np.asarray(end, float)
         s = np.linspace(0.0, 1.0, degree + 1)[:, None]
-        return cls(
-            degree, kv.open_uniform(degree, 1), start + s * (end - start), np.ones(degree + 1)
-        )
+        knots = [0.0] * (degree + 1) + [1.0] * (degree + 1)  # kv.open_uniform(degree, 1)
+        return cls(degree, knots, start + s * (end - start), [1.0] * (degree + 1))
 
     @classmethod
     def arc(cls, center, radius: float, start_angle: float, end_angle: float) -> NurbsCurve:
@@ -160,24 +246,26 @@ class NurbsCurve:
             raise ValueError(f"arc sweep must be in (0, 2 pi] in magnitude, got {sweep!r}")
         pieces = max(1, math.ceil(abs(sweep) / (math.pi / 2) - 1e-12))
         half = sweep / pieces / 2
-        center = np.asarray(center, float)
-        points, weights = [], []
+        cx, cy = (float(c) for c in np.asarray(center, float))
+        points, weights = [], []  # in Python floats: the same IEEE operations as on arrays
+
+        def at(scale, angle):
+            return (cx + scale * math.cos(angle), cy + scale * math.sin(angle))
+
         for i in range(pieces):
             a0 = start_angle + 2 * i * half
             mid = a0 + half
             if i == 0:
-                points.append(center + radius * np.array([math.cos(a0), math.sin(a0)]))
+                points.append(at(radius, a0))
                 weights.append(1.0)
-            points.append(
-                center + radius / math.cos(half) * np.array([math.cos(mid), math.sin(mid)])
-            )
+            points.append(at(radius / math.cos(half), mid))
             weights.append(math.cos(half))
             a1 = a0 + 2 * half
-            points.append(center + radius * np.array([math.cos(a1), math.sin(a1)]))
+            points.append(at(radius, a1))
             weights.append(1.0)
-        inner = np.repeat(np.arange(1, pieces) / pieces, 2)
-        knots = np.concatenate([[0, 0, 0], inner, [1, 1, 1]])
-        return cls(2, knots, np.array(points), np.array(weights))
+        inner = [k / pieces for k in range(1, pieces) for _ in range(2)]
+        knots = [0.0, 0.0, 0.0, *inner, 1.0, 1.0, 1.0]
+        return cls(2, knots, points, weights)
 
     # -- evaluation -------------------------------------------------------------------------
     @property
@@ -191,7 +279,11 @@ class NurbsCurve:
         return len(self.control_points)
 
     def _homogeneous(self) -> np.ndarray:
-        return np.column_stack([self.control_points * self.weights[:, None], self.weights])
+        """Control points in homogeneous form (w x, w y, w), shape (n, 3)."""
+        out = np.empty((len(self.weights), 3))
+        np.multiply(self.control_points, self.weights[:, None], out=out[:, :2])
+        out[:, 2] = self.weights
+        return out
 
     def _homogeneous_at(self, xi):
         """Homogeneous point (w x, w y, w) and its derivative at ``xi``, each (m, 3)."""
@@ -239,36 +331,16 @@ class NurbsCurve:
         """
         degree = self.degree if new_degree is None else int(new_degree)
         new_knots = np.asarray(new_knots, float)
-        kv.check(new_knots, degree, new_knots.size - degree - 1)
-        if degree < self.degree or new_knots[0] != self.knots[0] or new_knots[-1] != self.knots[-1]:
-            raise ValueError(
-                f"refinement must keep the domain {self.domain} and may not lower the degree "
-                f"({self.degree} -> {degree})"
-            )
-        sites = kv.greville(new_knots, degree)
-        dense = sites.size <= DENSE_REFINE_MAX
-        new_matrix = _collocation_matrix(new_knots, degree, sites, dense=dense)
-        old_matrix = _collocation_matrix(self.knots, self.degree, sites, dense=True)
-        try:  # banded (Schoenberg-Whitney): a sparse LU is linear in the control points
-            if dense:
-                transform = np.linalg.solve(new_matrix, old_matrix)
-            else:
-                from scipy.sparse.linalg import splu
-
-                transform = splu(new_matrix).solve(old_matrix)
-        except (RuntimeError, np.linalg.LinAlgError):  # "Factor is exactly singular"
-            transform = np.full(old_matrix.shape, np.nan)
-        if not np.all(np.isfinite(transform)):
-            raise ValueError(
-                "knots closer than round-off make the refined space degenerate; merge them"
-            )
-        transform[np.abs(transform) < 1e-14] = 0.0
-        hom = transform @ self._homogeneous()
+        transform, new_basis, old_basis = _refinement_operator(
+            self.knots, self.degree, new_knots, degree
+        )
+        transform = transform.copy()
+        old_hom = self._homogeneous()
+        hom = transform @ old_hom
         refined = NurbsCurve(degree, new_knots, hom[:, :2] / hom[:, 2:], hom[:, 2])
-        # check away from the interpolation sites: midpoints of every span of both vectors
-        breaks = np.union1d(kv.breakpoints(new_knots), kv.breakpoints(self.knots))
-        probes = np.concatenate([sites, 0.5 * (breaks[1:] + breaks[:-1])])
-        mismatch = np.max(np.abs(refined.points(probes) - self.points(probes)))
+        # the check is the curve's own: a space that lacks the old one may still hold a curve
+        new_points = _curve_points(new_basis, refined._homogeneous())
+        mismatch = np.max(np.abs(new_points - _curve_points(old_basis, old_hom)))
         size = np.ptp(self.control_points, axis=0).max()
         if mismatch > 1e-9 * max(size, 1.0):
             raise ValueError(
@@ -297,6 +369,8 @@ class NurbsCurve:
     def reparametrised(self, domain: tuple[float, float] = (0.0, 1.0)) -> NurbsCurve:
         """The same curve with its knots mapped linearly onto ``domain``."""
         lo, hi = self.domain
+        if (lo, hi) == (domain[0], domain[1]):  # the map is the identity: the curve itself
+            return self
         knots = domain[0] + (self.knots - lo) * (domain[1] - domain[0]) / (hi - lo)
         return attrs.evolve(self, knots=knots)
 

@@ -135,9 +135,11 @@ class CylinderPad:
         arcs = _arcs([0.0, r], r, [down - phi_w, down - phi_z, down + phi_z, down + phi_w])
         return _face_tags([[arcs[0]], [arcs[1]], [arcs[2]]])
 
-    def boundary(self, zone: float) -> Boundary:
-        """The closed pad boundary (face, sides, top)."""
-        return _pad_boundary(self.face(zone), self.width / 2, self.height)
+    def boundary(self, zone: float, face: Sequence[Segment] | None = None) -> Boundary:
+        """The closed pad boundary (face, sides, top); ``face``: the segments of
+        ``face(zone)`` when the caller has built them already (they are used as they are)."""
+        face = self.face(zone) if face is None else list(face)
+        return _pad_boundary(face, self.width / 2, self.height)
 
 
 @attrs.frozen
@@ -197,9 +199,11 @@ class RoundedFlatPad:
         right = [self._fillet(1.0, zone, w2)]
         return _face_tags([left, contact, right])
 
-    def boundary(self, zone: float) -> Boundary:
-        """The closed pad boundary (face, sides, top)."""
-        return _pad_boundary(self.face(zone), self.width / 2, self.height)
+    def boundary(self, zone: float, face: Sequence[Segment] | None = None) -> Boundary:
+        """The closed pad boundary (face, sides, top); ``face``: the segments of
+        ``face(zone)`` when the caller has built them already (they are used as they are)."""
+        face = self.face(zone) if face is None else list(face)
+        return _pad_boundary(face, self.width / 2, self.height)
 
 
 def _specimen_face(pad_face: list[Segment], transform, half_width: float) -> list[Segment]:

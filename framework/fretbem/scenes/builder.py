@@ -20,6 +20,7 @@ from fretbem import registry
 from fretbem.basis import Basis, Refinement, points_per_element
 from fretbem.conditions import Displacement, LoadingBlock, Traction
 from fretbem.contact.control import Rig
+from fretbem.geometry.shapes import CylinderPad, RoundedFlatPad
 from fretbem.simulation import LoadStep, Simulation
 from fretbem.verification.closed_forms import (
     HertzLineContact,
@@ -312,6 +313,9 @@ def _call(shape, method: str, *args):
         return tuple(shape.face(*args))
     if method == "boundary" and len(args) == 2:  # a specimen: the pad's face, the zone
         return shape.boundary(list(args[0]), args[1])
+    if method == "boundary" and isinstance(shape, CylinderPad | RoundedFlatPad):
+        # a library pad: its face as built for the scene (the same segments), and its sides
+        return shape.boundary(*args, face=_geometry(shape, "face", *args))
     return getattr(shape, method)(*args)
 
 

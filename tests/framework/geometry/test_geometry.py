@@ -428,3 +428,56 @@ def test_candidate_pairs_equal_the_exhaustive_box_overlaps(seed):
     ]
     i, j = _candidate_pairs(edges, pad)
     assert list(zip(i.tolist(), j.tolist(), strict=True)) == expected
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_crossings_among_padded_candidates_are_the_unpadded_ones(seed):
+    """The boundary's one sweep (padded by the pinch tolerance) finds the first crossing the
+    unpadded candidates find: crossing edges have overlapping boxes."""
+    from fretbem.geometry.boundary import _candidate_pairs, _crossings
+
+    rng = np.random.default_rng(seed)
+    edges = rng.uniform(0.0, 1.0, (80, 2, 2)) * [1.0, 0.3]
+    owner = np.arange(len(edges)) // 8
+    found = [_crossings(edges, owner, _candidate_pairs(edges, pad)) for pad in (0.0, 1e-9, 0.05)]
+    assert found[0] is not None and found[1] == found[0] and found[2] == found[0]
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_knot_helpers_equal_their_numpy_definitions(seed):
+    """breakpoints is np.unique, greville the mean of p consecutive knots (clipped),
+    bit for bit: the scene build's faster forms change no geometry."""
+    rng = np.random.default_rng(seed)
+    for _ in range(200):
+        p = int(rng.integers(1, 6))
+        inner = np.sort(np.round(rng.uniform(0.0, 1.0, int(rng.integers(0, 30))), 2))
+        knots = np.concatenate([[0.0] * (p + 1), inner, [1.0] * (p + 1)]) * 7.3 - 2.1
+        n = knots.size - p - 1
+        windows = np.lib.stride_tricks.sliding_window_view(knots[1:-1], p)[:n]
+        expected = np.clip(windows.mean(axis=1), knots[0], knots[-1])
+        assert np.array_equal(kv.greville(knots, p), expected)
+        shuffled = rng.permutation(knots)
+        assert np.array_equal(kv.breakpoints(shuffled), np.unique(shuffled))
+
+
+def test_interior_knot_repeated_more_than_degree_is_named():
+    """The knot check names the first interior knot repeated more than p times."""
+    knots = [0, 0, 0, 0.25, 0.5, 0.5, 0.5, 0.75, 0.75, 0.75, 1, 1, 1]
+    with pytest.raises(kv.KnotVectorError, match=r"interior knot 0\.5 is repeated more"):
+        kv.check(np.array(knots, float), 2, len(knots) - 3)
+
+
+def test_shared_refinement_operator_still_checks_each_curve():
+    """Curves on one knot vector share the refinement operator, but the check is each
+    curve's: a straight polyline fits a space without its knot, a bent one does not."""
+    knots, coarser = [0.0, 0.0, 0.5, 1.0, 1.0], [0.0, 0.0, 0.25, 1.0, 1.0]
+    straight = NurbsCurve(1, knots, [[0.0, 0.0], [0.5, 0.0], [1.0, 0.0]], np.ones(3))
+    bent = NurbsCurve(1, knots, [[0.0, 0.0], [0.5, 1.0], [1.0, 0.0]], np.ones(3))
+    refined, transform = straight.refine(coarser)
+    np.testing.assert_allclose(refined.points(np.linspace(0, 1, 9)),
+                               straight.points(np.linspace(0, 1, 9)), atol=1e-14)  # fmt: skip
+    transform[0, 0] = 7.0  # the caller's copy: the shared operator is not changed
+    with pytest.raises(ValueError, match="do not contain the curve's spline space"):
+        bent.refine(coarser)
+    again, _ = straight.refine(coarser)
+    np.testing.assert_array_equal(again.control_points, refined.control_points)
