@@ -141,17 +141,7 @@ def test_bem_bodies_slide_from_the_scene_file(tmp_path, capsys):
     slide, Q = f P both ways from the files, the pressure's centre ahead of the pad's
     block in the sense of Q less the bodies' give (about 0.134 - 0.026 mm; the physics is
     checked in tests/validation/test_sliding_bem.py)."""
-    out = tmp_path / "out"
-    scene = ROOT / "examples" / "gross_sliding_bem.toml"
-    code = main(["run", str(scene), "--out", str(out), "--pairs", "21", "--no-figures",
-                 "--no-vtk", "--quiet"])  # fmt: skip
-    assert code == 0, capsys.readouterr().err
-    rows: dict[str, list] = {}
-    with open(out / "results.csv", newline="") as handle:
-        for row in csv.DictReader(handle):
-            rows.setdefault(row["step"], []).append([float(row[k]) for k in ("x", "p", "q")])
-    summary = json.loads((out / "summary.json").read_text())
-    steps = {s["step"]: s for s in summary["steps"]}
+    rows, steps = _slide_and_back(tmp_path, capsys, "gross_sliding_bem.toml")
     for name, sign, block in (("slide", 1.0, 2.8), ("back", -1.0, 0.0)):
         x, p, q = np.array(rows[name]).T
         assert steps[name]["Q"] == pytest.approx(sign * 0.3 * steps[name]["P"], rel=1e-3)
@@ -165,20 +155,25 @@ def test_bem_bodies_slide_along_an_arc_from_the_scene_file(tmp_path, capsys):
     along the convex specimen and back, turning with it; Q = f P both ways in the local
     frame, q = f p at every pair, the pairs on the arc (the physics is checked in
     tests/validation/test_sliding_arc.py)."""
-    out = tmp_path / "out"
-    scene = ROOT / "examples" / "gross_sliding_arc.toml"
-    code = main(["run", str(scene), "--out", str(out), "--pairs", "21", "--no-figures",
-                 "--no-vtk", "--quiet"])  # fmt: skip
-    assert code == 0, capsys.readouterr().err
-    rows: dict[str, list] = {}
-    with open(out / "results.csv", newline="") as handle:
-        for row in csv.DictReader(handle):
-            rows.setdefault(row["step"], []).append([float(row[k]) for k in ("x", "p", "q")])
-    summary = json.loads((out / "summary.json").read_text())
-    steps = {s["step"]: s for s in summary["steps"]}
+    rows, steps = _slide_and_back(tmp_path, capsys, "gross_sliding_arc.toml")
     for name, sign, block in (("slide", 1.0, 2.0), ("back", -1.0, 0.0)):
         x, p, q = np.array(rows[name]).T
         assert steps[name]["Q"] == pytest.approx(sign * 0.3 * steps[name]["P"], rel=1e-3)
         assert np.max(np.abs(q - sign * 0.3 * p)) < 1e-9 * p.max()
         centre = np.sum(x * p) / np.sum(p)
         assert abs(centre - block) < 0.15  # x of the pairs: the arc's 2 mm is 1.9997 mm in x
+
+
+def _slide_and_back(tmp_path, capsys, example: str) -> tuple[dict, dict]:
+    """Run ``examples/<example>`` at 21 pairs through ``fretbem run``: each step's (x, p, q)
+    rows from results.csv and its summary.json entry."""
+    out = tmp_path / "out"
+    code = main(["run", str(ROOT / "examples" / example), "--out", str(out), "--pairs", "21",
+                 "--no-figures", "--no-vtk", "--quiet"])  # fmt: skip
+    assert code == 0, capsys.readouterr().err
+    rows: dict[str, list] = {}
+    with open(out / "results.csv", newline="") as handle:
+        for row in csv.DictReader(handle):
+            rows.setdefault(row["step"], []).append([float(row[k]) for k in ("x", "p", "q")])
+    summary = json.loads((out / "summary.json").read_text())
+    return rows, {s["step"]: s for s in summary["steps"]}
