@@ -48,15 +48,18 @@ def test_large_bodies_keep_nothing(monkeypatch):
 
 
 def test_blocks_go_with_their_segments():
-    assembly.BLOCKS.clear()
-    body = cattaneo_mindlin(pairs=11).pair.upper
-    body.matrices()
-    assert len(assembly.BLOCKS._rules) == len(body.segments)
-    del body
+    """A segment's rules are dropped with the segment. The pad's radius is this test's own:
+    a simulation another test keeps (test_properties caches the reference scene) would
+    otherwise hold the same flank segments, and their rules, alive."""
     import gc
 
     from fretbem.scenes import builder
 
+    assembly.BLOCKS.clear()
+    body = cattaneo_mindlin(pairs=11, radius=71.25).pair.upper
+    body.matrices()
+    assert len(assembly.BLOCKS._rules) == len(body.segments)
+    del body
     builder._built.cache_clear()  # the scene builder keeps recent shapes' faces and segments
     gc.collect()
     assert len(assembly.BLOCKS._rules) == 0
