@@ -265,21 +265,31 @@ def _add_traction_map(pairing, label, response, sign, directions, frame, layout)
 
 def _add_blocks(blocks, step: int, sign: float, directions, frame, layout) -> None:
     """``_add_traction_map`` for a map ``[[A, B], [-B, A]]`` paired node to node: the same
-    products, term by term (so the same numbers), on the two (n, n) blocks in pair order."""
+    products, term by term (so the same numbers), on the two (n, n) blocks in pair order;
+    a term whose factor is zero at every pair (a flat face's frame) adds nothing, skipped."""
     a, b = (block[::step, ::step] for block in blocks)
     n = a.shape[0]
-    first, second, term = np.empty((n, n)), np.empty((n, n)), np.empty((n, n))
     for target, direction in directions:
         along_x, along_y = sign * direction[:, 0, None], sign * direction[:, 1, None]
         # the projected rows per traction component j at node k: x (A, -B), y (B, A)
-        np.multiply(along_x, a, out=first)
-        first += np.multiply(along_y, -b, out=term)
-        np.multiply(along_x, b, out=second)
-        second += np.multiply(along_y, a, out=term)
+        rows = (_combined(along_x, a, -along_y, b), _combined(along_x, b, along_y, a))
         view = target[:, layout.tractions].reshape(n, 2, n)
         for s in range(2):
-            view[:, s, :] += first * frame[:, 0, s]
-            view[:, s, :] += second * frame[:, 1, s]
+            for component, projected in enumerate(rows):
+                factor = frame[:, component, s]
+                if projected is not None and factor.any():
+                    view[:, s, :] += projected * factor
+
+
+def _combined(first: np.ndarray, block: np.ndarray, second: np.ndarray, other: np.ndarray):
+    """first * block + second * other (row factors (n, 1)); a term of zero factors skipped,
+    None when both are."""
+    out = None
+    for factor, values in ((first, block), (second, other)):
+        if factor.any():
+            term = factor * values
+            out = term if out is None else np.add(out, term, out=out)
+    return out
 
 
 def _node_to_node(pairing: Pairing, side: str, face_nodes: int) -> int:
