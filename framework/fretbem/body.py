@@ -116,6 +116,10 @@ class ContactResponse:
     rotation : BlockRotation or None
         The response to the block's rotation; None without a block, or where the body model
         cannot rotate it (a BEM body held by Displacement conditions as well).
+    traction_blocks : tuple of two ndarrays (n, n), or None
+        (A, B) where ``traction_map`` is ``[[A, B], [-B, A]]`` per node pair (component
+        rows x, y; columns x, y), as a half-plane's is: the condensation then works on the
+        two blocks instead of the (n, 2, 2n) map. None for a map of no such form.
     """
 
     base: np.ndarray
@@ -129,6 +133,7 @@ class ContactResponse:
     contact_force: np.ndarray
     has_block: bool
     rotation: BlockRotation | None = None
+    traction_blocks: tuple[np.ndarray, np.ndarray] | None = None
 
     @property
     def n_nodes(self) -> int:

@@ -132,16 +132,12 @@ class CondensedContact:
             load_columns = [names.index(name) for name in body.load_names]
             relative_base += sign * pairing.to_frame(label, pairing.gather(label, response.base))
             face_nodes = response.n_nodes
-            # pair-point rows first, projected on the pair frame, then the traction columns
-            gathered = _gather(pairing, label, response.traction_map)  # (n, 2, 2 face nodes)
-            projected, term = np.empty((n, 2 * face_nodes)), np.empty((n, 2 * face_nodes))
             directions = ((normal_map, body_normals), (tangential_map, body_tangents))
-            for target, direction in directions:
-                np.multiply(sign * direction[:, 0, None], gathered[:, 0], out=projected)
-                projected += np.multiply(sign * direction[:, 1, None], gathered[:, 1], out=term)
-                columns = _gather(pairing, label, projected.reshape(n, face_nodes, 2), 1, pull=True)
-                _per_pair(columns, frame, add_to=target[:, layout.tractions])
-            del gathered, projected, term
+            step = _node_to_node(pairing, label, face_nodes)
+            if response.traction_blocks is not None and step:
+                _add_blocks(response.traction_blocks, step, sign, directions, frame, layout)
+            else:
+                _add_traction_map(pairing, label, response, sign, directions, frame, layout)
             relative_load[:, :, load_columns] += sign * pairing.to_frame(
                 label, pairing.gather(label, response.load_map), axis=1
             )
@@ -252,6 +248,59 @@ class CondensedContact:
         centre = body.contact_response(self.pair.side(pad_rotation.PAD)[1]).rotation.centre
         offset = centre - self.rotation.centre
         return np.asarray(block, float) + theta * np.array([-offset[1], offset[0]]), theta
+
+
+def _add_traction_map(pairing, label, response, sign, directions, frame, layout) -> None:
+    """Add one body's traction map, projected on the pair frame, to the normal and
+    tangential maps: pair-point rows first, then the traction columns."""
+    n, face_nodes = pairing.n_pairs, response.n_nodes
+    gathered = _gather(pairing, label, response.traction_map)  # (n, 2, 2 face nodes)
+    projected, term = np.empty((n, 2 * face_nodes)), np.empty((n, 2 * face_nodes))
+    for target, direction in directions:
+        np.multiply(sign * direction[:, 0, None], gathered[:, 0], out=projected)
+        projected += np.multiply(sign * direction[:, 1, None], gathered[:, 1], out=term)
+        columns = _gather(pairing, label, projected.reshape(n, face_nodes, 2), 1, pull=True)
+        _per_pair(columns, frame, add_to=target[:, layout.tractions])
+
+
+def _add_blocks(blocks, step: int, sign: float, directions, frame, layout) -> None:
+    """``_add_traction_map`` for a map ``[[A, B], [-B, A]]`` paired node to node: the same
+    products, term by term (so the same numbers), on the two (n, n) blocks in pair order;
+    a term whose factor is zero at every pair (a flat face's frame) adds nothing, skipped."""
+    a, b = (block[::step, ::step] for block in blocks)
+    n = a.shape[0]
+    for target, direction in directions:
+        along_x, along_y = sign * direction[:, 0, None], sign * direction[:, 1, None]
+        # the projected rows per traction component j at node k: x (A, -B), y (B, A)
+        rows = (_combined(along_x, a, -along_y, b), _combined(along_x, b, along_y, a))
+        view = target[:, layout.tractions].reshape(n, 2, n)
+        for s in range(2):
+            for component, projected in enumerate(rows):
+                factor = frame[:, component, s]
+                if projected is not None and factor.any():
+                    view[:, s, :] += projected * factor
+
+
+def _combined(first: np.ndarray, block: np.ndarray, second: np.ndarray, other: np.ndarray):
+    """first * block + second * other (row factors (n, 1)); a term of zero factors skipped,
+    None when both are."""
+    out = None
+    for factor, values in ((first, block), (second, other)):
+        if factor.any():
+            term = factor * values
+            out = term if out is None else np.add(out, term, out=out)
+    return out
+
+
+def _node_to_node(pairing: Pairing, side: str, face_nodes: int) -> int:
+    """1 (or -1) where the pairs take the face nodes one each in order (or in reverse), else 0."""
+    if side in pairing.interpolation or side in pairing.transfer:
+        return 0
+    nodes = pairing.nodes(side)
+    if nodes.size != face_nodes or not face_nodes:
+        return 0
+    step = 1 if nodes[0] == 0 else -1
+    return step if np.array_equal(nodes, np.arange(face_nodes)[::step]) else 0
 
 
 def _gather(pairing: Pairing, side: str, values: np.ndarray, axis: int = 0, pull=False):

@@ -347,7 +347,7 @@ class HalfPlaneBody(Body):
             load_map[:, :, 0] = surface.bulk_displacement(surface.points[:, 0])
         arrays = {
             "base": np.zeros((n, 2)),
-            "traction_map": np.array(surface.traction_map),
+            "traction_map": surface.traction_map,  # read-only, cached by the surface
             "block_map": block_map,
             "load_map": load_map,
             "r_base": np.zeros(2),
@@ -359,7 +359,12 @@ class HalfPlaneBody(Body):
         for value in arrays.values():
             value.setflags(write=False)
         rotation = self._rotation(force) if has_block else None
-        return ContactResponse(**arrays, has_block=has_block, rotation=rotation)
+        return ContactResponse(
+            **arrays,
+            has_block=has_block,
+            rotation=rotation,
+            traction_blocks=surface.traction_blocks,
+        )
 
     def solution(
         self,

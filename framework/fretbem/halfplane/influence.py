@@ -208,11 +208,12 @@ def surface_integrals(face: Basis, x, datum: float = 1.0) -> SurfaceIntegrals:
     length = right - left
     distance = np.maximum(np.maximum(left[None, :] - x[:, None], x[:, None] - right[None, :]), 0)
     # every pair by the coarse rule first: (elements, points, rule) @ (elements, rule, local)
-    kernel = np.log(np.abs(x[None, :, None] - xq_c[:, None, :]) / datum)
+    kernel = _log_kernel(x[None, :, None], xq_c[:, None, :], datum)
     log_el = np.matmul(kernel, weighted_c).transpose(1, 0, 2)  # (points, elements, local)
+    del kernel
     mid_k, mid_e = np.nonzero((distance < FAR_RATIO * length[None, :]) & (distance >= length))
     if mid_k.size:
-        kernel = np.log(np.abs(x[mid_k, None] - xq_s[mid_e]) / datum)
+        kernel = _log_kernel(x[mid_k, None], xq_s[mid_e], datum)
         log_el[mid_k, mid_e] = np.einsum("pg,pga->pa", kernel, weighted_s[mid_e])
     moments = weighted_s.sum(axis=1)
     sign_el = np.sign(x[:, None] - 0.5 * (left + right)[None, :])[:, :, None] * moments[None]
@@ -224,13 +225,25 @@ def surface_integrals(face: Basis, x, datum: float = 1.0) -> SurfaceIntegrals:
     return SurfaceIntegrals(_to_functions(face, log_el), _to_functions(face, sign_el))
 
 
+def _log_kernel(x: np.ndarray, xq: np.ndarray, datum: float) -> np.ndarray:
+    """ln(|x - xq| / datum) (broadcast), computed in place in one array: the numbers of
+    ``np.log(np.abs(x - xq) / datum)`` without its three temporaries."""
+    out = np.subtract(x, xq)
+    np.abs(out, out=out)
+    np.divide(out, datum, out=out)
+    return np.log(out, out=out)
+
+
 def _to_functions(face: Basis, per_element: np.ndarray) -> np.ndarray:
     """(points, functions) sums of per-element integrals (points, elements, local)."""
     out = np.zeros((per_element.shape[0], face.n_functions))
     connectivity = face.connectivity
     for a in range(connectivity.shape[1]):
         columns = connectivity[:, a]
-        if np.unique(columns).size == columns.size:  # one element per function: no clash
+        first = columns[0] if columns.size else 0
+        if columns.size > 1 and np.array_equal(columns, np.arange(first, first + columns.size)):
+            out[:, first : first + columns.size] += per_element[:, :, a]  # a slice: no gather
+        elif np.unique(columns).size == columns.size:  # one element per function: no clash
             out[:, columns] += per_element[:, :, a]
         else:
             for e, column in enumerate(columns):

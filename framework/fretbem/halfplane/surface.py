@@ -108,28 +108,35 @@ class HalfPlaneSurface:
         integrals = surface_integrals(self.face, x, self.datum)
         return self._displacement_map(integrals.log, integrals.sign)
 
+    def _blocks(self, log: np.ndarray, sign: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(A, B) (m, N) of the map ``[[A, B], [-B, A]]`` from the ln and sign integrals."""
+        c, sigma = self.compliance, side_sign(self.side)
+        return -c.log * log, sigma * c.jump * sign
+
     def _displacement_map(self, log: np.ndarray, sign: np.ndarray) -> np.ndarray:
         """(m, 2, 2N) from the ln and sign integrals (m, N) of N functions or node values."""
-        c, sigma = self.compliance, side_sign(self.side)
-        m, n_f = log.shape
-        out = np.empty((m, 2, n_f, 2))
-        log, jump = -c.log * log, sigma * c.jump * sign
-        out[:, 0, :, 0] = log
-        out[:, 0, :, 1] = jump
-        out[:, 1, :, 0] = -jump
-        out[:, 1, :, 1] = log
-        return out.reshape(m, 2, 2 * n_f)
+        return _interleaved(*self._blocks(log, sign))
 
     @property
-    def traction_map(self) -> np.ndarray:
-        """Displacement (n, 2, 2n) at the nodes per unit node traction (column 2 a + j)."""
-        if "traction_map" not in self._cache:
+    def traction_blocks(self) -> tuple[np.ndarray, np.ndarray]:
+        """(A, B) (n, n): ``traction_map`` is ``[[A, B], [-B, A]]`` per node pair."""
+        if "traction_blocks" not in self._cache:
             x = self.points[:, 0]
             if self.shared_as is None:
                 both = self._node_integrals(x)
             else:
                 both = self._cache["shared"].get(lambda: self._node_integrals(x))
-            self._cache["traction_map"] = self._displacement_map(both[: x.size], both[x.size :])
+            blocks = self._blocks(both[: x.size], both[x.size :])
+            for block in blocks:
+                block.setflags(write=False)
+            self._cache["traction_blocks"] = blocks
+        return self._cache["traction_blocks"]
+
+    @property
+    def traction_map(self) -> np.ndarray:
+        """Displacement (n, 2, 2n) at the nodes per unit node traction (column 2 a + j)."""
+        if "traction_map" not in self._cache:
+            self._cache["traction_map"] = _interleaved(*self.traction_blocks)
             self._cache["traction_map"].setflags(write=False)
         return self._cache["traction_map"]
 
@@ -168,6 +175,17 @@ class HalfPlaneSurface:
         out[0, :, 0] = weights
         out[1, :, 1] = weights
         return out.reshape(2, 2 * n)
+
+
+def _interleaved(log: np.ndarray, jump: np.ndarray) -> np.ndarray:
+    """The (m, 2, 2N) map ``[[log, jump], [-jump, log]]`` per node pair (column 2 b + j)."""
+    m, n_f = log.shape
+    out = np.empty((m, 2, n_f, 2))
+    out[:, 0, :, 0] = log
+    out[:, 0, :, 1] = jump
+    out[:, 1, :, 0] = -jump
+    out[:, 1, :, 1] = log
+    return out.reshape(m, 2, 2 * n_f)
 
 
 def transposed_solve(matrix: np.ndarray, rows: np.ndarray) -> np.ndarray:

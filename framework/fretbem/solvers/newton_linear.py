@@ -226,17 +226,17 @@ class _Factor:
         k, n = columns.size, maps.n
         matrix = np.empty((k, k))  # C order: its transpose is the F-ordered LAPACK input
         kc, ks = c.size, s.size
-        matrix[:kc] = maps.normal[np.ix_(c, columns)]
+        matrix[:kc] = _taken(maps.normal, c, columns)
         matrix[:kc] *= maps.r_n
-        matrix[kc : kc + ks] = maps.tangential[np.ix_(s, columns)]
+        matrix[kc : kc + ks] = _taken(maps.tangential, s, columns)
         matrix[kc : kc + ks] *= -maps.r_t
         matrix[kc + ks :] = maps.resultant[:, columns]
         # dp of a slipping pair also moves its dq by c_i dp: fold that column in
         slip_in_c = np.arange(kc)[np.isin(c, slipping)]
         if slipping.size:
-            matrix[:kc, slip_in_c] += maps.r_n * maps.normal[np.ix_(c, n + slipping)] * coeff
+            matrix[:kc, slip_in_c] += maps.r_n * _taken(maps.normal, c, n + slipping) * coeff
             matrix[kc : kc + ks, slip_in_c] -= (
-                maps.r_t * maps.tangential[np.ix_(s, n + slipping)] * coeff
+                maps.r_t * _taken(maps.tangential, s, n + slipping) * coeff
             )
             matrix[kc + ks :, slip_in_c] += maps.resultant[:, n + slipping] * coeff
         return matrix
@@ -314,16 +314,22 @@ def _block(maps: _Maps, rows: np.ndarray, columns: np.ndarray) -> np.ndarray:
     """The Jacobian's contact rows (r_n N; -r_t T; R) ``rows`` (increasing numbers of x) over
     ``columns`` (C order)."""
     if maps.stacked is not None:
-        return maps.stacked[np.ix_(rows, columns)]
+        return _taken(maps.stacked, rows, columns)
     n = maps.n
     out = np.empty((rows.size, columns.size))
     k1, k2 = np.searchsorted(rows, [n, 2 * n])
-    out[:k1] = maps.normal[np.ix_(rows[:k1], columns)]
+    out[:k1] = _taken(maps.normal, rows[:k1], columns)
     out[:k1] *= maps.r_n
-    out[k1:k2] = maps.tangential[np.ix_(rows[k1:k2] - n, columns)]
+    out[k1:k2] = _taken(maps.tangential, rows[k1:k2] - n, columns)
     out[k1:k2] *= -maps.r_t
-    out[k2:] = maps.resultant[np.ix_(rows[k2:] - 2 * n, columns)]
+    out[k2:] = _taken(maps.resultant, rows[k2:] - 2 * n, columns)
     return out
+
+
+def _taken(matrix: np.ndarray, rows: np.ndarray, columns: np.ndarray) -> np.ndarray:
+    """``matrix[np.ix_(rows, columns)]`` as a row take then a column take: the same numbers
+    at about a third of the cost of the two-axis fancy index (C-ordered)."""
+    return matrix.take(rows, axis=0).take(columns, axis=1)
 
 
 def _nonzero_ranges(matrix: np.ndarray, n: int) -> tuple[slice, ...] | None:
