@@ -375,9 +375,9 @@ def _coarse(data, p, grid, axes, rank, codes, par, nu, E, in_plane, work, scratc
     ``best``, and its quantities (value, tau, sigma_n max and min, normal strain amplitude)
     into ``found`` (5, C); the grid circles as the module docstring says."""
     m, h, xy, zz, tr, x, y = data
-    out, lo, hi, tau, value, vlo, vhi, done = work
+    out, lo, hi, tau, value, vlo, vhi, done, _ = work
     n_g = grid.shape[1]
-    order = np.empty(n_g, dtype=np.int64)
+    order = work[8]
     c2, s2, sp, cp = grid[0], grid[1], grid[2], grid[3]
     _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratch)
     shear = False
@@ -472,7 +472,7 @@ def _evaluate(data, nb, planes, n_rep, per, codes, par, nu, E, in_plane, against
     """
     m, h, xy, zz, tr, x, y = data
     c2, s2, sp, cp, psup = planes
-    out, lo, hi, tau, value, vlo, vhi, _ = work
+    out, lo, hi, tau, value, vlo, vhi, _, _ = work
     cvalue, cscale, csup = cur
     for r in range(n_rep):
         _block_summaries(m, h, xy, zz, tr, nb, nu, c2, s2, sp, cp, r * nb, in_plane, out)
@@ -695,6 +695,7 @@ def search(
         rows[16, :size],
         rows[17, :size],
         np.empty(size, dtype=np.bool_),
+        np.empty(size, dtype=np.int64),
     )
     n_cur = n_c * nb_max
     cur_rows = np.empty((8, n_cur + _PAD))
@@ -745,6 +746,16 @@ def search(
                 c2[i], s2[i], sp[i], cp[i] = grid[0, g], grid[1, g], grid[2, g], grid[3, g]
         _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles, codes,
                       par, nu, E, steps, levels, in_plane, work)  # fmt: skip
+        # a criterion whose search needs no shear reports its plane's exact shear amplitude
+        for ci in range(n_c):
+            if _needs_shear(codes[ci]):
+                continue
+            for b in range(nb):
+                i = ci * nb + b
+                sup[0] = -1
+                cres[1, i] = _exact_tau(
+                    m, h, xy, zz, b, c2[i], s2[i], sp[i], cp[i], data[5], data[6], sup
+                )
         for ci in range(n_c):
             for b in range(nb):
                 i = ci * nb + b
