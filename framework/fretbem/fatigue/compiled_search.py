@@ -18,6 +18,8 @@ how, not what (the answers agree to round-off, tests/framework/fatigue/test_sear
 - the refinement runs over blocks of points: every criterion's candidate planes of a level,
   for all the block's points, in one evaluation; it starts from the grid's quantities and
   keeps the winning candidates' (numpy evaluates the start and the final planes again);
+- a criterion whose search needs no shear (SWT, stress_life, strain_life) gets its final
+  plane's exact circle here (numpy: a projection and a circle per point after the search);
 - neighbouring planes are reached by rotating the cosines and sines of the current plane, and
   a plane's circle starts from the support points of the plane it moved from (the circle is
   unique: only the number of rounds changes).
