@@ -19,7 +19,8 @@ how, not what (the answers agree to round-off, tests/framework/fatigue/test_sear
   for all the block's points, in one evaluation; it starts from the grid's quantities and
   keeps the winning candidates' (numpy evaluates the start and the final planes again);
 - a criterion whose search needs no shear (SWT, stress_life, strain_life) gets its final
-  plane's exact circle here (numpy: a projection and a circle per point after the search);
+  plane's shear amplitude here, by the bounds where they meet (a straight path) and its
+  exact circle elsewhere (numpy: a projection and a circle per point after the search);
 - neighbouring planes are reached by rotating the cosines and sines of the current plane, and
   a plane's circle starts from the support points of the plane it moved from (the circle is
   unique: only the number of rounds changes).
@@ -169,6 +170,28 @@ def _exact_tau(m, h, xy, zz, b, c2, s2, sp, cp, x, y, sup):
         x[t] = (sp * cp) * (ee - zz[t, b])
         y[t] = sp * te
     return _circle(x, y, sup)
+
+
+@numba.njit(**_JIT)
+def _plane_tau(m, h, xy, zz, b, c2, s2, sp, cp, x, y, sup):
+    """The shear amplitude of one plane of point ``b``: half the extent of a straight path
+    (its bounds within 1e-12, as the search takes them), else its exact circle."""
+    hx = hy = hu = hv = -np.inf
+    lx = ly = lu = lv = np.inf
+    for t in range(x.size):
+        ee = m[t, b] + h[t, b] * c2 + xy[t, b] * s2
+        te = xy[t, b] * c2 - h[t, b] * s2
+        px, py = (sp * cp) * (ee - zz[t, b]), sp * te
+        hx, lx, hy, ly = max(hx, px), min(lx, px), max(hy, py), min(ly, py)
+        hu, lu, hv, lv = max(hu, px + py), min(lu, px + py), max(hv, px - py), min(lv, px - py)
+    rx, ry = hx - lx, hy - ly
+    ru, rv = (hu - lu) * _HALF_SQRT2, (hv - lv) * _HALF_SQRT2
+    lo = 0.5 * max(max(rx, ry), max(ru, rv))
+    hi = 0.5 * math.sqrt(min(rx * rx + ry * ry, ru * ru + rv * rv))
+    if not hi > lo * (1.0 + 1e-12):
+        return lo
+    sup[0] = -1
+    return _exact_tau(m, h, xy, zz, b, c2, s2, sp, cp, x, y, sup)
 
 
 # --------------------------------------------------------------------------- plane sums
@@ -769,8 +792,7 @@ def search(
                 continue
             for b in range(nb):
                 i = ci * nb + b
-                sup[0] = -1
-                cres[1, i] = _exact_tau(
+                cres[1, i] = _plane_tau(
                     m, h, xy, zz, b, c2[i], s2[i], sp[i], cp[i], data[5], data[6], sup
                 )
         for ci in range(n_c):
