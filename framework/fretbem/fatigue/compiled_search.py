@@ -18,6 +18,9 @@ how, not what (the answers agree to round-off, tests/framework/fatigue/test_sear
 - the refinement runs over blocks of points: every criterion's candidate planes of a level,
   for all the block's points, in one evaluation; it starts from the grid's quantities and
   keeps the winning candidates' (numpy evaluates the start and the final planes again);
+- a criterion whose search needs no shear (SWT, stress_life, strain_life) gets its final
+  plane's shear amplitude here, by the bounds where they meet (a straight path) and its
+  exact circle elsewhere (numpy: a projection and a circle per point after the search);
 - neighbouring planes are reached by rotating the cosines and sines of the current plane, and
   a plane's circle starts from the support points of the plane it moved from (the circle is
   unique: only the number of rounds changes).
@@ -169,6 +172,28 @@ def _exact_tau(m, h, xy, zz, b, c2, s2, sp, cp, x, y, sup):
     return _circle(x, y, sup)
 
 
+@numba.njit(**_JIT)
+def _plane_tau(m, h, xy, zz, b, c2, s2, sp, cp, x, y, sup):
+    """The shear amplitude of one plane of point ``b``: half the extent of a straight path
+    (its bounds within 1e-12, as the search takes them), else its exact circle."""
+    hx = hy = hu = hv = -np.inf
+    lx = ly = lu = lv = np.inf
+    for t in range(x.size):
+        ee = m[t, b] + h[t, b] * c2 + xy[t, b] * s2
+        te = xy[t, b] * c2 - h[t, b] * s2
+        px, py = (sp * cp) * (ee - zz[t, b]), sp * te
+        hx, lx, hy, ly = max(hx, px), min(lx, px), max(hy, py), min(ly, py)
+        hu, lu, hv, lv = max(hu, px + py), min(lu, px + py), max(hv, px - py), min(lv, px - py)
+    rx, ry = hx - lx, hy - ly
+    ru, rv = (hu - lu) * _HALF_SQRT2, (hv - lv) * _HALF_SQRT2
+    lo = 0.5 * max(max(rx, ry), max(ru, rv))
+    hi = 0.5 * math.sqrt(min(rx * rx + ry * ry, ru * ru + rv * rv))
+    if not hi > lo * (1.0 + 1e-12):
+        return lo
+    sup[0] = -1
+    return _exact_tau(m, h, xy, zz, b, c2, s2, sp, cp, x, y, sup)
+
+
 # --------------------------------------------------------------------------- plane sums
 
 
@@ -198,18 +223,23 @@ def _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratc
     if in_plane:
         n_g = c2.size
         _reset(out, 0, n_g)
+        o0, o1, o2, o3, o4, o5 = out[0, :n_g], out[1, :n_g], out[2, :n_g], out[3, :n_g], \
+            out[4, :n_g], out[5, :n_g]  # fmt: skip
         for t in range(n_t):
             mt, ht, xyt, trt = m[t, p], h[t, p], xy[t, p], nu * tr[t, p]
+            # one loop per pair of extremes: few arrays each, so that LLVM vectorises them
             for g in range(n_g):
                 ee = mt + ht * c2[g] + xyt * s2[g]
+                o0[g] = ee if ee > o0[g] else o0[g]
+                o1[g] = ee if ee < o1[g] else o1[g]
+            for g in range(n_g):
+                en = a * (mt + ht * c2[g] + xyt * s2[g]) - trt
+                o2[g] = en if en > o2[g] else o2[g]
+                o3[g] = en if en < o3[g] else o3[g]
+            for g in range(n_g):
                 te = xyt * c2[g] - ht * s2[g]
-                en = a * ee - trt
-                out[0, g] = max(out[0, g], ee)
-                out[1, g] = min(out[1, g], ee)
-                out[2, g] = max(out[2, g], en)
-                out[3, g] = min(out[3, g], en)
-                out[4, g] = max(out[4, g], te)
-                out[5, g] = min(out[5, g], te)
+                o4[g] = te if te > o4[g] else o4[g]
+                o5[g] = te if te < o5[g] else o5[g]
         return
     tc2, ts2, psp, pcp = axes
     n_th, n_ps = tc2.size, psp.size
@@ -269,22 +299,30 @@ def _block_summaries(m, h, xy, zz, tr, nb, nu, c2, s2, sp, cp, start, in_plane, 
     the loop over the steps stores nothing."""
     a = 1.0 + nu
     n_t = m.shape[0]
+    if in_plane:  # step by step over the points, one loop per pair of extremes (vectorised)
+        stop = start + nb
+        _reset(out, start, stop)
+        c, s = c2[start:stop], s2[start:stop]
+        o0, o1, o2, o3, o4, o5 = out[0, start:stop], out[1, start:stop], out[2, start:stop], \
+            out[3, start:stop], out[4, start:stop], out[5, start:stop]  # fmt: skip
+        for t in range(n_t):
+            mt, ht, xyt, trt = m[t, :nb], h[t, :nb], xy[t, :nb], tr[t, :nb]
+            for b in range(nb):
+                ee = mt[b] + ht[b] * c[b] + xyt[b] * s[b]
+                o0[b] = ee if ee > o0[b] else o0[b]
+                o1[b] = ee if ee < o1[b] else o1[b]
+            for b in range(nb):
+                en = a * (mt[b] + ht[b] * c[b] + xyt[b] * s[b]) - nu * trt[b]
+                o2[b] = en if en > o2[b] else o2[b]
+                o3[b] = en if en < o3[b] else o3[b]
+            for b in range(nb):
+                te = xyt[b] * c[b] - ht[b] * s[b]
+                o4[b] = te if te > o4[b] else o4[b]
+                o5[b] = te if te < o5[b] else o5[b]
+        return
     for b in range(nb):
         g = start + b
         c, s = c2[g], s2[g]
-        if in_plane:
-            hi0 = hi1 = hi2 = -np.inf
-            lo0 = lo1 = lo2 = np.inf
-            for t in range(n_t):
-                ee = m[t, b] + h[t, b] * c + xy[t, b] * s
-                te = xy[t, b] * c - h[t, b] * s
-                en = a * ee - nu * tr[t, b]
-                hi0, lo0 = max(hi0, ee), min(lo0, ee)
-                hi1, lo1 = max(hi1, en), min(lo1, en)
-                hi2, lo2 = max(hi2, te), min(lo2, te)
-            out[0, g], out[1, g], out[2, g], out[3, g] = hi0, lo0, hi1, lo1
-            out[4, g], out[5, g] = hi2, lo2
-            continue
         sp2, cp2, spcp, spg = sp[g] * sp[g], cp[g] * cp[g], sp[g] * cp[g], sp[g]
         hi0 = hi1 = hi2 = hi3 = hi4 = hi5 = -np.inf
         lo0 = lo1 = lo2 = lo3 = lo4 = lo5 = np.inf
@@ -375,22 +413,24 @@ def _coarse(data, p, grid, axes, rank, codes, par, nu, E, in_plane, work, scratc
     ``best``, and its quantities (value, tau, sigma_n max and min, normal strain amplitude)
     into ``found`` (5, C); the grid circles as the module docstring says."""
     m, h, xy, zz, tr, x, y = data
-    out, lo, hi, tau, value, vlo, vhi, done = work
+    out, lo, hi, tau, value, vlo, vhi, done, _ = work
     n_g = grid.shape[1]
-    order = np.empty(n_g, dtype=np.int64)
+    order = work[8]
     c2, s2, sp, cp = grid[0], grid[1], grid[2], grid[3]
     _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratch)
     shear = False
     for code in codes:
         shear = shear or _needs_shear(code)
+    n_open_grid = 0  # planes whose circle is open (bounds apart): none, no circle to rank
     if shear:
         _shear_bounds(out, 0, n_g, in_plane, lo, hi)
         for g in range(n_g):
             tau[g] = lo[g]
             done[g] = in_plane or not hi[g] > lo[g] * (1.0 + 1e-12)
+            n_open_grid += 0 if done[g] else 1
     for ci in range(codes.size):
         code = codes[ci]
-        if shear and _needs_shear(code) and not in_plane:
+        if n_open_grid and _needs_shear(code):
             # exact circles in decreasing order of the value's upper bound, while it can win
             _values(code, par[ci], E, out, lo, 0, n_g, vlo)
             _values(code, par[ci], E, out, hi, 0, n_g, vhi)
@@ -472,7 +512,7 @@ def _evaluate(data, nb, planes, n_rep, per, codes, par, nu, E, in_plane, against
     """
     m, h, xy, zz, tr, x, y = data
     c2, s2, sp, cp, psup = planes
-    out, lo, hi, tau, value, vlo, vhi, _ = work
+    out, lo, hi, tau, value, vlo, vhi, _, _ = work
     cvalue, cscale, csup = cur
     for r in range(n_rep):
         _block_summaries(m, h, xy, zz, tr, nb, nu, c2, s2, sp, cp, r * nb, in_plane, out)
@@ -695,6 +735,7 @@ def search(
         rows[16, :size],
         rows[17, :size],
         np.empty(size, dtype=np.bool_),
+        np.empty(size, dtype=np.int64),
     )
     n_cur = n_c * nb_max
     cur_rows = np.empty((8, n_cur + _PAD))
@@ -745,6 +786,15 @@ def search(
                 c2[i], s2[i], sp[i], cp[i] = grid[0, g], grid[1, g], grid[2, g], grid[3, g]
         _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles, codes,
                       par, nu, E, steps, levels, in_plane, work)  # fmt: skip
+        # a criterion whose search needs no shear reports its plane's exact shear amplitude
+        for ci in range(n_c):
+            if _needs_shear(codes[ci]):
+                continue
+            for b in range(nb):
+                i = ci * nb + b
+                cres[1, i] = _plane_tau(
+                    m, h, xy, zz, b, c2[i], s2[i], sp[i], cp[i], data[5], data[6], sup
+                )
         for ci in range(n_c):
             for b in range(nb):
                 i = ci * nb + b

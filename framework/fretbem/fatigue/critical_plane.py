@@ -617,9 +617,8 @@ def _compiled_parameters(stress, criteria, search, theta_g, psi_g, E, nu) -> dic
     G = E / (2.0 * (1.0 + nu))
     results = {}
     for i, crit in enumerate(criteria):
+        # tau: for a criterion whose search needs no shear, its plane's own (for the report)
         value, tau, smax, smin, strain = res[:, i]
-        if not crit.needs_shear:  # its search needs no shear: the plane's own, for the report
-            tau = _plane_shear_amplitude(stress, theta[i], psi[i], E, nu)
         results[crit.name] = CriterionResult(
             method=crit.name,
             value=value,

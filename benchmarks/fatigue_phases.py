@@ -1,0 +1,149 @@
+"""Where the compiled critical-plane search spends its time, phase by phase, against its floor.
+
+The workflows benchmark's fatigue case (10,000 points below a Cattaneo-Mindlin contact, the
+last full reversal, all four critical-plane criteria), timed in one process as ratios to the
+projection floor (one float32 product per chunk, as ``benchmarks/workflows.py``): the coarse
+grid's step summaries alone, the whole coarse grid (summaries, bounds, circles, the best
+plane of each criterion), the search with 0..``refine_levels`` refinement levels (level 0:
+one pattern level and the parabolic step), and the whole ``critical_plane_parameters`` call.
+Medians of ``--runs`` CPU times; run it alone (the machine is shared: ratios, not seconds).
+
+Run from the repository root::
+
+    OPENBLAS_NUM_THREADS=1 python benchmarks/fatigue_phases.py --runs 7
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import time
+
+import numba
+import numpy as np
+
+from fretbem.fatigue import (
+    METHODS,
+    CattaneoMindlinCycle,
+    PlaneSearch,
+    critical_plane_parameters,
+    last_full_reversal,
+)
+from fretbem.fatigue import compiled_search as cs
+from fretbem.fatigue.planes import plane_grid, projection
+
+CONSTANTS = {"findley_k": 0.3, "fatemi_socie_k": 0.5, "yield_strength": 941.8}
+
+
+def stress_cycle() -> np.ndarray:
+    """(9, 10,000, 4): the workflows benchmark's fatigue history."""
+    cm = CattaneoMindlinCycle(a=0.5, p0=300.0, f=0.6, tangential_ratio=0.5,
+                              sigma_bulk_max=80.0, nu=0.342, steps_per_branch=2)  # fmt: skip
+    X, Z = np.meshgrid(np.linspace(-0.75, 0.75, 100), np.linspace(0.0, 0.5, 100))
+    stress = cm.stress_at(np.stack([X.ravel(), Z.ravel()], axis=1))
+    return stress[last_full_reversal(cm.driver)]
+
+
+@numba.njit
+def _coarse_phase(stress, grid, axes, rank, codes, par, nu, E, in_plane, whole):
+    """The coarse grid over every point: its summaries alone, or (``whole``) all of it."""
+    n_t, n_p, n_g = stress.shape[0], stress.shape[1], grid.shape[1]
+    rows = np.empty((5, n_t, 1))
+    m, h, xy, zz, tr = rows[0], rows[1], rows[2], rows[3], rows[4]
+    data = (m, h, xy, zz, tr, np.empty(n_t), np.empty(n_t))
+    size = max(n_g, 1)
+    work = (np.empty((12, size)), np.empty(size), np.empty(size), np.empty(size),
+            np.empty(size), np.empty(size), np.empty(size), np.empty(size, dtype=np.bool_),
+            np.empty(size, dtype=np.int64))  # fmt: skip
+    scratch = np.empty((6, axes[0].size))
+    best = np.empty(codes.size, dtype=np.int64)
+    found = np.empty((5, codes.size))
+    sup = np.empty(3, dtype=np.int64)
+    total = 0.0
+    for p in range(n_p):
+        for t in range(n_t):
+            sxx, syy = stress[t, p, 0], stress[t, p, 1]
+            m[t, 0], h[t, 0] = 0.5 * (sxx + syy), 0.5 * (sxx - syy)
+            xy[t, 0], zz[t, 0] = stress[t, p, 2], stress[t, p, 3]
+            tr[t, 0] = 2.0 * m[t, 0] + zz[t, 0]
+        if whole:
+            cs._coarse(data, 0, grid, axes, rank, codes, par, nu, E, in_plane, work, scratch,
+                       best, found, sup)  # fmt: skip
+            total += found[0, 0]
+        else:
+            cs._grid_summaries(m, h, xy, zz, tr, 0, nu, grid[0], grid[1], axes, in_plane,
+                               work[0], scratch)  # fmt: skip
+            total += work[0][0, 0]
+    return total
+
+
+def median_cpu(fn, runs: int) -> float:
+    fn()
+    times = []
+    for _ in range(runs):
+        start = time.process_time()
+        fn()
+        times.append(time.process_time() - start)
+    return statistics.median(times)
+
+
+def phases(stress: np.ndarray, in_plane: bool, runs: int) -> None:
+    """Print each phase's median CPU time over the floor's, in-plane or 3D."""
+    search = PlaneSearch(in_plane_only=in_plane, compiled=True)
+    theta, psi = plane_grid(in_plane_only=in_plane, theta_step_deg=search.theta_step_deg,
+                            psi_step_deg=search.psi_step_deg)  # fmt: skip
+    coef = projection(theta, psi).astype(np.float32).transpose(2, 0, 1).reshape(4, -1)
+
+    def floor():
+        s32 = stress.astype(np.float32)
+        for a in range(0, s32.shape[1], search.chunk_points):
+            s32[:, a : a + search.chunk_points] @ coef
+
+    captured = {}
+    real = cs.search
+
+    def spy(*a):
+        captured["args"] = a
+        return real(*a)
+
+    def whole():
+        critical_plane_parameters(stress, E=116000.0, nu=0.342, methods=METHODS[:4],
+                                  search=search, **CONSTANTS)  # fmt: skip
+
+    cs.search = spy
+    try:
+        whole()
+    finally:
+        cs.search = real
+    a = captured["args"]
+    grid, axes, rank, codes, par, nu, E = a[1], a[2], a[3], a[6], a[7], a[8], a[9]
+    t_floor = median_cpu(floor, runs)
+    rows = {
+        "coarse summaries": lambda: _coarse_phase(
+            a[0], grid, axes, rank, codes, par, nu, E, in_plane, False
+        ),
+        "coarse grid": lambda: _coarse_phase(
+            a[0], grid, axes, rank, codes, par, nu, E, in_plane, True
+        ),
+    }
+    for levels in range(search.refine_levels + 1):
+        rows[f"search, {levels} levels"] = lambda levels=levels: cs.search(*a[:11], levels, a[12])
+    rows["critical_plane_parameters"] = whole
+    print(f"{'in-plane' if in_plane else '3D'}: floor {t_floor * 1e3:.1f} ms")
+    for name, fn in rows.items():
+        print(f"  {name:<28s} {median_cpu(fn, runs) / t_floor:6.2f} x floor")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--runs", type=int, default=5)
+    args = parser.parse_args()
+    print(f"load average {os.getloadavg()[0]:.1f}")
+    stress = stress_cycle()
+    for in_plane in (True, False):
+        phases(stress, in_plane, args.runs)
+
+
+if __name__ == "__main__":
+    main()
