@@ -11,12 +11,11 @@ import numpy as np
 import pytest
 
 from fretbem.fatigue import (
-    CattaneoMindlinCycle,
     PlaneSearch,
     critical_plane_parameters,
-    last_full_reversal,
 )
 from fretbem.fatigue import critical_plane as cp
+from fretbem.testing.fatigue import contact_stress_history, random_stress_history
 
 E, NU = 116000.0, 0.342
 KW = {
@@ -31,23 +30,11 @@ KW = {
 
 def contact_like(n=40, seed=3):
     """Cattaneo-Mindlin / Nowell-Hills cycle at points below a fretting contact."""
-    cm = CattaneoMindlinCycle(
-        a=0.5, p0=300.0, f=0.6, tangential_ratio=0.5, sigma_bulk_max=80.0, nu=NU,
-        steps_per_branch=3,
-    )  # fmt: skip
-    rng = np.random.default_rng(seed)
-    points = np.stack([rng.uniform(-0.75, 0.75, n), rng.uniform(0.0, 0.3, n)], axis=1)
-    return cm.stress_at(points)[last_full_reversal(cm.driver)]
+    return contact_stress_history(n, seed, depth=0.3, steps_per_branch=3, nu=NU)
 
 
 def random_history(n=40, seed=5):
-    rng = np.random.default_rng(seed)
-    t = np.linspace(0.0, 2 * np.pi, 11)
-    a, b = rng.normal(size=(n, 4)) * 100, rng.normal(size=(n, 4)) * 40
-    s = a[None] * np.sin(t)[:, None, None] + b[None] * np.cos(2 * t)[:, None, None]
-    s += rng.normal(size=(1, n, 4)) * 30
-    s[..., 3] = NU * (s[..., 0] + s[..., 1])
-    return s
+    return random_stress_history(n, seed, nu=NU)
 
 
 HISTORIES = {"random": random_history, "contact": contact_like}
