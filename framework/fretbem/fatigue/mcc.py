@@ -30,6 +30,9 @@ INSIDE_TOLERANCE = 1e-10
 _HALF_SQRT2 = 0.5 * np.sqrt(2.0)
 #: the iteration ends after this many rounds; each round enlarges the radius strictly
 MAX_ROUNDS = 200
+#: a point counts as on the circle within this fraction of its column's coordinate size too
+#: (the round-off of the distances; a circle of radius 1e-9 among stresses of 30 MPa)
+ROUNDING = 1e-13
 
 
 def _initial_circle(x: np.ndarray, y: np.ndarray):
@@ -122,6 +125,9 @@ def minimum_circumscribed_circle_xy(x: np.ndarray, y: np.ndarray):
     x = np.asarray(x, dtype=float)
     y = np.asarray(y, dtype=float)
     cx, cy, radius, (ax, ay), (bx, by) = _initial_circle(x, y)
+    # distances to points far from the origin carry round-off of their coordinates' size: a
+    # point that far outside a tiny circle (two nearly equal stresses) is on it, not outside
+    rounding = ROUNDING * (np.max(np.abs(x), axis=0) + np.max(np.abs(y), axis=0)) + 1e-300
     sx = np.stack([ax, bx, bx])
     sy = np.stack([ay, by, by])
     active = np.arange(x.shape[1])
@@ -133,7 +139,7 @@ def minimum_circumscribed_circle_xy(x: np.ndarray, y: np.ndarray):
         far = np.argmax(d, axis=0)
         cols = np.arange(active.size)
         dmax = np.sqrt(d[far, cols])
-        outside = dmax > radius[active] * (1.0 + INSIDE_TOLERANCE) + 1e-300
+        outside = dmax > radius[active] * (1.0 + INSIDE_TOLERANCE) + rounding[active]
         active = active[outside]
         if active.size == 0:
             break

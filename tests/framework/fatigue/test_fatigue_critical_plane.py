@@ -310,3 +310,15 @@ def test_criteria_without_shear_report_their_planes_stresses(methods, in_plane):
             amplitude, mean = np.ptp(sigma_n) / 2, (sigma_n.max() + sigma_n.min()) / 2
             assert r.normal_stress_amplitude[p] == pytest.approx(amplitude, rel=1e-12)
             assert r.normal_stress_mean[p] == pytest.approx(mean, rel=1e-12, abs=1e-9)
+
+
+def test_circle_of_nearly_equal_points_far_from_the_origin():
+    """Two shear points 2.4e-9 MPa apart at 29 MPa (a plane whose shear barely moves): the
+    distances' round-off (~1e-14 MPa) exceeds the circle's own slack, which once made the
+    iteration run out of rounds ('did not converge'); the circle is the pair's half distance."""
+    from fretbem.fatigue.mcc import minimum_circumscribed_circle_xy
+
+    x = np.array([[-1.3554238596245625e-15], [1.0434966352127865e-15]])
+    y = np.array([[-29.222977473699515], [-29.222977471320252]])
+    _, _, radius = minimum_circumscribed_circle_xy(x, y)
+    assert radius[0] == pytest.approx(0.5 * abs(y[1, 0] - y[0, 0]), rel=1e-6)
