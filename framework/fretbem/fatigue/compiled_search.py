@@ -54,6 +54,7 @@ _PAD = 40
 
 _HALF_SQRT2 = 0.5 * math.sqrt(2.0)
 _INSIDE = 1e-10  # as mcc.INSIDE_TOLERANCE
+_ROUNDING = 1e-13  # as mcc.ROUNDING
 _TIE = 1e-10  # as critical_plane.MWCM_TIE_TOLERANCE
 _COS_HALF_PI = math.cos(0.5 * math.pi)  # the numpy search's cos(psi) at psi = 90 degrees
 
@@ -127,6 +128,11 @@ def _circle(x, y, sup):
     ``sup`` (3 indices) starts the iteration where ``sup[0] >= 0`` (the support of a nearby
     plane's path) and returns the support found."""
     m = x.size
+    # round-off of the distances, of the coordinates' size (as mcc.ROUNDING)
+    size_x = size_y = 0.0
+    for i in range(m):
+        size_x, size_y = max(size_x, abs(x[i])), max(size_y, abs(y[i]))
+    rounding = _ROUNDING * (size_x + size_y) + 1e-300
     if min(sup[0], min(sup[1], sup[2])) < 0 or max(sup[0], max(sup[1], sup[2])) >= m:
         a, best = 0, -1.0
         for i in range(m):
@@ -147,7 +153,7 @@ def _circle(x, y, sup):
         radius = 0.5 * math.hypot(x[a] - x[b], y[a] - y[b])
         if c != b and c != a:  # three supports: grow the circle of the first two by the third
             sup[2] = b
-            if math.hypot(x[c] - cx, y[c] - cy) > radius * (1.0 + _INSIDE) + 1e-300:
+            if math.hypot(x[c] - cx, y[c] - cy) > radius * (1.0 + _INSIDE) + rounding:
                 cx, cy, radius = _smallest_with(x, y, sup, c)
     for _ in range(200):
         far, dmax = 0, -1.0
@@ -155,7 +161,7 @@ def _circle(x, y, sup):
             d = (x[i] - cx) ** 2 + (y[i] - cy) ** 2
             if d > dmax:
                 far, dmax = i, d
-        if not math.sqrt(dmax) > radius * (1.0 + _INSIDE) + 1e-300:
+        if not math.sqrt(dmax) > radius * (1.0 + _INSIDE) + rounding:
             return radius
         cx, cy, radius = _smallest_with(x, y, sup, far)
     return radius

@@ -211,3 +211,15 @@ def test_without_numba_the_search_stays_in_numpy(monkeypatch):
 def test_plane_search_refuses_a_non_boolean_choice():
     with pytest.raises(TypeError, match="compiled"):
         PlaneSearch(compiled="yes")
+
+
+def test_compiled_circle_of_nearly_equal_points_far_from_the_origin():
+    """The compiled circle of two shear points 2.4e-9 MPa apart at 29 MPa: the distances'
+    round-off exceeds the tiny circle's own slack, which sent the iteration to a circle
+    through collinear points and returned an infinite radius; it is the half distance."""
+    from fretbem.fatigue import compiled_search
+
+    x = np.array([-1.3554238596245625e-15, 1.0434966352127865e-15])
+    y = np.array([-29.222977473699515, -29.222977471320252])
+    radius = compiled_search._circle(x, y, np.array([-1, -1, -1]))
+    assert radius == pytest.approx(0.5 * abs(y[1] - y[0]), rel=1e-6)
