@@ -25,22 +25,17 @@ ROOT = Path(__file__).resolve().parents[1]
 CHILD = r"""
 import json, statistics, sys, time
 sys.path.insert(0, sys.argv[1])
-from fretbem import basis
-from fretbem.geometry import nurbs
-from fretbem.scenes import builder, reference as scenes
+from fretbem.scenes import reference as scenes
 from fretbem.simulation import run
 import halfplane_peer
+from cold_caches import clear_scene_caches
 models = {"upper": "half-plane", "lower": "half-plane"}
 out = {}
 for pairs in (61, 481):
     run(scenes.cattaneo_mindlin(pairs=pairs, models=models, radius=71.0))  # imports: another pad
     rows = []
     for _ in range(int(sys.argv[2])):
-        for module, name in ((builder, "_built"), (basis, "_graded")):
-            if hasattr(module, name):
-                getattr(module, name).cache_clear()
-        if hasattr(nurbs, "_OPERATORS"):
-            nurbs._OPERATORS.clear()
+        clear_scene_caches()
         start = time.process_time()
         simulation = scenes.cattaneo_mindlin(pairs=pairs, models=models)
         built = time.process_time()

@@ -29,12 +29,11 @@ CHILD = r"""
 import json, statistics, sys, time
 import attrs
 sys.path.insert(0, sys.argv[2])
-from fretbem import basis
-from fretbem.geometry import nurbs
 from fretbem.scenes import builder, reference as scenes
 from fretbem.scenes.file import load_scene
 from fretbem.simulation import run
 import halfplane_peer
+from cold_caches import clear_scene_caches
 
 builds = int(sys.argv[1])
 example = load_scene(sys.argv[3])
@@ -54,22 +53,14 @@ CASES = {
 }
 
 
-def cold():
-    builder._built.cache_clear()
-    if hasattr(basis, "_graded"):  # the graded breakpoints (older trees keep none)
-        basis._graded.cache_clear()
-    if hasattr(nurbs, "_OPERATORS"):  # nor a refinement operator
-        nurbs._OPERATORS.clear()
-
-
 for case in CASES.values():  # imports and first calls
-    cold()
+    clear_scene_caches()
     run(case())
 out = {}
 for name, case in CASES.items():
     times = []
     for _ in range(builds):
-        cold()
+        clear_scene_caches()
         start = time.process_time()
         case()
         times.append(time.process_time() - start)

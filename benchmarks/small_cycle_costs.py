@@ -29,10 +29,8 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import halfplane_peer
+from cold_caches import clear_scene_caches
 
-from fretbem import basis
-from fretbem.geometry import nurbs
-from fretbem.scenes import builder
 from fretbem.scenes import reference as scenes
 from fretbem.simulation import run
 from fretbem.solvers import newton
@@ -54,12 +52,7 @@ def _timed_increment(self, *args, **kwargs):
 
 def cycle(pairs: int, models: dict) -> dict:
     """CPU seconds of one cold cycle by phase, and its Newton iterations."""
-    if hasattr(builder, "_built"):  # cold: no shape built before (older trees keep none)
-        builder._built.cache_clear()
-    if hasattr(basis, "_graded"):  # nor a grading computed (older trees keep none)
-        basis._graded.cache_clear()
-    if hasattr(nurbs, "_OPERATORS"):  # nor a refinement operator
-        nurbs._OPERATORS.clear()
+    clear_scene_caches()  # cold: no shape, grading or refinement operator kept
     start = time.process_time()
     simulation = scenes.cattaneo_mindlin(pairs=pairs, models=models)
     built = time.process_time()

@@ -110,23 +110,17 @@ print(json.dumps(out))
 HALFPLANE_CHILD = r"""
 import json, sys, time
 sys.path.insert(0, sys.argv[2])
-from fretbem import basis
-from fretbem.geometry import nurbs
-from fretbem.scenes import builder, reference as scenes
+from fretbem.scenes import reference as scenes
 from fretbem.simulation import run
 import halfplane_peer
+from cold_caches import clear_scene_caches
 pairs = int(sys.argv[1])
 models = {"bem": {}, "halfplane": {"upper": "half-plane", "lower": "half-plane"}}
 for m in models.values():  # imports, compiled loops: on another pad, so no cache holds the scene
     run(scenes.cattaneo_mindlin(pairs=pairs, models=m, radius=71.0))
 out = {}
 for name, m in models.items():
-    if hasattr(builder, "_built"):  # cold for each model: the BEM run built the same shapes
-        builder._built.cache_clear()
-    if hasattr(basis, "_graded"):  # and the same gradings (older trees keep none)
-        basis._graded.cache_clear()
-    if hasattr(nurbs, "_OPERATORS"):  # nor a refinement operator
-        nurbs._OPERATORS.clear()
+    clear_scene_caches()  # cold for each model: the BEM run built the same shapes
     c = time.process_time()
     simulation = scenes.cattaneo_mindlin(pairs=pairs, models=m)
     out[name + "_build"] = time.process_time() - c
