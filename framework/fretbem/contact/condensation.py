@@ -306,15 +306,10 @@ def _node_to_node(pairing: Pairing, side: str, face_nodes: int) -> int:
 def _gather(pairing: Pairing, side: str, values: np.ndarray, axis: int = 0, pull=False):
     """``pairing.gather`` (``pull`` if asked), as a view where the pairs take the face nodes
     one each, in order or in reverse order (node to node: no copy of a face-sized operator)."""
-    if side in pairing.interpolation or side in pairing.transfer:
-        return (pairing.pull if pull else pairing.gather)(side, values, axis)
-    nodes = pairing.nodes(side)
-    size = values.shape[axis]
-    if nodes.size == size and size:
-        step = 1 if nodes[0] == 0 else -1
-        if np.array_equal(nodes, np.arange(size)[::step]):
-            return values[(slice(None),) * axis + (slice(None, None, step),)]
-    return pairing.gather(side, values, axis)
+    step = _node_to_node(pairing, side, values.shape[axis])
+    if step:
+        return values[(slice(None),) * axis + (slice(None, None, step),)]
+    return (pairing.pull if pull else pairing.gather)(side, values, axis)
 
 
 def _per_pair(operator: np.ndarray, frame: np.ndarray, add_to: np.ndarray | None = None):
