@@ -1,12 +1,13 @@
-"""A map of two blocks [[A, B], [-B, A]] (a half-plane's) paired node to node condenses on
-its (n, n) blocks to the same numbers as the generic path over the (n, 2, 2n) map."""
+"""The condensation's node-to-node fast paths give the generic path's numbers: a map of two
+blocks [[A, B], [-B, A]] (a half-plane's) condenses on its (n, n) blocks, and responses are
+read through views where the pairs take the face nodes in order or reversed."""
 
 import types
 
 import numpy as np
 import pytest
 
-from fretbem.contact.condensation import _add_blocks, _add_traction_map, _node_to_node
+from fretbem.contact.condensation import _add_blocks, _add_traction_map, _gather, _node_to_node
 from fretbem.contact.pairing import Pairing
 from fretbem.contact.unknowns import UnknownLayout
 from fretbem.scenes import reference
@@ -78,3 +79,31 @@ def test_half_plane_response_gives_its_map_as_two_blocks(basis):
         response = body.contact_response(tag)
         a, b = response.traction_blocks
         assert np.array_equal(response.traction_map, interleaved(a, b))
+
+
+@pytest.mark.parametrize("order", ["in order", "reversed", "permuted", "fewer pairs"])
+@pytest.mark.parametrize("axis", [0, 1])
+def test_views_equal_gather_and_pull(order, axis):
+    rng = np.random.default_rng(4)
+    face = 9
+    nodes = {
+        "in order": np.arange(face), "reversed": np.arange(face)[::-1],
+        "permuted": rng.permutation(face), "fewer pairs": np.arange(1, face - 1),
+    }[order]  # fmt: skip
+    values = rng.standard_normal((face, face, 2) if axis else (face, 2, 2 * face))
+    pairs = pairing(nodes)
+    for pull in (False, True):
+        expected = (pairs.pull if pull else pairs.gather)("lower", values, axis)
+        got = _gather(pairs, "lower", values, axis, pull=pull)
+        assert np.array_equal(got, expected)
+        if order in ("in order", "reversed"):
+            assert np.shares_memory(got, values)  # a view, no copy
+
+
+def test_interpolated_pairs_go_through_the_pairing():
+    rng = np.random.default_rng(5)
+    weights = rng.uniform(size=(4, 6))
+    pairs = pairing(np.arange(4), {"lower": weights})
+    values = rng.standard_normal((6, 2, 12))
+    assert np.array_equal(_gather(pairs, "lower", values), pairs.gather("lower", values))
+    assert np.array_equal(_gather(pairs, "lower", values, pull=True), pairs.pull("lower", values))
