@@ -137,12 +137,14 @@ def number_field(
     none: bool = False,
     low: float | None = None,
     low_open: bool = False,
+    high: float | None = None,
     check: Callable[[str, float], None] | None = None,
     error: type[Exception] = InputError,
 ) -> attrs.Converter:
     """Converter of a record's real-number field: numpy scalars and ints taken (as a float),
     True/False, strings and (unless ``none``) None refused, then NaN and infinity, then a
-    value below ``low``; or ``check(where, value)`` instead of the finite and range checks.
+    value below ``low`` or above ``high``; or ``check(where, value)`` instead of the finite
+    and range checks.
 
     Every message reads ``Record.field must be <want>, got <value> (<what>); <fix>``, the
     first words those of the finite/positive validators the records used before.
@@ -167,6 +169,8 @@ def number_field(
             raise refuse("finite")
         if low is not None and (value <= low if low_open else value < low):
             raise refuse(f"{'>' if low_open else '>='} {low:g}")
+        if high is not None and value > high:
+            raise refuse(f"<= {high:g}")
         return value
 
     return attrs.Converter(convert, takes_self=True, takes_field=True)

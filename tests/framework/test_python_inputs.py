@@ -159,6 +159,8 @@ def test_whole_numbers_as_integral_floats_still_count():
         (lambda: WearSimulation(None, {}, "1000"), r"WearSimulation\.cycles must be a whole"),
         (lambda: WearSimulation(None, {}, 10, outputs=[2.5]), r"outputs\[0\] must be a whole"),
         (lambda: CoulombFriction(-0.1), r"CoulombFriction\.friction must be >= 0, got -0\.1"),
+        # the scene file's bound, from Python too (a percentage typed for a coefficient)
+        (lambda: CoulombFriction(30), r"CoulombFriction\.friction must be <= 10, got 30"),
         (lambda: Material(73400.0, 0.5), r"Material\.nu: Poisson's ratio nu must lie in"),
     ],
 )  # fmt: skip
@@ -175,6 +177,7 @@ def test_valid_records_keep_their_values():
     assert Traction("end", x=lambda p: p[:, 0]).y == 0.0
     assert Material(73400, 0, np.bool_(True)).plane_stress is True
     assert CoulombFriction(0).friction == 0.0
+    assert CoulombFriction(10).friction == 10.0
     assert Refinement(np.int64(3), degree=np.int64(2)).degree == 2
     # a 0-d array (what some numpy reductions give) is its number, as float() took it
     step = LoadStep("A", np.array(100.0), np.array(5), np.array(2))

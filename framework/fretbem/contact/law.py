@@ -37,6 +37,10 @@ class PairState(IntEnum):
 #: state names, indexed by PairState
 STATE_NAMES = tuple(s.name.lower() for s in PairState)
 
+#: the largest Coulomb coefficient taken, from Python and from a scene file (beyond it the
+#: loads overflow; measured metal pairs stay below about 1.5)
+MAX_FRICTION = 10.0
+
 
 class GrossSlidingError(InputError):
     """|Q| >= f P under force control: no static equilibrium exists."""
@@ -175,7 +179,11 @@ class CoulombFriction(ContactLaw):
 
     friction: float = attrs.field(
         converter=number_field(
-            "the Coulomb coefficient f", "give f >= 0 (0: frictionless)", low=0.0
+            "the Coulomb coefficient f",
+            f"give 0 <= f <= {MAX_FRICTION:g} (0: frictionless; metals in fretting: about 0.3 "
+            "to 1.5)",
+            low=0.0,
+            high=MAX_FRICTION,
         )
     )
 

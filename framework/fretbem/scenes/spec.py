@@ -18,6 +18,7 @@ import attrs
 
 from fretbem import registry
 from fretbem.contact.control import STIFFNESS_UNITS, check_pivot_height, check_stiffness
+from fretbem.contact.law import MAX_FRICTION
 from fretbem.fretting.waveform import SHAPES, Waveform, WaveformError
 from fretbem.geometry.boundary import Segment
 from fretbem.geometry.nurbs import NurbsCurve
@@ -405,8 +406,6 @@ KEYS: tuple[Key, ...] = (
     ),
 )
 
-#: the largest Coulomb coefficient a scene may give (beyond it the loads overflow)
-MAX_FRICTION = 10.0
 #: the highest basis degree a scene may ask for (higher degrees are ill-conditioned)
 MAX_DEGREE = 8
 
