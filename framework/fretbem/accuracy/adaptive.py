@@ -383,6 +383,23 @@ def settle(
     return [levels[i] for i in order], [used[i] for i in order], residual[best]
 
 
+def _from_first_level(first, coarse_pairs: int, settings: AdaptiveSettings) -> bool:
+    """Whether the level after a coarse one of ``coarse_pairs`` takes its knots from the
+    uniform ``first`` level instead: the finest level solved before it.
+
+    A budget below twice ``settings.first`` solves an aligned level of half the budget (for
+    the estimate's pair ratio of 2), coarser than the uniform first level: it locates the
+    transitions worse and places fewer of them (16 pairs: 6 knots). Its transitions handed
+    on made the 36-pair reference scene worse than the 31 (0.83 against 0.77 % of p0 away
+    from the transitions); the first level's give 0.80 / 0.78 % at P = 60 / 160, and the
+    rig at 31 to 51 pairs 1.49 / 1.53 / 0.67 / 0.80 % in q against 4.0 / 4.0 / 0.73 /
+    1.19 %. Node-to-node faces only: on the mixed faces (paired by projection) 51 pairs
+    fell from 1.11 to 0.59 % while 61 stays at 0.95 %, a rise over the band
+    (docs/explanation/adaptive.rst, "Limits").
+    """
+    return coarse_pairs < settings.first and isinstance(first.simulation.pair, NodeToNodePair)
+
+
 def run_adaptive(
     simulation, settings: AdaptiveSettings | None = None, *, progress=None
 ) -> AdaptiveResult:
@@ -440,6 +457,8 @@ def run_adaptive(
         )
         reach = (COARSE_HAND_ON_REACH if coarse else HAND_ON_REACH) * spacings
         handed = refound(solved[-1], used[-1], reach)
+        if index == 0 and _from_first_level(levels[0], pairs, settings):
+            handed = found[0]
         if bar is not None:
             bar.update(1)
         if previous is not None:
