@@ -27,8 +27,6 @@ import numpy as np
 
 from fretbem.errors import InputError
 
-from .pairing import turning
-
 #: a :class:`~fretbem.contact.condensation.CondensedContact` (which imports this module)
 CondensedContact = Any
 
@@ -148,16 +146,10 @@ def first_contact(problem: CondensedContact) -> np.ndarray:
 
 def in_pad_axes(pair, points: np.ndarray) -> np.ndarray:
     """``points`` (where the pairing placed the pad) in the pad's own axes: the placement
-    undone (a pair's ``offset``, then its ``turn`` about its ``pivot``); unchanged for a
-    pad the pairing leaves where it was drawn."""
-    offset = getattr(pair, "offset", None)
-    turn = float(getattr(pair, "turn", 0.0))
-    if offset is not None and np.any(offset):
-        points = points - offset
-    if turn:
-        centre = np.asarray(pair.pivot, float)
-        points = centre + (points - centre) @ turning(-turn).T
-    return points
+    undone by a pair that places the pad (slid or turned: its ``unplaced``); unchanged for
+    a pair that leaves the pad where it was drawn."""
+    unplaced = getattr(pair, "unplaced", None)
+    return points if unplaced is None else unplaced(points)
 
 
 def pivot(problem: CondensedContact, pivot_height: float | None = None) -> np.ndarray:

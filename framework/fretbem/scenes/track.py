@@ -79,6 +79,15 @@ def sliding_scene(scene: Scene, zone: float, track: float, pad_elements: int) ->
                     "which cannot turn along an arc; set [pad] model = 'bem' and [specimen] "
                     "model = 'bem', or slide on a flat specimen ([specimen] shape = 'flat')"
                 )
+        if "wear" in scene.extras:
+            raise SceneFileError(
+                f"[wear] with [contact] sliding = true on a {kind} specimen: the pad turns along "
+                "the arc, which needs 'bem' bodies, and wear with finite sliding follows "
+                "straight tracks on half-plane bodies only (on bem bodies the wear would also "
+                "carry the pad's bending under Q, not yet checked against a reference); wear "
+                "on a flat specimen with half-plane bodies ([specimen] shape = 'flat', model = "
+                "'half-plane'), or slide along the arc without [wear]"
+            )
         stress = scene.extras.get("stress", {})
         if isinstance(stress, dict) and stress.get("body") == "upper":
             raise SceneFileError(
