@@ -962,9 +962,10 @@ def _sliding(contact: dict) -> None:
         )
 
 
-def _check_groove(pad: Any, groove: GrooveSpecimen, pairing: str) -> None:
+def check_groove(pad: Any, groove: GrooveSpecimen, pairing: str) -> None:
     """A groove takes a pad that fits in it (a cylinder of a smaller radius, or a drawn
-    face, checked when the scene is built) and pairs with it by projection."""
+    face, checked when the scene is built) and pairs with it by projection. Called when a
+    scene file is read and when a scene is built (a Scene made in Python)."""
     if isinstance(pad, RoundedFlatPad):
         raise SceneFileError(
             "[specimen] shape = 'groove': a rounded-flat pad's flat cannot sit in a concave "
@@ -1073,7 +1074,7 @@ def scene_from_dict(data: Mapping) -> Scene:
     extras = {name: data[name] for name in EXTRA_TABLES if name in data}
     pad, specimen = _body(data, "pad", PAD_SHAPES), _body(data, "specimen", SPECIMEN_SHAPES)
     if isinstance(specimen.shape, GrooveSpecimen):
-        _check_groove(pad.shape, specimen.shape, contact.get("pairing", "node-to-node"))
+        check_groove(pad.shape, specimen.shape, contact.get("pairing", "node-to-node"))
     return Scene(
         pad=pad,
         specimen=specimen,

@@ -70,6 +70,18 @@ def test_a_cylinder_specimen_with_ends_support_is_refused_too():
         scene_from_data(data)
 
 
+def test_a_scene_made_in_python_is_checked_when_built():
+    """A Scene record made in Python (no file reading): node-to-node pairing and a pad as
+    wide as the groove are refused by build() with the reader's messages."""
+    scene = scene_from_data(_scene())
+    nodes = attrs.evolve(scene, contact=attrs.evolve(scene.contact, pairing="node-to-node"))
+    with pytest.raises(SceneFileError, match=r"pairing = 'node-to-node'; set \[contact\]"):
+        build(nodes)
+    equal = attrs.evolve(scene.pad, shape=CylinderPad(70.0, 6.5, 16.25))
+    with pytest.raises(SceneFileError, match=r"a groove must be wider than the cylinder pad"):
+        build(attrs.evolve(scene, pad=equal))
+
+
 def test_a_drawn_pad_that_cuts_into_the_groove_is_refused_when_built():
     """A nurbs pad flatter than the groove (R 100 in R 70) touches it off its lowest point:
     refused naming the depth and where; the same pad drawn at R 40 builds."""
