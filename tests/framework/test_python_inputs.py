@@ -16,7 +16,13 @@ from fretbem.contact.control import Rig
 from fretbem.contact.law import CoulombFriction
 from fretbem.errors import InputError
 from fretbem.fretting import Waveform
-from fretbem.geometry.shapes import CylinderPad, CylinderSpecimen, FlatSpecimen, RoundedFlatPad
+from fretbem.geometry.shapes import (
+    CylinderPad,
+    CylinderSpecimen,
+    FlatSpecimen,
+    GrooveSpecimen,
+    RoundedFlatPad,
+)
 from fretbem.wear import ArchardWear, EnergyWear
 from fretbem.wear.jump import JumpControl
 from fretbem.wear.run import WearSimulation
@@ -61,6 +67,7 @@ RECORDS = {
     ),
     "FlatSpecimen": (FlatSpecimen, {"length": 40.0, "thickness": 13.0}),
     "CylinderSpecimen": (CylinderSpecimen, {"radius": 70.0, "width": 6.5, "height": 16.25}),
+    "GrooveSpecimen": (GrooveSpecimen, {"radius": 70.0, "width": 14.0, "height": 10.0}),
     "Displacement": (Displacement, {"tag": "bottom", "x": 0.0, "y": 1e-3}),
     "Traction": (Traction, {"tag": "end", "x": 1.0, "y": 0.0, "load": "bulk"}),
     "Refinement": (Refinement, {"elements": 8, "degree": 2, "toward": [(0.0, 0.0)], "ratio": 4.0}),

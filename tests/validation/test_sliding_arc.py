@@ -137,7 +137,9 @@ def check(rows, *, hertz: float | None = None, margin: float = 0.002, block: flo
     for row in rows:
         assert row["p_twin"] < 1e-9 and row["q_twin"] < 1e-9  # measured 5e-13
         assert abs(row["face"] - row["offset"]) < 1e-3  # measured 7e-5 mm
-        assert abs(row["turn"] - turn * row["offset"]) < 1e-12
+        assert (
+            abs(row["turn"] - turn * row["offset"]) < 1e-11
+        )  # round-off: 2e-12 measured (lagrange2)
         assert row["frame"] < 0.2 / R  # the centre 0.1 mm ahead of the axis (bending)
     for row in rows:
         assert row["p_hertz"] < (hertz if hertz is not None else rows[0]["p_hertz"] + margin)
@@ -320,3 +322,66 @@ def test_the_specimens_stresses_follow_the_pad_and_the_pads_are_refused():
     assert errors["slide"][0] < errors["press"][0] + 0.01
     with pytest.raises(StressInputError, match=r"turned axes.*\[stress\] body = 'lower'"):
         stresses(result, "slide", [[0.0, 1.0]], body="upper")
+
+
+GROOVE_SCENE = tomllib.loads((ROOT / "examples" / "gross_sliding_groove.toml").read_text())
+
+
+def groove_study(basis="nurbs", pairs=31, load=100.0, pad=(26.0, 16.25), specimen=(40.0, 20.0),
+                 increments=6):  # fmt: skip
+    """examples/gross_sliding_groove.toml (a cylinder pad R 40 in a groove R 70, from the
+    scene file) pressed, slid 3 a and 6 a along the groove and back, with its measures
+    against its fixed twins and Hertz with 1/R* = 1/R_pad - 1/R_groove."""
+    hertz = HertzLineContact.from_bodies(
+        load=load, radius_upper=1.0 / (1.0 / PAD - 1.0 / GROOVE), radius_lower=math.inf,
+        E_upper=E, nu_upper=NU, E_lower=E, nu_lower=NU,
+    )  # fmt: skip
+    a = hertz.half_width
+    data = copy.deepcopy(GROOVE_SCENE)
+    data["pad"].update(width=pad[0], height=pad[1])
+    data["specimen"].update(width=specimen[0], height=specimen[1])
+    data["contact"].update(basis=basis, pairs=pairs)
+    data["load"].update(
+        steps=["press", "half", "slide", "back"],
+        P=load,
+        delta=[0.0, 3 * a, 6 * a, 0.0],
+        increments=[1, increments, increments, 2 * increments],
+    )
+    simulation, _ = build(scene_from_data(data))
+    track = Track.of(simulation.pair)
+    assert np.allclose(track.centre, [0.0, GROOVE], atol=1e-9)
+    assert track.rate == pytest.approx(1.0 / GROOVE, rel=1e-12)
+    sliding = run_sliding(simulation, note=None)
+    return measures(simulation, sliding, twins_of(simulation, sliding, load), hertz)
+
+
+@pytest.mark.parametrize(("load", "hertz"), [(60.0, 0.006), (160.0, 0.008)])
+def test_a_pad_slides_in_a_groove_from_the_scene_file(load, hertz):
+    """A [specimen] shape = 'groove' (R 70 mm, 40 x 20 mm) under a cylinder pad (R 40 mm,
+    26 mm wide), conforming contact, 31 pairs: the pad turns counterclockwise by s / R_groove
+    as it slides towards +x, its tractions those of the same bodies paired there (3e-13 p0),
+    q = f p, Q = f P (0.99993 at the block), the pressure along the groove within 0.42 % (P
+    60) and 0.59 % (P 160) of Hertz's with 1/R* = 1/40 - 1/70 (0.19 / 0.21 % at the start;
+    measured)."""
+    rows = groove_study(load=load)
+    check(rows, hertz=hertz, turn=1.0 / GROOVE)
+    assert rows[2]["turn"] > 0.02 and rows[2]["frame"] < 1e-3 / GROOVE
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    ("basis", "pairs", "load", "hertz"),
+    [
+        ("nurbs", 61, 60.0, 0.006),
+        ("nurbs", 61, 100.0, 0.009),
+        ("lagrange2", 61, 100.0, 0.035),
+        ("lagrange2", 61, 160.0, 0.04),
+        ("lagrange2", 97, 100.0, 0.035),
+    ],
+)  # fmt: skip
+def test_a_pad_slides_in_a_groove_at_other_pair_counts_and_families(basis, pairs, load, hertz):
+    """Measured against Hertz (1/R* = 1/R_pad - 1/R_groove), at the start / largest along
+    the track: nurbs 61 pairs 0.16 / 0.47 % (P 60), 0.19 / 0.70 % (P 100); lagrange2, which
+    meets Hertz less closely on curved faces without sliding too, 2.9 / 3.0 % (61, P 100),
+    2.7 / 3.6 % (61, P 160), 2.1 / 3.0 % (97, P 100)."""
+    check(groove_study(basis=basis, pairs=pairs, load=load), hertz=hertz, turn=1.0 / GROOVE)

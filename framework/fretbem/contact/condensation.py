@@ -113,7 +113,6 @@ class CondensedContact:
         )
         normals, tangents = pairing.normals, pairing.tangents
         # traction per unit (p, q): on the lower body -p n + q t; on the upper the opposite
-        lower_frame = np.stack([-normals, tangents], axis=-1)  # (n, 2 components, (p, q))
         normal_map = np.zeros((n, layout.size))
         tangential_map = np.zeros((n, layout.size))
         relative_base = np.zeros((n, 2))
@@ -157,13 +156,15 @@ class CondensedContact:
                 resultant_load[block_rows, :] = _scatter_columns(
                     response.r_load, load_columns, names
                 )
-        rotation = None  # a turned pad (sliding along an arc) reports no moment: its
-        # rotation record's centre and pivot would mix its axes with the pair frame's
-        turnable = pad_rotation.PAD in blocks and pairing.turn == 0.0
-        if turnable and responses[pad_rotation.PAD].rotation is not None:
+        rotation = None
+        if pad_rotation.PAD in blocks and responses[pad_rotation.PAD].rotation is not None:
+            # the record is in the pad's own axes (turned ones for a pad slid along an arc):
+            # its traction frame too: the pair frame seen from them (the upper side's)
+            pad_normals, pad_tangents = pairing.axes(pad_rotation.PAD)
             rotation = pad_rotation.condensed(
                 pairing, layout, names, pair.side(pad_rotation.PAD)[0],
-                responses[pad_rotation.PAD], -lower_frame, _per_pair,
+                responses[pad_rotation.PAD], -np.stack([-pad_normals, pad_tangents], axis=-1),
+                _per_pair,
             )  # fmt: skip
         seconds = time.perf_counter() - start - (_assembly_seconds(pair) - body_before)
         return cls(

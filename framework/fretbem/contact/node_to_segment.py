@@ -119,6 +119,16 @@ class NodeToSegmentPair(ContactPair):
         turn = turning(self.turn)
         return self.pivot + (face.points - self.pivot) @ turn.T, face.normals @ turn.T
 
+    def unplaced(self, points: np.ndarray) -> np.ndarray:
+        """``points`` where the pairing placed the upper body, in its own axes (the
+        ``offset`` undone, then the ``turn`` about the ``pivot``)."""
+        points = np.asarray(points, float)
+        if np.any(self.offset):
+            points = points - self.offset
+        if self.turn:
+            points = self.pivot + (points - self.pivot) @ turning(-self.turn).T
+        return points
+
     def placed(self, side: str) -> np.ndarray:
         """The face's nodes where the pairing places them (the upper turned, then offset)."""
         points = self._face(side)[0]

@@ -12,7 +12,10 @@ rotate keeps neither: its unknowns and equations are exactly those of a non-rota
 Conventions: theta and M are counterclockwise positive (x to the right, y up); M is the
 moment the block applies to the pad about the pivot, which lies on the block's line
 (the pad's top; the datum depth of a half-plane pad) above the first-contact point unless
-the rig gives its height above that point.
+the rig gives its height above that point. The record, the first-contact point and the
+pivot are in the pad's own axes (the pad as drawn): a pad placed elsewhere by its pairing
+(slid by an offset, turned along an arc) carries its pivot with it, and M, a moment about
+a point of the pad, is the same in its axes as in the global frame.
 """
 
 from __future__ import annotations
@@ -100,7 +103,7 @@ def condensed(pairing, layout, names, body, response, frame, per_pair) -> PadRot
     rotation = response.rotation
     face_nodes = response.n_nodes
     moved = pairing.gather(PAD, rotation.face_map)  # (n, 2): the pad's face moves by +theta
-    normals, tangents = pairing.normals, pairing.tangents
+    normals, tangents = pairing.axes(PAD)  # the pair frame in the pad's axes
     moment_map = np.zeros(layout.size)
     contact_map = np.zeros(layout.size)
     traction = pairing.pull(PAD, rotation.m_traction.reshape(1, face_nodes, 2), 1)
@@ -132,12 +135,21 @@ def condensed(pairing, layout, names, body, response, frame, per_pair) -> PadRot
 
 
 def first_contact(problem: CondensedContact) -> np.ndarray:
-    """The initial first-contact point (the middle of the pairs at the smallest gap)."""
+    """The initial first-contact point (the middle of the pairs at the smallest gap), in
+    the pad's own axes."""
     gap = problem.gap
     scale = max(float(np.ptp(gap)), 1e-300)
     closest = gap <= gap.min() + 1e-9 * scale
-    points = problem.pairing.points[closest]
+    points = in_pad_axes(problem.pair, problem.pairing.points[closest])
     return np.array([0.5 * (points[:, 0].min() + points[:, 0].max()), points[:, 1].mean()])
+
+
+def in_pad_axes(pair, points: np.ndarray) -> np.ndarray:
+    """``points`` (where the pairing placed the pad) in the pad's own axes: the placement
+    undone by a pair that places the pad (slid or turned: its ``unplaced``); unchanged for
+    a pair that leaves the pad where it was drawn."""
+    unplaced = getattr(pair, "unplaced", None)
+    return points if unplaced is None else unplaced(points)
 
 
 def pivot(problem: CondensedContact, pivot_height: float | None = None) -> np.ndarray:
@@ -219,6 +231,13 @@ def rotating(problem: CondensedContact, target) -> CondensedContact:
     moment about ``target`` (scaled by the record's length) as the last resultant row."""
     if problem.rotation is not None and problem.rotation.in_unknowns:
         return problem
+    if problem.pairing.turn:
+        raise RotationError(
+            "the pad's loading block cannot rotate here: the pairing turns the pad (it slides "
+            f"along an arc, turn = {problem.pairing.turn:.4g} rad), and its rotation would be "
+            "taken about its own axes while the contact's rows are in the turned pair frame; "
+            "leave [rig] stiffness_rotation, [load] moment and rotation out"
+        )
     record = about(problem, target)
     layout = attrs.evolve(problem.layout, rotations=(PAD,))
     column = layout.rotation(PAD)

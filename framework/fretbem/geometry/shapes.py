@@ -8,8 +8,8 @@ pairs; the specimen's contact segments are built from the pad's (mirrored or fla
 keeping the pad's x(xi)), so equal refinement gives points that face each other.
 
 Tags: pad ``flank_left, contact, flank_right, side_right, top, side_left``; flat specimen
-``bottom, end_right, flank_right, contact, flank_left, end_left``; cylindrical specimen
-``bottom, side_right, flank_right, contact, flank_left, side_left``.
+``bottom, end_right, flank_right, contact, flank_left, end_left``; cylindrical and grooved
+specimens ``bottom, side_right, flank_right, contact, flank_left, side_left``.
 """
 
 from __future__ import annotations
@@ -31,6 +31,7 @@ __all__ = [
     "CylinderPad",
     "CylinderSpecimen",
     "FlatSpecimen",
+    "GrooveSpecimen",
     "NurbsShape",
     "RoundedFlatPad",
     "ShapeError",
@@ -306,6 +307,87 @@ class CylinderSpecimen:
                 Segment("contact", arcs[1]),
                 Segment("flank_left", arcs[2]),
                 Segment("side_left", NurbsCurve.line(arcs[2].points([1.0])[0], [-half, -h])),
+            ]
+        )
+
+
+@attrs.frozen
+class GrooveSpecimen:
+    """A specimen whose face is a concave circular arc of radius R (a groove), lowest point
+    at the origin, its centre at (0, R): a cylinder pad of a smaller radius sits in it
+    (conforming contact, 1/R* = 1/R_pad - 1/R). The face does not mirror the pad's, so it
+    pairs with it by projection (``pairing = "node-to-segment"``).
+
+    Attributes
+    ----------
+    radius, width, height : float
+        R (larger than the pad's), width w and height h (bottom at y = -h), mm.
+    """
+
+    radius: float = attrs.field(converter=_length("the groove's radius R"))
+    width: float = attrs.field(converter=_length("the width w"))
+    height: float = attrs.field(converter=_length("the height h"))
+    kind = "groove"
+
+    def __attrs_post_init__(self) -> None:
+        if self.width / 2 >= self.radius:
+            raise ShapeError(
+                f"a groove of radius {self.radius:g} mm cannot be {self.width:g} mm wide (the "
+                "face would pass the arc's quarter point); make width < 2 radius"
+            )
+
+    @property
+    def curvature(self) -> float:
+        """-1/R: the face is concave at the first contact point (for Hertz)."""
+        return -1.0 / self.radius
+
+    def height_at(self, x: np.ndarray) -> np.ndarray:
+        """The face's height y(x) above the origin (mm), |x| < R."""
+        x = np.asarray(x, float)
+        return self.radius - np.sqrt(self.radius**2 - x * x)
+
+    def check_pad(self, face: Sequence[Segment]) -> None:
+        """Refuse a pad face that cuts into the groove as drawn (a face flatter than the
+        groove over part of its width touches it off its lowest point, e.g. a flat)."""
+        half = self.width / 2
+        points = np.concatenate([s.curve.points(np.linspace(0.0, 1.0, 65)) for s in face])
+        points = points[np.abs(points[:, 0]) < half]
+        if not len(points):
+            return
+        gap = points[:, 1] - self.height_at(points[:, 0])
+        worst = int(np.argmin(gap))
+        if gap[worst] < -1e-9 * self.radius:
+            raise ShapeError(
+                f"the pad's face cuts into the groove (radius {self.radius:g} mm) by "
+                f"{-gap[worst]:.3g} mm at x = {points[worst, 0]:.4g} mm as drawn: a groove takes "
+                "a pad whose face is more curved than its own, lowest at the origin (a cylinder "
+                "of a smaller radius); redraw the pad's face or enlarge [specimen] radius"
+            )
+
+    def boundary(self, pad_face: list[Segment], zone: float) -> Boundary:
+        """Bottom, sides and the concave face; the contact segment spans the x range of
+        the ``contact`` segments of ``pad_face`` (the pad's zone, or a sliding track)."""
+        half, h, r = self.width / 2, self.height, self.radius
+        _check_zone(zone, half, "specimen")
+        contact = [s.curve for s in pad_face if s.tag == "contact"]
+        ends = [contact[0].points([0.0])[0][0], contact[-1].points([1.0])[0][0]]
+        if not -half < min(ends) < max(ends) < half:
+            raise ShapeError(
+                f"the contact zone (x from {min(ends):.4g} to {max(ends):.4g} mm) must lie "
+                f"inside the groove (half-width {half:g} mm); widen [specimen] width"
+            )
+        down = -math.pi / 2
+        angles = [down + math.asin(x / r) for x in (half, max(ends), min(ends), -half)]
+        arcs = _arcs([0.0, r], r, angles)
+        top_right, top_left = arcs[0].points([0.0])[0], arcs[2].points([1.0])[0]
+        return Boundary(
+            [
+                Segment("bottom", NurbsCurve.line([-half, -h], [half, -h])),
+                Segment("side_right", NurbsCurve.line([half, -h], top_right)),
+                Segment("flank_right", arcs[0]),
+                Segment("contact", arcs[1]),
+                Segment("flank_left", arcs[2]),
+                Segment("side_left", NurbsCurve.line(top_left, [-half, -h])),
             ]
         )
 

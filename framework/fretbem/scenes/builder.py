@@ -20,7 +20,7 @@ from fretbem import registry
 from fretbem.basis import Basis, Refinement, points_per_element
 from fretbem.conditions import Displacement, LoadingBlock, Traction
 from fretbem.contact.control import Rig
-from fretbem.geometry.shapes import CylinderPad, RoundedFlatPad
+from fretbem.geometry.shapes import CylinderPad, GrooveSpecimen, RoundedFlatPad
 from fretbem.simulation import LoadStep, Simulation
 from fretbem.verification.closed_forms import (
     HertzLineContact,
@@ -31,7 +31,7 @@ from fretbem.verification.closed_forms import (
 from fretbem.verification.nowell_hills import NowellHills
 
 from .limits import check_scene
-from .spec import Scene, SceneFileError
+from .spec import Scene, SceneFileError, check_groove
 from .track import sliding_scene, track_face, track_half_width
 
 __all__ = [
@@ -90,6 +90,8 @@ def hertz(scene: Scene, load: float | None = None) -> HertzLineContact | None:
         return None  # the approach is imposed: P is an output
     pad, specimen = scene.pad.material, scene.specimen.material
     P = load if load is not None else max(scene.load.P)
+    if curvatures[1] < 0:  # a groove: conforming, 1/R* = 1/R_pad - 1/R_groove, on the pad
+        curvatures = [sum(curvatures), 0.0]
     return HertzLineContact.from_bodies(
         load=P,
         radius_upper=1.0 / curvatures[0] if curvatures[0] else math.inf,
@@ -145,7 +147,8 @@ def reference(scene: Scene):
         return None, "no Hertz contact (a flat or user-drawn face)"
     if pad.plane_stress != specimen.plane_stress:
         return None, "one body in plane stress, the other in plane strain"
-    radius = min(1.0 / c for c in (scene.pad.shape.curvature, scene.specimen.shape.curvature) if c)
+    curvatures = (scene.pad.shape.curvature, scene.specimen.shape.curvature)
+    radius = min(1.0 / abs(c) for c in curvatures if c)  # a groove's curvature is negative
     if contact.half_width / radius > MAX_A_OVER_R:
         return None, (
             f"a / R = {contact.half_width / radius:.2g} is outside half-plane theory's validity "
@@ -334,10 +337,14 @@ def build(scene: Scene, **contact_overrides):
     if "pairs" in overrides:  # a pair count given for the run sets every face's
         scene = _faces_at(scene, overrides["pairs"])
     check_scene(scene)  # a hopeless size or history is refused with its estimate
+    if isinstance(scene.specimen.shape, GrooveSpecimen):  # a Scene made in Python too
+        check_groove(scene.pad.shape, scene.specimen.shape, scene.contact.pairing)
     zone = zone_half_width(scene)
     pad_family = _family(scene, "pad")
     specimen_family = _family(scene, "specimen")
     _check_pairing(scene)
+    if isinstance(scene.specimen.shape, GrooveSpecimen):  # a drawn pad must fit in it
+        scene.specimen.shape.check_pad(_pad_face(scene, zone, True))
     pad_levels = refinements(scene, pad_family, zone, pad=True)
     specimen_zone = zone
     if scene.contact.sliding:  # the specimen's contact segment covers the whole slide

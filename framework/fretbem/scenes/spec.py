@@ -26,6 +26,7 @@ from fretbem.geometry.shapes import (
     CylinderPad,
     CylinderSpecimen,
     FlatSpecimen,
+    GrooveSpecimen,
     NurbsShape,
     RoundedFlatPad,
 )
@@ -64,7 +65,12 @@ class Key:
 
 
 PAD_SHAPES = {"cylinder": CylinderPad, "rounded-flat": RoundedFlatPad, "nurbs": NurbsShape}
-SPECIMEN_SHAPES = {"cylinder": CylinderSpecimen, "flat": FlatSpecimen, "nurbs": NurbsShape}
+SPECIMEN_SHAPES = {
+    "cylinder": CylinderSpecimen,
+    "groove": GrooveSpecimen,
+    "flat": FlatSpecimen,
+    "nurbs": NurbsShape,
+}
 #: the built-in body models (any name registered in the ``fretbem.bodies`` group is accepted)
 MODELS = ("bem", "half-plane")
 SUPPORTS = ("clamped-bottom", "ends")
@@ -138,10 +144,19 @@ KEYS: tuple[Key, ...] = (
         (str,),
         "",
         "cylinder",
-        "`cylinder` (the pad's mirror image), `flat` or `nurbs`",
+        "`cylinder` (the pad's mirror image), `groove` (a concave arc), `flat` or `nurbs`",
     ),
-    Key("specimen", "radius", NUMBER, "mm", 70.0, "radius of the face (the pad's)", ("cylinder",)),
-    Key("specimen", "width", NUMBER, "mm", 6.5, "width", ("cylinder",)),
+    Key(
+        "specimen",
+        "radius",
+        NUMBER,
+        "mm",
+        70.0,
+        "radius of the face (`cylinder`: the pad's; `groove`: required, larger than the "
+        "cylinder pad's)",
+        ("cylinder", "groove"),
+    ),
+    Key("specimen", "width", NUMBER, "mm", 6.5, "width", ("cylinder", "groove")),
     Key(
         "specimen",
         "height",
@@ -149,7 +164,7 @@ KEYS: tuple[Key, ...] = (
         "mm",
         16.25,
         "height (clamped bottom at y = -h)",
-        ("cylinder",),
+        ("cylinder", "groove"),
     ),
     Key("specimen", "length", NUMBER, "mm", 40.0, "length L (x from -L/2 to L/2)", ("flat",)),
     Key("specimen", "thickness", NUMBER, "mm", 13.0, "thickness t (bottom at y = -t)", ("flat",)),
@@ -159,8 +174,8 @@ KEYS: tuple[Key, ...] = (
         (str,),
         "",
         "see meaning",
-        "`clamped-bottom` (default of `cylinder`) or `ends` (default of `flat`: -x end "
-        "held in x, bottom on rollers, bulk stress on the +x end)",
+        "`clamped-bottom` (default of `cylinder` and `groove`) or `ends` (default of `flat`: "
+        "-x end held in x, bottom on rollers, bulk stress on the +x end)",
     ),
     *_body_keys("specimen"),
     Key("material", "E", NUMBER, "MPa", 73400.0, "Young's modulus of both bodies"),
@@ -233,7 +248,8 @@ KEYS: tuple[Key, ...] = (
         False,
         "finite sliding: the pairs are projected again as the pad slides (gross slip over "
         'several contact widths); needs `pairing = "node-to-segment"` and a flat specimen '
-        "(either body model) or a cylinder specimen (an arc the pad turns along; `bem` bodies)",
+        "(either body model), or a cylinder or groove specimen (a convex or concave arc the "
+        "pad turns along; `bem` bodies)",
     ),
     Key(
         "contact",
@@ -681,6 +697,11 @@ def _body(data: Mapping, body: str, library: Mapping[str, type]) -> BodySpec:
         if "segments" not in section:
             raise SceneFileError(f"[{body}] shape = 'nurbs' needs [[{body}.segments]]")
         shape = NurbsShape(_segments(f"[[{body}.segments]]", section["segments"]))
+    elif shape_name == "groove" and "radius" not in section:
+        raise SceneFileError(
+            "[specimen] a 'groove' specimen needs 'radius' (its concave face's, larger than "
+            "the cylinder pad's [pad] radius); give [specimen] radius in mm"
+        )
     else:
         fields = {}
         for key in keys.values():
@@ -701,6 +722,12 @@ def _body(data: Mapping, body: str, library: Mapping[str, type]) -> BodySpec:
         if support not in SUPPORTS:
             raise SceneFileError(
                 f"[specimen] support must be one of {list(SUPPORTS)}, got {support!r}"
+            )
+        if support == "ends" and shape_name in ("cylinder", "groove"):
+            raise SceneFileError(
+                f"[specimen] support = 'ends' holds and pulls a flat specimen at its ends, but "
+                f"a {shape_name!r} specimen has sides, not ends; use support = "
+                "'clamped-bottom' (its default) or a flat specimen"
             )
         extra["support"] = support
     extra.update(_face_keys(section, body))
@@ -934,6 +961,32 @@ def _sliding(contact: dict) -> None:
         )
 
 
+def check_groove(pad: Any, groove: GrooveSpecimen, pairing: str) -> None:
+    """A groove takes a pad that fits in it (a cylinder of a smaller radius, or a drawn
+    face, checked when the scene is built) and pairs with it by projection. Called when a
+    scene file is read and when a scene is built (a Scene made in Python)."""
+    if isinstance(pad, RoundedFlatPad):
+        raise SceneFileError(
+            "[specimen] shape = 'groove': a rounded-flat pad's flat cannot sit in a concave "
+            "groove (its ends would cut into the groove's face, which rises from its lowest "
+            "point); use [pad] shape = 'cylinder' with a radius smaller than the groove's, or "
+            "a flat specimen"
+        )
+    if isinstance(pad, CylinderPad) and not pad.radius < groove.radius:
+        raise SceneFileError(
+            f"[specimen] radius = {groove.radius:g} mm: a groove must be wider than the "
+            f"cylinder pad in it ([pad] radius = {pad.radius:g} mm), or the pad touches it at "
+            "its edges instead of its lowest point (conforming contact needs 1/R* = 1/R_pad - "
+            "1/R_groove > 0); make [specimen] radius larger than [pad] radius"
+        )
+    if pairing != "node-to-segment":
+        raise SceneFileError(
+            "[specimen] shape = 'groove': the groove's concave face does not mirror the pad's "
+            "node to node, so its points are paired by projection, but [contact] pairing = "
+            f"{pairing!r}; set [contact] pairing = 'node-to-segment'"
+        )
+
+
 def is_legacy(data: Mapping) -> bool:
     """True for a scene table in the round-1 format ([scene], [geometry], upper/lower materials)."""
     return bool({"scene", "geometry"} & set(data)) or bool(
@@ -1018,9 +1071,12 @@ def scene_from_dict(data: Mapping) -> Scene:
                 f"under a tangential force), got {value}"
             )
     extras = {name: data[name] for name in EXTRA_TABLES if name in data}
+    pad, specimen = _body(data, "pad", PAD_SHAPES), _body(data, "specimen", SPECIMEN_SHAPES)
+    if isinstance(specimen.shape, GrooveSpecimen):
+        check_groove(pad.shape, specimen.shape, contact.get("pairing", "node-to-node"))
     return Scene(
-        pad=_body(data, "pad", PAD_SHAPES),
-        specimen=_body(data, "specimen", SPECIMEN_SHAPES),
+        pad=pad,
+        specimen=specimen,
         contact=ContactSpec(**contact),
         mesh=MeshSpec(**mesh),
         load=_load(data),

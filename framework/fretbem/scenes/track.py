@@ -4,7 +4,8 @@ A pad that slides several contact widths needs the specimen's contact segment (t
 is paired on) to cover the whole slide: the track is a contact segment of half-width
 ``[contact] track_width`` (default: the candidate zone plus the largest displacement
 ``delta`` of the history), meshed twice as finely as the pad's zone; straight on a flat
-specimen, a circular arc on a cylinder specimen (the pad turns with the arc as it slides).
+specimen, a circular arc on a cylinder specimen (convex) or a groove (concave); the pad turns
+with the arc as it slides.
 """
 
 from __future__ import annotations
@@ -38,7 +39,8 @@ def track_half_width(scene: Scene, zone: float) -> float:
 def track_face(track: float, specimen=None) -> list[Segment]:
     """The face the specimen's track is built from: one contact segment over |x| <= track,
     straight at y = 0 for a flat specimen (its flanks run from its ends to it), for a
-    cylinder specimen the arc its boundary mirrors (as it mirrors a cylinder pad's face)."""
+    cylinder specimen the arc its boundary mirrors (as it mirrors a cylinder pad's face);
+    a groove reads only its ends' x and draws its own concave arc between them."""
     if isinstance(specimen, CylinderSpecimen):
         r = specimen.radius
         half, down = math.asin(track / r), -math.pi / 2
@@ -59,27 +61,37 @@ def sliding_scene(scene: Scene, zone: float, track: float, pad_elements: int) ->
         )
     shape = scene.specimen.shape
     kind = getattr(shape, "kind", type(shape).__name__)
-    if kind not in ("flat", "cylinder"):
+    if kind not in ("flat", "cylinder", "groove"):
         raise SceneFileError(
             "[contact] sliding = true slides the pad along a track the scene builds on a flat "
-            "specimen (straight) or a cylinder specimen (a circular arc the pad turns along), "
-            f"but [specimen] shape = {kind!r}; use [specimen] shape = 'flat' or 'cylinder' (a "
-            "hand-made circular face slides from Python: fretbem.sliding.run_sliding)"
+            "specimen (straight), a cylinder specimen or a groove (a convex or concave circular "
+            f"arc the pad turns along), but [specimen] shape = {kind!r}; use [specimen] shape = "
+            "'flat', 'cylinder' or 'groove' (a hand-made circular face slides from Python: "
+            "fretbem.sliding.run_sliding)"
         )
-    if kind == "cylinder":
+    if kind != "flat":
         for role in ("pad", "specimen"):
             if getattr(scene, role).model == "half-plane":
                 raise SceneFileError(
-                    f"[contact] sliding = true on a cylinder specimen slides the pad along an "
+                    f"[contact] sliding = true on a {kind} specimen slides the pad along an "
                     f"arc, turning it with the arc, but [{role}] model = 'half-plane': a "
                     "half-plane's elasticity is that of a straight surface fixed in its axes, "
                     "which cannot turn along an arc; set [pad] model = 'bem' and [specimen] "
                     "model = 'bem', or slide on a flat specimen ([specimen] shape = 'flat')"
                 )
+        if "wear" in scene.extras:
+            raise SceneFileError(
+                f"[wear] with [contact] sliding = true on a {kind} specimen: the pad turns along "
+                "the arc, which needs 'bem' bodies, and wear with finite sliding follows "
+                "straight tracks on half-plane bodies only (on bem bodies the wear would also "
+                "carry the pad's bending under Q, not yet checked against a reference); wear "
+                "on a flat specimen with half-plane bodies ([specimen] shape = 'flat', model = "
+                "'half-plane'), or slide along the arc without [wear]"
+            )
         stress = scene.extras.get("stress", {})
         if isinstance(stress, dict) and stress.get("body") == "upper":
             raise SceneFileError(
-                "[stress] body = 'upper': the pad slides along the cylinder specimen's arc and "
+                f"[stress] body = 'upper': the pad slides along the {kind} specimen's arc and "
                 "turns with it, so its fields are in its own turned axes, not the global frame "
                 "the stresses are given in; evaluate the specimen ([stress] body = 'lower'), "
                 "or slide on a flat specimen ([specimen] shape = 'flat')"

@@ -159,8 +159,8 @@ def _arc(body, tag: str, points: np.ndarray) -> tuple[np.ndarray, float]:
             f"{tag!r} is curved and not a circular arc (it departs from the circle through its "
             f"ends and middle, radius {radius:.6g} mm, by {departure:.3g} mm): the pad turns "
             "about the arc's centre as it slides, which only a circle has; slide on a flat or "
-            "cylindrical specimen ([specimen] shape = 'flat' or 'cylinder'; Python: a straight "
-            "or circular lower face)"
+            "circular specimen ([specimen] shape = 'flat', 'cylinder' or 'groove'; Python: a "
+            "straight or circular lower face)"
         )
     return centre, radius
 

@@ -21,6 +21,7 @@ import attrs
 import numpy as np
 
 from fretbem.contact.law import ContactState
+from fretbem.contact.node_to_segment import NodeToSegmentPair
 from fretbem.results import SimulationResult
 from fretbem.simulation import LoadStep, Simulation, run
 from fretbem.sliding import solve_sliding
@@ -31,7 +32,7 @@ from .cycle import CycleWear, simulate_cycle
 from .jump import Jump, JumpControl, extrapolate
 from .law import ScarEdgeError, WearInputError, WearLaw
 from .profile import BODIES, WornPair, WornProfile
-from .slide import Track, simulate_sliding_cycle
+from .slide import Track, check_pair, simulate_sliding_cycle
 
 #: the step names of a waveform history ([load.cycle]): c<cycle>.<increment>
 WAVEFORM = re.compile(r"c(\d+)\.(\d+)")
@@ -118,6 +119,8 @@ class WearSimulation:
                 "to its own pressure, which sliding spreads along the track; use scheme = "
                 "'explicit'"
             )
+        if self.sliding and isinstance(self.simulation.pair, NodeToSegmentPair):
+            check_pair(self.simulation.pair)  # before the sliding run, not after it
         if len(self.simulation.steps) < 2 and not self.cycle:
             raise WearInputError(
                 "a wear history needs a load cycle after the pressing step: give [load] "

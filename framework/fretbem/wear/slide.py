@@ -38,7 +38,25 @@ from .law import WearLaw
 from .profile import BODIES, WornProfile, pair_weights
 from .track import WornTrackPair, spread, track_grids
 
-__all__ = ["Track", "simulate_sliding_cycle"]
+__all__ = ["Track", "check_pair", "simulate_sliding_cycle"]
+
+
+def check_pair(pair: NodeToSegmentPair) -> None:
+    """The pair wear with finite sliding takes: a straight track first (an arc needs
+    ``bem`` bodies, which it does not take), then half-plane bodies."""
+    try:
+        _check_track(pair)
+    except SlidingError:
+        raise SlidingError(
+            "wear with finite sliding follows straight tracks only, but the specimen's face "
+            f"{pair.side('lower')[1]!r} is curved: along an arc the pad turns, which needs "
+            "finite ('bem') bodies, and wear with sliding is verified on half-plane bodies "
+            "only (on bem bodies the wear would also carry the pad's bending under Q, not yet "
+            "checked against a reference); wear on a flat specimen with half-plane bodies "
+            "([specimen] shape = 'flat', model = 'half-plane'), or slide along the arc "
+            "without [wear]"
+        ) from None
+    _check_models(pair)
 
 
 def _check_models(pair: NodeToSegmentPair) -> None:
@@ -93,8 +111,7 @@ class Track:
                 f"a {type(pair).__name__}; use NodeToSegmentPair ([contact] pairing = "
                 "'node-to-segment')"
             )
-        _check_models(pair)
-        _check_track(pair)
+        check_pair(pair)
         if simulation.rotates:
             raise SlidingError(
                 "wear with finite sliding re-pairs the faces as the pad slides, with the pad's "

@@ -6,16 +6,21 @@ specimen drawn turned) must give the unturned scene's tractions and loads."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import attrs
 import numpy as np
 import pytest
+import tomllib
 
 from fretbem.geometry.boundary import Segment
 from fretbem.geometry.shapes import NurbsShape
 from fretbem.scenes import builder
 from fretbem.scenes.file import scene_from_data
 from fretbem.simulation import run
+from fretbem.sliding.track import Track
+
+ROOT = Path(__file__).resolve().parents[3]
 
 DATA = {
     "pad": {"shape": "cylinder", "radius": 70.0, "width": 6.5, "height": 16.25},
@@ -66,3 +71,39 @@ def test_the_whole_scene_turned_gives_the_same_contact(angle):
         # the pad's block, in its own axes, moves as the unturned pad's
         assert np.allclose(one.pair_unknowns.block("upper"), other.pair_unknowns.block("upper"),
                            rtol=0.0, atol=2e-5 * abs(angle))  # fmt: skip
+        # M about the pad's pivot, which turns with it: the unturned pad's (h Q = 325)
+        assert abs(one.moment - other.moment) < MOMENT * abs(angle) / 0.05
+    assert abs(plain.steps[1].moment - 16.25 * 20.0) < 0.05 * 16.25 * 20.0
+
+
+#: M of the whole scene turned against the unturned one's at 0.05 rad, N mm/mm (measured
+#: 3.7e-6 at 0.05 rad and 1.5e-5 at -0.2, of M = 324.4; M left about the global frame's
+#: pivot would differ by P times the pivot's shift, 100 x 16.25 x 0.05 = 81)
+MOMENT = 1e-5
+
+
+def test_a_turned_pad_carries_its_pivot_and_cannot_rotate():
+    """The pivot is the pad's: found in its own axes (the placement undone), on its block's
+    line above its first contact; a rotating block on a turned pad is refused."""
+    from fretbem.contact import rotation
+    from fretbem.contact.rotation import RotationError
+
+    scene = scene_from_data(DATA)
+    simulation, _ = builder.build(scene)
+    drawn = simulation.pair.placed("upper")
+    turn = np.array([[math.cos(0.05), -math.sin(0.05)], [math.sin(0.05), math.cos(0.05)]])
+    moved = attrs.evolve(simulation.pair, turn=0.05, pivot=CENTRE, offset=[0.2, 0.0])
+    placed = moved.placed("upper")
+    assert np.allclose(placed, CENTRE + (drawn - CENTRE) @ turn.T + [0.2, 0.0], atol=1e-12)
+    assert np.allclose(rotation.in_pad_axes(moved, placed), drawn, atol=1e-12)
+    # the pad slid 1 mm along the arc of examples/gross_sliding_arc.toml (its specimen's
+    # track covers it), its nodes the pairs: its lowest node under its pivot
+    data = tomllib.loads((ROOT / "examples" / "gross_sliding_arc.toml").read_text())
+    data["contact"]["pairs"] = 21
+    sliding, _ = builder.build(scene_from_data(data))
+    pair = Track.of(sliding.pair).placed(sliding.pair, 1.0)
+    assert pair.slave_side() == "upper" and pair.turn == pytest.approx(-1.0 / 70.0)
+    problem = pair.condensed()
+    assert np.allclose(rotation.pivot(problem), [0.0, 16.25], atol=1e-9)
+    with pytest.raises(RotationError, match=r"the pairing turns the pad .*turn = -0\.01429"):
+        rotation.rotating(problem, rotation.pivot(problem))

@@ -164,6 +164,40 @@ def test_bem_bodies_slide_along_an_arc_from_the_scene_file(tmp_path, capsys):
         assert abs(centre - block) < 0.15  # x of the pairs: the arc's 2 mm is 1.9997 mm in x
 
 
+def test_bem_bodies_slide_in_a_groove_from_the_scene_file(tmp_path, capsys):
+    """examples/gross_sliding_groove.toml through fretbem run (at 21 pairs): the pad slides
+    3 mm along the concave groove and back, turning with it; Q = f P both ways in the local
+    frame, q = f p at every pair (the physics is checked in
+    tests/validation/test_sliding_arc.py)."""
+    rows, steps = _slide_and_back(tmp_path, capsys, "gross_sliding_groove.toml")
+    for name, sign, block in (("slide", 1.0, 3.0), ("back", -1.0, 0.0)):
+        x, p, q = np.array(rows[name]).T
+        assert steps[name]["Q"] == pytest.approx(sign * 0.3 * steps[name]["P"], rel=1e-3)
+        assert np.max(np.abs(q - sign * 0.3 * p)) < 1e-9 * p.max()
+        centre = np.sum(x * p) / np.sum(p)
+        assert abs(centre - block) < 0.15
+
+
+@pytest.mark.parametrize(
+    ("changes", "match"),
+    [
+        ({"specimen__model": "half-plane"}, r"on a groove specimen .*\[specimen\] model = "
+                                            r"'half-plane'"),
+        ({"pad__model": "half-plane"}, r"\[pad\] model = 'half-plane'"),
+        ({"stress__body": "upper", "stress__points": [[0.0, 1.0]]},
+         r"\[stress\] body = 'upper': the pad slides along the groove specimen's arc"),
+        ({"contact__track_width": 7.5}, r"track .*half-width 7\.5 mm.*half-width 7 mm"),
+    ],
+)  # fmt: skip
+def test_bad_sliding_in_a_groove_is_refused(changes, match):
+    data = tomllib.loads((ROOT / "examples" / "gross_sliding_groove.toml").read_text())
+    for where, value in changes.items():
+        table, key = where.split("__")
+        data.setdefault(table, {})[key] = value
+    with pytest.raises(SceneFileError, match=match):
+        build(scene_from_data(data))
+
+
 def _slide_and_back(tmp_path, capsys, example: str) -> tuple[dict, dict]:
     """Run ``examples/<example>`` at 21 pairs through ``fretbem run``: each step's (x, p, q)
     rows from results.csv and its summary.json entry."""

@@ -17,6 +17,7 @@ import pytest
 from fretbem.app import cli
 from fretbem.scenes.builder import build
 from fretbem.scenes.file import scene_from_data
+from fretbem.scenes.spec import SceneFileError
 from fretbem.sliding import SlidingError, solve_sliding
 from fretbem.wear.jump import JumpControl
 from fretbem.wear.law import JOULE, ArchardWear, EnergyWear, WearInputError
@@ -136,6 +137,29 @@ def test_wear_refuses_bem_bodies_node_to_node_pairs_and_implicit_jumps():
     implicit = JumpControl(scheme="implicit")
     with pytest.raises(WearInputError, match="'implicit' is not available with finite"):
         WearSimulation(_scene(pairs=21), laws, 10, sliding=True, control=implicit)
+
+
+@pytest.mark.parametrize("example", ["gross_sliding_arc.toml", "gross_sliding_groove.toml"])
+def test_wear_along_an_arc_is_refused_before_the_run(example):
+    """Sliding along an arc needs bem bodies, which wear with sliding does not take: the
+    scene reader refuses [wear] there, and from Python the wear run refuses the pair when
+    it is made (before its sliding run), both saying why and what to do instead (the arc
+    message, not the half-plane one, whose advice the arc would refuse in turn)."""
+    import tomllib
+
+    data = tomllib.loads((ROOT / "examples" / example).read_text())
+    data["contact"]["pairs"] = 21
+    simulation = build(scene_from_data(data))[0]
+    data["wear"] = {"law": "energy", "pad": 1e-5, "specimen": 1e-5, "cycles": 10}
+    with pytest.raises(
+        SceneFileError,
+        match=r"\[wear\] with \[contact\] sliding = true on a "
+        r"(cylinder|groove) specimen.*without \[wear\]",
+    ):
+        build(scene_from_data(data))
+    laws = {"upper": EnergyWear(1e-5), "lower": EnergyWear(1e-5)}
+    with pytest.raises(SlidingError, match=r"follows straight tracks only.*'contact' is curved"):
+        WearSimulation(simulation, laws, 10, sliding=True)
 
 
 def test_the_example_scene_runs_with_sliding_and_writes_the_wear_files(tmp_path):
