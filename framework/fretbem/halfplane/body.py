@@ -347,7 +347,6 @@ class HalfPlaneBody(Body):
             load_map[:, :, 0] = surface.bulk_displacement(surface.points[:, 0])
         arrays = {
             "base": np.zeros((n, 2)),
-            "traction_map": surface.traction_map,  # read-only, cached by the surface
             "block_map": block_map,
             "load_map": load_map,
             "r_base": np.zeros(2),
@@ -361,6 +360,9 @@ class HalfPlaneBody(Body):
         rotation = self._rotation(force) if has_block else None
         return ContactResponse(
             **arrays,
+            # interleaved from the blocks only if asked: a node-to-node condensation reads
+            # the blocks alone (the map is 7 MB and ~5 ms to build at 481 nodes)
+            traction_map=None,
             has_block=has_block,
             rotation=rotation,
             traction_blocks=surface.traction_blocks,

@@ -13,6 +13,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from fretbem.basis import Basis
+from fretbem.body import interleaved_map
 from fretbem.material import Material
 from fretbem.numerics.quadrature import QuadratureRule
 from fretbem.validators import positive
@@ -115,7 +116,7 @@ class HalfPlaneSurface:
 
     def _displacement_map(self, log: np.ndarray, sign: np.ndarray) -> np.ndarray:
         """(m, 2, 2N) from the ln and sign integrals (m, N) of N functions or node values."""
-        return _interleaved(*self._blocks(log, sign))
+        return interleaved_map(*self._blocks(log, sign))
 
     @property
     def traction_blocks(self) -> tuple[np.ndarray, np.ndarray]:
@@ -136,7 +137,7 @@ class HalfPlaneSurface:
     def traction_map(self) -> np.ndarray:
         """Displacement (n, 2, 2n) at the nodes per unit node traction (column 2 a + j)."""
         if "traction_map" not in self._cache:
-            self._cache["traction_map"] = _interleaved(*self.traction_blocks)
+            self._cache["traction_map"] = interleaved_map(*self.traction_blocks)
             self._cache["traction_map"].setflags(write=False)
         return self._cache["traction_map"]
 
@@ -175,17 +176,6 @@ class HalfPlaneSurface:
         out[0, :, 0] = weights
         out[1, :, 1] = weights
         return out.reshape(2, 2 * n)
-
-
-def _interleaved(log: np.ndarray, jump: np.ndarray) -> np.ndarray:
-    """The (m, 2, 2N) map ``[[log, jump], [-jump, log]]`` per node pair (column 2 b + j)."""
-    m, n_f = log.shape
-    out = np.empty((m, 2, n_f, 2))
-    out[:, 0, :, 0] = log
-    out[:, 0, :, 1] = jump
-    out[:, 1, :, 0] = -jump
-    out[:, 1, :, 1] = log
-    return out.reshape(m, 2, 2 * n_f)
 
 
 def transposed_solve(matrix: np.ndarray, rows: np.ndarray) -> np.ndarray:
