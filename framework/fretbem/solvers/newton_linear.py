@@ -95,6 +95,12 @@ class _Maps:
         #: products skip the rest (identical bodies: the shear columns of N, the pressure
         #: columns of T, half of each product)
         self.normal_ranges = _nonzero_ranges(normal_map, self.n) if large else None
+        #: whether a tangential row (slip, tangential block) has a non-zero in a normal
+        #: column (the split's coupling is then not zero by structure)
+        self.tangential_sees_normal = self.normal_part is not None and bool(
+            tangential_map[:, self.normal_part].any()
+            or resultant_map[~self.normal_part[2 * self.n :]][:, self.normal_part].any()
+        )
         self.tangential_ranges = _nonzero_ranges(tangential_map, self.n) if large else None
 
     def normal_times(self, x: np.ndarray) -> np.ndarray:
@@ -198,27 +204,44 @@ class _Factor:
         normal block rows, whose shear columns are zero, so no slip column folds into
         them) and the tangential one with its rows' normal columns (the coupling). The
         normal block's LU is the previous factor's when the contact set is the same (the
-        steps after the first of a cycle change stick and slip only)."""
-        maps, n = self.maps, self.maps.n
+        steps after the first of a cycle change stick and slip only). The tangential block
+        is factorised when a solve first needs it (:meth:`_tangential`): a normal load
+        alone leaves every shear at exactly 0 (the first step of a cycle, 4 of its LUs)."""
+        maps = self.maps
         normal = maps.normal_part[columns]
         a, b = normal.nonzero()[0], (~normal).nonzero()[0]
         normal_x, tangential_x = columns[a], columns[b]
-        ka, kb = a.size, b.size
-        # the tangential rows over the normal columns (the coupling), their own columns and
-        # the slipping pairs' shear columns, which fold into their pressure columns (the
-        # first of the normal columns are the pairs in contact, c)
-        rows = _block(maps, tangential_x, np.concatenate([normal_x, tangential_x, n + slipping]))
-        coupling = rows[:, :ka]
-        if slipping.size:
-            coupling[:, self.slip_in_c] += rows[:, ka + kb :] * self.pattern.coeff[slipping]
-        self.split = (a, b, coupling)
-        self.lu_t, self.piv_t = _lu(np.ascontiguousarray(rows[:, ka : ka + kb]))
+        self.split = (a, b)
+        self.tangential_x, self.slipping = tangential_x, slipping
+        self.lu_t = self.piv_t = self.coupling = None
+        #: whether coupling @ u can be non-zero: the tangential rows see a normal column, or a
+        #: slipping pair's pressure column carries its shear's
+        self.coupled = bool(slipping.size) or maps.tangential_sees_normal
         self.normal_x = normal_x
         if (previous is not None and previous.split is not None
                 and np.array_equal(previous.normal_x, normal_x)):  # fmt: skip
             self.lu, self.piv = previous.lu, previous.piv
         else:
             self.lu, self.piv = _lu(_block(maps, normal_x, normal_x))
+
+    def _tangential(self) -> np.ndarray:
+        """The coupling (the tangential rows over the normal columns), the tangential
+        block's LU computed with it on first use."""
+        if self.lu_t is None:
+            maps, n = self.maps, self.maps.n
+            normal_x, tangential_x, slipping = self.normal_x, self.tangential_x, self.slipping
+            ka, kb = normal_x.size, tangential_x.size
+            # the tangential rows over the normal columns (the coupling), their own columns
+            # and the slipping pairs' shear columns, which fold into their pressure columns
+            # (the first of the normal columns are the pairs in contact, c)
+            columns = np.concatenate([normal_x, tangential_x, n + slipping])
+            rows = _block(maps, tangential_x, columns)
+            coupling = rows[:, :ka]
+            if slipping.size:
+                coupling[:, self.slip_in_c] += rows[:, ka + kb :] * self.pattern.coeff[slipping]
+            self.coupling = coupling
+            self.lu_t, self.piv_t = _lu(np.ascontiguousarray(rows[:, ka : ka + kb]))
+        return self.coupling
 
     @staticmethod
     def _gathered(maps: _Maps, c, s, columns, slipping, coeff) -> np.ndarray:
@@ -259,13 +282,16 @@ class _Factor:
         if self.split is None:
             u = _lu_solve(self.lu, self.piv, rhs)
         else:
-            normal, tangential, coupling = self.split
+            normal, tangential = self.split
             u = np.zeros(rhs.shape)
             rhs_n, rhs_t = rhs[normal], rhs[tangential]
             if rhs_n.any():  # a shear's unit (a bordered row of the tangential block) has none
                 u[normal] = u_n = _lu_solve(self.lu, self.piv, rhs_n)
-                rhs_t -= coupling @ u_n
-            u[tangential] = _lu_solve(self.lu_t, self.piv_t, rhs_t)
+                if self.coupled:
+                    rhs_t -= self._tangential() @ u_n
+            if rhs_t.any():  # else the shears are 0 (what the LU would give), not factorised
+                self._tangential()
+                u[tangential] = _lu_solve(self.lu_t, self.piv_t, rhs_t)
         dp = u[:kc]
         y[c] = dp
         y[n + s] = u[kc : kc + ks]
