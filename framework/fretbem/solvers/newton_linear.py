@@ -102,6 +102,9 @@ class _Maps:
             or resultant_map[~self.normal_part[2 * self.n :]][:, self.normal_part].any()
         )
         self.tangential_ranges = _nonzero_ranges(tangential_map, self.n) if large else None
+        #: the same per column (None: all used), for products over a few columns
+        self.normal_used = _used_columns(normal_map, self.normal_ranges)
+        self.tangential_used = _used_columns(tangential_map, self.tangential_ranges)
 
     def normal_times(self, x: np.ndarray) -> np.ndarray:
         """N x, over N's non-zero column ranges only."""
@@ -115,7 +118,8 @@ class _Maps:
         """N x, T x and R x (x of shape (n_x,) or (n_x, cols)), using only rows ``nonzero``."""
         if nonzero is not None and nonzero.size < self.n_x // 4:
             part = x[nonzero]
-            return (self.normal[:, nonzero] @ part, self.tangential[:, nonzero] @ part,
+            return (_columns_product(self.normal, self.normal_used, nonzero, part),
+                    _columns_product(self.tangential, self.tangential_used, nonzero, part),
                     self.resultant[:, nonzero] @ part)  # fmt: skip
         return self.normal_times(x), self.tangential_times(x), self.resultant @ x
 
@@ -234,9 +238,13 @@ class _Factor:
             # the tangential rows over the normal columns (the coupling), their own columns
             # and the slipping pairs' shear columns, which fold into their pressure columns
             # (the first of the normal columns are the pairs in contact, c)
-            columns = np.concatenate([normal_x, tangential_x, n + slipping])
-            rows = _block(maps, tangential_x, columns)
-            coupling = rows[:, :ka]
+            if maps.tangential_sees_normal:
+                rows = _block(maps, tangential_x, np.concatenate([normal_x, tangential_x,
+                                                                  n + slipping]))  # fmt: skip
+                coupling = rows[:, :ka]
+            else:  # the normal columns are zero by structure: not gathered
+                rows = _block(maps, tangential_x, np.concatenate([tangential_x, n + slipping]))
+                coupling, ka = np.zeros((kb, ka)), 0
             if slipping.size:
                 coupling[:, self.slip_in_c] += rows[:, ka + kb :] * self.pattern.coeff[slipping]
             self.coupling = coupling
@@ -364,6 +372,28 @@ def _nonzero_ranges(matrix: np.ndarray, n: int) -> tuple[slice, ...] | None:
     ranges = (slice(0, n), slice(n, 2 * n), slice(2 * n, matrix.shape[1]))
     kept = tuple(r for r in ranges if matrix[:, r].any())
     return None if len(kept) == len(ranges) else kept
+
+
+def _used_columns(matrix: np.ndarray, ranges: tuple[slice, ...] | None) -> np.ndarray | None:
+    """Whether each column lies in one of ``ranges`` (None if every column does)."""
+    if ranges is None:
+        return None
+    used = np.zeros(matrix.shape[1], dtype=bool)
+    for columns in ranges:
+        used[columns] = True
+    return used
+
+
+def _columns_product(matrix: np.ndarray, used, columns: np.ndarray, part: np.ndarray):
+    """matrix[:, columns] @ part, skipping the columns outside the matrix's non-zero ranges
+    (``used``; identical bodies: the shears' columns of N, the pressures' of T)."""
+    if used is not None:
+        keep = used[columns]
+        if not keep.all():
+            if not keep.any():
+                return np.zeros((matrix.shape[0], *part.shape[1:]))
+            columns, part = columns[keep], part[keep]
+    return matrix[:, columns] @ part
 
 
 def _product(matrix: np.ndarray, ranges: tuple[slice, ...] | None, x: np.ndarray) -> np.ndarray:
