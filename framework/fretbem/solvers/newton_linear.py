@@ -32,10 +32,12 @@ _SEPARATED, _STICK, _SLIP = 0, 1, 2
 BORDER_FRACTION = 0.3
 MIN_BORDER = 16
 #: the same for the split factor of identical bodies, whose new LU is the tangential block's
-#: alone while the contact set holds (about an eighth of the coupled one). Steps of the
-#: half-plane reference cycle, CPU ms (load 7): 481 pairs 143 at 0.3, 128 at 0.2, 120 at
-#: 0.15, 129 at 0.1; 961 pairs 618 at 0.3, 557 at 0.15, 592 at 0.1; iterations unchanged
-SPLIT_BORDER_FRACTION = 0.15
+#: alone while the contact set holds (about an eighth of the coupled one), and only once a
+#: shear needs it. Steps of the half-plane reference cycle, CPU ms, medians of 7 alternating
+#: runs in one process (load 10): 481 pairs 90.7 at 0.15, 86.4 at 0.1, 85.2 at 0.08, 83.6 at
+#: 0.05; 961 pairs 394 at 0.15, 381 at 0.1, 372 at 0.08, 368 at 0.05 (a second run: 0.05 to
+#: 0.0 within the noise, 5 %); iterations unchanged
+SPLIT_BORDER_FRACTION = 0.08
 #: systems of fewer unknowns are factorised afresh every step: their LU (about 70 us at
 #: 120 unknowns) costs less than the bordered solve's bookkeeping
 DIRECT_BELOW = 160
