@@ -36,7 +36,7 @@ MIN_BORDER = 16
 #: shear needs it. Steps of the half-plane reference cycle, CPU ms, medians of 7 alternating
 #: runs in one process (load 10): 481 pairs 90.7 at 0.15, 86.4 at 0.1, 85.2 at 0.08, 83.6 at
 #: 0.05; 961 pairs 394 at 0.15, 381 at 0.1, 372 at 0.08, 368 at 0.05 (a second run: 0.05 to
-#: 0.0 within the noise, 5 %); iterations unchanged
+#: 0.0 within the noise, 5 %); iterations unchanged (benchmarks/split_border_fraction.py)
 SPLIT_BORDER_FRACTION = 0.08
 #: systems of fewer unknowns are factorised afresh every step: their LU (about 70 us at
 #: 120 unknowns) costs less than the bordered solve's bookkeeping
