@@ -611,7 +611,7 @@ def halfplane_section_after(phases_path: Path, workflows_path: Path) -> list[str
     lines = [
         "## The half-plane body model against its peer, by phase",
         "",
-        f"The half-plane reference cycle (scene built cold, `prepare`, five steps) before "
+        "The half-plane reference cycle (scene built cold, `prepare`, five steps) before",
         f"({HALFPLANE_BEFORE}) and after the work on its prepare and Newton steps, against the",
         "numpy Toeplitz peer run right after each cycle in the same process; the trees",
         f"alternate round by round ({data['rounds']} rounds of {data['cycles']} cycles, fresh",
@@ -639,11 +639,20 @@ def halfplane_section_after(phases_path: Path, workflows_path: Path) -> list[str
         flows = json.loads(workflows_path.read_text())
         names = [n for n in SMALL_CYCLE_LIMITS if n.startswith("half-plane")]
         flow_labels = [k for k in ("before", "after") if k in flows["ratios"]]
+        peers = {
+            pairs: " -> ".join(
+                f"{flows['medians'][k][f'halfplane_{pairs}']['peer'] * 1e3:.1f}"
+                for k in flow_labels
+            )
+            for pairs in (61, 481)
+        }
         lines += [
             "The same trees in the `halfplane` workflow (one cold cycle of each body model per",
             f"process, {flows['rounds']} rounds, load average "
             + ", ".join(f"{v:.1f}" for v in flows["load"])
-            + "):",
+            + "). One cycle per process is noisier than the",
+            "medians above: the peer's own median moved between the trees' rounds",
+            f"({peers[61]} ms at 61 pairs, {peers[481]} ms at 481):",
             "",
             "    OPENBLAS_NUM_THREADS=1 python benchmarks/workflows.py --before /tmp/hp-before \\",
             "        --only halfplane --rounds 3 --json docs/results/workflows_halfplane.json",
