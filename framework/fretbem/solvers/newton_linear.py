@@ -219,7 +219,7 @@ class _Factor:
         normal_x, tangential_x = columns[a], columns[b]
         self.split = (a, b)
         self.tangential_x, self.slipping = tangential_x, slipping
-        self.lu_t = self.piv_t = self.coupling = None
+        self.lu_t = self.piv_t = self.coupling = self.coupling_columns = None
         #: whether coupling @ u can be non-zero: the tangential rows see a normal column, or a
         #: slipping pair's pressure column carries its shear's
         self.coupled = bool(slipping.size) or maps.tangential_sees_normal
@@ -231,8 +231,9 @@ class _Factor:
             self.lu, self.piv = _lu(_block(maps, normal_x, normal_x))
 
     def _tangential(self) -> np.ndarray:
-        """The coupling (the tangential rows over the normal columns), the tangential
-        block's LU computed with it on first use."""
+        """The coupling (the tangential rows over the normal columns, or over
+        ``coupling_columns`` of them only, where the rest are zero by structure), the
+        tangential block's LU computed with it on first use."""
         if self.lu_t is None:
             maps, n = self.maps, self.maps.n
             normal_x, tangential_x, slipping = self.normal_x, self.tangential_x, self.slipping
@@ -240,15 +241,18 @@ class _Factor:
             # the tangential rows over the normal columns (the coupling), their own columns
             # and the slipping pairs' shear columns, which fold into their pressure columns
             # (the first of the normal columns are the pairs in contact, c)
+            coeff = self.pattern.coeff[slipping]
             if maps.tangential_sees_normal:
                 rows = _block(maps, tangential_x, np.concatenate([normal_x, tangential_x,
                                                                   n + slipping]))  # fmt: skip
                 coupling = rows[:, :ka]
-            else:  # the normal columns are zero by structure: not gathered
+                if slipping.size:
+                    coupling[:, self.slip_in_c] += rows[:, ka + kb :] * coeff
+            else:  # the normal columns are zero by structure but the slipping pairs': only
+                # those are gathered and kept (coupling_columns says which)
                 rows = _block(maps, tangential_x, np.concatenate([tangential_x, n + slipping]))
-                coupling, ka = np.zeros((kb, ka)), 0
-            if slipping.size:
-                coupling[:, self.slip_in_c] += rows[:, ka + kb :] * self.pattern.coeff[slipping]
+                coupling, ka = rows[:, kb:] * coeff, 0
+                self.coupling_columns = self.slip_in_c
             self.coupling = coupling
             self.lu_t, self.piv_t = _lu(np.ascontiguousarray(rows[:, ka : ka + kb]))
         return self.coupling
@@ -298,7 +302,9 @@ class _Factor:
             if rhs_n.any():  # a shear's unit (a bordered row of the tangential block) has none
                 u[normal] = u_n = _lu_solve(self.lu, self.piv, rhs_n)
                 if self.coupled:
-                    rhs_t -= self._tangential() @ u_n
+                    coupling = self._tangential()
+                    columns = self.coupling_columns
+                    rhs_t -= coupling @ (u_n if columns is None else u_n[columns])
             if rhs_t.any():  # else the shears are 0 (what the LU would give), not factorised
                 self._tangential()
                 u[tangential] = _lu_solve(self.lu_t, self.piv_t, rhs_t)
