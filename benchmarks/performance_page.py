@@ -620,7 +620,7 @@ def halfplane_section_after(phases_path: Path, workflows_path: Path) -> list[str
         "",
         f"    git archive {HALFPLANE_BEFORE} | tar -x -C /tmp/hp-before",
         "    OPENBLAS_NUM_THREADS=1 python benchmarks/halfplane_phases.py \\",
-        "        --before /tmp/hp-before --rounds 4 --cycles 5 \\",
+        f"        --before /tmp/hp-before --rounds {data['rounds']} --cycles {data['cycles']} \\",
         "        --json docs/results/halfplane_phases.json",
         "",
         "| pairs | tree | build | prepare | steps | cycle | peer | cycle / peer (limit 3) |",
@@ -646,16 +646,25 @@ def halfplane_section_after(phases_path: Path, workflows_path: Path) -> list[str
             )
             for pairs in (61, 481)
         }
+        cycles = {
+            pairs: " -> ".join(
+                f"{flows['medians'][k][f'halfplane_{pairs}']['halfplane'] * 1e3:.1f}"
+                for k in flow_labels
+            )
+            for pairs in (61, 481)
+        }
         lines += [
             "The same trees in the `halfplane` workflow (one cold cycle of each body model per",
             f"process, {flows['rounds']} rounds, load average "
             + ", ".join(f"{v:.1f}" for v in flows["load"])
             + "). One cycle per process is noisier than the",
             "medians above: the peer's own median moved between the trees' rounds",
-            f"({peers[61]} ms at 61 pairs, {peers[481]} ms at 481):",
+            f"({peers[61]} ms at 61 pairs, {peers[481]} ms at 481) while the half-plane cycle",
+            f"took {cycles[61]} ms at 61 pairs and {cycles[481]} ms at 481:",
             "",
             "    OPENBLAS_NUM_THREADS=1 python benchmarks/workflows.py --before /tmp/hp-before \\",
-            "        --only halfplane --rounds 3 --json docs/results/workflows_halfplane.json",
+            f"        --only halfplane --rounds {flows['rounds']} "
+            "--json docs/results/workflows_halfplane.json",
             "",
             "| ratio | limit | " + " | ".join(flow_labels) + " | met |",
             "|---|---|" + "---|" * len(flow_labels) + "---|",
