@@ -212,7 +212,8 @@ class _Factor:
         normal block's LU is the previous factor's when the contact set is the same (the
         steps after the first of a cycle change stick and slip only). The tangential block
         is factorised when a solve first needs it (:meth:`_tangential`): a normal load
-        alone leaves every shear at exactly 0 (the first step of a cycle, 4 of its LUs)."""
+        alone leaves every shear at exactly 0 (the first step of a cycle: 3 LUs of its 17
+        at 481 pairs)."""
         maps = self.maps
         normal = maps.normal_part[columns]
         a, b = normal.nonzero()[0], (~normal).nonzero()[0]
