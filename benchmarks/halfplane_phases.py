@@ -7,7 +7,9 @@ five steps, each followed by the numpy Toeplitz peer (``benchmarks/halfplane_pee
 seconds, medians over cycles and rounds, and the median ratio of cycle to peer.
 
     OPENBLAS_NUM_THREADS=1 python benchmarks/halfplane_phases.py --before /tmp/before \\
-        --rounds 4 --cycles 5
+        --rounds 4 --cycles 5 --json docs/results/halfplane_phases.json
+
+``--json`` keeps the medians and ratios for ``benchmarks/performance_page.py``.
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import platform
 import statistics
 import subprocess
 import sys
@@ -58,6 +61,7 @@ def main() -> None:
     parser.add_argument("--after", type=Path, default=ROOT, help="source tree of the new code")
     parser.add_argument("--rounds", type=int, default=4)
     parser.add_argument("--cycles", type=int, default=5)
+    parser.add_argument("--json", type=Path, help="write the medians and ratios here")
     args = parser.parse_args()
     trees = {"before": args.before.resolve(), "after": args.after.resolve()}
     rows: dict[str, dict[str, list]] = {name: {"61": [], "481": []} for name in trees}
@@ -75,6 +79,15 @@ def main() -> None:
     load.append(os.getloadavg()[0])
     print(f"load {load[0]:.2f} -> {load[1]:.2f}; CPU ms, medians of "
           f"{args.rounds} rounds x {args.cycles} cycles")  # fmt: skip
+    result: dict = {
+        "machine": f"{os.cpu_count()} cores, {platform.platform()}, Python "
+        f"{platform.python_version()}",
+        "load": load,
+        "rounds": args.rounds,
+        "cycles": args.cycles,
+        "medians_ms": {name: {} for name in trees},
+        "ratios": {name: {} for name in trees},
+    }
     for pairs in ("61", "481"):
         for name in trees:
             values = rows[name][pairs]
@@ -82,6 +95,10 @@ def main() -> None:
             ratio = statistics.median(v[3] / v[4] for v in values)
             text = ", ".join(f"{p} {m:6.1f}" for p, m in zip(PHASES, medians, strict=True))
             print(f"{name:6s} {pairs:>3s} pairs: {text}; cycle / peer {ratio:.2f}")
+            result["medians_ms"][name][pairs] = dict(zip(PHASES, medians, strict=True))
+            result["ratios"][name][pairs] = ratio
+    if args.json:
+        args.json.write_text(json.dumps(result, indent=1))
 
 
 if __name__ == "__main__":

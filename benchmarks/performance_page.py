@@ -594,6 +594,93 @@ SWEEP_TARGETS = (
 )
 
 
+#: what the half-plane section's text says of the trees it compares
+HALFPLANE_BEFORE = "776314a"
+
+
+def halfplane_section_after(phases_path: Path, workflows_path: Path) -> list[str]:
+    """The half-plane body model against the numpy Toeplitz peer, by phase, before and after
+    the speed-ups of its prepare and Newton steps (benchmarks/halfplane_phases.py and the
+    ``halfplane`` workflow of benchmarks/workflows.py)."""
+    if not phases_path.exists():
+        return []
+    data = json.loads(phases_path.read_text())
+    medians, ratios = data["medians_ms"], data["ratios"]
+    labels = [k for k in ("before", "after") if k in medians]
+    load = ", ".join(f"{v:.1f}" for v in data["load"])
+    lines = [
+        "## The half-plane body model against its peer, by phase",
+        "",
+        "The half-plane reference cycle (scene built cold, `prepare`, five steps) before",
+        f"({HALFPLANE_BEFORE}) and after the work on its prepare and Newton steps, against the",
+        "numpy Toeplitz peer run right after each cycle in the same process; the trees",
+        f"alternate round by round ({data['rounds']} rounds of {data['cycles']} cycles, fresh",
+        f"processes, one BLAS thread, CPU ms, medians; load average {load} at the start and",
+        "the end):",
+        "",
+        f"    git archive {HALFPLANE_BEFORE} | tar -x -C /tmp/hp-before",
+        "    OPENBLAS_NUM_THREADS=1 python benchmarks/halfplane_phases.py \\",
+        f"        --before /tmp/hp-before --rounds {data['rounds']} --cycles {data['cycles']} \\",
+        "        --json docs/results/halfplane_phases.json",
+        "",
+        "| pairs | tree | build | prepare | steps | cycle | peer | cycle / peer (limit 3) |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for pairs in ("61", "481"):
+        for label in labels:
+            m = medians[label][pairs]
+            lines.append(
+                f"| {pairs} | {label} | {m['build']:.1f} | {m['prepare']:.1f} | "
+                f"{m['steps']:.1f} | {m['total']:.1f} | {m['peer']:.1f} | "
+                f"{ratios[label][pairs]:.2f} |"
+            )
+    lines.append("")
+    if workflows_path.exists():
+        flows = json.loads(workflows_path.read_text())
+        names = [n for n in SMALL_CYCLE_LIMITS if n.startswith("half-plane")]
+        flow_labels = [k for k in ("before", "after") if k in flows["ratios"]]
+        peers = {
+            pairs: " -> ".join(
+                f"{flows['medians'][k][f'halfplane_{pairs}']['peer'] * 1e3:.1f}"
+                for k in flow_labels
+            )
+            for pairs in (61, 481)
+        }
+        cycles = {
+            pairs: " -> ".join(
+                f"{flows['medians'][k][f'halfplane_{pairs}']['halfplane'] * 1e3:.1f}"
+                for k in flow_labels
+            )
+            for pairs in (61, 481)
+        }
+        lines += [
+            "The same trees in the `halfplane` workflow (one cold cycle of each body model per",
+            f"process, {flows['rounds']} rounds, load average "
+            + ", ".join(f"{v:.1f}" for v in flows["load"])
+            + "). One cycle per process is noisier than the",
+            "medians above: the peer's own median moved between the trees' rounds",
+            f"({peers[61]} ms at 61 pairs, {peers[481]} ms at 481) while the half-plane cycle",
+            f"took {cycles[61]} ms at 61 pairs and {cycles[481]} ms at 481:",
+            "",
+            "    OPENBLAS_NUM_THREADS=1 python benchmarks/workflows.py --before /tmp/hp-before \\",
+            f"        --only halfplane --rounds {flows['rounds']} "
+            "--json docs/results/workflows_halfplane.json",
+            "",
+            "| ratio | limit | " + " | ".join(flow_labels) + " | met |",
+            "|---|---|" + "---|" * len(flow_labels) + "---|",
+        ]
+        for name in names:
+            cells = [flows["ratios"][k].get(name) for k in flow_labels]
+            if all(c is None for c in cells):
+                continue
+            after, limit = cells[-1], SMALL_CYCLE_LIMITS[name]
+            met = "yes" if after is not None and after <= limit else "no"
+            text = ["—" if c is None else f"{c:.2f}" for c in cells]
+            lines.append(f"| {name} | {limit:g} | " + " | ".join(text) + f" | {met} |")
+        lines.append("")
+    return lines
+
+
 def sweeps_section(path: Path) -> list[str]:
     """The sweep engines' targets, whole processes (benchmarks/sweep_benchmark.py --targets)."""
     if not path.exists():
@@ -716,6 +803,10 @@ def write_page(
     if workflows is not None:
         lines += workflows_section(Path(workflows))
     lines += small_cycles_section(Path(small_cycles), Path(small_cycle_costs))
+    results = Path(json_path).parent
+    lines += halfplane_section_after(
+        results / "halfplane_phases.json", results / "workflows_halfplane.json"
+    )
     if sweeps is not None:
         lines += sweeps_section(Path(sweeps))
     lines += dense_limits_section()

@@ -104,7 +104,9 @@ class ContactResponse:
     ----------
     base : ndarray, shape (n, 2)
     traction_map : ndarray, shape (n, 2, 2n)
-        Column 2 a + j: unit traction component j at node a.
+        Column 2 a + j: unit traction component j at node a. Given as None with
+        ``traction_blocks``, it is interleaved from them at first use (the condensation of
+        a node-to-node pairing reads only the blocks; the map is twice their memory).
     block_map : ndarray, shape (n, 2, 2)
     load_map : ndarray, shape (n, 2, k)
     r_base : ndarray, shape (2,); r_traction : (2, 2n); r_block : (2, 2); r_load : (2, k)
@@ -123,7 +125,7 @@ class ContactResponse:
     """
 
     base: np.ndarray
-    traction_map: np.ndarray
+    _traction_map: np.ndarray | None = attrs.field(alias="traction_map")
     block_map: np.ndarray
     load_map: np.ndarray
     r_base: np.ndarray
@@ -134,6 +136,22 @@ class ContactResponse:
     has_block: bool
     rotation: BlockRotation | None = None
     traction_blocks: tuple[np.ndarray, np.ndarray] | None = None
+    _built: dict = attrs.field(init=False, factory=dict, repr=False)
+
+    def __attrs_post_init__(self) -> None:
+        if self._traction_map is None and self.traction_blocks is None:
+            raise TypeError("ContactResponse needs traction_map or traction_blocks")
+
+    @property
+    def traction_map(self) -> np.ndarray:
+        """The (n, 2, 2n) map (interleaved from ``traction_blocks`` at first use if not given)."""
+        if self._traction_map is not None:
+            return self._traction_map
+        if "traction_map" not in self._built:
+            built = interleaved_map(*self.traction_blocks)
+            built.setflags(write=False)
+            self._built["traction_map"] = built
+        return self._built["traction_map"]
 
     @property
     def n_nodes(self) -> int:
@@ -149,6 +167,18 @@ class ContactResponse:
             + self.block_map @ np.asarray(block, float)
             + self.load_map @ beta
         )
+
+
+def interleaved_map(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The (m, 2, 2N) map ``[[A, B], [-B, A]]`` per node pair (column 2 b + j) of two (m, N)
+    blocks."""
+    m, n = a.shape
+    out = np.empty((m, 2, n, 2))
+    out[:, 0, :, 0] = a
+    out[:, 0, :, 1] = b
+    out[:, 1, :, 0] = -b
+    out[:, 1, :, 1] = a
+    return out.reshape(m, 2, 2 * n)
 
 
 class Body(ABC):

@@ -132,12 +132,21 @@ def _element_map(face: Basis, elements: np.ndarray, local: np.ndarray):
     return m.points[:, 0], np.abs(m.tangents[:, 0]), m.values
 
 
-def check_face(face: Basis) -> None:
-    """Require x to run monotonically along the face: it is the graph of a surface profile."""
+def gauss_samples(face: Basis):
+    """The face mapped at the SMOOTH_POINTS-point Gauss-Legendre rule of every element:
+    (element of each point, its rule weight, the mapping); the face check and the force
+    and moment integrals all read these points."""
     rule = QuadratureRule.gauss_legendre(SMOOTH_POINTS)
     elements = np.repeat(np.arange(face.n_elements), rule.points.size)
     local = np.tile(rule.points, face.n_elements)
-    dx = face.map(elements, local).tangents[:, 0]
+    return elements, np.tile(rule.weights, face.n_elements), face.map(elements, local)
+
+
+def check_face(face: Basis, samples=None) -> None:
+    """Require x to run monotonically along the face: it is the graph of a surface profile.
+
+    ``samples``: the face's :func:`gauss_samples`, if already computed."""
+    dx = (gauss_samples(face) if samples is None else samples)[2].tangents[:, 0]
     if not (np.all(dx > 0) or np.all(dx < 0)):
         raise HalfPlaneFaceError(
             "a half-plane face must run monotonically in x (it is the graph y(x) of the "

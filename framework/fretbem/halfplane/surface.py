@@ -13,11 +13,18 @@ import numpy as np
 import scipy.linalg as sla
 
 from fretbem.basis import Basis
+from fretbem.body import interleaved_map
 from fretbem.material import Material
-from fretbem.numerics.quadrature import QuadratureRule
 from fretbem.validators import positive
 
-from .influence import DEFAULT_DATUM, FlamantCompliance, check_face, side_sign, surface_integrals
+from .influence import (
+    DEFAULT_DATUM,
+    FlamantCompliance,
+    check_face,
+    gauss_samples,
+    side_sign,
+    surface_integrals,
+)
 from .joined import JoinedFace
 from .shared import node_integrals
 
@@ -60,7 +67,7 @@ class HalfPlaneSurface:
 
     def __attrs_post_init__(self) -> None:
         side_sign(self.side)
-        check_face(self.face)
+        check_face(self.face, self.gauss_samples)
         if self.shared_as is not None:  # joined now: a twin made later finds this face
             self._cache["shared"] = node_integrals(
                 *self.shared_as, self.side, self.datum, self.points[:, 0]
@@ -96,9 +103,20 @@ class HalfPlaneSurface:
             self._cache["collocation_matrix"] = matrix
         return self._cache["collocation_matrix"]
 
-    def _per_value(self, per_coefficient: np.ndarray) -> np.ndarray:
-        """Rows of ``per_coefficient`` (m, N) taken through E^-1: per unit node value."""
-        return transposed_solve(self.collocation_matrix, per_coefficient)
+    @property
+    def gauss_samples(self):
+        """The face at every element's Gauss points (:func:`~.influence.gauss_samples`),
+        computed once: the face check, the force and the moment integrals share them."""
+        if "gauss_samples" not in self._cache:
+            self._cache["gauss_samples"] = gauss_samples(self.face)
+        return self._cache["gauss_samples"]
+
+    def per_node_value(self, per_coefficient: np.ndarray) -> np.ndarray:
+        """Rows of ``per_coefficient`` (m, N) taken through E^-1: per unit node value (E's
+        band form found once)."""
+        if "bands" not in self._cache:
+            self._cache["bands"] = _bands(self.collocation_matrix)
+        return _solve_transposed(self.collocation_matrix, self._cache["bands"], per_coefficient)
 
     def coefficient_map(self, x) -> np.ndarray:
         """Displacement (m, 2, 2N) at surface abscissae ``x`` per traction coefficient.
@@ -115,7 +133,7 @@ class HalfPlaneSurface:
 
     def _displacement_map(self, log: np.ndarray, sign: np.ndarray) -> np.ndarray:
         """(m, 2, 2N) from the ln and sign integrals (m, N) of N functions or node values."""
-        return _interleaved(*self._blocks(log, sign))
+        return interleaved_map(*self._blocks(log, sign))
 
     @property
     def traction_blocks(self) -> tuple[np.ndarray, np.ndarray]:
@@ -136,7 +154,7 @@ class HalfPlaneSurface:
     def traction_map(self) -> np.ndarray:
         """Displacement (n, 2, 2n) at the nodes per unit node traction (column 2 a + j)."""
         if "traction_map" not in self._cache:
-            self._cache["traction_map"] = _interleaved(*self.traction_blocks)
+            self._cache["traction_map"] = interleaved_map(*self.traction_blocks)
             self._cache["traction_map"].setflags(write=False)
         return self._cache["traction_map"]
 
@@ -152,7 +170,7 @@ class HalfPlaneSurface:
         integrals = surface_integrals(self.face, x, self.datum)
         # per node value = per coefficient @ E^-1 (coefficients = E^-1 values): the four
         # blocks of the map are the ln and sign integrals times constants, so two solves
-        return self._per_value(np.concatenate([integrals.log, integrals.sign]))
+        return self.per_node_value(np.concatenate([integrals.log, integrals.sign]))
 
     def bulk_displacement(self, x) -> np.ndarray:
         """Surface displacement (m, 2) per unit far-field stress sigma_xx (the "bulk" load).
@@ -169,23 +187,12 @@ class HalfPlaneSurface:
     def contact_force(self) -> np.ndarray:
         """Resultant force (2, 2n) of the face tractions per unit node traction."""
         # int phi_b |dx| per coefficient, then per node value through E^-1
-        weights = self._per_value(_shape_integrals(self.face)[None])[0]
+        weights = self.per_node_value(_shape_integrals(self.face, self.gauss_samples)[None])[0]
         n = len(weights)
         out = np.zeros((2, n, 2))
         out[0, :, 0] = weights
         out[1, :, 1] = weights
         return out.reshape(2, 2 * n)
-
-
-def _interleaved(log: np.ndarray, jump: np.ndarray) -> np.ndarray:
-    """The (m, 2, 2N) map ``[[log, jump], [-jump, log]]`` per node pair (column 2 b + j)."""
-    m, n_f = log.shape
-    out = np.empty((m, 2, n_f, 2))
-    out[:, 0, :, 0] = log
-    out[:, 0, :, 1] = jump
-    out[:, 1, :, 0] = -jump
-    out[:, 1, :, 1] = log
-    return out.reshape(m, 2, 2 * n_f)
 
 
 def transposed_solve(matrix: np.ndarray, rows: np.ndarray) -> np.ndarray:
@@ -194,12 +201,18 @@ def transposed_solve(matrix: np.ndarray, rows: np.ndarray) -> np.ndarray:
     E of a spline or Lagrange face is banded (each node sees the few functions of its
     element): a banded LU then costs O(N) per row where a dense one costs O(N^2).
     """
+    return _solve_transposed(matrix, _bands(matrix), rows)
+
+
+def _bands(matrix: np.ndarray):
+    """((upper, lower), bands of the transpose in LAPACK's layout), or None when the matrix
+    is too wide-banded for a banded LU to pay."""
     nonzero_rows, nonzero_cols = np.nonzero(matrix)
     lower = int(np.max(nonzero_rows - nonzero_cols, initial=0))
     upper = int(np.max(nonzero_cols - nonzero_rows, initial=0))
     n = matrix.shape[0]
     if lower + upper + 1 > n // 4:
-        return np.linalg.solve(matrix.T, rows.T).T
+        return None
     # the transpose has the bands swapped: its lower band is the matrix's upper one
     bands = np.zeros((lower + upper + 1, n))
     transposed = matrix.T
@@ -209,16 +222,21 @@ def transposed_solve(matrix: np.ndarray, rows: np.ndarray) -> np.ndarray:
             bands[lower - k, k:] = diagonal
         else:
             bands[lower - k, : n + k] = diagonal
-    return sla.solve_banded((upper, lower), bands, rows.T).T
+    return (upper, lower), bands
 
 
-def _shape_integrals(face: Basis) -> np.ndarray:
-    """int phi_b dx over the projected face, for each shape function b."""
-    rule = QuadratureRule.gauss_legendre(12)
-    elements = np.repeat(np.arange(face.n_elements), rule.points.size)
-    local = np.tile(rule.points, face.n_elements)
-    m = face.map(elements, local)
-    weights = np.abs(m.tangents[:, 0]) * np.tile(rule.weights, face.n_elements)
+def _solve_transposed(matrix: np.ndarray, banded, rows: np.ndarray) -> np.ndarray:
+    """``rows @ matrix^-1`` through :func:`_bands`' form (dense when None)."""
+    if banded is None:
+        return np.linalg.solve(matrix.T, rows.T).T
+    return sla.solve_banded(*banded, rows.T).T
+
+
+def _shape_integrals(face: Basis, samples=None) -> np.ndarray:
+    """int phi_b dx over the projected face, for each shape function b (``samples``: the
+    face's :func:`~.influence.gauss_samples`, if already computed)."""
+    elements, rule_weights, m = gauss_samples(face) if samples is None else samples
+    weights = np.abs(m.tangents[:, 0]) * rule_weights
     out = np.zeros(face.n_functions)
     np.add.at(out, face.connectivity[elements], m.values * weights[:, None])
     return out

@@ -32,10 +32,12 @@ _SEPARATED, _STICK, _SLIP = 0, 1, 2
 BORDER_FRACTION = 0.3
 MIN_BORDER = 16
 #: the same for the split factor of identical bodies, whose new LU is the tangential block's
-#: alone while the contact set holds (about an eighth of the coupled one). Steps of the
-#: half-plane reference cycle, CPU ms (load 7): 481 pairs 143 at 0.3, 128 at 0.2, 120 at
-#: 0.15, 129 at 0.1; 961 pairs 618 at 0.3, 557 at 0.15, 592 at 0.1; iterations unchanged
-SPLIT_BORDER_FRACTION = 0.15
+#: alone while the contact set holds (about an eighth of the coupled one), and only once a
+#: shear needs it. Steps of the half-plane reference cycle, CPU ms, medians of 7 alternating
+#: runs in one process (load 10): 481 pairs 90.7 at 0.15, 86.4 at 0.1, 85.2 at 0.08, 83.6 at
+#: 0.05; 961 pairs 394 at 0.15, 381 at 0.1, 372 at 0.08, 368 at 0.05 (a second run: 0.05 to
+#: 0.0 within the noise, 5 %); iterations unchanged (benchmarks/split_border_fraction.py)
+SPLIT_BORDER_FRACTION = 0.08
 #: systems of fewer unknowns are factorised afresh every step: their LU (about 70 us at
 #: 120 unknowns) costs less than the bordered solve's bookkeeping
 DIRECT_BELOW = 160
@@ -95,7 +97,16 @@ class _Maps:
         #: products skip the rest (identical bodies: the shear columns of N, the pressure
         #: columns of T, half of each product)
         self.normal_ranges = _nonzero_ranges(normal_map, self.n) if large else None
+        #: whether a tangential row (slip, tangential block) has a non-zero in a normal
+        #: column (the split's coupling is then not zero by structure)
+        self.tangential_sees_normal = self.normal_part is not None and bool(
+            tangential_map[:, self.normal_part].any()
+            or resultant_map[~self.normal_part[2 * self.n :]][:, self.normal_part].any()
+        )
         self.tangential_ranges = _nonzero_ranges(tangential_map, self.n) if large else None
+        #: the same per column (None: all used), for products over a few columns
+        self.normal_used = _used_columns(normal_map, self.normal_ranges)
+        self.tangential_used = _used_columns(tangential_map, self.tangential_ranges)
 
     def normal_times(self, x: np.ndarray) -> np.ndarray:
         """N x, over N's non-zero column ranges only."""
@@ -109,7 +120,8 @@ class _Maps:
         """N x, T x and R x (x of shape (n_x,) or (n_x, cols)), using only rows ``nonzero``."""
         if nonzero is not None and nonzero.size < self.n_x // 4:
             part = x[nonzero]
-            return (self.normal[:, nonzero] @ part, self.tangential[:, nonzero] @ part,
+            return (_columns_product(self.normal, self.normal_used, nonzero, part),
+                    _columns_product(self.tangential, self.tangential_used, nonzero, part),
                     self.resultant[:, nonzero] @ part)  # fmt: skip
         return self.normal_times(x), self.tangential_times(x), self.resultant @ x
 
@@ -198,27 +210,53 @@ class _Factor:
         normal block rows, whose shear columns are zero, so no slip column folds into
         them) and the tangential one with its rows' normal columns (the coupling). The
         normal block's LU is the previous factor's when the contact set is the same (the
-        steps after the first of a cycle change stick and slip only)."""
-        maps, n = self.maps, self.maps.n
+        steps after the first of a cycle change stick and slip only). The tangential block
+        is factorised when a solve first needs it (:meth:`_tangential`): a normal load
+        alone leaves every shear at exactly 0 (the first step of a cycle: 3 LUs of its 17
+        at 481 pairs)."""
+        maps = self.maps
         normal = maps.normal_part[columns]
         a, b = normal.nonzero()[0], (~normal).nonzero()[0]
         normal_x, tangential_x = columns[a], columns[b]
-        ka, kb = a.size, b.size
-        # the tangential rows over the normal columns (the coupling), their own columns and
-        # the slipping pairs' shear columns, which fold into their pressure columns (the
-        # first of the normal columns are the pairs in contact, c)
-        rows = _block(maps, tangential_x, np.concatenate([normal_x, tangential_x, n + slipping]))
-        coupling = rows[:, :ka]
-        if slipping.size:
-            coupling[:, self.slip_in_c] += rows[:, ka + kb :] * self.pattern.coeff[slipping]
-        self.split = (a, b, coupling)
-        self.lu_t, self.piv_t = _lu(np.ascontiguousarray(rows[:, ka : ka + kb]))
+        self.split = (a, b)
+        self.tangential_x, self.slipping = tangential_x, slipping
+        self.lu_t = self.piv_t = self.coupling = self.coupling_columns = None
+        #: whether coupling @ u can be non-zero: the tangential rows see a normal column, or a
+        #: slipping pair's pressure column carries its shear's
+        self.coupled = bool(slipping.size) or maps.tangential_sees_normal
         self.normal_x = normal_x
         if (previous is not None and previous.split is not None
                 and np.array_equal(previous.normal_x, normal_x)):  # fmt: skip
             self.lu, self.piv = previous.lu, previous.piv
         else:
             self.lu, self.piv = _lu(_block(maps, normal_x, normal_x))
+
+    def _tangential(self) -> np.ndarray:
+        """The coupling (the tangential rows over the normal columns, or over
+        ``coupling_columns`` of them only, where the rest are zero by structure), the
+        tangential block's LU computed with it on first use."""
+        if self.lu_t is None:
+            maps, n = self.maps, self.maps.n
+            normal_x, tangential_x, slipping = self.normal_x, self.tangential_x, self.slipping
+            ka, kb = normal_x.size, tangential_x.size
+            # the tangential rows over the normal columns (the coupling), their own columns
+            # and the slipping pairs' shear columns, which fold into their pressure columns
+            # (the first of the normal columns are the pairs in contact, c)
+            coeff = self.pattern.coeff[slipping]
+            if maps.tangential_sees_normal:
+                rows = _block(maps, tangential_x, np.concatenate([normal_x, tangential_x,
+                                                                  n + slipping]))  # fmt: skip
+                coupling = rows[:, :ka]
+                if slipping.size:
+                    coupling[:, self.slip_in_c] += rows[:, ka + kb :] * coeff
+            else:  # the normal columns are zero by structure but the slipping pairs': only
+                # those are gathered and kept (coupling_columns says which)
+                rows = _block(maps, tangential_x, np.concatenate([tangential_x, n + slipping]))
+                coupling, ka = rows[:, kb:] * coeff, 0
+                self.coupling_columns = self.slip_in_c
+            self.coupling = coupling
+            self.lu_t, self.piv_t = _lu(np.ascontiguousarray(rows[:, ka : ka + kb]))
+        return self.coupling
 
     @staticmethod
     def _gathered(maps: _Maps, c, s, columns, slipping, coeff) -> np.ndarray:
@@ -259,13 +297,18 @@ class _Factor:
         if self.split is None:
             u = _lu_solve(self.lu, self.piv, rhs)
         else:
-            normal, tangential, coupling = self.split
+            normal, tangential = self.split
             u = np.zeros(rhs.shape)
             rhs_n, rhs_t = rhs[normal], rhs[tangential]
             if rhs_n.any():  # a shear's unit (a bordered row of the tangential block) has none
                 u[normal] = u_n = _lu_solve(self.lu, self.piv, rhs_n)
-                rhs_t -= coupling @ u_n
-            u[tangential] = _lu_solve(self.lu_t, self.piv_t, rhs_t)
+                if self.coupled:
+                    coupling = self._tangential()
+                    columns = self.coupling_columns
+                    rhs_t -= coupling @ (u_n if columns is None else u_n[columns])
+            if rhs_t.any():  # else the shears are 0 (what the LU would give), not factorised
+                self._tangential()
+                u[tangential] = _lu_solve(self.lu_t, self.piv_t, rhs_t)
         dp = u[:kc]
         y[c] = dp
         y[n + s] = u[kc : kc + ks]
@@ -338,6 +381,28 @@ def _nonzero_ranges(matrix: np.ndarray, n: int) -> tuple[slice, ...] | None:
     ranges = (slice(0, n), slice(n, 2 * n), slice(2 * n, matrix.shape[1]))
     kept = tuple(r for r in ranges if matrix[:, r].any())
     return None if len(kept) == len(ranges) else kept
+
+
+def _used_columns(matrix: np.ndarray, ranges: tuple[slice, ...] | None) -> np.ndarray | None:
+    """Whether each column lies in one of ``ranges`` (None if every column does)."""
+    if ranges is None:
+        return None
+    used = np.zeros(matrix.shape[1], dtype=bool)
+    for columns in ranges:
+        used[columns] = True
+    return used
+
+
+def _columns_product(matrix: np.ndarray, used, columns: np.ndarray, part: np.ndarray):
+    """matrix[:, columns] @ part, skipping the columns outside the matrix's non-zero ranges
+    (``used``; identical bodies: the shears' columns of N, the pressures' of T)."""
+    if used is not None:
+        keep = used[columns]
+        if not keep.all():
+            if not keep.any():
+                return np.zeros((matrix.shape[0], *part.shape[1:]))
+            columns, part = columns[keep], part[keep]
+    return matrix[:, columns] @ part
 
 
 def _product(matrix: np.ndarray, ranges: tuple[slice, ...] | None, x: np.ndarray) -> np.ndarray:

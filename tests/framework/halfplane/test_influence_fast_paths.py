@@ -105,7 +105,7 @@ def test_banded_solve_equals_the_dense_one(family, name):
     matrix = surface.collocation_matrix
     rows = np.random.default_rng(5).normal(size=(9, matrix.shape[0]))
     np.testing.assert_allclose(
-        surface._per_value(rows), np.linalg.solve(matrix.T, rows.T).T, rtol=1e-12, atol=1e-12
+        surface.per_node_value(rows), np.linalg.solve(matrix.T, rows.T).T, rtol=1e-12, atol=1e-12
     )
     # the node map is the coefficient map taken through E^-1
     x = np.linspace(-0.8, 0.8, 5)
