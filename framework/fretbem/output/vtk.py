@@ -19,7 +19,6 @@ from __future__ import annotations
 import base64
 from pathlib import Path
 from typing import TYPE_CHECKING
-from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
@@ -27,6 +26,7 @@ from fretbem.body import Body
 from fretbem.results import SimulationResult, StepResult
 from fretbem.sliding.result import step_solutions
 from fretbem.verification.checks import safe_names
+from fretbem.views.markup import quote_attribute
 
 from .staging import check_free_space
 
@@ -247,7 +247,7 @@ def write_pvd(path: Path, entries: list[tuple[int, int, str, Path]]) -> Path:
         relative = Path(file).relative_to(path.parent).as_posix()
         lines.append(
             f'    <DataSet timestep="{timestep}" group="" part="{part}" '
-            f"name={quoteattr(name)} file={quoteattr(relative)}/>"
+            f"name={quote_attribute(name)} file={quote_attribute(relative)}/>"
         )
     lines += ["  </Collection>", "</VTKFile>", ""]
     path.write_text("\n".join(lines))
