@@ -201,13 +201,14 @@ def _unique_entry_points(
     conflict = _errors(group)[1]
     by_name: dict[str, dict[tuple[str | None, str], _EntryPointLike]] = {}
     for ep in entry_points:
-        if ep.name in group.builtins and _distribution_of(ep) != BUILTIN_DISTRIBUTION:
+        dist = _distribution_of(ep)  # reads the distribution's metadata file: once per entry
+        if ep.name in group.builtins and dist != BUILTIN_DISTRIBUTION:
             raise conflict(
                 f"entry point {_label(ep)} in group {group.entry_points!r} shadows the built-in"
                 f" {group.what} {ep.name!r}, which only the {BUILTIN_DISTRIBUTION!r} distribution"
                 " may register; rename it in that package's entry points"
             )
-        by_name.setdefault(ep.name, {}).setdefault((_distribution_of(ep), ep.value), ep)
+        by_name.setdefault(ep.name, {}).setdefault((dist, ep.value), ep)
     unique = []
     for name in sorted(by_name):
         matches = list(by_name[name].values())
