@@ -19,20 +19,13 @@ import attrs
 
 from fretbem.accuracy import modes as accuracy
 from fretbem.errors import InputError
-from fretbem.fatigue import fatigue_request_from_dict, run_fatigue
-from fretbem.fatigue.from_simulation import SimulationStressHistory
-from fretbem.output.write import write_results
+from fretbem.output.write import analyses, write_results
 from fretbem.scenes.builder import build
 from fretbem.simulation import run
 from fretbem.sliding import solve_sliding
 from fretbem.solvers.fallback import with_fallback
 from fretbem.solvers.newton import SolverConvergenceError
-from fretbem.stress.limits import check_points, request_points
-from fretbem.stress.request import stress_request_from_dict
 from fretbem.verification.checks import check_steps
-from fretbem.wear.assess import assess
-from fretbem.wear.request import wear_request_from_dict
-from fretbem.wear.run import run_wear
 
 __all__ = ["RunResult", "run_scene", "run_simulation"]
 
@@ -101,15 +94,15 @@ class RunResult:
 def requests(extras: Mapping | None) -> tuple:
     """The scene's ``[stress]`` and ``[fatigue]`` requests, parsed before any computation."""
     extras = extras or {}
-    stress = stress_request_from_dict(extras["stress"]) if "stress" in extras else None
-    fatigue = fatigue_request_from_dict(extras["fatigue"]) if "fatigue" in extras else None
-    return stress, fatigue
+    if "stress" not in extras and "fatigue" not in extras:
+        return None, None
+    return analyses().requests(extras)
 
 
 def wear_request(extras: Mapping | None):
     """The scene's ``[wear]`` request (None without one), parsed before any computation."""
     extras = extras or {}
-    return wear_request_from_dict(extras["wear"]) if "wear" in extras else None
+    return analyses().wear_request(extras) if "wear" in extras else None
 
 
 def _wear_mesh(mode: accuracy.Accuracy) -> None:
@@ -144,26 +137,17 @@ def run_wear_request(
     _wear_mesh(mode)
     wear = request.simulation(simulation, sliding=sliding)
     say(f"wear: {wear.cycles} cycles of steps {[s.name for s in wear.cycle_steps]}")
-    result = run_wear(wear, progress=_cycle_bar(bars, wear.cycles))
+    result, assessed = analyses().wear_of(
+        wear, request, fatigue_request, progress=_cycle_bar(bars, wear.cycles)
+    )
     say(f"wear: {result.simulated} cycles simulated, {len(result.jumps)} jumps")
-    return assess(result, request.assess, fatigue_request)
+    return assessed
 
 
 def check_requests(simulation, stress, fatigue) -> None:
     """Refuse stress and fatigue requests too large for the machine, with the estimate."""
-    pair = simulation.pair
-    dofs = max(int(getattr(b, "dofs", 0) or 0) for b in (pair.upper, pair.lower))
-    points = request_points(stress)
-    grid = getattr(stress, "grid", None)
-    where = (
-        f"[stress.grid] nx x ny = {grid.nx} x {grid.ny}"
-        if grid is not None and 2 * grid.nx * grid.ny > points
-        else "[stress] (points, lines and grid)"
-    )
-    check_points(points, dofs, where)
-    if fatigue is not None:
-        nx, nd = fatigue.map_points
-        check_points(nx * nd, dofs, "[fatigue] map_points")
+    if stress is not None or fatigue is not None:
+        analyses().check_requests(simulation, stress, fatigue)
 
 
 def sliding_blocker(mode: accuracy.Accuracy, extras: Mapping | None) -> None:
@@ -258,7 +242,7 @@ def run_simulation(
     if fatigue_request is not None:
         say("fatigue assessment")
         tic = time.perf_counter()
-        fatigue = run_fatigue(SimulationStressHistory(result), fatigue_request, progress=bars)
+        fatigue = analyses().fatigue_of(result, fatigue_request, progress=bars)
         timed["fatigue"] = time.perf_counter() - tic
     worn = None
     if wear is not None:

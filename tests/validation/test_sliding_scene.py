@@ -44,7 +44,7 @@ def cli_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("sliding") / "out"
     capture = pytest.MonkeyPatch()
     lines: list[str] = []
-    capture.setattr("fretbem.app.cli._progress", lambda message: lines.append(message))
+    capture.setattr("fretbem.app.commands._progress", lambda message: lines.append(message))
     try:
         code = main(["run", str(SCENE), "--out", str(out), "--no-figures", "--no-vtk", "--quiet"])
     finally:

@@ -19,14 +19,16 @@ from __future__ import annotations
 import base64
 from pathlib import Path
 from typing import TYPE_CHECKING
-from xml.sax.saxutils import quoteattr
 
+import attrs
 import numpy as np
 
+from fretbem.bem.system import BodySolution
 from fretbem.body import Body
 from fretbem.results import SimulationResult, StepResult
 from fretbem.sliding.result import step_solutions
 from fretbem.verification.checks import safe_names
+from fretbem.views.markup import quote_attribute
 
 from .staging import check_free_space
 
@@ -50,22 +52,64 @@ def _as_3d(values: np.ndarray) -> np.ndarray:
     return np.column_stack([values, np.zeros(len(values))])
 
 
+@attrs.frozen(eq=False)
+class BoundarySampling:
+    """Where a body's boundary is drawn, the same at every step: each segment's curve
+    parameters, its points there and its basis's evaluation matrix there."""
+
+    body: Body
+    params: tuple
+    points: tuple
+    matrices: tuple
+
+    @classmethod
+    def of(cls, body: Body, points_per_element: int = POINTS_PER_ELEMENT) -> BoundarySampling:
+        params = tuple(_params(basis, points_per_element) for basis in body.segments)
+        points = tuple(
+            basis.geometry(*basis.to_local(p))[0]
+            for basis, p in zip(body.segments, params, strict=True)
+        )
+        matrices = tuple(
+            basis.evaluation_matrix(p) for basis, p in zip(body.segments, params, strict=True)
+        )
+        return cls(body, params, points, matrices)
+
+    def fields(self, solution, k: int) -> tuple[np.ndarray, np.ndarray]:
+        """Displacement and traction of ``solution`` on segment ``k``: a BEM body's
+        coefficients through the kept matrix (the products ``BodySolution`` forms), any
+        other solution (or another body's) asked at the parameters."""
+        params = self.params[k]
+        if not isinstance(solution, BodySolution) or solution.body is not self.body:
+            return solution.displacement(k, params), solution.traction(k, params)
+        part = solution.body.function_slice(k)
+        return (
+            self.matrices[k] @ solution.displacement_coefficients[part],
+            self.matrices[k] @ solution.traction_coefficients[part],
+        )
+
+
 def boundary_arrays(
-    body: Body, solution=None, points_per_element: int = POINTS_PER_ELEMENT
+    body: Body,
+    solution=None,
+    points_per_element: int = POINTS_PER_ELEMENT,
+    sampling: BoundarySampling | None = None,
 ) -> dict:
     """The discretised boundary as arrays: points (N, 3), lines (point index arrays, one per
-    segment), point_data, cell_data and field_data dictionaries (the solution's fields)."""
+    segment), point_data, cell_data and field_data dictionaries (the solution's fields).
+    ``sampling`` (``BoundarySampling.of(body, points_per_element)``) serves every step."""
+    if sampling is None:
+        sampling = BoundarySampling.of(body, points_per_element)
     points, lines, segment, fields = [], [], [], {"displacement": [], "traction": []}
     start = 0
-    for k, basis in enumerate(body.segments):
-        params = _params(basis, points_per_element)
-        points.append(basis.geometry(*basis.to_local(params))[0])
+    for k, params in enumerate(sampling.params):
+        points.append(sampling.points[k])
         lines.append(start + np.arange(len(params)))
         segment.append(np.full(len(params), k))
         start += len(params)
         if solution is not None:
-            fields["displacement"].append(solution.displacement(k, params))
-            fields["traction"].append(solution.traction(k, params))
+            displacement, traction = sampling.fields(solution, k)
+            fields["displacement"].append(displacement)
+            fields["traction"].append(traction)
     point_data = {"segment": np.concatenate(segment)}
     field_data = {"tags": np.array(body.segment_tags), "body": np.array([body.name])}
     if solution is not None:
@@ -186,16 +230,24 @@ def drawable_bodies(result: SimulationResult, say=print) -> list[str]:
 
 
 def step_arrays(
-    result: SimulationResult, step: StepResult, points_per_element: int = POINTS_PER_ELEMENT
+    result: SimulationResult,
+    step: StepResult,
+    points_per_element: int = POINTS_PER_ELEMENT,
+    samplings: dict | None = None,
 ) -> dict[str, dict]:
-    """``boundary_arrays`` of both bodies at ``step``, with the step's name and loads."""
+    """``boundary_arrays`` of both bodies at ``step``, with the step's name and loads;
+    ``samplings`` (a dict) keeps each body's BoundarySampling for the next steps."""
     pair = result.simulation.pair
     bodies = {"upper": pair.upper, "lower": pair.lower}
+    samplings = {} if samplings is None else samplings
     out = {}
     for label, solution in body_solutions(result, step).items():
-        if not bodies[label].segments:  # nothing to draw (said once by drawable_bodies)
+        body = bodies[label]
+        if not body.segments:  # nothing to draw (said once by drawable_bodies)
             continue
-        arrays = boundary_arrays(bodies[label], solution, points_per_element)
+        if label not in samplings:
+            samplings[label] = BoundarySampling.of(body, points_per_element)
+        arrays = boundary_arrays(body, solution, points_per_element, samplings[label])
         arrays["field_data"]["step"] = np.array([step.name])
         arrays["field_data"]["loads"] = np.array([step.normal, step.tangential])
         out[label] = arrays
@@ -247,7 +299,7 @@ def write_pvd(path: Path, entries: list[tuple[int, int, str, Path]]) -> Path:
         relative = Path(file).relative_to(path.parent).as_posix()
         lines.append(
             f'    <DataSet timestep="{timestep}" group="" part="{part}" '
-            f"name={quoteattr(name)} file={quoteattr(relative)}/>"
+            f"name={quote_attribute(name)} file={quote_attribute(relative)}/>"
         )
     lines += ["  </Collection>", "</VTKFile>", ""]
     path.write_text("\n".join(lines))
@@ -273,7 +325,8 @@ def save_vtk(
     stems = safe_names([s.name for s in result.steps])
     if not drawable_bodies(result):
         return []
-    steps = [step_arrays(result, s, points_per_element) for s in result.steps]
+    samplings: dict = {}  # each body's sampling, evaluated once for every step
+    steps = [step_arrays(result, s, points_per_element, samplings) for s in result.steps]
     every = [m for meshes in steps for m in meshes.values()]
     check_free_space(folder, 2 * sum(_size_estimate(m) for m in every), "VTK files")
     scale = deformation_scale(every)

@@ -15,6 +15,7 @@ with a leading ``'`` (OWASP "CSV injection"); numbers are written as numbers.
 from __future__ import annotations
 
 import csv
+import importlib
 import json
 import os
 import time
@@ -26,13 +27,11 @@ import numpy as np
 
 from fretbem.contact.law import STATE_NAMES
 from fretbem.errors import InputError
-from fretbem.fatigue.output import write_fatigue
 from fretbem.output import figures as plot
 from fretbem.output import fretting as fretting_
 from fretbem.output import vtk as vtk_
-from fretbem.output.labelled import evaluated_stress, write_netcdf_files
+from fretbem.output.labelled import write_netcdf_files
 from fretbem.output.report import write_report
-from fretbem.stress.run import write_stress_result
 from fretbem.verification.checks import check_steps
 
 from .staging import (  # noqa: F401 - re-exported: the output API of one release
@@ -47,7 +46,6 @@ from .staging import (  # noqa: F401 - re-exported: the output API of one releas
     prepare_output,
     staged_directory,
 )
-from .wear import write_wear
 
 #: units and sign conventions of every results.csv column (written to units.json and the docs)
 CSV_COLUMNS = {
@@ -132,6 +130,18 @@ SUMMARY_KEYS = {
         "is the result), seconds (all levels), estimate_reason (null, or why no estimate)",
     ),
 }
+
+
+#: the module of a scene file's optional analyses ([stress], [fatigue], [wear]): their
+#: requests, runs, writers and reports (:mod:`fretbem.output.analyses`)
+ANALYSES = "fretbem.output.analyses"
+
+
+def analyses():
+    """:mod:`fretbem.output.analyses`, loaded on first use: only a run that has a
+    ``[stress]``, ``[fatigue]`` or ``[wear]`` table loads the stress, fatigue and wear
+    packages (~70 ms of start-up that a plain run, e.g. ``fretbem demo``, does not pay)."""
+    return importlib.import_module(ANALYSES)
 
 
 # -- writer registry ----------------------------------------------------------------------------
@@ -311,8 +321,7 @@ def _write_vtk(context: WriteContext, directory: Path):
 
 
 def _write_stress(context: WriteContext, directory: Path):
-    done = evaluated_stress(context)
-    return write_stress_result(context.result, context.stress, done, directory)
+    return analyses().write_stress_files(context, directory)
 
 
 def _write_fretting(context: WriteContext, directory: Path):
@@ -326,16 +335,17 @@ def _write_report(context: WriteContext, directory: Path):
     return write_report(directory, name=name)
 
 
+def _write_netcdf(context: WriteContext, directory: Path):
+    stress = None if context.stress is None else analyses().evaluated_stress(context)
+    return write_netcdf_files(context, directory, stress)
+
+
 def _write_fatigue(context: WriteContext, directory: Path):
-    return write_fatigue(directory, context.fatigue, figures="figures" in context.writers)
+    return analyses().write_fatigue_files(context, directory)
 
 
 def _write_wear(context: WriteContext, directory: Path):
-    chosen = context.writers
-    return write_wear(
-        directory, context.wear, stress=context.stress, figures="figures" in chosen,
-        vtk="vtk" in chosen,
-    )  # fmt: skip
+    return analyses().write_wear_files(context, directory)
 
 
 for _name, _function, _needs in (
@@ -350,7 +360,7 @@ for _name, _function, _needs in (
     ("wear", _write_wear, "wear"),
 ):
     register_writer(_name, _function, context=True, needs=_needs)
-register_writer("netcdf", write_netcdf_files, default=False, context=True)
+register_writer("netcdf", _write_netcdf, default=False, context=True)
 #: report.html reads the other writers' files: it runs last whenever it is chosen
 register_writer("report", _write_report, default=False, context=True)
 

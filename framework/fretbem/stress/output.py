@@ -10,9 +10,10 @@ from __future__ import annotations
 import csv
 from collections.abc import Sequence
 from pathlib import Path
-from xml.sax.saxutils import quoteattr
 
 import numpy as np
+
+from fretbem.views.markup import quote_attribute
 
 __all__ = ["von_mises", "write_grid_vtk", "write_stress_csv"]
 
@@ -79,8 +80,8 @@ def write_grid_vtk(
         file = directory / f"{name}_{k}.vts"
         block.save(file)
         entries.append(
-            f'    <DataSet timestep="{k}" part="0" file={quoteattr(file.name)} '
-            f"name={quoteattr(str(step))}/>"
+            f'    <DataSet timestep="{k}" part="0" file={quote_attribute(file.name)} '
+            f"name={quote_attribute(str(step))}/>"
         )
     pvd = directory / f"{name}.pvd"
     pvd.write_text(

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from fretbem.app import cli
+from fretbem.app import cli, commands
 from fretbem.bem import resources
 from fretbem.output import write as output
 
@@ -187,7 +187,7 @@ def test_long_run_prints_a_progress_line_with_the_estimate(tmp_path, monkeypatch
 
 def test_step_progress_lines_are_rate_limited(capsys):
     """The per-step progress printer writes at most once per interval, and the last step."""
-    progress = cli.StepProgress(1000, interval=3600.0)
+    progress = commands.StepProgress(1000, interval=3600.0)
     for k in range(1, 1001):
         progress(k, 1000, type("Step", (), {"name": f"S{k}"})())
     lines = capsys.readouterr().err.strip().splitlines()
@@ -203,9 +203,9 @@ def test_progress_hook_is_passed_only_to_a_run_that_takes_it():
 
     def without(simulation): ...
 
-    option = cli._progress_option(with_hook, simulation, long)
-    assert isinstance(option["progress"], cli.StepProgress)
-    assert cli._progress_option(without, simulation, long) == {}
+    option = commands._progress_option(with_hook, simulation, long)
+    assert isinstance(option["progress"], commands.StepProgress)
+    assert commands._progress_option(without, simulation, long) == {}
 
 
 def test_out_containing_the_scene_is_refused_even_with_overwrite(no_run, tmp_path, capsys):

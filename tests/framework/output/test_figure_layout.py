@@ -74,3 +74,28 @@ def test_glyphs_are_unhinted_only_while_the_files_are_written(results, tmp_path,
     with matplotlib.rc_context({"text.hinting": "native"}):
         figures.save_figures(results, tmp_path / "b")
     assert seen and set(seen) == {"native"}
+
+
+def _ticks(fig):
+    """Each axis's drawn ticks: (location, label) in view, after a draw."""
+    _drawn(fig)
+    return [
+        [(t.get_loc(), t.label1.get_text()) for t in axis._update_ticks()]
+        for ax in fig.axes
+        for axis in (ax.xaxis, ax.yaxis)
+    ]
+
+
+@pytest.mark.parametrize(
+    "make", [figures.traction_figure, figures.displacement_figure, figures.stick_slip_figure]
+)
+def test_ticks_in_view_draw_the_same_ticks_with_fewer_made(results, make):
+    """Before a file is drawn every automatic axis keeps only the ticks in its view: the
+    same locations and labels are drawn, and no tick beyond the view is made."""
+    fig = make(results)
+    before = _ticks(fig)
+    made = sum(len(axis.get_majorticklocs()) for ax in fig.axes for axis in (ax.xaxis, ax.yaxis))
+    figures._ticks_in_view(fig)
+    assert _ticks(fig) == before
+    kept = sum(len(axis.get_majorticklocs()) for ax in fig.axes for axis in (ax.xaxis, ax.yaxis))
+    assert kept == sum(len(axis) for axis in before) < made

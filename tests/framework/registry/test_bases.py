@@ -81,9 +81,9 @@ def install(monkeypatch: pytest.MonkeyPatch) -> Any:
     calls = []
 
     def install_(*entry_points: Any) -> list[str]:
-        def fake_entry_points(*, group: str) -> list[Any]:
-            calls.append(group)
-            return list(entry_points) if group == bases.GROUP else []
+        def fake_entry_points(*, group: str | None = None) -> list[Any]:
+            calls.append(group)  # one call reads every group (group None)
+            return [ep for ep in entry_points if group in (None, ep.group)]
 
         monkeypatch.setattr(importlib.metadata, "entry_points", fake_entry_points)
         return calls

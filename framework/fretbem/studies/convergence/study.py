@@ -248,6 +248,11 @@ def _run_sawtooth(plan: StudyPlan, path: Path, say: Callable[[str], None]) -> li
 
 
 # -- command line ---------------------------------------------------------------------------
+def run_command(args) -> int:
+    """Run a parsed ``fretbem convergence`` command line (``--quick``, ``--out``)."""
+    return main(quick=args.quick, out=args.out)
+
+
 def main(quick: bool = False, out: str | Path = "convergence-out") -> int:
     """What ``fretbem convergence`` runs: the study, its CSVs, study.json and the figures.
 

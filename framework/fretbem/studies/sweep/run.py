@@ -38,6 +38,7 @@ from fretbem.errors import ComputationError, FretbemError
 from fretbem.output.staging import output_lock
 from fretbem.pipeline import requests
 from fretbem.scenes.file import scene_from_data
+from fretbem.studies.sweep_options import ENGINES, add_arguments
 
 from . import cases as sweep_cases
 from .cases import (
@@ -91,8 +92,6 @@ PROBE_WINDOW = 25
 #: per-task cost (scheduling, one Parquet chunk) stays below 1 % of the solves
 TASKS_PER_WORKER = 8
 
-#: the engines of ``engine=`` / ``--engine`` (module docstring and docs/how-to/sweeps.rst)
-ENGINES = ("auto", "serial", "processes", "dask")
 #: serial seconds of remaining work above which the default engine hands the rest to a pool
 #: of forked processes. Forking costs milliseconds (the workers inherit this process's
 #: prepared groups, nothing is assembled or pickled again); the pool's own cost, measured on
@@ -868,42 +867,6 @@ def sweep_command(argv: Sequence[str] | None = None) -> int:
     )
     add_arguments(parser)
     return run_command(parser.parse_args(argv))
-
-
-def add_arguments(parser) -> None:
-    """The sweep subcommand's arguments (for the fretbem CLI's subparser)."""
-    parser.add_argument("sweep_file", metavar="SWEEP.toml", help="sweep description")
-    parser.add_argument(
-        "--scheduler", metavar="ADDRESS", help="Dask scheduler address, e.g. tcp://host:8786"
-    )
-    parser.add_argument(
-        "--serial", action="store_true", help="solve in this process (--engine serial)"
-    )
-    parser.add_argument(
-        "--engine",
-        choices=ENGINES,
-        help="auto (default: in this process, forked workers once the work pays for them), "
-        "serial, processes (forked workers at once) or dask (a LocalCluster, or --scheduler)",
-    )
-    parser.add_argument(
-        "--out", metavar="DIR", help="store directory (default: [sweep] out, or <name>-sweep)"
-    )
-    parser.add_argument(
-        "--workers", type=int, metavar="N", help="worker processes (default: cores)"
-    )
-    parser.add_argument("--batch", type=int, metavar="N", help="cases per task (default: auto)")
-    parser.add_argument(
-        "--limit", type=int, metavar="N", help="stop after N tasks (re-run to complete)"
-    )
-    parser.add_argument("--no-figures", action="store_true", help="skip the fretting maps")
-    parser.add_argument(
-        "--maps-only",
-        action="store_true",
-        help="solve nothing: redraw the [[maps]] from the cases already in the store",
-    )
-    parser.add_argument(
-        "--quiet", action="store_true", help="no progress bar (it shows only on a terminal)"
-    )
 
 
 def run_command(args) -> int:
