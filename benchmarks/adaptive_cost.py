@@ -132,6 +132,7 @@ def main() -> None:
     parser.add_argument("--budget", type=int, default=61)
     parser.add_argument("--rounds", type=int, default=5)
     parser.add_argument("--before", type=Path, help="source tree of the old code")
+    parser.add_argument("--after", type=Path, default=ROOT, help="source tree (this checkout)")
     parser.add_argument("--processes", type=int, default=3, help="alternations with --before")
     parser.add_argument("--json", help="write the medians and ratios here")
     parser.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
@@ -143,7 +144,7 @@ def main() -> None:
         record = measure(args.budget, args.rounds)
         report(record)
     else:
-        trees = {"before": args.before.resolve(), "after": ROOT}
+        trees = {"before": args.before.resolve(), "after": args.after.resolve()}
         runs: dict[str, list[dict]] = {name: [] for name in trees}
         for _ in range(args.processes):
             for name, tree in trees.items():
