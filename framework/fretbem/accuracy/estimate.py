@@ -104,8 +104,9 @@ def parameter_of(curve, tangent: np.ndarray, samples: int = 2001):
         s = np.interp(x, along[order], grid[order])
         for _ in range(2):
             s = np.clip(s, 0.0, 1.0)
-            f = curve.points(s) @ tangent - x
-            df = curve.derivatives(s) @ tangent
+            point, derivative = curve.points_and_derivatives(s)
+            f = point @ tangent - x
+            df = derivative @ tangent
             s = s - f / df
         return np.clip(s, 0.0, 1.0)
 
