@@ -20,8 +20,10 @@ so the warm ratio compares the adaptive mode's assembly with none at all; it is 
 for the record. Both run in the same process, cold and warm interleaved round by round.
 
 Everything runs once before the rounds (imports, and the compiled assembly loops, loaded
-explicitly so that every round takes the same loops; a fresh process below the ski-rental
-threshold of :mod:`fretbem.bem.integration` would take the numpy loops for both modes).
+explicitly so that every round takes the same loops). ``--loops numpy`` keeps both modes on
+the numpy loops instead: what a one-off run in a fresh process takes (an adaptive run at
+budget 61 assembles ~300,000 point-element pairs, below the ski-rental threshold of
+:mod:`fretbem.bem.integration`).
 
 Before and after: ``--before DIR`` (``git archive <commit> | tar -x -C DIR``) runs the
 same measurement in fresh processes for the old tree and this checkout, alternating
@@ -78,9 +80,14 @@ def clear_caches() -> None:
         store.clear()
 
 
-def measure(budget: int, rounds: int) -> dict:
+def measure(budget: int, rounds: int, loops: str = "compiled") -> dict:
     """Medians (CPU s) of every workload, cold and warm, and the ratios, in this process."""
-    import fretbem.bem.compiled_loops  # noqa: F401  (the same loops in every round)
+    if loops == "compiled":
+        import fretbem.bem.compiled_loops  # noqa: F401  (the same loops in every round)
+    else:
+        from fretbem.bem import integration
+
+        integration.LOOP_CHOICE.compiled = lambda pairs: False  # never pay numba's load
 
     work = cases(budget)
     for fn in work.values():  # warm-up: imports, kernels
@@ -106,7 +113,7 @@ def measure(budget: int, rounds: int) -> dict:
             medians[f"{m} adaptive"] / medians[f"{m} fixed+estimate"]
         )
         ratios[f"{m} adaptive / fixed"] = medians[f"{m} adaptive"] / medians[f"{m} fixed"]
-    return {"medians": medians, "ratios": ratios, "load": load}
+    return {"medians": medians, "ratios": ratios, "load": load, "loops": loops}
 
 
 def report(record: dict, label: str = "") -> None:
@@ -117,12 +124,12 @@ def report(record: dict, label: str = "") -> None:
     print(f"{label}load average {record['load'][0]:.1f} -> {record['load'][1]:.1f}")
 
 
-def child(tree: Path, budget: int, rounds: int) -> dict:
+def child(tree: Path, budget: int, rounds: int, loops: str) -> dict:
     """One measurement in a fresh process on ``tree``'s sources."""
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
     env["PYTHONPATH"] = f"{tree / 'framework'}{os.pathsep}{tree / 'plugins'}"
     args = [sys.executable, __file__, "--child", "--budget", str(budget)]
-    args += ["--rounds", str(rounds)]
+    args += ["--rounds", str(rounds), "--loops", loops]
     out = subprocess.run(args, env=env, capture_output=True, text=True, check=True, cwd=tree)
     return json.loads(out.stdout.splitlines()[-1])
 
@@ -134,21 +141,22 @@ def main() -> None:
     parser.add_argument("--before", type=Path, help="source tree of the old code")
     parser.add_argument("--after", type=Path, default=ROOT, help="source tree (this checkout)")
     parser.add_argument("--processes", type=int, default=3, help="alternations with --before")
+    parser.add_argument("--loops", choices=("compiled", "numpy"), default="compiled")
     parser.add_argument("--json", help="write the medians and ratios here")
     parser.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child:
-        print(json.dumps(measure(args.budget, args.rounds)))
+        print(json.dumps(measure(args.budget, args.rounds, args.loops)))
         return
     if args.before is None:
-        record = measure(args.budget, args.rounds)
+        record = measure(args.budget, args.rounds, args.loops)
         report(record)
     else:
         trees = {"before": args.before.resolve(), "after": args.after.resolve()}
         runs: dict[str, list[dict]] = {name: [] for name in trees}
         for _ in range(args.processes):
             for name, tree in trees.items():
-                runs[name].append(child(tree, args.budget, args.rounds))
+                runs[name].append(child(tree, args.budget, args.rounds, args.loops))
         record = {}
         for name, records in runs.items():
             record[name] = {
@@ -156,6 +164,7 @@ def main() -> None:
                 for key in ("medians", "ratios")
             }
             record[name]["load"] = [records[0]["load"][0], records[-1]["load"][1]]
+            record[name]["loops"] = args.loops
             report(record[name], f"{name:7s} ")
     if args.json:
         with open(args.json, "w") as fh:
