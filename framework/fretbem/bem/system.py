@@ -331,8 +331,9 @@ class _Band:
 
         ``scipy.linalg.solve_banded``'s own arithmetic (gbsv: gbtrf, then gbtrs on every
         column; gtsv for a tridiagonal E), with E^T factorised once for every solve and the
-        columns taken 32 at a time so that each chunk stays in cache (1.41 -> 1.05 s for
-        15,364 columns at 3,841 pairs); each column's arithmetic is the same.
+        columns taken in chunks that stay in cache (32 at 3,841 pairs: 1.41 -> 1.05 s for
+        15,364 columns; all of a 61-pair face's ~300 in one call); each column's arithmetic
+        is the same.
         """
         lower, upper = self.upper, self.lower  # bandwidths of E^T
         bands = self._transposed_bands()
@@ -348,7 +349,9 @@ class _Band:
                 raise np.linalg.LinAlgError("the face's collocation matrix E is singular")
             self._factor = lu, pivots
         lu, pivots = self._factor
-        for chunk in _chunks(rhs.shape[1], 32):
+        # 32 columns or more, as many as fill 256 kB (a small face takes all in one call)
+        width = max(32, 2**15 // self.size)
+        for chunk in _chunks(rhs.shape[1], width):
             rhs[:, chunk], _ = sla.lapack.dgbtrs(lu, lower, upper, rhs[:, chunk], pivots)
         return rhs
 
