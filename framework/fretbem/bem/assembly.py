@@ -136,6 +136,12 @@ class BlockStore:
         """The fixed rules of one segment (:func:`_segment_rules`), or None."""
         return self._rules.get(basis, {}).get(settings)
 
+    def collocation_values(self, basis, settings) -> np.ndarray | None:
+        """The segment's local functions at its own collocation points, (points, n_local),
+        as its rules hold them (the rows of its E matrix), or None if not kept."""
+        rules = self.rules(basis, settings)
+        return None if rules is None else rules["values"]
+
     def keep_rules(self, basis, settings, rules: dict) -> None:
         """Keep a segment's rules (read-only from here on)."""
         self._rules.setdefault(basis, {})[settings] = rules

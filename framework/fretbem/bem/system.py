@@ -18,6 +18,7 @@ import scipy.linalg as sla
 from fretbem.body import BlockRotation, ContactResponse, RigidMotionError
 from fretbem.numerics.blas import one_blas_thread
 
+from .assembly import BLOCKS
 from .layout import BLOCK, CONTACT, DISPLACEMENT, TRACTION
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -171,13 +172,27 @@ def face_rows(body: Body, tag: str) -> tuple[np.ndarray, np.ndarray]:
 
 
 def face_values_matrix(body: Body, tag: str) -> np.ndarray:
-    """E of the contact face: coefficients to values at its collocation points (block diag)."""
+    """E of the contact face: coefficients to values at its collocation points (block diag).
+
+    A segment whose assembly rules are kept (:data:`fretbem.bem.assembly.BLOCKS`) already
+    holds its functions at its collocation points: E is built from those, the same numbers
+    as :meth:`~fretbem.basis.Basis.collocation_matrix` evaluates again.
+    """
     segments = sorted(body._indices(tag, "the contact pair"))
     sizes = [body.segments[k].n_functions for k in segments]
     e_matrix = np.zeros((sum(sizes), sum(sizes)))
+    colloc = body.collocation
     start = 0
     for k, n in zip(segments, sizes, strict=True):
-        e_matrix[start : start + n, start : start + n] = body.segments[k].collocation_matrix()
+        basis = body.segments[k]
+        values = BLOCKS.collocation_values(basis, body.integration)
+        if values is None or values.shape[0] != n:
+            block = basis.collocation_matrix()
+        else:
+            elements = colloc.element[colloc.segment == k]
+            block = np.zeros((n, n))
+            np.add.at(block, (np.arange(n)[:, None], basis.connectivity[elements]), values)
+        e_matrix[start : start + n, start : start + n] = block
         start += n
     return e_matrix
 
