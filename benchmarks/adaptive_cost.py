@@ -14,10 +14,10 @@ the scene builder's cache, the discretisation caches and the block store
 first run in a process, which is how a user meets either mode. ``warm`` repeats each
 workload once untimed and times the second run: there the fixed runs take every H and G
 block from the store (the scene builder hands out the same segments, so a warm fixed run
-assembles nothing: about 37 of its 37-60 ms are the steps, condensation and build), while
-the adaptive levels' re-meshed faces are new on every run (their knots are the run's own),
-so the warm ratio compares the adaptive mode's assembly with none at all; it is printed
-for the record. Both run in the same process, cold and warm interleaved round by round.
+assembles nothing: 0.025 s against 0.07 s cold, load 8), while the adaptive levels'
+re-meshed faces are new on every run (their knots are the run's own), so the warm ratio
+compares the adaptive mode's assembly with none at all; it is printed for the record.
+Both run in the same process, cold and warm interleaved round by round.
 
 Everything runs once before the rounds (imports, and the compiled assembly loops, loaded
 explicitly so that every round takes the same loops). ``--loops numpy`` keeps both modes on
@@ -26,8 +26,9 @@ budget 61 assembles ~300,000 point-element pairs, below the ski-rental threshold
 :mod:`fretbem.bem.integration`).
 
 Before and after: ``--before DIR`` (``git archive <commit> | tar -x -C DIR``) runs the
-same measurement in fresh processes for the old tree and this checkout, alternating
-``--processes`` times, and prints the medians of each tree's ratios::
+same measurement in fresh processes for the old tree and this checkout (or ``--after``),
+alternating ``--processes`` times, and prints the medians of each tree's medians and
+ratios (docs/results/adaptive_cost.json holds the last such run, compiled and numpy)::
 
     git archive 776314a | tar -x -C /tmp/adcost-before
     OPENBLAS_NUM_THREADS=1 python benchmarks/adaptive_cost.py --before /tmp/adcost-before
