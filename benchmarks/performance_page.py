@@ -721,6 +721,60 @@ def sweeps_section(path: Path) -> list[str]:
     return [*lines, ""]
 
 
+#: rows of the adaptive section: (loops, ratio key, label, limit or None)
+ADAPTIVE_ROWS = (
+    ("compiled", "cold adaptive / fixed+estimate", "adaptive / fixed with its estimate, cold", 3),
+    ("compiled", "warm adaptive / fixed+estimate", "the same, warm (for the record)", None),
+    ("compiled", "cold adaptive / fixed", "adaptive / bare fixed run, cold", None),
+    ("numpy", "cold adaptive / fixed+estimate", "adaptive / fixed with its estimate, cold, "
+     "numpy loops (a one-off run)", 3),
+)  # fmt: skip
+
+
+def adaptive_section(path: Path) -> list[str]:
+    """The adaptive mode against the fixed mode (issue 28, item 3):
+    docs/results/adaptive_cost.json, from ``benchmarks/adaptive_cost.py --before``."""
+    if not path.exists():
+        return []
+    data = json.loads(path.read_text())
+    lines = [
+        "## Adaptive mode against the fixed mode",
+        "",
+        *data["about"],
+        "",
+        "| ratio (CPU) | limit | before | after | met |",
+        "|---|---|---|---|---|",
+    ]
+    for loops, key, label, limit in ADAPTIVE_ROWS:
+        runs = data.get(loops)
+        if not runs:
+            continue
+        before, after = runs["before"]["ratios"][key], runs["after"]["ratios"][key]
+        met = "—" if limit is None else ("yes" if after <= limit else "no")
+        shown = "—" if limit is None else f"{limit:g}"
+        lines.append(f"| {label} | {shown} | {before:.3g} | {after:.3g} | {met} |")
+    medians = {k: data["compiled"][k]["medians"] for k in ("before", "after")}
+    lines += [
+        "",
+        "CPU seconds (compiled loops, medians): "
+        + "; ".join(
+            f"{name} {medians['before'][name]:.3f} -> {medians['after'][name]:.3f}"
+            for name in ("cold fixed", "cold fixed+estimate", "cold adaptive", "warm adaptive")
+        )
+        + ".",
+        "",
+        *data["why"],
+        "",
+        "Reproduce:",
+        "",
+        "```",
+        *data["commands"],
+        "```",
+        "",
+    ]
+    return lines
+
+
 def dense_limits_section() -> list[str]:
     """Where the dense formulation stops, from the up-front estimate's coefficients."""
     from fretbem.bem.resources import estimate_resources
@@ -811,6 +865,7 @@ def write_page(
         lines += sweeps_section(Path(sweeps))
     lines += dense_limits_section()
     lines += searches_section(Path(json_path).with_name("searches.json"))
+    lines += adaptive_section(Path(json_path).with_name("adaptive_cost.json"))
     path = Path(out)
     path.write_text("\n".join(lines).rstrip() + "\n")
     return path

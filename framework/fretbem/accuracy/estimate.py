@@ -77,7 +77,8 @@ def contact_segment(body, tag: str):
         raise EstimateInputError(str(err)) from None
 
 
-#: positions along a tangent of a curve's dense samples, per curve (weak keys)
+#: per curve (weak keys) and tangent: whether its dense samples are monotonic along the
+#: tangent, and their positions and parameters sorted by position
 _SAMPLED: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
@@ -87,25 +88,30 @@ def parameter_of(curve, tangent: np.ndarray, samples: int = 2001):
     Dense sampling, then one Newton step per point on the exact curve; the face must be
     monotonic along the tangent (a contact face is).
     """
-    grid = np.linspace(0.0, 1.0, samples)
     key = (np.asarray(tangent, float).tobytes(), samples)
     sampled = _SAMPLED.setdefault(curve, {})
     if key not in sampled:  # the faces' curves outlive the levels re-meshed on them
-        sampled[key] = curve.points(grid) @ tangent
-    along = sampled[key]
-    if not (np.all(np.diff(along) > 0) or np.all(np.diff(along) < 0)):
+        grid = np.linspace(0.0, 1.0, samples)
+        along = curve.points(grid) @ tangent
+        monotonic = bool(np.all(np.diff(along) > 0) or np.all(np.diff(along) < 0))
+        order = np.argsort(along)
+        along, grid = along[order], grid[order]
+        along.flags.writeable = grid.flags.writeable = False
+        sampled[key] = (monotonic, along, grid)
+    monotonic, along_sorted, grid_sorted = sampled[key]
+    if not monotonic:
         raise EstimateInputError(
             "the contact face folds back along the pair tangent; it cannot be addressed by "
             "position along the face"
         )
-    order = np.argsort(along)
 
     def inverse(x: np.ndarray) -> np.ndarray:
-        s = np.interp(x, along[order], grid[order])
+        s = np.interp(x, along_sorted, grid_sorted)
         for _ in range(2):
             s = np.clip(s, 0.0, 1.0)
-            f = curve.points(s) @ tangent - x
-            df = curve.derivatives(s) @ tangent
+            point, derivative = curve.points_and_derivatives(s)
+            f = point @ tangent - x
+            df = derivative @ tangent
             s = s - f / df
         return np.clip(s, 0.0, 1.0)
 

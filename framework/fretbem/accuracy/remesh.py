@@ -32,6 +32,10 @@ __all__ = [
 #: smallest transition spacing kept apart, as a fraction of the face length
 MERGE = 2e-3
 
+#: where :func:`aligned_breakpoints` integrates the element density (read-only)
+_GRID = np.linspace(0.0, 1.0, 8001)
+_GRID.flags.writeable = False
+
 
 class AdaptiveError(InputError):
     """Settings, a face or a layout the adaptive mode cannot work with."""
@@ -72,9 +76,12 @@ def aligned_breakpoints(
     if m == 0:
         return np.linspace(0.0, 1.0, elements + 1)
     slope = (ratio - 1.0) / grading
-    grid = np.linspace(0.0, 1.0, 8001)
-    distance = np.abs(grid[:, None] - anchors[None, :])
-    rho = np.maximum(1.0 / ratio, np.max(peaks / (1.0 + slope * distance), axis=1))
+    grid = _GRID
+    # the density of the nearest anchor, anchor by anchor over the grid (the same values
+    # as one (grid, anchors) array's row maxima, without its strided reduction)
+    rho = np.full(grid.size, 1.0 / ratio)
+    for anchor, peak in zip(anchors, peaks, strict=True):
+        np.maximum(rho, peak / (1.0 + slope * np.abs(grid - anchor)), out=rho)
     cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (rho[1:] + rho[:-1]) * np.diff(grid))])
     spacing = np.diff(np.concatenate([[-anchors[0]], anchors, [2.0 - anchors[-1]]]))
     room = 0.3 * np.minimum(spacing[:-1], spacing[1:])
@@ -94,7 +101,10 @@ def aligned_breakpoints(
         h = math.sqrt(lo_h * hi_h)
         work = layout(h)[3] if centred else fixed_work / h
         total = np.maximum(work, 1.0).sum()
-        lo_h, hi_h = (h, hi_h) if total > target else (lo_h, h)
+        bracket = (h, hi_h) if total > target else (lo_h, h)
+        if bracket == (lo_h, hi_h):  # a fixed point: the remaining rounds would repeat it
+            break
+        lo_h, hi_h = bracket
     _, starts, ends, work = layout(math.sqrt(lo_h * hi_h))
     counts = np.maximum(np.floor(work), 1).astype(int)
     while counts.sum() < target:

@@ -18,6 +18,7 @@ import scipy.linalg as sla
 from fretbem.body import BlockRotation, ContactResponse, RigidMotionError
 from fretbem.numerics.blas import one_blas_thread
 
+from .assembly import BLOCKS
 from .layout import BLOCK, CONTACT, DISPLACEMENT, TRACTION
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -171,13 +172,27 @@ def face_rows(body: Body, tag: str) -> tuple[np.ndarray, np.ndarray]:
 
 
 def face_values_matrix(body: Body, tag: str) -> np.ndarray:
-    """E of the contact face: coefficients to values at its collocation points (block diag)."""
+    """E of the contact face: coefficients to values at its collocation points (block diag).
+
+    A segment whose assembly rules are kept (:data:`fretbem.bem.assembly.BLOCKS`) already
+    holds its functions at its collocation points: E is built from those, the same numbers
+    as :meth:`~fretbem.basis.Basis.collocation_matrix` evaluates again.
+    """
     segments = sorted(body._indices(tag, "the contact pair"))
     sizes = [body.segments[k].n_functions for k in segments]
     e_matrix = np.zeros((sum(sizes), sum(sizes)))
+    colloc = body.collocation
     start = 0
     for k, n in zip(segments, sizes, strict=True):
-        e_matrix[start : start + n, start : start + n] = body.segments[k].collocation_matrix()
+        basis = body.segments[k]
+        values = BLOCKS.collocation_values(basis, body.integration)
+        if values is None or values.shape[0] != n:
+            block = basis.collocation_matrix()
+        else:
+            elements = colloc.element[colloc.segment == k]
+            block = np.zeros((n, n))
+            np.add.at(block, (np.arange(n)[:, None], basis.connectivity[elements]), values)
+        e_matrix[start : start + n, start : start + n] = block
         start += n
     return e_matrix
 
@@ -331,8 +346,9 @@ class _Band:
 
         ``scipy.linalg.solve_banded``'s own arithmetic (gbsv: gbtrf, then gbtrs on every
         column; gtsv for a tridiagonal E), with E^T factorised once for every solve and the
-        columns taken 32 at a time so that each chunk stays in cache (1.41 -> 1.05 s for
-        15,364 columns at 3,841 pairs); each column's arithmetic is the same.
+        columns taken in chunks that stay in cache (32 at 3,841 pairs: 1.41 -> 1.05 s for
+        15,364 columns; all of a 61-pair face's ~300 in one call); each column's arithmetic
+        is the same.
         """
         lower, upper = self.upper, self.lower  # bandwidths of E^T
         bands = self._transposed_bands()
@@ -348,7 +364,9 @@ class _Band:
                 raise np.linalg.LinAlgError("the face's collocation matrix E is singular")
             self._factor = lu, pivots
         lu, pivots = self._factor
-        for chunk in _chunks(rhs.shape[1], 32):
+        # 32 columns or more, as many as fill 256 kB (a small face takes all in one call)
+        width = max(32, 2**15 // self.size)
+        for chunk in _chunks(rhs.shape[1], width):
             rhs[:, chunk], _ = sla.lapack.dgbtrs(lu, lower, upper, rhs[:, chunk], pivots)
         return rhs
 

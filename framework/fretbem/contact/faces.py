@@ -129,8 +129,9 @@ class FaceField:
             target = along[inside]
             s = np.interp(target, xi[order], grid[order])
             for _ in range(NEWTON_ITERATIONS):
-                f = curve.points(s) @ tangent - target
-                df = curve.derivatives(s) @ tangent
+                point, derivative = curve.points_and_derivatives(s)
+                f = point @ tangent - target
+                df = derivative @ tangent
                 s = np.clip(s - f / df, 0.0, 1.0)
             segment[inside] = index
             params[inside] = s

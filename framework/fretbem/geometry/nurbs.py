@@ -302,6 +302,14 @@ class NurbsCurve:
         point = hom[:, :2] / hom[:, 2:]
         return ((dhom[:, :2] - dhom[:, 2:] * point) / hom[:, 2:]).reshape(*np.shape(xi), 2)
 
+    def points_and_derivatives(self, xi) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`points` and :meth:`derivatives` at once, from one basis evaluation (the
+        same values, bit for bit: a Newton step on the curve needs both)."""
+        hom, dhom = self._homogeneous_at(xi)
+        point = hom[:, :2] / hom[:, 2:]
+        derivative = (dhom[:, :2] - dhom[:, 2:] * point) / hom[:, 2:]
+        return point.reshape(*np.shape(xi), 2), derivative.reshape(*np.shape(xi), 2)
+
     def jacobians(self, xi) -> np.ndarray:
         """|dC/dxi|: arc length per unit parameter."""
         return np.linalg.norm(self.derivatives(xi), axis=-1)

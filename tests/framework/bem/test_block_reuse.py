@@ -85,3 +85,21 @@ def test_only_recent_bodies_keep_their_blocks():
     assert assembly.BLOCKS.rules(shared, settings) is not None
     assert first_face not in assembly.BLOCKS._blocks
     assert all(first_face not in rows for rows in assembly.BLOCKS._blocks.values())
+
+
+@pytest.mark.parametrize("basis", ["nurbs", "lagrange2"])
+def test_face_values_from_the_kept_rules_equal_a_new_evaluation(basis):
+    """E of a graded face from the assembly's kept collocation values, bit for bit the
+    matrix the basis evaluates again (and that one when nothing is kept)."""
+    from fretbem.bem.system import face_values_matrix
+
+    simulation = cattaneo_mindlin(basis=basis, pairs=21)
+    body = remesh(simulation, np.array([-0.1, 0.2]), 31, ratio=4.0).pair.upper
+    _, face = body.face_segment("contact")
+    expected = face.collocation_matrix()
+    assembly.BLOCKS.clear()
+    assert assembly.BLOCKS.collocation_values(face, body.integration) is None
+    assert np.array_equal(face_values_matrix(body, "contact"), expected)
+    body.matrices()
+    assert assembly.BLOCKS.collocation_values(face, body.integration) is not None
+    assert np.array_equal(face_values_matrix(body, "contact"), expected)

@@ -197,6 +197,19 @@ def test_derivatives_match_finite_differences():
     )
 
 
+@pytest.mark.parametrize("shape", [(), (7,), (3, 4)])
+def test_points_and_derivatives_equal_the_two_calls_bit_for_bit(shape):
+    """One basis evaluation for both (the Newton steps of the face inverses) gives exactly
+    what points() and derivatives() give, in their shapes."""
+    arc = NurbsCurve.arc([0.0, 0.0], 70.0, 1.2, 1.9)
+    for curve in (CUBIC, arc):
+        xi = np.random.default_rng(3).uniform(0.0, 1.0, size=shape)
+        point, derivative = curve.points_and_derivatives(xi)
+        np.testing.assert_array_equal(point, curve.points(xi))
+        np.testing.assert_array_equal(derivative, curve.derivatives(xi))
+        assert point.shape == derivative.shape == (*shape, 2)
+
+
 # --------------------------------------------------------------------------- refinement
 
 
