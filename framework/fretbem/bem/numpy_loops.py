@@ -2,12 +2,17 @@
 
 Same signatures, classes and formulas (:mod:`fretbem.bem.assembly` runs on either): pairs
 are classified by whole arrays; the far field, most of the pairs, is evaluated on dense
-(elements, rows, points) blocks with the non-far pairs masked out after the sum over the
+(elements, points, rows) blocks with the non-far pairs masked out after the sum over the
 points (in numpy that beats gathering them) and added into H and G through strided views;
 mid, near and singular pairs are gathered and scattered in place with ``np.add.at``.
+Every kernel operation runs along a long contiguous axis into reused scratch arrays
+(:func:`_scratch`): short inner loops and freshly touched pages, not the arithmetic, were
+what the numpy loops spent their time on.
 """
 
 from __future__ import annotations
+
+import threading
 
 import numpy as np
 
@@ -17,7 +22,25 @@ FAR, MID, NEAR, SINGULAR = 0, 1, 2, 3
 CHUNK = 8192
 #: kernel evaluations per far-field block of rows (64 kB per temporary: they stay in cache
 #: and below the allocator's threshold for fresh pages)
-FAR_BLOCK = 8192
+FAR_BLOCK = 32768
+
+
+_SCRATCH = threading.local()
+
+
+def _scratch(*shapes: tuple[int, ...]) -> list[np.ndarray]:
+    """Uninitialised float64 arrays of ``shapes``, views of this thread's scratch buffer.
+
+    The buffer is kept between calls and only grows (to ``FAR_BLOCK`` and ``CHUNK`` sized
+    blocks, a few MB): pages written for the first time cost their faults, about 20x the
+    arithmetic of the kernel written into them. The arrays are valid until the next call.
+    """
+    sizes = [int(np.prod(shape)) for shape in shapes]
+    buffer = getattr(_SCRATCH, "buffer", None)
+    if buffer is None or buffer.size < sum(sizes):
+        buffer = _SCRATCH.buffer = np.empty(sum(sizes))
+    offsets = np.concatenate([[0], np.cumsum(sizes)])
+    return [buffer[offsets[k] : offsets[k + 1]].reshape(shape) for k, shape in enumerate(shapes)]
 
 
 def scatter_blocks(rows, cols, blocks, matrix):
@@ -39,37 +62,48 @@ class _Kernel:
         self.u_scale = 1.0 / (8.0 * np.pi * shear_modulus * (1.0 - nu))
         self.log_coef = -(3.0 - 4.0 * nu) * 0.5
 
-    def components(self, rx, ry, nx, ny, tw, uw, out, log_term=None) -> None:
+    def components(self, rx, ry, nx, ny, tw, uw, out, log_term=None, work=None) -> None:
         """Write T00, T01, T10, T11, U00, U01, U11 times the weights into ``out[0..6]``.
 
         ``rx, ry``: field point minus source; ``nx, ny``: the field point's normal; ``tw, uw``:
         the weight times t_scale and u_scale; all broadcast to the shape of each ``out[k]``.
         ``log_term`` replaces U's (3 - 4 nu) ln(1/r) (the singular rules split it).
+        ``work``: eight scratch arrays of that shape (allocated if None); every operation
+        writes into them or into ``out``, so no temporary is allocated (fresh arrays of a few
+        hundred kB cost their page faults, 20x the arithmetic).
         """
         a = self.a
-        rxx, ryy, rxy = rx * rx, ry * ry, rx * ry
-        d2 = rxx + ryy
-        inv = 1.0 / d2
-        ux, uy, uxy = rxx * inv, ryy * inv, rxy * inv
-        scale = tw * inv
-        dr_dn = rx * nx
-        dr_dn += ry * ny
+        if work is None:
+            work = np.empty((8, *out[0].shape))
+        rxx, ryy, rxy, d2, inv, dr_dn, skew, tmp = work
+        np.multiply(rx, rx, out=rxx)
+        np.multiply(ry, ry, out=ryy)
+        np.multiply(rx, ry, out=rxy)
+        np.add(rxx, ryy, out=d2)
+        np.divide(1.0, d2, out=inv)
+        ux = np.multiply(rxx, inv, out=rxx)
+        uy = np.multiply(ryy, inv, out=ryy)
+        uxy = np.multiply(rxy, inv, out=rxy)
+        if log_term is None:
+            log_term = np.log(d2, out=d2)
+            log_term *= self.log_coef  # (3 - 4 nu) ln(1/r)
+        scale = np.multiply(tw, inv, out=inv)
+        np.multiply(rx, nx, out=dr_dn)
+        dr_dn += np.multiply(ry, ny, out=tmp)
         dr_dn *= scale  # t_scale w (dr/dn) / r
-        skew = rx * ny
-        skew -= ry * nx
+        np.multiply(rx, ny, out=skew)
+        skew -= np.multiply(ry, nx, out=tmp)
         skew *= scale
         skew *= a  # t_scale w (1 - 2 nu)(r_x n_y - r_y n_x) / r^2
-        two = dr_dn * 2.0
+        two = np.multiply(dr_dn, 2.0, out=tmp)
+        a_dr_dn = np.multiply(dr_dn, a, out=dr_dn)
         np.multiply(two, ux, out=out[0])
-        out[0] += a * dr_dn  # T00 = dr_dn (a + 2 ux)
+        out[0] += a_dr_dn  # T00 = dr_dn (a + 2 ux)
         np.multiply(two, uxy, out=out[1])
         np.add(out[1], skew, out=out[2])  # T10
         out[1] -= skew  # T01
         np.multiply(two, uy, out=out[3])
-        out[3] += a * dr_dn  # T11
-        if log_term is None:
-            log_term = np.log(d2)
-            log_term *= self.log_coef  # (3 - 4 nu) ln(1/r)
+        out[3] += a_dr_dn  # T11
         np.add(log_term, ux, out=out[4])
         out[4] *= uw  # U00
         np.multiply(uw, uxy, out=out[5])  # U01 = U10
@@ -90,16 +124,17 @@ def _integrate(sources, x, n, jw, phi, rows, cols, shear_modulus, nu, h, g):
         part = slice(start, start + chunk)
         src, xp, np_ = sources[part], x[part], n[part]
         count = len(src)
-        k = np.empty((count, 7, n_q))
+        k, work = _scratch((7, count, n_q), (10, count, n_q))  # each component contiguous
+        rx = np.subtract(xp[..., 0], src[:, 0, None], out=work[8])
+        ry = np.subtract(xp[..., 1], src[:, 1, None], out=work[9])
         kernel.components(
-            xp[..., 0] - src[:, 0, None], xp[..., 1] - src[:, 1, None], np_[..., 0],
-            np_[..., 1], kernel.t_scale * jw[part], kernel.u_scale * jw[part],
-            k.transpose(1, 0, 2),
+            rx, ry, np_[..., 0], np_[..., 1], kernel.t_scale * jw[part],
+            kernel.u_scale * jw[part], k, work=work[:8],
         )  # fmt: skip
         # a batched matrix product would be faster, but its sums may differ in the last bit
         # with the pair's place in the batch, and blocks reused between bodies must equal a
         # fresh assembly's exactly (tests/framework/bem/test_block_reuse.py)
-        summed = np.einsum("pkq,pqa->pka", k, phi[part])  # (pairs, 7, local functions)
+        summed = np.einsum("kpq,pqa->pka", k, phi[part])  # (pairs, 7, local functions)
         blocks = np.empty((2, count, 2, n_loc, 2))  # [H or G, pair, i, a, j]
         for index, (m, i, j) in enumerate(COMPONENTS):
             blocks[m, :, i, :, j] = summed[:, index]
@@ -109,46 +144,52 @@ def _integrate(sources, x, n, jw, phi, rows, cols, shear_modulus, nu, h, g):
 
 
 def _far_field(src, rows, is_far, x, n, jw, phi, cols, shear_modulus, nu, h, g):
-    """Far pairs on dense (elements, rows, points) blocks; non-far pairs masked out after the
+    """Far pairs on dense (elements, points, rows) blocks; non-far pairs masked out after the
     sum over the points.
 
     The kernel's seven weighted components (``_Kernel``) are written into one
-    (elements, 7, rows, points) array and summed against the functions by one batched
-    matrix product per block of rows; blocks hold about ``FAR_BLOCK`` kernel
-    evaluations, so the temporaries stay in cache.
+    (elements, points, 7, rows) array, rows last so that every ufunc runs along rows
+    (the element's point data broadcast as scalars there), and summed against the
+    functions by one batched matrix product per block of rows; each block is added into
+    H and into G by one strided add per local function. Blocks hold about ``FAR_BLOCK``
+    kernel evaluations.
     """
     kernel = _Kernel(shear_modulus, nu)
     n_el, n_q, n_loc = phi.shape
     n_cols = h.shape[1] // 2
-    xx, xy = x[:, None, :, 0], x[:, None, :, 1]  # (e, 1, q)
-    nx, ny = n[:, None, :, 0], n[:, None, :, 1]
-    tw, uw = (kernel.t_scale * jw)[:, None, :], (kernel.u_scale * jw)[:, None, :]
+    xx, xy = x[:, :, 0, None], x[:, :, 1, None]  # (e, q, 1)
+    nx, ny = n[:, :, 0, None], n[:, :, 1, None]
+    tw, uw = (kernel.t_scale * jw)[:, :, None], (kernel.u_scale * jw)[:, :, None]
+    phi_t = np.ascontiguousarray(phi.transpose(0, 2, 1))  # (e, a, q)
     columns = [_progression(cols[:, b]) for b in range(n_loc)]
     block = max(16, FAR_BLOCK // max(n_el * n_q, 1))
     h_view, g_view = h.reshape(-1, 2, n_cols, 2), g.reshape(-1, 2, n_cols, 2)
-    buffer = np.empty((n_el, 7, min(block, len(rows)), n_q))
     for start in range(0, len(rows), block):
         part = slice(start, start + block)
         r = rows[part]
         c = len(r)
-        k = buffer[:, :, :c] if c < buffer.shape[2] else buffer
-        rx = xx - src[part, 0][None, :, None]  # (e, c, q)
-        ry = xy - src[part, 1][None, :, None]
-        kernel.components(rx, ry, nx, ny, tw, uw, k.transpose(1, 0, 2, 3))
-        summed = np.matmul(k.reshape(n_el, 7 * c, n_q), phi).reshape(n_el, 7, c, n_loc)
-        summed *= is_far[part].T[:, None, :, None]
+        k, work, summed, by_row = _scratch(
+            (n_el, n_q, 7, c), (10, n_el, n_q, c), (n_el, n_loc, 7 * c), (n_loc, 7, c, n_el)
+        )
+        rx = np.subtract(xx, src[part, 0], out=work[8])  # (e, q, c)
+        ry = np.subtract(xy, src[part, 1], out=work[9])
+        kernel.components(rx, ry, nx, ny, tw, uw, k.transpose(2, 0, 1, 3), work=work[:8])
+        np.matmul(phi_t, k.reshape(n_el, n_q, 7 * c), out=summed)
+        # [b, component, row, element], the non-far pairs masked out: every add below then
+        # runs along the elements, as H's and G's columns do
+        np.multiply(summed.reshape(n_el, n_loc, 7, c).transpose(1, 2, 3, 0), is_far[part],
+                    out=by_row)  # fmt: skip
         rows_at = _progression(r)
         for b in range(n_loc):
             at = columns[b]
             if rows_at is not None and at is not None:
                 for index, (m, i, j) in enumerate(COMPONENTS):
-                    view = (h_view, g_view)[m]
-                    view[rows_at, i, at, j] += summed[:, index, :, b].T
-                g_view[rows_at, 1, at, 0] += summed[:, 5, :, b].T
+                    (h_view, g_view)[m][rows_at, i, at, j] += by_row[b, index]
+                g_view[rows_at, 1, at, 0] += by_row[b, 5]
             else:
                 blocks = np.empty((2, c, 2, n_el, 2))  # [H or G, row, i, element, j]
                 for index, (m, i, j) in enumerate(COMPONENTS):
-                    blocks[m, :, i, :, j] = summed[:, index, :, b].T
+                    blocks[m, :, i, :, j] = by_row[b, index]
                 blocks[1, :, 1, :, 0] = blocks[1, :, 0, :, 1]
                 index = (r[:, None, None, None], np.arange(2)[:, None, None],
                          cols[:, b][:, None], np.arange(2))  # fmt: skip
