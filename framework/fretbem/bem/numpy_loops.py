@@ -122,23 +122,30 @@ def _integrate(sources, x, n, jw, phi, rows, cols, shear_modulus, nu, h, g):
     chunk = max(1, CHUNK // n_q)
     for start in range(0, len(rows), chunk):
         part = slice(start, start + chunk)
-        src, xp, np_ = sources[part], x[part], n[part]
+        src, xp, np_, jp = sources[part], x[part], n[part], jw[part]
         count = len(src)
-        k, work = _scratch((7, count, n_q), (10, count, n_q))  # each component contiguous
-        rx = np.subtract(xp[..., 0], src[:, 0, None], out=work[8])
-        ry = np.subtract(xp[..., 1], src[:, 1, None], out=work[9])
-        kernel.components(
-            rx, ry, np_[..., 0], np_[..., 1], kernel.t_scale * jw[part],
-            kernel.u_scale * jw[part], k, work=work[:8],
+        # every array [point, pair] (pairs along the rows): each operation runs along them
+        k, work, phi_t, summed, term = _scratch(
+            (7, n_q, count), (12, n_q, count), (n_q, n_loc, count), (7, n_loc, count),
+            (7, n_loc, count),
         )  # fmt: skip
-        # a batched matrix product would be faster, but its sums may differ in the last bit
-        # with the pair's place in the batch, and blocks reused between bodies must equal a
-        # fresh assembly's exactly (tests/framework/bem/test_block_reuse.py)
-        summed = np.einsum("kpq,pqa->pka", k, phi[part])  # (pairs, 7, local functions)
+        rx = np.subtract(xp[..., 0].T, src[:, 0], out=work[8])
+        ry = np.subtract(xp[..., 1].T, src[:, 1], out=work[9])
+        tw = np.multiply(kernel.t_scale, jp.T, out=work[10])
+        uw = np.multiply(kernel.u_scale, jp.T, out=work[11])
+        kernel.components(rx, ry, np_[..., 0].T, np_[..., 1].T, tw, uw, k, work=work[:8])
+        # the sum over the points in their order, as einsum adds them (a batched matrix
+        # product would be faster, but its sums may differ in the last bit with the pair's
+        # place in the batch, and blocks reused between bodies must equal a fresh assembly's
+        # exactly: tests/framework/bem/test_block_reuse.py)
+        phi_t[...] = phi[part].transpose(1, 2, 0)
+        np.multiply(k[:, 0, None], phi_t[0], out=summed)  # [component, a, pair]
+        for q in range(1, n_q):
+            summed += np.multiply(k[:, q, None], phi_t[q], out=term)
         blocks = np.empty((2, count, 2, n_loc, 2))  # [H or G, pair, i, a, j]
         for index, (m, i, j) in enumerate(COMPONENTS):
-            blocks[m, :, i, :, j] = summed[:, index]
-        blocks[1, :, 1, :, 0] = summed[:, 5]
+            blocks[m, :, i, :, j] = summed[index].T
+        blocks[1, :, 1, :, 0] = summed[5].T
         scatter_blocks(rows[part], cols[part], blocks[0], h)
         scatter_blocks(rows[part], cols[part], blocks[1], g)
 
