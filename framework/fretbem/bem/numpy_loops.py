@@ -204,6 +204,13 @@ def _far_field(src, rows, is_far, x, n, jw, phi, cols, shear_modulus, nu, h, g):
                 np.add.at(g_view, index, blocks[1])
 
 
+def _distance(dx: np.ndarray, dy: np.ndarray) -> np.ndarray:
+    """sqrt(dx^2 + dy^2) in place of dx, as ``np.linalg.norm`` over the pair's last axis."""
+    dx *= dx
+    dx += dy * dy
+    return np.sqrt(dx, out=dx)
+
+
 def _progression(index: np.ndarray) -> slice | None:
     """``index`` as a slice if it is an increasing arithmetic progression (else None)."""
     if index.size == 1:
@@ -221,10 +228,17 @@ def classify_and_integrate(
 ):  # fmt: skip
     """Classify every (row, element) pair; integrate far and mid pairs (see _compiled)."""
     src = points[rows]
-    lower = np.linalg.norm(src[:, None, :] - centres[None], axis=-1) - radii[None]
+    lower = _distance(src[:, 0, None] - centres[:, 0], src[:, 1, None] - centres[:, 1])
+    lower -= radii
     ratio = lower * (1.0 - 1e-12) / length[None]
     pr, pe = np.nonzero(ratio < far_ratio)
-    dist = np.linalg.norm(src[pr, None, :] - samples[pe], axis=-1).min(axis=1)
+    # distances to the 9 samples (pair, sample), their minimum taken sample by sample
+    to_samples = _distance(
+        src[pr, 0, None] - samples[pe, :, 0], src[pr, 1, None] - samples[pe, :, 1]
+    ).T
+    dist = to_samples[0].copy()
+    for row in to_samples[1:]:
+        np.minimum(dist, row, out=dist)
     exact = dist / length[pe]
     ratio[pr, pe] = np.where(exact >= far_ratio, far_ratio, exact)
     par = parameters[rows][:, None]
