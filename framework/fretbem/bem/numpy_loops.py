@@ -20,6 +20,9 @@ FAR, MID, NEAR, SINGULAR = 0, 1, 2, 3
 
 #: kernel evaluations per chunk of per-pair rules (64 kB per temporary)
 CHUNK = 8192
+#: points of a per-pair rule up to which its sum runs as a loop over the points (each step
+#: along the pairs); longer rules (the near pairs' graded ones) sum in one einsum
+SUM_LOOP_POINTS = 32
 #: kernel evaluations per far-field block of rows (64 kB per temporary: they stay in cache
 #: and below the allocator's threshold for fresh pages)
 FAR_BLOCK = 32768
@@ -138,10 +141,13 @@ def _integrate(sources, x, n, jw, phi, rows, cols, shear_modulus, nu, h, g):
         # product would be faster, but its sums may differ in the last bit with the pair's
         # place in the batch, and blocks reused between bodies must equal a fresh assembly's
         # exactly: tests/framework/bem/test_block_reuse.py)
-        phi_t[...] = phi[part].transpose(1, 2, 0)
-        np.multiply(k[:, 0, None], phi_t[0], out=summed)  # [component, a, pair]
-        for q in range(1, n_q):
-            summed += np.multiply(k[:, q, None], phi_t[q], out=term)
+        if n_q <= SUM_LOOP_POINTS:  # the mid rules: a loop over the points
+            phi_t[...] = phi[part].transpose(1, 2, 0)
+            np.multiply(k[:, 0, None], phi_t[0], out=summed)  # [component, a, pair]
+            for q in range(1, n_q):
+                summed += np.multiply(k[:, q, None], phi_t[q], out=term)
+        else:  # the graded near rules (10 points a level): few pairs, many points
+            np.einsum("kqp,pqa->kap", k, phi[part], out=summed)
         blocks = np.empty((2, count, 2, n_loc, 2))  # [H or G, pair, i, a, j]
         for index, (m, i, j) in enumerate(COMPONENTS):
             blocks[m, :, i, :, j] = summed[index].T
