@@ -12,6 +12,7 @@ what the numpy loops spent their time on.
 
 from __future__ import annotations
 
+import math
 import threading
 
 import numpy as np
@@ -38,20 +39,38 @@ def _scratch(*shapes: tuple[int, ...]) -> list[np.ndarray]:
     blocks, a few MB): pages written for the first time cost their faults, about 20x the
     arithmetic of the kernel written into them. The arrays are valid until the next call.
     """
-    sizes = [int(np.prod(shape)) for shape in shapes]
+    sizes = [math.prod(shape) for shape in shapes]
     buffer = getattr(_SCRATCH, "buffer", None)
     if buffer is None or buffer.size < sum(sizes):
         buffer = _SCRATCH.buffer = np.empty(sum(sizes))
-    offsets = np.concatenate([[0], np.cumsum(sizes)])
-    return [buffer[offsets[k] : offsets[k + 1]].reshape(shape) for k, shape in enumerate(shapes)]
+    out, start = [], 0
+    for size, shape in zip(sizes, shapes, strict=True):
+        out.append(buffer[start : start + size].reshape(shape))
+        start += size
+    return out
 
 
 def scatter_blocks(rows, cols, blocks, matrix):
     """matrix[2 rows[p] + i, 2 cols[p, a] + j] += blocks[p, i, a, j], in place."""
-    i = np.arange(2)
-    r = 2 * rows[:, None, None, None] + i[None, :, None, None]
-    c = 2 * cols[:, None, :, None] + i[None, None, None, :]
-    np.add.at(matrix.reshape(-1), (r * matrix.shape[1] + c).ravel(), blocks.ravel())
+    index = _flat_index(rows, cols, matrix.shape[1])
+    np.add.at(matrix.reshape(-1), index, blocks.ravel())
+
+
+def _scatter_both(rows, cols, blocks, h, g):
+    """``scatter_blocks`` of blocks[0] into H and blocks[1] into G (one index for both)."""
+    index = _flat_index(rows, cols, h.shape[1])
+    np.add.at(h.reshape(-1), index, blocks[0].ravel())
+    np.add.at(g.reshape(-1), index, blocks[1].ravel())
+
+
+def _flat_index(rows, cols, width: int) -> np.ndarray:
+    """Flat indices (2 rows[p] + i) width + 2 cols[p, a] + j, ordered [p, i, a, j]."""
+    base = (2 * width) * rows[:, None] + 2 * cols  # (p, a): the corner i = j = 0
+    out = np.empty((len(rows), 2, base.shape[1], 2), dtype=base.dtype)
+    for i in range(2):
+        for j in range(2):
+            np.add(base, i * width + j, out=out[:, i, :, j])
+    return out.ravel()
 
 
 class _Kernel:
@@ -152,8 +171,7 @@ def _integrate(sources, x, n, jw, phi, rows, cols, shear_modulus, nu, h, g):
         for index, (m, i, j) in enumerate(COMPONENTS):
             blocks[m, :, i, :, j] = summed[index].T
         blocks[1, :, 1, :, 0] = summed[5].T
-        scatter_blocks(rows[part], cols[part], blocks[0], h)
-        scatter_blocks(rows[part], cols[part], blocks[1], g)
+        _scatter_both(rows[part], cols[part], blocks, h, g)
 
 
 def _far_field(src, rows, is_far, x, n, jw, phi, cols, shear_modulus, nu, h, g):
@@ -290,5 +308,4 @@ def integrate_singular(
     blocks[1, :, 1, :, 0] = g_sums[:, 1]
     blocks[1, :, 0, :, 0] += log_sums
     blocks[1, :, 1, :, 1] += log_sums
-    scatter_blocks(rows, cols, blocks[0], h)
-    scatter_blocks(rows, cols, blocks[1], g)
+    _scatter_both(rows, cols, blocks, h, g)
