@@ -39,9 +39,12 @@ copy of the round-1 assembler):
   elements are skipped, not masked, and nothing of the matrix's size is allocated besides
   H and G;
 - **numpy** (`fretbem.bem.numpy_loops`): the same circle test on whole arrays; the far field
-  on dense (rows, elements, points) blocks with zero weight for other pairs (in numpy,
-  masking beats gathering), added into H and G column by column; mid, near and singular
-  pairs gathered and scattered in place with `np.add.at`.
+  on dense (elements, points, rows) blocks with zero weight for other pairs (in numpy,
+  masking beats gathering), added into H and G along the elements; mid, near and singular
+  pairs gathered and scattered in place with `np.add.at`. Every kernel operation runs
+  along a long contiguous axis into per-thread scratch arrays that are reused: short
+  inner loops and freshly touched pages, not the arithmetic, were what these loops spent
+  their time on.
 
 `IntegrationSettings(compiled=None)` (the default) chooses by ski rental: the numpy loops
 run until the process has spent `COMPILED_MIN_PAIRS` (400,000) point-element pairs on

@@ -278,11 +278,23 @@ class Basis(ABC):
     def map(self, elements: np.ndarray, local: np.ndarray) -> ElementMap:
         """Shape functions and geometry at once (one basis evaluation), for quadrature."""
         values, derivatives = self.shape_functions(elements, local)
-        coefficients = self.geometry_coefficients[self.connectivity[elements]]
-        points = np.einsum("ma,mak->mk", values, coefficients)
-        tangents = np.einsum("ma,mak->mk", derivatives, coefficients)
-        jacobians = np.linalg.norm(tangents, axis=-1)
-        normals = np.stack([tangents[:, 1], -tangents[:, 0]], axis=-1) / jacobians[:, None]
+        functions = self.connectivity[elements]
+        # sum over the local functions in their order, coordinate by coordinate: the
+        # arithmetic of an einsum over them, every operation along the points
+        points, tangents = np.empty((len(functions), 2)), np.empty((len(functions), 2))
+        for k in range(2):
+            coordinate = self.geometry_coefficients[:, k]
+            column = coordinate[functions]
+            np.multiply(values[:, 0], column[:, 0], out=points[:, k])
+            np.multiply(derivatives[:, 0], column[:, 0], out=tangents[:, k])
+            for a in range(1, functions.shape[1]):
+                points[:, k] += values[:, a] * column[:, a]
+                tangents[:, k] += derivatives[:, a] * column[:, a]
+        tx, ty = tangents[:, 0], tangents[:, 1]
+        jacobians = np.sqrt(tx * tx + ty * ty)
+        normals = np.empty_like(tangents)
+        np.divide(ty, jacobians, out=normals[:, 0])
+        np.divide(-tx, jacobians, out=normals[:, 1])
         return ElementMap(values, points, tangents, jacobians, normals)
 
     def geometry(self, elements: np.ndarray, local: np.ndarray):

@@ -54,10 +54,9 @@ def _segment_samples(basis: Basis) -> tuple[np.ndarray, np.ndarray, np.ndarray, 
         rule = QuadratureRule.gauss_legendre(8)
         elements = np.repeat(np.arange(basis.n_elements), rule.points.size)
         local = np.tile(rule.points, basis.n_elements)
-        points, _, jac, _ = basis.geometry(elements, local)
-        values, _ = basis.shape_functions(elements, local)
-        weights = jac * np.tile(rule.weights, basis.n_elements)
-        samples = (basis.connectivity[elements], points, values, weights)
+        m = basis.map(elements, local)  # one basis evaluation for geometry and values
+        weights = m.jacobians * np.tile(rule.weights, basis.n_elements)
+        samples = (basis.connectivity[elements], m.points, m.values, weights)
         for array in samples:
             array.flags.writeable = False
         _SAMPLES[basis] = samples

@@ -316,6 +316,7 @@ class _Band:
             diagonal[max(-d, 0) : self.size - max(d, 0)] = np.diagonal(matrix, d)
             self.diagonals[d] = diagonal
         self._factor = None
+        self._sparse = None
 
     def left(self, x: np.ndarray) -> np.ndarray:
         """E @ x along the first axis: for a face of more than :data:`SPARSE_LEFT_MIN` nodes as
@@ -326,9 +327,11 @@ class _Band:
         n = self.size
         shape, x = x.shape, x.reshape(n, -1)
         if n > SPARSE_LEFT_MIN:
-            from scipy import sparse
+            if self._sparse is None:  # built once: a contact response multiplies 5-7 times
+                from scipy import sparse
 
-            return (sparse.csr_array(self.matrix) @ x).reshape(shape)
+                self._sparse = sparse.csr_array(self.matrix)
+            return (self._sparse @ x).reshape(shape)
         out = np.zeros(x.shape)
         for columns in _chunks(x.shape[1], 4096):
             tile = max(32, 2**15 // max(columns.stop - columns.start, 1))  # 256 kB and more

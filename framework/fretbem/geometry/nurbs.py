@@ -26,6 +26,15 @@ def bspline_basis(
     scipy's ``BSpline.design_matrix`` (whose sparse output must be unpacked to element-local
     blocks), measured in benchmarks/bspline_basis.py, and is tested against it.
     """
+    values, derivatives, first = _bspline_columns(knots, degree, xi, span)
+    return np.stack(values, axis=1), np.stack(derivatives, axis=1), first
+
+
+def _bspline_columns(
+    knots: np.ndarray, degree: int, xi: np.ndarray, span: np.ndarray | None = None
+) -> tuple[list[np.ndarray], list[np.ndarray], np.ndarray]:
+    """``bspline_basis`` as lists of p + 1 columns (1-D arrays over the points): every
+    operation runs along the points, none along the short function axis."""
     knots = np.asarray(knots, dtype=float)
     xi = np.atleast_1d(np.asarray(xi, dtype=float))
     xi = np.minimum(np.maximum(xi, knots[0]), knots[-1])  # np.clip's result, 3x faster
@@ -49,16 +58,14 @@ def bspline_basis(
             saved = left[j - r] * temp
         new.append(saved)
         values = new
-    out, derivatives = np.empty((xi.size, degree + 1)), np.empty((xi.size, degree + 1))
-    for r in range(degree + 1):
-        out[:, r] = values[r]
     # d N_r = p N_{r-1, p-1} / (k[s + r] - k[s + r - p]) - p N_{r, p-1} / (k[s + r + 1] - ...)
+    derivatives = []
     derivative = 0.0
     for r in range(degree + 1):
         term = degree * lower[r] / (window[degree + r] - window[r]) if r < degree else 0.0
-        derivatives[:, r] = derivative - term
+        derivatives.append(derivative - term)  # an array: degree >= 1
         derivative = term
-    return out, derivatives, span - degree
+    return values, derivatives, span - degree
 
 
 def rational_basis(
@@ -68,13 +75,28 @@ def rational_basis(
     xi: np.ndarray,
     span: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Local NURBS functions R (paper eq. 4) and dR/dxi, as ``bspline_basis`` returns them."""
-    values, derivatives, first = bspline_basis(knots, degree, xi, span)
-    w = weights[first[:, None] + np.arange(degree + 1)]
-    weighted, dweighted = values * w, derivatives * w
-    total = weighted.sum(axis=1, keepdims=True)
-    dtotal = dweighted.sum(axis=1, keepdims=True)
-    return weighted / total, (dweighted * total - weighted * dtotal) / total**2, first
+    """Local NURBS functions R (paper eq. 4) and dR/dxi, as ``bspline_basis`` returns them.
+
+    Column by column (``_bspline_columns``): the weight sums are added in function order,
+    the arithmetic of a sum along the function axis, without its short inner loops.
+    """
+    values, derivatives, first = _bspline_columns(knots, degree, xi, span)
+    weighted, dweighted = [], []
+    for r in range(degree + 1):
+        w = weights[first + r]
+        weighted.append(values[r] * w)
+        dweighted.append(derivatives[r] * w)
+    total, dtotal = weighted[0].copy(), dweighted[0].copy()
+    for r in range(1, degree + 1):
+        total += weighted[r]
+        dtotal += dweighted[r]
+    squared = total**2
+    pairs = zip(weighted, dweighted, strict=True)
+    return (
+        np.stack([w / total for w in weighted], axis=1),
+        np.stack([(dw * total - w * dtotal) / squared for w, dw in pairs], axis=1),
+        first,
+    )
 
 
 #: control points up to which refinement solves densely: below it LAPACK on the full matrix
