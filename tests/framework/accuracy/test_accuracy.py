@@ -302,3 +302,22 @@ def test_adaptive_levels_past_61_pairs_need_no_caution():
     assert "61" not in caution and "verified" not in caution
     assert caution.startswith("the adaptive mesh stopped at 81 pairs (its budget)")
     assert "above the tolerance of 0.0001 %" in result.table()
+
+
+def test_settling_measure_leaves_out_a_knot_crowded_against_its_neighbour():
+    """A knot whose move passes the middle of the gap to its neighbour cannot settle on its
+    level: the measure that picks the kept re-solve leaves it out, the caution's does not."""
+    from fretbem.accuracy.adaptive import _residual
+
+    positions = np.array([-0.3, -0.2, -0.199, 0.3])
+    scale = np.full(4, 0.01)
+    # the knot at -0.2 wants 0.05 toward -0.199 (past the middle at -0.1995): crowded
+    moves = np.array([0.0005, 0.05, 0.0, -0.001])
+    # the largest free move: 0.001 over a spacing of 0.01
+    assert _residual(positions, moves, scale) == pytest.approx(0.1)
+    assert _residual(positions, moves, scale, crowded=True) == pytest.approx(5.0)
+    # a move short of the middle counts as before
+    free = np.array([0.0005, 0.0004, 0.0, -0.001])
+    assert _residual(positions, free, scale) == pytest.approx(0.1)
+    assert _residual(positions, free, scale, crowded=True) == pytest.approx(0.1)
+    assert _residual(np.zeros(0), np.zeros(0), np.zeros(0)) == 0.0
