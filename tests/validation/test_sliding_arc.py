@@ -59,8 +59,17 @@ def study(basis="nurbs", pairs=41, load=100.0, pad=(6.5, 16.25), specimen=(12.0,
     of its steps, its fixed twin: the same bodies paired with the pad turned where that
     step's pairs were, pressed and driven into gross slip the same way (0.1 mm further)."""
     hertz = _hertz(load)
-    a = hertz.half_width
-    data = copy.deepcopy(BASE)
+    simulation = _slid_there_and_back(
+        BASE, basis, pairs, load, hertz.half_width, pad, specimen, increments
+    )
+    sliding = run_sliding(simulation, note=None)
+    return simulation, sliding, twins_of(simulation, sliding, load), hertz
+
+
+def _slid_there_and_back(scene, basis, pairs, load, a, pad, specimen, increments) -> Simulation:
+    """``scene`` (a scene file's data) with the pad's and specimen's width and height, the
+    family and pair count given, pressed by ``load``, slid 3 a and 6 a and back to 0."""
+    data = copy.deepcopy(scene)
     data["pad"].update(width=pad[0], height=pad[1])
     data["specimen"].update(width=specimen[0], height=specimen[1])
     data["contact"].update(basis=basis, pairs=pairs)
@@ -70,9 +79,7 @@ def study(basis="nurbs", pairs=41, load=100.0, pad=(6.5, 16.25), specimen=(12.0,
         delta=[0.0, 3 * a, 6 * a, 0.0],
         increments=[1, increments, increments, 2 * increments],
     )
-    simulation, _ = build(scene_from_data(data))
-    sliding = run_sliding(simulation, note=None)
-    return simulation, sliding, twins_of(simulation, sliding, load), hertz
+    return build(scene_from_data(data))[0]
 
 
 def twins_of(simulation, sliding, load: float) -> list:
@@ -336,18 +343,9 @@ def groove_study(basis="nurbs", pairs=31, load=100.0, pad=(26.0, 16.25), specime
         load=load, radius_upper=1.0 / (1.0 / PAD - 1.0 / GROOVE), radius_lower=math.inf,
         E_upper=E, nu_upper=NU, E_lower=E, nu_lower=NU,
     )  # fmt: skip
-    a = hertz.half_width
-    data = copy.deepcopy(GROOVE_SCENE)
-    data["pad"].update(width=pad[0], height=pad[1])
-    data["specimen"].update(width=specimen[0], height=specimen[1])
-    data["contact"].update(basis=basis, pairs=pairs)
-    data["load"].update(
-        steps=["press", "half", "slide", "back"],
-        P=load,
-        delta=[0.0, 3 * a, 6 * a, 0.0],
-        increments=[1, increments, increments, 2 * increments],
+    simulation = _slid_there_and_back(
+        GROOVE_SCENE, basis, pairs, load, hertz.half_width, pad, specimen, increments
     )
-    simulation, _ = build(scene_from_data(data))
     track = Track.of(simulation.pair)
     assert np.allclose(track.centre, [0.0, GROOVE], atol=1e-9)
     assert track.rate == pytest.approx(1.0 / GROOVE, rel=1e-12)

@@ -8,7 +8,6 @@ cannot be a pad in a groove is refused with the key to change; a groove scene ru
 
 from __future__ import annotations
 
-import copy
 import math
 from pathlib import Path
 
@@ -22,6 +21,7 @@ from fretbem.scenes.builder import build, hertz, zone_half_width
 from fretbem.scenes.file import scene_from_data
 from fretbem.scenes.spec import SceneFileError
 from fretbem.simulation import run
+from fretbem.testing.scenes import scene_data_with
 
 ROOT = Path(__file__).resolve().parents[3]
 BASE = tomllib.loads((ROOT / "examples" / "gross_sliding_groove.toml").read_text())
@@ -31,14 +31,7 @@ PRESSED = {"contact__sliding": None, "load__delta": None, "load__Q": [0.0, 20.0]
 
 
 def _scene(**changes):
-    data = copy.deepcopy(BASE)
-    for where, value in {**PRESSED, **changes}.items():
-        table, key = where.split("__")
-        if value is None:
-            data[table].pop(key, None)
-        else:
-            data.setdefault(table, {})[key] = value
-    return data
+    return scene_data_with(BASE, {**PRESSED, **changes})
 
 
 @pytest.mark.parametrize(

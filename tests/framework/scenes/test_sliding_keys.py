@@ -3,7 +3,6 @@ the track built from the history, and a slide off the track refused through fret
 
 from __future__ import annotations
 
-import copy
 import csv
 import json
 from pathlib import Path
@@ -20,20 +19,14 @@ from fretbem.scenes.builder import build, zone_half_width
 from fretbem.scenes.file import scene_from_data
 from fretbem.scenes.spec import SceneFileError
 from fretbem.scenes.track import TRACK_DENSITY, track_half_width
+from fretbem.testing.scenes import scene_data_with
 
 ROOT = Path(__file__).resolve().parents[3]
 BASE = tomllib.loads((ROOT / "examples" / "gross_sliding.toml").read_text())
 
 
 def _scene(**changes):
-    data = copy.deepcopy(BASE)
-    for where, value in changes.items():
-        table, key = where.split("__")
-        if value is None:
-            data[table].pop(key, None)
-        else:
-            data.setdefault(table, {})[key] = value
-    return data
+    return scene_data_with(BASE, changes)
 
 
 @pytest.mark.parametrize(
@@ -190,10 +183,8 @@ def test_bem_bodies_slide_in_a_groove_from_the_scene_file(tmp_path, capsys):
     ],
 )  # fmt: skip
 def test_bad_sliding_in_a_groove_is_refused(changes, match):
-    data = tomllib.loads((ROOT / "examples" / "gross_sliding_groove.toml").read_text())
-    for where, value in changes.items():
-        table, key = where.split("__")
-        data.setdefault(table, {})[key] = value
+    groove = tomllib.loads((ROOT / "examples" / "gross_sliding_groove.toml").read_text())
+    data = scene_data_with(groove, changes)
     with pytest.raises(SceneFileError, match=match):
         build(scene_from_data(data))
 
