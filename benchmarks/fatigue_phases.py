@@ -56,7 +56,10 @@ def _coarse_phase(stress, grid, axes, rank, codes, par, nu, E, in_plane, whole):
     work = (np.empty((12, size)), np.empty(size), np.empty(size), np.empty(size),
             np.empty(size), np.empty(size), np.empty(size), np.empty(size, dtype=np.bool_),
             np.empty(size, dtype=np.int64))  # fmt: skip
-    scratch = np.empty((6, axes[0].size))
+    scratch = (np.empty((6, axes[0].size), dtype=np.float32),
+               np.empty((12, size), dtype=np.float32))  # fmt: skip
+    axes = (axes[0].astype(np.float32), axes[1].astype(np.float32),
+            axes[2].astype(np.float32), axes[3].astype(np.float32))  # fmt: skip
     best = np.empty(codes.size, dtype=np.int64)
     found = np.empty((5, codes.size))
     sup = np.empty(3, dtype=np.int64)
