@@ -18,7 +18,8 @@ how, not what (the answers agree to round-off, tests/framework/fatigue/test_sear
   whose bound reaches the best lower bound); both find the plane of largest exact value;
 - the refinement runs over blocks of points: every criterion's candidate planes of a level,
   for all the block's points, in one evaluation; it starts from the grid's quantities (in 3D
-  evaluated again in double) and keeps the winning candidates' (numpy evaluates the start and the final planes again);
+  evaluated again in double) and keeps the winning candidates' (numpy evaluates the start
+  and the final planes again);
 - a criterion whose search needs no shear (SWT, stress_life, strain_life) gets its final
   plane's shear amplitude here, by the bounds where they meet (a straight path) and its
   exact circle elsewhere (numpy: a projection and a circle per point after the search);
@@ -225,7 +226,7 @@ def _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratc
     tau_2 = sin psi tau_e scale them by factors >= 0: their extremes over the steps are
     taken per theta and scaled (exactly: rounding is monotone), once per row of psi. The 3D
     grid is summarised in single precision, as the numpy search's coarse grid: ``axes`` and
-    ``scratch`` = (6, n_theta), (12, G) are float32; ``out`` gets the summaries in double.
+    ``scratch`` = (6, n_theta), (12, G) are float32, the summaries go to ``scratch[1]``.
     """
     a = 1.0 + nu
     n_t = m.shape[0]
@@ -301,9 +302,6 @@ def _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratc
             o32[6, row + i], o32[7, row + i] = spj * te_hi[i], spj * te_lo[i]
     for r in range(4, 12):
         o32[r, last] = 0.0
-    for r in range(12):
-        for g in range(n_g):
-            out[r, g] = o32[r, g]
 
 
 @numba.njit(**_LOOPS)
@@ -359,7 +357,7 @@ def _block_summaries(m, h, xy, zz, tr, nb, nu, c2, s2, sp, cp, start, in_plane, 
         out[8, g], out[9, g], out[10, g], out[11, g] = hi4, lo4, hi5, lo5
 
 
-@numba.njit(**_JIT)
+@numba.njit(**_LOOPS)
 def _shear_bounds(out, start, stop, in_plane, lo, hi):
     """Lower and upper bounds of each plane's shear amplitude (equal in-plane: a straight path)."""
     for g in range(start, stop):
@@ -375,7 +373,7 @@ def _shear_bounds(out, start, stop, in_plane, lo, hi):
         hi[g] = 0.5 * math.sqrt(min(rx * rx + ry * ry, ru * ru + rv * rv))
 
 
-@numba.njit(**_JIT)
+@numba.njit(**_LOOPS)
 def _values(code, par, E, out, tau, start, stop, value):
     """The parameter of criterion ``code`` on planes ``start:stop`` with shear amplitudes
     ``tau`` (``par``: k, yield strength, G, mean-stress correction kind, its limit)."""
@@ -421,18 +419,82 @@ def _better(code, new, new2, old, old2, scale):
 # --------------------------------------------------------------------------- coarse grid
 
 
+@numba.njit(**_LOOPS)
+def _bounds_top(value, vhi, n):
+    """``vhi`` becomes the larger of ``value`` and ``vhi`` (the value's upper bound, whichever
+    way it varies with tau); returns the largest of the smaller ones (the best lower bound)."""
+    top = -np.inf
+    for g in range(n):
+        a, b = value[g], vhi[g]
+        vhi[g] = max(a, b)
+        top = max(top, min(a, b))
+    return top
+
+
+@numba.njit(**_LOOPS)
+def _reaching(vhi, done, low, n, order):
+    """The planes not ``done`` whose ``vhi`` reaches ``low``, into ``order``; their number."""
+    count = 0
+    for g in range(n):
+        if not done[g] and vhi[g] >= low:
+            order[count] = g
+            count += 1
+    return count
+
+
+@numba.njit(**_LOOPS)
+def _first_at(value, top, rank, n):
+    """The plane of ``value[:n]`` equal to ``top`` that comes first by ``rank``."""
+    arg, first = 0, n
+    for g in range(n):
+        if value[g] == top and rank[g] < first:
+            arg, first = g, rank[g]
+    return arg
+
+
+@numba.njit(**_LOOPS)
+def _best_tied(value, low, second, rank, n):
+    """Of the planes whose ``value`` reaches ``low``, the one of largest ``second``, then the
+    first by ``rank``."""
+    arg, high, first = 0, -np.inf, n
+    for g in range(n):
+        if value[g] >= low and (second[g] > high or (second[g] == high and rank[g] < first)):
+            arg, high, first = g, second[g], rank[g]
+    return arg
+
+
+@numba.njit(**_LOOPS)
+def _largest(value, n):
+    """The largest of ``value[:n]`` (no NaN: a vectorised reduction)."""
+    top = -np.inf
+    for g in range(n):
+        top = max(top, value[g])
+    return top
+
+
 @numba.njit(**_JIT)
 def _coarse(data, p, grid, axes, rank, codes, par, nu, E, in_plane, work, scratch, best, found,
             sup):  # fmt: skip
     """Index of the best grid plane of every criterion at point ``p`` of the step data, into
     ``best``, and its quantities (value, tau, sigma_n max and min, normal strain amplitude)
     into ``found`` (5, C); the grid circles as the module docstring says."""
-    m, h, xy, zz, tr, x, y = data
-    out, lo, hi, tau, value, vlo, vhi, done, _ = work
+    m, h, xy, zz, tr = data[0], data[1], data[2], data[3], data[4]
+    out = work[0]
+    _grid_summaries(m, h, xy, zz, tr, p, nu, grid[0], grid[1], axes, in_plane, out, scratch)
+    if in_plane:
+        _grid_best(out, data, p, grid, rank, codes, par, E, in_plane, work, best, found, sup)
+    else:  # the single precision summaries (:func:`_grid_summaries`)
+        _grid_best(scratch[1], data, p, grid, rank, codes, par, E, in_plane, work, best, found,
+                   sup)  # fmt: skip
+
+
+@numba.njit(**_JIT)
+def _grid_best(out, data, p, grid, rank, codes, par, E, in_plane, work, best, found, sup):
+    """:func:`_coarse` from the grid's summaries ``out`` (12, G), double or single precision."""
+    m, h, xy, zz, _, x, y = data
+    _, lo, hi, tau, value, _, vhi, done, order = work
     n_g = grid.shape[1]
-    order = work[8]
     c2, s2, sp, cp = grid[0], grid[1], grid[2], grid[3]
-    _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratch)
     shear = False
     for code in codes:
         shear = shear or _needs_shear(code)
@@ -446,21 +508,14 @@ def _coarse(data, p, grid, axes, rank, codes, par, nu, E, in_plane, work, scratc
     for ci in range(codes.size):
         code = codes[ci]
         if n_open_grid and _needs_shear(code):
-            # exact circles in decreasing order of the value's upper bound, while it can win
-            _values(code, par[ci], E, out, lo, 0, n_g, vlo)
+            # exact circles in decreasing order of the value's upper bound, while it can win;
+            # ``value`` at ``tau``: the lower bound, or the circle another criterion took
+            _values(code, par[ci], E, out, tau, 0, n_g, value)
             _values(code, par[ci], E, out, hi, 0, n_g, vhi)
-            for g in range(n_g):
-                a, b = vlo[g], vhi[g]
-                vlo[g], vhi[g] = min(a, b), max(a, b)
-            top = -np.inf
-            for g in range(n_g):
-                top = max(top, vlo[g])
+            top = _bounds_top(value, vhi, n_g)
             slack = _TIE * abs(top) if code == MWCM else 0.0
-            n_open = 0  # the planes whose bound reaches the best lower bound, open ones first
-            for g in range(n_g):
-                if not done[g] and vhi[g] >= top - slack:
-                    order[n_open] = g
-                    n_open += 1
+            # the planes whose bound reaches the best lower bound, open ones first
+            n_open = _reaching(vhi, done, top - slack, n_g, order)
             while n_open:
                 pick = 0
                 for i in range(1, n_open):
@@ -479,23 +534,16 @@ def _coarse(data, p, grid, axes, rank, codes, par, nu, E, in_plane, work, scratc
                 done[arg] = True
                 _values(code, par[ci], E, out, tau, arg, arg + 1, value)
                 top = max(top, value[arg])
-        _values(code, par[ci], E, out, tau, 0, n_g, value)
+        else:
+            _values(code, par[ci], E, out, tau, 0, n_g, value)
         # exact ties (infinite stress_life values, symmetric states) go to the plane that
-        # comes first in the numpy search's grid order, ``rank``
-        # (the running best is kept in locals: no reload through ``arg`` per plane)
-        arg, top, first = 0, value[0], rank[0]
-        for g in range(1, n_g):
-            v = value[g]
-            if v > top or (v == top and rank[g] < first):
-                arg, top, first = g, v, rank[g]
+        # comes first in the numpy search's grid order, ``rank``: the largest value first
+        # (a reduction LLVM vectorises), then the first plane that has it
+        top = _largest(value, n_g)
         if code == MWCM:  # ties within the tolerance: the largest normal stress
-            low = top - _TIE * max(abs(top), 1e-300)
-            arg, high, first = -1, -np.inf, 0
-            for g in range(n_g):
-                if value[g] >= low and (
-                    arg < 0 or out[0, g] > high or (out[0, g] == high and rank[g] < first)
-                ):
-                    arg, high, first = g, out[0, g], rank[g]
+            arg = _best_tied(value, top - _TIE * max(abs(top), 1e-300), out[0], rank, n_g)
+        else:
+            arg = _first_at(value, top, rank, n_g)
         best[ci] = arg
         found[0, ci] = value[arg]
         found[1, ci] = tau[arg] if _needs_shear(code) else 0.0
