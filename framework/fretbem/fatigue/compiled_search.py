@@ -488,7 +488,7 @@ def _coarse(data, p, grid, axes, rank, codes, par, nu, E, in_plane, work, scratc
                    sup)  # fmt: skip
 
 
-@numba.njit(**_JIT)
+@numba.njit(inline="always", **_JIT)  # a call would pass ~20 arrays per point
 def _grid_best(out, data, p, grid, rank, codes, par, E, in_plane, work, best, found, sup):
     """:func:`_coarse` from the grid's summaries ``out`` (12, G), double or single precision."""
     m, h, xy, zz, _, x, y = data
