@@ -117,17 +117,17 @@ def main() -> None:
                         turn = np.rad2deg(np.arccos(np.clip(cos, 0.0, 1.0)))
                         same = finite.copy()
                         same[finite] = np.abs(gap) <= 1e-9
-                        name = method if correction is None else f"{method} {label}"
-                        key = ("in-plane" if in_plane else "3D", path, name)
+                        row = method if correction is None else f"{method} {label}"
+                        key = ("in-plane" if in_plane else "3D", path, row)
                         w = worst.setdefault(key, [0.0, 0.0, 0.0])
                         w[0] = max(w[0], gap.max(initial=0.0))
                         w[1] = max(w[1], -gap.min(initial=0.0))
                         w[2] = max(w[2], turn[same].max(initial=0.0))
         print(f"done: {name}", flush=True)
-    print(f"{'search':<10}{'path':<10}{'criterion':<14}{'shortfall':>11}{'overshoot':>11}"
+    print(f"{'search':<10}{'path':<10}{'criterion':<22}{'shortfall':>11}{'overshoot':>11}"
           f"{'turn at equal value (deg)':>28}")  # fmt: skip
     for (kind, path, method), (short, over, turn) in sorted(worst.items()):
-        print(f"{kind:<10}{path:<10}{method:<14}{short:11.2e}{over:11.2e}{turn:28.2e}")
+        print(f"{kind:<10}{path:<10}{method:<22}{short:11.2e}{over:11.2e}{turn:28.2e}")
 
 
 if __name__ == "__main__":
