@@ -8,9 +8,15 @@ plane of each criterion), the search with 0..``refine_levels`` refinement levels
 one pattern level and the parabolic step), and the whole ``critical_plane_parameters`` call.
 Medians of ``--runs`` CPU times; run it alone (the machine is shared: ratios, not seconds).
 
+``--before DIR``: instead, the compiled search of another source tree (``git archive <commit>
+| tar -x -C DIR``) against this tree's, on the same arguments, interleaved run by run in one
+process against one floor; the least CPU time of ``--runs`` each (the other tree's module
+is compiled afresh, without numba's cache).
+
 Run from the repository root::
 
     OPENBLAS_NUM_THREADS=1 python benchmarks/fatigue_phases.py --runs 7
+    OPENBLAS_NUM_THREADS=1 python benchmarks/fatigue_phases.py --before /tmp/before --runs 21
 """
 
 from __future__ import annotations
@@ -19,6 +25,8 @@ import argparse
 import os
 import statistics
 import time
+import types
+from pathlib import Path
 
 import numba
 import numpy as np
@@ -56,7 +64,10 @@ def _coarse_phase(stress, grid, axes, rank, codes, par, nu, E, in_plane, whole):
     work = (np.empty((12, size)), np.empty(size), np.empty(size), np.empty(size),
             np.empty(size), np.empty(size), np.empty(size), np.empty(size, dtype=np.bool_),
             np.empty(size, dtype=np.int64))  # fmt: skip
-    scratch = np.empty((6, axes[0].size))
+    scratch = (np.empty((6, axes[0].size), dtype=np.float32),
+               np.empty((12, size), dtype=np.float32))  # fmt: skip
+    axes = (axes[0].astype(np.float32), axes[1].astype(np.float32),
+            axes[2].astype(np.float32), axes[3].astype(np.float32))  # fmt: skip
     best = np.empty(codes.size, dtype=np.int64)
     found = np.empty((5, codes.size))
     sup = np.empty(3, dtype=np.int64)
@@ -135,12 +146,66 @@ def phases(stress: np.ndarray, in_plane: bool, runs: int) -> None:
         print(f"  {name:<28s} {median_cpu(fn, runs) / t_floor:6.2f} x floor")
 
 
+def search_arguments(stress: np.ndarray, in_plane: bool) -> tuple:
+    """The arguments ``critical_plane_parameters`` hands to the compiled search."""
+    captured = {}
+    real = cs.search
+
+    def spy(*a):
+        captured["args"] = a
+        return real(*a)
+
+    cs.search = spy
+    try:
+        critical_plane_parameters(stress, E=116000.0, nu=0.342, methods=METHODS[:4],
+                                  search=PlaneSearch(in_plane_only=in_plane, compiled=True),
+                                  **CONSTANTS)  # fmt: skip
+    finally:
+        cs.search = real
+    return captured["args"]
+
+
+def against_tree(stress: np.ndarray, before: Path, runs: int) -> None:
+    """This tree's compiled search and ``before``'s over the floor, interleaved, least times."""
+    text = (before / "framework/fretbem/fatigue/compiled_search.py").read_text()
+    old = types.ModuleType("compiled_search_before")
+    exec(compile(text.replace('"cache": True', '"cache": False'), "before", "exec"), old.__dict__)
+    for in_plane in (True, False):
+        a = search_arguments(stress, in_plane)
+        theta, psi = plane_grid(in_plane_only=in_plane, theta_step_deg=5.0, psi_step_deg=10.0)
+        coef = projection(theta, psi).astype(np.float32).transpose(2, 0, 1).reshape(4, -1)
+
+        def floor(coef=coef):
+            s32 = stress.astype(np.float32)
+            for i in range(0, s32.shape[1], 400):
+                s32[:, i : i + 400] @ coef
+
+        fns = {"floor": floor, "before": lambda a=a: old.search(*a),
+               "after": lambda a=a: cs.search(*a)}  # fmt: skip
+        times = {k: [] for k in fns}
+        for fn in fns.values():
+            fn()
+        for _ in range(runs):
+            for key, fn in fns.items():
+                start = time.process_time()
+                fn()
+                times[key].append(time.process_time() - start)
+        low = {k: min(v) for k, v in times.items()}
+        print(f"{'in-plane' if in_plane else '3D'}: floor {low['floor'] * 1e3:.1f} ms, search "
+              f"before {low['before'] / low['floor']:.2f} x floor, after "
+              f"{low['after'] / low['floor']:.2f} x floor")  # fmt: skip
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=5)
+    parser.add_argument("--before", type=Path, help="another source tree: before/after")
     args = parser.parse_args()
     print(f"load average {os.getloadavg()[0]:.1f}")
     stress = stress_cycle()
+    if args.before:
+        against_tree(stress, args.before, args.runs)
+        return
     for in_plane in (True, False):
         phases(stress, in_plane, args.runs)
 

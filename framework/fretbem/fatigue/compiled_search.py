@@ -8,7 +8,8 @@ coarse grid per criterion, the exact minimum circumscribed circle only where its
 plane's rank open, the pattern search with halving steps, the parabolic step. What differs is
 how, not what (the answers agree to round-off, tests/framework/fatigue/test_search_compiled.py):
 
-- the coarse grid is evaluated point by point in double precision (numpy: float32), row by
+- the coarse grid is evaluated point by point, in-plane in double precision, in 3D in single
+  precision as numpy's (the chosen planes are evaluated again in double, as numpy's), row by
   row of psi; the extremes of the two shear components are taken once per theta and scaled
   (on a tilted plane they are in-plane quantities times factors >= 0 that do not depend on
   the step); exact ties go to the plane that comes first in the numpy search's grid;
@@ -16,8 +17,9 @@ how, not what (the answers agree to round-off, tests/framework/fatigue/test_sear
   criterion's value and stop once no remaining plane can reach the best (numpy: every plane
   whose bound reaches the best lower bound); both find the plane of largest exact value;
 - the refinement runs over blocks of points: every criterion's candidate planes of a level,
-  for all the block's points, in one evaluation; it starts from the grid's quantities and
-  keeps the winning candidates' (numpy evaluates the start and the final planes again);
+  for all the block's points, in one evaluation; it starts from the grid's quantities (in 3D
+  evaluated again in double) and keeps the winning candidates' (numpy evaluates the start
+  and the final planes again);
 - a criterion whose search needs no shear (SWT, stress_life, strain_life) gets its final
   plane's shear amplitude here, by the bounds where they meet (a straight path) and its
   exact circle elsewhere (numpy: a projection and a circle per point after the search);
@@ -222,7 +224,9 @@ def _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratc
     ``j n_theta + i`` is (theta_i, psi_j), and the last plane is theta = psi = 0.
     sigma_ee and tau_e depend on theta alone and tau_1 = sin psi cos psi (sigma_ee - szz),
     tau_2 = sin psi tau_e scale them by factors >= 0: their extremes over the steps are
-    taken per theta and scaled (exactly: rounding is monotone), once per row of psi.
+    taken per theta and scaled (exactly: rounding is monotone), once per row of psi. The 3D
+    grid is summarised in single precision, as the numpy search's coarse grid: ``axes`` and
+    ``scratch`` = (6, n_theta), (12, G) are float32, the summaries go to ``scratch[1]``.
     """
     a = 1.0 + nu
     n_t = m.shape[0]
@@ -247,18 +251,21 @@ def _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratc
                 o4[g] = te if te > o4[g] else o4[g]
                 o5[g] = te if te < o5[g] else o5[g]
         return
-    tc2, ts2, psp, pcp = axes
+    tc2, ts2, psp, pcp = axes  # single precision, as ``scratch``
+    s32, o32 = scratch
     n_th, n_ps = tc2.size, psp.size
     n_g = n_th * n_ps + 1
-    _reset(out, 0, n_g)
-    ee_t, te_t = scratch[0], scratch[1]
-    d_hi, d_lo, te_hi, te_lo = scratch[2], scratch[3], scratch[4], scratch[5]
+    _reset(o32, 0, n_g)
+    ee_t, te_t = s32[0], s32[1]
+    d_hi, d_lo, te_hi, te_lo = s32[2], s32[3], s32[4], s32[5]
     for i in range(n_th):
         d_hi[i], te_hi[i] = -np.inf, -np.inf
         d_lo[i], te_lo[i] = np.inf, np.inf
     last = n_g - 1
+    a32, nu32 = np.float32(a), np.float32(nu)
     for t in range(n_t):
-        mt, ht, xyt, zzt, trt = m[t, p], h[t, p], xy[t, p], zz[t, p], nu * tr[t, p]
+        mt, ht, xyt = np.float32(m[t, p]), np.float32(h[t, p]), np.float32(xy[t, p])
+        zzt, trt = np.float32(zz[t, p]), nu32 * np.float32(tr[t, p])
         for i in range(n_th):
             ee = mt + ht * tc2[i] + xyt * ts2[i]
             te = xyt * tc2[i] - ht * ts2[i]
@@ -271,30 +278,30 @@ def _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratc
             for i in range(n_th):
                 g = row + i
                 sn = sp2 * ee_t[i] + cp2 * zzt
-                en = a * sn - trt
+                en = a32 * sn - trt
                 px = spcp * (ee_t[i] - zzt)
                 py = spj * te_t[i]
-                out[0, g] = max(out[0, g], sn)
-                out[1, g] = min(out[1, g], sn)
-                out[2, g] = max(out[2, g], en)
-                out[3, g] = min(out[3, g], en)
-                out[8, g] = max(out[8, g], px + py)
-                out[9, g] = min(out[9, g], px + py)
-                out[10, g] = max(out[10, g], px - py)
-                out[11, g] = min(out[11, g], px - py)
+                o32[0, g] = max(o32[0, g], sn)
+                o32[1, g] = min(o32[1, g], sn)
+                o32[2, g] = max(o32[2, g], en)
+                o32[3, g] = min(o32[3, g], en)
+                o32[8, g] = max(o32[8, g], px + py)
+                o32[9, g] = min(o32[9, g], px + py)
+                o32[10, g] = max(o32[10, g], px - py)
+                o32[11, g] = min(o32[11, g], px - py)
         # theta = psi = 0: the normal is z (sigma_n = szz, no shear on it)
-        out[0, last] = max(out[0, last], zzt)
-        out[1, last] = min(out[1, last], zzt)
-        out[2, last] = max(out[2, last], a * zzt - trt)
-        out[3, last] = min(out[3, last], a * zzt - trt)
+        o32[0, last] = max(o32[0, last], zzt)
+        o32[1, last] = min(o32[1, last], zzt)
+        o32[2, last] = max(o32[2, last], a32 * zzt - trt)
+        o32[3, last] = min(o32[3, last], a32 * zzt - trt)
     for j in range(n_ps):
         spcp, spj = psp[j] * pcp[j], psp[j]
         row = j * n_th
         for i in range(n_th):
-            out[4, row + i], out[5, row + i] = spcp * d_hi[i], spcp * d_lo[i]
-            out[6, row + i], out[7, row + i] = spj * te_hi[i], spj * te_lo[i]
+            o32[4, row + i], o32[5, row + i] = spcp * d_hi[i], spcp * d_lo[i]
+            o32[6, row + i], o32[7, row + i] = spj * te_hi[i], spj * te_lo[i]
     for r in range(4, 12):
-        out[r, last] = 0.0
+        o32[r, last] = 0.0
 
 
 @numba.njit(**_LOOPS)
@@ -350,7 +357,7 @@ def _block_summaries(m, h, xy, zz, tr, nb, nu, c2, s2, sp, cp, start, in_plane, 
         out[8, g], out[9, g], out[10, g], out[11, g] = hi4, lo4, hi5, lo5
 
 
-@numba.njit(**_JIT)
+@numba.njit(**_LOOPS)
 def _shear_bounds(out, start, stop, in_plane, lo, hi):
     """Lower and upper bounds of each plane's shear amplitude (equal in-plane: a straight path)."""
     for g in range(start, stop):
@@ -366,7 +373,7 @@ def _shear_bounds(out, start, stop, in_plane, lo, hi):
         hi[g] = 0.5 * math.sqrt(min(rx * rx + ry * ry, ru * ru + rv * rv))
 
 
-@numba.njit(**_JIT)
+@numba.njit(**_LOOPS)
 def _values(code, par, E, out, tau, start, stop, value):
     """The parameter of criterion ``code`` on planes ``start:stop`` with shear amplitudes
     ``tau`` (``par``: k, yield strength, G, mean-stress correction kind, its limit)."""
@@ -412,18 +419,82 @@ def _better(code, new, new2, old, old2, scale):
 # --------------------------------------------------------------------------- coarse grid
 
 
+@numba.njit(**_LOOPS)
+def _bounds_top(value, vhi, n):
+    """``vhi`` becomes the larger of ``value`` and ``vhi`` (the value's upper bound, whichever
+    way it varies with tau); returns the largest of the smaller ones (the best lower bound)."""
+    top = -np.inf
+    for g in range(n):
+        a, b = value[g], vhi[g]
+        vhi[g] = max(a, b)
+        top = max(top, min(a, b))
+    return top
+
+
+@numba.njit(**_LOOPS)
+def _reaching(vhi, done, low, n, order):
+    """The planes not ``done`` whose ``vhi`` reaches ``low``, into ``order``; their number."""
+    count = 0
+    for g in range(n):
+        if not done[g] and vhi[g] >= low:
+            order[count] = g
+            count += 1
+    return count
+
+
+@numba.njit(**_LOOPS)
+def _first_at(value, top, rank, n):
+    """The plane of ``value[:n]`` equal to ``top`` that comes first by ``rank``."""
+    arg, first = 0, n
+    for g in range(n):
+        if value[g] == top and rank[g] < first:
+            arg, first = g, rank[g]
+    return arg
+
+
+@numba.njit(**_LOOPS)
+def _best_tied(value, low, second, rank, n):
+    """Of the planes whose ``value`` reaches ``low``, the one of largest ``second``, then the
+    first by ``rank``."""
+    arg, high, first = 0, -np.inf, n
+    for g in range(n):
+        if value[g] >= low and (second[g] > high or (second[g] == high and rank[g] < first)):
+            arg, high, first = g, second[g], rank[g]
+    return arg
+
+
+@numba.njit(**_LOOPS)
+def _largest(value, n):
+    """The largest of ``value[:n]`` (no NaN: a vectorised reduction)."""
+    top = -np.inf
+    for g in range(n):
+        top = max(top, value[g])
+    return top
+
+
 @numba.njit(**_JIT)
 def _coarse(data, p, grid, axes, rank, codes, par, nu, E, in_plane, work, scratch, best, found,
             sup):  # fmt: skip
     """Index of the best grid plane of every criterion at point ``p`` of the step data, into
     ``best``, and its quantities (value, tau, sigma_n max and min, normal strain amplitude)
     into ``found`` (5, C); the grid circles as the module docstring says."""
-    m, h, xy, zz, tr, x, y = data
-    out, lo, hi, tau, value, vlo, vhi, done, _ = work
+    m, h, xy, zz, tr = data[0], data[1], data[2], data[3], data[4]
+    out = work[0]
+    _grid_summaries(m, h, xy, zz, tr, p, nu, grid[0], grid[1], axes, in_plane, out, scratch)
+    if in_plane:
+        _grid_best(out, data, p, grid, rank, codes, par, E, in_plane, work, best, found, sup)
+    else:  # the single precision summaries (:func:`_grid_summaries`)
+        _grid_best(scratch[1], data, p, grid, rank, codes, par, E, in_plane, work, best, found,
+                   sup)  # fmt: skip
+
+
+@numba.njit(inline="always", **_JIT)  # a call would pass ~20 arrays per point
+def _grid_best(out, data, p, grid, rank, codes, par, E, in_plane, work, best, found, sup):
+    """:func:`_coarse` from the grid's summaries ``out`` (12, G), double or single precision."""
+    m, h, xy, zz, _, x, y = data
+    _, lo, hi, tau, value, _, vhi, done, order = work
     n_g = grid.shape[1]
-    order = work[8]
     c2, s2, sp, cp = grid[0], grid[1], grid[2], grid[3]
-    _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratch)
     shear = False
     for code in codes:
         shear = shear or _needs_shear(code)
@@ -437,21 +508,14 @@ def _coarse(data, p, grid, axes, rank, codes, par, nu, E, in_plane, work, scratc
     for ci in range(codes.size):
         code = codes[ci]
         if n_open_grid and _needs_shear(code):
-            # exact circles in decreasing order of the value's upper bound, while it can win
-            _values(code, par[ci], E, out, lo, 0, n_g, vlo)
+            # exact circles in decreasing order of the value's upper bound, while it can win;
+            # ``value`` at ``tau``: the lower bound, or the circle another criterion took
+            _values(code, par[ci], E, out, tau, 0, n_g, value)
             _values(code, par[ci], E, out, hi, 0, n_g, vhi)
-            for g in range(n_g):
-                a, b = vlo[g], vhi[g]
-                vlo[g], vhi[g] = min(a, b), max(a, b)
-            top = -np.inf
-            for g in range(n_g):
-                top = max(top, vlo[g])
+            top = _bounds_top(value, vhi, n_g)
             slack = _TIE * abs(top) if code == MWCM else 0.0
-            n_open = 0  # the planes whose bound reaches the best lower bound, open ones first
-            for g in range(n_g):
-                if not done[g] and vhi[g] >= top - slack:
-                    order[n_open] = g
-                    n_open += 1
+            # the planes whose bound reaches the best lower bound, open ones first
+            n_open = _reaching(vhi, done, top - slack, n_g, order)
             while n_open:
                 pick = 0
                 for i in range(1, n_open):
@@ -470,23 +534,16 @@ def _coarse(data, p, grid, axes, rank, codes, par, nu, E, in_plane, work, scratc
                 done[arg] = True
                 _values(code, par[ci], E, out, tau, arg, arg + 1, value)
                 top = max(top, value[arg])
-        _values(code, par[ci], E, out, tau, 0, n_g, value)
+        else:
+            _values(code, par[ci], E, out, tau, 0, n_g, value)
         # exact ties (infinite stress_life values, symmetric states) go to the plane that
-        # comes first in the numpy search's grid order, ``rank``
-        arg = 0
-        for g in range(1, n_g):
-            if value[g] > value[arg] or (value[g] == value[arg] and rank[g] < rank[arg]):
-                arg = g
+        # comes first in the numpy search's grid order, ``rank``: the largest value first
+        # (a reduction LLVM vectorises), then the first plane that has it
+        top = _largest(value, n_g)
         if code == MWCM:  # ties within the tolerance: the largest normal stress
-            tol = _TIE * max(abs(value[arg]), 1e-300)
-            top, arg = value[arg], -1
-            for g in range(n_g):
-                if value[g] >= top - tol and (
-                    arg < 0
-                    or out[0, g] > out[0, arg]
-                    or (out[0, g] == out[0, arg] and rank[g] < rank[arg])
-                ):
-                    arg = g
+            arg = _best_tied(value, top - _TIE * max(abs(top), 1e-300), out[0], rank, n_g)
+        else:
+            arg = _first_at(value, top, rank, n_g)
         best[ci] = arg
         found[0, ci] = value[arg]
         found[1, ci] = tau[arg] if _needs_shear(code) else 0.0
@@ -765,7 +822,13 @@ def search(
     )
     cand_angles = (cand_rows[4, :n_q], cand_rows[5, :n_q])
     best = np.empty(n_c, dtype=np.int64)
-    scratch = np.empty((6, axes[0].size + _PAD))
+    # the 3D grid's summaries in single precision (:func:`_grid_summaries`)
+    axes32 = (axes[0].astype(np.float32), axes[1].astype(np.float32),
+              axes[2].astype(np.float32), axes[3].astype(np.float32))  # fmt: skip
+    scratch = (
+        np.empty((6, axes[0].size + _PAD), dtype=np.float32),
+        np.empty((12, n_g + _PAD), dtype=np.float32),
+    )
     found = np.empty((5, n_c))
     cres = np.empty((5, n_cur + _PAD))
     sup = np.empty(3, dtype=np.int64)
@@ -782,14 +845,23 @@ def search(
                 zz[t, b] = stress[t, p0 + b, 3]
                 tr[t, b] = 2.0 * m[t, b] + zz[t, b]
         for b in range(nb):
-            _coarse(data, b, grid, axes, rank, codes, par, nu, E, in_plane, work, scratch, best,
-                    found, sup)  # fmt: skip
+            _coarse(data, b, grid, axes32, rank, codes, par, nu, E, in_plane, work, scratch,
+                    best, found, sup)  # fmt: skip
             for ci in range(n_c):
                 g, i = best[ci], ci * nb + b
                 for r in range(5):
                     cres[r, i] = found[r, ci]
                 th[i], ps[i] = grid_theta[g], grid_psi[g]
                 c2[i], s2[i], sp[i], cp[i] = grid[0, g], grid[1, g], grid[2, g], grid[3, g]
+        if not in_plane:
+            # the grid's 3D planes were chosen in single precision: their quantities again in
+            # double (the numpy search evaluates its start planes so too)
+            for i in range(n_c * nb):
+                cur_planes[4][i, 0] = -1
+            _evaluate(data, nb, cur_planes, n_c, 1, codes, par, nu, E, in_plane, False, cur,
+                      work)  # fmt: skip
+            for i in range(n_c * nb):
+                _keep(cres, i, work[4], work[3], work[0], i, E)
         _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles, codes,
                       par, nu, E, steps, levels, in_plane, work)  # fmt: skip
         # a criterion whose search needs no shear reports its plane's exact shear amplitude
