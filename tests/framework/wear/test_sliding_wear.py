@@ -250,3 +250,21 @@ def test_the_example_scene_runs_with_sliding_and_writes_the_wear_files(tmp_path,
         assert (out / name).exists()
     face = (out / "vtk" / "wear_N20_specimen.vtp").read_text()
     assert "wear_depth" in face and 'Name="p"' in face
+
+
+def test_the_worn_bem_faces_are_assessed_from_the_scene_file(tmp_path):
+    """[wear] assess with sliding on bem bodies: the stresses re-run with sliding on the
+    worn faces at each assessed N, written under wear_N<N>/; the worn line differs."""
+    text = (ROOT / "examples" / "fretting_wear_sliding_bem.toml").read_text()
+    text = text.replace("cycles = 2000", "cycles = 20").replace("output = [500, 1000]", "")
+    text = text.replace("pairs = 61", "pairs = 21").replace("[1, 10, 20]", "[1, 4, 8]")
+    text += '\nassess = [0, 20]\n\n[stress]\nbody = "lower"\n\n[[stress.line]]\nx = -0.3\n'
+    text += "depth = 0.5\n"
+    (tmp_path / "scene.toml").write_text(text)
+    out = tmp_path / "out"
+    args = ["run", str(tmp_path / "scene.toml"), "--out", str(out), "--no-figures", "--no-vtk"]
+    assert cli.main([*args, "--quiet"]) == 0
+    lines = [np.loadtxt(out / f"wear_N{n}" / "stress_line_0.csv", delimiter=",", skiprows=1,
+                        usecols=range(4, 9)) for n in (0, 20)]  # fmt: skip
+    assert lines[0].shape == lines[1].shape
+    assert 0 < np.max(np.abs(lines[1] - lines[0])) < 0.5 * np.max(np.abs(lines[0]))
