@@ -63,6 +63,23 @@ def check_pair(pair: NodeToSegmentPair) -> None:
         ) from None
 
 
+def _check_slave(pair: NodeToSegmentPair, grids: dict) -> None:
+    """Each node of the face the pairs stand on must be faced by the other face at the
+    start: its depth is its pairs' wear over the face length it stands for, which an
+    unfaced node (a specimen's node along the track beyond the pad) does not have."""
+    slave = pair.slave_side()
+    unfaced = grids[slave][1] <= 0.0
+    if unfaced.any():
+        role = "pad" if slave == "upper" else "specimen"
+        raise SlidingError(
+            f"wear with finite sliding keeps each pair on a node of the {role} (the pair's "
+            f"slave face), but {int(unfaced.sum())} of its nodes are not faced by the other "
+            "face at the start, so their wear has no face length to be spread over; pair on "
+            "the pad's nodes (NodeToSegmentPair(slave='upper'); in a scene file give the pad "
+            "fewer contact nodes than the specimen)"
+        )
+
+
 @attrs.frozen(eq=False)
 class Track:
     """A sliding contact where it stands: the simulation on the pairing of the moment.
@@ -110,6 +127,7 @@ class Track:
             )
         if not isinstance(pair, WornTrackPair):
             grids = track_grids(pair, pair_weights(pair.condensed()))
+            _check_slave(pair, grids)
             zero = {body: np.zeros(grids[body][0].size) for body in BODIES}
             pair = WornTrackPair.of(pair, grids, zero["upper"], zero["lower"])
         simulation = attrs.evolve(simulation, pair=pair, reference=None)

@@ -11,6 +11,7 @@ import csv
 import json
 from pathlib import Path
 
+import attrs
 import numpy as np
 import pytest
 
@@ -120,7 +121,8 @@ NODE_TO_NODE = {
 
 def test_wear_refuses_node_to_node_pairs_and_implicit_jumps():
     """Wear with sliding re-pairs by projection: node-to-node pairs are refused, and so are
-    implicit jumps; finite ``bem`` bodies are taken (below)."""
+    implicit jumps and pairs on specimen nodes the pad does not face; finite ``bem``
+    bodies are taken (below)."""
     laws = {"upper": EnergyWear(1e-5), "lower": EnergyWear(1e-5)}
     nodes = build(scene_from_data(NODE_TO_NODE))[0]
     with pytest.raises(SlidingError, match="re-pairs the faces by projection"):
@@ -128,6 +130,12 @@ def test_wear_refuses_node_to_node_pairs_and_implicit_jumps():
     implicit = JumpControl(scheme="implicit")
     with pytest.raises(WearInputError, match="'implicit' is not available with finite"):
         WearSimulation(_scene(pairs=21), laws, 10, sliding=True, control=implicit)
+    # pairs on the specimen's nodes, most of them beyond the pad: refused, not NaN depths
+    simulation = _scene(pairs=21, models=("bem", "bem"))
+    pair = attrs.evolve(simulation.pair, slave="lower", uncovered="open")
+    simulation = attrs.evolve(simulation, pair=pair)
+    with pytest.raises(SlidingError, match=r"node of the specimen.*slave='upper'"):
+        run_wear(WearSimulation(simulation, laws, 10, sliding=True))
 
 
 FINITE = [
