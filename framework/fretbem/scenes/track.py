@@ -82,11 +82,10 @@ def sliding_scene(scene: Scene, zone: float, track: float, pad_elements: int) ->
         if "wear" in scene.extras:
             raise SceneFileError(
                 f"[wear] with [contact] sliding = true on a {kind} specimen: the pad turns along "
-                "the arc, which needs 'bem' bodies, and wear with finite sliding follows "
-                "straight tracks on half-plane bodies only (on bem bodies the wear would also "
-                "carry the pad's bending under Q, not yet checked against a reference); wear "
-                "on a flat specimen with half-plane bodies ([specimen] shape = 'flat', model = "
-                "'half-plane'), or slide along the arc without [wear]"
+                "the arc, and wear with finite sliding follows straight tracks only (the worn "
+                "depth would have to be read along each pair's own normal and the slid face's "
+                "grid laid in arc length); wear on a flat specimen ([specimen] shape = 'flat', "
+                "either body model), or slide along the arc without [wear]"
             )
         stress = scene.extras.get("stress", {})
         if isinstance(stress, dict) and stress.get("body") == "upper":

@@ -11,6 +11,13 @@ increment's mid-point), so the specimen's scar spans the contact plus the stroke
 pad wears at its own points. Which points meet comes from the pair's relative tangential
 displacement (the slip plus the elastic part), not from the block's travel, which also
 counts the bodies' tangential compliance.
+
+Both body models: the wear enters only the pairs' gap and the material points meet where
+the relative displacement puts them, neither of which depends on how the bodies deform. On
+finite ``bem`` bodies that relative displacement carries the pad's bending under Q (its
+tilted cylinder touches ahead of its axis), so the pad's scar is wider than its contact by
+twice that shift and the specimen's by the same, as the bodies really rub
+(docs/explanation/wear.rst, measured against half-planes as the bodies grow).
 """
 
 from __future__ import annotations
@@ -42,36 +49,35 @@ __all__ = ["Track", "check_pair", "simulate_sliding_cycle"]
 
 
 def check_pair(pair: NodeToSegmentPair) -> None:
-    """The pair wear with finite sliding takes: a straight track first (an arc needs
-    ``bem`` bodies, which it does not take), then half-plane bodies."""
+    """The pair wear with finite sliding takes: a straight track (either body model; an
+    arc, along which the pad turns, is not followed)."""
     try:
         _check_track(pair)
     except SlidingError:
         raise SlidingError(
             "wear with finite sliding follows straight tracks only, but the specimen's face "
-            f"{pair.side('lower')[1]!r} is curved: along an arc the pad turns, which needs "
-            "finite ('bem') bodies, and wear with sliding is verified on half-plane bodies "
-            "only (on bem bodies the wear would also carry the pad's bending under Q, not yet "
-            "checked against a reference); wear on a flat specimen with half-plane bodies "
-            "([specimen] shape = 'flat', model = 'half-plane'), or slide along the arc "
-            "without [wear]"
+            f"{pair.side('lower')[1]!r} is curved: along an arc the pad turns, and the worn "
+            "depth would have to be read along each pair's own normal and the slid face's "
+            "grid laid in arc length, which the wear does not do; wear on a flat specimen "
+            "([specimen] shape = 'flat'), or slide along the arc without [wear]"
         ) from None
-    _check_models(pair)
 
 
-def _check_models(pair: NodeToSegmentPair) -> None:
-    """Wear with finite sliding is verified on half-plane bodies only: the wear is placed
-    through the pairs' relative displacement, which on finite ``bem`` bodies also carries
-    the pad's bending under Q (not measured against a reference yet), so those are refused
-    rather than answered unverified."""
-    for label, role in (("upper", "pad"), ("lower", "specimen")):
-        model = pair.side(label)[0].describe().get("model")
-        if model != "half-plane":
-            raise SlidingError(
-                f"wear with finite sliding is verified on half-plane bodies only, but the "
-                f"{role} is a {model!r} body; set [{role}] model = 'half-plane' (Python: a "
-                "HalfPlaneBody), or [contact] sliding = false for wear on fixed pairs"
-            )
+def _check_slave(pair: NodeToSegmentPair, grids: dict) -> None:
+    """Each node of the face the pairs stand on must be faced by the other face at the
+    start: its depth is its pairs' wear over the face length it stands for, which an
+    unfaced node (a specimen's node along the track beyond the pad) does not have."""
+    slave = pair.slave_side()
+    unfaced = grids[slave][1] <= 0.0
+    if unfaced.any():
+        role = "pad" if slave == "upper" else "specimen"
+        raise SlidingError(
+            f"wear with finite sliding keeps each pair on a node of the {role} (the pair's "
+            f"slave face), but {int(unfaced.sum())} of its nodes are not faced by the other "
+            "face at the start, so their wear has no face length to be spread over; pair on "
+            "the pad's nodes (NodeToSegmentPair(slave='upper'); in a scene file give the pad "
+            "fewer contact nodes than the specimen)"
+        )
 
 
 @attrs.frozen(eq=False)
@@ -102,8 +108,8 @@ class Track:
 
     @classmethod
     def start(cls, simulation: Simulation) -> Track:
-        """The unworn contact of ``simulation`` (node-to-segment pairing, half-plane bodies,
-        a straight track and a block that does not rotate), before any step."""
+        """The unworn contact of ``simulation`` (node-to-segment pairing, a straight track
+        and a block that does not rotate), before any step."""
         pair = simulation.pair
         if not isinstance(pair, NodeToSegmentPair):
             raise SlidingError(
@@ -121,6 +127,7 @@ class Track:
             )
         if not isinstance(pair, WornTrackPair):
             grids = track_grids(pair, pair_weights(pair.condensed()))
+            _check_slave(pair, grids)
             zero = {body: np.zeros(grids[body][0].size) for body in BODIES}
             pair = WornTrackPair.of(pair, grids, zero["upper"], zero["lower"])
         simulation = attrs.evolve(simulation, pair=pair, reference=None)
