@@ -459,7 +459,8 @@ def small_cycles_section(ratios_path: Path, costs_path: Path) -> list[str]:
         "one marker per result) instead of two panels per step: the same curves on 2 axes",
         "instead of 10 (the demo's PNGs hold 9 axes instead of 17).",
         "",
-        "Not reached, and why:",
+        "Where the time goes against each limit (the table above says which this run met; a",
+        "ratio near its limit is met in some runs and not in others):",
         "",
         f"- *half-plane at 61 pairs*: the five steps alone take {1e3 * hp61['steps']:.1f} ms,",
         f"  {hp61['steps'] / c['peer_61']:.1f}x the peer's whole cycle: "
