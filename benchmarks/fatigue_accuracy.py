@@ -23,9 +23,8 @@ import argparse
 import numpy as np
 
 from fretbem.fatigue import METHODS, PlaneSearch, critical_plane_parameters
-from fretbem.fatigue import critical_plane as cp
 from fretbem.fatigue.mean_stress import MeanStressCorrection
-from fretbem.testing.fatigue import contact_stress_history, random_stress_history
+from fretbem.testing.fatigue import contact_stress_history, in_plane_scan, random_stress_history
 
 E, NU = 116000.0, 0.342
 KW = {"E": E, "nu": NU, "findley_k": 0.3, "fatemi_socie_k": 0.5, "yield_strength": 941.8}
@@ -58,20 +57,7 @@ def histories(n: int) -> dict[str, np.ndarray]:
 
 def scan_in_plane(stress, mean_stress, step_deg=0.01):
     """Each parameter's maximum and its plane over in-plane planes every ``step_deg``."""
-    criteria = cp._make_criteria(METHODS, E, NU, 0.3, 0.5, 941.8, mean_stress)
-    theta = np.deg2rad(np.arange(0.0, 180.0, step_deg))[None]
-    value = {c.name: np.empty(stress.shape[1]) for c in criteria}
-    angle = {c.name: np.empty(stress.shape[1]) for c in criteria}
-    for p in range(stress.shape[1]):
-        q = cp._plane_stats(
-            stress[:, p : p + 1], theta, np.full_like(theta, np.pi / 2), E, NU,
-            shear=True, strains=True, in_plane=True,
-        )  # fmt: skip
-        for c in criteria:
-            v = c.value(q, q["tau"] if c.needs_shear else 0 * q["tau"])[0]
-            j = int(np.argmax(v))
-            value[c.name][p], angle[c.name][p] = v[j], np.rad2deg(theta[0, j])
-    return value, angle
+    return in_plane_scan(stress, E=E, nu=NU, step_deg=step_deg, mean_stress=mean_stress)
 
 
 def dense_3d(stress, mean_stress, methods):

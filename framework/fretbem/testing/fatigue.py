@@ -8,9 +8,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from fretbem.fatigue import CattaneoMindlinCycle, last_full_reversal
+from fretbem.fatigue import METHODS, CattaneoMindlinCycle, last_full_reversal
+from fretbem.fatigue import critical_plane as cp
 
-__all__ = ["contact_stress_history", "random_stress_history"]
+__all__ = ["contact_stress_history", "in_plane_scan", "random_stress_history"]
 
 
 def contact_stress_history(
@@ -38,3 +39,35 @@ def random_stress_history(n: int = 40, seed: int = 5, *, nu: float = 0.342) -> n
     s += rng.normal(size=(1, n, 4)) * 30
     s[..., 3] = nu * (s[..., 0] + s[..., 1])
     return s
+
+
+def in_plane_scan(
+    stress: np.ndarray,
+    *,
+    E: float,
+    nu: float,
+    step_deg: float,
+    mean_stress=None,
+    findley_k: float = 0.3,
+    fatemi_socie_k: float = 0.5,
+    yield_strength: float = 941.8,
+) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
+    """Every criterion's largest value at each point of ``stress`` over the in-plane planes
+    every ``step_deg`` degrees, in double, and the plane's angle (degrees): the brute force
+    the searches are measured against."""
+    criteria = cp._make_criteria(
+        METHODS, E, nu, findley_k, fatemi_socie_k, yield_strength, mean_stress
+    )
+    theta = np.deg2rad(np.arange(0.0, 180.0, step_deg))[None]
+    value = {c.name: np.empty(stress.shape[1]) for c in criteria}
+    angle = {c.name: np.empty(stress.shape[1]) for c in criteria}
+    for p in range(stress.shape[1]):
+        q = cp._plane_stats(
+            stress[:, p : p + 1], theta, np.full_like(theta, np.pi / 2), E, nu,
+            shear=True, strains=True, in_plane=True,
+        )  # fmt: skip
+        for c in criteria:
+            v = c.value(q, q["tau"] if c.needs_shear else 0 * q["tau"])[0]
+            j = int(np.argmax(v))
+            value[c.name][p], angle[c.name][p] = v[j], np.rad2deg(theta[0, j])
+    return value, angle

@@ -15,7 +15,7 @@ from fretbem.fatigue import (
     critical_plane_parameters,
 )
 from fretbem.fatigue import critical_plane as cp
-from fretbem.testing.fatigue import contact_stress_history, random_stress_history
+from fretbem.testing.fatigue import contact_stress_history, in_plane_scan, random_stress_history
 
 E, NU = 116000.0, 0.342
 KW = {
@@ -42,17 +42,7 @@ HISTORIES = {"random": random_history, "contact": contact_like}
 
 def brute_force_in_plane(stress, step_deg=0.1):
     """Each parameter's maximum over in-plane planes every ``step_deg``, in double."""
-    criteria = cp._make_criteria(cp.METHODS, E, NU, 0.3, 0.5, 941.8, None)
-    theta = np.deg2rad(np.arange(0.0, 180.0, step_deg))[None]
-    out = {c.name: np.empty(stress.shape[1]) for c in criteria}
-    for p in range(stress.shape[1]):
-        q = cp._plane_stats(
-            stress[:, p : p + 1], theta, np.full_like(theta, np.pi / 2), E, NU,
-            shear=True, strains=True, in_plane=True,
-        )  # fmt: skip
-        for c in criteria:
-            out[c.name][p] = c.value(q, q["tau"] if c.needs_shear else 0 * q["tau"]).max()
-    return out
+    return in_plane_scan(stress, E=E, nu=NU, step_deg=step_deg)[0]
 
 
 @pytest.mark.parametrize("name", sorted(HISTORIES))
