@@ -143,27 +143,18 @@ def test_bem_bodies_slide_from_the_scene_file(tmp_path, capsys):
         assert 0.08 < sign * (centre - block) < 0.14
 
 
-def test_bem_bodies_slide_along_an_arc_from_the_scene_file(tmp_path, capsys):
-    """examples/gross_sliding_arc.toml through fretbem run (at 21 pairs): the pad slides 2 mm
-    along the convex specimen and back, turning with it; Q = f P both ways in the local
-    frame, q = f p at every pair, the pairs on the arc (the physics is checked in
+@pytest.mark.parametrize(
+    ("example", "slide"),
+    [("gross_sliding_arc.toml", 2.0), ("gross_sliding_groove.toml", 3.0)],
+)
+def test_bem_bodies_slide_along_an_arc_from_the_scene_file(tmp_path, capsys, example, slide):
+    """examples/gross_sliding_arc.toml (convex specimen) and gross_sliding_groove.toml
+    (concave) through fretbem run (at 21 pairs): the pad slides ``slide`` mm along the arc
+    and back, turning with it; Q = f P both ways in the local frame, q = f p at every
+    pair, the pressure centred within 0.15 mm of the block (the physics is checked in
     tests/validation/test_sliding_arc.py)."""
-    rows, steps = _slide_and_back(tmp_path, capsys, "gross_sliding_arc.toml")
-    for name, sign, block in (("slide", 1.0, 2.0), ("back", -1.0, 0.0)):
-        x, p, q = np.array(rows[name]).T
-        assert steps[name]["Q"] == pytest.approx(sign * 0.3 * steps[name]["P"], rel=1e-3)
-        assert np.max(np.abs(q - sign * 0.3 * p)) < 1e-9 * p.max()
-        centre = np.sum(x * p) / np.sum(p)
-        assert abs(centre - block) < 0.15  # x of the pairs: the arc's 2 mm is 1.9997 mm in x
-
-
-def test_bem_bodies_slide_in_a_groove_from_the_scene_file(tmp_path, capsys):
-    """examples/gross_sliding_groove.toml through fretbem run (at 21 pairs): the pad slides
-    3 mm along the concave groove and back, turning with it; Q = f P both ways in the local
-    frame, q = f p at every pair (the physics is checked in
-    tests/validation/test_sliding_arc.py)."""
-    rows, steps = _slide_and_back(tmp_path, capsys, "gross_sliding_groove.toml")
-    for name, sign, block in (("slide", 1.0, 3.0), ("back", -1.0, 0.0)):
+    rows, steps = _slide_and_back(tmp_path, capsys, example)
+    for name, sign, block in (("slide", 1.0, slide), ("back", -1.0, 0.0)):
         x, p, q = np.array(rows[name]).T
         assert steps[name]["Q"] == pytest.approx(sign * 0.3 * steps[name]["P"], rel=1e-3)
         assert np.max(np.abs(q - sign * 0.3 * p)) < 1e-9 * p.max()
