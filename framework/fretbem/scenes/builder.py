@@ -352,7 +352,13 @@ def build(scene: Scene, **contact_overrides):
         pad_elements = pad_levels["contact"].elements * len(
             [s for s in _face(scene, zone, True) if s.tag == "contact"]
         )
-        scene = sliding_scene(scene, zone, specimen_zone, pad_elements)
+        own = scene.specimen.pairs is not None or scene.specimen.elements is not None
+        specimen_elements = (  # [specimen] pairs or elements: a density in the zone
+            refinements(scene, specimen_family, zone, pad=False)["contact"].elements
+            if own
+            else None
+        )
+        scene = sliding_scene(scene, zone, specimen_zone, pad_elements, specimen_elements)
     pad = body_model(scene, "pad", pad_family, zone, pad_levels)
     specimen = body_model(
         scene,
@@ -364,8 +370,11 @@ def build(scene: Scene, **contact_overrides):
 
     steps = load_steps(scene.load)
     closed_form, reason = reference(scene)
+    # finite sliding stands its pairs on the pad's nodes, which move with the pad and stay
+    # faced by the longer track, whichever face has fewer nodes
+    sides = {"slave": "upper"} if scene.contact.sliding else {}
     return Simulation(
-        pairing(scene.contact.pairing)(pad, specimen),
+        pairing(scene.contact.pairing)(pad, specimen, **sides),
         steps,
         solver=solver(scene.contact.solver),
         law=law(scene.contact.law, scene.contact.friction),

@@ -3,7 +3,8 @@
 A pad that slides several contact widths needs the specimen's contact segment (the face it
 is paired on) to cover the whole slide: the track is a contact segment of half-width
 ``[contact] track_width`` (default: the candidate zone plus the largest displacement
-``delta`` of the history), meshed twice as finely as the pad's zone; straight on a flat
+``delta`` of the history), meshed twice as finely as the pad's zone (or at the density
+``[specimen]`` pairs or elements give in the zone); straight on a flat
 specimen, a circular arc on a cylinder specimen (convex) or a groove (concave); the pad turns
 with the arc as it slides.
 """
@@ -48,11 +49,14 @@ def track_face(track: float, specimen=None) -> list[Segment]:
     return [Segment("contact", NurbsCurve.line([-track, 0.0], [track, 0.0]))]
 
 
-def sliding_scene(scene: Scene, zone: float, track: float, pad_elements: int) -> Scene:
+def sliding_scene(
+    scene: Scene, zone: float, track: float, pad_elements: int, specimen_elements: int | None = None
+) -> Scene:
     """``scene`` ready for sliding on a track of half-width ``track``: a flat specimen long
     enough, its contact face meshed ``TRACK_DENSITY`` times as finely as the pad's zone
-    (``pad_elements`` elements over 2 ``zone``) unless ``[specimen]`` sets its own pairs or
-    elements."""
+    (``pad_elements`` elements over 2 ``zone``), or as finely as ``[specimen]`` pairs or
+    elements ask in the zone (``specimen_elements`` over 2 ``zone``): those keys count the
+    zone, as on every scene, and the track carries their density along the whole slide."""
     if scene.contact.pairing != "node-to-segment":
         raise SceneFileError(
             "[contact] sliding = true re-pairs the faces by projection as the pad slides, "
@@ -103,8 +107,9 @@ def sliding_scene(scene: Scene, zone: float, track: float, pad_elements: int) ->
             f"and the specimen's ends (half-{size} {ends / 2:.4g} mm); lengthen [specimen] "
             f"{size}, or set [contact] track_width within those bounds"
         )
-    specimen = scene.specimen
-    if specimen.pairs is not None or specimen.elements is not None:
-        return scene
-    elements = max(1, math.ceil(TRACK_DENSITY * pad_elements * track / zone))
-    return attrs.evolve(scene, specimen=attrs.evolve(specimen, elements=elements))
+    if specimen_elements is None:
+        elements = max(1, math.ceil(TRACK_DENSITY * pad_elements * track / zone))
+    else:
+        elements = max(1, math.ceil(specimen_elements * track / zone))
+    specimen = attrs.evolve(scene.specimen, pairs=None, elements=elements)
+    return attrs.evolve(scene, specimen=specimen)

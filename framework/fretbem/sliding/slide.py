@@ -197,6 +197,22 @@ def _check_track(pair: NodeToSegmentPair) -> None:
         )
 
 
+def _on_the_pad(pair: NodeToSegmentPair) -> NodeToSegmentPair:
+    """The pair with its pairs on the pad's nodes: they move with the pad and the track
+    faces them all the way, and the memory is carried on them. The default rule (the
+    coarser face) would stand them on the specimen when its face has fewer nodes, whose
+    nodes along the track beyond the pad face nothing; a pair set on the specimen is refused."""
+    if pair.slave == "coarser":
+        return attrs.evolve(pair, slave="upper") if pair.slave_side() == "lower" else pair
+    if pair.slave == "lower":
+        raise SlidingError(
+            "finite sliding keeps its pairs on the pad's nodes (they move with the pad and the "
+            "track faces them as it slides), but the pair has slave = 'lower' (the specimen's "
+            "nodes); use NodeToSegmentPair(..., slave='upper') or the default 'coarser'"
+        )
+    return pair
+
+
 def _spacing(pair: NodeToSegmentPair) -> float:
     points = pair.pairing().points
     return float(np.min(np.linalg.norm(np.diff(points, axis=0), axis=1)))
@@ -236,11 +252,12 @@ def run_sliding(
             f"{type(pair).__name__}; use NodeToSegmentPair ([contact] pairing = "
             "'node-to-segment')"
         )
+    pair = _on_the_pad(pair)
     try:
         track = Track.of(pair)
     except TrackError as err:
         raise SlidingError(str(err)) from None
-    simulation = attrs.evolve(simulation, reference=None)
+    simulation = attrs.evolve(simulation, pair=pair, reference=None)
     tangent = track.tangent
     offset = track.slide_of(pair)
     spacing = _spacing(pair)

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import csv
 import json
+import math
 from pathlib import Path
 
 import numpy as np
@@ -99,8 +100,16 @@ def test_the_track_covers_the_zone_and_the_largest_delta():
     assert track / pad == pytest.approx(TRACK_DENSITY * (zone + 2.8) / zone, rel=0.05)
     wide = scene_from_data(_scene(contact__track_width=4.0))
     assert track_half_width(wide, zone) == 4.0
+    # [specimen] pairs or elements count the zone, as on any scene: the track keeps that
+    # density along the whole slide (100 elements over 2 zone: 100 (zone + 2.8) / zone)
     own = scene_from_data(_scene(specimen__elements=100))
-    assert build(own)[0].pair.lower.contact_face("contact").n_nodes == 102
+    elements = math.ceil(100 * (zone + 2.8) / zone)
+    assert build(own)[0].pair.lower.contact_face("contact").n_nodes == elements + 2
+    pairs = scene_from_data(_scene(specimen__pairs=41))
+    assert (
+        build(pairs)[0].pair.lower.contact_face("contact").n_nodes
+        == math.ceil(39 * (zone + 2.8) / zone) + 2
+    )
 
 
 def test_sliding_refuses_implicit_wear_fatigue_without_map_and_the_adaptive_mode():
