@@ -75,8 +75,8 @@ def _check_slave(pair: NodeToSegmentPair, grids: dict) -> None:
             f"wear with finite sliding keeps each pair on a node of the {role} (the pair's "
             f"slave face), but {int(unfaced.sum())} of its nodes are not faced by the other "
             "face at the start, so their wear has no face length to be spread over; pair on "
-            "the pad's nodes (NodeToSegmentPair(slave='upper'); in a scene file give the pad "
-            "fewer contact nodes than the specimen)"
+            "the pad's nodes, NodeToSegmentPair(slave='upper') (a scene file's sliding pair "
+            "always does)"
         )
 
 
