@@ -46,9 +46,11 @@ def test_loads_between_ramps_a_dropped_load_down_and_an_added_one_up():
 @pytest.mark.parametrize("increments", [2, 4])
 def test_run_sliding_ramps_a_dropped_load_as_the_simulation_does(increments):
     """Without re-pairing (the pad moves less than a pair spacing) the sliding loop solves
-    the Simulation's problem: every increment's loads and tractions equal run()'s."""
+    the Simulation's problem on its pairs stood on the pad's nodes (as sliding always
+    stands them): every increment's loads and tractions equal run()'s on that pairing."""
     simulation = bulk_history(increments)
-    plain = run(simulation).steps[1].increments
+    on_the_pad = attrs.evolve(simulation, pair=attrs.evolve(simulation.pair, slave="upper"))
+    plain = run(on_the_pad).steps[1].increments
     sliding = run_sliding(simulation, every=1e6, note=None)
     assert sliding.repairings == 0
     slid = sliding.steps[1].increments
