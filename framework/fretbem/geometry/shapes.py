@@ -63,6 +63,21 @@ def _face_tags(curves_left_to_right: list[list[NurbsCurve]]) -> list[Segment]:
     )
 
 
+def _arc_specimen_boundary(arcs: list[NurbsCurve], half: float, h: float) -> Boundary:
+    """A specimen whose face is three arcs right to left (flank, contact, flank) between
+    vertical sides, its bottom at y = -h: the cylinder's and the groove's."""
+    return Boundary(
+        [
+            Segment("bottom", NurbsCurve.line([-half, -h], [half, -h])),
+            Segment("side_right", NurbsCurve.line([half, -h], arcs[0].points([0.0])[0])),
+            Segment("flank_right", arcs[0]),
+            Segment("contact", arcs[1]),
+            Segment("flank_left", arcs[2]),
+            Segment("side_left", NurbsCurve.line(arcs[2].points([1.0])[0], [-half, -h])),
+        ]
+    )
+
+
 def _pad_boundary(face: list[Segment], half_width: float, height: float) -> Boundary:
     left = face[0].curve.points([0.0])[0]
     right = face[-1].curve.points([1.0])[0]
@@ -299,16 +314,7 @@ class CylinderSpecimen:
                 f"a cylinder specimen (radius {r:g} mm) faces node to node only a cylinder pad "
                 "of the same radius; for other pairs use a flat specimen or shape = 'nurbs'"
             )
-        return Boundary(
-            [
-                Segment("bottom", NurbsCurve.line([-half, -h], [half, -h])),
-                Segment("side_right", NurbsCurve.line([half, -h], arcs[0].points([0.0])[0])),
-                Segment("flank_right", arcs[0]),
-                Segment("contact", arcs[1]),
-                Segment("flank_left", arcs[2]),
-                Segment("side_left", NurbsCurve.line(arcs[2].points([1.0])[0], [-half, -h])),
-            ]
-        )
+        return _arc_specimen_boundary(arcs, half, h)
 
 
 @attrs.frozen
@@ -378,18 +384,7 @@ class GrooveSpecimen:
             )
         down = -math.pi / 2
         angles = [down + math.asin(x / r) for x in (half, max(ends), min(ends), -half)]
-        arcs = _arcs([0.0, r], r, angles)
-        top_right, top_left = arcs[0].points([0.0])[0], arcs[2].points([1.0])[0]
-        return Boundary(
-            [
-                Segment("bottom", NurbsCurve.line([-half, -h], [half, -h])),
-                Segment("side_right", NurbsCurve.line([half, -h], top_right)),
-                Segment("flank_right", arcs[0]),
-                Segment("contact", arcs[1]),
-                Segment("flank_left", arcs[2]),
-                Segment("side_left", NurbsCurve.line(top_left, [-half, -h])),
-            ]
-        )
+        return _arc_specimen_boundary(_arcs([0.0, r], r, angles), half, h)
 
 
 @attrs.frozen(eq=False)
