@@ -17,12 +17,9 @@ cycle assembles with the numpy loops and the 481-pair one with the compiled loop
 from __future__ import annotations
 
 import argparse
-import json
-import os
-import statistics
-import subprocess
-import sys
 from pathlib import Path
+
+from phase_rounds import interleaved, medians
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -67,30 +64,8 @@ def main() -> None:
     parser.add_argument("--pairs", default="61,481", help="comma-separated pair counts")
     args = parser.parse_args()
     trees = {"before": args.before.resolve(), "after": args.after.resolve()}
-    counts = args.pairs.split(",")
-    rows: dict[str, dict[str, list]] = {name: {p: [] for p in counts} for name in trees}
-    load = [os.getloadavg()[0]]
-    for _ in range(args.rounds):
-        for name, tree in trees.items():
-            path = f"{tree / 'framework'}{os.pathsep}{tree / 'plugins'}"
-            env = dict(os.environ, OPENBLAS_NUM_THREADS="1", PYTHONPATH=path)
-            text = subprocess.run(
-                [sys.executable, "-c", CHILD, str(ROOT / "benchmarks"), str(args.cycles),
-                 args.pairs],
-                env=env, capture_output=True, text=True, check=True,
-            ).stdout  # fmt: skip
-            for pairs, values in json.loads(text.strip().splitlines()[-1]).items():
-                rows[name][pairs] += values
-    load.append(os.getloadavg()[0])
-    print(f"load {load[0]:.2f} -> {load[1]:.2f}; CPU ms, medians of "
-          f"{args.rounds} rounds x {args.cycles} cycles")  # fmt: skip
-    for pairs in counts:
-        for name in trees:
-            values = rows[name][pairs]
-            medians = [statistics.median(v[i] for v in values) * 1e3 for i in range(6)]
-            ratio = statistics.median(v[4] / v[5] for v in values)
-            text = ", ".join(f"{p} {m:6.1f}" for p, m in zip(PHASES, medians, strict=True))
-            print(f"{name:6s} {pairs:>3s} pairs: {text}; cycle / peer {ratio:.2f}")
+    rows, load = interleaved(CHILD, trees, args.rounds, [str(args.cycles), args.pairs])
+    medians(rows, PHASES, args.rounds, args.cycles, load)
 
 
 if __name__ == "__main__":

@@ -18,10 +18,9 @@ import argparse
 import json
 import os
 import platform
-import statistics
-import subprocess
-import sys
 from pathlib import Path
+
+from phase_rounds import interleaved, medians
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -64,40 +63,18 @@ def main() -> None:
     parser.add_argument("--json", type=Path, help="write the medians and ratios here")
     args = parser.parse_args()
     trees = {"before": args.before.resolve(), "after": args.after.resolve()}
-    rows: dict[str, dict[str, list]] = {name: {"61": [], "481": []} for name in trees}
-    load = [os.getloadavg()[0]]
-    for _ in range(args.rounds):
-        for name, tree in trees.items():
-            path = f"{tree / 'framework'}{os.pathsep}{tree / 'plugins'}"
-            env = dict(os.environ, OPENBLAS_NUM_THREADS="1", PYTHONPATH=path)
-            text = subprocess.run(
-                [sys.executable, "-c", CHILD, str(ROOT / "benchmarks"), str(args.cycles)],
-                env=env, capture_output=True, text=True, check=True,
-            ).stdout  # fmt: skip
-            for pairs, values in json.loads(text.strip().splitlines()[-1]).items():
-                rows[name][pairs] += values
-    load.append(os.getloadavg()[0])
-    print(f"load {load[0]:.2f} -> {load[1]:.2f}; CPU ms, medians of "
-          f"{args.rounds} rounds x {args.cycles} cycles")  # fmt: skip
-    result: dict = {
-        "machine": f"{os.cpu_count()} cores, {platform.platform()}, Python "
-        f"{platform.python_version()}",
-        "load": load,
-        "rounds": args.rounds,
-        "cycles": args.cycles,
-        "medians_ms": {name: {} for name in trees},
-        "ratios": {name: {} for name in trees},
-    }
-    for pairs in ("61", "481"):
-        for name in trees:
-            values = rows[name][pairs]
-            medians = [statistics.median(v[i] for v in values) * 1e3 for i in range(5)]
-            ratio = statistics.median(v[3] / v[4] for v in values)
-            text = ", ".join(f"{p} {m:6.1f}" for p, m in zip(PHASES, medians, strict=True))
-            print(f"{name:6s} {pairs:>3s} pairs: {text}; cycle / peer {ratio:.2f}")
-            result["medians_ms"][name][pairs] = dict(zip(PHASES, medians, strict=True))
-            result["ratios"][name][pairs] = ratio
+    rows, load = interleaved(CHILD, trees, args.rounds, [str(args.cycles)])
+    table, ratios = medians(rows, PHASES, args.rounds, args.cycles, load)
     if args.json:
+        result = {
+            "machine": f"{os.cpu_count()} cores, {platform.platform()}, Python "
+            f"{platform.python_version()}",
+            "load": load,
+            "rounds": args.rounds,
+            "cycles": args.cycles,
+            "medians_ms": table,
+            "ratios": ratios,
+        }
         args.json.write_text(json.dumps(result, indent=1))
 
 
