@@ -753,10 +753,8 @@ def adaptive_section(path: Path) -> list[str]:
         runs = data.get(loops)
         if not runs:
             continue
-        before, after = runs["before"]["ratios"][key], runs["after"]["ratios"][key]
-        met = "—" if limit is None else ("yes" if after <= limit else "no")
-        shown = "—" if limit is None else f"{limit:g}"
-        lines.append(f"| {label} | {shown} | {before:.3g} | {after:.3g} | {met} |")
+        lines.append(_ratio_row(label, limit, runs["before"]["ratios"][key],
+                                runs["after"]["ratios"][key]))  # fmt: skip
     medians = {k: data["compiled"][k]["medians"] for k in ("before", "after")}
     lines += [
         "",
@@ -767,14 +765,7 @@ def adaptive_section(path: Path) -> list[str]:
         )
         + ".",
         "",
-        *data["why"],
-        "",
-        "Reproduce:",
-        "",
-        "```",
-        *data["commands"],
-        "```",
-        "",
+        *_why_and_commands(data),
     ]
     return lines
 
@@ -825,12 +816,20 @@ def searches_section(path: Path) -> list[str]:
         "|---|---|---|---|---|",
     ]
     for row in data["rows"]:
-        before, after = row["before"], row["after"]
-        met = "yes" if after <= row["limit"] else "no"
-        lines.append(f"| {row['name']} | {row['limit']:g} | {before:.3g} | {after:.3g} | {met} |")
-    lines += ["", *data["why"], "", "Reproduce:", "", "```"]
-    lines += [*data["commands"], "```", ""]
-    return lines
+        lines.append(_ratio_row(row["name"], row["limit"], row["before"], row["after"]))
+    return [*lines, "", *_why_and_commands(data)]
+
+
+def _ratio_row(label: str, limit: float | None, before: float, after: float) -> str:
+    """A table row: the ratio's limit (— if none), before, after and whether it is met."""
+    met = "—" if limit is None else ("yes" if after <= limit else "no")
+    shown = "—" if limit is None else f"{limit:g}"
+    return f"| {label} | {shown} | {before:.3g} | {after:.3g} | {met} |"
+
+
+def _why_and_commands(data: dict) -> list[str]:
+    """A section's closing lines from its JSON: why, then the commands that reproduce it."""
+    return [*data["why"], "", "Reproduce:", "", "```", *data["commands"], "```", ""]
 
 
 def write_page(
