@@ -26,6 +26,8 @@ import tomllib
 
 from fretbem.app import cli
 from fretbem.contact import rotation as pad_rotation
+from fretbem.contact.control import Rig
+from fretbem.errors import InputError
 from fretbem.scenes.builder import build
 from fretbem.scenes.file import scene_from_data
 from fretbem.scenes.spec import SceneFileError
@@ -228,3 +230,13 @@ def test_the_example_scene_writes_the_blocks_turn(tmp_path):
         rows = list(csv.DictReader(handle))
     assert {"M", "theta"} <= set(rows[0]) and len(rows) == 49
     assert (out / "history.pvd").exists()
+
+
+@pytest.mark.parametrize("bad", [True, "3", np.nan, np.inf, [1.0, 2.0, 3.0], {"x": 1.0}])
+def test_a_bad_pivot_is_refused_naming_the_field(bad):
+    simulation = scene(pairs=21, **CASES["spring"])
+    with pytest.raises(InputError, match=r"Simulation\.pivot .*; give two numbers"):
+        attrs.evolve(simulation, pivot=[0.0, bad] if not isinstance(bad, list) else bad)
+    pinned = simulation.pinned()
+    assert pinned.pivot is not None and np.array_equal(pinned.pivot, simulation.block_pivot())
+    assert pinned.pinned() is pinned and attrs.evolve(simulation, rig=Rig()).pinned().pivot is None
