@@ -83,6 +83,20 @@ def _rotation_drive(value, field) -> float | None:
     return real_number(f"LoadStep.{field.name}", value, what=what, fix=fix, error=InputError)
 
 
+def _point(value) -> np.ndarray | None:
+    """A pivot: None, or a finite point (x, y) in the pad's axes (mm)."""
+    if value is None:
+        return None
+    fix = "give two numbers (x, y), or None to find it above the pad's first contact"
+    if isinstance(value, (str, bytes, Mapping)) or np.ndim(value) != 1 or len(value) != 2:
+        raise LoadHistoryError(
+            f"Simulation.pivot must be a point (x, y) in the pad's axes (mm), got {value!r}; {fix}"
+        )
+    where = "Simulation.pivot"
+    return np.array([real_number(where, v, what="mm", fix=fix, error=LoadHistoryError)
+                     for v in value])  # fmt: skip
+
+
 @attrs.frozen
 class LoadStep:
     """Loads (or block displacements) at the end of one step, reached linearly from the
@@ -244,6 +258,10 @@ class Simulation:
     rig : Rig
         Springs between the actuator and the pad's block (default rigid): a step's delta
         or approach is then the actuator's (:mod:`fretbem.contact.control`).
+    pivot : ndarray, shape (2,) or None
+        Where a rotating block turns, in the pad's own axes (mm); None: found from the pair
+        (:func:`fretbem.contact.rotation.pivot`). Runs that change the pair as they go
+        (finite sliding, wear) pin it where the pad started (:meth:`pinned`).
     """
 
     pair: ContactPair
@@ -257,6 +275,7 @@ class Simulation:
     rig: control.Rig = attrs.field(
         factory=control.Rig, validator=attrs.validators.instance_of(control.Rig), kw_only=True
     )
+    pivot: np.ndarray | None = attrs.field(default=None, kw_only=True, converter=_point)
     #: the controlled problems of the condensed pair, per Controls (a private cache)
     _controlled: dict = attrs.field(init=False, factory=dict, repr=False)
     #: the rotating problem of each condensed pair (a private cache)
@@ -345,13 +364,29 @@ class Simulation:
         problem = self.pair.condensed()
         return self.rotating(problem) if self.rotates else problem
 
+    def block_pivot(self) -> np.ndarray:
+        """Where the pad's block turns, in the pad's axes: :attr:`pivot`, or the rig's pivot
+        above the first contact of the simulation's own pair."""
+        if self.pivot is not None:
+            return self.pivot
+        try:
+            return pad_rotation.pivot(self.pair.condensed(), self.rig.pivot_height)
+        except RotationError as err:
+            raise LoadHistoryError(str(err)) from None
+
+    def pinned(self) -> Simulation:
+        """The simulation with a rotating block's pivot fixed where it is now, for a run
+        that changes the pair (a worn or re-paired problem keeps the first's pivot)."""
+        if not self.rotates or self.pivot is not None:
+            return self
+        return attrs.evolve(self, pivot=self.block_pivot())
+
     def rotating(self, problem: CondensedContact) -> CondensedContact:
         """``problem`` with the pad block's rotation held by the rig (cached per problem)."""
         cached = self._rotating.get(id(problem))
         if cached is None or cached[0] is not problem:
+            pivot = self.block_pivot()
             try:
-                # the pivot of the simulation's own pair (a worn or re-paired problem keeps it)
-                pivot = pad_rotation.pivot(self.pair.condensed(), self.rig.pivot_height)
                 turned = control.rotating(problem, self.rig, pivot)
             except RotationError as err:
                 raise LoadHistoryError(str(err)) from None
@@ -481,7 +516,7 @@ def _turning(problem: CondensedContact) -> bool:
     return problem.rotation is not None and problem.rotation.in_unknowns
 
 
-def _carried(simulation: Simulation, problem) -> None:
+def check_balance(simulation: Simulation, problem) -> None:
     """Refuse, before solving, a step whose P, Q and M put the contact's centre d = (h Q -
     M) / P beyond the candidate zone (by half its reach again: no contact there can carry
     it); the solver would otherwise overflow on it."""
@@ -491,10 +526,10 @@ def _carried(simulation: Simulation, problem) -> None:
             continue
         centre = (height * load.tangential - load.moment) / load.normal
         if not reach[0] * 1.5 <= centre <= reach[1] * 1.5:
-            raise LoadHistoryError(_no_balance(simulation, problem, load, "found before solving"))
+            raise LoadHistoryError(no_balance(simulation, problem, load, "found before solving"))
 
 
-def _no_balance(simulation: Simulation, problem, load: LoadStep, failure) -> str:
+def no_balance(simulation: Simulation, problem, load: LoadStep, failure) -> str:
     """The message of a rotating simulation whose step found no solution (the likely cause,
     the block tipping, with the scene keys that turn it)."""
     keys = [name for name, given in (
@@ -547,7 +582,7 @@ def run(
         "condensation": problem.seconds,
     }
     if simulation.rotates:
-        _carried(simulation, problem)
+        check_balance(simulation, problem)
     friction = getattr(simulation.law, "friction", float("nan"))
     state = ContactState.initial(problem)
     history: list[float] = []
@@ -567,7 +602,7 @@ def run(
             except SolverConvergenceError as failure:
                 if not simulation.rotates:
                     raise
-                message = _no_balance(simulation, problem, load, failure)
+                message = no_balance(simulation, problem, load, failure)
                 raise SolverConvergenceError(message, failure.residuals) from None
             if cursor is not None:
                 cursor.keep(load, Reached(state, iterations, tuple(residuals), tuple(increments)))
@@ -598,6 +633,8 @@ __all__ = [
     "LoadHistoryError",
     "LoadStep",
     "Simulation",
+    "check_balance",
     "loads_between",
+    "no_balance",
     "run",
 ]

@@ -24,40 +24,12 @@ import pytest
 import tomllib
 
 from fretbem.contact import rotation as pad_rotation
-from fretbem.contact.faces import FaceField
 from fretbem.scenes.builder import build
 from fretbem.scenes.file import scene_from_data
 from fretbem.sliding import run_sliding
+from fretbem.testing.sliding import traction_moment
 
 ROOT = Path(__file__).resolve().parents[2]
-#: Gauss points per interval, intervals per face segment of the independent quadrature
-GAUSS, INTERVALS = 8, 400
-
-
-def traction_moment(step, pair) -> tuple[float, np.ndarray]:
-    """Minus the moment of the contact tractions on the pad about its pivot (what the block
-    must apply) and their resultant force, in the pad's axes, integrated over its face."""
-    pairing, problem = pair.pairing(), pair.condensed()
-    normals, tangents = pairing.axes("upper")
-    traction = step.pressure[:, None] * normals - step.shear[:, None] * tangents  # on the pad
-    assert pair.slave_side() == "upper"  # the pairs are the pad's nodes, in its order
-    body, tag = pair.side("upper")
-    field = FaceField.of(body, tag)
-    nodes = pairing.pull("upper", traction, axis=0)
-    pivot = pad_rotation.pivot(problem)
-    gauss, weights = np.polynomial.legendre.leggauss(GAUSS)
-    moment, force = 0.0, np.zeros(2)
-    for k, basis in enumerate(field.segments):
-        breaks = np.linspace(*basis.curve.domain, INTERVALS + 1)
-        low, high = breaks[:-1, None], breaks[1:, None]
-        params = (0.5 * (low + high) + 0.5 * (high - low) * gauss).ravel()
-        length = (0.5 * (high - low) * weights).ravel() * basis.curve.jacobians(params)
-        segment = np.full(params.shape, k)
-        values = field.interpolation(segment, params) @ nodes
-        arm = field.points(segment, params) - pivot
-        moment += float(np.sum((arm[:, 0] * values[:, 1] - arm[:, 1] * values[:, 0]) * length))
-        force += values.T @ length
-    return -moment, force
 
 
 def slide(example: str, pairs: int, a: float, **tables) -> tuple:

@@ -136,7 +136,7 @@ def reference(scene: Scene):
     pad, specimen = scene.pad.material, scene.specimen.material
     if scene.load.approach is not None:
         return None, "the normal approach is imposed (P is an output of the run)"
-    if _rotates(scene):
+    if scene.block_rotates:
         return None, (
             "the pad's block rotates (a [load] moment or rotation, or [rig] "
             "stiffness_rotation): the contact shifts with the tilt, which the centred closed "
@@ -170,13 +170,6 @@ def reference(scene: Scene):
         reason = nh.applies(scene.load.Q, scene.load.bulk)
         return (BulkPath(nh, scene.load.bulk), None) if reason is None else (None, reason)
     return MindlinDeresiewicz(contact, scene.contact.friction), None
-
-
-def _rotates(scene: Scene) -> bool:
-    """Whether the scene turns the pad's block (a moment, a rotation or a rotational spring)."""
-    load = scene.load
-    turns = load.moment is not None or any(load.rotation or ())
-    return turns or getattr(scene.rig, "stiffness_rotation", None) is not None
 
 
 @attrs.frozen

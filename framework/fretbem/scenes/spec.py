@@ -553,6 +553,14 @@ class Scene:
     legacy: bool = False
     rig: RigSpec = attrs.field(factory=RigSpec)
 
+    @property
+    def block_rotates(self) -> bool:
+        """Whether the scene turns the pad's block (a moment, a rotation or a rotational
+        spring)."""
+        load = self.load
+        turns = load is not None and (load.moment is not None or any(load.rotation or ()))
+        return turns or self.rig.stiffness_rotation is not None
+
     def __repr__(self) -> str:
         return scene_repr(self)
 

@@ -12,7 +12,6 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 
-import attrs
 import numpy as np
 
 from fretbem.results import AccuracyRecord, SimulationResult
@@ -60,7 +59,7 @@ def solve_sliding(
         "total": seconds,
     }
     return SimulationResult(
-        simulation=attrs.evolve(simulation, reference=None),
+        simulation=sliding.simulation,
         steps=sliding.steps,
         timings=timings,
         accuracy=record,
@@ -76,6 +75,8 @@ def step_solutions(result: SimulationResult, step) -> dict:
     if getattr(step, "pair", None) is None:
         return result.simulation.prepare().solutions(step.unknowns, step.loads)
     problem = step.pair.condensed()
+    if result.simulation.rotates:  # about the pivot pinned where the pad started
+        problem = result.simulation.rotating(problem)
     x = np.array(step.unknowns, dtype=float)
     slide = np.asarray(getattr(step.pair, "offset", 0.0))
     turn = getattr(step.pair, "turn", 0.0)

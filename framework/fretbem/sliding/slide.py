@@ -42,7 +42,8 @@ from fretbem.contact.node_to_segment import NodeToSegmentPair
 from fretbem.contact.pairs import ContactDiscretisationError
 from fretbem.errors import InputError
 from fretbem.results import IncrementRecord, StepResult
-from fretbem.simulation import Simulation, loads_between
+from fretbem.simulation import Simulation, check_balance, loads_between, no_balance
+from fretbem.solvers.newton import SolverConvergenceError
 from fretbem.verification.checks import check_step
 
 from .track import STRAIGHT, Track, TrackError
@@ -74,6 +75,9 @@ class SlidingResult:
         What the run reported: new points coming into contact.
     repairings : int
         How many times the faces were paired again.
+    simulation : Simulation or None
+        The simulation as run: its pairs on the pad's nodes, a rotating block's pivot
+        pinned where the pad started (:meth:`~fretbem.simulation.Simulation.pinned`).
     """
 
     steps: tuple[StepResult, ...]
@@ -82,6 +86,7 @@ class SlidingResult:
     pairs: tuple[NodeToSegmentPair, ...]
     notes: tuple[str, ...]
     repairings: int
+    simulation: Simulation | None = None
 
     def __getitem__(self, name: str) -> StepResult:
         for step in self.steps:
@@ -213,6 +218,26 @@ def _on_the_pad(pair: NodeToSegmentPair) -> NodeToSegmentPair:
     return pair
 
 
+def condenser(simulation: Simulation, straight: bool = True) -> Callable:
+    """How a sliding run condenses each pairing: the pair's own problem, or, for a block
+    that rotates (:attr:`~fretbem.simulation.Simulation.rotates`), with the rotation about
+    the pivot pinned where the pad starts (a point of the pad, in its own axes, so every
+    pairing carries the same pivot as the pad slides: :meth:`Simulation.pinned`). On an
+    arc (not ``straight``) the pad turns, and its rotation would be about its own axes
+    while the contact's rows are in the turned frame: refused."""
+    if not simulation.rotates:
+        return lambda pair: pair.condensed()
+    if not straight:
+        raise SlidingError(
+            "finite sliding along an arc turns the pad with the track, and a rotating block "
+            "([rig] stiffness_rotation, [load] moment or rotation) would turn about the pad's "
+            "own axes while the contact's rows are in the turned frame; leave the rotation "
+            "out on an arc, or slide on a flat specimen ([specimen] shape = 'flat')"
+        )
+    check_balance(simulation, simulation.prepare())
+    return lambda pair: simulation.rotating(pair.condensed())
+
+
 def _spacing(pair: NodeToSegmentPair) -> float:
     points = pair.pairing().points
     return float(np.min(np.linalg.norm(np.diff(points, axis=0), axis=1)))
@@ -238,13 +263,6 @@ def run_sliding(
     """
     if not every >= 0.0:
         raise SlidingError(f"every must be a number of pair spacings >= 0, got {every!r}")
-    if getattr(simulation, "rotates", False):
-        raise SlidingError(
-            "finite sliding re-pairs the faces as the pad slides, with the pad's block held "
-            "against rotation; a rotating block ([rig] stiffness_rotation, [load] moment or "
-            "rotation) is not followed by the re-pairing: set [contact] sliding = false, or "
-            "leave the rotation out"
-        )
     pair = simulation.pair
     if not isinstance(pair, NodeToSegmentPair):
         raise SlidingError(
@@ -257,11 +275,12 @@ def run_sliding(
         track = Track.of(pair)
     except TrackError as err:
         raise SlidingError(str(err)) from None
-    simulation = attrs.evolve(simulation, pair=pair, reference=None)
+    simulation = attrs.evolve(simulation, pair=pair, reference=None).pinned()
+    condensed, first = condenser(simulation, track.straight), pair
     tangent = track.tangent
     offset = track.slide_of(pair)
     spacing = _spacing(pair)
-    problem = pair.condensed()
+    problem = condensed(pair)
     state = ContactState.initial(problem)
     friction = getattr(simulation.law, "friction", float("nan"))
     master, seen = _loaded(pair, state.states, track)
@@ -272,7 +291,7 @@ def run_sliding(
         controls = load.controls
         tic, iterations, residuals = time.perf_counter(), 0, []
         fresh = np.zeros_like(seen)
-        start_n, start_t, _ = simulation._start(problem, state, controls)
+        start_n, start_t, start_r = simulation._start(problem, state, controls)
         if controls.tangential == "displacement":
             start_t += offset  # delta where the pad physically is
         start_loads = dict(state.loads)
@@ -281,6 +300,7 @@ def run_sliding(
             frac = k / load.increments
             target_n = start_n + frac * (load.normal_target - start_n)
             target_t = start_t + frac * (load.tangential_target - start_t)
+            target_r = start_r + frac * (load.rotation_target - start_r)
             loads = loads_between(start_loads, load.loads, frac)
             # where the pad's face will be (delta-driven: the block's coming move on top of
             # the face's slide so far) or is (force-driven), against the pairing
@@ -294,14 +314,21 @@ def run_sliding(
                 if not track.straight and not state.virgin:  # the block turns with the pad
                     block = state.x[problem.layout.block("upper")]
                     shift = block - track.carried(pair, block, ahead)
-                problem = pair.condensed()
+                problem = condensed(pair)
                 state = _carried(state, problem, shift)
                 simulation = attrs.evolve(simulation, pair=pair)
                 repairings += 1
             driven_t = target_t - offset if controls.tangential == "displacement" else target_t
-            state, its, res = simulation._increment(
-                problem, state, target_n, driven_t, loads, controls=controls
-            )
+            try:
+                state, its, res = simulation._increment(
+                    problem, state, target_n, driven_t, loads, controls=controls,
+                    rotation=target_r,
+                )  # fmt: skip
+            except SolverConvergenceError as failure:
+                if not simulation.rotates:
+                    raise
+                message = no_balance(simulation, problem, load, failure)
+                raise SolverConvergenceError(message, failure.residuals) from None
             iterations += its
             residuals += res
             increments.append(_slid(IncrementRecord.of(problem, state, simulation.rig), offset))
@@ -348,5 +375,6 @@ def run_sliding(
         if progress is not None:
             progress(len(results), len(simulation.steps), result)
     return SlidingResult(
-        tuple(results), tuple(offsets), tuple(positions), tuple(pairs), tuple(notes), repairings
-    )
+        tuple(results), tuple(offsets), tuple(positions), tuple(pairs), tuple(notes), repairings,
+        attrs.evolve(simulation, pair=first),
+    )  # fmt: skip

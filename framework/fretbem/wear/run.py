@@ -349,6 +349,7 @@ def worn_simulation(simulation: Simulation, profile: WornProfile, sliding: bool 
     ``sliding`` a :class:`~fretbem.wear.track.WornTrackPair` carrying each face's wear at
     its material points, to run with finite sliding."""
     touching = all(getattr(s, "approach", None) is None for s in simulation.steps)
+    simulation = simulation.pinned()  # a rotating block turns where the unworn pad's did
     if sliding:
         pair = Track.start(simulation).pair.rewear(profile.upper, profile.lower)
         pair = pair.touching() if touching else pair

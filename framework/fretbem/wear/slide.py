@@ -38,9 +38,10 @@ from fretbem.sliding.slide import (
     _check_track,
     _repaired,
     _spacing,
+    condenser,
 )
 
-from .cycle import CycleWear
+from .cycle import BLOCK_ROTATION, CycleWear
 from .law import WearLaw
 from .profile import BODIES, WornProfile, pair_weights
 from .track import WornTrackPair, spread, track_grids
@@ -108,8 +109,8 @@ class Track:
 
     @classmethod
     def start(cls, simulation: Simulation) -> Track:
-        """The unworn contact of ``simulation`` (node-to-segment pairing, a straight track
-        and a block that does not rotate), before any step."""
+        """The unworn contact of ``simulation`` (node-to-segment pairing, a straight track;
+        a rotating block turns about the pivot of this first pairing), before any step."""
         pair = simulation.pair
         if not isinstance(pair, NodeToSegmentPair):
             raise SlidingError(
@@ -118,20 +119,20 @@ class Track:
                 "'node-to-segment')"
             )
         check_pair(pair)
-        if simulation.rotates:
-            raise SlidingError(
-                "wear with finite sliding re-pairs the faces as the pad slides, with the pad's "
-                "block held against rotation; a rotating block ([rig] stiffness_rotation, "
-                "[load] moment or rotation) is not followed by the re-pairing: set [contact] "
-                "sliding = false, or leave the rotation out"
-            )
+        simulation = simulation.pinned()  # a rotating block keeps the first pairing's pivot
         if not isinstance(pair, WornTrackPair):
             grids = track_grids(pair, pair_weights(pair.condensed()))
             _check_slave(pair, grids)
             zero = {body: np.zeros(grids[body][0].size) for body in BODIES}
             pair = WornTrackPair.of(pair, grids, zero["upper"], zero["lower"])
         simulation = attrs.evolve(simulation, pair=pair, reference=None)
-        return cls(simulation, pair.condensed(), pair.pairing().tangents[0], _spacing(pair))
+        problem = condenser(simulation)(pair)
+        return cls(simulation, problem, pair.pairing().tangents[0], _spacing(pair))
+
+    def condensed(self, pair: WornTrackPair) -> CondensedContact:
+        """``pair``'s condensation, with a rotating block's rotation about the pinned pivot."""
+        problem = pair.condensed()
+        return self.simulation.rotating(problem) if self.simulation.rotates else problem
 
     @property
     def pair(self) -> WornTrackPair:
@@ -149,7 +150,7 @@ class Track:
         """The same pairing with the faces worn to ``profile`` (its grid)."""
         pair = self.pair.rewear(profile.upper, profile.lower)
         return attrs.evolve(
-            self, simulation=attrs.evolve(self.simulation, pair=pair), problem=pair.condensed()
+            self, simulation=attrs.evolve(self.simulation, pair=pair), problem=self.condensed(pair)
         )
 
     def block(self, state: ContactState) -> float:
@@ -177,12 +178,12 @@ class Track:
             pair = _repaired(self.pair, slide, self.tangent, name, state.states)
             ahead = slide - self.pair.slide()
             self.pairings[key] = pair
-        problem = pair.condensed()
+        problem = self.condensed(pair)
         state = _carried(state, problem, ahead * self.tangent)
         touching = state.states != PairState.SEPARATED
         if touching.any():  # where the pad's surface is against its block's travel
             pair = pair.rewear(pair.upper_wear, pair.lower_wear, float(state.slip[touching].mean()))
-            problem = pair.condensed()
+            problem = self.condensed(pair)
         track = attrs.evolve(self, simulation=attrs.evolve(self.simulation, pair=pair),
                              problem=problem)  # fmt: skip
         return track, state
@@ -196,7 +197,7 @@ class Track:
         state and the Newton iterations."""
         track, controls, iterations = self, load.controls, 0
         displacement = controls.tangential == "displacement"
-        start_n, start_t, _ = track.simulation._start(track.problem, state, controls)
+        start_n, start_t, start_r = track.simulation._start(track.problem, state, controls)
         if displacement:
             start_t += track.pair.slide()  # delta where the pad physically is
         start_loads = dict(state.loads)
@@ -204,6 +205,7 @@ class Track:
             frac = k / load.increments
             target_n = start_n + frac * (load.normal_target - start_n)
             target_t = start_t + frac * (load.tangential_target - start_t)
+            target_r = start_r + frac * (load.rotation_target - start_r)
             loads = loads_between(start_loads, load.loads, frac)
             ahead = track.block(state)
             if displacement and not state.virgin:
@@ -213,8 +215,9 @@ class Track:
             driven_t = target_t - track.pair.slide() if displacement else target_t
             before = state
             state, its, _ = track.simulation._increment(
-                track.problem, state, target_n, driven_t, loads, controls=controls
-            )
+                track.problem, state, target_n, driven_t, loads, controls=controls,
+                rotation=target_r,
+            )  # fmt: skip
             iterations += its
             if record is not None:
                 record(track, before, state)
@@ -240,7 +243,7 @@ def simulate_sliding_cycle(
         np.zeros(profile.x.size) for _ in range(4)
     )
     path = np.zeros(n)
-    pressures, shears, positions, iterations = [], [], [], 0
+    pressures, shears, positions, turns, iterations = [], [], [], [], 0
 
     def place(body, now, before, after, w, volume):
         """Depth on ``body``'s points of the pairs' ``volume``: at the slave's own nodes,
@@ -274,8 +277,12 @@ def simulate_sliding_cycle(
         pressures.append(state.x[track.problem.layout.pressure].copy())
         shears.append(state.x[track.problem.layout.shear].copy())
         positions.append(track.positions(state))
+        if track.simulation.rotates:
+            measured = track.simulation.measure(track.problem, state)
+            turns.append([measured[k] for k in BLOCK_ROTATION])
+    block = dict(zip(BLOCK_ROTATION, np.array(turns).T, strict=True)) if turns else {}
     wear_cycle = CycleWear(
         depth, sensitivities, energy, energy_sensitivity, work, work_sensitivity, path,
-        np.array(pressures), np.array(shears), state, iterations, np.array(positions),
+        np.array(pressures), np.array(shears), state, iterations, np.array(positions), **block,
     )  # fmt: skip
     return wear_cycle, track
