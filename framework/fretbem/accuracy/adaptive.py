@@ -53,6 +53,7 @@ __all__ = [
     "knot_moves",
     "knot_pressures",
     "knots_for",
+    "own_transitions",
     "pairs_for",
     "remesh",
     "run_adaptive",
@@ -407,20 +408,22 @@ def settle(
     return [levels[i] for i in order], [used[i] for i in order], everything[best]
 
 
-def _own_transitions(level, settled: Transitions, handed: Transitions) -> Transitions | None:
-    """``settled`` with the transitions of ``handed`` (:func:`refound` of ``level``) that are
-    farther than the layout's merge distance from every knot of their own kind; None if
-    there are none. A stick-slip boundary beside an edge knot is new (the edge's knot
-    serves the pressure's square root, not the cusp of q); one within the merge distance
-    of another boundary knot is not (three C0 knots inside 0.008 mm raised the rig at 71
-    pairs from 0.40 to 1.00 % of f p0 away from the transitions)."""
-    along = estimate.positions(level)
-    apart = MERGE * float(np.ptp(along))
+def own_transitions(settled: Transitions, handed: Transitions, apart: float) -> Transitions | None:
+    """``settled`` with the transitions of ``handed`` (a settled level's own, :func:`refound`)
+    that lie farther than ``apart`` (the layout's merge distance) from every knot of their
+    own kind; None if there are none.
 
-    def new(values, knots):
+    A stick-slip boundary beside an edge knot is new: the edge's knot serves the pressure's
+    square root, not the cusp of q (the rig's step C boundary 0.005 mm inside an edge knot
+    at 61 pairs). One within ``apart`` of another boundary knot is not: a third C0 knot
+    inside 0.008 mm raised the rig at 71 pairs from 0.40 to 1.00 % of f p0 away from the
+    transitions (docs/explanation/adaptive.rst, "Limits").
+    """
+
+    def new(values: np.ndarray, knots: np.ndarray) -> np.ndarray:
         if not knots.size:
-            return values
-        return np.array([v for v in values if np.min(np.abs(knots - v)) > apart])
+            return np.asarray(values, float)
+        return np.array([v for v in values if np.min(np.abs(knots - v)) > apart], float)
 
     edges = new(handed.edges, settled.edges)
     boundaries = new(handed.boundaries, settled.boundaries)
@@ -507,10 +510,11 @@ def run_adaptive(
         )
         reach = (COARSE_HAND_ON_REACH if coarse else HAND_ON_REACH) * spacings
         handed = refound(solved[-1], used[-1], reach)
-        own = _own_transitions(solved[-1], used[-1], handed)
+        apart = MERGE * float(np.ptp(estimate.positions(solved[-1])))
+        own = own_transitions(used[-1], handed, apart)
         if settled_before and index == len(counts) - 1 and own is not None:
             # the last level found transitions no coarser level saw (the rig's step C
-            # stick-slip boundary at 0.641 mm, 0.005 mm inside step B's edge knot: q 1.06 %
+            # stick-slip boundary at 0.641 mm, 0.005 mm inside an edge knot: q 1.06 %
             # of f p0 at 61 pairs against 0.67 % at 41): it has no next level to hand them
             # to, so it is settled again with a knot on each (docs/explanation/adaptive.rst)
             again, more, residual = settle(
