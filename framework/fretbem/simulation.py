@@ -26,6 +26,7 @@ from fretbem.contact.rotation import RotationError
 from fretbem.errors import InputError
 from fretbem.solvers.newton import IncrementResult, SemiSmoothNewton, Solver, SolverConvergenceError
 from fretbem.solvers.step_memo import Reached, StepMemo
+from fretbem.solvers.warm_start import WarmStart
 from fretbem.verification.checks import check_step, step_names
 from fretbem.verification.closed_forms import MindlinDeresiewicz
 
@@ -427,11 +428,14 @@ class Simulation:
         return normal, tangential, rotation
 
     def _increment(
-        self, problem, state, normal, tangential, loads, depth=0, controls=None, rotation=0.0
-    ):
+        self, problem, state, normal, tangential, loads, depth=0, controls=None, rotation=0.0,
+        guess=None,
+    ):  # fmt: skip
         """Solve from ``state`` to the driven values (normal, tangential, rotation) and named
         loads, halving on failure; ``controls`` says which values are forces or
-        displacements (and whether ``rotation`` is the actuator's rotation or M)."""
+        displacements (and whether ``rotation`` is the actuator's rotation or M). ``guess``
+        (a ContactState, optional) is tried as the Newton start first (a warm start:
+        :mod:`fretbem.solvers.warm_start`); if it fails the usual start is taken."""
         controls = Controls() if controls is None else controls
         driven = self.controlled(problem, controls)
         forces = self.forces(
@@ -440,16 +444,26 @@ class Simulation:
         )
         if _turning(problem):
             forces = np.append(forces, 0.0)
+        targets = control.targets(problem, controls, normal, tangential, forces, rotation)
+        beta = problem.amplitudes(loads)
+        spent: list[float] = []  # residuals of a failed warm start, reported with the rest
         try:
-            result = self.solver.solve_increment(
-                driven,
-                self.law,
-                forces=control.targets(problem, controls, normal, tangential, forces, rotation),
-                loads=problem.amplitudes(loads),
-                previous=state,
-                start=None if state.virgin else state,
-            )
+            result = None
+            if guess is not None:
+                try:
+                    result = self.solver.solve_increment(
+                        driven, self.law, forces=targets, loads=beta, previous=state, start=guess
+                    )
+                except SolverConvergenceError as failure:
+                    spent = list(failure.residuals)
+            if result is None:
+                result = self.solver.solve_increment(
+                    driven, self.law, forces=targets, loads=beta, previous=state,
+                    start=None if state.virgin else state,
+                )  # fmt: skip
         except SolverConvergenceError as failure:
+            if spent:
+                failure.residuals = spent + list(failure.residuals)
             if depth >= self.solver.max_substeps:
                 raise
             start_n, start_t, start_r = self._start(problem, state, controls)
@@ -468,8 +482,8 @@ class Simulation:
             return full, len(failed) + it1 + it2, failed + res1 + res2
         return (
             self._advance(problem, result, normal, tangential, loads, controls),
-            result.iterations,
-            list(result.residuals),
+            len(spent) + result.iterations,
+            spent + list(result.residuals),
         )
 
     def _advance(self, problem, result: IncrementResult, normal, tangential, loads, controls=None):
@@ -485,11 +499,16 @@ class Simulation:
             result.x, result.states, slip, normal, tangential, dict(loads), virgin=False
         )
 
-    def step(self, problem: CondensedContact, state: ContactState, load: LoadStep, record=None):
+    def step(
+        self, problem: CondensedContact, state: ContactState, load: LoadStep, record=None,
+        starts=None,
+    ):  # fmt: skip
         """Advance ``state`` through one load step; returns (new state, iterations, residuals).
 
         ``record(state)``, if given, is called after every increment (the per-increment
-        results of a cyclic history)."""
+        results of a cyclic history). ``starts`` (a warm start's mapper,
+        :meth:`fretbem.solvers.warm_start.WarmStart.mapper`) gives each increment's first
+        Newton start."""
         iterations, residuals = 0, []
         controls = load.controls
         start_n, start_t, start_r = self._start(problem, state, controls)
@@ -500,9 +519,12 @@ class Simulation:
             target_t = start_t + frac * (load.tangential_target - start_t)
             target_r = start_r + frac * (load.rotation_target - start_r)
             target_loads = loads_between(start_loads, load.loads, frac)
+            guess = None
+            if starts is not None:
+                guess = starts.start(load.name, k, load.increments, state)
             state, its, res = self._increment(
                 problem, state, target_n, target_t, target_loads, controls=controls,
-                rotation=target_r,
+                rotation=target_r, guess=guess,
             )  # fmt: skip
             iterations += its
             residuals += res
@@ -560,7 +582,12 @@ def loads_between(start: Mapping[str, float], end: Mapping[str, float], frac: fl
 
 
 def run(
-    simulation: Simulation, *, progress=None, check: bool = True, memo: StepMemo | None = None
+    simulation: Simulation,
+    *,
+    progress=None,
+    check: bool = True,
+    memo: StepMemo | None = None,
+    warm: WarmStart | None = None,
 ) -> SimulationResult:
     """Prepare once and step through the whole history; returns per-step results.
 
@@ -570,6 +597,9 @@ def run(
     skips them, to inspect a failed run). ``progress(k, n, step)`` is called after each step.
     ``memo`` (a :class:`~fretbem.solvers.step_memo.StepMemo`) supplies the first steps when
     an earlier history on the same problem solved the same ones, and keeps those solved here.
+    ``warm`` (a :class:`~fretbem.solvers.warm_start.WarmStart`: a run of the same history on
+    another mesh of the contact faces) starts each increment's Newton iteration on that
+    run's pattern; the unknowns are the same to the solver's tolerance, in fewer iterations.
     """
 
     start = time.perf_counter()
@@ -588,6 +618,7 @@ def run(
     history: list[float] = []
     steps = []
     cursor = None if memo is None else memo.cursor(problem, simulation)
+    starts = None if warm is None else warm.mapper(problem)
     for k, load in enumerate(simulation.steps, start=1):
         tic = time.perf_counter()
         reached = None if cursor is None else cursor.find(load)
@@ -598,7 +629,7 @@ def run(
                 kept.append(IncrementRecord.of(problem, end, simulation.rig))
 
             try:
-                state, iterations, residuals = simulation.step(problem, state, load, record)
+                state, iterations, residuals = simulation.step(problem, state, load, record, starts)
             except SolverConvergenceError as failure:
                 if not simulation.rotates:
                     raise

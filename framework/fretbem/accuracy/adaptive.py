@@ -19,6 +19,7 @@ import numpy as np
 
 from fretbem.contact.pairs import SEPARATED, NodeToNodePair
 from fretbem.simulation import run
+from fretbem.solvers.warm_start import WarmStart
 
 from . import estimate
 from .knots import (
@@ -228,8 +229,11 @@ class AdaptiveResult:
         return max(max(e["e_p_max"], e["e_q_max"]) for e in self.estimate.values())
 
 
-def _solve(simulation):
-    return run(simulation)
+def _solve(simulation, after=None):
+    """Run a level; ``after`` (the level solved before it, or None) gives each increment's
+    Newton start (:class:`~fretbem.solvers.warm_start.WarmStart`): the same unknowns to the
+    solver's tolerance, in fewer iterations."""
+    return run(simulation, warm=None if after is None else WarmStart.of(after))
 
 
 #: a transition of a settled level is carried onto a knot closer than this many knot point
@@ -372,6 +376,7 @@ def settle(
     tolerance: float | None = None,
     relative: bool = True,
     reach: float | None = None,
+    after=None,
 ):
     """Solve an aligned level and move its knots onto its own discrete transitions.
 
@@ -381,12 +386,14 @@ def settle(
     first cut to the knots the level can place (:func:`fit_transitions`). Stops when no knot
     would move by more than ``tolerance`` (default ``settings.edge_tolerance``) of its point
     spacing (``relative``) or of the contact half-width, or after ``iterations`` re-solves.
+    ``after`` (a level solved before, or None) warm-starts the first solve; each re-solve
+    starts from the one before it (:func:`_solve`).
     """
     tolerance = settings.edge_tolerance if tolerance is None else tolerance
     pair = simulation.pair
     degree = pair.upper.face_refinement(pair.upper_tag).degree
     found = fit_transitions(found, knots_for(pair.upper.family, pairs, degree))
-    levels = [_solve(aligned(simulation, found, pairs, settings))]
+    levels = [_solve(aligned(simulation, found, pairs, settings), after)]
     used, history, residual, everything = [found], [], [], []
     for k in range(iterations + 1):
         edge_moves, boundary_moves = knot_moves(levels[-1], used[-1], reach)
@@ -402,7 +409,7 @@ def settle(
         history.append((positions, moves))
         n = used[-1].edges.size
         used.append(Transitions(after[:n], after[n:]))
-        levels.append(_solve(aligned(simulation, used[-1], pairs, settings)))
+        levels.append(_solve(aligned(simulation, used[-1], pairs, settings), levels[-1]))
     best = int(np.argmin(residual))
     order = [*(i for i in range(len(levels)) if i != best), best]
     return [levels[i] for i in order], [used[i] for i in order], everything[best]
@@ -491,7 +498,7 @@ def run_adaptive(
         settled_before = index > 0 and not coarse
         solved, used, residual = settle(
             simulation, handed, pairs, settings, iterations, tolerance, relative=index > 0,
-            reach=FALLBACK_REACH if index > 0 and not coarse else None,
+            reach=FALLBACK_REACH if index > 0 and not coarse else None, after=levels[-1],
         )  # fmt: skip
         if used[-1].all.size < count:
             notes.append(

@@ -249,6 +249,16 @@ def _singular_sides(data: dict, sides: list[dict], settings) -> tuple:
     return _contiguous(*(np.concatenate(pair) for pair in zip(*parts, strict=True)))
 
 
+def _rows_outside(starts: np.ndarray, segments) -> np.ndarray:
+    """The collocation rows of no segment in ``segments`` (rows in segment order, segment r's
+    from ``starts[r]`` to ``starts[r + 1]``): ``np.isin`` on the rows' segments without its
+    sort (60 us a call, six calls per body)."""
+    keep = np.ones(int(starts[-1]), bool)
+    for r in segments:
+        keep[starts[r] : starts[r + 1]] = False
+    return np.flatnonzero(keep)
+
+
 def _row_sums(h: np.ndarray, n: int, chunk: int = 64) -> np.ndarray:
     """``h.reshape(n, 2, n, 2).sum(axis=2)``, bit for bit, at a third of its time.
 
@@ -284,7 +294,7 @@ def assemble(assembler, shear_modulus: float, nu: float, loops) -> tuple[np.ndar
             for r, row_basis in enumerate(segments)
             if reuse and (block := BLOCKS.get(basis, row_basis, key)) is not None
         }
-        todo = np.flatnonzero(~np.isin(colloc.segment, list(known)))
+        todo = _rows_outside(starts, known)
         rows = np.arange(starts[k], starts[k + 1])
         rules = BLOCKS.rules(basis, s) if reuse else None
         if rules is None:
