@@ -141,8 +141,8 @@ def whole_process(runs: int, directory: Path) -> dict:
             "cpu_s": median([c for _, c in pairs]),
         }
         if name in MODES:
-            out[name]["command"] = (
-                f"python -m fretbem.app.cli demo {' '.join(MODES[name])} --out DIR"
+            out[name]["command"] = " ".join(
+                ["python -m fretbem.app.cli demo", *MODES[name], "--out DIR"]
             )
             out[name]["target_wall_s"] = TARGETS[name]
             floor = times["floor_numpy_scipy_linalg"]
