@@ -6,11 +6,15 @@ Each group names one kind of plugin: basis families (``fretbem.bases``), body mo
 (``fretbem.wear_laws``); a new kind is one :class:`Group`
 line in :data:`GROUPS`. fretbem's own choices are declared in its ``pyproject.toml``
 exactly as a third-party package declares its own, so there is one registration path.
-Discovery is lazy: nothing is imported until a group is first asked for, and the result
-is cached until :func:`refresh`. A plugin that fails to load gives a warning naming it and
-is skipped; a duplicate name, or a built-in name claimed by another package, is an error;
-an unknown name is an error listing the installed ones and what to install. The model is
-xarray's backend registry (``xarray/backends/plugins.py``).
+Discovery is lazy: the installed entry points are read (metadata only) when a group is
+first asked for, and a plugin is imported only when its name is asked for (:func:`get`),
+or when every plugin of a group is (:func:`available`, :func:`describe`); both are cached
+until :func:`refresh`. So a run that names the ``bem`` body model does not import the
+half-plane model. A plugin that fails to load gives a warning naming it and is skipped; a
+duplicate name, or a built-in name claimed by another package, is an error (raised when
+the group is read, before any import); an unknown name is an error listing the installed
+ones that load and what to install. The model is xarray's backend registry
+(``xarray/backends/plugins.py``: entry points read first, a backend loaded when used).
 """
 
 from __future__ import annotations
@@ -222,35 +226,43 @@ def _unique_entry_points(
     return unique
 
 
+def _load_one(entry_point: _EntryPointLike, group: Group) -> Any:
+    """The class ``entry_point`` loads, or None after a ``RuntimeWarning`` naming it when it
+    fails to import or is not a subclass of the group's base."""
+    try:
+        obj = entry_point.load()
+    except Exception as exc:
+        hint = _load_failure_hint(group, entry_point.name) if isinstance(exc, ImportError) else ""
+        warnings.warn(
+            f"{group.what} entry point {_label(entry_point)} failed to load and is skipped:"
+            f" {type(exc).__name__}: {exc}.{hint}",
+            RuntimeWarning,
+            stacklevel=3,
+        )
+        return None
+    base = group.base_class()
+    if not (isinstance(obj, type) and issubclass(obj, base)) or obj is base:
+        warnings.warn(
+            f"{group.what} entry point {_label(entry_point)} loaded {obj!r}, which is not a"
+            f" subclass of {group.base.replace(':', '.')}; it is skipped",
+            RuntimeWarning,
+            stacklevel=3,
+        )
+        return None
+    return obj
+
+
 def load_entry_points(entry_points: Iterable[_EntryPointLike], group: Group) -> dict[str, Any]:
     """Load ``entry_points`` of ``group`` into a name -> class dict (no caching, no discovery).
 
     A plugin that fails to import, or that does not load to a subclass of the group's base,
-    gives a ``RuntimeWarning`` naming it and is skipped; conflicts raise.
+    gives a ``RuntimeWarning`` naming it and is skipped; conflicts raise before any import.
     """
-    base = group.base_class()
     loaded: dict[str, Any] = {}
     for ep in _unique_entry_points(entry_points, group):
-        try:
-            obj = ep.load()
-        except Exception as exc:
-            hint = _load_failure_hint(group, ep.name) if isinstance(exc, ImportError) else ""
-            warnings.warn(
-                f"{group.what} entry point {_label(ep)} failed to load and is skipped:"
-                f" {type(exc).__name__}: {exc}.{hint}",
-                RuntimeWarning,
-                stacklevel=2,
-            )
-            continue
-        if not (isinstance(obj, type) and issubclass(obj, base)) or obj is base:
-            warnings.warn(
-                f"{group.what} entry point {_label(ep)} loaded {obj!r}, which is not a subclass"
-                f" of {group.base.replace(':', '.')}; it is skipped",
-                RuntimeWarning,
-                stacklevel=2,
-            )
-            continue
-        loaded[ep.name] = obj
+        obj = _load_one(ep, group)
+        if obj is not None:
+            loaded[ep.name] = obj
     return loaded
 
 
@@ -275,10 +287,26 @@ def _discovered(group: Group) -> list[_EntryPointLike]:
 
 
 @functools.cache
-def load_group(key: str) -> dict[str, Any]:
-    """Discover and load a group once (name -> class, sorted); :func:`refresh` forgets it."""
+def _named(key: str) -> dict[str, _EntryPointLike]:
+    """Name -> entry point of every installed plugin of a group, sorted, conflicts raised;
+    nothing imported (:func:`refresh` forgets it)."""
     group = _group(key)
-    return load_entry_points(_discovered(group), group)
+    return {ep.name: ep for ep in _unique_entry_points(_discovered(group), group)}
+
+
+@functools.cache
+def _plugin(key: str, name: str) -> Any:
+    """The class of the installed plugin ``name`` of a group, imported on first use (None,
+    after one warning, when it does not load)."""
+    return _load_one(_named(key)[name], _group(key))
+
+
+@functools.cache
+def load_group(key: str) -> dict[str, Any]:
+    """Every plugin of a group imported (name -> class, sorted, those that load); cached
+    until :func:`refresh`."""
+    loaded = {name: _plugin(key, name) for name in _named(key)}
+    return {name: cls for name, cls in loaded.items() if cls is not None}
 
 
 def _group(key: str) -> Group:
@@ -313,10 +341,11 @@ def get(name: str | type, group: str = "bases") -> Any:
         return name
     if not isinstance(name, str):
         raise TypeError(f"a {spec.what} is a name or a {base} subclass, not {name!r}")
-    plugins = load_group(group)
-    if name in plugins:
-        return plugins[name]
-    installed = ", ".join(repr(n) for n in plugins) or "none"
+    if name in _named(group):  # only this plugin is imported
+        found = _plugin(group, name)
+        if found is not None:
+            return found
+    installed = ", ".join(repr(n) for n in load_group(group)) or "none"
     hint = _install_hint(spec, name)
     if hint:
         hint += " If it is installed, its plugin failed to load: see the RuntimeWarning."
@@ -357,4 +386,6 @@ def entries(group: str) -> list[dict[str, str]]:
 def refresh() -> None:
     """Forget every discovered group, so the next call rediscovers installed packages."""
     load_group.cache_clear()
+    _plugin.cache_clear()
+    _named.cache_clear()
     _installed_entry_points.cache_clear()

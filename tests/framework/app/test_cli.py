@@ -77,6 +77,37 @@ def test_console_script_runs_demo(tmp_path):
     assert (tmp_path / "results.csv").exists()
 
 
+ENDING = """
+import atexit, sys
+from fretbem.app.cli import main
+atexit.register(lambda: print("exit handler ran", flush=True))
+sys.argv = ["fretbem", "demo", "--basis", sys.argv[1], "--no-figures", "--no-vtk", "--quiet",
+            "--pairs", "31", "--no-estimate", "--out", sys.argv[2]]
+print("last line", main())
+"""
+
+
+@pytest.mark.parametrize(("basis", "code"), [("nurbs", 0), ("hermite", 2)])
+def test_console_demo_ends_with_its_code_output_and_exit_handlers(tmp_path, basis, code):
+    """The console script's demo ends its process in main() (no interpreter teardown), with
+    the command's exit code, everything printed flushed and the exit handlers run."""
+    done = subprocess.run(
+        [sys.executable, "-c", ENDING, basis, str(tmp_path / "out")],
+        capture_output=True,
+        text=True,
+        check=False,
+        timeout=120,
+    )
+    assert done.returncode == code, done.stderr
+    assert "last line" not in done.stdout  # main() did not return
+    assert done.stdout.rstrip().endswith("exit handler ran")
+    if code == 0:
+        assert "31 node pairs" in done.stdout
+        assert (tmp_path / "out" / "results.csv").exists()
+    else:
+        assert "hermite" in done.stderr
+
+
 @pytest.mark.parametrize("pairs", ["60"])
 def test_impossible_pair_count(pairs, capsys):
     """lagrange2 cannot place an even number of nodes: the error says which counts work."""

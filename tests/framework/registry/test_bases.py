@@ -7,6 +7,7 @@ import os
 import subprocess
 import sys
 import types
+import warnings
 from collections.abc import Iterator
 from dataclasses import dataclass
 from importlib.metadata import EntryPoint
@@ -219,6 +220,34 @@ def test_get_missing_known_family_says_pip_install(
     install()
     with pytest.raises(bases.UnknownBasisError, match="pip install fretbem-bezier"):
         bases.get("bezier3")
+
+
+def test_get_imports_only_the_plugin_it_names(install: Any) -> None:
+    """get() imports the named plugin alone: a broken or slow one beside it is not touched
+    (no import, no warning) until every plugin is asked for."""
+    install(
+        FakeEntryPoint("dummy", f"{PLUGIN}:DummyBasis"),
+        FakeEntryPoint("broken", "fretbem_no_such_module:Broken"),
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a warning here would mean 'broken' was imported
+        assert bases.get("dummy") is DummyBasis
+    with pytest.warns(RuntimeWarning, match="'broken = fretbem_no_such_module:Broken'"):
+        assert bases.available() == {"dummy": DummyBasis}
+
+
+def test_get_of_a_broken_plugin_warns_and_lists_those_that_load(install: Any) -> None:
+    """Asking for a plugin that fails to import warns once, then the unknown-name error lists
+    the installed plugins that load."""
+    install(
+        FakeEntryPoint("dummy", f"{PLUGIN}:DummyBasis"),
+        FakeEntryPoint("broken", "fretbem_no_such_module:Broken"),
+        FakeEntryPoint("other", f"{PLUGIN}:OtherBasis"),
+    )
+    with pytest.warns(RuntimeWarning, match="failed to load") as record:
+        with pytest.raises(bases.UnknownBasisError, match=r"families: 'dummy', 'other'\."):
+            bases.get("broken")
+    assert len(record) == 1
 
 
 def test_get_passes_a_class_through_without_discovery(install: Any) -> None:
