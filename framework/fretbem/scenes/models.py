@@ -3,13 +3,14 @@
 A body model is a plugin of the ``fretbem.bodies`` entry-point group: a :class:`BodyModel`
 subclass whose :meth:`~BodyModel.build` makes the pad or the specimen of a scene from the
 boundary, material, conditions and face discretisation the scene builder prepared. The
-built-in ones are ``bem`` (:class:`~fretbem.bem.body.BemBody`) and ``half-plane``
-(:class:`~fretbem.halfplane.body.HalfPlaneBody`).
+built-in ones are ``bem`` (:class:`~fretbem.bem.body.BemBody`, here) and ``half-plane``
+(:class:`~fretbem.halfplane.body.HalfPlaneBody`, in :mod:`fretbem.scenes.half_plane_model`,
+a module of its own so that the lazy registry loads the half-plane package only for a
+scene that names it).
 """
 
 from __future__ import annotations
 
-import importlib
 from abc import ABC, abstractmethod
 from collections.abc import Mapping, Sequence
 from typing import ClassVar
@@ -21,12 +22,7 @@ from fretbem.conditions import Condition
 from fretbem.geometry.boundary import Boundary
 from fretbem.material import Material
 
-__all__ = ["BemModel", "BodyModel", "HalfPlaneModel"]
-
-#: the half-plane body's module, loaded when a scene builds a half-plane body: the registry
-#: imports this module for any body model, and a BEM run does not load the half-plane
-#: package (~7 ms of start-up)
-HALF_PLANE = "fretbem.halfplane.scene"
+__all__ = ["BemModel", "BodyModel"]
 
 
 class BodyModel(ABC):
@@ -57,21 +53,3 @@ class BemModel(BodyModel):
     def build(self, scene, role, boundary, material, conditions, family, refinement) -> Body:
         return BemBody(boundary, material, conditions, basis=family, refinement=refinement,
                        name=role)  # fmt: skip
-
-
-class HalfPlaneModel(BodyModel):
-    """An elastic half-plane under the contact face (closed-form surface response)."""
-
-    description = "elastic half-plane below the contact face (Flamant influence functions)"
-
-    def build(self, scene, role, boundary, material, conditions, family, refinement) -> Body:
-        return importlib.import_module(HALF_PLANE).half_plane_model(
-            "upper" if role == "pad" else "lower",
-            scene=scene,
-            boundary=boundary,
-            material=material,
-            conditions=conditions,
-            family=family,
-            refinement=refinement,
-            name=role,  # named at construction: evolve would discretise the face again
-        )
