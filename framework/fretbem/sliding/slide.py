@@ -38,7 +38,7 @@ import numpy as np
 
 from fretbem.contact import control
 from fretbem.contact.law import ContactState, PairState
-from fretbem.contact.node_to_segment import NodeToSegmentPair
+from fretbem.contact.node_to_segment import FRAMES, NodeToSegmentPair
 from fretbem.contact.pairs import ContactDiscretisationError
 from fretbem.errors import InputError
 from fretbem.results import IncrementRecord, StepResult
@@ -225,6 +225,7 @@ def run_sliding(
     check: bool = True,
     note: Callable[[str], None] | None = print,
     progress: Callable | None = None,
+    frame: str = "local",
 ) -> SlidingResult:
     """Step ``simulation`` through its history, re-pairing as the pad slides.
 
@@ -234,8 +235,13 @@ def run_sliding(
     projected (0: whenever it moves at all). No closed form applies to a sliding contact, so
     the steps carry no errors against theory. ``note`` receives each message about new
     points in contact (None: collect only); ``progress(k, n, step)`` is called after each
-    step.
+    step. ``frame``: the pair frame along an arc, ``"local"`` (default: each pair's own,
+    the arc's normal where it meets it) or ``"shared"`` (all pairs the pad's turned frame,
+    the a/R simplification; :class:`~fretbem.contact.node_to_segment.NodeToSegmentPair`'s
+    ``frame``); a straight track's pairs share one frame either way.
     """
+    if frame not in FRAMES:
+        raise SlidingError(f"frame must be one of {FRAMES}, got {frame!r}")
     if not every >= 0.0:
         raise SlidingError(f"every must be a number of pair spacings >= 0, got {every!r}")
     if getattr(simulation, "rotates", False):
@@ -257,6 +263,8 @@ def run_sliding(
         track = Track.of(pair)
     except TrackError as err:
         raise SlidingError(str(err)) from None
+    if not track.straight:  # the pairs spread over a turning face: each its own frame
+        pair = attrs.evolve(pair, frame=frame)
     simulation = attrs.evolve(simulation, pair=pair, reference=None)
     tangent = track.tangent
     offset = track.slide_of(pair)
