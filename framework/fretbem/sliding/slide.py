@@ -45,7 +45,7 @@ from fretbem.results import IncrementRecord, StepResult
 from fretbem.simulation import Simulation, loads_between
 from fretbem.verification.checks import check_step
 
-from .track import STRAIGHT, Track, TrackError
+from .track import Track, TrackError
 
 __all__ = ["SlidingError", "SlidingResult", "run_sliding"]
 
@@ -173,28 +173,6 @@ def _slid(record, offset: float):
         slip = record.tangential_displacement + offset
         return attrs.evolve(record, delta=record.delta + offset, tangential_displacement=slip)
     return attrs.evolve(record, delta=record.delta + offset, slip=record.slip + offset)
-
-
-def _check_track(pair: NodeToSegmentPair) -> None:
-    """The specimen's face must be straight, for a run that follows straight tracks only
-    (wear with finite sliding): its pad is offset along one line and never turned, so on a
-    curved specimen it would leave the arc. :func:`run_sliding` itself also follows
-    circular arcs (:class:`~fretbem.sliding.track.Track`)."""
-    body, tag = pair.side("lower")
-    points = body.contact_face(tag).points
-    chord = points[-1] - points[0] if len(points) > 1 else np.array([1.0, 0.0])
-    length = float(np.linalg.norm(chord))
-    if length == 0.0:
-        return
-    normal = np.array([-chord[1], chord[0]]) / length
-    departure = float(np.max(np.abs((points - points[0]) @ normal)))
-    if departure > STRAIGHT * length:
-        raise SlidingError(
-            f"this run moves the pad along a straight track only, but the specimen's face "
-            f"{tag!r} is curved (it departs from its chord by {departure:.3g} mm): the pad is "
-            "offset without turning, so it cannot follow an arc; slide on a flat specimen "
-            "([specimen] shape = 'flat'; Python: a straight lower face), or without wear"
-        )
 
 
 def _on_the_pad(pair: NodeToSegmentPair) -> NodeToSegmentPair:
