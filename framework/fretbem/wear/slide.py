@@ -31,9 +31,8 @@ from fretbem.contact.condensation import CondensedContact
 from fretbem.contact.law import ContactState, PairState
 from fretbem.contact.node_to_segment import NodeToSegmentPair
 from fretbem.simulation import LoadStep, Simulation, loads_between
+from fretbem.sliding import track as sliding_track
 from fretbem.sliding.slide import SlidingError, _block_delta, _carried, _repaired, _spacing
-from fretbem.sliding.track import Track as Path
-from fretbem.sliding.track import TrackError
 
 from .cycle import CycleWear
 from .law import WearLaw
@@ -43,12 +42,12 @@ from .track import WornTrackPair, spread, track_grids
 __all__ = ["Track", "check_pair", "simulate_sliding_cycle"]
 
 
-def check_pair(pair: NodeToSegmentPair) -> Path:
+def check_pair(pair: NodeToSegmentPair) -> sliding_track.Track:
     """The track of the pair wear with finite sliding takes: straight (either body model)
     or a circular arc (``bem`` bodies; :class:`~fretbem.sliding.track.Track`)."""
     try:
-        return Path.of(pair)
-    except TrackError as err:
+        return sliding_track.Track.of(pair)
+    except sliding_track.TrackError as err:
         raise SlidingError(f"wear with finite sliding: {err}") from None
 
 
@@ -87,7 +86,7 @@ class Track:
         The pairings met so far by slide (in millionths of a spacing): a cycle visits the
         same slides every time, and a projection and condensation cost far more than the
         increments solved on them (60 ms against 5 ms measured on half-planes, 41 pairs).
-    path : Track
+    path : fretbem.sliding.track.Track
         The specimen's face the pad slides along (:class:`~fretbem.sliding.track.Track`):
         straight, or a circular arc the pad turns along, each pair in its own frame (the
         worn depth is a gap along each pair's normal) and positions in arc length.
@@ -98,7 +97,7 @@ class Track:
     tangent: np.ndarray
     spacing: float
     pairings: dict = attrs.field(factory=dict)
-    path: Path | None = None
+    path: sliding_track.Track | None = None
 
     @classmethod
     def start(cls, simulation: Simulation) -> Track:

@@ -24,7 +24,7 @@ import numpy as np
 
 from fretbem.contact.node_to_segment import NodeToSegmentPair
 from fretbem.contact.pairing import Pairing
-from fretbem.sliding.track import Track
+from fretbem.sliding import track as sliding_track
 from fretbem.validators import float_array
 
 __all__ = ["GRID_DENSITY", "WornTrackPair", "deposit", "spread", "track_grids"]
@@ -33,7 +33,9 @@ __all__ = ["GRID_DENSITY", "WornTrackPair", "deposit", "spread", "track_grids"]
 GRID_DENSITY = 4
 
 
-def track_grids(pair: NodeToSegmentPair, weights: np.ndarray, path: Track | None = None) -> dict:
+def track_grids(
+    pair: NodeToSegmentPair, weights: np.ndarray, path: sliding_track.Track | None = None
+) -> dict:
     """Each face's points along the track and their face lengths (mm), "upper" and
     "lower": the slave face's are its nodes (the pairs at the pair's slide, and
     ``weights``, the pairs' face lengths); the other face's a uniform grid over its
@@ -101,7 +103,7 @@ class WornTrackPair(NodeToSegmentPair):
         given at (:func:`track_grids`).
     upper_wear, lower_wear : ndarray
         Wear depth of the pad and of the specimen at those points (mm).
-    path : Track or None
+    path : fretbem.sliding.track.Track or None
         The track the pad slides along (:class:`~fretbem.sliding.track.Track`): a circular
         one measures positions in arc length on the specimen's face and the slide by the
         pad's turn; None: a straight one, along the pairs' tangent.
@@ -121,7 +123,7 @@ class WornTrackPair(NodeToSegmentPair):
     lower_grid: np.ndarray = attrs.field(kw_only=True, converter=float_array)
     upper_wear: np.ndarray = attrs.field(kw_only=True, converter=float_array)
     lower_wear: np.ndarray = attrs.field(kw_only=True, converter=float_array)
-    path: Track | None = attrs.field(default=None, kw_only=True)
+    path: sliding_track.Track | None = attrs.field(default=None, kw_only=True)
     datum: float = attrs.field(default=0.0, kw_only=True, converter=float)
     shift: float = attrs.field(default=0.0, kw_only=True, converter=float)
 
