@@ -344,10 +344,7 @@ class Simulation:
         """Mean normal and tangent of the pair: loads act along these; in the axes of the
         body on ``side`` (its block's: they differ for a pad turned along an arc) or of the
         pair frame (None)."""
-        pairing = self.pair.pairing()
-        normal = pairing.normals.mean(axis=0) if side is None else pairing.axes(side)[0].mean(0)
-        normal /= np.linalg.norm(normal)
-        return normal, np.array([normal[1], -normal[0]])
+        return self.pair.pairing().load_frame(side)
 
     def forces(self, normal_load: float, tangential_load: float) -> np.ndarray:
         """Block forces for given P and Q (upper block, in its axes), plus the lower

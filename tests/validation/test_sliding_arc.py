@@ -54,16 +54,20 @@ def _hertz(load: float) -> HertzLineContact:
 
 
 def study(basis="nurbs", pairs=41, load=100.0, pad=(6.5, 16.25), specimen=(12.0, 10.0),
-          increments=6):  # fmt: skip
-    """The sliding run along the arc (press, block to 3 a, to 6 a, back to 0) and, for each
-    of its steps, its fixed twin: the same bodies paired with the pad turned where that
-    step's pairs were, pressed and driven into gross slip the same way (0.1 mm further)."""
+          increments=6, frame="local"):  # fmt: skip
+    """The sliding run along the arc (press, block to 3 a, to 6 a, back to 0) with the pair
+    ``frame`` given and, with the shared frame, for each of its steps its fixed twin: the
+    same bodies paired with the pad turned where that step's pairs were, pressed and driven
+    into gross slip the same way (0.1 mm further: the shared frame does not see the pad's
+    translation along its tangent, which moves the contact on an arc; local frames do,
+    tests/framework/contact/test_pair_frames.py, so their twin is no longer the same)."""
     hertz = _hertz(load)
     simulation = _slid_there_and_back(
         BASE, basis, pairs, load, hertz.half_width, pad, specimen, increments
     )
-    sliding = run_sliding(simulation, note=None)
-    return simulation, sliding, twins_of(simulation, sliding, load), hertz
+    sliding = run_sliding(simulation, note=None, frame=frame)
+    twins = twins_of(simulation, sliding, load) if frame == "shared" else None
+    return simulation, sliding, twins, hertz
 
 
 def _slid_there_and_back(scene, basis, pairs, load, a, pad, specimen, increments) -> Simulation:
@@ -90,7 +94,7 @@ def twins_of(simulation, sliding, load: float) -> list:
         sliding.steps, sliding.pairs, sliding.offsets, sliding.positions, strict=True
     ):
         sign = math.copysign(1.0, step.tangential) if abs(step.tangential) > 0.5 * F * load else 0
-        placed = attrs.evolve(simulation.pair, turn=pair.turn, pivot=pair.pivot)
+        placed = attrs.evolve(simulation.pair, turn=pair.turn, pivot=pair.pivot, frame=pair.frame)
         steps = (LoadStep("press", load, delta=0.0),)
         if sign:
             steps += (LoadStep("slide", load, delta=position - offset + 0.1 * sign, increments=2),)
@@ -98,15 +102,26 @@ def twins_of(simulation, sliding, load: float) -> list:
     return [t.steps[-1] for t in twins]
 
 
-def measures(simulation, sliding, twins, hertz) -> list[dict]:
+def measures(simulation, sliding, twins, hertz, shared=None) -> list[dict]:
     """Per step: where the face is along the arc, the pad's turn, the pressure and shear
-    against the twin and against Hertz (arc coordinates from the pressure's centre),
-    q = f p and Q against f P at the block and from the tractions (the local frame)."""
+    against the twin (if any), the shared frame's run (if given) and Hertz (arc coordinates
+    from the pressure's centre), q = f p and Q against f P at the block and from the
+    tractions (in the loads' frame), the latter's closed form: the pressure's centre e
+    ahead of the pad's axis tilts the local normals there by phi = e / R, so Q / f P =
+    (f - tan phi) / (f (1 + f tan phi)) (with Q's sign; exactly 1 in the shared frame)."""
     track = Track.of(simulation.pair)
     p0 = hertz.peak_pressure
     out = []
-    for step, twin, pair, offset, position in zip(
-        sliding.steps, twins, sliding.pairs, sliding.offsets, sliding.positions, strict=True
+    twins = twins or [None] * len(sliding.steps)
+    others = shared.steps if shared is not None else [None] * len(sliding.steps)
+    for step, twin, other, pair, offset, position in zip(
+        sliding.steps,
+        twins,
+        others,
+        sliding.pairs,
+        sliding.offsets,
+        sliding.positions,
+        strict=True,
     ):
         p, q = step.pressure, step.shear
         slip = np.asarray(step.increments[-1].slip)
@@ -117,19 +132,28 @@ def measures(simulation, sliding, twins, hertz) -> list[dict]:
         normal, tangential = step.resultant
         radial = pair.pairing().points[np.argmax(p)] - track.centre
         radial = radial / np.linalg.norm(radial)
-        frame = pair.pairing().normals[0]
+        frame = pair.pairing().load_frame()[0]
+        sign = math.copysign(1.0, step.tangential)
+        tilt = math.tan(-track.rate * (centre - offset)) if pair.frame == "local" else 0.0
+        extra = {} if twin is None else {
+            "p_twin": np.max(np.abs(p - twin.pressure)) / p0,
+            "q_twin": np.max(np.abs(q - twin.shear)) / p0,
+        }  # fmt: skip
+        if other is not None:
+            extra["p_shared"] = np.max(np.abs(p - other.pressure)) / p0
         out.append({
+            **extra,
             "offset": offset,
             "face": face,
             "block": position,
             "turn": pair.turn,
             "frame": abs(float(radial[0] * frame[1] - radial[1] * frame[0])),
-            "p_twin": np.max(np.abs(p - twin.pressure)) / p0,
-            "q_twin": np.max(np.abs(q - twin.shear)) / p0,
             "p_hertz": np.max(np.abs(p - hertz.pressure(s - centre))) / p0,
             "coulomb": np.max(np.abs(np.abs(q[touching]) - F * p[touching])) / p0,
             "Q/fP": step.tangential / (F * step.normal),
             "tractions": tangential / (F * normal),
+            "closed": (sign * F - tilt) / (F * (1.0 + sign * F * tilt)),
+            "a/R": hertz.half_width / track.radius,
         })  # fmt: skip
     return out
 
@@ -138,11 +162,13 @@ def check(rows, *, hertz: float | None = None, margin: float = 0.002, block: flo
           turn: float = -1.0 / R):  # fmt: skip
     """The sliding run against its twins (to round-off), the pad turned by the face's
     slide over R and normal to the arc at the contact (within the bending shift's angle),
-    Coulomb at every pair, Q = f P within ``block`` at the block and exactly from the
-    tractions. Against Hertz: within ``hertz`` of p0 everywhere, or (None) on the track no
-    farther than at the start plus ``margin``. ``turn``: the pad's turn per mm slid."""
+    Coulomb at every pair, Q from the tractions its closed form (f P in the shared frame)
+    and at the block within ``block`` of it (the BEM block's equilibrium). Against Hertz:
+    within ``hertz`` of p0 everywhere, or (None) on the track no farther than at the start
+    plus ``margin``. ``turn``: the pad's turn per mm slid."""
     for row in rows:
-        assert row["p_twin"] < 1e-9 and row["q_twin"] < 1e-9  # measured 5e-13
+        if "p_twin" in row:
+            assert row["p_twin"] < 1e-9 and row["q_twin"] < 1e-9  # measured 5e-13
         assert abs(row["face"] - row["offset"]) < 1e-3  # measured 7e-5 mm
         assert (
             abs(row["turn"] - turn * row["offset"]) < 1e-11
@@ -152,8 +178,9 @@ def check(rows, *, hertz: float | None = None, margin: float = 0.002, block: flo
         assert row["p_hertz"] < (hertz if hertz is not None else rows[0]["p_hertz"] + margin)
     for row in rows[1:]:
         assert row["coulomb"] < 1e-12
-        assert abs(abs(row["tractions"]) - 1.0) < 1e-9
-        assert abs(abs(row["Q/fP"]) - 1.0) < block
+        # measured 1e-6 (nurbs), 8.5e-5 (lagrange2 41 pairs): the closed form's centroid
+        assert abs(row["tractions"] - row["closed"]) < 1.5e-4
+        assert abs(row["Q/fP"] / row["tractions"] - 1.0) < block
     assert abs(rows[3]["block"]) < 1e-9
     assert rows[2]["offset"] > 0.9 * rows[2]["block"] > 0  # the face 6 a along, and back
     assert abs(rows[3]["offset"]) < 0.05 * rows[2]["offset"]
@@ -161,19 +188,37 @@ def check(rows, *, hertz: float | None = None, margin: float = 0.002, block: flo
 
 @pytest.fixture(scope="module")
 def reference_arc():
-    simulation, sliding, twins, hertz = study()
-    return sliding, measures(simulation, sliding, twins, hertz)
+    """The reference pad slid along the arc with the shared frame (and its twins) and with
+    each pair's own frame (against the shared run)."""
+    simulation, shared, twins, hertz = study(frame="shared")
+    _, local, _, _ = study()
+    return (shared, measures(simulation, shared, twins, hertz),
+            measures(simulation, local, None, hertz, shared=shared))  # fmt: skip
 
 
 def test_sliding_along_the_arc_is_the_pad_turned_where_it_slid(reference_arc):
-    """At every position the turned pad's tractions are those of the same bodies paired
-    there without sliding (to 5e-13 p0); the pad turned by s / R; q = f p and Q = f P in
-    the local frame (0.99958 at the block: the BEM block's equilibrium, as on the flat).
+    """In the shared frame, at every position the turned pad's tractions are those of the
+    same bodies paired there without sliding (to 5e-13 p0); the pad turned by s / R;
+    q = f p and Q = f P (0.99958 at the block: the BEM block's equilibrium, as on the flat).
     The narrow pad bends under Q (its contact 0.07 mm ahead of its axis), so its pressure
     is not Hertz's: within 3.2 % of it (6.3 % at the start, 41 pairs; measured)."""
-    sliding, rows = reference_arc
+    sliding, rows, _ = reference_arc
     check(rows, hertz=NARROW)
     assert sliding.repairings >= 4 * 6
+
+
+def test_each_pairs_own_frame_changes_the_arc_by_the_order_of_a_over_r(reference_arc):
+    """Each pair in the arc's own frame (the default): q = f p; the contact 0.064 mm ahead
+    of the pad's axis tilts the local normals there by e / R, so Q / f P from the tractions
+    is 0.99669 (its closed form (f - tan phi) / (f (1 + f tan phi)) to 1e-6) and 0.99627 at
+    the block (the same 0.99958 of it as in the shared frame); the pressure differs from
+    the shared frame's by 1.6 a/R of p0 at most (a/R = 0.0047; the pad bent ahead; 0.73 a/R
+    on a wide pad, tests below; measured)."""
+    rows = reference_arc[2]
+    check(rows, hertz=NARROW)
+    for row in rows:
+        assert row["p_shared"] < 2.0 * row["a/R"]
+    assert 0.99 < rows[2]["Q/fP"] < 0.9975  # 0.99636 measured
 
 
 def test_larger_bodies_slide_with_the_hertz_pressure_of_both_radii():
@@ -215,12 +260,12 @@ def test_larger_bodies_at_another_pair_count_and_family(basis, pairs, hertz):
     """nurbs 61 and 97: within 0.4 % of Hertz as at 31 (0.27 % measured at 61; at 41 the
     pairs fall so on the contact's edges that the largest error is 6.7 %, at the start
     without sliding too, so 41 is not among these). lagrange2 meets Hertz less closely on
-    these curved faces without sliding too (3.2 % at 61 pairs, 2.4 % at 97 at the start);
-    sliding stays within that (2.1 % and 1.5 %, measured)."""
+    these curved faces without sliding too (3.2 % at 61 pairs, 1.9 % at 97 at the start);
+    sliding stays within 0.3 % of its start (2.17 % at 97 pairs, measured)."""
     simulation, sliding, twins, hertz_form = study(
         basis=basis, pairs=pairs, pad=(26.0, 16.25), specimen=(40.0, 20.0)
     )
-    check(measures(simulation, sliding, twins, hertz_form), hertz=hertz)
+    check(measures(simulation, sliding, twins, hertz_form), hertz=hertz, margin=0.003)
 
 
 #: the concave specimen's radius, the pad's (a cylinder inside the groove), the track's
@@ -283,7 +328,7 @@ def test_a_pad_slides_along_a_concave_arc_from_python():
     sliding = run_sliding(simulation, note=None)
     track = Track.of(simulation.pair)
     assert np.allclose(track.centre, [0.0, GROOVE], atol=1e-9) and track.rate > 0
-    rows = measures(simulation, sliding, twins_of(simulation, sliding, load), hertz)
+    rows = measures(simulation, sliding, None, hertz)
     check(rows, hertz=0.035, turn=1.0 / GROOVE)
     assert rows[2]["turn"] > 0.04  # 0.0457 rad after 3.2 mm
 
@@ -350,17 +395,18 @@ def groove_study(basis="nurbs", pairs=31, load=100.0, pad=(26.0, 16.25), specime
     assert np.allclose(track.centre, [0.0, GROOVE], atol=1e-9)
     assert track.rate == pytest.approx(1.0 / GROOVE, rel=1e-12)
     sliding = run_sliding(simulation, note=None)
-    return measures(simulation, sliding, twins_of(simulation, sliding, load), hertz)
+    return measures(simulation, sliding, None, hertz)
 
 
-@pytest.mark.parametrize(("load", "hertz"), [(60.0, 0.006), (160.0, 0.008)])
+@pytest.mark.parametrize(("load", "hertz"), [(60.0, 0.008), (160.0, 0.011)])
 def test_a_pad_slides_in_a_groove_from_the_scene_file(load, hertz):
     """A [specimen] shape = 'groove' (R 70 mm, 40 x 20 mm) under a cylinder pad (R 40 mm,
     26 mm wide), conforming contact, 31 pairs: the pad turns counterclockwise by s / R_groove
     as it slides towards +x, its tractions those of the same bodies paired there (3e-13 p0),
-    q = f p, Q = f P (0.99993 at the block), the pressure along the groove within 0.42 % (P
-    60) and 0.59 % (P 160) of Hertz's with 1/R* = 1/40 - 1/70 (0.19 / 0.21 % at the start;
-    measured)."""
+    q = f p, Q = f P (0.99998 at the block), the pressure along the groove within 0.65 % (P
+    60) and 0.90 % (P 160) of Hertz's with 1/R* = 1/40 - 1/70 (0.20 / 0.22 % at the start;
+    measured; 0.42 / 0.59 % with the shared frame, which is Hertz's own idealisation: all
+    normals parallel, so each pair's own frame departs from it by the order of a/R)."""
     rows = groove_study(load=load)
     check(rows, hertz=hertz, turn=1.0 / GROOVE)
     assert rows[2]["turn"] > 0.02 and rows[2]["frame"] < 1e-3 / GROOVE
@@ -370,8 +416,8 @@ def test_a_pad_slides_in_a_groove_from_the_scene_file(load, hertz):
 @pytest.mark.parametrize(
     ("basis", "pairs", "load", "hertz"),
     [
-        ("nurbs", 61, 60.0, 0.006),
-        ("nurbs", 61, 100.0, 0.009),
+        ("nurbs", 61, 60.0, 0.008),
+        ("nurbs", 61, 100.0, 0.011),
         ("lagrange2", 61, 100.0, 0.035),
         ("lagrange2", 61, 160.0, 0.04),
         ("lagrange2", 97, 100.0, 0.035),
@@ -379,7 +425,8 @@ def test_a_pad_slides_in_a_groove_from_the_scene_file(load, hertz):
 )  # fmt: skip
 def test_a_pad_slides_in_a_groove_at_other_pair_counts_and_families(basis, pairs, load, hertz):
     """Measured against Hertz (1/R* = 1/R_pad - 1/R_groove), at the start / largest along
-    the track: nurbs 61 pairs 0.16 / 0.47 % (P 60), 0.19 / 0.70 % (P 100); lagrange2, which
+    the track: nurbs 61 pairs 0.16 / 0.71 % (P 60), 0.19 / 0.98 % (P 100; 0.47 / 0.70 % in
+    the shared frame, Hertz's own idealisation); lagrange2, which
     meets Hertz less closely on curved faces without sliding too, 2.9 / 3.0 % (61, P 100),
     2.7 / 3.6 % (61, P 160), 2.1 / 3.0 % (97, P 100)."""
     check(groove_study(basis=basis, pairs=pairs, load=load), hertz=hertz, turn=1.0 / GROOVE)

@@ -169,10 +169,7 @@ def frame(problem: CondensedContact, side: str | None = None) -> tuple[np.ndarra
     """Mean normal n and tangent t of the pair: the loads and the block motion act along them;
     in the axes of the body on ``side`` (its block's), or of the pair frame (None). They
     differ only for a turned pad (:attr:`~fretbem.contact.pairing.Pairing.turn`)."""
-    normals = problem.pairing.normals if side is None else problem.pairing.axes(side)[0]
-    normal = normals.mean(axis=0)
-    normal = normal / np.linalg.norm(normal)
-    return normal, np.array([normal[1], -normal[0]])
+    return problem.pairing.load_frame(side)
 
 
 def _block_rows(problem: CondensedContact) -> slice:

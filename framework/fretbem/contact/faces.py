@@ -26,6 +26,9 @@ class FaceProjectionError(ValueError):
 SAMPLES_PER_ELEMENT = 8
 #: Newton iterations of the projection (quadratic convergence from the bracket's estimate)
 NEWTON_ITERATIONS = 6
+#: passes of the closest-point projection (each shrinks the error by distance / radius of
+#: curvature, below 1e-3 within a contact zone: round-off in a few passes)
+CLOSEST_PASSES = 12
 
 
 @attrs.frozen(eq=False)
@@ -103,14 +106,7 @@ class FaceField:
         params = np.zeros(along.shape)
         for index, basis in enumerate(self.segments):
             curve = basis.curve
-            grid = np.unique(
-                np.concatenate(
-                    [
-                        np.linspace(lo, hi, SAMPLES_PER_ELEMENT + 1)
-                        for lo, hi in basis.element_bounds
-                    ]
-                )
-            )
+            grid = _grid(basis)
             xi = curve.points(grid) @ tangent
             steps = np.diff(xi)
             if not (np.all(steps > 0) or np.all(steps < 0)):
@@ -135,6 +131,69 @@ class FaceField:
                 s = np.clip(s - f / df, 0.0, 1.0)
             segment[inside] = index
             params[inside] = s
+        return segment, params
+
+    def locate_each(
+        self, points: np.ndarray, tangents: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Segment and curve parameter where the face crosses the line through each point
+        normal to its own tangent: X . t_k = P_k . t_k (:meth:`locate` with a tangent per
+        point). Returns (segment index, parameter); the index is -1 where the face does not
+        reach."""
+        points, tangents = np.asarray(points, float), np.asarray(tangents, float)
+        along = np.einsum("kd,kd->k", points, tangents)
+        segment = np.full(along.shape, -1, dtype=np.intp)
+        params = np.zeros(along.shape)
+        for index, basis in enumerate(self.segments):
+            curve = basis.curve
+            grid = _grid(basis)
+            xi = curve.points(grid) @ tangents.T  # (samples, points)
+            steps = np.diff(xi, axis=0)
+            if not (np.all(steps > 0, axis=0) | np.all(steps < 0, axis=0)).all():
+                raise FaceProjectionError(
+                    "a contact segment turns back along a pair tangent, so a point of the other "
+                    "face can face it twice; contact faces must run monotonically along the "
+                    "surface"
+                )
+            lo, hi = xi.min(axis=0), xi.max(axis=0)
+            span = hi - lo
+            inside = (segment < 0) & (along >= lo - 1e-12 * span) & (along <= hi + 1e-12 * span)
+            if not inside.any():
+                continue
+            rows = np.flatnonzero(inside)
+            s = np.empty(rows.size)
+            for j, k in enumerate(rows):
+                order = np.argsort(xi[:, k])
+                s[j] = np.interp(along[k], xi[order, k], grid[order])
+            target, tangent = along[rows], tangents[rows]
+            for _ in range(NEWTON_ITERATIONS):
+                point, derivative = curve.points_and_derivatives(s)
+                f = np.einsum("kd,kd->k", point, tangent) - target
+                df = np.einsum("kd,kd->k", derivative, tangent)
+                s = np.clip(s - f / df, 0.0, 1.0)
+            segment[rows] = index
+            params[rows] = s
+        return segment, params
+
+    def project(self, points: np.ndarray, tangent: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The closest point of the face to each point (segment, parameter; -1 off the face):
+        the face's point whose normal passes through it, found by locating along the face's
+        tangent where it was last found, from ``tangent`` (the error shrinks by the distance
+        over the radius of curvature at each pass)."""
+        points = np.asarray(points, float)
+        tangents = np.tile(np.asarray(tangent, float), (len(points), 1))
+        segment, params = self.locate_each(points, tangents)
+        for _ in range(CLOSEST_PASSES):
+            found = segment >= 0
+            if not found.any():
+                break
+            normals = self.normals(segment[found], params[found])
+            tangents[found] = np.stack([normals[:, 1], -normals[:, 0]], axis=1)
+            before = self.points(segment, params)
+            segment, params = self.locate_each(points, tangents)
+            moved = np.linalg.norm(self.points(segment, params) - before, axis=1)
+            if np.all(segment[found] >= 0) and not np.nanmax(moved[found], initial=0.0) > 1e-15:
+                break
         return segment, params
 
     def points(self, segment: np.ndarray, params: np.ndarray) -> np.ndarray:
@@ -200,6 +259,15 @@ class FaceField:
                 columns = slice(self.offsets[index], self.offsets[index + 1])
                 out[here, columns] = basis.evaluation_matrix(params[here]) @ inverse
         return out
+
+
+def _grid(basis: Basis) -> np.ndarray:
+    """The parameters sampled on a segment to bracket a projection."""
+    return np.unique(
+        np.concatenate(
+            [np.linspace(lo, hi, SAMPLES_PER_ELEMENT + 1) for lo, hi in basis.element_bounds]
+        )
+    )
 
 
 def nearest_nodes(matrix: np.ndarray) -> np.ndarray:

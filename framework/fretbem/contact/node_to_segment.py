@@ -21,14 +21,17 @@ from .pairing import Pairing, turning
 from .pairs import ContactDiscretisationError, ContactPair, check_overlap
 from .transfer import TRANSFERS
 
-__all__ = ["NodeToSegmentPair"]
+__all__ = ["FRAMES", "NodeToSegmentPair"]
+
+#: the pair frames: one for all pairs, or each pair's own
+FRAMES = ("shared", "local")
 
 
 @attrs.frozen(eq=False)
 class NodeToSegmentPair(ContactPair):
     """Lower face nodes paired with the upper face by projection along the pair normal.
 
-    All pairs share one frame, the lower face's mean normal (as node to node: the
+    By default all pairs share one frame, the lower face's mean normal (as node to node: the
     half-plane idealisation of a non-conformal contact); when the upper body is turned, its
     axis turned with it (its face's mean normal reversed): the frame turns with the pad.
     Matching faces give the pairs of :class:`~fretbem.contact.pairs.NodeToNodePair`
@@ -59,6 +62,17 @@ class NodeToSegmentPair(ContactPair):
         frame turns with it.
     pivot : ndarray, shape (2,)
         The point the upper body turns about.
+    frame : str
+        The pair frame: ``"shared"`` (default: one for all pairs, as above) or ``"local"``:
+        each pair's own, the lower face's outward normal and tangent at the pair's point on it
+        (a pad's node projected on the specimen's exact face at its closest point; a specimen
+        node's own normal, along which the pad's face is met), the gap along it. On a curved
+        specimen the shared frame is the a/R simplification of a non-conformal contact; a pad
+        slid along an arc has its pairs spread over a turning face and takes the local
+        frames. The loads still act along the shared normal
+        (:attr:`~fretbem.contact.pairing.Pairing.axis`). On a straight lower face both agree.
+        The pair tractions reach the other face's nodes along the shared tangent either way:
+        the two mappings differ by the gap times the pairs' angle, nil where tractions act.
     """
 
     offset: np.ndarray = attrs.field(
@@ -76,6 +90,7 @@ class NodeToSegmentPair(ContactPair):
     pivot: np.ndarray = attrs.field(
         factory=lambda: np.zeros(2), converter=lambda v: np.asarray(v, float).reshape(2)
     )
+    frame: str = attrs.field(default="shared", validator=attrs.validators.in_(FRAMES))
 
     description = "lower face nodes projected on the upper face's exact geometry (faces may differ)"
 
@@ -152,9 +167,17 @@ class NodeToSegmentPair(ContactPair):
         points = slave_points[order]
         master_tag = self.side(master)[1]
         try:
-            segment, params = fields[master].locate(
-                (points - placed[master]) @ mean_tangent, mean_tangent
-            )
+            if self.frame == "shared":
+                segment, params = fields[master].locate(
+                    (points - placed[master]) @ mean_tangent, mean_tangent
+                )
+            elif master == "lower":  # the pad's nodes: the specimen's closest points
+                segment, params = fields["lower"].project(points, mean_tangent)
+            else:  # the specimen's nodes: the pad's face along each one's normal
+                lower_normals = faces["lower"][1][order]
+                segment, params = fields["upper"].locate_each(
+                    points - placed["upper"], _tangents(lower_normals)
+                )
         except FaceProjectionError as err:
             raise ContactDiscretisationError(
                 f"contact pair: the {master} segment {master_tag!r}: {err}"
@@ -185,14 +208,25 @@ class NodeToSegmentPair(ContactPair):
         distance = np.linalg.norm(nearest - points, axis=1)
         master_points[~covered] = points[~covered]
         upper_points = master_points if master == "upper" else points
+        pair_normals = np.tile(mean_normal, (len(order), 1))
+        if self.frame == "local":  # the lower face's normal where each pair meets it
+            if master == "lower":
+                pair_normals[covered] = fields["lower"].normals(segment[covered], params[covered])
+            else:
+                pair_normals = faces["lower"][1][order]
         if master == "upper":
             up_normals = fields["upper"].normals(segment, params)
-            up_normals[~covered] = -mean_normal
+            up_normals[~covered] = -pair_normals[~covered]
         else:
             up_normals = faces["upper"][1][order]
-        self.check_facing(upper_points, up_normals, mean_normal)
+        facing = mean_normal if self.frame == "shared" else pair_normals
+        self.check_facing(upper_points, up_normals, facing)
         lower_points = points if slave == "lower" else master_points
-        gap = np.where(covered, (upper_points - lower_points) @ mean_normal, distance)
+        if self.frame == "shared":
+            gap = np.where(covered, (upper_points - lower_points) @ mean_normal, distance)
+        else:
+            along_normal = np.einsum("kd,kd->k", upper_points - lower_points, pair_normals)
+            gap = np.where(covered, along_normal, distance)
         check_overlap(gap, lower_points, spacing)
         interpolation = fields[master].interpolation(segment, params)
         # the master nodes' tractions: the pair traction field (slave basis) carried over
@@ -216,13 +250,19 @@ class NodeToSegmentPair(ContactPair):
             lower_nodes=nodes["lower"],
             upper_nodes=nodes["upper"],
             points=lower_points,
-            normals=np.tile(mean_normal, (n, 1)),
-            tangents=np.tile(mean_tangent, (n, 1)),
+            normals=pair_normals,
+            tangents=_tangents(pair_normals),
             gap=np.maximum(gap, 0.0),
             interpolation=interpolations,
             transfer={master: transfer},
             turn=self.turn,
+            axis=None if self.frame == "shared" else mean_normal,
         )
+
+
+def _tangents(normals: np.ndarray) -> np.ndarray:
+    """The pair tangents (n_y, -n_x) of unit normals (n, 2)."""
+    return np.stack([normals[:, 1], -normals[:, 0]], axis=1)
 
 
 def _interpolatory(body) -> bool:

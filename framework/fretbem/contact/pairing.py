@@ -58,6 +58,10 @@ class Pairing:
         its displacements, tractions and block are given in (0: the axes of the pair frame;
         a pad that slides along an arc turns with it). :meth:`axes` gives the pair frame in
         each body's axes.
+    axis : ndarray, shape (2,), or None
+        The normal the loads act along, when the pairs have frames of their own (a pad on a
+        curved face: each pair's normal is the face's at its point); None: the pairs'
+        mean normal (:meth:`load_frame`).
     """
 
     lower_nodes: np.ndarray = attrs.field(converter=_frozen_array)
@@ -69,6 +73,9 @@ class Pairing:
     interpolation: Mapping[str, np.ndarray] = attrs.field(factory=dict)
     transfer: Mapping[str, np.ndarray] = attrs.field(factory=dict)
     turn: float = attrs.field(default=0.0, converter=float)
+    axis: np.ndarray | None = attrs.field(
+        default=None, converter=attrs.converters.optional(_frozen_array)
+    )
 
     @property
     def n_pairs(self) -> int:
@@ -86,6 +93,17 @@ class Pairing:
             return self.normals, self.tangents
         back = turning(-self.turn)
         return self.normals @ back.T, self.tangents @ back.T
+
+    def load_frame(self, side: str | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """The normal and tangent the loads and the block motion act along: ``axis`` or the
+        pairs' mean normal, in the axes of the body on ``side`` (None: the pair frame's)."""
+        if self.axis is None:
+            normals = self.normals if side is None else self.axes(side)[0]
+            normal = normals.mean(axis=0)
+        else:
+            normal = self.axis if side is None else self.to_body(side, self.axis)
+        normal = normal / np.linalg.norm(normal)
+        return normal, np.array([normal[1], -normal[0]])
 
     def to_frame(self, side: str, vectors: np.ndarray, axis: int = -1) -> np.ndarray:
         """Vectors given in the axes of the body on ``side`` (components along ``axis``) in

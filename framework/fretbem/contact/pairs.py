@@ -90,16 +90,21 @@ class ContactPair(ABC):
         """Refuse faces that do not look at each other: the upper face's outward normals must
         point back toward the lower face (else a segment on the far side of the upper body
         would "touch" through that body after a rigid translation)."""
-        facing = upper_normals @ mean_normal
+        if np.ndim(mean_normal) == 1:
+            facing = upper_normals @ mean_normal
+        else:  # a normal per pair (the pairs' own frames)
+            facing = np.einsum("kd,kd->k", upper_normals, mean_normal)
         if np.any(facing >= 0.0):
             k = int(np.argmax(facing))
+            which = "mean outward normal is" if np.ndim(mean_normal) == 1 else "normal there is"
+            mean_normal = mean_normal if np.ndim(mean_normal) == 1 else mean_normal[k]
             raise ContactDiscretisationError(
                 f"contact pair: the contact segments do not face each other: at "
                 f"{upper_points[k].round(6)} the outward normal of the upper segment "
                 f"{self.upper_tag!r} is {upper_normals[k].round(6)}, pointing away from the "
-                f"lower segment {self.lower_tag!r} (whose mean outward normal is "
-                f"{mean_normal.round(6)}); tag the faces that touch, with the upper body on "
-                "the side the lower face's normal points to"
+                f"lower segment {self.lower_tag!r} (whose {which} {mean_normal.round(6)}); "
+                "tag the faces that touch, with the upper body on the side the lower face's "
+                "normal points to"
             )
 
     def side(self, label: str) -> tuple[Body, str]:

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from fretbem.fatigue.output import fatigue_summary, write_fatigue
+from fretbem.sliding.track import Track
 from fretbem.stress.run import run_stress_request
 from fretbem.verification.checks import safe_names
 from fretbem.wear.assess import WearReport
@@ -296,20 +297,23 @@ def save_worn_faces(report: WearReport, directory: Path) -> list[Path]:
     wear_depth, the vector "wear" = -h n to magnify with Warp By Vector, p and q at the end
     of the cycle's first step) and wear.pvd, one time step per output N. With finite
     sliding each face is drawn at all its nodes where it was drawn, its depth read at its
-    material points; p and q (on the specimen's nodes) where the pad was at that step's
-    end."""
+    material points (by arc length along a circular track); p and q (on the specimen's
+    nodes) where the pad was at that step's end."""
     folder = directory / "vtk"
     folder.mkdir(exist_ok=True)
     wear_run = report.result.wear
     pair = wear_run.simulation.pair
+    track = Track.of(pair) if wear_run.sliding else None
+    track = None if track is None or track.straight else track  # an arc: by arc length
     entries = []
     for index, snap in enumerate(report.result.snapshots):
         for part, body in enumerate(BODIES):
             owner, tag = pair.side(body)
             face = owner.contact_face(tag)
             if wear_run.sliding:
-                nodes = np.argsort(face.points[:, 0])
-                x = face.points[nodes, 0]
+                x = face.points[:, 0] if track is None else track.along(face.points)
+                nodes = np.argsort(x)
+                x = x[nodes]
                 depth = np.interp(x, snap.profile.grid(body)[0], snap.profile.depth(body))
                 p, q = (np.interp(x, snap.pair_x(0), v[0], left=0.0, right=0.0)
                         for v in (snap.pressure, snap.shear))  # fmt: skip

@@ -83,14 +83,6 @@ def sliding_scene(
                     "which cannot turn along an arc; set [pad] model = 'bem' and [specimen] "
                     "model = 'bem', or slide on a flat specimen ([specimen] shape = 'flat')"
                 )
-        if "wear" in scene.extras:
-            raise SceneFileError(
-                f"[wear] with [contact] sliding = true on a {kind} specimen: the pad turns along "
-                "the arc, and wear with finite sliding follows straight tracks only (the worn "
-                "depth would have to be read along each pair's own normal and the slid face's "
-                "grid laid in arc length); wear on a flat specimen ([specimen] shape = 'flat', "
-                "either body model), or slide along the arc without [wear]"
-            )
         stress = scene.extras.get("stress", {})
         if isinstance(stress, dict) and stress.get("body") == "upper":
             raise SceneFileError(

@@ -82,6 +82,6 @@ def step_solutions(result: SimulationResult, step) -> dict:
     turn = getattr(step.pair, "turn", 0.0)
     if turn:  # the arc's slide s = turn / rate, along the pad's own tangent
         track = Track.of(result.simulation.pair)
-        slide = track.slide_of(step.pair) * problem.pairing.axes("upper")[1][0]
+        slide = track.slide_of(step.pair) * problem.pairing.load_frame("upper")[1]
     x[problem.layout.block("upper")] += slide
     return problem.solutions(x, step.loads)

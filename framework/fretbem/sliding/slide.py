@@ -38,7 +38,7 @@ import numpy as np
 
 from fretbem.contact import control
 from fretbem.contact.law import ContactState, PairState
-from fretbem.contact.node_to_segment import NodeToSegmentPair
+from fretbem.contact.node_to_segment import FRAMES, NodeToSegmentPair
 from fretbem.contact.pairs import ContactDiscretisationError
 from fretbem.errors import InputError
 from fretbem.results import IncrementRecord, StepResult
@@ -46,7 +46,7 @@ from fretbem.simulation import Simulation, check_balance, loads_between, no_bala
 from fretbem.solvers.newton import SolverConvergenceError
 from fretbem.verification.checks import check_step
 
-from .track import STRAIGHT, Track, TrackError
+from .track import Track, TrackError
 
 __all__ = ["SlidingError", "SlidingResult", "run_sliding"]
 
@@ -180,28 +180,6 @@ def _slid(record, offset: float):
     return attrs.evolve(record, delta=record.delta + offset, slip=record.slip + offset)
 
 
-def _check_track(pair: NodeToSegmentPair) -> None:
-    """The specimen's face must be straight, for a run that follows straight tracks only
-    (wear with finite sliding): its pad is offset along one line and never turned, so on a
-    curved specimen it would leave the arc. :func:`run_sliding` itself also follows
-    circular arcs (:class:`~fretbem.sliding.track.Track`)."""
-    body, tag = pair.side("lower")
-    points = body.contact_face(tag).points
-    chord = points[-1] - points[0] if len(points) > 1 else np.array([1.0, 0.0])
-    length = float(np.linalg.norm(chord))
-    if length == 0.0:
-        return
-    normal = np.array([-chord[1], chord[0]]) / length
-    departure = float(np.max(np.abs((points - points[0]) @ normal)))
-    if departure > STRAIGHT * length:
-        raise SlidingError(
-            f"this run moves the pad along a straight track only, but the specimen's face "
-            f"{tag!r} is curved (it departs from its chord by {departure:.3g} mm): the pad is "
-            "offset without turning, so it cannot follow an arc; slide on a flat specimen "
-            "([specimen] shape = 'flat'; Python: a straight lower face), or without wear"
-        )
-
-
 def _on_the_pad(pair: NodeToSegmentPair) -> NodeToSegmentPair:
     """The pair with its pairs on the pad's nodes: they move with the pad and the track
     faces them all the way, and the memory is carried on them. The default rule (the
@@ -250,6 +228,7 @@ def run_sliding(
     check: bool = True,
     note: Callable[[str], None] | None = print,
     progress: Callable | None = None,
+    frame: str = "local",
 ) -> SlidingResult:
     """Step ``simulation`` through its history, re-pairing as the pad slides.
 
@@ -259,8 +238,13 @@ def run_sliding(
     projected (0: whenever it moves at all). No closed form applies to a sliding contact, so
     the steps carry no errors against theory. ``note`` receives each message about new
     points in contact (None: collect only); ``progress(k, n, step)`` is called after each
-    step.
+    step. ``frame``: the pair frame along an arc, ``"local"`` (default: each pair's own,
+    the arc's normal where it meets it) or ``"shared"`` (all pairs the pad's turned frame,
+    the a/R simplification; :class:`~fretbem.contact.node_to_segment.NodeToSegmentPair`'s
+    ``frame``); a straight track's pairs share one frame either way.
     """
+    if frame not in FRAMES:
+        raise SlidingError(f"frame must be one of {FRAMES}, got {frame!r}")
     if not every >= 0.0:
         raise SlidingError(f"every must be a number of pair spacings >= 0, got {every!r}")
     pair = simulation.pair
@@ -275,6 +259,8 @@ def run_sliding(
         track = Track.of(pair)
     except TrackError as err:
         raise SlidingError(str(err)) from None
+    if not track.straight:  # the pairs spread over a turning face: each its own frame
+        pair = attrs.evolve(pair, frame=frame)
     simulation = attrs.evolve(simulation, pair=pair, reference=None).pinned()
     condensed, first = condenser(simulation, track.straight), pair
     tangent = track.tangent

@@ -86,6 +86,8 @@ class Track:
                 "finite sliding starts from the pair as drawn; this pair is already turned "
                 f"(turn = {pair.turn:.6g} rad): give the pair with turn = 0"
             )
+        if pair.frame != "shared":  # the track's frame where the pad starts: the shared one
+            pair = attrs.evolve(pair, frame="shared")
         pairing = pair.pairing()
         tangent = np.array(pairing.axes("lower")[1][0])
         body, tag = pair.side("lower")
@@ -135,7 +137,7 @@ class Track:
         """The pad's block displacement (its axes) that keeps the pad where it is when the
         pairing carries it ``shift`` further along the track: the block gives the slide
         back along its tangent, and on an arc its displacement turns with the pad's axes."""
-        tangent = np.array(pair.pairing().axes("upper")[1][0])
+        tangent = pair.pairing().load_frame("upper")[1]
         block = np.asarray(block, float)
         if not self.straight:
             block = turning(-self.rate * shift) @ block

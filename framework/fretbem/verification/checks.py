@@ -375,9 +375,17 @@ def consistent(result) -> None:
                     "(the result was edited after the solve); re-run the simulation instead "
                     "of editing a result"
                 )
-        if problem is not None and np.size(step.unknowns) == force_map.shape[1]:
-            force = force_map @ np.asarray(step.unknowns, float)
-            resultant = (float(-force @ normal), float(force @ tangent))
+        if problem is None:
+            continue
+        own = getattr(step, "pair", None)  # a sliding run's step: solved on its own pairing
+        if own is not None:
+            step_map = own.condensed().lower_force_map
+            step_normal, step_tangent = own.pairing().load_frame()
+        else:
+            step_map, step_normal, step_tangent = force_map, normal, tangent
+        if np.size(step.unknowns) == step_map.shape[1]:
+            force = step_map @ np.asarray(step.unknowns, float)
+            resultant = (float(-force @ step_normal), float(force @ step_tangent))
             scale = max(abs(step.normal), abs(step.tangential), 1e-300)
             if max(abs(a - b) for a, b in zip(resultant, step.resultant, strict=True)) > (
                 1e-9 * scale

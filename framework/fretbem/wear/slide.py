@@ -31,11 +31,11 @@ from fretbem.contact.condensation import CondensedContact
 from fretbem.contact.law import ContactState, PairState
 from fretbem.contact.node_to_segment import NodeToSegmentPair
 from fretbem.simulation import LoadStep, Simulation, loads_between
+from fretbem.sliding import track as sliding_track
 from fretbem.sliding.slide import (
     SlidingError,
     _block_delta,
     _carried,
-    _check_track,
     _repaired,
     _spacing,
     condenser,
@@ -49,19 +49,13 @@ from .track import WornTrackPair, spread, track_grids
 __all__ = ["Track", "check_pair", "simulate_sliding_cycle"]
 
 
-def check_pair(pair: NodeToSegmentPair) -> None:
-    """The pair wear with finite sliding takes: a straight track (either body model; an
-    arc, along which the pad turns, is not followed)."""
+def check_pair(pair: NodeToSegmentPair) -> sliding_track.Track:
+    """The track of the pair wear with finite sliding takes: straight (either body model)
+    or a circular arc (``bem`` bodies; :class:`~fretbem.sliding.track.Track`)."""
     try:
-        _check_track(pair)
-    except SlidingError:
-        raise SlidingError(
-            "wear with finite sliding follows straight tracks only, but the specimen's face "
-            f"{pair.side('lower')[1]!r} is curved: along an arc the pad turns, and the worn "
-            "depth would have to be read along each pair's own normal and the slid face's "
-            "grid laid in arc length, which the wear does not do; wear on a flat specimen "
-            "([specimen] shape = 'flat'), or slide along the arc without [wear]"
-        ) from None
+        return sliding_track.Track.of(pair)
+    except sliding_track.TrackError as err:
+        raise SlidingError(f"wear with finite sliding: {err}") from None
 
 
 def _check_slave(pair: NodeToSegmentPair, grids: dict) -> None:
@@ -92,13 +86,17 @@ class Track:
     problem : CondensedContact
         That pair's condensation.
     tangent : ndarray
-        The track's direction.
+        The track's direction where the pad starts.
     spacing : float
         The pairs' spacing (mm): the faces are projected again when the pad has moved more.
     pairings : dict
         The pairings met so far by slide (in millionths of a spacing): a cycle visits the
         same slides every time, and a projection and condensation cost far more than the
         increments solved on them (60 ms against 5 ms measured on half-planes, 41 pairs).
+    path : fretbem.sliding.track.Track
+        The specimen's face the pad slides along (:class:`~fretbem.sliding.track.Track`):
+        straight, or a circular arc the pad turns along, each pair in its own frame (the
+        worn depth is a gap along each pair's normal) and positions in arc length.
     """
 
     simulation: Simulation
@@ -106,11 +104,13 @@ class Track:
     tangent: np.ndarray
     spacing: float
     pairings: dict = attrs.field(factory=dict)
+    path: sliding_track.Track | None = None
 
     @classmethod
     def start(cls, simulation: Simulation) -> Track:
-        """The unworn contact of ``simulation`` (node-to-segment pairing, a straight track;
-        a rotating block turns about the pivot of this first pairing), before any step."""
+        """The unworn contact of ``simulation`` (node-to-segment pairing, a straight or
+        circular track; a rotating block, on a straight one, turns about the pivot of this
+        first pairing), before any step."""
         pair = simulation.pair
         if not isinstance(pair, NodeToSegmentPair):
             raise SlidingError(
@@ -118,16 +118,18 @@ class Track:
                 f"a {type(pair).__name__}; use NodeToSegmentPair ([contact] pairing = "
                 "'node-to-segment')"
             )
-        check_pair(pair)
+        path = check_pair(pair)
         simulation = simulation.pinned()  # a rotating block keeps the first pairing's pivot
+        if not path.straight:  # along an arc each pair in its own frame
+            pair = attrs.evolve(pair, frame="local")
         if not isinstance(pair, WornTrackPair):
-            grids = track_grids(pair, pair_weights(pair.condensed()))
+            grids = track_grids(pair, pair_weights(pair.condensed()), path)
             _check_slave(pair, grids)
             zero = {body: np.zeros(grids[body][0].size) for body in BODIES}
-            pair = WornTrackPair.of(pair, grids, zero["upper"], zero["lower"])
+            pair = WornTrackPair.of(pair, grids, zero["upper"], zero["lower"], path)
         simulation = attrs.evolve(simulation, pair=pair, reference=None)
-        problem = condenser(simulation)(pair)
-        return cls(simulation, problem, pair.pairing().tangents[0], _spacing(pair))
+        problem = condenser(simulation, path.straight)(pair)
+        return cls(simulation, problem, path.tangent, _spacing(pair), path=path)
 
     def condensed(self, pair: WornTrackPair) -> CondensedContact:
         """``pair``'s condensation, with a rotating block's rotation about the pinned pivot."""
@@ -141,7 +143,7 @@ class Track:
 
     def unworn(self) -> WornProfile:
         """No wear yet, each face's depth at its own points (:func:`track_grids`)."""
-        grids = track_grids(self.pair, pair_weights(self.problem))
+        grids = track_grids(self.pair, pair_weights(self.problem), self.path)
         (upper, up_w), (lower, low_w) = grids["upper"], grids["lower"]
         return WornProfile(lower, low_w, np.zeros(upper.size), np.zeros(lower.size),
                            upper_x=upper, upper_weights=up_w)  # fmt: skip
@@ -159,7 +161,9 @@ class Track:
 
     def along(self) -> np.ndarray:
         """The pairs' points along the track in this pairing (mm)."""
-        return self.problem.pairing.points @ self.tangent
+        if self.path is None or self.path.straight:
+            return self.problem.pairing.points @ self.tangent
+        return self.path.along(self.problem.pairing.points)
 
     def positions(self, state: ContactState) -> np.ndarray:
         """The pairs' positions on the specimen (mm along its face) at ``state``."""
@@ -175,11 +179,15 @@ class Track:
             if np.any(~pair.covered() & (state.states != PairState.SEPARATED)):
                 known = None  # let the projection name the pair that slid off the face
         if known is None:
-            pair = _repaired(self.pair, slide, self.tangent, name, state.states)
+            pair = _repaired(self.pair, slide, self.path or self.tangent, name, state.states)
             ahead = slide - self.pair.slide()
             self.pairings[key] = pair
         problem = self.condensed(pair)
-        state = _carried(state, problem, ahead * self.tangent)
+        shift = ahead * self.tangent
+        if self.path is not None and not self.path.straight and not state.virgin:
+            block = state.x[problem.layout.block("upper")]  # the block turns with the pad
+            shift = block - self.path.carried(pair, block, ahead)
+        state = _carried(state, problem, shift)
         touching = state.states != PairState.SEPARATED
         if touching.any():  # where the pad's surface is against its block's travel
             pair = pair.rewear(pair.upper_wear, pair.lower_wear, float(state.slip[touching].mean()))

@@ -24,6 +24,7 @@ import numpy as np
 
 from fretbem.contact.node_to_segment import NodeToSegmentPair
 from fretbem.contact.pairing import Pairing
+from fretbem.sliding import track as sliding_track
 from fretbem.validators import float_array
 
 __all__ = ["GRID_DENSITY", "WornTrackPair", "deposit", "spread", "track_grids"]
@@ -32,21 +33,29 @@ __all__ = ["GRID_DENSITY", "WornTrackPair", "deposit", "spread", "track_grids"]
 GRID_DENSITY = 4
 
 
-def track_grids(pair: NodeToSegmentPair, weights: np.ndarray) -> dict:
+def track_grids(
+    pair: NodeToSegmentPair, weights: np.ndarray, path: sliding_track.Track | None = None
+) -> dict:
     """Each face's points along the track and their face lengths (mm), "upper" and
     "lower": the slave face's are its nodes (the pairs at the pair's slide, and
     ``weights``, the pairs' face lengths); the other face's a uniform grid over its
-    extent, :data:`GRID_DENSITY` points a pair spacing, with trapezoid weights."""
+    extent, :data:`GRID_DENSITY` points a pair spacing, with trapezoid weights. Along a
+    circular ``path`` (:class:`~fretbem.sliding.track.Track`) the positions are arc lengths
+    on the specimen's face; None or a straight one: along the pairs' tangent."""
     pairing = pair.pairing()
-    tangent = pairing.tangents[0]
     slave = pair.slave_side()
-    along = pairing.points @ tangent
+    if path is None or path.straight:
+        tangent = pairing.tangents[0]
+        along = pairing.points @ tangent
+        slide = float(pair.offset @ tangent)
+    else:
+        along, slide = path.along(pairing.points), path.slide_of(pair)
     spacing = float(np.min(np.diff(along)))
-    slide = float(pair.offset @ tangent)
     grids = {slave: (along - (slide if slave == "upper" else 0.0), np.asarray(weights, float))}
     master = "upper" if slave == "lower" else "lower"
     body, tag = pair.side(master)
-    face = np.sort(body.contact_face(tag).points @ tangent)
+    drawn = body.contact_face(tag).points
+    face = np.sort(drawn @ tangent if path is None or path.straight else path.along(drawn))
     n = int(np.ceil((face[-1] - face[0]) * GRID_DENSITY / spacing)) + 1
     x = np.linspace(face[0], face[-1], n)
     step = np.full(n, (face[-1] - face[0]) / (n - 1))
@@ -94,6 +103,10 @@ class WornTrackPair(NodeToSegmentPair):
         given at (:func:`track_grids`).
     upper_wear, lower_wear : ndarray
         Wear depth of the pad and of the specimen at those points (mm).
+    path : fretbem.sliding.track.Track or None
+        The track the pad slides along (:class:`~fretbem.sliding.track.Track`): a circular
+        one measures positions in arc length on the specimen's face and the slide by the
+        pad's turn; None: a straight one, along the pairs' tangent.
     datum : float
         Taken off every gap (mm): the pad moved rigidly toward the specimen so that a run
         from the unloaded bodies starts touching (0 during a wear history, whose state
@@ -110,21 +123,36 @@ class WornTrackPair(NodeToSegmentPair):
     lower_grid: np.ndarray = attrs.field(kw_only=True, converter=float_array)
     upper_wear: np.ndarray = attrs.field(kw_only=True, converter=float_array)
     lower_wear: np.ndarray = attrs.field(kw_only=True, converter=float_array)
+    path: sliding_track.Track | None = attrs.field(default=None, kw_only=True)
     datum: float = attrs.field(default=0.0, kw_only=True, converter=float)
     shift: float = attrs.field(default=0.0, kw_only=True, converter=float)
 
     @classmethod
-    def of(cls, pair: NodeToSegmentPair, grids: dict, upper, lower) -> WornTrackPair:
+    def of(cls, pair: NodeToSegmentPair, grids: dict, upper, lower, path=None) -> WornTrackPair:
         """``pair`` (its faces, slide and options) with the wear ``upper``, ``lower`` at
-        the points ``grids[body][0]``."""
+        the points ``grids[body][0]``, sliding along ``path``."""
         fields = {f.name: getattr(pair, f.name) for f in attrs.fields(NodeToSegmentPair)
                   if f.init}  # fmt: skip
         return cls(**fields, upper_grid=grids["upper"][0], lower_grid=grids["lower"][0],
-                   upper_wear=upper, lower_wear=lower)  # fmt: skip
+                   upper_wear=upper, lower_wear=lower, path=path)  # fmt: skip
+
+    @property
+    def straight(self) -> bool:
+        """Whether the pad slides along a straight track."""
+        return self.path is None or self.path.straight
 
     def slide(self) -> float:
         """The pad's slide (mm along the track) this pairing was projected at."""
-        return float(self.offset @ self._bare().tangents[0])
+        if self.straight:
+            return float(self.offset @ self._bare().tangents[0])
+        return self.path.slide_of(self)
+
+    def along(self, points: np.ndarray) -> np.ndarray:
+        """Positions (mm along the track) of points on the specimen's face: along the
+        pairs' tangent, or the arc length of a circular track."""
+        if self.straight:
+            return points @ self._bare().tangents[0]
+        return self.path.along(points)
 
     def material(self, along: np.ndarray, moved) -> dict:
         """Where the pairs at ``along`` (mm on the track, this pairing's points) are on each
@@ -156,7 +184,7 @@ class WornTrackPair(NodeToSegmentPair):
         """The node-to-segment pairing with the worn faces' depths added to its gap."""
         if "pairing" not in self._cache:
             bare = self._bare()
-            along = bare.points @ bare.tangents[0]
+            along = self.along(bare.points)
             worn = np.where(self._cache["covered"], self.wear_gap(along), 0.0)
             self._cache["pairing"] = attrs.evolve(bare, gap=bare.gap + worn - self.datum)
         return self._cache["pairing"]
