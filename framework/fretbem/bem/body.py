@@ -165,12 +165,27 @@ class BemBody(Body):
     def matrices(self) -> tuple[np.ndarray, np.ndarray]:
         """H and G (2N x 2N), assembled on first request and cached."""
         if "matrices" not in self._cache:
-            start = time.perf_counter()
-            kernel = KelvinKernel.of(self.material)
-            assembler = Assembler(self.segments, kernel, self.integration)
-            self._cache["matrices"] = assembler.assemble()
-            self.timings["assembly"] = time.perf_counter() - start
+            self._cache["matrices"] = self._assembled()
         return self._cache["matrices"]
+
+    def system_matrices(self, g_free: tuple[int, ...] = ()) -> tuple[np.ndarray, np.ndarray]:
+        """H and G for a solve that never reads G's columns of the segments ``g_free``
+        (:func:`fretbem.bem.system.g_free_segments`): the cached :meth:`matrices` if
+        assembled, else H and G with those columns left at 0 by the numpy loops, cached
+        apart until :meth:`release_matrices` (:meth:`matrices` never returns them)."""
+        key = ("system matrices", tuple(g_free))
+        if "matrices" in self._cache or not g_free:
+            return self.matrices()
+        if key not in self._cache:
+            self._cache[key] = self._assembled(key[1])
+        return self._cache[key]
+
+    def _assembled(self, g_free: tuple[int, ...] = ()) -> tuple[np.ndarray, np.ndarray]:
+        start = time.perf_counter()
+        kernel = KelvinKernel.of(self.material)
+        matrices = Assembler(self.segments, kernel, self.integration).assemble(g_free)
+        self.timings["assembly"] = time.perf_counter() - start
+        return matrices
 
     def function_slice(self, segment: int) -> slice:
         """Global function indices of one segment."""
@@ -292,6 +307,8 @@ class BemBody(Body):
     def release_matrices(self) -> None:
         """Forget H and G (assembled again if asked for): they are the body's largest arrays."""
         self._cache.pop("matrices", None)
+        for key in [k for k in self._cache if isinstance(k, tuple) and k[0] == "system matrices"]:
+            del self._cache[key]
 
     def solve(self, loads: Mapping[str, float] | None = None) -> BodySolution:
         """Solve the body on its own (no contact): a linear elastostatic problem.

@@ -19,7 +19,7 @@ from fretbem.body import BlockRotation, ContactResponse, RigidMotionError
 from fretbem.numerics.blas import one_blas_thread
 
 from .assembly import BLOCKS
-from .layout import BLOCK, CONTACT, DISPLACEMENT, TRACTION
+from .layout import BLOCK, CONTACT, DISPLACEMENT, TRACTION, Layout
 
 if TYPE_CHECKING:  # pragma: no cover
     from fretbem.body import Body
@@ -36,9 +36,9 @@ class BodySystem:
 
     def __init__(self, body: Body, contact_tags: tuple[str, ...]):
         self.body = body
-        h, g = body.matrices()
-        start = time.perf_counter()
         layout = body.layout(contact_tags)
+        h, g = body.system_matrices(g_free_segments(body, layout))
+        start = time.perf_counter()
         self.kinds, self.known = layout.kinds.ravel(), layout.known.ravel()
         self.load_known = layout.loads.reshape(len(layout.loads), self.kinds.size)  # (k, 2N)
         solves_u = (self.kinds == TRACTION) | (self.kinds == CONTACT)
@@ -97,6 +97,13 @@ class BodySystem:
         u[self.block_dofs] = delta[self.block_dofs % 2]
         t[self.contact_dofs] = contact_tractions
         return BodySolution(self.body, u.reshape(-1, 2), t.reshape(-1, 2), delta)
+
+
+def g_free_segments(body: Body, layout: Layout) -> tuple[int, ...]:
+    """Segments whose G columns the system never reads: traction prescribed on both
+    components, 0 and scaled by no load (G's columns meet only the known tractions there)."""
+    free = (layout.kinds == TRACTION) & (layout.known == 0.0) & ~layout.loads.any(axis=0)
+    return tuple(k for k in range(len(body.segments)) if free[body.function_slice(k)].all())
 
 
 def _solve_parameters(h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs):
