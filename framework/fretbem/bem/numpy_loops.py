@@ -313,13 +313,21 @@ def integrate_singular(
     kernel = _Kernel(shear_modulus, nu)
     src = points[rows]
     rx, ry = x[..., 0] - src[:, 0, None], x[..., 1] - src[:, 1, None]
-    log_term = np.log(np.sqrt(rx * rx + ry * ry) / t)
-    log_term += np.log(safe)[:, None]
-    log_term *= -(3.0 - 4.0 * nu)  # (3 - 4 nu) ln(1/r), its ln(1/t) part on the log rule
-    k = np.empty((len(rows), 7, x.shape[1]))
+    log_term = None
+    if with_g:
+        log_term = np.log(np.sqrt(rx * rx + ry * ry) / t)
+        log_term += np.log(safe)[:, None]
+        log_term *= -(3.0 - 4.0 * nu)  # (3 - 4 nu) ln(1/r), its ln(1/t) part on the log rule
+    k = np.empty((len(rows), 7 if with_g else 4, x.shape[1]))
     kernel.components(rx, ry, n[..., 0], n[..., 1], kernel.t_scale * jw, kernel.u_scale * jw,
                       k.transpose(1, 0, 2), log_term=log_term)  # fmt: skip
     h_sums = np.einsum("pkq,pqa->pka", k[:, :4], phi - at_source[:, None, :])
+    if not with_g:
+        blocks = np.empty((len(rows), 2, phi.shape[2], 2))  # [pair, i, a, j]
+        for index, (_, i, j) in enumerate(COMPONENTS[:4]):
+            blocks[:, i, :, j] = h_sums[:, index]
+        scatter_blocks(rows, cols, blocks, h)
+        return
     g_sums = np.einsum("pkq,pqa->pka", k[:, 4:], phi)
     log_sums = (kernel.u_scale * (3.0 - 4.0 * nu)) * np.einsum("pq,pqa->pa", log_jw, log_phi)
     blocks = np.empty((2, len(rows), 2, phi.shape[2], 2))  # [H or G, pair, i, a, j]
@@ -328,7 +336,4 @@ def integrate_singular(
     blocks[1, :, 1, :, 0] = g_sums[:, 1]
     blocks[1, :, 0, :, 0] += log_sums
     blocks[1, :, 1, :, 1] += log_sums
-    if with_g:
-        _scatter_both(rows, cols, blocks, h, g)
-    else:
-        scatter_blocks(rows, cols, blocks[0], h)
+    _scatter_both(rows, cols, blocks, h, g)
