@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import time
 import weakref
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 
 import attrs
 import numpy as np
@@ -191,20 +191,31 @@ class BemBody(Body):
         """Global function indices of one segment."""
         return slice(int(self.offsets[segment]), int(self.offsets[segment + 1]))
 
-    def resultant_weights(self) -> np.ndarray:
-        """int phi_a dGamma for every function: tractions coefficients to resultant force."""
+    def resultant_weights(self, segments: Sequence[int] | None = None) -> np.ndarray:
+        """int phi_a dGamma for every function: tractions coefficients to resultant force.
+
+        ``segments``: integrate those segments' functions only (0 on the others), for a
+        caller that reads no other (the contact response: the face and the block)."""
+        if segments is not None:
+            out = np.zeros(self.n_functions)
+            for k in segments:
+                out[self.function_slice(k)] = _segment_weights(self.segments[k])
+            return out
         if "resultant" not in self._cache:
             self._cache["resultant"] = np.concatenate(
                 [_segment_weights(basis) for basis in self.segments]
             )
         return self._cache["resultant"]
 
-    def moment_weights(self, centre) -> np.ndarray:
+    def moment_weights(self, centre, segments: Sequence[int] | None = None) -> np.ndarray:
         """int phi_a (x - cx) dGamma and int phi_a (y - cy) dGamma for every function (N, 2):
-        traction coefficients to their moment about ``centre``."""
+        traction coefficients to their moment about ``centre`` (``segments``: those
+        segments' functions only, 0 on the others)."""
         centre = np.asarray(centre, float)
         out = np.zeros((self.n_functions, 2))
         for k, basis in enumerate(self.segments):
+            if segments is not None and k not in segments:
+                continue
             functions, points, values, weights = _segment_samples(basis)
             for j in range(2):
                 np.add.at(
