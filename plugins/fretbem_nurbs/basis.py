@@ -6,9 +6,9 @@ import weakref
 
 import numpy as np
 
-from fretbem.basis import Basis, Refinement
+from fretbem.basis import Basis, ElementMap, Refinement
 from fretbem.geometry import knots as kv
-from fretbem.geometry.nurbs import NurbsCurve, rational_basis
+from fretbem.geometry.nurbs import NurbsCurve, bspline_from_window, rational_columns
 
 
 def _merge_breakpoints(existing: np.ndarray, requested: np.ndarray) -> np.ndarray:
@@ -82,15 +82,81 @@ class NurbsBasis(Basis):
         )
 
     def shape_functions(self, elements, local):
-        elements = np.asarray(elements, dtype=np.intp)
-        lo, width, bound, spans = _element_table(self)
-        width = width[elements]
-        xi = lo[elements] + (np.asarray(local, float) + 1.0) * 0.5 * width
-        xi = np.minimum(xi, bound[elements])
-        values, derivatives, _ = rational_basis(
-            self.curve.knots, self.degree, self.curve.weights, xi, spans[elements]
+        values, derivatives, scale, _ = _columns(self, elements, local)
+        return _stacked(values), _stacked([d * scale for d in derivatives])
+
+    def map(self, elements, local) -> ElementMap:
+        """``Basis.map``'s numbers (the same arithmetic, bit for bit) from one gather of the
+        elements' data (:func:`_point_table`) and columns over the points throughout: no
+        (points, functions) array is read column by column."""
+        values, derivatives, scale, (x, y) = _columns(self, elements, local)
+        derivatives = [d * scale for d in derivatives]
+        coordinates = []
+        for coefficient in (x, y):
+            point = values[0] * coefficient[0]
+            tangent = derivatives[0] * coefficient[0]
+            for a in range(1, len(values)):
+                point += values[a] * coefficient[a]
+                tangent += derivatives[a] * coefficient[a]
+            coordinates.append((point, tangent))
+        (px, tx), (py, ty) = coordinates
+        jacobians = np.sqrt(tx * tx + ty * ty)
+        return ElementMap(
+            _stacked(values),
+            _stacked((px, py)),
+            _stacked((tx, ty)),
+            jacobians,
+            _stacked((ty / jacobians, -tx / jacobians)),
         )
-        return values, derivatives * (0.5 * width)[:, None]
+
+
+def _stacked(columns) -> np.ndarray:
+    """``np.stack(columns, axis=1)`` (C order) without its dispatch."""
+    out = np.empty((columns[0].size, len(columns)))
+    for a, column in enumerate(columns):
+        out[:, a] = column
+    return out
+
+
+def _columns(basis: NurbsBasis, elements, local) -> tuple[list, list, np.ndarray, tuple]:
+    """R, dR/dxi (lists of columns over the points), d xi / d(local) and the p + 1
+    geometry coefficients of each point's functions per coordinate, as columns."""
+    p = basis.degree
+    rows = np.take(_point_table(basis), np.asarray(elements, dtype=np.intp), axis=1)
+    xi = rows[0] + (np.asarray(local, float) + 1.0) * 0.5 * rows[1]
+    xi = np.minimum(xi, rows[2])
+    knots = basis.curve.knots
+    xi = np.minimum(np.maximum(xi, knots[0]), knots[-1])  # as _bspline_columns clips
+    window, weights = rows[4 : 4 + 2 * p], rows[4 + 2 * p : 5 + 3 * p]
+    values, derivatives = rational_columns(*bspline_from_window(window, p, xi), list(weights))
+    coefficients = rows[5 + 3 * p :]
+    return values, derivatives, rows[3], (coefficients[: p + 1], coefficients[p + 1 :])
+
+
+def _point_table(basis: NurbsBasis) -> np.ndarray:
+    """Per element, one column of everything a point evaluation gathers (computed once per
+    discretised segment): its start, width and largest parameter (:func:`_element_table`),
+    half width, the 2 p knots about its span, the weights and the geometry coefficients
+    (x, then y) of its p + 1 functions."""
+    table = _POINT_TABLES.get(basis)
+    if table is None:
+        lo, width, bound, spans = _element_table(basis)
+        p = basis.degree
+        knots, weights = basis.curve.knots, basis.curve.weights
+        window = knots[np.arange(1 - p, p + 1)[:, None] + spans]
+        first = spans - p
+        local_weights = weights[first + np.arange(p + 1)[:, None]]
+        coefficients = basis.geometry_coefficients[basis.connectivity.T]  # (p + 1, el, 2)
+        table = np.vstack(
+            [lo, width, bound, 0.5 * width, window, local_weights,
+             coefficients[..., 0], coefficients[..., 1]]
+        )  # fmt: skip
+        _POINT_TABLES[basis] = table
+    return table
+
+
+#: ``_point_table`` per discretised segment (weak keys: it goes with the segment)
+_POINT_TABLES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def _element_table(basis: NurbsBasis) -> tuple[np.ndarray, ...]:

@@ -273,22 +273,28 @@ def _row_sums(h: np.ndarray, n: int, chunk: int = 64) -> np.ndarray:
     return out.reshape(n, 2, 2)
 
 
-def assemble(assembler, shear_modulus: float, nu: float, loops) -> tuple[np.ndarray, np.ndarray]:
+def assemble(
+    assembler, shear_modulus: float, nu: float, loops, g_free: frozenset = frozenset()
+) -> tuple[np.ndarray, np.ndarray]:
     """Dense H and G of ``assembler`` (an :class:`~fretbem.bem.integration.Assembler`).
 
     ``loops`` is :mod:`fretbem.bem.compiled_loops` or :mod:`fretbem.bem.numpy_loops`. A body
     of at most :data:`REUSE_MAX_FUNCTIONS` takes the rules and regular blocks of segments
-    it shares with bodies assembled before (:data:`BLOCKS`) and keeps its own.
+    it shares with bodies assembled before (:data:`BLOCKS`) and keeps its own. The numpy
+    loops leave G's columns of the segments numbered in ``g_free`` at 0 (a solve that
+    never reads them: traction-free segments); H is the same either way.
     """
     n, s, colloc = assembler.n, assembler.settings, assembler.colloc
     h, g = np.zeros((2 * n, 2 * n)), np.zeros((2 * n, 2 * n))
     segments = assembler.segments
     reuse = n <= REUSE_MAX_FUNCTIONS
-    key = (shear_modulus, nu, s, loops.__name__)
+    skips_g = getattr(loops, "SKIPS_G", False)
     starts = np.searchsorted(colloc.segment, np.arange(len(segments) + 1))  # rows in order
     jobs = []
     for k, basis in enumerate(segments):
         columns = slice(2 * assembler.offsets[k], 2 * assembler.offsets[k + 1])
+        with_g = not (skips_g and k in g_free)
+        key = (shear_modulus, nu, s, loops.__name__, with_g)
         known = {
             r: block
             for r, row_basis in enumerate(segments)
@@ -309,7 +315,7 @@ def assemble(assembler, shear_modulus: float, nu: float, loops) -> tuple[np.ndar
             todo, colloc.points, colloc.segment == k, colloc.parameter,
             basis.element_bounds, rules["samples"], rules["centres"], rules["radii"], length,
             *rules["far"], *rules["mid"], cols, s.far_ratio, s.near_ratio, shear_modulus, nu,
-            h, g,
+            h, g, *(() if with_g else (False,)),
         )  # fmt: skip
         near = kind == loops.NEAR
         pr, pe = todo[pr[near]], pe[near]
@@ -327,6 +333,7 @@ def assemble(assembler, shear_modulus: float, nu: float, loops) -> tuple[np.ndar
                 pr, colloc.points, near_map.points.reshape(*shape, 2),
                 near_map.normals.reshape(*shape, 2), near_map.jacobians.reshape(shape) * weights,
                 near_map.values.reshape(*shape, -1), cols[pe], shear_modulus, nu, h, g,
+                *(() if with_g else (False,)),
             )  # fmt: skip
         for r, row_basis in enumerate(segments):
             block_rows = slice(2 * starts[r], 2 * starts[r + 1])
@@ -336,7 +343,7 @@ def assemble(assembler, shear_modulus: float, nu: float, loops) -> tuple[np.ndar
                 BLOCKS.put(basis, row_basis, key, h[block_rows, columns], g[block_rows, columns])
         jobs.append(
             (k, basis, rows, rules["values"], rows[rules["singular_rows"]],
-             rules["singular_elements"], rules["singular_sides"])
+             rules["singular_elements"], rules["singular_sides"], with_g)
         )  # fmt: skip
     if reuse:
         BLOCKS.assembled(segments)
@@ -346,13 +353,13 @@ def assemble(assembler, shear_modulus: float, nu: float, loops) -> tuple[np.ndar
         cols = assembler.offsets[k] + basis.connectivity[colloc.element[rows]]
         blocks = -np.einsum("pa,pij->piaj", values, row_sums[rows])
         loops.scatter_blocks(rows, cols, np.ascontiguousarray(blocks), h)
-    for k, basis, _, _, rows, elements, singular in jobs:
+    for k, basis, _, _, rows, elements, singular, with_g in jobs:
         if not rows.size:
             continue
         cols = assembler.offsets[k] + basis.connectivity[elements]
         # both sides of every split element in one call: the pairs of side -1, then side +1
         loops.integrate_singular(
             np.concatenate([rows, rows]), colloc.points, *singular,
-            np.concatenate([cols, cols]), shear_modulus, nu, h, g,
+            np.concatenate([cols, cols]), shear_modulus, nu, h, g, *(() if with_g else (False,)),
         )  # fmt: skip
     return h, g

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import time
 import weakref
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 
 import attrs
 import numpy as np
@@ -165,31 +165,57 @@ class BemBody(Body):
     def matrices(self) -> tuple[np.ndarray, np.ndarray]:
         """H and G (2N x 2N), assembled on first request and cached."""
         if "matrices" not in self._cache:
-            start = time.perf_counter()
-            kernel = KelvinKernel.of(self.material)
-            assembler = Assembler(self.segments, kernel, self.integration)
-            self._cache["matrices"] = assembler.assemble()
-            self.timings["assembly"] = time.perf_counter() - start
+            self._cache["matrices"] = self._assembled()
         return self._cache["matrices"]
+
+    def system_matrices(self, g_free: tuple[int, ...] = ()) -> tuple[np.ndarray, np.ndarray]:
+        """H and G for a solve that never reads G's columns of the segments ``g_free``
+        (:func:`fretbem.bem.system.g_free_segments`): the cached :meth:`matrices` if
+        assembled, else H and G with those columns left at 0 by the numpy loops, cached
+        apart until :meth:`release_matrices` (:meth:`matrices` never returns them)."""
+        key = ("system matrices", tuple(g_free))
+        if "matrices" in self._cache or not g_free:
+            return self.matrices()
+        if key not in self._cache:
+            self._cache[key] = self._assembled(key[1])
+        return self._cache[key]
+
+    def _assembled(self, g_free: tuple[int, ...] = ()) -> tuple[np.ndarray, np.ndarray]:
+        start = time.perf_counter()
+        kernel = KelvinKernel.of(self.material)
+        matrices = Assembler(self.segments, kernel, self.integration).assemble(g_free)
+        self.timings["assembly"] = time.perf_counter() - start
+        return matrices
 
     def function_slice(self, segment: int) -> slice:
         """Global function indices of one segment."""
         return slice(int(self.offsets[segment]), int(self.offsets[segment + 1]))
 
-    def resultant_weights(self) -> np.ndarray:
-        """int phi_a dGamma for every function: tractions coefficients to resultant force."""
+    def resultant_weights(self, segments: Sequence[int] | None = None) -> np.ndarray:
+        """int phi_a dGamma for every function: tractions coefficients to resultant force.
+
+        ``segments``: integrate those segments' functions only (0 on the others), for a
+        caller that reads no other (the contact response: the face and the block)."""
+        if segments is not None:
+            out = np.zeros(self.n_functions)
+            for k in segments:
+                out[self.function_slice(k)] = _segment_weights(self.segments[k])
+            return out
         if "resultant" not in self._cache:
             self._cache["resultant"] = np.concatenate(
                 [_segment_weights(basis) for basis in self.segments]
             )
         return self._cache["resultant"]
 
-    def moment_weights(self, centre) -> np.ndarray:
+    def moment_weights(self, centre, segments: Sequence[int] | None = None) -> np.ndarray:
         """int phi_a (x - cx) dGamma and int phi_a (y - cy) dGamma for every function (N, 2):
-        traction coefficients to their moment about ``centre``."""
+        traction coefficients to their moment about ``centre`` (``segments``: those
+        segments' functions only, 0 on the others)."""
         centre = np.asarray(centre, float)
         out = np.zeros((self.n_functions, 2))
         for k, basis in enumerate(self.segments):
+            if segments is not None and k not in segments:
+                continue
             functions, points, values, weights = _segment_samples(basis)
             for j in range(2):
                 np.add.at(
@@ -292,6 +318,8 @@ class BemBody(Body):
     def release_matrices(self) -> None:
         """Forget H and G (assembled again if asked for): they are the body's largest arrays."""
         self._cache.pop("matrices", None)
+        for key in [k for k in self._cache if isinstance(k, tuple) and k[0] == "system matrices"]:
+            del self._cache[key]
 
     def solve(self, loads: Mapping[str, float] | None = None) -> BodySolution:
         """Solve the body on its own (no contact): a linear elastostatic problem.

@@ -200,11 +200,15 @@ class Assembler:
             return choice
         return LOOP_CHOICE.compiled(self.point_element_pairs)
 
-    def assemble(self) -> tuple[np.ndarray, np.ndarray]:
-        """Dense H and G, rows 2 s + i (collocation point s), columns 2 b + j (function b)."""
+    def assemble(self, g_free: Sequence[int] = ()) -> tuple[np.ndarray, np.ndarray]:
+        """Dense H and G, rows 2 s + i (collocation point s), columns 2 b + j (function b).
+
+        ``g_free``: segments whose G columns the caller never reads (traction-free ones in a
+        solve); the numpy loops leave them at 0 and skip G's share of the kernel there.
+        """
         if self.uses_compiled:
             from . import compiled_loops as loops  # numba: loaded only when chosen
         else:
             loops = numpy_loops
             LOOP_CHOICE.record(self.point_element_pairs)
-        return assembly.assemble(self, self.mu, self.nu, loops)
+        return assembly.assemble(self, self.mu, self.nu, loops, frozenset(g_free))

@@ -18,6 +18,9 @@ import threading
 import numpy as np
 
 FAR, MID, NEAR, SINGULAR = 0, 1, 2, 3
+#: the loops can leave G's columns of chosen segments out (``with_g=False``; the compiled
+#: loops integrate both always)
+SKIPS_G = True
 
 #: kernel evaluations per chunk of per-pair rules (64 kB per temporary)
 CHUNK = 8192
@@ -85,7 +88,8 @@ class _Kernel:
         self.log_coef = -(3.0 - 4.0 * nu) * 0.5
 
     def components(self, rx, ry, nx, ny, tw, uw, out, log_term=None, work=None) -> None:
-        """Write T00, T01, T10, T11, U00, U01, U11 times the weights into ``out[0..6]``.
+        """Write T00, T01, T10, T11, U00, U01, U11 times the weights into ``out[0..6]``
+        (T's four alone when ``out`` has four entries: G not wanted).
 
         ``rx, ry``: field point minus source; ``nx, ny``: the field point's normal; ``tw, uw``:
         the weight times t_scale and u_scale; all broadcast to the shape of each ``out[k]``.
@@ -106,7 +110,8 @@ class _Kernel:
         ux = np.multiply(rxx, inv, out=rxx)
         uy = np.multiply(ryy, inv, out=ryy)
         uxy = np.multiply(rxy, inv, out=rxy)
-        if log_term is None:
+        with_g = len(out) > 4
+        if log_term is None and with_g:
             log_term = np.log(d2, out=d2)
             log_term *= self.log_coef  # (3 - 4 nu) ln(1/r)
         scale = np.multiply(tw, inv, out=inv)
@@ -126,6 +131,8 @@ class _Kernel:
         out[1] -= skew  # T01
         np.multiply(two, uy, out=out[3])
         out[3] += a_dr_dn  # T11
+        if not with_g:
+            return
         np.add(log_term, ux, out=out[4])
         out[4] *= uw  # U00
         np.multiply(uw, uxy, out=out[5])  # U01 = U10
@@ -137,10 +144,12 @@ class _Kernel:
 COMPONENTS = ((0, 0, 0), (0, 0, 1), (0, 1, 0), (0, 1, 1), (1, 0, 0), (1, 0, 1), (1, 1, 1))
 
 
-def _integrate(sources, x, n, jw, phi, rows, cols, shear_modulus, nu, h, g):
-    """Per-pair rules (pair p: points x[p], J w jw[p], values phi[p]) into H and G."""
+def _integrate(sources, x, n, jw, phi, rows, cols, shear_modulus, nu, h, g, with_g=True):
+    """Per-pair rules (pair p: points x[p], J w jw[p], values phi[p]) into H and G (H alone
+    unless ``with_g``)."""
     kernel = _Kernel(shear_modulus, nu)
     n_q, n_loc = phi.shape[1], phi.shape[2]
+    n_k = 7 if with_g else 4
     chunk = max(1, CHUNK // n_q)
     for start in range(0, len(rows), chunk):
         part = slice(start, start + chunk)
@@ -148,8 +157,8 @@ def _integrate(sources, x, n, jw, phi, rows, cols, shear_modulus, nu, h, g):
         count = len(src)
         # every array [point, pair] (pairs along the rows): each operation runs along them
         k, work, phi_t, summed, term = _scratch(
-            (7, n_q, count), (12, n_q, count), (n_q, n_loc, count), (7, n_loc, count),
-            (7, n_loc, count),
+            (n_k, n_q, count), (12, n_q, count), (n_q, n_loc, count), (n_k, n_loc, count),
+            (n_k, n_loc, count),
         )  # fmt: skip
         rx = np.subtract(xp[..., 0].T, src[:, 0], out=work[8])
         ry = np.subtract(xp[..., 1].T, src[:, 1], out=work[9])
@@ -167,14 +176,17 @@ def _integrate(sources, x, n, jw, phi, rows, cols, shear_modulus, nu, h, g):
                 summed += np.multiply(k[:, q, None], phi_t[q], out=term)
         else:  # the graded near rules (10 points a level): few pairs, many points
             np.einsum("kqp,pqa->kap", k, phi[part], out=summed)
-        blocks = np.empty((2, count, 2, n_loc, 2))  # [H or G, pair, i, a, j]
-        for index, (m, i, j) in enumerate(COMPONENTS):
+        blocks = np.empty((2 if with_g else 1, count, 2, n_loc, 2))  # [H or G, pair, i, a, j]
+        for index, (m, i, j) in enumerate(COMPONENTS[:n_k]):
             blocks[m, :, i, :, j] = summed[index].T
+        if not with_g:
+            scatter_blocks(rows[part], cols[part], blocks[0], h)
+            continue
         blocks[1, :, 1, :, 0] = summed[5].T
         _scatter_both(rows[part], cols[part], blocks, h, g)
 
 
-def _far_field(src, rows, is_far, x, n, jw, phi, cols, shear_modulus, nu, h, g):
+def _far_field(src, rows, is_far, x, n, jw, phi, cols, shear_modulus, nu, h, g, with_g=True):
     """Far pairs on dense (elements, points, rows) blocks; non-far pairs masked out after the
     sum over the points.
 
@@ -187,6 +199,7 @@ def _far_field(src, rows, is_far, x, n, jw, phi, cols, shear_modulus, nu, h, g):
     """
     kernel = _Kernel(shear_modulus, nu)
     n_el, n_q, n_loc = phi.shape
+    n_k = 7 if with_g else 4  # the kernel components: T's alone when G is not wanted
     n_cols = h.shape[1] // 2
     xx, xy = x[:, :, 0, None], x[:, :, 1, None]  # (e, q, 1)
     nx, ny = n[:, :, 0, None], n[:, :, 1, None]
@@ -200,32 +213,35 @@ def _far_field(src, rows, is_far, x, n, jw, phi, cols, shear_modulus, nu, h, g):
         r = rows[part]
         c = len(r)
         k, work, summed, by_row = _scratch(
-            (n_el, n_q, 7, c), (10, n_el, n_q, c), (n_el, n_loc, 7 * c), (n_loc, 7, c, n_el)
-        )
+            (n_el, n_q, n_k, c), (10, n_el, n_q, c), (n_el, n_loc, n_k * c),
+            (n_loc, n_k, c, n_el),
+        )  # fmt: skip
         rx = np.subtract(xx, src[part, 0], out=work[8])  # (e, q, c)
         ry = np.subtract(xy, src[part, 1], out=work[9])
         kernel.components(rx, ry, nx, ny, tw, uw, k.transpose(2, 0, 1, 3), work=work[:8])
-        np.matmul(phi_t, k.reshape(n_el, n_q, 7 * c), out=summed)
+        np.matmul(phi_t, k.reshape(n_el, n_q, n_k * c), out=summed)
         # [b, component, row, element], the non-far pairs masked out: every add below then
         # runs along the elements, as H's and G's columns do
-        np.multiply(summed.reshape(n_el, n_loc, 7, c).transpose(1, 2, 3, 0), is_far[part],
+        np.multiply(summed.reshape(n_el, n_loc, n_k, c).transpose(1, 2, 3, 0), is_far[part],
                     out=by_row)  # fmt: skip
         rows_at = _progression(r)
         for b in range(n_loc):
             at = columns[b]
             if rows_at is not None and at is not None:
-                for index, (m, i, j) in enumerate(COMPONENTS):
+                for index, (m, i, j) in enumerate(COMPONENTS[:n_k]):
                     (h_view, g_view)[m][rows_at, i, at, j] += by_row[b, index]
-                g_view[rows_at, 1, at, 0] += by_row[b, 5]
+                if with_g:
+                    g_view[rows_at, 1, at, 0] += by_row[b, 5]
             else:
                 blocks = np.empty((2, c, 2, n_el, 2))  # [H or G, row, i, element, j]
-                for index, (m, i, j) in enumerate(COMPONENTS):
+                for index, (m, i, j) in enumerate(COMPONENTS[:n_k]):
                     blocks[m, :, i, :, j] = by_row[b, index]
-                blocks[1, :, 1, :, 0] = blocks[1, :, 0, :, 1]
                 index = (r[:, None, None, None], np.arange(2)[:, None, None],
                          cols[:, b][:, None], np.arange(2))  # fmt: skip
                 np.add.at(h_view, index, blocks[0])
-                np.add.at(g_view, index, blocks[1])
+                if with_g:
+                    blocks[1, :, 1, :, 0] = blocks[1, :, 0, :, 1]
+                    np.add.at(g_view, index, blocks[1])
 
 
 def _distance(dx: np.ndarray, dy: np.ndarray) -> np.ndarray:
@@ -248,9 +264,10 @@ def _progression(index: np.ndarray) -> slice | None:
 def classify_and_integrate(
     rows, points, own, parameters, bounds, samples, centres, radii, length,
     far_x, far_n, far_jw, far_phi, mid_x, mid_n, mid_jw, mid_phi, cols,
-    far_ratio, near_ratio, shear_modulus, nu, h, g,
+    far_ratio, near_ratio, shear_modulus, nu, h, g, with_g=True,
 ):  # fmt: skip
-    """Classify every (row, element) pair; integrate far and mid pairs (see _compiled)."""
+    """Classify every (row, element) pair; integrate far and mid pairs (see _compiled); G's
+    terms only ``with_g`` (the compiled loops always integrate both)."""
     src = points[rows]
     lower = _distance(src[:, 0, None] - centres[:, 0], src[:, 1, None] - centres[:, 1])
     lower -= radii
@@ -270,22 +287,25 @@ def classify_and_integrate(
     kind = np.select(
         [singular, ratio >= far_ratio, ratio >= near_ratio], [SINGULAR, FAR, MID], NEAR
     )
-    _far_field(src, rows, kind == FAR, far_x, far_n, far_jw, far_phi, cols, shear_modulus, nu, h, g)
+    _far_field(
+        src, rows, kind == FAR, far_x, far_n, far_jw, far_phi, cols, shear_modulus, nu, h, g,
+        with_g,
+    )  # fmt: skip
     pr, pe = np.nonzero(kind == MID)
     data = (mid_x[pe], mid_n[pe], mid_jw[pe], mid_phi[pe])
-    _integrate(src[pr], *data, rows[pr], cols[pe], shear_modulus, nu, h, g)
+    _integrate(src[pr], *data, rows[pr], cols[pe], shear_modulus, nu, h, g, with_g)
     pr, pe = np.nonzero(kind >= NEAR)
     return pr, pe, kind[pr, pe]
 
 
-def integrate_pairs(rows, points, x, n, jw, phi, cols, shear_modulus, nu, h, g):
+def integrate_pairs(rows, points, x, n, jw, phi, cols, shear_modulus, nu, h, g, with_g=True):
     """Per-pair rules into H and G rows 2 rows[p] + i (see _compiled.integrate_pairs)."""
-    _integrate(points[rows], x, n, jw, phi, rows, cols, shear_modulus, nu, h, g)
+    _integrate(points[rows], x, n, jw, phi, rows, cols, shear_modulus, nu, h, g, with_g)
 
 
 def integrate_singular(
     rows, points, x, n, jw, phi, at_source, t, safe, log_jw, log_phi, cols, shear_modulus, nu,
-    h, g,
+    h, g, with_g=True,
 ):  # fmt: skip
     """Elements split at their collocation point, pair by pair (see _compiled): H by singularity
     subtraction, G's ln(1/r) as ln(t / r) - ln(side length) on the Gauss rule plus the
@@ -293,13 +313,21 @@ def integrate_singular(
     kernel = _Kernel(shear_modulus, nu)
     src = points[rows]
     rx, ry = x[..., 0] - src[:, 0, None], x[..., 1] - src[:, 1, None]
-    log_term = np.log(np.sqrt(rx * rx + ry * ry) / t)
-    log_term += np.log(safe)[:, None]
-    log_term *= -(3.0 - 4.0 * nu)  # (3 - 4 nu) ln(1/r), its ln(1/t) part on the log rule
-    k = np.empty((len(rows), 7, x.shape[1]))
+    log_term = None
+    if with_g:
+        log_term = np.log(np.sqrt(rx * rx + ry * ry) / t)
+        log_term += np.log(safe)[:, None]
+        log_term *= -(3.0 - 4.0 * nu)  # (3 - 4 nu) ln(1/r), its ln(1/t) part on the log rule
+    k = np.empty((len(rows), 7 if with_g else 4, x.shape[1]))
     kernel.components(rx, ry, n[..., 0], n[..., 1], kernel.t_scale * jw, kernel.u_scale * jw,
                       k.transpose(1, 0, 2), log_term=log_term)  # fmt: skip
     h_sums = np.einsum("pkq,pqa->pka", k[:, :4], phi - at_source[:, None, :])
+    if not with_g:
+        blocks = np.empty((len(rows), 2, phi.shape[2], 2))  # [pair, i, a, j]
+        for index, (_, i, j) in enumerate(COMPONENTS[:4]):
+            blocks[:, i, :, j] = h_sums[:, index]
+        scatter_blocks(rows, cols, blocks, h)
+        return
     g_sums = np.einsum("pkq,pqa->pka", k[:, 4:], phi)
     log_sums = (kernel.u_scale * (3.0 - 4.0 * nu)) * np.einsum("pq,pqa->pa", log_jw, log_phi)
     blocks = np.empty((2, len(rows), 2, phi.shape[2], 2))  # [H or G, pair, i, a, j]

@@ -19,7 +19,7 @@ from fretbem.body import BlockRotation, ContactResponse, RigidMotionError
 from fretbem.numerics.blas import one_blas_thread
 
 from .assembly import BLOCKS
-from .layout import BLOCK, CONTACT, DISPLACEMENT, TRACTION
+from .layout import BLOCK, CONTACT, DISPLACEMENT, TRACTION, Layout
 
 if TYPE_CHECKING:  # pragma: no cover
     from fretbem.body import Body
@@ -36,9 +36,9 @@ class BodySystem:
 
     def __init__(self, body: Body, contact_tags: tuple[str, ...]):
         self.body = body
-        h, g = body.matrices()
-        start = time.perf_counter()
         layout = body.layout(contact_tags)
+        h, g = body.system_matrices(g_free_segments(body, layout))
+        start = time.perf_counter()
         self.kinds, self.known = layout.kinds.ravel(), layout.known.ravel()
         self.load_known = layout.loads.reshape(len(layout.loads), self.kinds.size)  # (k, 2N)
         solves_u = (self.kinds == TRACTION) | (self.kinds == CONTACT)
@@ -73,10 +73,16 @@ class BodySystem:
 
     def block_selector(self) -> np.ndarray:
         """(2, block dofs): the block's resultant force per unit of its traction unknowns."""
-        weights = np.repeat(self.body.resultant_weights(), 2)[self.block_dofs]
+        weights = np.repeat(self.body.resultant_weights(self.block_segments()), 2)
+        weights = weights[self.block_dofs]
         select = np.zeros((2, len(self.block_dofs)))
         select[self.block_dofs % 2, np.arange(len(self.block_dofs))] = weights
         return select
+
+    def block_segments(self) -> list[int]:
+        """The segments of the loading block's dofs."""
+        functions = self.block_dofs // 2
+        return np.unique(np.searchsorted(self.body.offsets, functions, side="right") - 1).tolist()
 
     def block_resultant(self, z: np.ndarray) -> np.ndarray:
         """Resultant force (2, ...) of the loading block's tractions in unknown vector(s) z."""
@@ -97,6 +103,13 @@ class BodySystem:
         u[self.block_dofs] = delta[self.block_dofs % 2]
         t[self.contact_dofs] = contact_tractions
         return BodySolution(self.body, u.reshape(-1, 2), t.reshape(-1, 2), delta)
+
+
+def g_free_segments(body: Body, layout: Layout) -> tuple[int, ...]:
+    """Segments whose G columns the system never reads: traction prescribed on both
+    components, 0 and scaled by no load (G's columns meet only the known tractions there)."""
+    free = (layout.kinds == TRACTION) & (layout.known == 0.0) & ~layout.loads.any(axis=0)
+    return tuple(k for k in range(len(body.segments)) if free[body.function_slice(k)].all())
 
 
 def _solve_parameters(h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs):
@@ -228,7 +241,8 @@ def contact_response(body: Body, tag: str) -> ContactResponse:
     traction_map = transposed.reshape(-1)[: 4 * n * n].reshape(n, 2, 2 * n)
     traction_map.reshape(n, 2, n, 2)[...] = values.transpose(0, 1, 3, 2)
     del values, transposed
-    face_weights = body.resultant_weights()[face_rows(body, tag)[1]]
+    face_segments = sorted(body._indices(tag, "the contact pair"))
+    face_weights = body.resultant_weights(face_segments)[face_rows(body, tag)[1]]
     weights = band.solve_transposed(face_weights[:, None].copy(order="F"))[:, 0]
     contact_force = np.zeros((2, 2 * n))
     contact_force[0, 0::2] = weights
@@ -246,7 +260,7 @@ def contact_response(body: Body, tag: str) -> ContactResponse:
         r_block, r_load = np.zeros((2, 2)), np.zeros((2, k))
     rotation = None
     if has_block and not np.any(system.kinds == DISPLACEMENT):
-        rotation = _block_rotation(body, tag, system, block_rows, band)
+        rotation = _block_rotation(body, tag, system, block_rows, band, face_segments)
     return ContactResponse(
         base=node_values(system.base[:, None])[:, :, 0],
         traction_map=traction_map,
@@ -262,7 +276,7 @@ def contact_response(body: Body, tag: str) -> ContactResponse:
     )
 
 
-def _block_rotation(body, tag, system, block_rows, band) -> BlockRotation:
+def _block_rotation(body, tag, system, block_rows, band, face_segments) -> BlockRotation:
     """The block's rotation for a body the block alone holds: a rotation theta of the block
     with no contact traction and no load turns the whole body rigidly (no traction
     anywhere), so its response is the rigid field, exactly; the block's moment is that of
@@ -271,7 +285,8 @@ def _block_rotation(body, tag, system, block_rows, band) -> BlockRotation:
     block_segments = body._indices(body.loading_block.tag, "the loading block")
     on_block = colloc.points[np.isin(colloc.segment, block_segments)]
     centre = on_block.mean(axis=0)
-    moments = body.moment_weights(centre)  # (N, 2)
+    # (N, 2), read on the block's dofs and the face only
+    moments = body.moment_weights(centre, [*system.block_segments(), *face_segments])
     dofs = system.block_dofs
     selector = np.where(dofs % 2 == 0, -moments[dofs // 2, 1], moments[dofs // 2, 0])
     face_moments = band.solve_transposed(moments[face_rows(body, tag)[1]].copy(order="F"))

@@ -43,6 +43,15 @@ def _bspline_columns(
         span = np.minimum(np.maximum(np.searchsorted(knots, xi, side="right") - 1, degree), n - 1)
     # knots span + 1 - p .. span + p, one row each: the recursion's and the derivatives'
     window = knots[np.arange(1 - degree, degree + 1)[:, None] + span]
+    values, derivatives = bspline_from_window(window, degree, xi)
+    return values, derivatives, span - degree
+
+
+def bspline_from_window(window, degree: int, xi: np.ndarray) -> tuple[list, list]:
+    """The recursion of ``_bspline_columns`` from each point's 2 p knots about its span
+    (``window[i]``: knot span + 1 - p + i at every point) and its clipped ``xi``: the p + 1
+    values and derivatives, as lists of columns (a caller that gathers the knots with other
+    per-element data, :class:`fretbem_nurbs.basis.NurbsBasis`, saves their own gather)."""
     left = [None] + [xi - window[degree - j] for j in range(1, degree + 1)]
     right = [None] + [window[degree - 1 + j] - xi for j in range(1, degree + 1)]
     values = [np.ones(xi.size)]
@@ -65,7 +74,7 @@ def _bspline_columns(
         term = degree * lower[r] / (window[degree + r] - window[r]) if r < degree else 0.0
         derivatives.append(derivative - term)  # an array: degree >= 1
         derivative = term
-    return values, derivatives, span - degree
+    return values, derivatives
 
 
 def rational_basis(
@@ -81,22 +90,24 @@ def rational_basis(
     the arithmetic of a sum along the function axis, without its short inner loops.
     """
     values, derivatives, first = _bspline_columns(knots, degree, xi, span)
-    weighted, dweighted = [], []
-    for r in range(degree + 1):
-        w = weights[first + r]
-        weighted.append(values[r] * w)
-        dweighted.append(derivatives[r] * w)
+    rational, drational = rational_columns(
+        values, derivatives, [weights[first + r] for r in range(degree + 1)]
+    )
+    return np.stack(rational, axis=1), np.stack(drational, axis=1), first
+
+
+def rational_columns(values: list, derivatives: list, weights: list) -> tuple[list, list]:
+    """R and dR/dxi as lists of columns from the B-spline columns and each point's weights
+    of its p + 1 functions (``rational_basis``'s arithmetic, without its stacking)."""
+    weighted = [v * w for v, w in zip(values, weights, strict=True)]
+    dweighted = [d * w for d, w in zip(derivatives, weights, strict=True)]
     total, dtotal = weighted[0].copy(), dweighted[0].copy()
-    for r in range(1, degree + 1):
+    for r in range(1, len(weighted)):
         total += weighted[r]
         dtotal += dweighted[r]
     squared = total**2
     pairs = zip(weighted, dweighted, strict=True)
-    return (
-        np.stack([w / total for w in weighted], axis=1),
-        np.stack([(dw * total - w * dtotal) / squared for w, dw in pairs], axis=1),
-        first,
-    )
+    return [w / total for w in weighted], [(dw * total - w * dtotal) / squared for w, dw in pairs]
 
 
 #: control points up to which refinement solves densely: below it LAPACK on the full matrix
