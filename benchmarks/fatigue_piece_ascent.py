@@ -1,8 +1,9 @@
 """A study: the in-plane critical-plane refinement as an exact ascent over the criterion's pieces.
 
-Not the search the framework runs (:mod:`fretbem.fatigue.critical_plane`: a pattern search of
-five halving levels and a parabolic step, 13 evaluations of every step per criterion and
-point): a prototype of another refinement, kept with its measurements (issue 28 item 1).
+Not the search the framework runs (:mod:`fretbem.fatigue.critical_plane`, in-plane: a
+golden-section search of each best grid plane's bracket and a parabolic step, 9 evaluations of
+every step per criterion and point; before it a pattern search of five halving levels, 13): a
+prototype of another refinement, kept with its measurements (issue 28 item 1).
 
 On a plane that contains z, at angle theta, each step's normal stress, E times normal strain
 and shear stress are sinusoids in phi = 2 theta; a criterion is a function of their extremes
@@ -17,18 +18,18 @@ safeguarded Newton step to the maximum of its piece (no pass over the steps), an
 there, and again until the steps stay the same (exact: a local maximum) or five passes are
 spent; a move is kept only if the evaluated value is better.
 
-Measured (``python benchmarks/fatigue_piece_ascent.py --points 30``, load ~11): against the
-0.01-degree scan of ``benchmarks/fatigue_accuracy.py`` the same worst shortfalls as the
-pattern search on every criterion but SWT at compressive planes (5.7e-2 -> 6.7e-2 of the
-largest value: a kink maximum, the parameter falls as the strain range grows; the pattern
-search misses it too); 4.1 evaluations per criterion and point instead of 13. But each
-evaluation must also find the steps of the extremes (selects that the compiled loops do not
-vectorise: ~140 ns per point against ~50 ns for a vectorised summary, in one process) and
-the Newton steps cost about as much again, so the ascent was slower than the pattern search:
-numpy 190 against 120 ms on the workflows benchmark's 10,000 points (this script), and a
-compiled version (numba, written for this study and not kept) 41-46 against 25 ms for the
-compiled pattern search in one process. Kept for the next attempt: the evaluation count is
-the lead, the cost per evaluation is what to beat.
+Measured against the pattern search (``--points 30``, load ~11; the script now compares with
+the framework's search, whichever it is): against the 0.01-degree scan of
+``benchmarks/fatigue_accuracy.py`` the same worst shortfalls on every criterion but SWT at
+compressive planes (5.7e-2 -> 6.7e-2 of the largest value: a kink maximum, the parameter
+falls as the strain range grows; the pattern search misses it too); 4.1 evaluations per
+criterion and point instead of 13. But each evaluation must also find the steps of the
+extremes (selects that the compiled loops do not vectorise: ~140 ns per point against ~50 ns
+for a vectorised summary, in one process) and the Newton steps cost about as much again, so
+the ascent was slower: numpy 190 against 120 ms on the workflows benchmark's 10,000 points,
+and a compiled version (numba, written for this study and not kept) 41-46 against 25 ms in
+one process. Kept for the next attempt: the evaluation count is the lead, the cost per
+evaluation is what to beat.
 
 Run from the repository root::
 
@@ -292,23 +293,23 @@ def main() -> None:
             ascent = ascent_values(stress, methods, correction, fa.KW)
             for method in ascent:
                 row = method if correction is None else f"{method} {label}"
-                for kind, value in (("pattern", search[method].value), ("ascent", ascent[method])):
+                for kind, value in (("search", search[method].value), ("ascent", ascent[method])):
                     finite = np.isfinite(ref[method]) & np.isfinite(value)
                     scale = np.abs(ref[method][finite]).max(initial=1e-300)
                     gap = (ref[method][finite] - value[finite]) / scale
                     w = worst.setdefault((row, kind), [0.0, 0.0])
                     w[0] = max(w[0], gap.max(initial=0.0))
                     w[1] = max(w[1], -gap.min(initial=0.0))
-    print(f"{'criterion':<22}{'pattern short':>14}{'over':>10}{'ascent short':>14}{'over':>10}")
+    print(f"{'criterion':<22}{'search short':>14}{'over':>10}{'ascent short':>14}{'over':>10}")
     for row in sorted({r for r, _ in worst}):
-        p, a = worst[(row, "pattern")], worst[(row, "ascent")]
+        p, a = worst[(row, "search")], worst[(row, "ascent")]
         print(f"{row:<22}{p[0]:14.2e}{p[1]:10.2e}{a[0]:14.2e}{a[1]:10.2e}")
-    print(f"evaluations per criterion and point: pattern search 13, ascent "
+    print(f"evaluations per criterion and point: the search 9 in-plane, ascent "
           f"{EVALUATIONS[0] / max(EVALUATIONS[1], 1):.2f}")  # fmt: skip
     stress = fph.stress_cycle()
     kw = {"E": 116000.0, "nu": 0.342, **fph.CONSTANTS}
     runs = {
-        "pattern search (numpy)": lambda: critical_plane_parameters(
+        "the search (numpy)": lambda: critical_plane_parameters(
             stress, methods=METHODS[:4],
             search=PlaneSearch(in_plane_only=True, compiled=False), **kw),
         "grid + ascent (numpy)": lambda: ascent_values(stress, METHODS[:4], None, kw),
