@@ -552,6 +552,9 @@ def _grid_best(out, data, p, grid, rank, codes, par, E, in_plane, work, best, fo
         found[2, ci] = out[0, arg]
         found[3, ci] = out[1, arg]
         found[4, ci] = 0.5 * (out[2, arg] - out[3, arg]) / E
+        # the values of its grid neighbours (the in-plane golden-section bracket's ends)
+        found[5, ci] = value[(arg - 1) % n_g]
+        found[6, ci] = value[(arg + 1) % n_g]
 
 
 # --------------------------------------------------------------------------- refinement
@@ -757,11 +760,12 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
 
 @numba.njit(**_JIT)
 def _golden_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles, codes, par,
-                  nu, E, step, levels, work, bracket):  # fmt: skip
+                  nu, E, step, levels, work, bracket, ends):  # fmt: skip
     """The numpy search's ``_golden`` (in-plane) for a block of points: every criterion's
     planes of an iteration in one :func:`_evaluate`. ``cres`` (5, C nb): the current planes'
     quantities, from the grid in, the final ones out; ``bracket`` (4, C nb) scratch: the
-    bracket's ends (offsets in theta from the current plane) and their values."""
+    bracket's ends (offsets in theta from the current plane) and their values; ``ends``
+    (2, C nb): the values of the grid neighbours, or empty (evaluated here)."""
     c2, s2, sp, cp, _ = cur_planes
     th, ps = cur_angles
     cvalue, cscale, _ = cur
@@ -777,8 +781,11 @@ def _golden_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
         cvalue[i], second[i] = cres[0, i], cres[2, i]
         cscale[i] = max(abs(cvalue[i]), 1e-300)
         lo[i], hi[i] = -step, step
-    # the bracket's ends: the grid's neighbours
-    for ci in range(n_c):
+    # the bracket's ends: the grid's neighbours (the numpy search evaluates them again)
+    if ends.shape[1]:
+        for i in range(n):
+            f_lo[i], f_hi[i] = ends[0, i], ends[1, i]
+    for ci in range(n_c if not ends.shape[1] else 0):
         for j in range(2):
             dt = -step if j == 0 else step
             _turn(dt, 0.0, turn)
@@ -787,11 +794,12 @@ def _golden_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
                 q2[g], qs2[g], qsp[g], qcp[g], qps[g] = _moved(
                     c2[i], s2[i], sp[i], cp[i], ps[i], dt, 0.0, turn
                 )
-    _evaluate(data, nb, cand, n_c * 2, 2, codes, par, nu, E, True, False, cur, work)
-    for ci in range(n_c):
-        for b in range(nb):
-            i, g = ci * nb + b, ci * 2 * nb + b
-            f_lo[i], f_hi[i] = value[g], value[g + nb]
+    if not ends.shape[1]:
+        _evaluate(data, nb, cand, n_c * 2, 2, codes, par, nu, E, True, False, cur, work)
+        for ci in range(n_c):
+            for b in range(nb):
+                i, g = ci * nb + b, ci * 2 * nb + b
+                f_lo[i], f_hi[i] = value[g], value[g + nb]
     for level in range(levels + 2):
         last = level == levels + 1
         for i in range(n):
@@ -901,6 +909,10 @@ def search(
     cand_angles = (cand_rows[4, :n_q], cand_rows[5, :n_q])
     best = np.empty(n_c, dtype=np.int64)
     bracket = np.empty((4, n_cur + _PAD))
+    ends = np.empty((2, n_cur + _PAD))
+    # the in-plane grid closes on itself (180 degrees a whole number of steps): the grid's
+    # neighbours of a plane are its bracket's ends, their values known
+    wraps = in_plane and abs(n_g * steps[0] - np.pi) < 1e-9
     # the 3D grid's summaries in single precision (:func:`_grid_summaries`)
     axes32 = (axes[0].astype(np.float32), axes[1].astype(np.float32),
               axes[2].astype(np.float32), axes[3].astype(np.float32))  # fmt: skip
@@ -908,7 +920,7 @@ def search(
         np.empty((6, axes[0].size + _PAD), dtype=np.float32),
         np.empty((12, n_g + _PAD), dtype=np.float32),
     )
-    found = np.empty((5, n_c))
+    found = np.empty((7, n_c))
     cres = np.empty((5, n_cur + _PAD))
     sup = np.empty(3, dtype=np.int64)
     c2, s2, sp, cp, _ = cur_planes
@@ -930,6 +942,7 @@ def search(
                 g, i = best[ci], ci * nb + b
                 for r in range(5):
                     cres[r, i] = found[r, ci]
+                ends[0, i], ends[1, i] = found[5, ci], found[6, ci]
                 th[i], ps[i] = grid_theta[g], grid_psi[g]
                 c2[i], s2[i], sp[i], cp[i] = grid[0, g], grid[1, g], grid[2, g], grid[3, g]
         if not in_plane:
@@ -943,7 +956,8 @@ def search(
                 _keep(cres, i, work[4], work[3], work[0], i, E)
         if in_plane:
             _golden_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles,
-                          codes, par, nu, E, steps[0], levels, work, bracket)  # fmt: skip
+                          codes, par, nu, E, steps[0], levels, work, bracket,
+                          ends if wraps else ends[:, :0])  # fmt: skip
         else:
             _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles,
                           codes, par, nu, E, steps, levels, in_plane, work)  # fmt: skip
