@@ -69,7 +69,7 @@ def _coarse_phase(stress, grid, axes, rank, codes, par, nu, E, in_plane, whole):
     axes = (axes[0].astype(np.float32), axes[1].astype(np.float32),
             axes[2].astype(np.float32), axes[3].astype(np.float32))  # fmt: skip
     best = np.empty(codes.size, dtype=np.int64)
-    found = np.empty((5, codes.size))
+    found = np.empty((7, codes.size))
     sup = np.empty(3, dtype=np.int64)
     total = 0.0
     for p in range(n_p):

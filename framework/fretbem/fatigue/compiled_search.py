@@ -5,8 +5,9 @@ into arrays and reduces them; here the loops compute each plane's normal and she
 step by step and keep only their running maxima and minima, so no (step, point, plane) array
 exists. The algorithm is the numpy search's, decision for decision: the best plane of the
 coarse grid per criterion, the exact minimum circumscribed circle only where its bounds leave a
-plane's rank open, the pattern search with halving steps, the parabolic step. What differs is
-how, not what (the answers agree to round-off, tests/framework/fatigue/test_search_compiled.py):
+plane's rank open, the pattern search with halving steps (in-plane: the golden-section
+search), the parabolic step. What differs is how, not what (the answers agree to round-off,
+tests/framework/fatigue/test_search_compiled.py):
 
 - the coarse grid is evaluated point by point, in-plane in double precision, in 3D in single
   precision as numpy's (the chosen planes are evaluated again in double, as numpy's), row by
@@ -59,6 +60,7 @@ _INSIDE = 1e-10  # as mcc.INSIDE_TOLERANCE
 _ROUNDING = 1e-13  # as mcc.ROUNDING
 _TIE = 1e-10  # as critical_plane.MWCM_TIE_TOLERANCE
 _COS_HALF_PI = math.cos(0.5 * math.pi)  # the numpy search's cos(psi) at psi = 90 degrees
+_GOLDEN = 0.3819660112501051  # as critical_plane.GOLDEN
 
 
 # --------------------------------------------------------------------------- circles
@@ -550,6 +552,9 @@ def _grid_best(out, data, p, grid, rank, codes, par, E, in_plane, work, best, fo
         found[2, ci] = out[0, arg]
         found[3, ci] = out[1, arg]
         found[4, ci] = 0.5 * (out[2, arg] - out[3, arg]) / E
+        # the values of its grid neighbours (the in-plane golden-section bracket's ends)
+        found[5, ci] = value[(arg - 1) % n_g]
+        found[6, ci] = value[(arg + 1) % n_g]
 
 
 # --------------------------------------------------------------------------- refinement
@@ -754,6 +759,87 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
 
 
 @numba.njit(**_JIT)
+def _golden_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles, codes, par,
+                  nu, E, step, levels, work, bracket, ends):  # fmt: skip
+    """The numpy search's ``_golden`` (in-plane) for a block of points: every criterion's
+    planes of an iteration in one :func:`_evaluate`. ``cres`` (5, C nb): the current planes'
+    quantities, from the grid in, the final ones out; ``bracket`` (4, C nb) scratch: the
+    bracket's ends (offsets in theta from the current plane) and their values; ``ends``
+    (2, C nb): the values of the grid neighbours, or empty (evaluated here)."""
+    c2, s2, sp, cp, _ = cur_planes
+    th, ps = cur_angles
+    cvalue, cscale, _ = cur
+    lo, hi, f_lo, f_hi = bracket[0], bracket[1], bracket[2], bracket[3]
+    n_c = codes.size
+    n = n_c * nb
+    second = np.empty(n)
+    turn = np.empty(4)
+    out, value = work[0], work[4]
+    q2, qs2, qsp, qcp, _ = cand
+    qth, qps = cand_angles
+    for i in range(n):
+        cvalue[i], second[i] = cres[0, i], cres[2, i]
+        cscale[i] = max(abs(cvalue[i]), 1e-300)
+        lo[i], hi[i] = -step, step
+    # the bracket's ends: the grid's neighbours (the numpy search evaluates them again)
+    if ends.shape[1]:
+        for i in range(n):
+            f_lo[i], f_hi[i] = ends[0, i], ends[1, i]
+    for ci in range(n_c if not ends.shape[1] else 0):
+        for j in range(2):
+            dt = -step if j == 0 else step
+            _turn(dt, 0.0, turn)
+            for b in range(nb):
+                i, g = ci * nb + b, (ci * 2 + j) * nb + b
+                q2[g], qs2[g], qsp[g], qcp[g], qps[g] = _moved(
+                    c2[i], s2[i], sp[i], cp[i], ps[i], dt, 0.0, turn
+                )
+    if not ends.shape[1]:
+        _evaluate(data, nb, cand, n_c * 2, 2, codes, par, nu, E, True, False, cur, work)
+        for ci in range(n_c):
+            for b in range(nb):
+                i, g = ci * nb + b, ci * 2 * nb + b
+                f_lo[i], f_hi[i] = value[g], value[g + nb]
+    for level in range(levels + 2):
+        last = level == levels + 1
+        for i in range(n):
+            if last:  # the vertex of the parabola through the ends and the current plane
+                a, b_ = cvalue[i] - f_hi[i], cvalue[i] - f_lo[i]
+                den = -lo[i] * a + hi[i] * b_
+                x = -0.5 * (lo[i] * lo[i] * a - hi[i] * hi[i] * b_) / den if den != 0.0 else 0.0
+                if not (math.isfinite(x) and lo[i] < x < hi[i]):
+                    x = 0.0
+            else:
+                x = _GOLDEN * hi[i] if hi[i] > -lo[i] else _GOLDEN * lo[i]
+            qth[i] = x  # the offset, until the plane is kept
+            _turn(x, 0.0, turn)
+            q2[i], qs2[i], qsp[i], qcp[i], qps[i] = _moved(
+                c2[i], s2[i], sp[i], cp[i], ps[i], x, 0.0, turn
+            )
+        _evaluate(data, nb, cand, n_c, 1, codes, par, nu, E, True, False, cur, work)
+        for ci in range(n_c):
+            for b in range(nb):
+                i = ci * nb + b
+                x, v = qth[i], value[i]
+                up = _better(codes[ci], v, out[0, i], cvalue[i], second[i], cscale[i])
+                if not last:
+                    right = hi[i] > -lo[i]
+                    if up and right:
+                        lo[i], hi[i], f_lo[i] = -x, hi[i] - x, cvalue[i]
+                    elif up:
+                        lo[i], hi[i], f_hi[i] = lo[i] - x, -x, cvalue[i]
+                    elif right:
+                        hi[i], f_hi[i] = x, v
+                    else:
+                        lo[i], f_lo[i] = x, v
+                if up:
+                    th[i] += x
+                    c2[i], s2[i], sp[i], cp[i] = q2[i], qs2[i], qsp[i], qcp[i]
+                    cvalue[i], second[i] = v, out[0, i]
+                    _keep(cres, i, value, work[3], out, i, E)
+
+
+@numba.njit(**_JIT)
 def search(
     stress, grid, axes, rank, grid_theta, grid_psi, codes, par, nu, E, steps, levels, in_plane
 ):
@@ -822,6 +908,11 @@ def search(
     )
     cand_angles = (cand_rows[4, :n_q], cand_rows[5, :n_q])
     best = np.empty(n_c, dtype=np.int64)
+    bracket = np.empty((4, n_cur + _PAD))
+    ends = np.empty((2, n_cur + _PAD))
+    # the in-plane grid closes on itself (180 degrees a whole number of steps): the grid's
+    # neighbours of a plane are its bracket's ends, their values known
+    wraps = in_plane and abs(n_g * steps[0] - np.pi) < 1e-9
     # the 3D grid's summaries in single precision (:func:`_grid_summaries`)
     axes32 = (axes[0].astype(np.float32), axes[1].astype(np.float32),
               axes[2].astype(np.float32), axes[3].astype(np.float32))  # fmt: skip
@@ -829,7 +920,7 @@ def search(
         np.empty((6, axes[0].size + _PAD), dtype=np.float32),
         np.empty((12, n_g + _PAD), dtype=np.float32),
     )
-    found = np.empty((5, n_c))
+    found = np.empty((7, n_c))
     cres = np.empty((5, n_cur + _PAD))
     sup = np.empty(3, dtype=np.int64)
     c2, s2, sp, cp, _ = cur_planes
@@ -851,6 +942,7 @@ def search(
                 g, i = best[ci], ci * nb + b
                 for r in range(5):
                     cres[r, i] = found[r, ci]
+                ends[0, i], ends[1, i] = found[5, ci], found[6, ci]
                 th[i], ps[i] = grid_theta[g], grid_psi[g]
                 c2[i], s2[i], sp[i], cp[i] = grid[0, g], grid[1, g], grid[2, g], grid[3, g]
         if not in_plane:
@@ -862,8 +954,13 @@ def search(
                       work)  # fmt: skip
             for i in range(n_c * nb):
                 _keep(cres, i, work[4], work[3], work[0], i, E)
-        _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles, codes,
-                      par, nu, E, steps, levels, in_plane, work)  # fmt: skip
+        if in_plane:
+            _golden_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles,
+                          codes, par, nu, E, steps[0], levels, work, bracket,
+                          ends if wraps else ends[:, :0])  # fmt: skip
+        else:
+            _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles,
+                          codes, par, nu, E, steps, levels, in_plane, work)  # fmt: skip
         # a criterion whose search needs no shear reports its plane's exact shear amplitude
         for ci in range(n_c):
             if _needs_shear(codes[ci]):

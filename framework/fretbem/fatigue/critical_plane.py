@@ -4,9 +4,11 @@ strain life.
 Each parameter is maximised over material planes (3D by default, see :mod:`.planes`): a coarse
 grid over the quarter sphere, exact shear amplitudes (minimum circumscribed circle) only where
 cheap bounds cannot rule a plane out, then a local pattern search around each point's best
-plane with halving steps. Strains come from Hooke's law (isotropic, linear elastic). The
-search runs in numpy here or compiled (:mod:`.compiled_search`, numba), the same algorithm
-and the same answers to round-off; :func:`use_compiled` picks one by the search's size.
+plane with halving steps (in-plane, where there is one angle: a golden-section search of the
+best grid plane's bracket, then a parabolic step). Strains come from Hooke's law (isotropic,
+linear elastic). The search runs in numpy here or compiled (:mod:`.compiled_search`, numba),
+the same algorithm and the same answers to round-off; :func:`use_compiled` picks one by the
+search's size.
 
 Names say what they are: ``*_amplitude`` is half the range over the cycle, ``*_max`` the largest
 value over the cycle, ``*_mean`` the average of max and min. The shear amplitude is the radius
@@ -63,7 +65,8 @@ class PlaneSearch:
     theta_step_deg, psi_step_deg : float
         Coarse grid steps of the in-plane angle and of the out-of-plane angle.
     refine_levels : int
-        Halvings of the step in the local pattern search around each best plane.
+        Halvings of the step in the local pattern search around each best plane (3D); in-plane,
+        ``refine_levels + 1`` golden-section steps in the grid bracket of each best plane.
     chunk_points : int
         Points evaluated at once on the coarse grid (memory ~ steps x chunk x planes).
     compiled : bool or None
@@ -533,6 +536,63 @@ def _refine(evaluate, criteria, theta, psi, steps, levels, in_plane_only):
     return np.mod(theta, np.pi), psi
 
 
+#: the golden section: the new point's share of the larger side of the bracket
+GOLDEN = 0.3819660112501051
+
+
+def _golden(evaluate, criteria, theta, step, levels):
+    """In-plane refinement: golden-section search of each point's grid bracket, then a
+    parabolic step.
+
+    ``theta`` (C, P): every criterion's best grid plane; its bracket is the grid's two
+    neighbours (``step`` either side). Each of ``levels + 1`` iterations evaluates one plane
+    per criterion and point, in the larger side of the bracket at the golden ratio, and the
+    bracket closes on the better of it and the current plane; then the vertex of the parabola
+    through the bracket's ends and its best plane is tried. All criteria share each pass.
+    """
+    n_c, n_p = theta.shape
+    psi = np.full((n_c, n_p, 1), np.pi / 2)
+    start = evaluate(theta[:, :, None], psi)
+    value = [v[:, 0] for v, _, _, _ in start]
+    second = [None if s is None else s[:, 0] for _, s, _, _ in start]
+    scale = [np.maximum(np.abs(v), 1e-300) for v in value]
+    lo, hi = np.full_like(theta, -step), np.full_like(theta, step)  # from the current plane
+    ends = evaluate(np.stack([theta - step, theta + step], axis=-1), np.concatenate([psi, psi], -1))
+    f_lo = np.stack([v[:, 0] for v, _, _, _ in ends])
+    f_hi = np.stack([v[:, 1] for v, _, _, _ in ends])
+    for _ in range(levels + 1):
+        right = hi > -lo
+        x = np.where(right, GOLDEN * hi, GOLDEN * lo)
+        found = evaluate((theta + x)[:, :, None], psi)
+        for i, (crit, (v, s, _, _)) in enumerate(zip(criteria, found, strict=True)):
+            v, s = v[:, 0], None if s is None else s[:, 0]
+            up = _better(crit, v, s, value[i], second[i], scale[i])
+            r = right[i]
+            # better: the bracket closes around the new plane; else the new plane is an end
+            lo[i], hi[i], f_lo[i], f_hi[i] = (
+                np.where(up, np.where(r, -x[i], lo[i] - x[i]), np.where(r, lo[i], x[i])),
+                np.where(up, np.where(r, hi[i] - x[i], -x[i]), np.where(r, x[i], hi[i])),
+                np.where(up & r, value[i], np.where(~up & ~r, v, f_lo[i])),
+                np.where(up & ~r, value[i], np.where(~up & r, v, f_hi[i])),
+            )
+            theta[i] = np.where(up, theta[i] + x[i], theta[i])
+            value[i] = np.where(up, v, value[i])
+            if second[i] is not None:
+                second[i] = np.where(up, s, second[i])
+    # the vertex of the parabola through (lo, f_lo), (0, value), (hi, f_hi), inside the bracket
+    centre = np.stack(value)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        a, b = centre - f_hi, centre - f_lo
+        x = -0.5 * (lo * lo * a - hi * hi * b) / (-lo * a + hi * b)
+    x = np.where(np.isfinite(x) & (x > lo) & (x < hi), x, 0.0)
+    found = evaluate((theta + x)[:, :, None], psi)
+    for i, (crit, (v, s, _, _)) in enumerate(zip(criteria, found, strict=True)):
+        s = None if s is None else s[:, 0]
+        up = _better(crit, v[:, 0], s, value[i], second[i], scale[i])
+        theta[i] = np.where(up, theta[i] + x[i], theta[i])
+    return np.mod(theta, np.pi)
+
+
 #: (step, point, plane) evaluations from which the compiled search is the default: about
 #: what loading numba (0.45 s) and the cached kernel (0.06 s) cost at the numpy search's
 #: 1e-8 s per evaluation (0.53 s for 10,000 points, 9 steps, 325 grid + 240 refinement planes
@@ -710,9 +770,10 @@ def critical_plane_parameters(
     evaluate = _SharedPass(stress, criteria, E, nu, in_plane=search.in_plane_only)
     theta = np.stack([theta_g[best[c.name]] for c in criteria])
     psi = np.stack([psi_g[best[c.name]] for c in criteria])
-    theta, psi = _refine(
-        evaluate, criteria, theta, psi, steps, search.refine_levels, search.in_plane_only
-    )
+    if search.in_plane_only:
+        theta = _golden(evaluate, criteria, theta, steps[0], search.refine_levels)
+    else:
+        theta, psi = _refine(evaluate, criteria, theta, psi, steps, search.refine_levels, False)
     final = evaluate(theta[:, :, None], psi[:, :, None], strains=True)
     G = E / (2.0 * (1.0 + nu))
     results = {}

@@ -1,8 +1,9 @@
 """The compiled (numba) critical-plane search against the numpy search it replaces.
 
-Both run the same algorithm (coarse grid, pruned exact circles, pattern search, parabolic
-step), so they must agree on every criterion's plane and value to round-off: measured 6e-16
-relative on the values and 6e-11 degrees on the planes over the histories below.
+Both run the same algorithm (coarse grid, pruned exact circles, pattern search or in-plane
+golden-section search, parabolic step), so they must agree on every criterion's plane and value
+to round-off: measured 6e-16 relative on the values and 6e-11 degrees on the planes over the
+histories below.
 """
 
 from __future__ import annotations
