@@ -233,7 +233,7 @@ class NodeToSegmentPair(ContactPair):
         transfer = TRANSFERS[self.transfer](
             fields[master],
             fields[slave],
-            (faces[master][0] + placed[master]) @ mean_tangent,
+            (faces[master][0] + placed[master] - placed[slave]) @ mean_tangent,
             mean_tangent,
             order,
             shift=float((placed[master] - placed[slave]) @ mean_tangent),

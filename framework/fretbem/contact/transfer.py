@@ -36,9 +36,10 @@ def pointwise(
 ) -> np.ndarray:
     """The slave field at the master nodes' projections (zero for nodes off the slave face).
 
-    ``master_along``: the master nodes' positions along the pair tangent as placed (the
-    master face displaced by ``shift`` along it relative to the slave); ``order``: the
-    slave face nodes in pair order.
+    ``master_along``: the master nodes' positions along the pair tangent in the slave face's
+    own coordinates (where they are, less the slave face's placement: a pad slid along the
+    track is the slave); ``shift``: the master face's displacement along it relative to the
+    slave (used by :func:`conservative`); ``order``: the slave face nodes in pair order.
     """
     at_slave = slave.locate(np.asarray(master_along), tangent)
     return slave.interpolation(*at_slave)[:, order]
