@@ -225,13 +225,36 @@ def surface_integrals(face: Basis, x, datum: float = 1.0) -> SurfaceIntegrals:
         kernel = _log_kernel(x[mid_k, None], xq_s[mid_e], datum)
         log_el[mid_k, mid_e] = np.einsum("pg,pga->pa", kernel, weighted_s[mid_e])
     moments = weighted_s.sum(axis=1)
-    sign_el = np.sign(x[:, None] - 0.5 * (left + right)[None, :])[:, :, None] * moments[None]
+    centre = 0.5 * (left + right)
+    sign, before = _far_sign(face, x, centre, moments)
     near_k, near_e = np.nonzero(distance < length[None, :])
     if near_k.size:
-        log_el[near_k, near_e], sign_el[near_k, near_e] = _near(
-            face, near_e, x[near_k], datum, ends[near_e]
-        )
-    return SurfaceIntegrals(_to_functions(face, log_el), _to_functions(face, sign_el))
+        log_el[near_k, near_e], near_sign = _near(face, near_e, x[near_k], datum, ends[near_e])
+        # the near pairs' sign integrals replace the whole-element terms counted for them
+        counted = np.where(before[near_k, near_e], 1.0, -1.0)[:, None] * moments[near_e]
+        np.add.at(sign, (near_k[:, None], face.connectivity[near_e]), near_sign - counted)
+    return SurfaceIntegrals(_to_functions(face, log_el), sign)
+
+
+def _far_sign(face: Basis, x: np.ndarray, centre: np.ndarray, moments: np.ndarray):
+    """The sign integrals (points, functions) with every element taken whole, sign(x - s) =
+    +1 on an element whose centre lies before x and -1 on the others, and that choice
+    (points, elements) as booleans.
+
+    Summed as twice the running sum of the elements' moments in the order of their centres,
+    taken where x falls, minus the total: O(points x functions) work, where forming every
+    (point, element, function) term first cost ~10x more at 481 nodes.
+    """
+    order = np.argsort(centre, kind="stable")
+    running = np.zeros((centre.size + 1, face.n_functions))
+    rows = np.arange(1, centre.size + 1)[:, None]
+    running[rows, face.connectivity[order]] = moments[order]
+    np.cumsum(running, axis=0, out=running)
+    position = np.searchsorted(centre[order], x, side="left")  # elements before x
+    sign = running[position]
+    sign *= 2.0
+    sign -= running[-1]
+    return sign, centre[None, :] < x[:, None]
 
 
 def _log_kernel(x: np.ndarray, xq: np.ndarray, datum: float) -> np.ndarray:
@@ -319,14 +342,20 @@ def _graded(face: Basis, e, xk, datum, ends):
     step = 2.0 * to_end.min(axis=1) / np.abs(ends[:, 1] - ends[:, 0])  # gap in local units
     levels = int(np.ceil(np.log2(2.0 / step.min() + 1.0))) + 1
     breaks = np.minimum(2.0, step[:, None] * (2.0 ** np.arange(levels + 1) - 1.0))
-    lo, hi = breaks[:, :-1], breaks[:, 1:]
-    t = (lo[..., None] + (hi - lo)[..., None] * t_smooth).reshape(len(e), -1)
-    w = ((hi - lo)[..., None] * w_smooth).reshape(len(e), -1)
-    xs, jac, values = _map_at(face, e, near_end[:, None] - near_end[:, None] * t)
+    # only the pieces of non-zero length: the breaks stop at the element's far end (2), so
+    # the last levels of most pairs are empty (a third of the points at uniform spacing)
+    pair, piece = np.nonzero(breaks[:, 1:] > breaks[:, :-1])
+    lo, hi = breaks[pair, piece], breaks[pair, piece + 1]
+    t = lo[:, None] + (hi - lo)[:, None] * t_smooth
+    w = (hi - lo)[:, None] * w_smooth
+    side = near_end[pair, None]
+    xs, jac, values = _map_at(face, e[pair], side - side * t)
     f = (jac * w)[..., None] * values
-    log_sum = np.einsum("mg,mga->ma", np.log(np.abs(xs - xk[:, None]) / datum), f)
-    sign_sum = np.einsum("mg,mga->ma", np.sign(xk[:, None] - xs), f)
-    return log_sum, sign_sum
+    at = xk[pair, None]
+    log_piece = np.einsum("pg,pga->pa", np.log(np.abs(xs - at) / datum), f)
+    sign_piece = np.einsum("pg,pga->pa", np.sign(at - xs), f)
+    starts = np.flatnonzero(np.concatenate([[True], pair[1:] != pair[:-1]]))  # every pair has one
+    return np.add.reduceat(log_piece, starts), np.add.reduceat(sign_piece, starts)
 
 
 def _map_at(face: Basis, e: np.ndarray, local: np.ndarray):
