@@ -187,8 +187,12 @@ def _invert(face: Basis, elements: np.ndarray, targets: np.ndarray) -> np.ndarra
     return xi
 
 
-def surface_integrals(face: Basis, x, datum: float = 1.0) -> SurfaceIntegrals:
+def surface_integrals(face: Basis, x, datum: float = 1.0, at=None) -> SurfaceIntegrals:
     """ln and sign integrals of the face's shape functions for field points ``x`` on the surface.
+
+    ``at``: (element, local coordinate) of each point of ``x`` on the face where it is one
+    of the face's own points (its nodes: ``face.collocation()``), whose split in its own
+    element then needs no search for the local coordinate.
 
     Elements at least FAR_RATIO lengths away use a FAR_POINTS Gauss-Legendre rule, nearer
     ones but at least their own length away a SMOOTH_POINTS rule (both vectorised over every
@@ -229,7 +233,13 @@ def surface_integrals(face: Basis, x, datum: float = 1.0) -> SurfaceIntegrals:
     sign, before = _far_sign(face, x, centre, moments)
     near_k, near_e = np.nonzero(distance < length[None, :])
     if near_k.size:
-        log_el[near_k, near_e], near_sign = _near(face, near_e, x[near_k], datum, ends[near_e])
+        known = None
+        if at is not None:  # the local coordinate of a point in its own element
+            own = np.asarray(at[0])[near_k] == near_e
+            known = np.where(own, np.asarray(at[1], float)[near_k], np.nan)
+        log_el[near_k, near_e], near_sign = _near(
+            face, near_e, x[near_k], datum, ends[near_e], known
+        )
         # the near pairs' sign integrals replace the whole-element terms counted for them
         counted = np.where(before[near_k, near_e], 1.0, -1.0)[:, None] * moments[near_e]
         np.add.at(sign, (near_k[:, None], face.connectivity[near_e]), near_sign - counted)
@@ -283,10 +293,12 @@ def _to_functions(face: Basis, per_element: np.ndarray) -> np.ndarray:
     return out
 
 
-def _near(face: Basis, e: np.ndarray, xk: np.ndarray, datum: float, ends: np.ndarray):
+def _near(face: Basis, e: np.ndarray, xk: np.ndarray, datum: float, ends: np.ndarray,
+          known=None):  # fmt: skip
     """Integrals over elements ``e`` for field points ``xk`` on or just beside them.
 
-    ``ends`` (m, 2) holds x at local -1 and +1 of each element.
+    ``ends`` (m, 2) holds x at local -1 and +1 of each element; ``known`` (m,), if given,
+    each point's local coordinate in its element where known (nan elsewhere).
     """
     log_out = np.zeros((len(e), face.n_local))
     sign_out = np.zeros((len(e), face.n_local))
@@ -294,7 +306,10 @@ def _near(face: Basis, e: np.ndarray, xk: np.ndarray, datum: float, ends: np.nda
     tol = 1e-12 * length
     inside = (xk >= ends.min(axis=1) - tol) & (xk <= ends.max(axis=1) + tol)
     if inside.any():
-        log_out[inside], sign_out[inside] = _split(face, e[inside], xk[inside], datum, ends[inside])
+        log_out[inside], sign_out[inside] = _split(
+            face, e[inside], xk[inside], datum, ends[inside],
+            None if known is None else known[inside],
+        )  # fmt: skip
     outside = ~inside
     if outside.any():
         log_out[outside], sign_out[outside] = _graded(
@@ -303,10 +318,17 @@ def _near(face: Basis, e: np.ndarray, xk: np.ndarray, datum: float, ends: np.nda
     return log_out, sign_out
 
 
-def _split(face: Basis, e, xk, datum, ends):
-    """Elements containing their field point: split there, ln t by the Gauss-log rule."""
+def _split(face: Basis, e, xk, datum, ends, known=None):
+    """Elements containing their field point: split there, ln t by the Gauss-log rule
+    (``known``: the points' local coordinates where known, nan where to be found)."""
     tol = 1e-12 * np.abs(ends[:, 1] - ends[:, 0])
-    star = _invert(face, e, xk)
+    if known is None:
+        star = _invert(face, e, xk)
+    else:
+        star = np.array(known, dtype=float)
+        unknown = np.isnan(star)
+        if unknown.any():
+            star[unknown] = _invert(face, e[unknown], xk[unknown])
     star = np.where(np.abs(xk - ends[:, 0]) <= tol, -1.0, star)
     star = np.where(np.abs(xk - ends[:, 1]) <= tol, 1.0, star)
     smooth = QuadratureRule.gauss_legendre(SMOOTH_POINTS)
