@@ -3,8 +3,10 @@
 A body model is a plugin of the ``fretbem.bodies`` entry-point group: a :class:`BodyModel`
 subclass whose :meth:`~BodyModel.build` makes the pad or the specimen of a scene from the
 boundary, material, conditions and face discretisation the scene builder prepared. The
-built-in ones are ``bem`` (:class:`~fretbem.bem.body.BemBody`) and ``half-plane``
-(:class:`~fretbem.halfplane.body.HalfPlaneBody`).
+built-in ones are ``bem`` (:class:`~fretbem.bem.body.BemBody`, here) and ``half-plane``
+(:class:`~fretbem.halfplane.body.HalfPlaneBody`, in :mod:`fretbem.scenes.half_plane_model`,
+a module of its own so that the lazy registry loads the half-plane package only for a
+scene that names it).
 """
 
 from __future__ import annotations
@@ -18,10 +20,9 @@ from fretbem.bem.body import BemBody
 from fretbem.body import Body
 from fretbem.conditions import Condition
 from fretbem.geometry.boundary import Boundary, OpenFace
-from fretbem.halfplane.scene import half_plane_model
 from fretbem.material import Material
 
-__all__ = ["BemModel", "BodyModel", "HalfPlaneModel"]
+__all__ = ["BemModel", "BodyModel"]
 
 
 class BodyModel(ABC):
@@ -57,22 +58,3 @@ class BemModel(BodyModel):
     def build(self, scene, role, boundary, material, conditions, family, refinement) -> Body:
         return BemBody(boundary, material, conditions, basis=family, refinement=refinement,
                        name=role)  # fmt: skip
-
-
-class HalfPlaneModel(BodyModel):
-    """An elastic half-plane under the contact face (closed-form surface response)."""
-
-    description = "elastic half-plane below the contact face (Flamant influence functions)"
-    face_only = True
-
-    def build(self, scene, role, boundary, material, conditions, family, refinement) -> Body:
-        return half_plane_model(
-            "upper" if role == "pad" else "lower",
-            scene=scene,
-            boundary=boundary,
-            material=material,
-            conditions=conditions,
-            family=family,
-            refinement=refinement,
-            name=role,  # named at construction: evolve would discretise the face again
-        )
