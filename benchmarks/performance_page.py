@@ -602,13 +602,14 @@ SWEEP_TARGETS = (
 
 
 #: what the half-plane section's text says of the trees it compares
-HALFPLANE_BEFORE = "776314a"
+HALFPLANE_BEFORE = "8ac34c8"
 
 
 def halfplane_section_after(phases_path: Path, workflows_path: Path) -> list[str]:
     """The half-plane body model against the numpy Toeplitz peer, by phase, before and after
-    the speed-ups of its prepare and Newton steps (benchmarks/halfplane_phases.py and the
-    ``halfplane`` workflow of benchmarks/workflows.py)."""
+    the speed-ups of its scene build, prepare and Newton steps
+    (benchmarks/halfplane_phases.py and the ``halfplane`` workflow of
+    benchmarks/workflows.py)."""
     if not phases_path.exists():
         return []
     data = json.loads(phases_path.read_text())
@@ -619,8 +620,9 @@ def halfplane_section_after(phases_path: Path, workflows_path: Path) -> list[str
         "## The half-plane body model against its peer, by phase",
         "",
         "The half-plane reference cycle (scene built cold, `prepare`, five steps) before",
-        f"({HALFPLANE_BEFORE}) and after the work on its prepare and Newton steps, against the",
-        "numpy Toeplitz peer run right after each cycle in the same process; the trees",
+        f"({HALFPLANE_BEFORE}) and after the work on its scene build, prepare and Newton",
+        "steps, against the numpy Toeplitz peer run right after each cycle in the same",
+        "process; the trees",
         f"alternate round by round ({data['rounds']} rounds of {data['cycles']} cycles, fresh",
         f"processes, one BLAS thread, CPU ms, medians; load average {load} at the start and",
         "the end):",

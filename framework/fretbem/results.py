@@ -322,7 +322,7 @@ class StepResult:
             x=x,
             pressure=p,
             shear=q,
-            normal_displacement=problem.relative(state.x, problem.amplitudes(state.loads))[0],
+            normal_displacement=problem.relative_normal(state.x, problem.amplitudes(state.loads)),
             tangential_displacement=state.slip,
             states=state.states,
             iterations=iterations,

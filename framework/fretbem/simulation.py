@@ -485,7 +485,7 @@ class Simulation:
 
     def _advance(self, problem, result: IncrementResult, normal, tangential, loads, controls=None):
         beta = problem.amplitudes(loads)
-        _, slip = problem.relative(result.x, beta)
+        slip = problem.relative_tangential(result.x, beta)
         if controls is not None and not controls.by_force:
             measured = control.measure(problem, result.x, beta, self.rig)
             if controls.normal != "force":

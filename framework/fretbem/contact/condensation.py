@@ -217,6 +217,15 @@ class CondensedContact:
         normal_base, tangential_base, _ = self.bases(beta)
         return normal_base + self.normal_map @ x, tangential_base + self.tangential_map @ x
 
+    def relative_normal(self, x: np.ndarray, beta: np.ndarray = ()) -> np.ndarray:
+        """The normal one of :meth:`relative` alone: one product with a (pairs, unknowns) map
+        instead of two (each reads 3.7 MB at 481 pairs)."""
+        return self.bases(beta)[0] + self.normal_map @ x
+
+    def relative_tangential(self, x: np.ndarray, beta: np.ndarray = ()) -> np.ndarray:
+        """The tangential one of :meth:`relative` alone (the slip), one product."""
+        return self.bases(beta)[1] + self.tangential_map @ x
+
     def unknowns(self, x: np.ndarray) -> PairUnknowns:
         """x split by name."""
         return PairUnknowns.from_vector(x, self.layout)

@@ -219,3 +219,26 @@ class Boundary:
                 for k, tag in enumerate(tags)
             )
         )
+
+
+@attrs.frozen(eq=False)
+class OpenFace:
+    """A body's face segments without the closed boundary around them.
+
+    What the scene builder hands a body model that reads only the contact face (the
+    half-plane, :attr:`~fretbem.scenes.models.BodyModel.face_only`) of a library shape,
+    whose dimensions the shape itself checks: the sides, top or bottom it would never read
+    are not built, nor the closed chain checked.
+
+    Attributes
+    ----------
+    segments : tuple of Segment
+        The face's segments in order of travel (flanks and contact).
+    """
+
+    segments: tuple[Segment, ...] = attrs.field(converter=tuple)
+
+    @property
+    def tags(self) -> tuple[str, ...]:
+        """Tag of every segment, in order."""
+        return tuple(s.tag for s in self.segments)

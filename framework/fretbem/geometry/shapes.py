@@ -63,17 +63,21 @@ def _face_tags(curves_left_to_right: list[list[NurbsCurve]]) -> list[Segment]:
     )
 
 
-def _arc_specimen_boundary(arcs: list[NurbsCurve], half: float, h: float) -> Boundary:
-    """A specimen whose face is three arcs right to left (flank, contact, flank) between
-    vertical sides, its bottom at y = -h: the cylinder's and the groove's."""
+def _arc_specimen_face(arcs: list[NurbsCurve]) -> list[Segment]:
+    """A specimen face of three arcs right to left: flank, contact, flank."""
+    return [Segment("flank_right", arcs[0]), Segment("contact", arcs[1]),
+            Segment("flank_left", arcs[2])]  # fmt: skip
+
+
+def _arc_specimen_boundary(face: list[Segment], half: float, h: float) -> Boundary:
+    """A specimen whose face is three arcs right to left (:func:`_arc_specimen_face`)
+    between vertical sides, its bottom at y = -h: the cylinder's and the groove's."""
     return Boundary(
         [
             Segment("bottom", NurbsCurve.line([-half, -h], [half, -h])),
-            Segment("side_right", NurbsCurve.line([half, -h], arcs[0].points([0.0])[0])),
-            Segment("flank_right", arcs[0]),
-            Segment("contact", arcs[1]),
-            Segment("flank_left", arcs[2]),
-            Segment("side_left", NurbsCurve.line(arcs[2].points([1.0])[0], [-half, -h])),
+            Segment("side_right", NurbsCurve.line([half, -h], face[0].curve.points([0.0])[0])),
+            *face,
+            Segment("side_left", NurbsCurve.line(face[-1].curve.points([1.0])[0], [-half, -h])),
         ]
     )
 
@@ -253,12 +257,20 @@ class FlatSpecimen:
         """Zero: a flat face."""
         return 0.0
 
+    def face(self, pad_face: Sequence[Segment], zone: float) -> list[Segment]:
+        """The face right to left: the contact segments facing the pad's (its contact
+        flattened onto y = 0) between straight flanks to the ends; what :meth:`boundary`
+        checks of the dimensions, without building the closed boundary (a model that reads
+        only the face, the half-plane)."""
+        half = self.length / 2
+        _check_zone(zone, half, "specimen")
+        # the flanks of a flat face are straight: exact lines from the contact ends
+        return _specimen_face(pad_face, lambda c: c.flattened(0.0), half)
+
     def boundary(self, pad_face: list[Segment], zone: float) -> Boundary:
         """Bottom, the pulled +x end, the face (contact facing the pad's), the held -x end."""
         half, t = self.length / 2, self.thickness
-        _check_zone(zone, half, "specimen")
-        face = _specimen_face(pad_face, lambda c: c.flattened(0.0), half)
-        # the flanks of a flat face are straight: make them exact lines from the contact ends
+        face = self.face(pad_face, zone)
         return Boundary(
             [
                 Segment("bottom", NurbsCurve.line([-half, -t], [half, -t])),
@@ -293,9 +305,10 @@ class CylinderSpecimen:
         """1/R of the face at the first contact point."""
         return 1.0 / self.radius
 
-    def boundary(self, pad_face: list[Segment], zone: float) -> Boundary:
-        """Bottom, sides and the arc face, the pad's face mirrored about y = 0."""
-        half, h, r = self.width / 2, self.height, self.radius
+    def face(self, pad_face: Sequence[Segment], zone: float) -> list[Segment]:
+        """The arc face right to left (flank, contact, flank), the pad's face mirrored about
+        y = 0; what :meth:`boundary` checks, without building the closed boundary."""
+        half, r = self.width / 2, self.radius
         _check_zone(zone, half, "specimen")
         if half >= r:
             raise ShapeError(
@@ -314,7 +327,11 @@ class CylinderSpecimen:
                 f"a cylinder specimen (radius {r:g} mm) faces node to node only a cylinder pad "
                 "of the same radius; for other pairs use a flat specimen or shape = 'nurbs'"
             )
-        return _arc_specimen_boundary(arcs, half, h)
+        return _arc_specimen_face(arcs)
+
+    def boundary(self, pad_face: list[Segment], zone: float) -> Boundary:
+        """Bottom, sides and the arc face, the pad's face mirrored about y = 0."""
+        return _arc_specimen_boundary(self.face(pad_face, zone), self.width / 2, self.height)
 
 
 @attrs.frozen
@@ -370,10 +387,11 @@ class GrooveSpecimen:
                 "of a smaller radius); redraw the pad's face or enlarge [specimen] radius"
             )
 
-    def boundary(self, pad_face: list[Segment], zone: float) -> Boundary:
-        """Bottom, sides and the concave face; the contact segment spans the x range of
-        the ``contact`` segments of ``pad_face`` (the pad's zone, or a sliding track)."""
-        half, h, r = self.width / 2, self.height, self.radius
+    def face(self, pad_face: Sequence[Segment], zone: float) -> list[Segment]:
+        """The concave face right to left (flank, contact, flank), the contact segment over
+        the x range of the ``contact`` segments of ``pad_face``; what :meth:`boundary`
+        checks, without building the closed boundary."""
+        half, r = self.width / 2, self.radius
         _check_zone(zone, half, "specimen")
         contact = [s.curve for s in pad_face if s.tag == "contact"]
         ends = [contact[0].points([0.0])[0][0], contact[-1].points([1.0])[0][0]]
@@ -384,7 +402,12 @@ class GrooveSpecimen:
             )
         down = -math.pi / 2
         angles = [down + math.asin(x / r) for x in (half, max(ends), min(ends), -half)]
-        return _arc_specimen_boundary(_arcs([0.0, r], r, angles), half, h)
+        return _arc_specimen_face(_arcs([0.0, r], r, angles))
+
+    def boundary(self, pad_face: list[Segment], zone: float) -> Boundary:
+        """Bottom, sides and the concave face; the contact segment spans the x range of
+        the ``contact`` segments of ``pad_face`` (the pad's zone, or a sliding track)."""
+        return _arc_specimen_boundary(self.face(pad_face, zone), self.width / 2, self.height)
 
 
 @attrs.frozen(eq=False)

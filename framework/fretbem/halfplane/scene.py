@@ -12,7 +12,7 @@ from typing import Any
 
 from fretbem.basis import Basis, Refinement
 from fretbem.conditions import Condition, LoadingBlock
-from fretbem.geometry.boundary import Boundary
+from fretbem.geometry.boundary import Boundary, OpenFace
 from fretbem.material import Material
 
 from .body import HalfPlaneBody
@@ -26,7 +26,7 @@ def half_plane_model(
     label: str,
     *,
     scene: Any,
-    boundary: Boundary,
+    boundary: Boundary | OpenFace,
     material: Material,
     conditions: Sequence[Condition],
     family: type[Basis],

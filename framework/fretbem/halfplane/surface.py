@@ -140,10 +140,11 @@ class HalfPlaneSurface:
         """(A, B) (n, n): ``traction_map`` is ``[[A, B], [-B, A]]`` per node pair."""
         if "traction_blocks" not in self._cache:
             x = self.points[:, 0]
+            at = self.face.collocation()  # the nodes' own (element, local coordinate)
             if self.shared_as is None:
-                both = self._node_integrals(x)
+                both = self._node_integrals(x, at)
             else:
-                both = self._cache["shared"].get(lambda: self._node_integrals(x))
+                both = self._cache["shared"].get(lambda: self._node_integrals(x, at))
             blocks = self._blocks(both[: x.size], both[x.size :])
             for block in blocks:
                 block.setflags(write=False)
@@ -164,10 +165,11 @@ class HalfPlaneSurface:
         m = both.shape[0] // 2
         return self._displacement_map(both[:m], both[m:])
 
-    def _node_integrals(self, x) -> np.ndarray:
+    def _node_integrals(self, x, at=None) -> np.ndarray:
         """The ln integrals over the rows of the sign integrals (2 m, n) at abscissae ``x``,
-        per unit node value."""
-        integrals = surface_integrals(self.face, x, self.datum)
+        per unit node value (``at``: the points' (element, local coordinate) on the face,
+        if they are its own)."""
+        integrals = surface_integrals(self.face, x, self.datum, at)
         # per node value = per coefficient @ E^-1 (coefficients = E^-1 values): the four
         # blocks of the map are the ln and sign integrals times constants, so two solves
         return self.per_node_value(np.concatenate([integrals.log, integrals.sign]))

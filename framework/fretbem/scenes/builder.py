@@ -20,7 +20,14 @@ from fretbem import registry
 from fretbem.basis import Basis, Refinement, points_per_element
 from fretbem.conditions import Displacement, LoadingBlock, Traction
 from fretbem.contact.control import Rig
-from fretbem.geometry.shapes import CylinderPad, GrooveSpecimen, RoundedFlatPad
+from fretbem.geometry.boundary import OpenFace
+from fretbem.geometry.shapes import (
+    CylinderPad,
+    CylinderSpecimen,
+    FlatSpecimen,
+    GrooveSpecimen,
+    RoundedFlatPad,
+)
 from fretbem.simulation import LoadStep, Simulation
 from fretbem.verification.closed_forms import (
     HertzLineContact,
@@ -234,12 +241,15 @@ class FaceDiscretisation:
         )
 
 
-def refinements(scene: Scene, family: type[Basis], zone: float, pad: bool) -> dict:
-    """Per-tag refinement: zone uniform, flanks graded toward it, sides/ends to corners."""
+def refinements(
+    scene: Scene, family: type[Basis], zone: float, pad: bool, whole: bool = True
+) -> dict:
+    """Per-tag refinement: zone uniform, flanks graded toward it, sides/ends to corners
+    (``whole`` False: the face's tags only, for a body built from its face alone)."""
     body = scene.pad if pad else scene.specimen
     face = FaceDiscretisation.of(scene, "pad" if pad else "specimen")
     degree = face.degree
-    segments = [s for s in _face(scene, zone, pad) if s.tag == "contact"]
+    segments = [s for s in _face(scene, zone, pad, whole) if s.tag == "contact"]
     if face.elements is not None:
         k = face.elements
     else:
@@ -267,8 +277,10 @@ def refinements(scene: Scene, family: type[Basis], zone: float, pad: bool) -> di
         near_zone = {tag: 1.0 - end for tag, end in near_zone.items()}
     for tag, end in near_zone.items():
         levels[tag] = Refinement.graded(scene.mesh.flank_elements, end, flank, degree=degree)
-    tags = {s.tag for s in _face(scene, zone, pad)} | (
-        {s.tag for s in _geometry(body.shape, "boundary", zone).segments} if pad else set()
+    tags = {s.tag for s in _face(scene, zone, pad, whole)} | (
+        {s.tag for s in _geometry(body.shape, "boundary", zone).segments}
+        if pad and whole
+        else set()
     )
     for tag in ("side_left", "side_right", "end_left", "end_right"):
         if tag in tags:
@@ -287,9 +299,31 @@ def _pad_face(scene: Scene, zone: float, pad: bool):
     return list(_geometry(scene.pad.shape, "face", zone))
 
 
-def _face(scene: Scene, zone: float, pad: bool):
+def _face(scene: Scene, zone: float, pad: bool, whole: bool = True):
+    """The pad's face, or the specimen's boundary segments (its face alone if not ``whole``)."""
     face = _pad_face(scene, zone, pad)
-    return face if pad else list(_specimen_boundary(scene, face, zone).segments)
+    if pad:
+        return face
+    if not whole:
+        return list(_geometry(scene.specimen.shape, "face", tuple(face), zone))
+    return list(_specimen_boundary(scene, face, zone).segments)
+
+
+#: the shapes whose own checks make their closed boundary valid (a drawn ``nurbs`` shape is
+#: checked as a boundary only)
+_LIBRARY_PADS = (CylinderPad, RoundedFlatPad)
+_LIBRARY_SPECIMENS = (FlatSpecimen, CylinderSpecimen, GrooveSpecimen)
+
+
+def _whole(scene: Scene, model) -> bool:
+    """Whether a body of ``model`` is built on its closed boundary: every model but one that
+    reads only its face (:attr:`~fretbem.scenes.models.BodyModel.face_only`) between two
+    library shapes. A drawn shape's boundary is always built and checked, and so is a
+    library specimen's facing a drawn pad (its flanks run to the pad's contact ends)."""
+    library = isinstance(scene.pad.shape, _LIBRARY_PADS) and isinstance(
+        scene.specimen.shape, _LIBRARY_SPECIMENS
+    )
+    return not (model.face_only and library)
 
 
 def _specimen_boundary(scene: Scene, pad_face, zone: float):
@@ -338,7 +372,9 @@ def build(scene: Scene, **contact_overrides):
     _check_pairing(scene)
     if isinstance(scene.specimen.shape, GrooveSpecimen):  # a drawn pad must fit in it
         scene.specimen.shape.check_pad(_pad_face(scene, zone, True))
-    pad_levels = refinements(scene, pad_family, zone, pad=True)
+    pad_model, specimen_model = _model(scene, "pad"), _model(scene, "specimen")
+    pad_whole = _whole(scene, pad_model)
+    pad_levels = refinements(scene, pad_family, zone, pad=True, whole=pad_whole)
     specimen_zone = zone
     if scene.contact.sliding:  # the specimen's contact segment covers the whole slide
         specimen_zone = track_half_width(scene, zone)
@@ -347,18 +383,22 @@ def build(scene: Scene, **contact_overrides):
         )
         own = scene.specimen.pairs is not None or scene.specimen.elements is not None
         specimen_elements = (  # [specimen] pairs or elements: a density in the zone
-            refinements(scene, specimen_family, zone, pad=False)["contact"].elements
+            refinements(scene, specimen_family, zone, False, _whole(scene, specimen_model))[
+                "contact"
+            ].elements
             if own
             else None
         )
         scene = sliding_scene(scene, zone, specimen_zone, pad_elements, specimen_elements)
-    pad = body_model(scene, "pad", pad_family, zone, pad_levels)
+    pad = body_model(scene, "pad", pad_family, zone, pad_levels, pad_model)
+    specimen_whole = _whole(scene, specimen_model)
     specimen = body_model(
         scene,
         "specimen",
         specimen_family,
         specimen_zone,
-        refinements(scene, specimen_family, specimen_zone, pad=False),
+        refinements(scene, specimen_family, specimen_zone, False, specimen_whole),
+        specimen_model,
     )
 
     steps = load_steps(scene.load)
@@ -487,8 +527,20 @@ def law(name: str, friction: float):
         raise SceneFileError(f"[contact] law: {err}") from None
 
 
-def body_model(scene: Scene, role: str, family: type[Basis], zone: float, refinement: dict):
-    """The pad or the specimen as a body of its model (``bem`` or ``half-plane``)."""
+def _model(scene: Scene, role: str):
+    """The body model (a ``fretbem.bodies`` plugin) the pad or the specimen names."""
+    try:
+        return registry.get(getattr(scene, role).model, "bodies")()
+    except registry.UnknownPluginError as err:
+        raise SceneFileError(f"[{role}] model: {err}") from None
+
+
+def body_model(
+    scene: Scene, role: str, family: type[Basis], zone: float, refinement: dict, model=None
+):
+    """The pad or the specimen as a body of its model (``bem`` or ``half-plane``; ``model``,
+    the plugin's instance, if already found). A model that reads only its face gets it as
+    an :class:`~fretbem.geometry.boundary.OpenFace` between library shapes (:func:`_whole`)."""
 
     spec = getattr(scene, role)
     pad_face = _pad_face(scene, zone, role == "pad")
@@ -509,12 +561,11 @@ def body_model(scene: Scene, role: str, family: type[Basis], zone: float, refine
                 "use a flat specimen with support = 'ends'"
             )
         conditions = [Displacement("bottom")]
-    if role == "pad":
+    model = _model(scene, role) if model is None else model
+    if not _whole(scene, model):
+        boundary = OpenFace(_face(scene, zone, role == "pad", whole=False))
+    elif role == "pad":
         boundary = _geometry(spec.shape, "boundary", zone)
     else:
         boundary = _specimen_boundary(scene, pad_face, zone)
-    try:
-        model = registry.get(spec.model, "bodies")()
-    except registry.UnknownPluginError as err:
-        raise SceneFileError(f"[{role}] model: {err}") from None
     return model.build(scene, role, boundary, spec.material, conditions, family, refinement)

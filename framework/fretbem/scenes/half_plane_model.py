@@ -16,6 +16,7 @@ class HalfPlaneModel(BodyModel):
     """An elastic half-plane under the contact face (closed-form surface response)."""
 
     description = "elastic half-plane below the contact face (Flamant influence functions)"
+    face_only = True
 
     def build(self, scene, role, boundary, material, conditions, family, refinement) -> Body:
         return half_plane_model(

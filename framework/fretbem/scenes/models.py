@@ -19,7 +19,7 @@ from fretbem.basis import Basis, Refinement
 from fretbem.bem.body import BemBody
 from fretbem.body import Body
 from fretbem.conditions import Condition
-from fretbem.geometry.boundary import Boundary
+from fretbem.geometry.boundary import Boundary, OpenFace
 from fretbem.material import Material
 
 __all__ = ["BemModel", "BodyModel"]
@@ -30,13 +30,18 @@ class BodyModel(ABC):
 
     #: one line for ``fretbem plugins``
     description: ClassVar[str] = ""
+    #: True if :meth:`build` reads only the face segments of ``boundary`` (its ``segments``
+    #: tagged flank or contact): the scene builder then passes a library shape's face as an
+    #: :class:`~fretbem.geometry.boundary.OpenFace` and skips building and checking the closed
+    #: boundary (a drawn ``nurbs`` shape's boundary is always built and checked)
+    face_only: ClassVar[bool] = False
 
     @abstractmethod
     def build(
         self,
         scene,
         role: str,
-        boundary: Boundary,
+        boundary: Boundary | OpenFace,
         material: Material,
         conditions: Sequence[Condition],
         family: type[Basis],

@@ -128,7 +128,7 @@ def _carried(state: ContactState, problem, shift: np.ndarray) -> ContactState:
         return ContactState.initial(problem)
     x = np.array(state.x, dtype=float)
     x[problem.layout.block("upper")] -= shift
-    _, slip = problem.relative(x, problem.amplitudes(state.loads))
+    slip = problem.relative_tangential(x, problem.amplitudes(state.loads))
     return attrs.evolve(state, x=x, slip=slip)
 
 

@@ -368,8 +368,9 @@ class _Equations:
             gap = self.gap_base + self.normal_map @ x
             slip = self.tangential_base + self.tangential_map @ x - self.reference_slip
         else:
-            gap = self.gap_base + self.maps.normal_times(x)
-            slip = self.tangential_base + self.maps.tangential_times(x) - self.reference_slip
+            normal, tangential = self.maps.both_times(x)
+            gap = self.gap_base + normal
+            slip = self.tangential_base + tangential - self.reference_slip
         self.gap, self.slip = gap, slip
         evaluation = self.law.evaluate(x[self.pressure], x[self.shear], gap, slip, r_n, r_t)
         n = self.n

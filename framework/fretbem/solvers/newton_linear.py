@@ -107,6 +107,9 @@ class _Maps:
         #: the same per column (None: all used), for products over a few columns
         self.normal_used = _used_columns(normal_map, self.normal_ranges)
         self.tangential_used = _used_columns(tangential_map, self.tangential_ranges)
+        #: N's pressure block, when T's shear block is minus it bit for bit and the other
+        #: two are zero (identical bodies); None otherwise: see :meth:`both_times`
+        self.mirrored = _mirrored(normal_map, tangential_map) if large else None
 
     def normal_times(self, x: np.ndarray) -> np.ndarray:
         """N x, over N's non-zero column ranges only."""
@@ -116,6 +119,30 @@ class _Maps:
         """T x, over T's non-zero column ranges only."""
         return _product(self.tangential, self.tangential_ranges, x)
 
+    def both_times(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """N x and T x (x of shape (n_x,) or (n_x, cols)).
+
+        For identical bodies T's shear block is -A where N's pressure block is A: one
+        product A [p q] then reads A once where two read it twice. At 481 pairs and more
+        the maps outgrow the caches and the products are memory-bound (two of them 377 us
+        against 216 us for the one, cold, at 481 pairs)."""
+        block = self.mirrored
+        if block is None:
+            return self.normal_times(x), self.tangential_times(x)
+        n = self.n
+        if x.ndim == 1:
+            both = np.stack([x[:n], x[n : 2 * n]]) @ block.T
+            normal, tangential = both[0], both[1]
+        else:
+            cols = x.shape[1]
+            both = np.concatenate([x[:n], x[n : 2 * n]], axis=1).T @ block.T
+            normal, tangential = both[:cols].T, both[cols:].T
+        np.negative(tangential, out=tangential)
+        rest = slice(2 * n, self.n_x)
+        normal = normal + self.normal[:, rest] @ x[rest]
+        tangential = tangential + self.tangential[:, rest] @ x[rest]
+        return normal, tangential
+
     def products(self, x: np.ndarray, nonzero: np.ndarray | None = None):
         """N x, T x and R x (x of shape (n_x,) or (n_x, cols)), using only rows ``nonzero``."""
         if nonzero is not None and nonzero.size < self.n_x // 4:
@@ -123,7 +150,7 @@ class _Maps:
             return (_columns_product(self.normal, self.normal_used, nonzero, part),
                     _columns_product(self.tangential, self.tangential_used, nonzero, part),
                     self.resultant[:, nonzero] @ part)  # fmt: skip
-        return self.normal_times(x), self.tangential_times(x), self.resultant @ x
+        return (*self.both_times(x), self.resultant @ x)
 
     def apply(self, pattern: _Pattern, x: np.ndarray) -> tuple[np.ndarray, float]:
         """J x on ``pattern`` (every row) and the largest row product (for a relative size)."""
@@ -415,6 +442,17 @@ def _product(matrix: np.ndarray, ranges: tuple[slice, ...] | None, x: np.ndarray
     for columns in ranges[1:]:
         out += matrix[:, columns] @ x[columns]
     return out
+
+
+def _mirrored(normal_map: np.ndarray, tangential_map: np.ndarray) -> np.ndarray | None:
+    """N's pressure block (a view) if the maps are [A 0 N_b] and [0 -A T_b], exactly (two
+    identical bodies); else None."""
+    n = normal_map.shape[0]
+    pressure, shear = slice(0, n), slice(n, 2 * n)
+    if normal_map[:, shear].any() or tangential_map[:, pressure].any():
+        return None
+    block = normal_map[:, pressure]
+    return block if np.array_equal(block, -tangential_map[:, shear]) else None
 
 
 def _lu(matrix: np.ndarray):

@@ -78,8 +78,13 @@ class CheckRecord:
 
 
 def _spacing(x: np.ndarray) -> float:
-    """Typical pair spacing: the median distance between neighbouring pairs."""
-    return float(np.median(np.diff(np.sort(x)))) if len(x) > 1 else math.nan
+    """Typical pair spacing: the median distance between neighbouring pairs (np.median's
+    number, the middle one or the mean of the middle two, without its ~50 us of checks)."""
+    if len(x) < 2:
+        return math.nan
+    gaps = np.sort(np.diff(np.sort(x)))
+    middle = gaps.size // 2
+    return float(gaps[middle] if gaps.size % 2 else (gaps[middle - 1] + gaps[middle]) / 2.0)
 
 
 # -- result checks: call after every increment, before anything is written -------------------

@@ -130,3 +130,30 @@ def test_transposed_solve_of_any_band(lower, upper):
         np.testing.assert_allclose(
             transposed_solve(matrix, rows) @ matrix, rows, rtol=0, atol=1e-12
         )
+
+
+@pytest.mark.parametrize("family", ["nurbs", "lagrange2"])
+@pytest.mark.parametrize("name", FACES)
+def test_nodes_located_by_their_own_coordinates(family, name, monkeypatch):
+    """The face's own nodes given with their (element, local coordinate): no search in
+    their own element, the integrals those of the searched split points (to the search's
+    resolution), other field points searched as before."""
+    face = FACES[name](family)
+    x = _field_points(face)
+    n = face.n_functions
+    elements, local = face.collocation()
+    searched_points = []
+    invert = influence._invert
+
+    def counted(face, e, targets):
+        searched_points.append(e.size)
+        return invert(face, e, targets)
+
+    monkeypatch.setattr(influence, "_invert", counted)
+    searched = surface_integrals(face, x, 0.7)
+    at = (np.concatenate([elements, np.full(x.size - n, -1)]),
+          np.concatenate([local, np.zeros(x.size - n)]))  # fmt: skip
+    located = surface_integrals(face, x, 0.7, at)
+    for got, want in ((located.log, searched.log), (located.sign, searched.sign)):
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-12 * np.abs(want).max())
+    assert searched_points[1] <= searched_points[0] - n  # every node's own element skipped

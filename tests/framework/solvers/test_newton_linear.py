@@ -217,3 +217,33 @@ def test_uncoupled_steps_equal_the_full_solve(seed, direct, monkeypatch):
         step = linear.step(residual, states, direction)
         assert np.max(np.abs(step - expected)) <= 1e-12 * np.max(np.abs(expected))
         assert linear.factor.split is not None
+
+
+@pytest.mark.parametrize("direct", [False, True])
+def test_mirrored_maps_share_one_product(direct, monkeypatch):
+    """Identical bodies (T's shear block minus N's pressure block, bit for bit): N x and T x
+    from one product over the block equal the two products, for vectors and matrices, and
+    the Newton steps still equal the full solve's; any other map keeps the two products."""
+    monkeypatch.setattr(newton_linear, "DIRECT_BELOW", 10**9 if direct else 0)
+    monkeypatch.setattr(newton_linear, "SPLIT_FROM", 0)
+    rng = np.random.default_rng(31)
+    n = 40
+    states = rng.choice([SEPARATED, STICK, SLIP], n)
+    states[: n // 2] = STICK
+    normal, tangential, resultant, states, direction, residual = uncoupled_problem(rng, n, states)
+    tangential[:, n : 2 * n] = -normal[:, :n]
+    f, r_n, r_t = 0.3, 1.7, 0.8
+    linear = NewtonLinear(normal, tangential, resultant, f, r_n, r_t)
+    maps = linear.maps
+    assert maps.mirrored is not None
+    for x in (rng.standard_normal(2 * n + 2), rng.standard_normal((2 * n + 2, 3))):
+        got_n, got_t = maps.both_times(x)
+        scale = np.abs(normal).max() * np.abs(x).max() * n
+        assert np.max(np.abs(got_n - normal @ x)) <= 1e-14 * scale
+        assert np.max(np.abs(got_t - tangential @ x)) <= 1e-14 * scale
+    jac = full_jacobian(normal, tangential, resultant, states, direction, f, r_n, r_t)
+    expected = np.linalg.solve(jac, -residual)
+    step = linear.step(residual, states, direction)
+    assert np.max(np.abs(step - expected)) <= 1e-12 * np.max(np.abs(expected))
+    tangential[3, n + 5] *= 1.0 + 1e-15  # no longer mirrored exactly: two products
+    assert NewtonLinear(normal, tangential, resultant, f, r_n, r_t).maps.mirrored is None

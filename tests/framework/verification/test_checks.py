@@ -224,3 +224,17 @@ def test_newton_refuses_meaningless_settings(settings):
 
     with pytest.raises(ValueError, match="must"):
         SemiSmoothNewton(**settings)
+
+
+def test_spacing_is_numpy_s_median_of_the_neighbour_distances():
+    """_spacing gives np.median(np.diff(np.sort(x))) bit for bit (odd and even counts,
+    ties, any scale) and NaN for fewer than two pairs."""
+    from fretbem.verification.checks import _spacing
+
+    rng = np.random.default_rng(5)
+    for k in range(2000):
+        x = rng.standard_normal(rng.integers(2, 40)) * 10 ** rng.uniform(-5, 5)
+        if k % 3 == 0:
+            x = np.round(x, 2)
+        assert _spacing(x) == float(np.median(np.diff(np.sort(x))))
+    assert math.isnan(_spacing(np.array([1.0])))
