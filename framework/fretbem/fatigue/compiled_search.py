@@ -431,21 +431,12 @@ def _better(code, new, new2, old, old2, scale):
 
 
 @numba.njit(**_LOOPS)
-def _value_bounds(code, par, E, out, tau, hi, n, value, vhi):
-    """:func:`_values` of shear criterion ``code`` on planes ``:n`` at ``tau`` into ``value``
-    and at ``hi`` into ``vhi``, in one pass: ``vhi`` becomes the larger of the two (the value's
-    upper bound, whichever way it varies with tau); returns the largest of the smaller ones
-    (the best lower bound)."""
+def _bounds_top(value, vhi, n):
+    """``vhi`` becomes the larger of ``value`` and ``vhi`` (the value's upper bound, whichever
+    way it varies with tau); returns the largest of the smaller ones (the best lower bound)."""
     top = -np.inf
     for g in range(n):
-        if code == FINDLEY:
-            a, b = tau[g] + par[0] * out[0, g], hi[g] + par[0] * out[0, g]
-        elif code == FATEMI_SOCIE:
-            f = 1.0 + par[0] * out[0, g] / par[1]
-            a, b = (tau[g] / par[2]) * f, (hi[g] / par[2]) * f
-        else:  # MWCM
-            a, b = tau[g], hi[g]
-        value[g] = a
+        a, b = value[g], vhi[g]
         vhi[g] = max(a, b)
         top = max(top, min(a, b))
     return top
@@ -530,7 +521,9 @@ def _grid_best(out, data, p, grid, rank, codes, par, E, in_plane, work, best, fo
         if n_open_grid and _needs_shear(code):
             # exact circles in decreasing order of the value's upper bound, while it can win;
             # ``value`` at ``tau``: the lower bound, or the circle another criterion took
-            top = _value_bounds(code, par[ci], E, out, tau, hi, n_g, value, vhi)
+            _values(code, par[ci], E, out, tau, 0, n_g, value)
+            _values(code, par[ci], E, out, hi, 0, n_g, vhi)
+            top = _bounds_top(value, vhi, n_g)
             slack = _TIE * abs(top) if code == MWCM else 0.0
             # the planes whose bound reaches the best lower bound, open ones first
             n_open = _reaching(vhi, done, top - slack, n_g, order)
