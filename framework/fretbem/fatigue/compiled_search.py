@@ -584,9 +584,8 @@ def _evaluate(data, nb, planes, n_rep, per, codes, par, nu, E, in_plane, against
     ``r nb + b`` is point b's, of criterion ``r // per``. With ``against``, a plane that cannot
     beat its criterion's current value keeps the lower bound of its shear amplitude (the numpy
     search's ``_SharedPass._exact``); the exact circles start from the current plane's support.
-    ``keep`` (3D): the planes g where it is True are not evaluated: ``work`` keeps their
-    summaries and shear amplitudes (the same plane's from the last evaluation at g), and
-    their values are taken from those again (the caller replaces any it knows otherwise).
+    ``keep`` (3D): the planes g where it is True are not evaluated; the caller sets their
+    values.
     """
     m, h, xy, zz, tr, x, y = data
     c2, s2, sp, cp, psup = planes
@@ -692,14 +691,11 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
     a plane that wins has its exact circle (one that cannot win keeps a bound, never wins).
 
     In 3D, a neighbour that is the plane itself (on the boundaries psi = 0 and 90 degrees)
-    takes the plane's value unevaluated; and as the last level's step is the one before it,
-    that level takes every candidate's exact circle, so that where a plane did not move the
-    last level takes its neighbours as they are instead of evaluating them again."""
+    takes the plane's value unevaluated."""
     c2, s2, sp, cp, csup = cur_planes
     th, ps = cur_angles
     cvalue, cscale, _ = cur
     second = np.empty(cvalue.size)
-    moved = np.ones(cvalue.size, dtype=np.bool_)  # whether the plane moved at the last level
     keep = work[7]
     turn = np.empty(4)
     n_c = codes.size
@@ -734,19 +730,15 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
             _evaluate(data, nb, cand, n_c * k, k, codes, par, nu, E, in_plane, not last, cur,
                       work)  # fmt: skip
         else:
-            # kept: a neighbour that is the plane itself (psi = 90 degrees, psi + hp; psi = 0,
-            # the normal z, every neighbour but psi + hp), and on the last level the
-            # neighbours of a plane that did not move, evaluated (exact circles) on the level
-            # before, whose step it has
-            reuse = last and levels >= 1
+            # not evaluated: a neighbour that is the plane itself (psi = 90 degrees: psi + hp;
+            # psi = 0, the normal z: every neighbour but psi + hp)
             for ci in range(n_c):
                 for j in range(k):
                     for b in range(nb):
                         i = ci * nb + b
                         same = ps[i] >= 0.5 * np.pi if j == 3 else ps[i] <= 0.0
-                        keep[(ci * k + j) * nb + b] = same or (reuse and not moved[i])
-            against = not last and level < levels - 1
-            _evaluate(data, nb, cand, n_c * k, k, codes, par, nu, E, in_plane, against, cur,
+                        keep[(ci * k + j) * nb + b] = same
+            _evaluate(data, nb, cand, n_c * k, k, codes, par, nu, E, in_plane, not last, cur,
                       work, keep)  # fmt: skip
             for ci in range(n_c):
                 for j in range(k):
@@ -759,7 +751,6 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
                 code = codes[ci]
                 for b in range(nb):
                     i = ci * nb + b
-                    moved[i] = False
                     arg = (ci * k) * nb + b
                     for j in range(1, k):
                         g = (ci * k + j) * nb + b
@@ -773,7 +764,6 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
                             if value[g] >= top - tol and (arg < 0 or out[0, g] > out[0, arg]):
                                 arg = g
                     if _better(code, value[arg], out[0, arg], cvalue[i], second[i], cscale[i]):
-                        moved[i] = True
                         th[i], ps[i] = qth[arg], qps[arg]
                         c2[i], s2[i], sp[i], cp[i] = q2[arg], qs2[arg], qsp[arg], qcp[arg]
                         cvalue[i], second[i] = value[arg], out[0, arg]
