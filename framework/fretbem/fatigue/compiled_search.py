@@ -308,10 +308,8 @@ def _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratc
 
 @numba.njit(**_LOOPS)
 def _block_summaries(m, h, xy, zz, tr, nb, nu, c2, s2, sp, cp, start, in_plane, out):
-    """:func:`_grid_summaries` of planes ``start:start + nb``, plane ``start + b`` of point b.
-
-    Plane by plane with the running extremes in registers: few planes per point here, and
-    the loop over the steps stores nothing."""
+    """:func:`_grid_summaries` of in-plane planes ``start:start + nb``, plane ``start + b`` of
+    point b (3D planes: :func:`_plane_summaries_3d`)."""
     a = 1.0 + nu
     n_t = m.shape[0]
     if in_plane:  # step by step over the points, one loop per pair of extremes (vectorised)
@@ -335,28 +333,41 @@ def _block_summaries(m, h, xy, zz, tr, nb, nu, c2, s2, sp, cp, start, in_plane, 
                 o4[b] = te if te > o4[b] else o4[b]
                 o5[b] = te if te < o5[b] else o5[b]
         return
-    for b in range(nb):
-        g = start + b
-        c, s = c2[g], s2[g]
-        sp2, cp2, spcp, spg = sp[g] * sp[g], cp[g] * cp[g], sp[g] * cp[g], sp[g]
-        hi0 = hi1 = hi2 = hi3 = hi4 = hi5 = -np.inf
-        lo0 = lo1 = lo2 = lo3 = lo4 = lo5 = np.inf
-        for t in range(n_t):
-            ee = m[t, b] + h[t, b] * c + xy[t, b] * s
-            te = xy[t, b] * c - h[t, b] * s
-            sn = sp2 * ee + cp2 * zz[t, b]
+
+
+@numba.njit(inline="always", **_LOOPS)
+def _plane_summaries_3d(m, h, xy, zz, tr, b, nu, c, s, sp, cp, shear, out, g):
+    """:func:`_grid_summaries` of one 3D plane of point b into ``out[:, g]``, with the
+    running extremes in registers (the loop over the steps stores nothing); without
+    ``shear`` the normal stress and strain alone (rows 0-3: SWT, stress and strain life)."""
+    a = 1.0 + nu
+    sp2, cp2, spcp = sp * sp, cp * cp, sp * cp
+    hi0 = hi1 = hi2 = hi3 = hi4 = hi5 = -np.inf
+    lo0 = lo1 = lo2 = lo3 = lo4 = lo5 = np.inf
+    if not shear:
+        for t in range(m.shape[0]):
+            sn = sp2 * (m[t, b] + h[t, b] * c + xy[t, b] * s) + cp2 * zz[t, b]
             en = a * sn - nu * tr[t, b]
-            px = spcp * (ee - zz[t, b])
-            py = spg * te
             hi0, lo0 = max(hi0, sn), min(lo0, sn)
             hi1, lo1 = max(hi1, en), min(lo1, en)
-            hi2, lo2 = max(hi2, px), min(lo2, px)
-            hi3, lo3 = max(hi3, py), min(lo3, py)
-            hi4, lo4 = max(hi4, px + py), min(lo4, px + py)
-            hi5, lo5 = max(hi5, px - py), min(lo5, px - py)
         out[0, g], out[1, g], out[2, g], out[3, g] = hi0, lo0, hi1, lo1
-        out[4, g], out[5, g], out[6, g], out[7, g] = hi2, lo2, hi3, lo3
-        out[8, g], out[9, g], out[10, g], out[11, g] = hi4, lo4, hi5, lo5
+        return
+    for t in range(m.shape[0]):
+        ee = m[t, b] + h[t, b] * c + xy[t, b] * s
+        te = xy[t, b] * c - h[t, b] * s
+        sn = sp2 * ee + cp2 * zz[t, b]
+        en = a * sn - nu * tr[t, b]
+        px = spcp * (ee - zz[t, b])
+        py = sp * te
+        hi0, lo0 = max(hi0, sn), min(lo0, sn)
+        hi1, lo1 = max(hi1, en), min(lo1, en)
+        hi2, lo2 = max(hi2, px), min(lo2, px)
+        hi3, lo3 = max(hi3, py), min(lo3, py)
+        hi4, lo4 = max(hi4, px + py), min(lo4, px + py)
+        hi5, lo5 = max(hi5, px - py), min(lo5, px - py)
+    out[0, g], out[1, g], out[2, g], out[3, g] = hi0, lo0, hi1, lo1
+    out[4, g], out[5, g], out[6, g], out[7, g] = hi2, lo2, hi3, lo3
+    out[8, g], out[9, g], out[10, g], out[11, g] = hi4, lo4, hi5, lo5
 
 
 @numba.njit(**_LOOPS)
@@ -572,30 +583,44 @@ def _cos_sin(x):
 
 
 @numba.njit(**_JIT)
-def _evaluate(data, nb, planes, n_rep, per, codes, par, nu, E, in_plane, against, cur, work):
+def _evaluate(data, nb, planes, n_rep, per, codes, par, nu, E, in_plane, against, cur, work,
+              keep=None):  # fmt: skip
     """Quantities and values of ``n_rep`` planes per point of a block of ``nb`` points; plane
     ``r nb + b`` is point b's, of criterion ``r // per``. With ``against``, a plane that cannot
     beat its criterion's current value keeps the lower bound of its shear amplitude (the numpy
     search's ``_SharedPass._exact``); the exact circles start from the current plane's support.
+    ``keep`` (3D): the planes g where it is True are not evaluated; the caller sets their
+    values.
     """
     m, h, xy, zz, tr, x, y = data
     c2, s2, sp, cp, psup = planes
     out, lo, hi, tau, value, vlo, vhi, _, _ = work
     cvalue, cscale, csup = cur
     for r in range(n_rep):
-        _block_summaries(m, h, xy, zz, tr, nb, nu, c2, s2, sp, cp, r * nb, in_plane, out)
+        if in_plane:
+            _block_summaries(m, h, xy, zz, tr, nb, nu, c2, s2, sp, cp, r * nb, in_plane, out)
+            continue
+        shear = _needs_shear(codes[r // per])
+        for b in range(nb):
+            g = r * nb + b
+            if keep is None or not keep[g]:
+                _plane_summaries_3d(m, h, xy, zz, tr, b, nu, c2[g], s2[g], sp[g], cp[g], shear,
+                                    out, g)  # fmt: skip
     for ci in range(codes.size):
         code = codes[ci]
         start, stop = ci * per * nb, (ci + 1) * per * nb
         if _needs_shear(code):
             _shear_bounds(out, start, stop, in_plane, lo, hi)
             for g in range(start, stop):
-                tau[g] = lo[g]
+                if keep is None or not keep[g]:
+                    tau[g] = lo[g]
             if not in_plane:
                 if against:
                     _values(code, par[ci], E, out, lo, start, stop, vlo)
                     _values(code, par[ci], E, out, hi, start, stop, vhi)
                 for g in range(start, stop):
+                    if keep is not None and keep[g]:
+                        continue
                     if not hi[g] > lo[g] * (1.0 + 1e-12):
                         psup[g, 0] = -1
                         continue
@@ -668,11 +693,15 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
     """The numpy search's ``_refine`` for a block of points: every criterion's candidates of a
     level in one :func:`_evaluate`. ``cres`` (5, C nb): the current planes' quantities (value,
     tau, sigma_n max and min, normal strain amplitude), from the grid in, the final ones out:
-    a plane that wins has its exact circle (one that cannot win keeps a bound, never wins)."""
+    a plane that wins has its exact circle (one that cannot win keeps a bound, never wins).
+
+    In 3D, a neighbour that is the plane itself (on the boundaries psi = 0 and 90 degrees)
+    takes the plane's value unevaluated."""
     c2, s2, sp, cp, csup = cur_planes
     th, ps = cur_angles
     cvalue, cscale, _ = cur
     second = np.empty(cvalue.size)
+    keep = work[7]
     turn = np.empty(4)
     n_c = codes.size
     k = 2 if in_plane else 4
@@ -702,7 +731,26 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
                         c2[i], s2[i], sp[i], cp[i], ps[i], dt, dp, turn
                     )
                     qth[g] = th[i] + dt
-        _evaluate(data, nb, cand, n_c * k, k, codes, par, nu, E, in_plane, not last, cur, work)
+        if in_plane:
+            _evaluate(data, nb, cand, n_c * k, k, codes, par, nu, E, in_plane, not last, cur,
+                      work)  # fmt: skip
+        else:
+            # not evaluated: a neighbour that is the plane itself (psi = 90 degrees: psi + hp;
+            # psi = 0, the normal z: every neighbour but psi + hp)
+            for ci in range(n_c):
+                for j in range(k):
+                    for b in range(nb):
+                        i = ci * nb + b
+                        same = ps[i] >= 0.5 * np.pi if j == 3 else ps[i] <= 0.0
+                        keep[(ci * k + j) * nb + b] = same
+            _evaluate(data, nb, cand, n_c * k, k, codes, par, nu, E, in_plane, not last, cur,
+                      work, keep)  # fmt: skip
+            for ci in range(n_c):
+                for j in range(k):
+                    for b in range(nb):
+                        i, g = ci * nb + b, (ci * k + j) * nb + b
+                        if ps[i] >= 0.5 * np.pi if j == 3 else ps[i] <= 0.0:
+                            value[g], out[0, g] = cvalue[i], second[i]  # never wins
         if not last:
             for ci in range(n_c):
                 code = codes[ci]

@@ -172,6 +172,25 @@ def test_compiled_search_edge_histories():
     assert_same(*both(many, PlaneSearch(in_plane_only=True)))
 
 
+def test_compiled_search_on_the_boundaries_of_the_planes():
+    """Critical planes on psi = 90 degrees (in-plane) and psi = 0 (normal z), where the
+    compiled refinement takes the neighbours that are the plane itself unevaluated: the numpy
+    search's planes and values, and the hand values of a uniaxial cycle along z (SWT
+    sigma_max sigma_a / E on the plane normal to z) and along x (in-plane, normal x)."""
+    t = np.linspace(0.0, 2.0 * np.pi, 9)[:, None]
+    stress = np.zeros((9, 2, 4))
+    stress[:, 0, 3] = 100.0 + 200.0 * np.sin(t[:, 0])  # szz alone: the plane normal to z
+    stress[:, 1, 0] = 100.0 + 200.0 * np.sin(t[:, 0])  # sxx alone: the in-plane normal x
+    numpy_path, compiled = both(stress)
+    assert_same(numpy_path, compiled)
+    swt = compiled["swt"]
+    assert swt.value == pytest.approx(300.0 * 200.0 / E, rel=1e-12)
+    np.testing.assert_allclose(swt.normal_tilt_deg, [90.0, 0.0], atol=1e-12)
+    # Findley and MWCM: tau_a of a uniaxial cycle, 100 MPa, on planes at 45 degrees to the load
+    assert compiled["mwcm"].shear_stress_amplitude == pytest.approx(100.0, rel=1e-9)
+    assert_same(*both(plane_strain_history(n=30), PlaneSearch(refine_levels=1)))
+
+
 def test_the_default_choice_is_by_the_search_size_alone():
     """Compiled from COMPILED_MIN_EVALUATIONS on, whatever ran before in the process: the
     benchmark's 10,000-point 3D search is compiled, its in-plane search and small ones numpy."""
