@@ -15,12 +15,11 @@ from __future__ import annotations
 
 import itertools
 
-import numpy as np
 import pytest
 
 from fretbem.scenes.builder import build
 from fretbem.scenes.file import scene_from_data
-from fretbem.sliding import solve_sliding
+from fretbem.testing.sliding import slip_amplitude
 from fretbem.wear.law import JOULE, EnergyWear
 from fretbem.wear.run import WearSimulation, run_wear
 
@@ -55,14 +54,6 @@ def scene(radius: float | None, basis: str = "nurbs"):
     return build(scene_from_data(data))[0]
 
 
-def amplitude(simulation) -> float:
-    """delta_s: half the range of the centre pair's relative tangential displacement."""
-    steps = solve_sliding(simulation, say=lambda _: None).steps
-    centre = len(steps[0].pressure) // 2
-    middle = [float(np.asarray(s.tangential_displacement)[centre]) for s in steps]
-    return 0.5 * (middle[1] - middle[2])
-
-
 def worn(radius: float | None, basis: str = "nurbs") -> dict:
     """Per cycle: each face's deepest wear and scar, the energy against 4 f P delta_s, and
     the volumes against alpha E_d."""
@@ -70,7 +61,7 @@ def worn(radius: float | None, basis: str = "nurbs") -> dict:
     final = run_wear(WearSimulation(simulation, LAWS, CYCLES, sliding=True)).final
     profile = final.profile
     out = {
-        "energy": final.energy / CYCLES / (4 * F * P * amplitude(simulation)) - 1.0,
+        "energy": final.energy / CYCLES / (4 * F * P * slip_amplitude(simulation)) - 1.0,
         "volumes": max(
             abs(profile.volume(body) / (LAWS[body].alpha / JOULE * final.energy) - 1.0)
             for body in ("upper", "lower")

@@ -26,7 +26,7 @@ import pytest
 
 from fretbem.scenes.builder import build
 from fretbem.scenes.file import scene_from_data
-from fretbem.sliding import solve_sliding
+from fretbem.testing.sliding import slip_amplitude
 from fretbem.wear.law import EnergyWear
 from fretbem.wear.run import WearSimulation, run_wear
 
@@ -51,14 +51,6 @@ def scene(models=HALF_PLANES, scale=1.0, delta=DELTA, pairs=61, basis="nurbs"):
     return build(scene_from_data(data))[0]
 
 
-def amplitude(simulation) -> float:
-    """delta_s: half the range of the centre pair's relative tangential displacement."""
-    steps = solve_sliding(simulation, say=lambda _: None).steps
-    centre = len(steps[0].pressure) // 2
-    middle = [float(np.asarray(s.tangential_displacement)[centre]) for s in steps]
-    return 0.5 * (middle[1] - middle[2])
-
-
 def worn(models, scale, delta, basis="nurbs") -> dict:
     """Per cycle: each face's deepest wear, its scar width and the energy; the profiles."""
     simulation = scene(models, scale, delta, basis=basis)
@@ -75,13 +67,15 @@ def worn(models, scale, delta, basis="nurbs") -> dict:
 @pytest.fixture(scope="module")
 def half_planes():
     simulation = scene()
-    return amplitude(simulation), worn(HALF_PLANES, 1.0, DELTA)
+    return slip_amplitude(simulation), worn(HALF_PLANES, 1.0, DELTA)
 
 
 def matched(models, scale, stroke, basis="nurbs") -> tuple[float, dict]:
     """The bem run at the half-plane's delta_s: the block driven further by the give."""
-    delta = DELTA + stroke - amplitude(scene(models, scale, basis=basis))
-    assert amplitude(scene(models, scale, delta, basis=basis)) == pytest.approx(stroke, rel=1e-6)
+    delta = DELTA + stroke - slip_amplitude(scene(models, scale, basis=basis))
+    assert slip_amplitude(scene(models, scale, delta, basis=basis)) == pytest.approx(
+        stroke, rel=1e-6
+    )
     return delta, worn(models, scale, delta, basis)
 
 
@@ -139,7 +133,7 @@ def test_bem_wear_comes_to_the_half_plane_wear_as_the_bodies_grow(half_planes, r
 def test_quadratic_lagrange_faces_come_to_the_half_planes_too():
     """The same study on lagrange2 faces, s = 1, 2, 4: measured specimen depth -5.0, -1.3,
     -0.33 %, scar +17.0, +7.6, +2.3 %, profile 9.0, 3.2, 0.91 % of its depth."""
-    stroke = amplitude(scene(basis="lagrange2"))
+    stroke = slip_amplitude(scene(basis="lagrange2"))
     reference = worn(HALF_PLANES, 1.0, DELTA, "lagrange2")
     rows = [differences(matched(("bem", "bem"), s, stroke, "lagrange2")[1], reference)
             for s in (1.0, 2.0, 4.0)]  # fmt: skip

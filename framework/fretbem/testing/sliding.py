@@ -1,4 +1,5 @@
-"""Test helpers for sliding contacts: the block's moment recomputed independently."""
+"""Test helpers for sliding contacts: the block's moment recomputed independently, the
+slip amplitude a sliding history gives."""
 
 from __future__ import annotations
 
@@ -6,8 +7,9 @@ import numpy as np
 
 from fretbem.contact import rotation as pad_rotation
 from fretbem.contact.faces import FaceField
+from fretbem.sliding import solve_sliding
 
-__all__ = ["traction_moment"]
+__all__ = ["slip_amplitude", "traction_moment"]
 
 #: Gauss points per interval, intervals per face segment of the independent quadrature
 GAUSS, INTERVALS = 8, 400
@@ -38,3 +40,12 @@ def traction_moment(step, pair, pivot: np.ndarray | None = None) -> tuple[float,
         moment += float(np.sum((arm[:, 0] * values[:, 1] - arm[:, 1] * values[:, 0]) * length))
         force += values.T @ length
     return -moment, force
+
+
+def slip_amplitude(simulation) -> float:
+    """delta_s of a press-forth-back history with finite sliding: half the range of the
+    centre pair's relative tangential displacement between the second and third steps."""
+    steps = solve_sliding(simulation, say=lambda _: None).steps
+    centre = len(steps[0].pressure) // 2
+    middle = [float(np.asarray(s.tangential_displacement)[centre]) for s in steps]
+    return 0.5 * (middle[1] - middle[2])

@@ -19,7 +19,8 @@ from fretbem.app import cli
 from fretbem.scenes.builder import build
 from fretbem.scenes.file import scene_from_data
 from fretbem.scenes.spec import SceneFileError
-from fretbem.sliding import SlidingError, solve_sliding
+from fretbem.sliding import SlidingError
+from fretbem.testing.sliding import slip_amplitude
 from fretbem.wear.jump import JumpControl
 from fretbem.wear.law import JOULE, ArchardWear, EnergyWear, WearInputError
 from fretbem.wear.run import WearSimulation, run_wear
@@ -50,14 +51,6 @@ def energy_run():
     return simulation, laws, run_wear(wear)
 
 
-def _amplitude(simulation) -> float:
-    """delta_s: half the range of the centre pair's relative tangential displacement."""
-    steps = solve_sliding(simulation, say=lambda _: None).steps
-    centre = len(steps[0].pressure) // 2
-    middle = [float(np.asarray(s.tangential_displacement)[centre]) for s in steps]
-    return 0.5 * (middle[1] - middle[2])
-
-
 def test_energy_volume_is_alpha_times_the_dissipated_energy(energy_run):
     simulation, laws, result = energy_run
     final = result.final
@@ -66,7 +59,7 @@ def test_energy_volume_is_alpha_times_the_dissipated_energy(energy_run):
                                                            rel=1e-12)  # fmt: skip
     # the energy is the friction work of gross sliding: 4 f P delta_s a cycle (0.07 %)
     per_cycle = final.energy / 400
-    assert per_cycle == pytest.approx(4 * F * P * _amplitude(simulation), rel=2e-3)
+    assert per_cycle == pytest.approx(4 * F * P * slip_amplitude(simulation), rel=2e-3)
 
 
 def test_archard_volume_is_k_times_the_summed_p_ds():
@@ -85,7 +78,7 @@ def test_the_specimen_scar_spans_the_contact_plus_the_stroke(energy_run):
     the peak pressure falls (136.8, 133.9, 126.3 MPa at N = 0, 100, 400)."""
     simulation, _, result = energy_run
     final, first = result.final, result.snapshots[0]
-    amplitude = _amplitude(simulation)
+    amplitude = slip_amplitude(simulation)
 
     def width(snap, step=0):
         touching = snap.pair_x(step)[snap.pressure[step] > 0]
@@ -160,7 +153,7 @@ def test_on_finite_bodies_the_volumes_are_the_closed_forms(models, basis):
     assert final.profile.volume("upper") == pytest.approx(1e-5 / JOULE * final.energy, rel=1e-12)
     assert final.profile.volume("lower") == pytest.approx(3e-9 * final.work, rel=1e-12)
     per_cycle = final.energy / 100
-    assert per_cycle == pytest.approx(4 * F * P * _amplitude(simulation), rel=2e-3)
+    assert per_cycle == pytest.approx(4 * F * P * slip_amplitude(simulation), rel=2e-3)
 
 
 @pytest.fixture(scope="module")
@@ -199,7 +192,7 @@ def test_the_bem_pad_tilts_its_scars_wider(bem_run):
     contact = 2 * 0.4815  # 2 a
     tilt = 0.134
     assert final.profile.scar_width("upper") == pytest.approx(contact + 2 * tilt, abs=0.1)
-    stroke = 2 * _amplitude(simulation)
+    stroke = 2 * slip_amplitude(simulation)
     assert final.profile.scar_width("lower") == pytest.approx(contact + stroke + 2 * tilt,
                                                               abs=0.1)  # fmt: skip
     peaks = [float(s.pressure.max()) for s in result.snapshots]
@@ -239,9 +232,9 @@ def test_along_an_arc_the_volumes_are_the_closed_forms(example, basis, measured)
     assert final.work > 0
     assert final.profile.volume("upper") == pytest.approx(1e-5 / JOULE * final.energy, rel=1e-12)
     assert final.profile.volume("lower") == pytest.approx(3e-9 * final.work, rel=1e-12)
-    per_cycle = final.energy / 50 / (4 * F * P * _amplitude(simulation))
+    per_cycle = final.energy / 50 / (4 * F * P * slip_amplitude(simulation))
     assert per_cycle - 1.0 == pytest.approx(measured, abs=2e-4)
-    stroke = 2 * _amplitude(simulation)
+    stroke = 2 * slip_amplitude(simulation)
     scars = final.profile.scar_width("lower") - final.profile.scar_width("upper")
     assert 0.5 * stroke < scars < 1.2 * stroke
 
