@@ -244,7 +244,10 @@ def run_sliding(
     ``frame``); a straight track's pairs share one frame either way.
     """
     if frame not in FRAMES:
-        raise SlidingError(f"frame must be one of {FRAMES}, got {frame!r}")
+        raise SlidingError(
+            f"run_sliding frame must be one of {FRAMES}, got {frame!r}; give 'local' (each "
+            "pair its own frame along an arc) or 'shared' (the pad's turned frame)"
+        )
     if not every >= 0.0:
         raise SlidingError(f"every must be a number of pair spacings >= 0, got {every!r}")
     pair = simulation.pair
