@@ -846,12 +846,29 @@ delta = [0.0, 0.5]
 """
 
 
-for _table, _key, _value in (("rig", "stiffness_rotation", "1e5"), ("load", "moment", "1.0"),
+for _table, _key, _value in (("rig", "stiffness_rotation", "1e5"),
                              ("load", "rotation", "[0.0, 0.0001]")):  # fmt: skip
 
-    @case("misleading", f"finite sliding with [{_table}] {_key}: refused naming the key")
+    @case("misleading", f"finite sliding on a flat with [{_table}] {_key}: the block turns")
     def _sliding(table=_table, key=_key, value=_value):
-        return refused(*run_text(with_key(table, key, value, SLIDING)), key)
+        code, text = run_text(with_key(table, key, value, SLIDING))
+        return code == 0, f"exit {code}: {text.strip()[-160:]}"
+
+
+@case("misleading", "finite sliding with a [load] moment the contact cannot balance: named")
+def _sliding_moment():
+    # M = 1 N mm/mm against h Q = 300: the contact leaves the zone, a failed check
+    return refused(*run_text(with_key("load", "moment", "1.0", SLIDING)), "moment", exit_code=1)
+
+
+@case("misleading", "finite sliding along an arc with a rotating block: refused naming the key")
+def _sliding_arc_rotation():
+    arc = SLIDING.replace('model = "half-plane"\n', "").replace(
+        'shape = "flat"\nlength = 40.0\nthickness = 13.0',
+        'shape = "cylinder"\nradius = 70.0\nwidth = 12.0\nheight = 10.0',
+    )
+    return refused(*run_text(with_key("rig", "stiffness_rotation", "1e5", arc)),
+                   "stiffness_rotation", "arc")  # fmt: skip
 
 
 for _label, _text in (
