@@ -47,3 +47,20 @@ def test_without_a_reach_a_knot_moves_to_any_nearest_change():
     faces paired by projection) lie farther off: they keep the unbounded move."""
     level = [states((STICK, 9), (SLIP, 2))]
     assert np.isclose(knots._fallback(X, level, 0.5, 5, 0.1, None, SLIP, (STICK,)), 0.35)
+
+
+def test_a_hertzian_edge_is_found_exactly():
+    """p^2 of a Hertzian pressure is quadratic in x: the fit's zero is the edge itself."""
+    for a, n in ((1.0, 4), (0.37, 9), (2.5e-3, 15)):
+        x = np.linspace(0.2 * a, 0.9 * a, n)
+        p = 3.0 * np.sqrt(1.0 - (x / a) ** 2)
+        assert abs(knots._root_of_square(x, p, x[-1]) - a) < 1e-12 * a
+        assert abs(knots._root_of_square(-x[::-1], p[::-1], -x[-1]) + a) < 1e-12 * a
+
+
+def test_a_square_root_fall_on_two_or_three_points_is_a_line_in_the_square():
+    for n in (2, 3):
+        x = 0.4 - 0.1 * np.arange(n)[::-1]  # ends at 0.4, the zero at 0.5
+        values = 2.0 * np.sqrt(0.5 - x)
+        assert abs(knots._root_of_square(x, values, x[-1]) - 0.5) < 1e-14
+    assert knots._root_of_square(np.array([0.1]), np.array([1.0]), 0.1) is None
