@@ -15,7 +15,7 @@ import math
 import attrs
 import numpy as np
 
-from fretbem.contact.pairs import SEPARATED, SLIP, STICK
+from fretbem.contact.pairs import PairState
 
 from . import estimate
 from .remesh import MERGE
@@ -31,6 +31,10 @@ __all__ = [
     "refound",
     "transitions",
 ]
+
+#: the pair states as plain ints: numpy compares an IntEnum member only after asking its
+#: class for the array protocols (~2 us a comparison, thousands per adaptive run)
+SEPARATED, STICK, SLIP = (int(s) for s in (PairState.SEPARATED, PairState.STICK, PairState.SLIP))
 
 #: knots aim this fraction of the spacing of the points next to them outside their discrete
 #: transition (on the separated or slip side): a collocation point just inside the exact
@@ -55,13 +59,41 @@ KNOT_SLOPE = 1.6
 GROWTH = 1.5
 
 
+def _polyfit(x: np.ndarray, y: np.ndarray, degree: int) -> np.ndarray:
+    """``np.polyfit(x, y, degree)`` (degree 1 or 2), the same arithmetic bit for bit (the
+    scaled Vandermonde columns and the one least-squares solve) without its argument
+    checks and general Vandermonde: the adaptive mode fits ~90 of them a run."""
+    x = np.asarray(x, float)
+    columns = [x * x, x, np.ones(x.size)] if degree == 2 else [x, np.ones(x.size)]
+    lhs = np.column_stack(columns)  # C-ordered as np.vander's: the column sums alike
+    scale = np.sqrt((lhs * lhs).sum(axis=0))
+    lhs /= scale
+    coefficients = np.linalg.lstsq(lhs, y, rcond=x.size * _EPS)[0]
+    return coefficients / scale
+
+
+_EPS = float(np.finfo(float).eps)
+
+
+def _polyroots(coefficients: np.ndarray) -> np.ndarray:
+    """``np.roots(coefficients)`` of a line or quadratic with nonzero ends: the eigenvalues
+    of the same companion matrix, built directly (np.roots otherwise)."""
+    if coefficients[0] == 0.0 or coefficients[-1] == 0.0:
+        return np.roots(coefficients)
+    companion = np.zeros((coefficients.size - 1, coefficients.size - 1))
+    companion[0, :] = -coefficients[1:] / coefficients[0]
+    if coefficients.size == 3:
+        companion[1, 0] = 1.0
+    return np.linalg.eigvals(companion)
+
+
 def _root_of_square(x: np.ndarray, values: np.ndarray, towards: float) -> float | None:
     """Zero of a quadratic fit of values^2 (a square-root fall to zero) nearest ``towards``."""
     if x.size < 2:
         return None
     # a square-root fall squared is quadratic (Hertz, exactly) and linear near its zero
-    coefficients = np.polyfit(x, values**2, 2 if x.size >= 4 else 1)
-    roots = np.roots(coefficients)
+    coefficients = _polyfit(x, values**2, 2 if x.size >= 4 else 1)
+    roots = _polyroots(coefficients)
     roots = roots[np.isreal(roots)].real
     if roots.size == 0:
         return None
@@ -91,10 +123,9 @@ def _stick_boundaries(x, p, q, states, friction) -> list[float]:
     stick = states == 1
     slip = states == 2
     n = x.size
-    for i in range(n - 1):
+    changes = (stick[:-1] & slip[1:]) | (slip[:-1] & stick[1:])
+    for i in np.flatnonzero(changes).tolist():
         a, b = i, i + 1
-        if not ((stick[a] and slip[b]) or (slip[a] and stick[b])):
-            continue
         s, k = (a, b) if stick[a] else (b, a)  # s stick, k slip
         direction = np.sign(q[k]) or 1.0
         reserve = np.maximum(friction * p - direction * q, 0.0)
@@ -245,7 +276,7 @@ def _inside_move(x, values, k: int, towards: int) -> float | None:
     near = [k - towards, k - 2 * towards, k - 3 * towards]
     if min(near) < 0 or max(near) >= x.size or values[k] <= 0.0:
         return None
-    slope = abs(np.polyfit(x[near], values[near] ** 2, 1)[0])
+    slope = abs(_polyfit(x[near], values[near] ** 2, 1)[0])
     if slope <= 0.0:
         return None
     h = abs(x[k] - x[k - towards])
@@ -300,11 +331,11 @@ def _boundary_move(x, order, k, steps, friction, margin: float) -> float | None:
         states = step.states[order]
         slip_now = step.tangential_displacement[order]
         increment, previous = np.abs(slip_now - previous), slip_now
+        p, q = step.pressure[order], step.shear[order]
         for t in (-1, 1):  # t: direction from the stick side to the slip side
             j = k + t
             if not (0 <= j < x.size and 0 <= k - t < x.size):
                 continue
-            p, q = step.pressure[order], step.shear[order]
             if states[k] == STICK and states[j] == SLIP:
                 direction = np.sign(q[j]) or 1.0
                 reserve = np.maximum(friction * p - direction * q, 0.0)

@@ -7,6 +7,7 @@ each becomes a breakpoint where the basis is only C0, which puts a collocation p
 
 from __future__ import annotations
 
+import functools
 import math
 
 import attrs
@@ -16,6 +17,7 @@ from fretbem.basis import Refinement, face_points, points_per_element
 from fretbem.contact.node_to_segment import NodeToSegmentPair
 from fretbem.contact.pairs import ContactDiscretisationError
 from fretbem.errors import InputError
+from fretbem.geometry import knots as kv
 from fretbem.geometry.nurbs import NurbsCurve
 
 from . import estimate
@@ -139,13 +141,50 @@ def knots_for(family, pairs: int, degree: int | None = None) -> int:
     Each knot costs the family's extra functions of a C0 breakpoint (NURBS p = 2: one;
     quadratic Lagrange: none) and the layout needs one element more than knots.
     """
+    cost = c0_cost(family, degree) / points_per_element(family, degree)[0]
+    elements = elements_for(family, pairs, degree)
+    return max(0, math.floor((elements - 1) / (1.0 + cost)))
+
+
+@functools.lru_cache(maxsize=64)
+def c0_cost(family, degree: int | None = None) -> int:
+    """Functions (points) a C0 breakpoint adds to a family's face (NURBS p: p - 1;
+    quadratic Lagrange: none), counted on a four-element line (cached)."""
     line = NurbsCurve.line([0, 0], [1, 0], degree=1)
     bounds = [0.0, 0.25, 0.5, 0.75, 1.0]
     smooth = family.discretise(line, Refinement.explicit(bounds, degree=degree)).n_functions
     kinked = family.discretise(line, Refinement.explicit(bounds, degree=degree, c0_at=[0.5]))
-    cost = (kinked.n_functions - smooth) / points_per_element(family, degree)[0]
-    elements = elements_for(family, pairs, degree)
-    return max(0, math.floor((elements - 1) / (1.0 + cost)))
+    return int(kinked.n_functions - smooth)
+
+
+def _fitting_elements(family, degree, pairs: int, curve, marks_of, count_of) -> int:
+    """Elements of a face laid out with at most ``pairs`` points: from
+    :func:`elements_for` down, fewer by as many elements as the points in excess need,
+    until the face fits (each C0 mark adds :func:`c0_cost` points).
+
+    ``marks_of(elements)`` counts the C0 marks of that layout, ``count_of(elements)`` builds
+    it and counts its points. On a face curve without interior knots a family's count is
+    that of a line of as many elements plus the marks' cost, so the layouts that do not fit
+    are counted without building them and only the one that fits is built (and checked: a
+    count other than foreseen goes through every layout's build, as when the curve has
+    knots of its own).
+    """
+    per, _ = points_per_element(family, degree)
+
+    def settle(count) -> tuple[int, int]:
+        elements = elements_for(family, pairs, degree)
+        while True:
+            points = count(elements)
+            if points <= pairs or elements <= 1:
+                return elements, points
+            elements -= max(1, math.ceil((points - pairs) / per))
+
+    if kv.breakpoints(curve.knots).size == 2:
+        cost = c0_cost(family, degree)
+        elements, foreseen = settle(lambda n: face_points(family, n, degree) + cost * marks_of(n))
+        if count_of(elements) == foreseen:
+            return elements
+    return settle(count_of)[0]
 
 
 def _face_layout(body, tag, tangent, sigma_at, peaks, pairs, *, ratio, grading, centred):
@@ -159,7 +198,8 @@ def _face_layout(body, tag, tangent, sigma_at, peaks, pairs, *, ratio, grading, 
     if flip:
         sigma = 1.0 - sigma
 
-    def build(elements):
+    @functools.cache
+    def layout(elements):
         bounds = aligned_breakpoints(
             sigma, elements, ratio=ratio, grading=grading, centred=centred, peaks=peaks
         )
@@ -167,17 +207,16 @@ def _face_layout(body, tag, tangent, sigma_at, peaks, pairs, *, ratio, grading, 
         marks = np.unique([t for t in marks if 0.0 < t < 1.0])
         if flip:
             bounds, marks = (1.0 - bounds)[::-1], np.sort(1.0 - marks)
-        refinement = Refinement.explicit(bounds, degree=degree, c0_at=marks)
-        refined = body.with_face_refinement(tag, refinement)
-        return refinement, refined.face_segment(tag)[1].n_functions
+        return Refinement.explicit(bounds, degree=degree, c0_at=marks)
 
-    elements = elements_for(family, pairs, degree)
-    while True:
-        refinement, count = build(elements)
-        if count <= pairs or elements <= 1:
-            return refinement
-        per, _ = points_per_element(family, degree)
-        elements -= max(1, math.ceil((count - pairs) / per))
+    def count(elements):
+        refined = body.with_face_refinement(tag, layout(elements))
+        return refined.face_segment(tag)[1].n_functions
+
+    def marks_of(elements):
+        return len(layout(elements).c0_at)
+
+    return layout(_fitting_elements(family, degree, pairs, curve, marks_of, count))
 
 
 def remesh(
@@ -262,7 +301,8 @@ def _matched(simulation, anchors, pairs, ratio, grading, centred, edges, edge_pe
         sigma = 1.0 - sigma
     low_inverse = estimate.parameter_of(low_curve, tangent)
 
-    def build(elements):
+    @functools.cache
+    def layout(elements):
         bounds = aligned_breakpoints(
             sigma, elements, ratio=ratio, grading=grading, centred=centred, peaks=peaks
         )
@@ -270,7 +310,17 @@ def _matched(simulation, anchors, pairs, ratio, grading, centred, edges, edge_pe
             bounds = (1.0 - bounds)[::-1]
         marks = [] if centred else [bounds[np.argmin(np.abs(bounds - t))] for t in sigma]
         marks = np.unique([t for t in marks if 0.0 < t < 1.0])
-        upper = Refinement.explicit(bounds, degree=degree, c0_at=marks)
+        return Refinement.explicit(bounds, degree=degree, c0_at=marks)
+
+    def count(elements):
+        refined = pair.upper.with_face_refinement(pair.upper_tag, layout(elements))
+        return refined.face_segment(pair.upper_tag)[1].n_functions
+
+    def marks_of(elements):
+        return len(layout(elements).c0_at)
+
+    def lower_of(upper):
+        bounds, marks = upper.breakpoints(), np.array(upper.c0_at)
         along = up_curve.points(bounds) @ tangent
         low_bounds = low_inverse(along)
         low_marks = low_inverse(up_curve.points(marks) @ tangent) if marks.size else marks
@@ -278,17 +328,10 @@ def _matched(simulation, anchors, pairs, ratio, grading, centred, edges, edge_pe
         low_bounds = low_bounds[order]
         low_bounds[0], low_bounds[-1] = 0.0, 1.0
         snap = [low_bounds[np.argmin(np.abs(low_bounds - t))] for t in low_marks]
-        lower = Refinement.explicit(low_bounds, degree=degree, c0_at=snap)
-        refined = pair.upper.with_face_refinement(pair.upper_tag, upper)
-        return upper, lower, refined.face_segment(pair.upper_tag)[1].n_functions
+        return Refinement.explicit(low_bounds, degree=degree, c0_at=snap)
 
-    elements = elements_for(family, pairs, degree)
-    while True:
-        upper_ref, lower_ref, count = build(elements)
-        if count <= pairs or elements <= 1:
-            break
-        per, _ = points_per_element(family, degree)
-        elements -= max(1, math.ceil((count - pairs) / per))
+    upper_ref = layout(_fitting_elements(family, degree, pairs, up_curve, marks_of, count))
+    lower_ref = lower_of(upper_ref)
     upper = pair.upper.with_face_refinement(pair.upper_tag, upper_ref)
     lower = pair.lower.with_face_refinement(pair.lower_tag, lower_ref)
     return attrs.evolve(simulation, pair=attrs.evolve(pair, upper=upper, lower=lower))

@@ -47,3 +47,38 @@ def test_without_a_reach_a_knot_moves_to_any_nearest_change():
     faces paired by projection) lie farther off: they keep the unbounded move."""
     level = [states((STICK, 9), (SLIP, 2))]
     assert np.isclose(knots._fallback(X, level, 0.5, 5, 0.1, None, SLIP, (STICK,)), 0.35)
+
+
+def test_a_hertzian_edge_is_found_exactly():
+    """p^2 of a Hertzian pressure is quadratic in x: the fit's zero is the edge itself."""
+    for a, n in ((1.0, 4), (0.37, 9), (2.5e-3, 15)):
+        x = np.linspace(0.2 * a, 0.9 * a, n)
+        p = 3.0 * np.sqrt(1.0 - (x / a) ** 2)
+        assert abs(knots._root_of_square(x, p, x[-1]) - a) < 1e-12 * a
+        assert abs(knots._root_of_square(-x[::-1], p[::-1], -x[-1]) + a) < 1e-12 * a
+
+
+def test_a_square_root_fall_on_two_or_three_points_is_a_line_in_the_square():
+    for n in (2, 3):
+        x = 0.4 - 0.1 * np.arange(n)[::-1]  # ends at 0.4, the zero at 0.5
+        values = 2.0 * np.sqrt(0.5 - x)
+        assert abs(knots._root_of_square(x, values, x[-1]) - 0.5) < 1e-14
+    assert knots._root_of_square(np.array([0.1]), np.array([1.0]), 0.1) is None
+
+
+def test_the_fits_are_numpys_bit_for_bit():
+    """The knots' own polyfit and roots give np.polyfit's and np.roots's numbers exactly
+    (the adaptive levels depend on the knots to the last bit), 2 to 19 points, with and
+    without noise, real and complex roots."""
+    rng = np.random.default_rng(3)
+    for _ in range(400):
+        n = int(rng.integers(2, 20))
+        x = np.sort(rng.uniform(-1e-3, 1e-3, n)) + rng.uniform(-1e-2, 1e-2)
+        centre, width = rng.uniform(-1e-3, 1e-3), rng.uniform(1e-3, 2e-3)
+        noise = rng.choice([0.0, 1e-3, 1.0])
+        y = np.maximum(width**2 - (x - centre) ** 2, 0.0) * 1e6 + rng.normal(0.0, noise, n)
+        for degree in (1, 2)[: n - 1]:
+            fitted = knots._polyfit(x, y, degree)
+            assert np.array_equal(fitted, np.polyfit(x, y, degree))
+            roots, expected = knots._polyroots(fitted), np.roots(fitted)
+            assert roots.dtype == expected.dtype and np.array_equal(roots, expected)
