@@ -3,9 +3,10 @@
 The workflows benchmark's fatigue case (10,000 points below a Cattaneo-Mindlin contact, the
 last full reversal, all four critical-plane criteria), timed in one process as ratios to the
 projection floor (one float32 product per chunk, as ``benchmarks/workflows.py``): the coarse
-grid's step summaries alone, the whole coarse grid (summaries, bounds, circles, the best
-plane of each criterion), the search with 0..``refine_levels`` refinement levels (level 0:
-one pattern level and the parabolic step), and the whole ``critical_plane_parameters`` call.
+grid's step summaries alone (point by point), the whole coarse grid (summaries, bounds,
+circles, the best plane of each criterion; in-plane by blocks of points, as the search),
+the search with 0..``refine_levels`` refinement levels (level 0: one pattern level and the
+parabolic step), and the whole ``critical_plane_parameters`` call.
 Medians of ``--runs`` CPU times; run it alone (the machine is shared: ratios, not seconds).
 
 ``--before DIR``: instead, the compiled search of another source tree (``git archive <commit>
@@ -72,6 +73,24 @@ def _coarse_phase(stress, grid, axes, rank, codes, par, nu, E, in_plane, whole):
     found = np.empty((7, codes.size))
     sup = np.empty(3, dtype=np.int64)
     total = 0.0
+    if in_plane and whole:  # by blocks of points, as the search (cs._coarse_in_plane)
+        nb_max = min(cs.BLOCK, n_p)
+        block = np.empty((5, n_t, nb_max))
+        m, h, xy, zz, tr = block[0], block[1], block[2], block[3], block[4]
+        best = np.empty(codes.size * nb_max, dtype=np.int64)
+        found = np.empty((7, codes.size * nb_max))
+        for p0 in range(0, n_p, nb_max):
+            nb = min(nb_max, n_p - p0)
+            for t in range(n_t):
+                for b in range(nb):
+                    sxx, syy = stress[t, p0 + b, 0], stress[t, p0 + b, 1]
+                    m[t, b], h[t, b] = 0.5 * (sxx + syy), 0.5 * (sxx - syy)
+                    xy[t, b], zz[t, b] = stress[t, p0 + b, 2], stress[t, p0 + b, 3]
+                    tr[t, b] = 2.0 * m[t, b] + zz[t, b]
+            cs._coarse_in_plane(m, h, xy, tr, 0, nb, nu, grid[0], grid[1], codes, par, E,
+                                work[0], work[3], work[4], best, found)  # fmt: skip
+            total += found[0, 0]
+        return total
     for p in range(n_p):
         for t in range(n_t):
             sxx, syy = stress[t, p, 0], stress[t, p, 1]
