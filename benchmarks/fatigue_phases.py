@@ -12,12 +12,14 @@ Medians of ``--runs`` CPU times; run it alone (the machine is shared: ratios, no
 ``--before DIR``: instead, the compiled search of another source tree (``git archive <commit>
 | tar -x -C DIR``) against this tree's, on the same arguments, interleaved run by run in one
 process against one floor; the least CPU time of ``--runs`` each (the other tree's module
-is compiled afresh, without numba's cache).
+is compiled afresh, without numba's cache); ``--methods`` the criteria searched there.
 
 Run from the repository root::
 
     OPENBLAS_NUM_THREADS=1 python benchmarks/fatigue_phases.py --runs 7
     OPENBLAS_NUM_THREADS=1 python benchmarks/fatigue_phases.py --before /tmp/before --runs 21
+    OPENBLAS_NUM_THREADS=1 python benchmarks/fatigue_phases.py --before /tmp/before \
+        --methods strain_life stress_life
 """
 
 from __future__ import annotations
@@ -165,7 +167,7 @@ def phases(stress: np.ndarray, in_plane: bool, runs: int) -> None:
         print(f"  {name:<28s} {median_cpu(fn, runs) / t_floor:6.2f} x floor")
 
 
-def search_arguments(stress: np.ndarray, in_plane: bool) -> tuple:
+def search_arguments(stress: np.ndarray, in_plane: bool, methods=METHODS[:4]) -> tuple:
     """The arguments ``critical_plane_parameters`` hands to the compiled search."""
     captured = {}
     real = cs.search
@@ -176,7 +178,7 @@ def search_arguments(stress: np.ndarray, in_plane: bool) -> tuple:
 
     cs.search = spy
     try:
-        critical_plane_parameters(stress, E=116000.0, nu=0.342, methods=METHODS[:4],
+        critical_plane_parameters(stress, E=116000.0, nu=0.342, methods=methods,
                                   search=PlaneSearch(in_plane_only=in_plane, compiled=True),
                                   **CONSTANTS)  # fmt: skip
     finally:
@@ -184,13 +186,13 @@ def search_arguments(stress: np.ndarray, in_plane: bool) -> tuple:
     return captured["args"]
 
 
-def against_tree(stress: np.ndarray, before: Path, runs: int) -> None:
+def against_tree(stress: np.ndarray, before: Path, runs: int, methods=METHODS[:4]) -> None:
     """This tree's compiled search and ``before``'s over the floor, interleaved, least times."""
     text = (before / "framework/fretbem/fatigue/compiled_search.py").read_text()
     old = types.ModuleType("compiled_search_before")
     exec(compile(text.replace('"cache": True', '"cache": False'), "before", "exec"), old.__dict__)
     for in_plane in (True, False):
-        a = search_arguments(stress, in_plane)
+        a = search_arguments(stress, in_plane, methods)
         theta, psi = plane_grid(in_plane_only=in_plane, theta_step_deg=5.0, psi_step_deg=10.0)
         coef = projection(theta, psi).astype(np.float32).transpose(2, 0, 1).reshape(4, -1)
 
@@ -219,11 +221,18 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--before", type=Path, help="another source tree: before/after")
+    parser.add_argument(
+        "--methods",
+        nargs="+",
+        default=list(METHODS[:4]),
+        choices=METHODS,
+        help="the criteria of --before (default: the four critical-plane ones)",
+    )
     args = parser.parse_args()
     print(f"load average {os.getloadavg()[0]:.1f}")
     stress = stress_cycle()
     if args.before:
-        against_tree(stress, args.before, args.runs)
+        against_tree(stress, args.before, args.runs, tuple(args.methods))
         return
     for in_plane in (True, False):
         phases(stress, in_plane, args.runs)

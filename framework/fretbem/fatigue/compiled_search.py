@@ -12,9 +12,10 @@ tests/framework/fatigue/test_search_compiled.py):
 - the coarse grid is evaluated point by point (in-plane a block of points per call: a call
   per point would pass and reference-count ~20 arrays), in-plane in double precision, in 3D
   in single precision as numpy's (the chosen planes are evaluated again in double, as
-  numpy's), row by row of psi; the extremes of the two shear components are taken once per theta and scaled
-  (on a tilted plane they are in-plane quantities times factors >= 0 that do not depend on
-  the step); exact ties go to the plane that comes first in the numpy search's grid;
+  numpy's), row by row of psi; the extremes of the two shear components are taken once per
+  theta and scaled (on a tilted plane they are in-plane quantities times factors >= 0 that
+  do not depend on the step); exact ties go to the plane that comes first in the numpy
+  search's grid;
 - the coarse grid's exact circles are taken in decreasing order of the bound of each
   criterion's value and stop once no remaining plane can reach the best (numpy: every plane
   whose bound reaches the best lower bound); both find the plane of largest exact value;
@@ -217,7 +218,7 @@ def _reset(out, start, stop):
 
 
 @numba.njit(**_LOOPS)
-def _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratch):
+def _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratch, rows=-1):
     """Running max / min over the steps of every grid plane at point ``p`` into ``out``
     (12, G): sigma_n, E eps_n and the shear extents (in-plane tau_e; 3D tau_1, tau_2, their
     sum and difference).
@@ -230,6 +231,8 @@ def _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratc
     taken per theta and scaled (exactly: rounding is monotone), once per row of psi. The 3D
     grid is summarised in single precision, as the numpy search's coarse grid: ``axes`` and
     ``scratch`` = (6, n_theta), (12, G) are float32, the summaries go to ``scratch[1]``.
+    ``rows`` >= 0: the normal stress and strain of the first ``rows`` rows of psi and of the
+    last plane only (the others' stay at -inf, inf: criteria convex in the tilt).
     """
     a = 1.0 + nu
     n_t = m.shape[0]
@@ -275,7 +278,7 @@ def _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratc
             ee_t[i], te_t[i] = ee, te
             d_hi[i], d_lo[i] = max(d_hi[i], ee - zzt), min(d_lo[i], ee - zzt)
             te_hi[i], te_lo[i] = max(te_hi[i], te), min(te_lo[i], te)
-        for j in range(n_ps):
+        for j in range(n_ps if rows < 0 else min(rows, n_ps)):
             sp2, cp2, spcp, spj = psp[j] * psp[j], pcp[j] * pcp[j], psp[j] * pcp[j], psp[j]
             row = j * n_th
             for i in range(n_th):
@@ -456,6 +459,13 @@ def _better(code, new, new2, old, old2, scale):
 # --------------------------------------------------------------------------- coarse grid
 
 
+@numba.njit(**_JIT)
+def _convex_in_tilt(code, par):
+    """Whether criterion ``code`` is convex in sin^2 psi at every theta (strain life, stress
+    life without a mean-stress correction): its 3D maximum is on psi = 0 or 90 degrees."""
+    return code == STRAIN_LIFE or (code == STRESS_LIFE and par[3] == NO_CORRECTION)
+
+
 @numba.njit(**_LOOPS)
 def _bounds_top(value, vhi, n):
     """``vhi`` becomes the larger of ``value`` and ``vhi`` (the value's upper bound, whichever
@@ -521,7 +531,11 @@ def _coarse(data, p, grid, axes, rank, codes, par, nu, E, in_plane, work, scratc
         _coarse_in_plane(m, h, xy, tr, p, 1, nu, grid[0], grid[1], codes, par, E, out, work[3],
                          work[4], best, found)  # fmt: skip
         return
-    _grid_summaries(m, h, xy, zz, tr, p, nu, grid[0], grid[1], axes, in_plane, out, scratch)
+    flat = True  # every criterion convex in the tilt: the in-plane row and psi = 0
+    for ci in range(codes.size):
+        flat = flat and _convex_in_tilt(codes[ci], par[ci])
+    _grid_summaries(m, h, xy, zz, tr, p, nu, grid[0], grid[1], axes, in_plane, out, scratch,
+                    1 if flat else -1)  # fmt: skip
     # the single precision summaries (:func:`_grid_summaries`)
     _grid_best(scratch[1], data, p, grid, rank, codes, par, E, in_plane, work, best, found, sup)
 
@@ -640,7 +654,17 @@ def _grid_best(out, data, p, grid, rank, codes, par, E, in_plane, work, best, fo
             n_open_grid += 0 if done[g] else 1
     for ci in range(codes.size):
         code = codes[ci]
-        if n_open_grid and _needs_shear(code):
+        if not in_plane and _convex_in_tilt(code, par[ci]):
+            # its maximum is on the in-plane row (sin psi = 1) or the plane normal to z
+            # (docs/explanation/fatigue.md): the tilted planes are not candidates
+            n_row = 1
+            while n_row < n_g - 1 and sp[n_row] == sp[0]:
+                n_row += 1
+            _values(code, par[ci], E, out, tau, 0, n_row, value)
+            _values(code, par[ci], E, out, tau, n_g - 1, n_g, value)
+            for g in range(n_row, n_g - 1):
+                value[g] = -np.inf
+        elif n_open_grid and _needs_shear(code):
             # exact circles in decreasing order of the value's upper bound, while it can win;
             # ``value`` at ``tau``: the lower bound, or the circle another criterion took
             _values(code, par[ci], E, out, tau, 0, n_g, value)

@@ -181,10 +181,14 @@ class _Criterion:
         self.name = name
         self.needs_shear = name in ("findley", "fatemi_socie", "mwcm")
         self.needs_strain = name in ("swt", "strain_life")
+        self.mean_stress = mean_stress or MeanStressCorrection()
+        # convex in sin^2 psi at every theta: the 3D maximum is on psi = 0 or 90 degrees
+        self.convex_in_tilt = name == "strain_life" or (
+            name == "stress_life" and self.mean_stress.name == "none"
+        )
         self.G = E / (2.0 * (1.0 + nu))
         self.k = k
         self.sy = sy
-        self.mean_stress = mean_stress or MeanStressCorrection()
 
     def value(self, q: dict, tau_a: np.ndarray) -> np.ndarray:
         smax = q["normal_stress_max"]
@@ -269,28 +273,31 @@ def _coarse_columns(theta, psi, nu, *, strains: bool, shear: bool, in_plane: boo
     return np.concatenate(columns).T.astype(np.float32)
 
 
-def _coarse(stress, criteria, columns, n_g, E, in_plane):
+def _coarse(stress, criteria, columns, n_g, E, in_plane, psi=None):
     """Best grid plane per point and criterion: indices into the grid, pruned exact MCC.
 
     Single precision picks the best grid plane (the refinement is in double): one product
     with ``columns`` (:func:`_coarse_columns`) gives every quantity of every plane, and one
     maximum and one minimum over the steps every summary the criteria and the bounds need.
+    In 3D, ``psi`` (G,): the grid's tilts, for the criteria whose maximum is on psi = 0 or
+    90 degrees (:func:`_tilt_argbest`).
     """
     n_t, n_p = stress.shape[:2]
     data = (stress.astype(np.float32) @ columns).reshape(n_t, n_p, -1, n_g)
     top, bottom = data.max(axis=0), data.min(axis=0)  # (P, Q, G)
     q = {"normal_stress_max": top[:, 0], "normal_stress_min": bottom[:, 0]}
+    best = functools.partial(_tilt_argbest, psi=None if in_plane else psi)
     with_strain = any(c.needs_strain for c in criteria)
     if with_strain:
         q["normal_strain_amplitude"] = 0.5 * (top[:, 1] - bottom[:, 1]) / E
     first = 1 + with_strain  # the first shear quantity
     if not any(c.needs_shear for c in criteria):
         zero = np.zeros((n_p, n_g), dtype=np.float32)
-        return {c.name: _argbest(c, c.value(q, zero), c.secondary(q)) for c in criteria}
+        return {c.name: best(c, c.value(q, zero), c.secondary(q)) for c in criteria}
     span = top[:, first:] - bottom[:, first:]
     if in_plane:  # straight shear path: the amplitude is half its range
         tau = 0.5 * span[:, 0]
-        return {c.name: _argbest(c, c.value(q, tau), c.secondary(q)) for c in criteria}
+        return {c.name: best(c, c.value(q, tau), c.secondary(q)) for c in criteria}
     rx, ry = span[:, 0], span[:, 1]
     ru, rv = span[:, 2] * _HALF_SQRT2, span[:, 3] * _HALF_SQRT2
     tau_lo = 0.5 * np.maximum(np.maximum(rx, ry), np.maximum(ru, rv))
@@ -312,7 +319,17 @@ def _coarse(stress, criteria, columns, n_g, E, in_plane):
         px = data[:, point, first, plane]
         py = data[:, point, first + 1, plane]
         tau[point, plane] = minimum_circumscribed_circle_xy(px, py)[2]
-    return {c.name: _argbest(c, c.value(q, tau), c.secondary(q)) for c in criteria}
+    return {c.name: best(c, c.value(q, tau), c.secondary(q)) for c in criteria}
+
+
+def _tilt_argbest(crit: _Criterion, values: np.ndarray, secondary, psi) -> np.ndarray:
+    """:func:`_argbest` of the grid; in 3D (``psi`` given) a criterion convex in the tilt
+    (``convex_in_tilt``) takes its best of the in-plane row and the plane normal to z, where
+    its maximum is (docs/explanation/fatigue.md)."""
+    if psi is not None and crit.convex_in_tilt:
+        tilted = (psi > 0.0) & (psi < 0.5 * np.pi)
+        values = np.where(tilted, -np.inf, values)
+    return _argbest(crit, values, secondary)
 
 
 def _plane_stats(
@@ -751,9 +768,13 @@ def critical_plane_parameters(
         return _compiled_parameters(stress, criteria, search, theta_g, psi_g, E, nu)
     n_points = stress.shape[1]
     best = {c.name: np.empty(n_points, dtype=int) for c in criteria}
+    # every criterion convex in the tilt: only the in-plane row and psi = 0 are candidates
+    grid = np.arange(theta_g.size)
+    if not search.in_plane_only and all(c.convex_in_tilt for c in criteria):
+        grid = np.flatnonzero((psi_g == 0.5 * np.pi) | (psi_g == 0.0))
     columns = _coarse_columns(
-        theta_g,
-        psi_g,
+        theta_g[grid],
+        psi_g[grid],
         nu,
         strains=any(c.needs_strain for c in criteria),
         shear=any(c.needs_shear for c in criteria),
@@ -762,10 +783,10 @@ def critical_plane_parameters(
     for start in range(0, n_points, search.chunk_points):
         part = slice(start, start + search.chunk_points)
         chunk_best = _coarse(
-            stress[:, part], criteria, columns, theta_g.size, E, search.in_plane_only
+            stress[:, part], criteria, columns, grid.size, E, search.in_plane_only, psi_g[grid]
         )
         for name, idx in chunk_best.items():
-            best[name][part] = idx
+            best[name][part] = grid[idx]
     steps = (np.deg2rad(search.theta_step_deg), np.deg2rad(search.psi_step_deg))
     evaluate = _SharedPass(stress, criteria, E, nu, in_plane=search.in_plane_only)
     theta = np.stack([theta_g[best[c.name]] for c in criteria])

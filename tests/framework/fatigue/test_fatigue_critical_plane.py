@@ -16,6 +16,7 @@ from fretbem.fatigue import (
 from fretbem.fatigue.critical_plane import plane_quantities
 from fretbem.fatigue.mcc import circle_bounds
 from fretbem.fatigue.planes import projection
+from fretbem.testing.fatigue import in_plane_scan
 
 E, NU = 70000.0, 0.3
 G = E / (2 * (1 + NU))
@@ -322,3 +323,66 @@ def test_circle_of_nearly_equal_points_far_from_the_origin():
     y = np.array([[-29.222977473699515], [-29.222977471320252]])
     _, _, radius = minimum_circumscribed_circle_xy(x, y)
     assert radius[0] == pytest.approx(0.5 * abs(y[1, 0] - y[0, 0]), rel=1e-6)
+
+
+def tilted_history(n=40, seed=11):
+    """Random non-proportional histories with an independent sigma_zz (planes tilted)."""
+    rng = np.random.default_rng(seed)
+    t = np.linspace(0.0, 2 * np.pi, 9)
+    a, b = rng.normal(size=(n, 4)) * 100, rng.normal(size=(n, 4)) * 60
+    s = a[None] * np.sin(t)[:, None, None] + b[None] * np.cos(3 * t)[:, None, None]
+    return s + rng.normal(size=(1, n, 4)) * 50
+
+
+def test_normal_amplitudes_are_largest_on_the_in_plane_row_or_normal_to_z():
+    """sigma_n = szz + sin^2 psi (sigma_ee - szz) at every step: the normal stress and strain
+    amplitudes are convex in sin^2 psi, largest at psi = 0 or 90 degrees in every column
+    (why the strain-life and uncorrected stress-life searches skip the tilted planes)."""
+    stress = tilted_history()
+    theta, psi = np.meshgrid(np.deg2rad(np.arange(0.0, 180.0, 3.0)), np.deg2rad(np.arange(0, 91)))
+    q = plane_quantities(stress, projection(theta.ravel(), psi.ravel()), E, NU)
+    shape = (stress.shape[1], *psi.shape)  # (P, psi, theta)
+    for amplitude in (
+        0.5 * (q["normal_stress_max"] - q["normal_stress_min"]),
+        q["normal_strain_amplitude"],
+    ):
+        a = amplitude.reshape(shape)
+        ends = np.maximum(a[:, 0], a[:, -1])  # psi = 0 and 90 degrees
+        assert np.all(a[:, 1:-1].max(axis=1) <= ends * (1.0 + 1e-12))
+        assert np.any(a[:, 1:-1].max(axis=1) > 0.9 * ends)  # not trivially small inside
+
+
+@pytest.mark.parametrize("compiled", [False, True], ids=["numpy", "compiled"])
+def test_convex_criteria_take_their_3d_maximum_in_plane_or_normal_to_z(compiled):
+    """strain_life and stress_life without a correction, searched in 3D: the best of the
+    in-plane family (a 0.01 degree scan) and the plane normal to z, which the search reaches;
+    the other criteria still find tilted planes on these histories."""
+    if compiled:
+        pytest.importorskip("numba")
+    stress = tilted_history()
+    kw = {"E": E, "nu": NU, "findley_k": 0.3, "fatemi_socie_k": 0.5, "yield_strength": 941.8}
+    res = critical_plane_parameters(
+        stress, methods=("strain_life", "stress_life", "findley"),
+        search=PlaneSearch(compiled=compiled), **kw,
+    )  # fmt: skip
+    scan, _ = in_plane_scan(stress, step_deg=0.01, **kw)
+    zz = stress[..., 3]
+    tr = stress[..., 0] + stress[..., 1] + zz
+    en = ((1.0 + NU) * zz - NU * tr) / E
+    normal_to_z = {
+        "stress_life": 0.5 * (zz.max(axis=0) - zz.min(axis=0)),
+        "strain_life": 0.5 * (en.max(axis=0) - en.min(axis=0)),
+    }
+    for name, z_value in normal_to_z.items():
+        best = np.maximum(scan[name], z_value)
+        value = res[name].value
+        # measured: 7.2e-4 short at one point (strain life: a second in-plane maximum of
+        # nearly equal height, the search's documented limit), 1.4e-16 at the others; up to
+        # 1.2e-8 above the scan, whose 0.01 degree steps miss the top of the maximum
+        assert np.all(value <= best * (1.0 + 3e-8)), name
+        assert np.all(value >= best * (1.0 - 1e-3)), name
+        assert np.mean(value >= best * (1.0 - 1e-9)) >= 0.95, name
+        tilt = res[name].normal_tilt_deg
+        assert np.all(np.isclose(tilt, 0.0, atol=1e-9) | np.isclose(tilt, 90.0, atol=1e-9))
+        assert np.any(z_value > scan[name]) and np.any(z_value < scan[name])
+    assert np.any(np.abs(res["findley"].normal_tilt_deg) > 1.0)

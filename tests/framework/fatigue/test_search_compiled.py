@@ -148,7 +148,10 @@ def test_compiled_search_follows_the_search_settings(search):
     assert_same(*both(plane_strain_history(n=30), search))
 
 
-@pytest.mark.parametrize("methods", [("swt",), ("mwcm", "swt"), ("strain_life", "findley")])
+@pytest.mark.parametrize(
+    "methods",
+    [("swt",), ("mwcm", "swt"), ("strain_life", "findley"), ("stress_life", "strain_life")],
+)
 def test_compiled_search_with_any_subset_of_criteria(methods):
     """The criteria share one pass: a subset, in any order, finds the same planes."""
     stress = free_history(n=30)
