@@ -359,7 +359,12 @@ class Simulation:
     def prepare(self) -> CondensedContact:
         """Assemble both bodies and condense them onto the pair unknowns (cached); with the
         pad block's rotation among them when the simulation :attr:`rotates`."""
-        problem = self.pair.condensed()
+        return self.condense(self.pair)
+
+    def condense(self, pair: ContactPair) -> CondensedContact:
+        """``pair`` (this simulation's, or a re-paired or worn one) condensed, with the pad
+        block's rotation about :meth:`block_pivot` when the simulation :attr:`rotates`."""
+        problem = pair.condensed()
         return self.rotating(problem) if self.rotates else problem
 
     def block_pivot(self) -> np.ndarray:

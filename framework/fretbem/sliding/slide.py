@@ -204,7 +204,7 @@ def condenser(simulation: Simulation, straight: bool = True) -> Callable:
     arc (not ``straight``) the pad turns, and its rotation would be about its own axes
     while the contact's rows are in the turned frame: refused."""
     if not simulation.rotates:
-        return lambda pair: pair.condensed()
+        return simulation.condense
     if not straight:
         raise SlidingError(
             "finite sliding along an arc turns the pad with the track, and a rotating block "
@@ -213,7 +213,7 @@ def condenser(simulation: Simulation, straight: bool = True) -> Callable:
             "out on an arc, or slide on a flat specimen ([specimen] shape = 'flat')"
         )
     check_balance(simulation, simulation.prepare())
-    return lambda pair: simulation.rotating(pair.condensed())
+    return simulation.condense
 
 
 def _spacing(pair: NodeToSegmentPair) -> float:

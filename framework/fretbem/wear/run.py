@@ -264,9 +264,8 @@ class _Pairs:
         return WornProfile.unworn(self.problem)
 
     def wear(self, profile: WornProfile) -> None:
-        self.problem = WornPair.of(self.base, profile.offset).condensed()
-        if self.simulation.rotates:  # the worn pair's pad block turns as the first's did
-            self.problem = self.simulation.rotating(self.problem)
+        # the worn pair's pad block turns as the first's did (the simulation's own pivot)
+        self.problem = self.simulation.condense(WornPair.of(self.base, profile.offset))
 
     def step(self, state: ContactState, load: LoadStep) -> ContactState:
         return self.simulation.step(self.problem, state, load)[0]

@@ -133,8 +133,7 @@ class Track:
 
     def condensed(self, pair: WornTrackPair) -> CondensedContact:
         """``pair``'s condensation, with a rotating block's rotation about the pinned pivot."""
-        problem = pair.condensed()
-        return self.simulation.rotating(problem) if self.simulation.rotates else problem
+        return self.simulation.condense(pair)
 
     @property
     def pair(self) -> WornTrackPair:
