@@ -191,6 +191,9 @@ def _one_line(err: BaseException) -> str:
 #: (~90 ms of the demo's ~1.5 s CPU: the imports' ~40, the one after the figures ~40)
 UNCOLLECTED = frozenset({"demo"})
 
+#: exit code when the reader of stdout closed it, as a shell reports a process ended by SIGPIPE
+SIGPIPE_EXIT = 128 + 13
+
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``fretbem`` console script; returns the exit code.
@@ -213,6 +216,9 @@ def main(argv: list[str] | None = None) -> int:
     except ResultCheckError as err:
         print(f"fretbem: result check failed ({err.check}): {_one_line(err)}", file=sys.stderr)
         code = 1
+    except BrokenPipeError:  # the reader stopped reading (`fretbem plugins | head`)
+        _silence_stdout()
+        code = SIGPIPE_EXIT
     except (FretbemError, ValueError, KeyError, RuntimeError, OSError, MemoryError) as err:
         print(f"fretbem: error: {_one_line(err)}", file=sys.stderr)
         code = 2
@@ -245,6 +251,16 @@ def _end_process(code: int) -> None:
         except (OSError, ValueError):  # a closed pipe: what is lost is lost either way
             pass
     os._exit(code)
+
+
+def _silence_stdout() -> None:
+    """Point stdout at the null device, so that the interpreter's final flush of the closed
+    pipe does not print a second error."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError):  # pragma: no cover - no stdout descriptor
+        pass
 
 
 def _interrupt(signum, frame) -> None:

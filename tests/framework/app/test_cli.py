@@ -113,3 +113,19 @@ def test_impossible_pair_count(pairs, capsys):
     """lagrange2 cannot place an even number of nodes: the error says which counts work."""
     assert cli.main(["demo", "--basis", "lagrange2", "--pairs", pairs, "--no-figures"]) == 2
     assert "choose pairs = 2 k + 1" in capsys.readouterr().err
+
+
+def test_a_reader_that_stops_reading_ends_the_command_quietly():
+    """`fretbem plugins | head -1`: a closed pipe ends the command with the shell's SIGPIPE
+    code (141) and nothing on stderr, not "error: Broken pipe" and exit 2. The reader here
+    closes before the command writes (its imports take longer), so the write always fails."""
+    process = subprocess.Popen(
+        [sys.executable, "-m", "fretbem.app.cli", "plugins"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    process.stdout.close()
+    err = process.stderr.read()
+    assert process.wait(timeout=120) == cli.SIGPIPE_EXIT, err
+    assert err == ""
