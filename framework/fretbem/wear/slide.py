@@ -109,8 +109,8 @@ class Track:
     @classmethod
     def start(cls, simulation: Simulation) -> Track:
         """The unworn contact of ``simulation`` (node-to-segment pairing, a straight or
-        circular track; a rotating block, on a straight one, turns about the pivot of this
-        first pairing), before any step."""
+        circular track; a rotating block turns about the pivot of this first pairing, a
+        point of the pad carried along the track), before any step."""
         pair = simulation.pair
         if not isinstance(pair, NodeToSegmentPair):
             raise SlidingError(
@@ -128,7 +128,7 @@ class Track:
             zero = {body: np.zeros(grids[body][0].size) for body in BODIES}
             pair = WornTrackPair.of(pair, grids, zero["upper"], zero["lower"], path)
         simulation = attrs.evolve(simulation, pair=pair, reference=None)
-        problem = condenser(simulation, path.straight)(pair)
+        problem = condenser(simulation)(pair)
         return cls(simulation, problem, path.tangent, _spacing(pair), path=path)
 
     def condensed(self, pair: WornTrackPair) -> CondensedContact:
