@@ -38,6 +38,7 @@ from fretbem.sliding.slide import (
     _carried,
     _repaired,
     _spacing,
+    check_tilt,
     condenser,
 )
 
@@ -225,6 +226,7 @@ class Track:
                 track.problem, state, target_n, driven_t, loads, controls=controls,
                 rotation=target_r,
             )  # fmt: skip
+            check_tilt(track.simulation, track.problem, state, load)
             iterations += its
             if record is not None:
                 record(track, before, state)
