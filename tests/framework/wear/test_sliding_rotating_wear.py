@@ -11,12 +11,14 @@ bodies, the pad turning with it) the same closed forms and the same stiff-spring
 
 from __future__ import annotations
 
+import csv
 from pathlib import Path
 
 import numpy as np
 import pytest
 import tomllib
 
+from fretbem.app import cli
 from fretbem.scenes.builder import build
 from fretbem.scenes.file import scene_from_data
 from fretbem.sliding import solve_sliding
@@ -140,6 +142,7 @@ def test_along_an_arc_the_rotating_block_wears_by_the_closed_forms():
         assert np.allclose(snapshot.tilt, -snapshot.moment / 1.0e6, rtol=1e-12, atol=0)
 
 
+@pytest.mark.slow
 def test_along_an_arc_a_stiff_spring_wears_as_a_block_that_does_not_turn():
     """k_r = 1e12 along the arc: the worn depths equal the held block's within 1e-6 of the
     largest (measured 1.3e-7)."""
@@ -148,3 +151,31 @@ def test_along_an_arc_a_stiff_spring_wears_as_a_block_that_does_not_turn():
     for body in ("upper", "lower"):
         a, b = held.depth(body), stiff.depth(body)
         assert np.max(np.abs(a - b)) < 1e-6 * np.max(np.abs(a))
+
+
+def test_the_arc_wear_scene_with_a_spring_writes_the_blocks_turn(tmp_path):
+    """examples/fretting_wear_sliding_arc.toml with [rig] stiffness_rotation through
+    fretbem run (21 pairs, 20 cycles): wear.csv and wear_summary.csv carry M, theta and
+    tilt, the tilt is -M / k_r at every N and step, the actuator held at 0, the volumes
+    alpha E_d."""
+    text = (ROOT / "examples" / "fretting_wear_sliding_arc.toml").read_text()
+    text = text.replace("cycles = 400", "cycles = 20").replace("output = [100, 200]", "")
+    text = text.replace("pairs = 41", "pairs = 21") + "\n[rig]\nstiffness_rotation = 1.0e6\n"
+    (tmp_path / "scene.toml").write_text(text)
+    out = tmp_path / "out"
+    assert cli.main(["run", str(tmp_path / "scene.toml"), "--out", str(out), "--no-figures",
+                     "--no-vtk", "--quiet"]) == 0  # fmt: skip
+    with open(out / "wear.csv") as handle:
+        wear = list(csv.DictReader(handle))
+    with open(out / "wear_summary.csv") as handle:
+        summary = list(csv.DictReader(handle))
+    assert {"M", "theta", "tilt"} <= set(wear[0]) and "M_amplitude" in summary[0]
+    for row in wear:
+        assert float(row["theta"]) == pytest.approx(0.0, abs=1e-15)
+        assert float(row["tilt"]) == pytest.approx(-float(row["M"]) / 1.0e6, rel=1e-9)
+    assert max(abs(float(row["M"])) for row in wear) > 0.9 * 16.25 * F * P  # h Q, h = 16.25
+    final = summary[-1]
+    for body, alpha in (("pad", 1e-5), ("specimen", 2e-5)):
+        assert float(final[f"volume_{body}"]) == pytest.approx(
+            alpha / JOULE * float(final["energy"]), rel=1e-12
+        )
