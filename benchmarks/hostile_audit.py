@@ -861,14 +861,14 @@ def _sliding_moment():
     return refused(*run_text(with_key("load", "moment", "1.0", SLIDING)), "moment", exit_code=1)
 
 
-@case("misleading", "finite sliding along an arc with a rotating block: refused naming the key")
+@case("misleading", "finite sliding along an arc with a rotating block: the block turns")
 def _sliding_arc_rotation():
     arc = SLIDING.replace('model = "half-plane"\n', "").replace(
         'shape = "flat"\nlength = 40.0\nthickness = 13.0',
         'shape = "cylinder"\nradius = 70.0\nwidth = 12.0\nheight = 10.0',
     )
-    return refused(*run_text(with_key("rig", "stiffness_rotation", "1e5", arc)),
-                   "stiffness_rotation", "arc")  # fmt: skip
+    code, text = run_text(with_key("rig", "stiffness_rotation", "5e5", arc))
+    return code == 0, f"exit {code}: {text.strip()[-160:]}"
 
 
 for _label, _text in (

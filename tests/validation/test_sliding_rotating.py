@@ -8,7 +8,8 @@ solved in place where that step's pairs were (pressed, then driven into gross sl
 the block's moment balances the contact tractions' moment about the pivot (integrated
 independently over the pad's face); and the closed forms of a cylinder on a half-plane:
 a tilt theta moves the contact's centre by -R theta, so with a spring k_r (M = -k_r theta)
-M = h Q / (1 + P R / k_r), and under a given moment theta = -(h Q - M) / (P R).
+M = h Q / (1 + P R / k_r), and under a given moment theta = -(h Q - M) / (P R). Along an
+arc: tests/validation/test_sliding_rotating_arc.py.
 Tolerances: measured values (in the comments) plus a margin.
 """
 
@@ -30,10 +31,8 @@ from fretbem.contact.control import Rig
 from fretbem.errors import InputError
 from fretbem.scenes.builder import build
 from fretbem.scenes.file import scene_from_data
-from fretbem.scenes.spec import SceneFileError
 from fretbem.simulation import LoadStep, Simulation, run
-from fretbem.sliding import SlidingError, run_sliding
-from fretbem.testing.scenes import scene_data_with
+from fretbem.sliding import run_sliding
 from fretbem.testing.sliding import traction_moment
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -192,21 +191,6 @@ def test_without_repairing_the_loop_solves_the_fixed_run():
                 assert np.allclose(x.pressure, y.pressure, rtol=0, atol=1e-12 * 150)
                 assert x.moment == pytest.approx(y.moment, abs=1e-10)
                 assert x.tilt == pytest.approx(y.tilt, abs=1e-16)
-
-
-def test_a_rotating_block_along_an_arc_is_refused():
-    """Along an arc the pad turns with the track: a rotating block is refused naming the
-    keys, from the scene file when it is read and from Python before any step."""
-    data = tomllib.loads((ROOT / "examples" / "gross_sliding_arc.toml").read_text())
-    data["contact"]["pairs"] = 21
-    with pytest.raises(SceneFileError, match=r"stiffness_rotation.*leave the rotation out"):
-        build(scene_from_data(scene_data_with(data, {"rig__stiffness_rotation": 2.0e5})))
-    simulation = build(scene_from_data(data))[0]
-    turning = attrs.evolve(
-        simulation, steps=[attrs.evolve(s, moment=0.0) for s in simulation.steps]
-    )
-    with pytest.raises(SlidingError, match=r"along an arc .* rotating block"):
-        run_sliding(turning, note=None)
 
 
 def test_the_example_scene_writes_the_blocks_turn(tmp_path):

@@ -15,7 +15,11 @@ moment the block applies to the pad about the pivot, which lies on the block's l
 the rig gives its height above that point. The record, the first-contact point and the
 pivot are in the pad's own axes (the pad as drawn): a pad placed elsewhere by its pairing
 (slid by an offset, turned along an arc) carries its pivot with it, and M, a moment about
-a point of the pad, is the same in its axes as in the global frame.
+a point of the pad, is the same in its axes as in the global frame. So is theta: for a
+pad turned along an arc it is the block's tilt from the turned pose, and every column and
+row here is taken in the pad's axes (the pair frame seen from them,
+:meth:`~fretbem.contact.pairing.Pairing.axes`; the specimen's force turned into them), so
+the rotating problem of a turned pad is that of the scene turned back.
 """
 
 from __future__ import annotations
@@ -193,8 +197,8 @@ def _moved(problem: CondensedContact, target: np.ndarray) -> dict:
     moment_rotation = (
         rotation.moment_rotation + rotation.moment_map[cols] @ shift + cross(resultant_rotation)
     )
-    # the contact tractions on the pad: the lower body's force reversed
-    lower = problem.lower_force_map
+    # the contact tractions on the pad: the lower body's force reversed, in the pad's axes
+    lower = problem.pairing.to_body(PAD, problem.lower_force_map, axis=0)
     contact_map = rotation.contact_moment_map - (offset[0] * lower[1] - offset[1] * lower[0])
     return {
         "normal": rotation.normal + problem.normal_map[:, cols] @ shift,
@@ -231,13 +235,6 @@ def rotating(problem: CondensedContact, target) -> CondensedContact:
     moment about ``target`` (scaled by the record's length) as the last resultant row."""
     if problem.rotation is not None and problem.rotation.in_unknowns:
         return problem
-    if problem.pairing.turn:
-        raise RotationError(
-            "the pad's loading block cannot rotate here: the pairing turns the pad (it slides "
-            f"along an arc, turn = {problem.pairing.turn:.4g} rad), and its rotation would be "
-            "taken about its own axes while the contact's rows are in the turned pair frame; "
-            "leave [rig] stiffness_rotation, [load] moment and rotation out"
-        )
     record = about(problem, target)
     layout = attrs.evolve(problem.layout, rotations=(PAD,))
     column = layout.rotation(PAD)
@@ -284,7 +281,7 @@ def lever(problem: CondensedContact) -> tuple[float, tuple[float, float]]:
     from that point along x: where the contact's centre can lie at all."""
     rotation = _rotation(problem)
     point = first_contact(problem)
-    points = problem.pairing.points[:, 0]
+    points = in_pad_axes(problem.pair, problem.pairing.points)[:, 0]
     reach = (float(points.min() - point[0]), float(points.max() - point[0]))
     return float(rotation.centre[1] - point[1]), reach
 

@@ -407,8 +407,9 @@ KEYS: tuple[Key, ...] = (
         "N mm/mm per rad",
         None,
         "rotational stiffness of the rig about its pivot: the pad's block tilts by "
-        "-M / k_r under the moment it carries (Q acts below the pivot); omitted: the block "
-        "does not rotate (unless [load] gives a moment or rotation)",
+        "-M / k_r under the moment it carries (Q acts below the pivot; with [contact] "
+        "`sliding` along an arc, from the pad's turned pose); omitted: the block does not "
+        "rotate (unless [load] gives a moment or rotation)",
     ),
     Key(
         "rig",

@@ -91,14 +91,6 @@ def sliding_scene(
                 "the stresses are given in; evaluate the specimen ([stress] body = 'lower'), "
                 "or slide on a flat specimen ([specimen] shape = 'flat')"
             )
-        if scene.block_rotates:
-            raise SceneFileError(
-                f"[contact] sliding = true on a {kind} specimen turns the pad with the arc, "
-                "and a rotating block ([rig] stiffness_rotation, [load] moment or rotation) "
-                "would turn about the pad's own axes while the contact's rows are in the "
-                "turned frame; leave the rotation out on an arc, or slide on a flat specimen "
-                "([specimen] shape = 'flat')"
-            )
     ends, size = (shape.length, "length") if kind == "flat" else (shape.width, "width")
     if not zone <= track < ends / 2:
         raise SceneFileError(

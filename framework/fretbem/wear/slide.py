@@ -38,6 +38,7 @@ from fretbem.sliding.slide import (
     _carried,
     _repaired,
     _spacing,
+    check_tilt,
     condenser,
 )
 
@@ -109,8 +110,8 @@ class Track:
     @classmethod
     def start(cls, simulation: Simulation) -> Track:
         """The unworn contact of ``simulation`` (node-to-segment pairing, a straight or
-        circular track; a rotating block, on a straight one, turns about the pivot of this
-        first pairing), before any step."""
+        circular track; a rotating block turns about the pivot of this first pairing, a
+        point of the pad carried along the track), before any step."""
         pair = simulation.pair
         if not isinstance(pair, NodeToSegmentPair):
             raise SlidingError(
@@ -128,7 +129,7 @@ class Track:
             zero = {body: np.zeros(grids[body][0].size) for body in BODIES}
             pair = WornTrackPair.of(pair, grids, zero["upper"], zero["lower"], path)
         simulation = attrs.evolve(simulation, pair=pair, reference=None)
-        problem = condenser(simulation, path.straight)(pair)
+        problem = condenser(simulation)(pair)
         return cls(simulation, problem, path.tangent, _spacing(pair), path=path)
 
     def condensed(self, pair: WornTrackPair) -> CondensedContact:
@@ -225,6 +226,7 @@ class Track:
                 track.problem, state, target_n, driven_t, loads, controls=controls,
                 rotation=target_r,
             )  # fmt: skip
+            check_tilt(track.simulation, track.problem, state, load)
             iterations += its
             if record is not None:
                 record(track, before, state)
