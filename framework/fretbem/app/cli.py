@@ -125,7 +125,7 @@ def parser() -> argparse.ArgumentParser:
         prog="fretbem",
         description="2D frictional contact (fretting) by the boundary element method",
     )
-    main.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
+    main.add_argument("--version", action=_VersionAction)
     sub = main.add_subparsers(dest="command")
     sub.add_parser("bases", help="list the installed basis families")
     sub.add_parser(
@@ -162,6 +162,19 @@ def parser() -> argparse.ArgumentParser:
     )
     sweep_arguments(sweep)
     return main
+
+
+class _VersionAction(argparse.Action):
+    """``--version``: argparse's version action, with the installed version read from the
+    package metadata only when asked for (every other command skips that file read)."""
+
+    def __init__(self, option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS,
+                 help="show program's version number and exit"):  # fmt: skip
+        super().__init__(option_strings, dest, nargs=0, default=default, help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        parser._print_message(f"{parser.prog} {_version()}\n", sys.stdout)
+        parser.exit()
 
 
 def _version() -> str:

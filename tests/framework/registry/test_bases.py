@@ -163,6 +163,47 @@ def test_identical_entry_point_seen_twice_is_collapsed() -> None:
     assert bases.families_from_entry_points([ep, ep]) == {"dummy": DummyBasis}
 
 
+class CountingDistribution:
+    """A distribution whose ``name`` (a metadata file read in importlib) counts its reads."""
+
+    def __init__(self, name: str) -> None:
+        self._name, self.reads = name, 0
+
+    @property
+    def name(self) -> str:
+        self.reads += 1
+        return self._name
+
+
+@dataclass(frozen=True)
+class SharedDistEntryPoint(FakeEntryPoint):
+    """An entry point of a given distribution object, as importlib gives every entry point
+    of one distribution the same ``dist``."""
+
+    shared: Any = None
+
+    @property
+    def dist(self) -> Any:
+        return self.shared
+
+
+def test_a_distribution_name_is_read_once_for_all_its_entry_points() -> None:
+    """The name (importlib parses the metadata file for it) is read once per distribution
+    object, names and conflicts unchanged; refresh() reads it again."""
+    dist, other = CountingDistribution("Fretbem_A"), CountingDistribution("fretbem-b")
+    eps = [SharedDistEntryPoint(name, f"{PLUGIN}:DummyBasis", shared=dist) for name in "xyz"]
+    eps.append(SharedDistEntryPoint("w", f"{PLUGIN}:OtherBasis", shared=other))
+    assert list(bases.families_from_entry_points(eps)) == ["w", "x", "y", "z"]
+    assert bases.families_from_entry_points(eps[:1]) == {"x": DummyBasis}
+    assert (dist.reads, other.reads) == (1, 1)
+    clash = SharedDistEntryPoint("x", f"{PLUGIN}:OtherBasis", shared=other)
+    with pytest.raises(bases.BasisRegistrationError, match=r"fretbem-a.*fretbem-b"):
+        bases.families_from_entry_points([eps[0], clash])
+    bases.refresh()
+    bases.families_from_entry_points(eps)
+    assert (dist.reads, other.reads) == (2, 2)
+
+
 def test_conflicts_raise_before_any_plugin_is_imported() -> None:
     """A conflict is reported without importing (or warning about) any plugin."""
     eps = [
