@@ -308,6 +308,7 @@ WORKFLOW_LIMITS = {
     "sweep default / --serial, 144 cases (CPU)": 1.1,
     "demo / numpy+scipy.linalg import (wall)": 4.0,
     "demo / numpy+scipy.linalg import (CPU)": 4.0,
+    "demo, built-in families only / import (CPU)": 4.0,
     "memory estimate / measured peak, 961 pairs": 1.3,
 }
 

@@ -26,7 +26,10 @@ while numpy, scipy and matplotlib load their bytecode). Workflows:
 - ``sweep``: ``fretbem sweep examples/fretting_map.toml`` (144 cases) default engine against
   ``--serial``, whole process;
 - ``demo``: ``fretbem demo`` with figures and VTK against ``python -c "import numpy,
-  scipy.linalg"``, whole process; and the CPU seconds of drawing the demo's three PNGs
+  scipy.linalg"``, whole process, as it runs here (every installed family compared: a
+  third-party family such as ``examples/custom_basis`` adds a solve and a curve per figure)
+  and with the built-in families only (``--compare lagrange2``: what ``pip install . &&
+  fretbem demo`` runs on a fresh machine); and the CPU seconds of drawing the demo's three PNGs
   (``save_figures`` of the demo's three 61-pair results, matplotlib already imported);
 - ``memory``: the up-front memory estimate against the measured peak (VmHWM) of a 961-pair
   cycle.
@@ -238,8 +241,13 @@ def one_round(tree: Path, tmp: Path, which: set[str]) -> dict:
                         "serial_wall": serial[0], "serial_cpu": serial[1]}  # fmt: skip
     if "demo" in which:
         demo = _process(_cli(tree, "demo", "--out", str(work / "demo")), tree, work)
+        # the demo as `pip install .` gives it: the two built-in families, whatever else
+        # this machine has installed (the default compares every installed family)
+        builtin = _process(_cli(tree, "demo", "--compare", "lagrange2", "--out",
+                                str(work / "demo_builtin")), tree, work)  # fmt: skip
         floor = _process([sys.executable, "-c", "import numpy, scipy.linalg"], tree, work)
         out["demo"] = {"demo_wall": demo[0], "demo_cpu": demo[1],
+                       "builtin_wall": builtin[0], "builtin_cpu": builtin[1],
                        "floor_wall": floor[0], "floor_cpu": floor[1]}  # fmt: skip
         out["figures"] = json.loads(_process([sys.executable, "-c", FIGURES_CHILD], tree, work)[2])
     if "memory" in which:
@@ -289,6 +297,8 @@ def ratios(m: dict) -> dict:
         d = m["demo"]
         r["demo / numpy+scipy.linalg import (wall)"] = d["demo_wall"] / d["floor_wall"]
         r["demo / numpy+scipy.linalg import (CPU)"] = d["demo_cpu"] / d["floor_cpu"]
+        if "builtin_cpu" in d:
+            r["demo, built-in families only / import (CPU)"] = d["builtin_cpu"] / d["floor_cpu"]
     if "figures" in m:
         r["demo's three PNGs, drawing (CPU s)"] = m["figures"]["figures"]
     if "memory" in m:
