@@ -33,9 +33,9 @@ EXAMPLES = Path(__file__).resolve().parents[3] / "examples"
 RULE = QuadratureRule.gauss_legendre(8)
 
 
-def _pair(example: str, pairs: int, slide: float, slave: str = "upper"):
+def _pair(example: str, pairs: int, slide: float, slave: str = "upper", basis: str = "nurbs"):
     data = tomllib.loads((EXAMPLES / example).read_text())
-    data["contact"]["pairs"] = pairs
+    data["contact"].update(pairs=pairs, basis=basis)
     pair = attrs.evolve(build(scene_from_data(data))[0].pair, slave=slave, uncovered="open")
     return Track.of(pair).placed(pair, slide)
 
@@ -83,12 +83,13 @@ def test_on_a_flat_face_the_normals_are_the_shared_tangent(transfer, slave):
         assert np.abs(local[side] - matrix).max() < 1e-12 * np.abs(matrix).max()
 
 
+@pytest.mark.parametrize("basis", ["nurbs", "lagrange2"])
 @pytest.mark.parametrize("example", ["gross_sliding_arc.toml", "gross_sliding_groove.toml"])
-def test_the_conservative_transfer_keeps_each_pairs_force_on_an_arc(example):
+def test_the_conservative_transfer_keeps_each_pairs_force_on_an_arc(example, basis):
     """The pad's nodes the pairs: each pair's unit traction gives the specimen the pad
     node's force, int over the specimen of its field equal to the pad node's int L ds
-    (measured 2e-15 relative)."""
-    pair = attrs.evolve(_pair(example, 21, 1.0), frame="local")
+    (measured 1.3e-15 to 3.4e-15 relative)."""
+    pair = attrs.evolve(_pair(example, 21, 1.0, basis=basis), frame="local")
     pairing = pair.pairing()
     slave_force = _integrals(pair._field("upper"))[pairing.nodes("upper")]
     master_force = _integrals(pair._field("lower")) @ pairing.transfer["lower"]
