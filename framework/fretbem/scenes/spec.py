@@ -988,10 +988,6 @@ def _sliding(contact: dict) -> None:
         )
 
 
-#: the specimen shapes whose track is a circular arc: the pair frame along it is a choice
-ARC_SHAPES = ("cylinder", "groove")
-
-
 def check_frame(frame: Any, sliding: bool, specimen: Any) -> str | None:
     """[contact] frame: ``"local"`` or ``"shared"``, and only where it means something,
     finite sliding along an arc (a cylinder or groove specimen). Returns the frame (None:
@@ -1013,7 +1009,7 @@ def check_frame(frame: Any, sliding: bool, specimen: Any) -> str | None:
             "faces as drawn); set [contact] sliding = true or remove frame"
         )
     kind = getattr(specimen, "kind", type(specimen).__name__)
-    if kind not in ARC_SHAPES:
+    if kind == "flat":  # a shape other than flat, cylinder or groove is refused when built
         raise SceneFileError(
             f"{where} = {frame!r} has no meaning on a {kind!r} specimen: the pad slides along a "
             "straight track, so all its pairs share one frame whichever is chosen; remove "
