@@ -129,13 +129,15 @@ def _cycle_bar(bars, total: int):
 
 
 def run_wear_request(
-    simulation, request, fatigue_request, mode, say=_quiet, bars=None, sliding=False
-):
+    simulation, request, fatigue_request, mode, say=_quiet, bars=None, sliding=False,
+    frame="local",
+):  # fmt: skip
     """The ``[wear]`` history of ``simulation`` and its assessments (stresses are evaluated
     when written, fatigue here) at the request's ``assess`` N; ``bars`` draws a bar over the
-    cycles; ``sliding``: with finite sliding (``[contact] sliding``)."""
+    cycles; ``sliding``: with finite sliding (``[contact] sliding``), ``frame`` its pair
+    frame along an arc (``[contact] frame``)."""
     _wear_mesh(mode)
-    wear = request.simulation(simulation, sliding=sliding)
+    wear = request.simulation(simulation, sliding=sliding, frame=frame)
     say(f"wear: {wear.cycles} cycles of steps {[s.name for s in wear.cycle_steps]}")
     result, assessed = analyses().wear_of(
         wear, request, fatigue_request, progress=_cycle_bar(bars, wear.cycles)
@@ -184,10 +186,12 @@ def run_simulation(
     phases: Mapping | None = None,
     sliding: bool = False,
     memo=None,
+    frame: str = "local",
 ) -> RunResult:
     """Solve ``simulation`` in ``mode``, check it, solve ``compare`` (simulations), and carry
     out the ``extras``' stress and fatigue requests. Raises the failed check's error.
-    ``sliding`` runs it (and ``compare``) with finite sliding (``[contact] sliding``).
+    ``sliding`` runs it (and ``compare``) with finite sliding (``[contact] sliding``),
+    ``frame`` the pair frame along an arc (``[contact] frame``).
 
     ``progress(k, n, step)`` follows the steps; ``bars(description, total)`` makes the
     progress bars of the adaptive levels and the fatigue assessment; ``phases`` are earlier
@@ -206,7 +210,7 @@ def run_simulation(
     wear = wear_request(extras)
     if wear is not None:  # its laws, cycle and outputs checked against the history now
         _wear_mesh(mode)
-        wear.simulation(simulation, sliding=sliding)
+        wear.simulation(simulation, sliding=sliding, frame=frame)
     check_requests(simulation, stress, fatigue_request)  # refused before any solve
     timed = dict(phases or {})
     options = {} if progress is None else {"progress": progress}
@@ -215,7 +219,7 @@ def run_simulation(
     tic = time.perf_counter()
     try:
         if sliding:
-            result = solve_sliding(simulation, say=say, progress=progress)
+            result = solve_sliding(simulation, say=say, progress=progress, frame=frame)
         else:
             result = accuracy.solve(simulation, mode, coarse=companion, memo=memo, **options)
     except SolverConvergenceError as failure:
@@ -235,7 +239,7 @@ def run_simulation(
         tic = time.perf_counter()
         for other in compare:
             say("running a comparison family")
-            others.append(solve_sliding(other, say=_quiet) if sliding else run(other))
+            others.append(solve_sliding(other, say=_quiet, frame=frame) if sliding else run(other))
             check_steps(others[-1])
         timed["compare"] = time.perf_counter() - tic
     fatigue = None
@@ -247,7 +251,7 @@ def run_simulation(
     worn = None
     if wear is not None:
         tic = time.perf_counter()
-        worn = run_wear_request(simulation, wear, fatigue_request, mode, say, bars, sliding)
+        worn = run_wear_request(simulation, wear, fatigue_request, mode, say, bars, sliding, frame)
         timed["wear"] = time.perf_counter() - tic
     return RunResult(result, reason, stress, fatigue, tuple(others), wear=worn, phases=timed)
 
@@ -286,4 +290,5 @@ def run_scene(
         bars=bars,
         phases={"build": built},
         sliding=sliding,
+        frame=scene.contact.sliding_frame,
     )

@@ -182,10 +182,12 @@ def _mode(args: argparse.Namespace, base):
 
 
 def _simulate(
-    make, args: argparse.Namespace, extras=None, mode=None, companion=None, sliding=False
-) -> int:
+    make, args: argparse.Namespace, extras=None, mode=None, companion=None, sliding=False,
+    frame="local",
+) -> int:  # fmt: skip
     """Solve in ``mode`` (``companion(pairs)``: the fixed mode's coarser level) through the
-    run pipeline, print the tables with the estimate, and write the output."""
+    run pipeline, print the tables with the estimate, and write the output (``sliding``,
+    ``frame``: finite sliding and its pair frame along an arc)."""
     start = time.perf_counter()
     QUIET["on"] = bool(getattr(args, "quiet", False))
     bars = Bars(quiet=QUIET["on"])
@@ -207,6 +209,7 @@ def _simulate(
         bars=bars,
         phases={"build": built},
         sliding=sliding,
+        frame=frame,
     )
     result = done.result
     info = result.describe()
@@ -300,6 +303,7 @@ def run_scene_file(args: argparse.Namespace) -> int:
         mode,
         lambda pairs: build(scene, pairs=pairs)[0],
         sliding=scene.contact.sliding,
+        frame=scene.contact.sliding_frame,
     )
 
 

@@ -196,6 +196,41 @@ class FaceField:
                 break
         return segment, params
 
+    def closest(self, points: np.ndarray, tangent: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`project` for many points at once (a transfer's quadrature points): located
+        along ``tangent``, then Gauss-Newton on (X(s) - P) . X'(s) = 0, each step shrinking
+        the error by the distance over the radius of curvature, a point stopped at a
+        segment's end carried on to the next. (segment, parameter); -1 where the closest
+        point would lie past the face's ends."""
+        points = np.asarray(points, float)
+        segment, params = self.locate(points @ np.asarray(tangent, float), tangent)
+        last = len(self.segments) - 1
+        for _ in range(2):  # a second round for the points carried over a segment's end
+            moved = np.zeros(segment.shape, dtype=bool)
+            for index, basis in enumerate(self.segments):
+                here = np.flatnonzero(segment == index)
+                if not here.size:
+                    continue
+                s, target = params[here], points[here]
+                for _ in range(CLOSEST_PASSES):
+                    point, derivative = basis.curve.points_and_derivatives(s)
+                    step = np.einsum("kd,kd->k", point - target, derivative)
+                    s = np.clip(s - step / np.einsum("kd,kd->k", derivative, derivative), 0, 1)
+                point, derivative = basis.curve.points_and_derivatives(s)
+                along = np.einsum("kd,kd->k", point - target, derivative)
+                along /= np.linalg.norm(derivative, axis=1)
+                past = np.abs(along) > 1e-12 * (1.0 + np.linalg.norm(point - target, axis=1))
+                ahead = past & (s == 1.0) & (index < last)
+                behind = past & (s == 0.0) & (index > 0)
+                params[here] = np.where(ahead, 0.0, np.where(behind, 1.0, s))
+                segment[here] = np.where(ahead, index + 1, np.where(behind, index - 1, index))
+                moved[here] = ahead | behind
+                off = past & ~ahead & ~behind & ((s == 0.0) | (s == 1.0))
+                segment[here[off]] = -1
+            if not moved.any():
+                break
+        return segment, params
+
     def points(self, segment: np.ndarray, params: np.ndarray) -> np.ndarray:
         """Positions (m, 2) on the exact face geometry at located (segment, parameter)."""
         return self._on_curves("points", segment, params)

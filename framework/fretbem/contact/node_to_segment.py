@@ -19,7 +19,7 @@ from fretbem.errors import UnsupportedError
 from .faces import FaceField, FaceProjectionError, nearest_nodes
 from .pairing import Pairing, turning
 from .pairs import ContactDiscretisationError, ContactPair, check_overlap
-from .transfer import TRANSFERS
+from .transfer import ALONG_NORMALS, TRANSFERS, NormalMap
 
 __all__ = ["FRAMES", "NodeToSegmentPair"]
 
@@ -71,8 +71,10 @@ class NodeToSegmentPair(ContactPair):
         slid along an arc has its pairs spread over a turning face and takes the local
         frames. The loads still act along the shared normal
         (:attr:`~fretbem.contact.pairing.Pairing.axis`). On a straight lower face both agree.
-        The pair tractions reach the other face's nodes along the shared tangent either way:
-        the two mappings differ by the gap times the pairs' angle, nil where tractions act.
+        The pair tractions reach the other face's nodes as the pairs meet it: along the
+        shared tangent, or with local frames along each lower normal
+        (:data:`~fretbem.contact.transfer.ALONG_NORMALS`), so that the other face's
+        tractions have the pairs' moment (docs/explanation/pairing.rst).
     """
 
     offset: np.ndarray = attrs.field(
@@ -229,15 +231,23 @@ class NodeToSegmentPair(ContactPair):
             gap = np.where(covered, along_normal, distance)
         check_overlap(gap, lower_points, spacing)
         interpolation = fields[master].interpolation(segment, params)
-        # the master nodes' tractions: the pair traction field (slave basis) carried over
-        transfer = TRANSFERS[self.transfer](
-            fields[master],
-            fields[slave],
-            (faces[master][0] + placed[master] - placed[slave]) @ mean_tangent,
-            mean_tangent,
-            order,
-            shift=float((placed[master] - placed[slave]) @ mean_tangent),
-        )
+        # the master nodes' tractions: the pair traction field (slave basis) carried over,
+        # the faces met as the pairs meet them (along the shared tangent, or each lower normal)
+        if self.frame == "shared":
+            transfer = TRANSFERS[self.transfer](
+                fields[master],
+                fields[slave],
+                (faces[master][0] + placed[master] - placed[slave]) @ mean_tangent,
+                mean_tangent,
+                order,
+                shift=float((placed[master] - placed[slave]) @ mean_tangent),
+            )
+        else:
+            mapping = NormalMap(
+                fields[master], fields[slave], placed[master] - placed[slave],
+                "master" if master == "lower" else "slave", mean_tangent,
+            )  # fmt: skip
+            transfer = ALONG_NORMALS[self.transfer](mapping, *faces[master], order)
         n = len(order)
         self._cache["covered"] = covered
         nodes = {slave: order, master: nearest_nodes(interpolation)}

@@ -13,17 +13,33 @@ master node tractions per unit pair traction (the sign is the condensation's):
     the interpolation error (0.11 % of P with a lagrange2 slave face, measured).
 
 On faces that match node to node both give the node selection of node-to-node pairing.
+
+Both map the faces onto each other along the pairs' shared tangent. With a frame per pair
+(``NodeToSegmentPair(frame="local")``, a pad sliding along an arc) each pair joins its
+points along the lower face's own normal there, and :data:`ALONG_NORMALS` maps the faces
+the same way: a point of the upper face meets the lower face at its closest point, a point
+of the lower face the upper one along its own normal. The conservative one then integrates
+over the slave face, its own measure, so the force is kept without a Jacobian of the map.
 """
 
 from __future__ import annotations
 
+import attrs
 import numpy as np
 
 from fretbem.numerics.quadrature import QuadratureRule
 
 from .faces import FaceField
 
-__all__ = ["TRANSFERS", "conservative", "pointwise"]
+__all__ = [
+    "ALONG_NORMALS",
+    "TRANSFERS",
+    "NormalMap",
+    "conservative",
+    "conservative_along_normals",
+    "pointwise",
+    "pointwise_along_normals",
+]
 
 #: Gauss points per sub-interval between the breakpoints of both faces (the integrand is
 #: a product of two piecewise polynomials, rational for NURBS: 8 points integrate it to
@@ -105,3 +121,116 @@ def conservative(
 
 #: transfer name -> function
 TRANSFERS = {"conservative": conservative, "pointwise": pointwise}
+
+
+@attrs.frozen(eq=False)
+class NormalMap:
+    """How the points of two faces meet along the lower face's normals.
+
+    Attributes
+    ----------
+    master, slave : FaceField
+        The faces, each in its own coordinates.
+    moved : ndarray, shape (2,)
+        Where the master face is placed relative to the slave (a point x of the slave is at
+        x - moved in the master's coordinates).
+    lower : str
+        Which of them is the lower face, whose normals join the points: ``"master"`` or
+        ``"slave"``.
+    tangent : ndarray, shape (2,)
+        The pairs' mean tangent: where the closest-point search starts.
+    """
+
+    master: FaceField
+    slave: FaceField
+    moved: np.ndarray
+    lower: str
+    tangent: np.ndarray
+
+    def to_master(self, points: np.ndarray, normals: np.ndarray) -> tuple:
+        """Where slave points (with the slave's normals there) meet the master face."""
+        points = np.asarray(points, float) - self.moved
+        if self.lower == "master":  # the lower face's point whose normal passes through
+            return self.master.closest(points, self.tangent)
+        return self.master.locate_each(points, _tangents(normals))
+
+    def to_slave(self, points: np.ndarray, normals: np.ndarray) -> tuple:
+        """Where master points (with the master's normals there) meet the slave face."""
+        points = np.asarray(points, float) + self.moved
+        if self.lower == "master":
+            return self.slave.locate_each(points, _tangents(normals))
+        return self.slave.closest(points, self.tangent)
+
+
+def _tangents(normals: np.ndarray) -> np.ndarray:
+    return np.stack([normals[:, 1], -normals[:, 0]], axis=1)
+
+
+def pointwise_along_normals(mapping: NormalMap, nodes, normals, order) -> np.ndarray:
+    """:func:`pointwise` with the faces met along the lower face's normals: the slave field
+    where each master node (``nodes``, ``normals``: the master face's, in its coordinates)
+    meets the slave face."""
+    return mapping.slave.interpolation(*mapping.to_slave(nodes, normals))[:, order]
+
+
+def conservative_along_normals(mapping: NormalMap, nodes, normals, order) -> np.ndarray:
+    """:func:`conservative` with the faces met along the lower face's normals.
+
+    The coupling of the master basis with the slave field, int N_m(X(r)) t_slave(r)
+    ds_slave, is integrated over the slave face (X(r): where its point r meets the master
+    face), on sub-intervals between the slave's breakpoints and the master's mapped onto
+    it, so the force the master receives is the slave's to the quadrature's accuracy
+    (partition of unity) and no Jacobian of the map is needed; the mass is the master's own.
+    ``nodes`` and ``normals`` are unused (the signature of :func:`pointwise_along_normals`).
+    """
+    master, slave = mapping.master, mapping.slave
+    rule = QuadratureRule.gauss_legendre(POINTS_PER_INTERVAL)
+    n_m, n_s = master.n_nodes, slave.n_nodes
+    mass = np.zeros(n_m * n_m)
+    breaks, break_normals = [], []
+    for index, basis in enumerate(master.segments):
+        bounds = np.unique(basis.element_bounds)
+        s, w = _gauss(rule, bounds[:-1], bounds[1:])
+        w_master = w * np.linalg.norm(basis.curve.derivatives(s), axis=1)
+        cols, vals = master.local(np.full(s.shape, index), s)
+        mass += np.bincount(
+            (cols[:, :, None] * n_m + cols[:, None, :]).ravel(),
+            (w_master[:, None, None] * vals[:, :, None] * vals[:, None, :]).ravel(),
+            minlength=n_m * n_m,
+        )
+        breaks.append(basis.curve.points(bounds))
+        break_normals.append(basis.curve.normals(bounds))
+    on_slave = mapping.to_slave(np.concatenate(breaks), np.concatenate(break_normals))
+    coupling = np.zeros(n_m * n_s)
+    for index, basis in enumerate(slave.segments):
+        curve = basis.curve
+        bounds = np.unique(basis.element_bounds)
+        cuts = np.unique(np.concatenate([bounds, on_slave[1][on_slave[0] == index]]))
+        lo, hi = cuts[:-1], cuts[1:]
+        keep = hi - lo > 1e-14
+        s, w = _gauss(rule, lo[keep], hi[keep])
+        points, derivatives = curve.points_and_derivatives(s)
+        w_slave = w * np.linalg.norm(derivatives, axis=1)
+        m_seg, m_par = mapping.to_master(points, curve.normals(s))
+        cols_m, vals_m = master.local(m_seg, m_par)  # zero off the master face
+        cols_s, vals_s = slave.local(np.full(s.shape, index), s)
+        coupling += np.bincount(
+            (cols_m[:, :, None] * n_s + cols_s[:, None, :]).ravel(),
+            (w_slave[:, None, None] * vals_m[:, :, None] * vals_s[:, None, :]).ravel(),
+            minlength=n_m * n_s,
+        )
+    coefficients = np.linalg.solve(
+        mass.reshape(n_m, n_m), coupling.reshape(n_m, n_s) @ slave.inverse_values_matrix()
+    )
+    return (master.values_matrix() @ coefficients)[:, order]
+
+
+def _gauss(rule: QuadratureRule, lo: np.ndarray, hi: np.ndarray) -> tuple:
+    """Gauss points and parameter weights of ``rule`` on each interval [lo, hi]."""
+    s = (lo[:, None] + 0.5 * (rule.points[None, :] + 1.0) * (hi - lo)[:, None]).ravel()
+    w = (0.5 * rule.weights[None, :] * (hi - lo)[:, None]).ravel()
+    return s, w
+
+
+#: transfer name -> function, the faces met along the lower face's normals (a frame per pair)
+ALONG_NORMALS = {"conservative": conservative_along_normals, "pointwise": pointwise_along_normals}

@@ -38,7 +38,7 @@ from fretbem.verification.closed_forms import (
 from fretbem.verification.nowell_hills import NowellHills
 
 from .limits import check_scene
-from .spec import Scene, SceneFileError, check_groove
+from .spec import Scene, SceneFileError, check_frame, check_groove
 from .track import sliding_scene, track_face, track_half_width
 
 __all__ = [
@@ -366,6 +366,7 @@ def build(scene: Scene, **contact_overrides):
     check_scene(scene)  # a hopeless size or history is refused with its estimate
     if isinstance(scene.specimen.shape, GrooveSpecimen):  # a Scene made in Python too
         check_groove(scene.pad.shape, scene.specimen.shape, scene.contact.pairing)
+    check_frame(scene.contact.frame, scene.contact.sliding, scene.specimen.shape)
     zone = zone_half_width(scene)
     pad_family = _family(scene, "pad")
     specimen_family = _family(scene, "specimen")

@@ -19,6 +19,7 @@ import attrs
 from fretbem import registry
 from fretbem.contact.control import STIFFNESS_UNITS, check_pivot_height, check_stiffness
 from fretbem.contact.law import MAX_FRICTION
+from fretbem.contact.node_to_segment import FRAMES
 from fretbem.fretting.waveform import SHAPES, Waveform, WaveformError
 from fretbem.geometry.boundary import Segment
 from fretbem.geometry.nurbs import NurbsCurve
@@ -31,6 +32,7 @@ from fretbem.geometry.shapes import (
     RoundedFlatPad,
 )
 from fretbem.material import Material
+from fretbem.validators import file_string
 from fretbem.views.display import scene_html, scene_repr
 
 from .errors import SceneFileError
@@ -260,6 +262,17 @@ KEYS: tuple[Key, ...] = (
         "`sliding`: half-width of the specimen's contact segment the pad slides along "
         "(default: the zone plus the largest delta of the history, in absolute value)",
     ),
+    Key(
+        "contact",
+        "frame",
+        (str,),
+        "",
+        "local",
+        "`sliding` along an arc (a `cylinder` or `groove` specimen): the pair frame, `local` "
+        "(each pair the arc's normal and tangent where it meets it, the gap along that normal) "
+        "or `shared` (all pairs the pad's turned frame: the a/R simplification); refused on a "
+        "flat specimen (its pairs share one frame either way) and without `sliding`",
+    ),
     Key("contact", "solver", (str,), "", "newton", "contact solver (`fretbem plugins`)"),
     Key("contact", "law", (str,), "", "coulomb", "contact law (`fretbem plugins`)"),
     Key("mesh", "flank_elements", (int,), "", 16, "elements on each face part outside the zone"),
@@ -474,10 +487,16 @@ class ContactSpec:
     pairing: str = "node-to-node"
     sliding: bool = False
     track_width: float | None = None
+    frame: str | None = None
     mesh: str = "fixed"
     tolerance: float = 0.02
     budget: int = 61
     estimate: bool = True
+
+    @property
+    def sliding_frame(self) -> str:
+        """The pair frame of finite sliding along an arc: ``frame``, by default ``"local"``."""
+        return self.frame or "local"
 
 
 @attrs.frozen
@@ -970,6 +989,36 @@ def _sliding(contact: dict) -> None:
         )
 
 
+def check_frame(frame: Any, sliding: bool, specimen: Any) -> str | None:
+    """[contact] frame: ``"local"`` or ``"shared"``, and only where it means something,
+    finite sliding along an arc (a cylinder or groove specimen). Returns the frame (None:
+    not given). Called when a scene file is read and when a scene is built (a Scene made in
+    Python)."""
+    if frame is None:
+        return None
+    where = "[contact] frame"
+    file_string(where, frame, error=SceneFileError)
+    if frame not in FRAMES:
+        raise SceneFileError(
+            f"{where} must be 'local' (each pair its own frame: the arc's normal and tangent "
+            f"where it meets it) or 'shared' (all pairs the pad's turned frame), got {frame!r}"
+        )
+    if not sliding:
+        raise SceneFileError(
+            f"{where} = {frame!r} chooses the pair frame of finite sliding along an arc, but "
+            "[contact] sliding is off (the pairs stay where they are, in the frame of the "
+            "faces as drawn); set [contact] sliding = true or remove frame"
+        )
+    kind = getattr(specimen, "kind", type(specimen).__name__)
+    if kind == "flat":  # a shape other than flat, cylinder or groove is refused when built
+        raise SceneFileError(
+            f"{where} = {frame!r} has no meaning on a {kind!r} specimen: the pad slides along a "
+            "straight track, so all its pairs share one frame whichever is chosen; remove "
+            "frame (it applies to a 'cylinder' or 'groove' specimen, whose track is an arc)"
+        )
+    return frame
+
+
 def check_groove(pad: Any, groove: GrooveSpecimen, pairing: str) -> None:
     """A groove takes a pad that fits in it (a cylinder of a smaller radius, or a drawn
     face, checked when the scene is built) and pairs with it by projection. Called when a
@@ -1083,6 +1132,7 @@ def scene_from_dict(data: Mapping) -> Scene:
     pad, specimen = _body(data, "pad", PAD_SHAPES), _body(data, "specimen", SPECIMEN_SHAPES)
     if isinstance(specimen.shape, GrooveSpecimen):
         check_groove(pad.shape, specimen.shape, contact.get("pairing", "node-to-node"))
+    check_frame(contact.get("frame"), contact.get("sliding", False), specimen.shape)
     return Scene(
         pad=pad,
         specimen=specimen,

@@ -36,11 +36,15 @@ def solve_sliding(
     check: bool = True,
     say: Callable[[str], None] = print,
     progress: Callable | None = None,
+    frame: str = "local",
 ) -> SimulationResult:
-    """Run ``simulation`` with finite sliding (:func:`~fretbem.sliding.slide.run_sliding`);
-    ``say`` receives the new-contact notes and a closing line on the re-pairings."""
+    """Run ``simulation`` with finite sliding (:func:`~fretbem.sliding.slide.run_sliding`,
+    ``frame`` its pair frame along an arc); ``say`` receives the new-contact notes and a
+    closing line on the re-pairings."""
     tic = time.perf_counter()
-    sliding = run_sliding(simulation, every=every, check=check, note=say, progress=progress)
+    sliding = run_sliding(
+        simulation, every=every, check=check, note=say, progress=progress, frame=frame
+    )
     seconds = time.perf_counter() - tic
     say(
         f"finite sliding: {sliding.repairings} re-pairing(s); the pad's block from "

@@ -56,15 +56,16 @@ class WearRequest:
     outputs: tuple[int, ...] = ()
     assess: tuple[int, ...] = ()
 
-    def simulation(self, simulation, sliding: bool = False) -> WearSimulation:
+    def simulation(self, simulation, sliding: bool = False, frame: str = "local") -> WearSimulation:
         """The wear history of ``simulation`` (the scene's), cycle increments applied;
-        ``sliding``: with finite sliding (``[contact] sliding = true``)."""
+        ``sliding``: with finite sliding (``[contact] sliding = true``), ``frame`` its pair
+        frame along an arc (``[contact] frame``)."""
         if self.increments is not None:
             steps = tuple(attrs.evolve(s, increments=self.increments) for s in simulation.steps)
             simulation = attrs.evolve(simulation, steps=steps)
         return WearSimulation(
             simulation, self.laws, self.cycles, self.cycle, self.control,
-            tuple(sorted({*self.outputs, *self.assess})), sliding,
+            tuple(sorted({*self.outputs, *self.assess})), sliding, frame,
         )  # fmt: skip
 
 

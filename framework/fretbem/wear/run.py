@@ -21,7 +21,7 @@ import attrs
 import numpy as np
 
 from fretbem.contact.law import ContactState
-from fretbem.contact.node_to_segment import NodeToSegmentPair
+from fretbem.contact.node_to_segment import FRAMES, NodeToSegmentPair
 from fretbem.results import SimulationResult
 from fretbem.simulation import LoadStep, Simulation, run
 from fretbem.sliding import solve_sliding
@@ -77,6 +77,11 @@ class WearSimulation:
         and each face wears at its own material points (:mod:`fretbem.wear.slide`); the
         pair must be a node-to-segment one. False: the pairs stay where they are (small
         slip).
+    frame : str
+        With ``sliding`` along an arc, the pair frame (``[contact] frame``): ``"local"``
+        (default: each pair its own) or ``"shared"`` (the pad's turned frame;
+        :func:`~fretbem.sliding.slide.run_sliding`). A straight track's pairs share one
+        frame either way.
     """
 
     simulation: Simulation
@@ -88,6 +93,7 @@ class WearSimulation:
     control: JumpControl = attrs.field(factory=JumpControl)
     outputs: tuple[int, ...] = attrs.field(default=(), converter=_outputs)
     sliding: bool = attrs.field(default=False, validator=attrs.validators.instance_of(bool))
+    frame: str = "local"
 
     def __attrs_post_init__(self) -> None:
         if set(self.laws) != set(BODIES):
@@ -111,6 +117,17 @@ class WearSimulation:
             raise WearInputError(
                 f"[wear] cycle names step {unknown[0]!r}, which the load history does not "
                 f"have (its steps are {names})"
+            )
+        if self.frame not in FRAMES:
+            raise WearInputError(
+                f"the wear history's pair frame must be 'local' (each pair its own along an "
+                f"arc) or 'shared' (the pad's turned frame), got {self.frame!r}"
+            )
+        if self.frame != "local" and not self.sliding:
+            raise WearInputError(
+                f"frame = {self.frame!r} chooses the pair frame of finite sliding along an arc, "
+                "but sliding is off (the pairs stay where they are); give sliding=True or "
+                "leave frame out"
             )
         if self.sliding and self.control.scheme != "explicit":
             raise WearInputError(
@@ -238,9 +255,11 @@ class WearResult:
         SimulationResult for the stresses and the fatigue assessment after wear (with
         finite sliding, run re-pairing as the pad slides, each face's wear carried along)."""
         profile = self.snapshot(cycles).profile
-        simulation = worn_simulation(self.wear.simulation, profile, self.wear.sliding)
+        simulation = worn_simulation(
+            self.wear.simulation, profile, self.wear.sliding, self.wear.frame
+        )
         if self.wear.sliding:
-            return solve_sliding(simulation, say=lambda _: None)
+            return solve_sliding(simulation, say=lambda _: None, frame=self.wear.frame)
         return run(simulation)
 
 
@@ -279,7 +298,7 @@ class _Sliding:
     (:class:`~fretbem.wear.slide.Track`), each face's wear on the track's grid."""
 
     def __init__(self, wear: WearSimulation) -> None:
-        self.track = Track.start(wear.simulation)
+        self.track = Track.start(wear.simulation, wear.frame)
         self.initial = self.track.problem
 
     @property
@@ -342,15 +361,18 @@ def _relief(problem, pressure: np.ndarray) -> float:
     return float(np.ptp(problem.gap[touching])) if touching.any() else 0.0
 
 
-def worn_simulation(simulation: Simulation, profile: WornProfile, sliding: bool = False):
+def worn_simulation(
+    simulation: Simulation, profile: WornProfile, sliding: bool = False, frame: str = "local"
+):
     """``simulation`` on the worn contact: its pair's gap offset by the profile's depths
     (the closest pairs brought to touch when every step imposes P, see WornPair); with
     ``sliding`` a :class:`~fretbem.wear.track.WornTrackPair` carrying each face's wear at
-    its material points, to run with finite sliding."""
+    its material points, to run with finite sliding (``frame``: its pair frame along an
+    arc)."""
     touching = all(getattr(s, "approach", None) is None for s in simulation.steps)
     simulation = simulation.pinned()  # a rotating block turns where the unworn pad's did
     if sliding:
-        pair = Track.start(simulation).pair.rewear(profile.upper, profile.lower)
+        pair = Track.start(simulation, frame).pair.rewear(profile.upper, profile.lower)
         pair = pair.touching() if touching else pair
     else:
         pair = WornPair.of(simulation.pair, profile.offset, touching=touching)

@@ -108,10 +108,11 @@ class Track:
     path: sliding_track.Track | None = None
 
     @classmethod
-    def start(cls, simulation: Simulation) -> Track:
+    def start(cls, simulation: Simulation, frame: str = "local") -> Track:
         """The unworn contact of ``simulation`` (node-to-segment pairing, a straight or
         circular track; a rotating block turns about the pivot of this first pairing, a
-        point of the pad carried along the track), before any step."""
+        point of the pad carried along the track), before any step; along an arc the pairs
+        take ``frame`` ("local": each its own, "shared": the pad's turned frame)."""
         pair = simulation.pair
         if not isinstance(pair, NodeToSegmentPair):
             raise SlidingError(
@@ -121,8 +122,8 @@ class Track:
             )
         path = check_pair(pair)
         simulation = simulation.pinned()  # a rotating block keeps the first pairing's pivot
-        if not path.straight:  # along an arc each pair in its own frame
-            pair = attrs.evolve(pair, frame="local")
+        if not path.straight:  # along an arc: each pair its own frame, or the pad's
+            pair = attrs.evolve(pair, frame=frame)
         if not isinstance(pair, WornTrackPair):
             grids = track_grids(pair, pair_weights(pair.condensed()), path)
             _check_slave(pair, grids)
