@@ -223,6 +223,13 @@ class Basis(ABC):
     name: ClassVar[str] = ""
     description: ClassVar[str] = ""
     interpolatory: ClassVar[bool] = False
+    #: :meth:`map` is odd in the geometry: with ``curve``'s control points and the geometry
+    #: coefficients negated (the segment reflected through the origin), its points, tangents
+    #: and normals change sign exactly and its values and Jacobians stay (true of sums of
+    #: products with the coefficients, as the shared :meth:`map`); a family whose own ``map``
+    #: is not so sets False (the assembly then never takes an image's blocks for it,
+    #: :mod:`fretbem.bem.images`)
+    odd_map: ClassVar[bool] = True
 
     curve: NurbsCurve
     degree: int

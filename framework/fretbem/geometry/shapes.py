@@ -69,6 +69,22 @@ def _arc_specimen_face(arcs: list[NurbsCurve]) -> list[Segment]:
             Segment("flank_left", arcs[2])]  # fmt: skip
 
 
+def _point_image(pad_curve: NurbsCurve, own: NurbsCurve, radius: float) -> NurbsCurve:
+    """``own`` (a specimen arc), or the pad's face curve reflected through the origin when
+    that is the same arc to round-off (a specimen as wide as the pad): the two similar
+    cylinders are then each other's exact point image, which the BEM assembly uses (one
+    body's blocks serve the other's, :class:`fretbem.bem.assembly.BlockStore`)."""
+    image = -pad_curve.control_points
+    same = (
+        pad_curve.degree == own.degree
+        and image.shape == own.control_points.shape
+        and np.array_equal(pad_curve.knots, own.knots)
+        and np.array_equal(pad_curve.weights, own.weights)
+        and np.allclose(image, own.control_points, rtol=0.0, atol=1e-12 * radius)
+    )
+    return NurbsCurve(own.degree, own.knots, image, own.weights) if same else own
+
+
 def _arc_specimen_boundary(face: list[Segment], half: float, h: float) -> Boundary:
     """A specimen whose face is three arcs right to left (:func:`_arc_specimen_face`)
     between vertical sides, its bottom at y = -h: the cylinder's and the groove's."""
@@ -327,6 +343,8 @@ class CylinderSpecimen:
                 f"a cylinder specimen (radius {r:g} mm) faces node to node only a cylinder pad "
                 "of the same radius; for other pairs use a flat specimen or shape = 'nurbs'"
             )
+        if len(pad_face) == len(arcs):
+            arcs = [_point_image(s.curve, arc, r) for s, arc in zip(pad_face, arcs, strict=True)]
         return _arc_specimen_face(arcs)
 
     def boundary(self, pad_face: list[Segment], zone: float) -> Boundary:

@@ -1,0 +1,76 @@
+"""Segments that are each other's point image (reflected through the origin), for the block store.
+
+The Kelvin kernels are even in the offset and the normal together: T(-r, -n) = T(r, n) and
+U(-r) = U(r), each product and sum of their formulas the same floating-point operation on
+negated operands. A segment whose geometry is the exact point image of another's (the same
+family, parameterisation and functions, its coefficients negated) has, against the image of
+any other segment, the same regular H and G blocks to the last bit, and its quadrature rules
+are the other's with points, tangents and normals negated. Two similar cylinders (the
+reference scene's pad and specimen, :mod:`fretbem.geometry.shapes`) are such images: one
+body's blocks serve the other's (:class:`fretbem.bem.assembly.BlockStore`).
+"""
+
+from __future__ import annotations
+
+import attrs
+import numpy as np
+
+from fretbem.basis import Basis
+
+#: the fields of a Basis and of its curve that carry the geometry (negated in an image)
+GEOMETRY_FIELDS = frozenset({"geometry_coefficients", "control_points"})
+
+
+def signatures(basis: Basis) -> tuple[tuple, tuple] | None:
+    """Keys (the segment's, its point image's) equal between a segment and any exact copy,
+    so that ``signatures(a)[1] == signatures(b)[0]`` when b is a's point image; None when
+    the family's map is not odd in the geometry (``Basis.odd_map``) or a field cannot be
+    compared."""
+    if not type(basis).odd_map:
+        return None
+    try:
+        return _key(basis, 1.0), _key(basis, -1.0)
+    except TypeError:  # an unhashable field of a family of its own
+        return None
+
+
+def _key(record, sign: float) -> tuple:
+    parts: list = [type(record)]
+    for field in attrs.fields(type(record)):
+        value = getattr(record, field.name)
+        if attrs.has(type(value)):
+            parts.append(_key(value, sign))
+        elif isinstance(value, np.ndarray):
+            if field.name in GEOMETRY_FIELDS:
+                value = sign * value + 0.0  # + 0.0: -0.0 and 0.0 are the same coordinate
+            parts.append((value.dtype.str, value.shape, value.tobytes()))
+        else:
+            hash(value)
+            parts.append(value)
+    return tuple(parts)
+
+
+#: the rules (:func:`fretbem.bem.assembly._segment_rules`) that are points, tangents or
+#: normals: negated in the image; per key, the entries of a tuple that are (None: the array)
+NEGATED = {
+    "far": (0, 1),
+    "mid": (0, 1),
+    "samples": None,
+    "centres": None,
+    "start_points": None,
+    "start_tangents": None,
+    "singular_sides": (0, 1),
+}
+
+
+def reflected_rules(rules: dict) -> dict:
+    """A segment's rules for its point image: points, tangents and normals negated (exactly
+    what the image's own basis evaluation gives), weights, values and lengths shared."""
+    out = dict(rules)
+    for name, entries in NEGATED.items():
+        value = rules[name]
+        if entries is None:
+            out[name] = -value
+        else:
+            out[name] = tuple(-v if i in entries else v for i, v in enumerate(value))
+    return out
