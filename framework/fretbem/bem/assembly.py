@@ -143,7 +143,7 @@ class BlockStore:
             return None
         return self._blocks.get(columns, {}).get(rows, {}).get(key)
 
-    def _signature(self, basis) -> tuple | None:
+    def _signature(self, basis) -> tuple[bytes, bytes] | None:
         if basis not in self._signatures:
             self._signatures[basis] = images.signatures(basis)
         return self._signatures[basis]

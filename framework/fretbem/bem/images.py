@@ -12,6 +12,8 @@ body's blocks serve the other's (:class:`fretbem.bem.assembly.BlockStore`).
 
 from __future__ import annotations
 
+import hashlib
+
 import attrs
 import numpy as np
 
@@ -21,33 +23,36 @@ from fretbem.basis import Basis
 GEOMETRY_FIELDS = frozenset({"geometry_coefficients", "control_points"})
 
 
-def signatures(basis: Basis) -> tuple[tuple, tuple] | None:
-    """Keys (the segment's, its point image's) equal between a segment and any exact copy,
-    so that ``signatures(a)[1] == signatures(b)[0]`` when b is a's point image; None when
-    the family's map is not odd in the geometry (``Basis.odd_map``) or a field cannot be
-    compared."""
+def signatures(basis: Basis) -> tuple[bytes, bytes] | None:
+    """Digests (the segment's, its point image's) of every field of the segment and of its
+    curve, equal between a segment and any exact copy, so that ``signatures(a)[1] ==
+    signatures(b)[0]`` when b is a's point image; None when the family's map is not odd in
+    the geometry (``Basis.odd_map``)."""
     if not type(basis).odd_map:
         return None
-    try:
-        return _key(basis, 1.0), _key(basis, -1.0)
-    except TypeError:  # an unhashable field of a family of its own
-        return None
+    return _digest(basis, 1.0), _digest(basis, -1.0)
 
 
-def _key(record, sign: float) -> tuple:
-    parts: list = [type(record)]
+def _digest(record, sign: float) -> bytes:
+    digest = hashlib.blake2b(digest_size=20)
+    _feed(digest, record, sign)
+    return digest.digest()
+
+
+def _feed(digest, record, sign: float) -> None:
+    digest.update(type(record).__qualname__.encode())
     for field in attrs.fields(type(record)):
         value = getattr(record, field.name)
+        digest.update(field.name.encode())
         if attrs.has(type(value)):
-            parts.append(_key(value, sign))
+            _feed(digest, value, sign)
         elif isinstance(value, np.ndarray):
             if field.name in GEOMETRY_FIELDS:
                 value = sign * value + 0.0  # + 0.0: -0.0 and 0.0 are the same coordinate
-            parts.append((value.dtype.str, value.shape, value.tobytes()))
+            digest.update(f"{value.dtype.str}{value.shape}".encode())
+            digest.update(np.ascontiguousarray(value).tobytes())
         else:
-            hash(value)
-            parts.append(value)
-    return tuple(parts)
+            digest.update(f"{type(value).__qualname__}:{value!r}".encode())
 
 
 #: the rules (:func:`fretbem.bem.assembly._segment_rules`) that are points, tangents or
