@@ -223,13 +223,14 @@ class Basis(ABC):
     name: ClassVar[str] = ""
     description: ClassVar[str] = ""
     interpolatory: ClassVar[bool] = False
-    #: :meth:`map` is odd in the geometry: with ``curve``'s control points and the geometry
-    #: coefficients negated (the segment reflected through the origin), its points, tangents
-    #: and normals change sign exactly and its values and Jacobians stay (true of sums of
-    #: products with the coefficients, as the shared :meth:`map`); a family whose own ``map``
-    #: is not so sets False (the assembly then never takes an image's blocks for it,
-    #: :mod:`fretbem.bem.images`)
-    odd_map: ClassVar[bool] = True
+    #: :meth:`discretise` and :meth:`map` are odd in the geometry: a curve reflected through
+    #: the origin (its control points negated) is discretised into the same elements,
+    #: functions and collocation with the geometry coefficients negated, and ``map`` changes
+    #: the sign of points, tangents and normals exactly, its values and Jacobians the same
+    #: (true of sums of products with the coefficients, as the shared :meth:`map`); a family
+    #: for which this is not so sets False (:mod:`fretbem.bem.images` then takes nothing
+    #: from a point image for it)
+    odd_in_geometry: ClassVar[bool] = True
 
     curve: NurbsCurve
     degree: int

@@ -23,6 +23,7 @@ from fretbem.geometry.nurbs import NurbsCurve
 from fretbem.material import Material
 from fretbem.numerics.quadrature import QuadratureRule
 
+from . import images
 from . import layout as bem_layout
 from .integration import Assembler, Collocation, IntegrationSettings, offsets
 from .kernels import KelvinKernel
@@ -35,8 +36,10 @@ __all__ = ["BemBody", "discretised"]
 
 
 def discretised(family: type[Basis], segment, refinement: Refinement) -> Basis:
-    """``segment.discretised(family, refinement)`` (the segment keeps its discretisations)."""
-    return segment.discretised(family, refinement)
+    """``segment.discretised(family, refinement)`` (the segment keeps its discretisations;
+    a point image of a segment discretised before takes that one reflected:
+    :func:`fretbem.bem.images.discretise`)."""
+    return segment.discretised(family, refinement, images.discretise)
 
 
 #: int phi_a dGamma per discretised segment (weak keys: shared by bodies that share it)

@@ -7,17 +7,20 @@ family, parameterisation and functions, its coefficients negated) has, against t
 any other segment, the same regular H and G blocks to the last bit, and its quadrature rules
 are the other's with points, tangents and normals negated. Two similar cylinders (the
 reference scene's pad and specimen, :mod:`fretbem.geometry.shapes`) are such images: one
-body's blocks serve the other's (:class:`fretbem.bem.assembly.BlockStore`).
+body's discretisation (:func:`discretise`), collocation points
+(:class:`fretbem.bem.integration.Collocation`), rules and blocks
+(:class:`fretbem.bem.assembly.BlockStore`) serve the other's.
 """
 
 from __future__ import annotations
 
 import hashlib
+import weakref
 
 import attrs
 import numpy as np
 
-from fretbem.basis import Basis
+from fretbem.basis import Basis, Refinement
 
 #: the fields of a Basis and of its curve that carry the geometry (negated in an image)
 GEOMETRY_FIELDS = frozenset({"geometry_coefficients", "control_points"})
@@ -27,8 +30,8 @@ def signatures(basis: Basis) -> tuple[bytes, bytes] | None:
     """Digests (the segment's, its point image's) of every field of the segment and of its
     curve, equal between a segment and any exact copy, so that ``signatures(a)[1] ==
     signatures(b)[0]`` when b is a's point image; None when the family's map is not odd in
-    the geometry (``Basis.odd_map``)."""
-    if not type(basis).odd_map:
+    the geometry (``Basis.odd_in_geometry``)."""
+    if not type(basis).odd_in_geometry:
         return None
     return _digest(basis, 1.0), _digest(basis, -1.0)
 
@@ -79,3 +82,39 @@ def reflected_rules(rules: dict) -> dict:
         else:
             out[name] = tuple(-v if i in entries else v for i, v in enumerate(value))
     return out
+
+
+#: discretised segments by (family, refinement, curve) digest, so that a curve's point image
+#: finds the segment discretised before (weak values: it goes with the segment)
+_DISCRETISED: weakref.WeakValueDictionary = weakref.WeakValueDictionary()
+#: each segment discretised as another's point image: that other segment (weak both ways)
+_SOURCES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def discretise(family: type[Basis], curve, refinement: Refinement) -> Basis:
+    """``family.discretise(curve, refinement)``; for the point image of a curve discretised
+    before by the same family and refinement, that segment reflected (the same numbers, when
+    the family is odd in the geometry: ``Basis.odd_in_geometry``)."""
+    if not family.odd_in_geometry:
+        return family.discretise(curve, refinement)
+    how = f"{family.__module__}.{family.__qualname__}:{refinement!r}".encode()
+    own, image = (how + _digest(curve, sign) for sign in (1.0, -1.0))
+    source = _DISCRETISED.get(image)
+    if source is None:
+        basis = family.discretise(curve, refinement)
+    else:
+        basis = attrs.evolve(
+            source,
+            curve=attrs.evolve(source.curve, control_points=-source.curve.control_points),
+            geometry_coefficients=-source.geometry_coefficients,
+        )
+        _SOURCES[basis] = weakref.ref(source)
+    _DISCRETISED[own] = basis
+    return basis
+
+
+def source(basis: Basis) -> Basis | None:
+    """The segment ``basis`` was discretised from as its point image (:func:`discretise`),
+    if it is alive, else None."""
+    ref = _SOURCES.get(basis)
+    return None if ref is None else ref()

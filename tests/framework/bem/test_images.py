@@ -9,8 +9,9 @@ import attrs
 import numpy as np
 import pytest
 
+from fretbem.basis import Refinement
 from fretbem.bem import assembly, images
-from fretbem.bem.integration import IntegrationSettings
+from fretbem.bem.integration import Collocation, IntegrationSettings
 from fretbem.bem.system import g_free_segments
 from fretbem.scenes import cattaneo_mindlin
 
@@ -63,7 +64,7 @@ def test_a_family_whose_map_is_not_odd_has_no_image(monkeypatch):
     (pad, _), (specimen, _) = _bodies("nurbs", False)
     segment = specimen.segments[3]
     assert images.signatures(segment)[1] == images.signatures(pad.segments[1])[0]
-    monkeypatch.setattr(type(segment), "odd_map", False)
+    monkeypatch.setattr(type(segment), "odd_in_geometry", False)
     assert images.signatures(segment) is None
 
 
@@ -88,3 +89,27 @@ def test_reflected_rules_are_the_images_own():
         for name, value in own.items():
             mine, theirs = (v if isinstance(v, tuple) else (v,) for v in (value, reflected[name]))
             assert all(np.array_equal(a, b) for a, b in zip(mine, theirs, strict=True)), name
+
+
+@pytest.mark.parametrize("basis", ["nurbs", "lagrange2"])
+def test_a_point_image_is_discretised_and_collocated_as_its_own(basis):
+    """The specimen's segments, taken reflected from the pad's, equal the family's own
+    discretisation of its curves, and so do their collocation points."""
+    simulation = cattaneo_mindlin(basis=basis, pairs=21, radius=70.5)
+    pad, specimen = simulation.pair.upper, simulation.pair.lower
+    pad.collocation  # noqa: B018 - the pad's points first, as a run computes them
+    for k, segment in enumerate(specimen.segments):
+        assert images.source(segment) is pad.segments[(k - 2) % len(pad.segments)]
+        boundary_segment = specimen.boundary.segments[k]
+        refinement = specimen.refinement.get(boundary_segment.tag, Refinement())
+        own = specimen.family.discretise(boundary_segment.curve, refinement)
+        for field in attrs.fields(type(own)):
+            a, b = getattr(segment, field.name), getattr(own, field.name)
+            if attrs.has(type(a)):
+                assert all(np.array_equal(getattr(a, f.name), getattr(b, f.name))
+                           for f in attrs.fields(type(a)))  # fmt: skip
+            else:
+                assert np.array_equal(a, b), field.name
+    fresh = Collocation.of([attrs.evolve(s) for s in specimen.segments])
+    for name in ("segment", "element", "local", "parameter", "points", "normals"):
+        assert np.array_equal(getattr(specimen.collocation, name), getattr(fresh, name)), name
