@@ -19,7 +19,7 @@ import numpy as np
 from fretbem.numerics.graded import graded_rule
 from fretbem.numerics.quadrature import QuadratureRule
 
-from . import images
+from . import images, mirror
 
 #: closest-point start samples per element; every other one is a distance sample of the
 #: classification (np.linspace(-1, 1, 9), exactly: the spacings are powers of two)
@@ -348,49 +348,69 @@ def assemble(
     reuse = n <= REUSE_MAX_FUNCTIONS
     skips_g = getattr(loops, "SKIPS_G", False)
     starts = np.searchsorted(colloc.segment, np.arange(len(segments) + 1))  # rows in order
-    jobs = []
+    with_g = [not (skips_g and k in g_free) for k in range(len(segments))]
+    all_rules = []
+    for k, basis in enumerate(segments):
+        rules = BLOCKS.rules(basis, s) if reuse else None
+        if rules is None:
+            rows = slice(starts[k], starts[k + 1])
+            rules = _segment_rules(
+                basis, s, colloc.element[rows], colloc.local[rows], colloc.parameter[rows]
+            )
+            if reuse:
+                BLOCKS.keep_rules(basis, s, rules)
+        all_rules.append(rules)
+    q = mirror.permutation(
+        segments, [rules["far"] for rules in all_rules], colloc.points, assembler.offsets
+    )
+    if q is not None and any(
+        with_g[k] != with_g[colloc.segment[q[starts[k]]]] for k in range(len(segments))
+    ):
+        q = None  # G's columns left out on one side only
+    integrated = None if q is None else mirror.integrated_rows(q, colloc.points)
+    jobs, stored, integrated_any = [], [], False
     for k, basis in enumerate(segments):
         columns = slice(2 * assembler.offsets[k], 2 * assembler.offsets[k + 1])
-        with_g = not (skips_g and k in g_free)
-        key = (shear_modulus, nu, s, loops.__name__, with_g)
+        key = (shear_modulus, nu, s, loops.__name__, with_g[k], q is not None)
         known = {
             r: block
             for r, row_basis in enumerate(segments)
             if reuse and (block := BLOCKS.get(basis, row_basis, key)) is not None
         }
         todo = _rows_outside(starts, known)
+        if integrated is not None:
+            todo = todo[integrated[todo]]
         rows = np.arange(starts[k], starts[k + 1])
-        rules = BLOCKS.rules(basis, s) if reuse else None
-        if rules is None:
-            rules = _segment_rules(
-                basis, s, colloc.element[rows], colloc.local[rows], colloc.parameter[rows]
-            )
-            if reuse:
-                BLOCKS.keep_rules(basis, s, rules)
+        rules = all_rules[k]
         cols = assembler.offsets[k] + basis.connectivity
-        length = rules["length"]
         if todo.size:  # rows whose blocks no earlier body (or its point image) holds
+            integrated_any = True
             pr, pe, kind = loops.classify_and_integrate(
                 todo, colloc.points, colloc.segment == k, colloc.parameter,
-                basis.element_bounds, rules["samples"], rules["centres"], rules["radii"], length,
-                *rules["far"], *rules["mid"], cols, s.far_ratio, s.near_ratio, shear_modulus, nu,
-                h, g, *(() if with_g else (False,)),
+                basis.element_bounds, rules["samples"], rules["centres"], rules["radii"],
+                rules["length"], *rules["far"], *rules["mid"], cols, s.far_ratio,
+                s.near_ratio, shear_modulus, nu, h, g, *(() if with_g[k] else (False,)),
             )  # fmt: skip
             near = kind == loops.NEAR
             pr, pe = todo[pr[near]], pe[near]
             if pr.size:
                 _near(loops, basis, rules, colloc.points, pr, pe, cols, s, (shear_modulus, nu),
-                      h, g, with_g)  # fmt: skip
-        for r, row_basis in enumerate(segments):
+                      h, g, with_g[k])  # fmt: skip
+        for r in range(len(segments)):
             block_rows = slice(2 * starts[r], 2 * starts[r + 1])
             if r in known:
                 h[block_rows, columns], g[block_rows, columns] = known[r]
             elif reuse:
-                BLOCKS.put(basis, row_basis, key, h[block_rows, columns], g[block_rows, columns])
+                stored.append((basis, segments[r], key, block_rows, columns))
         jobs.append(
             (k, basis, rows, rules["values"], rows[rules["singular_rows"]],
-             rules["singular_elements"], rules["singular_sides"], with_g)
+             rules["singular_elements"], rules["singular_sides"], with_g[k])
         )  # fmt: skip
+    if q is not None and integrated_any:  # the rows not integrated, from their mirrors
+        mirror.fill(h, q, integrated)
+        mirror.fill(g, q, integrated)
+    for basis, row_basis, key, block_rows, columns in stored:
+        BLOCKS.put(basis, row_basis, key, h[block_rows, columns], g[block_rows, columns])
     if reuse:
         BLOCKS.assembled(segments)
     # rigid-body identity: subtract phi_a(s) * (row sum of the non-singular part of H)
