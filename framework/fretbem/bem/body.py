@@ -52,7 +52,14 @@ _SAMPLES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 def _segment_samples(basis: Basis) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Function indices (points, p+1), points (points, 2), values (points, p+1) and
-    quadrature weights with the Jacobian (points,) of one segment's 8-point Gauss rules."""
+    quadrature weights with the Jacobian (points,) of one segment's 8-point Gauss rules
+    (a point image's: its points negated, :func:`fretbem.bem.images.source`)."""
+    image = images.source(basis) if basis not in _SAMPLES else None
+    if image in _SAMPLES:
+        functions, points, values, weights = _SAMPLES[image]
+        points = -points
+        points.flags.writeable = False
+        _SAMPLES[basis] = (functions, points, values, weights)
     if basis not in _SAMPLES:
         rule = QuadratureRule.gauss_legendre(8)
         elements = np.repeat(np.arange(basis.n_elements), rule.points.size)

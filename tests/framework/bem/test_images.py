@@ -11,6 +11,7 @@ import pytest
 
 from fretbem.basis import Refinement
 from fretbem.bem import assembly, images
+from fretbem.bem.body import _segment_samples
 from fretbem.bem.integration import Collocation, IntegrationSettings
 from fretbem.bem.system import g_free_segments
 from fretbem.scenes import cattaneo_mindlin
@@ -113,3 +114,7 @@ def test_a_point_image_is_discretised_and_collocated_as_its_own(basis):
     fresh = Collocation.of([attrs.evolve(s) for s in specimen.segments])
     for name in ("segment", "element", "local", "parameter", "points", "normals"):
         assert np.array_equal(getattr(specimen.collocation, name), getattr(fresh, name)), name
+    pad.resultant_weights()  # the pad's 8-point samples first
+    for segment in specimen.segments:
+        mine, own = _segment_samples(segment), _segment_samples(attrs.evolve(segment))
+        assert all(np.array_equal(a, b) for a, b in zip(mine, own, strict=True))
