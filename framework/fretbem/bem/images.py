@@ -33,29 +33,39 @@ def signatures(basis: Basis) -> tuple[bytes, bytes] | None:
     the geometry (``Basis.odd_in_geometry``)."""
     if not type(basis).odd_in_geometry:
         return None
-    return _digest(basis, 1.0), _digest(basis, -1.0)
+    return _digests(basis)
 
 
-def _digest(record, sign: float) -> bytes:
-    digest = hashlib.blake2b(digest_size=20)
-    _feed(digest, record, sign)
-    return digest.digest()
+def _digests(record) -> tuple[bytes, bytes]:
+    """The digests of ``record`` and of its point image, from one walk over its fields: the
+    fields the reflection keeps hashed once, the geometry hashed as it is and negated."""
+    common, geometry = [], []
+    _walk(record, common, geometry)
+    kept = hashlib.blake2b(b"".join(common), digest_size=20).digest()
+    out = []
+    for sign in (1.0, -1.0):
+        digest = hashlib.blake2b(kept, digest_size=20)
+        for value in geometry:
+            digest.update((sign * value + 0.0).tobytes())  # + 0.0: -0.0 is 0.0
+        out.append(digest.digest())
+    return out[0], out[1]
 
 
-def _feed(digest, record, sign: float) -> None:
-    digest.update(type(record).__qualname__.encode())
+def _walk(record, common: list, geometry: list) -> None:
+    common.append(type(record).__qualname__.encode())
     for field in attrs.fields(type(record)):
         value = getattr(record, field.name)
-        digest.update(field.name.encode())
+        common.append(field.name.encode())
         if attrs.has(type(value)):
-            _feed(digest, value, sign)
+            _walk(value, common, geometry)
         elif isinstance(value, np.ndarray):
+            common.append(f"{value.dtype.str}{value.shape}".encode())
             if field.name in GEOMETRY_FIELDS:
-                value = sign * value + 0.0  # + 0.0: -0.0 and 0.0 are the same coordinate
-            digest.update(f"{value.dtype.str}{value.shape}".encode())
-            digest.update(np.ascontiguousarray(value).tobytes())
+                geometry.append(np.ascontiguousarray(value))
+            else:
+                common.append(np.ascontiguousarray(value).tobytes())
         else:
-            digest.update(f"{type(value).__qualname__}:{value!r}".encode())
+            common.append(f"{type(value).__qualname__}:{value!r}".encode())
 
 
 #: the rules (:func:`fretbem.bem.assembly._segment_rules`) that are points, tangents or
@@ -98,7 +108,7 @@ def discretise(family: type[Basis], curve, refinement: Refinement) -> Basis:
     if not family.odd_in_geometry:
         return family.discretise(curve, refinement)
     how = f"{family.__module__}.{family.__qualname__}:{refinement!r}".encode()
-    own, image = (how + _digest(curve, sign) for sign in (1.0, -1.0))
+    own, image = (how + digest for digest in _digests(curve))
     source = _DISCRETISED.get(image)
     if source is None:
         basis = family.discretise(curve, refinement)
