@@ -57,7 +57,7 @@ def _segment_samples(basis: Basis) -> tuple[np.ndarray, np.ndarray, np.ndarray, 
     image = images.source(basis) if basis not in _SAMPLES else None
     if image in _SAMPLES:
         functions, points, values, weights = _SAMPLES[image]
-        points = -points
+        points = -points + 0.0  # its zeros +0, as the image's own evaluation
         points.flags.writeable = False
         _SAMPLES[basis] = (functions, points, values, weights)
     if basis not in _SAMPLES:

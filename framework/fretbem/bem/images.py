@@ -81,6 +81,11 @@ NEGATED = {
 }
 
 
+def _negated(array: np.ndarray) -> np.ndarray:
+    """-array, its zeros +0 (as a point image's own evaluation gives them, and as printed)."""
+    return -array + 0.0
+
+
 def reflected_rules(rules: dict) -> dict:
     """A segment's rules for its point image: points, tangents and normals negated (exactly
     what the image's own basis evaluation gives), weights, values and lengths shared."""
@@ -88,9 +93,9 @@ def reflected_rules(rules: dict) -> dict:
     for name, entries in NEGATED.items():
         value = rules[name]
         if entries is None:
-            out[name] = -value
+            out[name] = _negated(value)
         else:
-            out[name] = tuple(-v if i in entries else v for i, v in enumerate(value))
+            out[name] = tuple(_negated(v) if i in entries else v for i, v in enumerate(value))
     return out
 
 
@@ -115,8 +120,8 @@ def discretise(family: type[Basis], curve, refinement: Refinement) -> Basis:
     else:
         basis = attrs.evolve(
             source,
-            curve=attrs.evolve(source.curve, control_points=-source.curve.control_points),
-            geometry_coefficients=-source.geometry_coefficients,
+            curve=attrs.evolve(source.curve, control_points=_negated(source.curve.control_points)),
+            geometry_coefficients=_negated(source.geometry_coefficients),
         )
         _SOURCES[basis] = weakref.ref(source)
     _DISCRETISED[own] = basis

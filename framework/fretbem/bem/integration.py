@@ -145,7 +145,9 @@ class Collocation:
             image = images.source(basis) if own is None else None
             if image in _SEGMENT_POINTS:  # a point image's: its points and normals negated
                 elements, local, parameters, points, normals = _SEGMENT_POINTS[image]
-                own = _SEGMENT_POINTS[basis] = (elements, local, parameters, -points, -normals)
+                own = _SEGMENT_POINTS[basis] = (
+                    elements, local, parameters, -points + 0.0, -normals + 0.0
+                )  # fmt: skip
             if own is None:
                 elements, local = basis.collocation()
                 points, _, _, normals = basis.geometry(elements, local)

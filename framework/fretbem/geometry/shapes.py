@@ -74,7 +74,7 @@ def _point_image(pad_curve: NurbsCurve, own: NurbsCurve, radius: float) -> Nurbs
     that is the same arc to round-off (a specimen as wide as the pad): the two similar
     cylinders are then each other's exact point image, which the BEM assembly uses (one
     body's blocks serve the other's, :class:`fretbem.bem.assembly.BlockStore`)."""
-    image = -pad_curve.control_points
+    image = -pad_curve.control_points + 0.0  # + 0.0: a coordinate 0 stays 0, not -0
     same = (
         pad_curve.degree == own.degree
         and image.shape == own.control_points.shape
