@@ -55,7 +55,7 @@ kernels' signs (`fretbem.bem.mirror`, within 7e-14 of the largest entry of integ
 and a body that is another's exact point image (the specimen of two similar cylinders)
 takes that body's discretisation, collocation points, rules and blocks, bit for bit
 (`fretbem.bem.images`). In the reference scene the pad's rows are half integrated and the
-specimen's not at all: the 61-pair numpy assembly of both bodies 40 -> 17 ms
+specimen's not at all: the 61-pair numpy assembly of both bodies 41 -> 19 ms
 (`benchmarks/bem_phases.py`).
 
 `IntegrationSettings(compiled=None)` (the default) chooses by ski rental: the numpy loops
