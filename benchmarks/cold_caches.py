@@ -7,16 +7,31 @@ of these caches: a cache the tree does not have is skipped).
 from __future__ import annotations
 
 from fretbem import basis
+from fretbem.bem import assembly
+
+try:
+    from fretbem.bem import images
+except ImportError:  # an older tree
+    images = None
 from fretbem.geometry import nurbs
 from fretbem.scenes import builder
 
 
 def clear_scene_caches() -> None:
-    """The builder's recent scenes, the graded breakpoints and the refinement operators."""
+    """The builder's recent scenes, the graded breakpoints, the refinement operators, the
+    assembly's block store and the discretisations kept for point images (the last cycle's
+    segments, alive until the next cycle's simulation replaces theirs, would otherwise lend
+    it their discretisation and rules as point images)."""
     for module, name in ((builder, "_built"), (basis, "_graded")):
         cache = getattr(module, name, None)
         if cache is not None:
             cache.cache_clear()
+    blocks = getattr(assembly, "BLOCKS", None)
+    if blocks is not None:
+        blocks.clear()
+    discretised = getattr(images, "_DISCRETISED", None)
+    if discretised is not None:
+        discretised.clear()
     operators = getattr(nurbs, "_OPERATORS", None)
     if operators is not None:
         operators.clear()

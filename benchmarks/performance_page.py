@@ -49,6 +49,15 @@ copy of the round-1 assembler):
   components alone (no logarithm), about 46 % of each body's columns in the reference
   scene and 5 % of its 61-pair cycle; H and the unknowns are the same bit for bit.
 
+Both integrate only what symmetry leaves (docs/theory.md, Integration): on a body
+symmetric about the y axis one row of each mirrored pair, the other filled with the
+kernels' signs (`fretbem.bem.mirror`, within 7e-14 of the largest entry of integrating it),
+and a body that is another's exact point image (the specimen of two similar cylinders)
+takes that body's discretisation, collocation points, rules and blocks, bit for bit
+(`fretbem.bem.images`). In the reference scene the pad's rows are half integrated and the
+specimen's not at all: the 61-pair numpy assembly of both bodies 41 -> 19 ms
+(`benchmarks/bem_phases.py`).
+
 `IntegrationSettings(compiled=None)` (the default) chooses by ski rental: the numpy loops
 run until the process has spent `COMPILED_MIN_PAIRS` (400,000) point-element pairs on
 them, about what loading numba costs; from then on (at once for a body that large, or once

@@ -223,6 +223,14 @@ class Basis(ABC):
     name: ClassVar[str] = ""
     description: ClassVar[str] = ""
     interpolatory: ClassVar[bool] = False
+    #: :meth:`discretise` and :meth:`map` are odd in the geometry: a curve reflected through
+    #: the origin (its control points negated) is discretised into the same elements,
+    #: functions and collocation with the geometry coefficients negated, and ``map`` changes
+    #: the sign of points, tangents and normals exactly, its values and Jacobians the same
+    #: (true of sums of products with the coefficients, as the shared :meth:`map`); a family
+    #: for which this is not so sets False (:mod:`fretbem.bem.images` then takes nothing
+    #: from a point image for it)
+    odd_in_geometry: ClassVar[bool] = True
 
     curve: NurbsCurve
     degree: int

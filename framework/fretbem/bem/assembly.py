@@ -19,6 +19,8 @@ import numpy as np
 from fretbem.numerics.graded import graded_rule
 from fretbem.numerics.quadrature import QuadratureRule
 
+from . import images, mirror
+
 #: closest-point start samples per element; every other one is a distance sample of the
 #: classification (np.linspace(-1, 1, 9), exactly: the spacings are powers of two)
 START = np.linspace(-1.0, 1.0, 17)
@@ -105,12 +107,19 @@ class BlockStore:
     the segments of the last :data:`RECENT_BODIES` bodies assembled keep theirs: a segment
     that every level shares stays, each level's re-meshed face goes (its Basis may live on
     in the boundary's own cache of discretisations, its blocks do not).
+
+    A segment that is the exact point image of a kept one (:mod:`fretbem.bem.images`: the
+    specimen of two similar cylinders against the pad) takes that one's blocks and its rules
+    reflected: the same numbers its own integration gives, bit for bit.
     """
 
     def __init__(self) -> None:
         self._blocks: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
         self._rules: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
         self._recent: collections.deque = collections.deque(maxlen=RECENT_BODIES)
+        #: each segment's (own, image's) signature, and the kept segments by signature
+        self._signatures: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+        self._by_signature: weakref.WeakValueDictionary = weakref.WeakValueDictionary()
 
     def assembled(self, segments) -> None:
         """Record a body's segments; forget what no recent body uses."""
@@ -124,8 +133,31 @@ class BlockStore:
                 del by_rows[basis]
 
     def get(self, columns, rows, key):
-        """The (H, G) block of ``rows``' points against ``columns``' functions, or None."""
+        """The (H, G) block of ``rows``' points against ``columns``' functions (or of their
+        point images' points and functions: the same numbers), or None."""
+        block = self._blocks.get(columns, {}).get(rows, {}).get(key)
+        if block is not None:
+            return block
+        columns, rows = self.image(columns), self.image(rows)
+        if columns is None or rows is None:
+            return None
         return self._blocks.get(columns, {}).get(rows, {}).get(key)
+
+    def _signature(self, basis) -> tuple[bytes, bytes] | None:
+        if basis not in self._signatures:
+            self._signatures[basis] = images.signatures(basis)
+        return self._signatures[basis]
+
+    def image(self, basis):
+        """The kept segment (its rules kept) that is ``basis``'s exact point image, or None."""
+        source = images.source(basis)  # discretised as that one's image: no digest needed
+        if source is not None and source in self._rules:
+            return source
+        signature = self._signature(basis)
+        if signature is None:
+            return None
+        found = self._by_signature.get(signature[1])
+        return found if found is not None and found in self._rules else None
 
     def put(self, columns, rows, key, h_block, g_block) -> None:
         """Keep a block (copies)."""
@@ -133,8 +165,15 @@ class BlockStore:
         by_rows.setdefault(rows, {})[key] = (h_block.copy(), g_block.copy())
 
     def rules(self, basis, settings) -> dict | None:
-        """The fixed rules of one segment (:func:`_segment_rules`), or None."""
-        return self._rules.get(basis, {}).get(settings)
+        """The fixed rules of one segment (:func:`_segment_rules`; a kept point image's
+        reflected, then kept for it), or None."""
+        rules = self._rules.get(basis, {}).get(settings)
+        if rules is None and (image := self.image(basis)) is not None:
+            kept = self._rules[image].get(settings)
+            if kept is not None:
+                rules = images.reflected_rules(kept)
+                self.keep_rules(basis, settings, rules)
+        return rules
 
     def collocation_values(self, basis, settings) -> np.ndarray | None:
         """The segment's local functions at its own collocation points, (points, n_local),
@@ -145,12 +184,16 @@ class BlockStore:
     def keep_rules(self, basis, settings, rules: dict) -> None:
         """Keep a segment's rules (read-only from here on)."""
         self._rules.setdefault(basis, {})[settings] = rules
+        signature = self._signature(basis)
+        if signature is not None:
+            self._by_signature[signature[0]] = basis
 
     def clear(self) -> None:
         """Forget every block and rule (tests, benchmarks)."""
         self._blocks = weakref.WeakKeyDictionary()
         self._rules = weakref.WeakKeyDictionary()
         self._recent.clear()
+        self._by_signature = weakref.WeakValueDictionary()
 
 
 #: the process's store of regular blocks (see :class:`BlockStore`)
@@ -273,6 +316,24 @@ def _row_sums(h: np.ndarray, n: int, chunk: int = 64) -> np.ndarray:
     return out.reshape(n, 2, 2)
 
 
+def _near(loops, basis, rules, points, pr, pe, cols, s, kernel, h, g, with_g) -> None:
+    """Near pairs (row ``pr[p]``, element ``pe[p]``) on rules graded toward each row's
+    closest point of its element, into H and G (G only ``with_g``)."""
+    center_near, distance = _closest(
+        basis, pe, points[pr], rules["start_points"], rules["start_tangents"]
+    )
+    local, weights = graded_rule(
+        center_near, 2.0 * distance / rules["length"][pe], s.graded_points, s.graded_ratio
+    )
+    near_map = basis.map(np.repeat(pe, local.shape[1]), local.ravel())
+    shape = local.shape
+    loops.integrate_pairs(
+        pr, points, near_map.points.reshape(*shape, 2), near_map.normals.reshape(*shape, 2),
+        near_map.jacobians.reshape(shape) * weights, near_map.values.reshape(*shape, -1),
+        cols[pe], *kernel, h, g, *(() if with_g else (False,)),
+    )  # fmt: skip
+
+
 def assemble(
     assembler, shear_modulus: float, nu: float, loops, g_free: frozenset = frozenset()
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -290,61 +351,69 @@ def assemble(
     reuse = n <= REUSE_MAX_FUNCTIONS
     skips_g = getattr(loops, "SKIPS_G", False)
     starts = np.searchsorted(colloc.segment, np.arange(len(segments) + 1))  # rows in order
-    jobs = []
+    with_g = [not (skips_g and k in g_free) for k in range(len(segments))]
+    all_rules = []
+    for k, basis in enumerate(segments):
+        rules = BLOCKS.rules(basis, s) if reuse else None
+        if rules is None:
+            rows = slice(starts[k], starts[k + 1])
+            rules = _segment_rules(
+                basis, s, colloc.element[rows], colloc.local[rows], colloc.parameter[rows]
+            )
+            if reuse:
+                BLOCKS.keep_rules(basis, s, rules)
+        all_rules.append(rules)
+    q = mirror.permutation(
+        segments, [rules["far"] for rules in all_rules], colloc.points, assembler.offsets
+    )
+    if q is not None and any(
+        with_g[k] != with_g[colloc.segment[q[starts[k]]]] for k in range(len(segments))
+    ):
+        q = None  # G's columns left out on one side only
+    integrated = None if q is None else mirror.integrated_rows(q, colloc.points)
+    jobs, stored, integrated_any = [], [], False
     for k, basis in enumerate(segments):
         columns = slice(2 * assembler.offsets[k], 2 * assembler.offsets[k + 1])
-        with_g = not (skips_g and k in g_free)
-        key = (shear_modulus, nu, s, loops.__name__, with_g)
+        key = (shear_modulus, nu, s, loops.__name__, with_g[k], q is not None)
         known = {
             r: block
             for r, row_basis in enumerate(segments)
             if reuse and (block := BLOCKS.get(basis, row_basis, key)) is not None
         }
         todo = _rows_outside(starts, known)
+        if integrated is not None:
+            todo = todo[integrated[todo]]
         rows = np.arange(starts[k], starts[k + 1])
-        rules = BLOCKS.rules(basis, s) if reuse else None
-        if rules is None:
-            rules = _segment_rules(
-                basis, s, colloc.element[rows], colloc.local[rows], colloc.parameter[rows]
-            )
-            if reuse:
-                BLOCKS.keep_rules(basis, s, rules)
+        rules = all_rules[k]
         cols = assembler.offsets[k] + basis.connectivity
-        length = rules["length"]
-        pr, pe, kind = loops.classify_and_integrate(
-            todo, colloc.points, colloc.segment == k, colloc.parameter,
-            basis.element_bounds, rules["samples"], rules["centres"], rules["radii"], length,
-            *rules["far"], *rules["mid"], cols, s.far_ratio, s.near_ratio, shear_modulus, nu,
-            h, g, *(() if with_g else (False,)),
-        )  # fmt: skip
-        near = kind == loops.NEAR
-        pr, pe = todo[pr[near]], pe[near]
-        if pr.size:
-            src = colloc.points[pr]
-            center_near, distance = _closest(
-                basis, pe, src, rules["start_points"], rules["start_tangents"]
-            )
-            local, weights = graded_rule(
-                center_near, 2.0 * distance / length[pe], s.graded_points, s.graded_ratio
-            )
-            near_map = basis.map(np.repeat(pe, local.shape[1]), local.ravel())
-            shape = local.shape
-            loops.integrate_pairs(
-                pr, colloc.points, near_map.points.reshape(*shape, 2),
-                near_map.normals.reshape(*shape, 2), near_map.jacobians.reshape(shape) * weights,
-                near_map.values.reshape(*shape, -1), cols[pe], shear_modulus, nu, h, g,
-                *(() if with_g else (False,)),
+        if todo.size:  # rows whose blocks no earlier body (or its point image) holds
+            integrated_any = True
+            pr, pe, kind = loops.classify_and_integrate(
+                todo, colloc.points, colloc.segment == k, colloc.parameter,
+                basis.element_bounds, rules["samples"], rules["centres"], rules["radii"],
+                rules["length"], *rules["far"], *rules["mid"], cols, s.far_ratio,
+                s.near_ratio, shear_modulus, nu, h, g, *(() if with_g[k] else (False,)),
             )  # fmt: skip
-        for r, row_basis in enumerate(segments):
+            near = kind == loops.NEAR
+            pr, pe = todo[pr[near]], pe[near]
+            if pr.size:
+                _near(loops, basis, rules, colloc.points, pr, pe, cols, s, (shear_modulus, nu),
+                      h, g, with_g[k])  # fmt: skip
+        for r in range(len(segments)):
             block_rows = slice(2 * starts[r], 2 * starts[r + 1])
             if r in known:
                 h[block_rows, columns], g[block_rows, columns] = known[r]
             elif reuse:
-                BLOCKS.put(basis, row_basis, key, h[block_rows, columns], g[block_rows, columns])
+                stored.append((basis, segments[r], key, block_rows, columns))
         jobs.append(
             (k, basis, rows, rules["values"], rows[rules["singular_rows"]],
-             rules["singular_elements"], rules["singular_sides"], with_g)
+             rules["singular_elements"], rules["singular_sides"], with_g[k])
         )  # fmt: skip
+    if q is not None and integrated_any:  # the rows not integrated, from their mirrors
+        mirror.fill(h, q, integrated)
+        mirror.fill(g, q, integrated)
+    for basis, row_basis, key, block_rows, columns in stored:
+        BLOCKS.put(basis, row_basis, key, h[block_rows, columns], g[block_rows, columns])
     if reuse:
         BLOCKS.assembled(segments)
     # rigid-body identity: subtract phi_a(s) * (row sum of the non-singular part of H)

@@ -23,6 +23,7 @@ from fretbem.geometry.nurbs import NurbsCurve
 from fretbem.material import Material
 from fretbem.numerics.quadrature import QuadratureRule
 
+from . import images
 from . import layout as bem_layout
 from .integration import Assembler, Collocation, IntegrationSettings, offsets
 from .kernels import KelvinKernel
@@ -35,8 +36,10 @@ __all__ = ["BemBody", "discretised"]
 
 
 def discretised(family: type[Basis], segment, refinement: Refinement) -> Basis:
-    """``segment.discretised(family, refinement)`` (the segment keeps its discretisations)."""
-    return segment.discretised(family, refinement)
+    """``segment.discretised(family, refinement)`` (the segment keeps its discretisations;
+    a point image of a segment discretised before takes that one reflected:
+    :func:`fretbem.bem.images.discretise`)."""
+    return segment.discretised(family, refinement, images.discretise)
 
 
 #: int phi_a dGamma per discretised segment (weak keys: shared by bodies that share it)
@@ -49,7 +52,14 @@ _SAMPLES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 def _segment_samples(basis: Basis) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Function indices (points, p+1), points (points, 2), values (points, p+1) and
-    quadrature weights with the Jacobian (points,) of one segment's 8-point Gauss rules."""
+    quadrature weights with the Jacobian (points,) of one segment's 8-point Gauss rules
+    (a point image's: its points negated, :func:`fretbem.bem.images.source`)."""
+    image = images.source(basis) if basis not in _SAMPLES else None
+    if image in _SAMPLES:
+        functions, points, values, weights = _SAMPLES[image]
+        points = -points + 0.0  # its zeros +0, as the image's own evaluation
+        points.flags.writeable = False
+        _SAMPLES[basis] = (functions, points, values, weights)
     if basis not in _SAMPLES:
         rule = QuadratureRule.gauss_legendre(8)
         elements = np.repeat(np.arange(basis.n_elements), rule.points.size)

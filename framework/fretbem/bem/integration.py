@@ -42,7 +42,7 @@ import numpy as np
 from fretbem.basis import Basis
 from fretbem.errors import ComputationError
 
-from . import assembly, numpy_loops
+from . import assembly, images, numpy_loops
 from .kernels import KelvinKernel
 
 
@@ -135,11 +135,19 @@ class Collocation:
         """Collocation data of the discretised segments, in segment order.
 
         Each segment's points are evaluated once per Basis object (:data:`_SEGMENT_POINTS`):
-        bodies that share segments (re-meshed on one face) share them.
+        bodies that share segments (re-meshed on one face) share them, and a segment
+        discretised as another's point image (:func:`fretbem.bem.images.source`) takes
+        the other's negated.
         """
         parts = []
         for k, basis in enumerate(segments):
             own = _SEGMENT_POINTS.get(basis)
+            image = images.source(basis) if own is None else None
+            if image in _SEGMENT_POINTS:  # a point image's: its points and normals negated
+                elements, local, parameters, points, normals = _SEGMENT_POINTS[image]
+                own = _SEGMENT_POINTS[basis] = (
+                    elements, local, parameters, -points + 0.0, -normals + 0.0
+                )  # fmt: skip
             if own is None:
                 elements, local = basis.collocation()
                 points, _, _, normals = basis.geometry(elements, local)

@@ -37,6 +37,11 @@ __all__ = [
 ]
 
 
+def _shown(values: np.ndarray) -> np.ndarray:
+    """Coordinates for a message: 6 decimals, a round-off -0 shown as 0."""
+    return np.round(values, 6) + 0.0
+
+
 class ContactDiscretisationError(InputError):
     """The two sides of a contact pair cannot be paired as the pairing requires."""
 
@@ -47,7 +52,7 @@ def check_overlap(gap: np.ndarray, points: np.ndarray, spacing: float) -> None:
         k = int(np.argmin(gap))
         raise ContactDiscretisationError(
             f"contact pair: the bodies overlap at the start by {-gap[k]:.3g} at "
-            f"{points[k].round(6)}; move the upper body up so the surfaces touch "
+            f"{_shown(points[k])}; move the upper body up so the surfaces touch "
             "without interpenetration"
         )
 
@@ -100,9 +105,9 @@ class ContactPair(ABC):
             mean_normal = mean_normal if np.ndim(mean_normal) == 1 else mean_normal[k]
             raise ContactDiscretisationError(
                 f"contact pair: the contact segments do not face each other: at "
-                f"{upper_points[k].round(6)} the outward normal of the upper segment "
-                f"{self.upper_tag!r} is {upper_normals[k].round(6)}, pointing away from the "
-                f"lower segment {self.lower_tag!r} (whose {which} {mean_normal.round(6)}); "
+                f"{_shown(upper_points[k])} the outward normal of the upper segment "
+                f"{self.upper_tag!r} is {_shown(upper_normals[k])}, pointing away from the "
+                f"lower segment {self.lower_tag!r} (whose {which} {_shown(mean_normal)}); "
                 "tag the faces that touch, with the upper body on the side the lower face's "
                 "normal points to"
             )
@@ -159,7 +164,7 @@ class NodeToNodePair(ContactPair):
         if bad.size or np.unique(partner).size != partner.size:
             k = int(bad[0]) if bad.size else int(np.argmax(np.bincount(partner)))
             raise ContactDiscretisationError(
-                f"contact pair: the lower collocation point at {low_points[k].round(6)} has no "
+                f"contact pair: the lower collocation point at {_shown(low_points[k])} has no "
                 f"facing point on the upper segment {self.upper_tag!r} (nearest is "
                 f"{miss[k]:.3g} off along the surface, point spacing {spacing:.3g}); the "
                 "discretisations must match node to node: use the same family and refinement "

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from functools import partial
+
 import attrs
 import numpy as np
 
@@ -36,11 +38,14 @@ class Segment:
     #: boundary (adaptive and companion levels, sweeps) discretise only what changed
     _discretised: dict = attrs.field(init=False, factory=dict, repr=False, eq=False)
 
-    def discretised(self, family, refinement):
-        """``family.discretise(curve, refinement)``, computed once per family and refinement."""
+    def discretised(self, family, refinement, discretise=None):
+        """``family.discretise(curve, refinement)``, computed once per family and refinement
+        (by ``discretise(family, curve, refinement)`` when given: the same basis found
+        another way)."""
         key = (family, refinement)
         if key not in self._discretised:
-            self._discretised[key] = family.discretise(self.curve, refinement)
+            make = family.discretise if discretise is None else partial(discretise, family)
+            self._discretised[key] = make(self.curve, refinement)
         return self._discretised[key]
 
 

@@ -69,6 +69,42 @@ def _arc_specimen_face(arcs: list[NurbsCurve]) -> list[Segment]:
             Segment("flank_left", arcs[2])]  # fmt: skip
 
 
+def _mirrored(curve: NurbsCurve) -> NurbsCurve:
+    """``curve`` reflected about x = 0 and traversed the other way (the same direction
+    around the body): exactly, coordinate by coordinate."""
+    back = curve.reversed()
+    points = back.control_points * [-1.0, 1.0] + 0.0  # + 0.0: x = 0 stays 0, not -0
+    return NurbsCurve(back.degree, back.knots, points, back.weights)
+
+
+def _symmetric(curve: NurbsCurve) -> NurbsCurve:
+    """A curve symmetric about x = 0 to round-off made symmetric to the last bit: each
+    control point and weight the mean of itself and its mirror (uniform knots assumed
+    symmetric, as an arc's are)."""
+    points, weights = curve.control_points, curve.weights
+    x = (points[:, 0] - points[::-1, 0]) * 0.5 + 0.0
+    y = (points[:, 1] + points[::-1, 1]) * 0.5
+    return NurbsCurve(
+        curve.degree, curve.knots, np.column_stack([x, y]), (weights + weights[::-1]) * 0.5
+    )
+
+
+def _point_image(pad_curve: NurbsCurve, own: NurbsCurve, radius: float) -> NurbsCurve:
+    """``own`` (a specimen arc), or the pad's face curve reflected through the origin when
+    that is the same arc to round-off (a specimen as wide as the pad): the two similar
+    cylinders are then each other's exact point image, which the BEM assembly uses (one
+    body's blocks serve the other's, :class:`fretbem.bem.assembly.BlockStore`)."""
+    image = -pad_curve.control_points + 0.0  # + 0.0: a coordinate 0 stays 0, not -0
+    same = (
+        pad_curve.degree == own.degree
+        and image.shape == own.control_points.shape
+        and np.array_equal(pad_curve.knots, own.knots)
+        and np.array_equal(pad_curve.weights, own.weights)
+        and np.allclose(image, own.control_points, rtol=0.0, atol=1e-12 * radius)
+    )
+    return NurbsCurve(own.degree, own.knots, image, own.weights) if same else own
+
+
 def _arc_specimen_boundary(face: list[Segment], half: float, h: float) -> Boundary:
     """A specimen whose face is three arcs right to left (:func:`_arc_specimen_face`)
     between vertical sides, its bottom at y = -h: the cylinder's and the groove's."""
@@ -153,7 +189,9 @@ class CylinderPad:
         phi_w, phi_z = math.asin(self.width / 2 / r), math.asin(zone / r)
         down = -math.pi / 2
         arcs = _arcs([0.0, r], r, [down - phi_w, down - phi_z, down + phi_z, down + phi_w])
-        return _face_tags([[arcs[0]], [arcs[1]], [arcs[2]]])
+        # symmetric about x = 0 to the last bit (the arcs' cosines and sines are not): the
+        # right flank the left one mirrored, the contact arc its mean with its mirror
+        return _face_tags([[arcs[0]], [_symmetric(arcs[1])], [_mirrored(arcs[0])]])
 
     def boundary(self, zone: float, face: Sequence[Segment] | None = None) -> Boundary:
         """The closed pad boundary (face, sides, top); ``face``: the segments of
@@ -327,6 +365,8 @@ class CylinderSpecimen:
                 f"a cylinder specimen (radius {r:g} mm) faces node to node only a cylinder pad "
                 "of the same radius; for other pairs use a flat specimen or shape = 'nurbs'"
             )
+        if len(pad_face) == len(arcs):
+            arcs = [_point_image(s.curve, arc, r) for s, arc in zip(pad_face, arcs, strict=True)]
         return _arc_specimen_face(arcs)
 
     def boundary(self, pad_face: list[Segment], zone: float) -> Boundary:

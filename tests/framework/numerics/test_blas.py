@@ -20,3 +20,14 @@ def test_one_thread_inside_and_restored_after():
     assert _blas_threads() == before
     with one_blas_thread():  # reused controller
         assert set(_blas_threads()) == {1}
+
+
+def test_limits_a_blas_running_more_threads_and_restores_it():
+    """Under OPENBLAS_NUM_THREADS=1 the limit has nothing to do; with two threads it acts."""
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=2, user_api="blas"):
+        before = _blas_threads()
+        with one_blas_thread():
+            assert set(_blas_threads()) == {1}
+        assert _blas_threads() == before

@@ -1,0 +1,114 @@
+"""Bodies symmetric about the y axis: half of the regular rows integrated, the others mirrored.
+
+The reflection M: (x, y) -> (-x, y) maps the outward normal to the outward normal and the
+Kelvin kernels to themselves up to signs: T_ij(Mx, My, Mn) = s_i s_j T_ij(x, y, n) and
+U_ij(Mx, My) = s_i s_j U_ij(x, y), s = (-1, 1). On a body whose every segment has a
+mirror segment (traversed the other way: its functions in reverse order are the mirrored
+ones), function b's mirror is function Q(b) and the collocation point of row i mirrors to
+that of row Q(i), so the regular (non-singular) parts obey H[Q(i), Q(b)]_ij =
+s_i s_j H[i, b]_ij, G alike. The assembly integrates one row of each mirrored pair and
+fills the other; the rigid-body and singular terms come after, for every row. The body is
+symmetric to round-off (:data:`TOLERANCE`), so the filled rows agree with their own
+integration to round-off, not bit for bit.
+
+Which row of a pair is integrated is decided by x y (the larger), a rule that a point image
+(:mod:`fretbem.bem.images`) keeps: the image body then integrates the image rows and takes
+its blocks from the other body bit for bit.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from fretbem.basis import Basis
+
+#: largest mismatch of a mirrored point, function value or Jacobian, relative to the body's
+#: size (the reference pad is symmetric to 1.5e-14 of its height)
+TOLERANCE = 1e-11
+
+
+def permutation(
+    segments: Sequence[Basis], far_rules: Sequence[tuple], points: np.ndarray, offsets
+) -> np.ndarray | None:
+    """Q, each function's (and collocation row's) mirror index, or None if the body is not
+    symmetric about x = 0 to :data:`TOLERANCE` of its size.
+
+    ``far_rules``: each segment's far rule (points, normals, J w, values per element and
+    Gauss point, as :func:`fretbem.bem.assembly._segment_rules` keeps it): a mirror segment's,
+    its elements and points in reverse order (the Gauss points are symmetric), are the
+    segment's reflected, its values in reverse local order.
+    """
+    scale = float(np.abs(points).max()) if points.size else 0.0
+    if not scale > 0.0:
+        return None
+    tol = TOLERANCE * scale
+    partner = []
+    for a in segments:
+        found = [j for j, b in enumerate(segments) if _may_mirror(a, b, tol)]
+        if len(found) != 1:
+            return None
+        partner.append(found[0])
+    if any(partner[j] != k for k, j in enumerate(partner)):
+        return None
+    if not all(_mirrors(far_rules[k], far_rules[j], tol) for k, j in enumerate(partner)):
+        return None
+    q = np.empty(int(offsets[-1]), dtype=np.intp)
+    for k, j in enumerate(partner):
+        count = segments[k].n_functions
+        q[offsets[k] : offsets[k + 1]] = offsets[j] + count - 1 - np.arange(count)
+    if np.abs(points[q] * [-1.0, 1.0] - points).max() > tol:
+        return None
+    return q
+
+
+def _may_mirror(a: Basis, b: Basis, tol: float) -> bool:
+    """Whether b can be a traversed backwards and reflected about x = 0: the same family and
+    sizes, element e's local functions reversed are element E - 1 - e's (n - 1 - index),
+    and its first geometry coefficient is b's last reflected (to ``tol``)."""
+    if (
+        type(a) is not type(b)
+        or a.n_functions != b.n_functions
+        or a.connectivity.shape != b.connectivity.shape
+    ):
+        return False
+    (ax, ay), (bx, by) = a.geometry_coefficients[0], b.geometry_coefficients[-1]
+    if abs(ax + bx) > tol or abs(ay - by) > tol:
+        return False
+    return bool(np.array_equal(b.connectivity[::-1, ::-1], a.n_functions - 1 - a.connectivity))
+
+
+def _mirrors(a: tuple, b: tuple, tol: float) -> bool:
+    """Whether far rule b, reversed, is far rule a reflected: points (to ``tol``), J w and
+    the function values in reverse local order (to :data:`TOLERANCE`)."""
+    (xa, _, wa, va), (xb, _, wb, vb) = a, b
+    return bool(
+        np.abs(xb[::-1, ::-1] * [-1.0, 1.0] - xa).max() <= tol
+        and np.abs(wb[::-1, ::-1] - wa).max() <= TOLERANCE * np.abs(wa).max()
+        and np.abs(vb[::-1, ::-1, ::-1] - va).max() <= TOLERANCE
+    )
+
+
+def integrated_rows(q: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """Whether each row is integrated: one of each mirrored pair, the one with the larger
+    x y (the smaller index on a tie), and every row that is its own mirror."""
+    index = np.arange(len(q))
+    xy = points[:, 0] * points[:, 1]
+    other = xy[q]
+    return (q == index) | (xy > other) | ((xy == other) & (index < q))
+
+
+def fill(matrix: np.ndarray, q: np.ndarray, integrated: np.ndarray) -> None:
+    """The rows not integrated, from their mirrors: M[Q(i), Q(b)]_ij = s_i s_j M[i, b]_ij."""
+    missing = np.flatnonzero(~integrated)
+    if not missing.size:
+        return
+    dofs = (2 * missing[:, None] + np.arange(2)).ravel()
+    source = (2 * q[missing][:, None] + np.arange(2)).ravel()
+    columns = (2 * q[:, None] + np.arange(2)).ravel()
+    sign = np.tile([-1.0, 1.0], len(q))
+    block = matrix[source][:, columns]
+    block *= sign[dofs, None]
+    block *= sign
+    matrix[dofs] = block

@@ -1,0 +1,68 @@
+"""Bodies symmetric about the y axis: half of the regular rows integrated, the others
+mirrored, within round-off of integrating every row."""
+
+from __future__ import annotations
+
+import attrs
+import numpy as np
+import pytest
+
+from fretbem.accuracy.adaptive import remesh
+from fretbem.bem import assembly, mirror
+from fretbem.bem.integration import IntegrationSettings
+from fretbem.bem.system import g_free_segments
+from fretbem.scenes import cattaneo_mindlin
+
+
+def _matrices(body, free, monkeypatch, symmetric: bool):
+    assembly.BLOCKS.clear()
+    with monkeypatch.context() as patch:
+        if not symmetric:
+            patch.setattr(mirror, "permutation", lambda *args: None)
+        return attrs.evolve(body).system_matrices(free)
+
+
+@pytest.mark.parametrize(("basis", "pairs", "lower"), [("nurbs", 21, "arc"),
+                         ("lagrange2", 31, "flat"), ("nurbs", 41, "flat")])  # fmt: skip
+@pytest.mark.parametrize("compiled", [False, True])
+def test_mirrored_rows_agree_with_their_own_integration(basis, pairs, lower, compiled,
+                                                        monkeypatch):  # fmt: skip
+    simulation = cattaneo_mindlin(basis=basis, pairs=pairs, lower=lower)
+    pair = simulation.pair
+    for body, tag in ((pair.upper, pair.upper_tag), (pair.lower, pair.lower_tag)):
+        body = attrs.evolve(body, integration=IntegrationSettings(compiled=compiled))
+        free = g_free_segments(body, body.layout((tag,)))
+        h, g = _matrices(body, free, monkeypatch, symmetric=True)
+        own_h, own_g = _matrices(body, free, monkeypatch, symmetric=False)
+        # measured 7e-14 (nurbs) and 3.6e-14 (lagrange2) of the largest entry
+        assert np.abs(h - own_h).max() <= 2e-13 * np.abs(own_h).max()
+        assert np.abs(g - own_g).max() <= 2e-13 * np.abs(own_g).max()
+        assert not np.array_equal(h, own_h)  # the mirror was used
+
+
+def test_the_permutation_pairs_mirrored_points():
+    body = cattaneo_mindlin(pairs=21).pair.upper
+    rules = [assembly.BLOCKS.rules(b, body.integration) for b in body.segments]
+    if any(r is None for r in rules):
+        body.matrices()
+        rules = [assembly.BLOCKS.rules(b, body.integration) for b in body.segments]
+    points = body.collocation.points
+    q = mirror.permutation(body.segments, [r["far"] for r in rules], points, body.offsets)
+    assert np.array_equal(q[q], np.arange(len(q)))  # an involution
+    assert np.allclose(points[q] * [-1, 1], points, atol=1e-12)
+    integrated = mirror.integrated_rows(q, points)
+    # one row of each pair, and the row on the axis (the contact face's middle; the top's
+    # 14 functions have none)
+    assert np.all(integrated | integrated[q])
+    assert np.sum(integrated & integrated[q]) == np.sum(q == np.arange(len(q))) == 1
+
+
+def test_an_asymmetric_body_integrates_every_row(monkeypatch):
+    simulation = cattaneo_mindlin(pairs=21)
+    body = remesh(simulation, np.array([0.1]), 21, ratio=4.0).pair.upper  # a kink off centre
+    calls = []
+    original = mirror.fill
+    monkeypatch.setattr(mirror, "fill", lambda *a: calls.append(1) or original(*a))
+    assembly.BLOCKS.clear()
+    attrs.evolve(body).matrices()
+    assert calls == []
