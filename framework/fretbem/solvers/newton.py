@@ -201,6 +201,22 @@ class SemiSmoothNewton(Solver):
         init=False, factory=weakref.WeakKeyDictionary, repr=False, eq=False
     )
 
+    #: the augmentation parameters (r_n, r_t) of each condensed problem, kept likewise
+    _scales: weakref.WeakKeyDictionary = attrs.field(
+        init=False, factory=weakref.WeakKeyDictionary, repr=False, eq=False
+    )
+
+    def _augmentation(self, problem: CondensedContact) -> tuple[float, float]:
+        """r_n and r_t: the inverse mean diagonal compliances of the problem's own pairs
+        (taken once per problem: every increment uses the same)."""
+        scales = self._scales.get(problem)
+        if scales is None:
+            layout = problem.layout
+            r_n = 1.0 / np.mean(np.abs(np.diag(problem.normal_map[:, layout.pressure])))
+            r_t = 1.0 / np.mean(np.abs(np.diag(problem.tangential_map[:, layout.shear])))
+            scales = self._scales[problem] = (r_n, r_t)
+        return scales
+
     def __reduce__(self):
         """Pickled (and copied) by its settings: the kept linear solvers are this process's
         cache, in a weak dictionary that does not pickle; a copy starts without them."""
@@ -257,8 +273,7 @@ class SemiSmoothNewton(Solver):
         """
         n = problem.n_pairs
         layout = problem.layout
-        r_n = 1.0 / np.mean(np.abs(np.diag(problem.normal_map[:, layout.pressure])))
-        r_t = 1.0 / np.mean(np.abs(np.diag(problem.tangential_map[:, layout.shear])))
+        r_n, r_t = self._augmentation(problem)
         forces = np.asarray(forces, float)
         linear = _newton_linear(self._linear, problem, law, r_n, r_t)
         equations = _Equations(problem, law, problem.bases(loads), forces, previous.slip,
@@ -315,8 +330,8 @@ class SemiSmoothNewton(Solver):
                 residual, evaluation = equations.through_stick(x, r_n, r_t, before, residual,
                                                                evaluation)  # fmt: skip
             states = evaluation.states
-            slipping = states == _SLIP
-            pattern = (states.tobytes(), np.where(slipping, evaluation.direction, 0.0).tobytes())
+            # the slip directions of the slipping pairs: with the states, the same pattern
+            pattern = (states.tobytes(), evaluation.direction[states == _SLIP].tobytes())
             if pattern in seen:
                 seen.clear()
                 r_n *= CYCLE_SOFTENING

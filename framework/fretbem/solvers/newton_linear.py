@@ -51,6 +51,11 @@ SPLIT_FROM = 400
 ACCEPT_RESIDUAL = 1e-12
 
 
+#: no rows (a factor's border before any)
+_NO_ROWS = np.zeros(0, dtype=int)
+_NO_ROWS.setflags(write=False)
+
+
 class _Pattern:
     """States and slip coefficients of the pairs: which rows the Jacobian has."""
 
@@ -60,8 +65,8 @@ class _Pattern:
         self.stick = self.states == _STICK
         self.slip = self.states == _SLIP
         self.coeff = np.where(self.slip, friction * np.asarray(direction, float), 0.0)
-        self.c = self.contact.nonzero()[0]
-        self.s = self.stick.nonzero()[0]
+        self.c = np.flatnonzero(self.contact)
+        self.s = np.flatnonzero(self.stick)
 
     def same(self, other: _Pattern) -> bool:
         """Whether both patterns give the same Jacobian (states and slip coefficients)."""
@@ -228,9 +233,11 @@ class _Factor:
         self.sizes = (kc, ks)
         sep = (~pattern.contact).nonzero()[0]
         self.known = np.concatenate([sep, n + sep, n + pattern.slip.nonzero()[0]])
-        self.bordered = np.zeros(0, dtype=int)  # rows with a kept column J^-1 e_row
-        self.columns = np.empty((maps.n_x, 0), order="F")
-        self.dense, self.dense_columns = np.empty((0, maps.n_x)), np.empty((0, 0))
+        #: the numbers of x of the reduced unknowns (and equations), in their order
+        self.reduced = columns
+        self.bordered = _NO_ROWS  # rows with a kept column J^-1 e_row
+        #: their columns, N or T rows and products (:meth:`border`; made on first use)
+        self.columns = self.dense = self.dense_columns = None
 
     def _factor_split(self, columns: np.ndarray, slipping: np.ndarray, previous) -> None:
         """The block lower triangular system of uncoupled maps: the normal block (gap and
@@ -320,7 +327,7 @@ class _Factor:
             known_rows = np.concatenate([maps.r_n * nx[c], -maps.r_t * tx[s], rx])
         else:
             known_rows = 0.0
-        rhs = np.concatenate([b[c], b[n + s], b[2 * n :]]) - known_rows
+        rhs = b[self.reduced] - known_rows
         if self.split is None:
             u = _lu_solve(self.lu, self.piv, rhs)
         else:
@@ -352,6 +359,10 @@ class _Factor:
         factor's costs nothing in the bordered solve, so every kept row stays in the border.
         """
         missing = rows[~np.isin(rows, self.bordered)]
+        if self.columns is None:
+            n_x = self.maps.n_x
+            self.columns = np.empty((n_x, 0), order="F")
+            self.dense, self.dense_columns = np.empty((0, n_x)), np.empty((0, 0))
         if missing.size:
             maps, count = self.maps, self.bordered.size
             new = count + missing.size
