@@ -20,6 +20,7 @@ a point of the pad, is the same in its axes as in the global frame.
 
 from __future__ import annotations
 
+import weakref
 from typing import Any
 
 import attrs
@@ -136,12 +137,22 @@ def condensed(pairing, layout, names, body, response, frame, per_pair) -> PadRot
 
 def first_contact(problem: CondensedContact) -> np.ndarray:
     """The initial first-contact point (the middle of the pairs at the smallest gap), in
-    the pad's own axes."""
-    gap = problem.gap
-    scale = max(float(np.ptp(gap)), 1e-300)
-    closest = gap <= gap.min() + 1e-9 * scale
-    points = in_pad_axes(problem.pair, problem.pairing.points[closest])
-    return np.array([0.5 * (points[:, 0].min() + points[:, 0].max()), points[:, 1].mean()])
+    the pad's own axes (read-only; found once per problem: every step's record asks)."""
+    point = _FIRST_CONTACT.get(problem)
+    if point is None:
+        gap = problem.gap
+        scale = max(float(np.ptp(gap)), 1e-300)
+        closest = gap <= gap.min() + 1e-9 * scale
+        points = in_pad_axes(problem.pair, problem.pairing.points[closest])
+        point = np.array([0.5 * (points[:, 0].min() + points[:, 0].max()),
+                          points[:, 1].mean()])  # fmt: skip
+        point.setflags(write=False)
+        _FIRST_CONTACT[problem] = point
+    return point
+
+
+#: :func:`first_contact` of each condensed problem (weakly: a dropped problem frees it)
+_FIRST_CONTACT: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def in_pad_axes(pair, points: np.ndarray) -> np.ndarray:
