@@ -41,10 +41,13 @@ SPLIT_BORDER_FRACTION = 0.08
 #: systems of fewer unknowns are factorised afresh every step: their LU (about 70 us at
 #: 120 unknowns) costs less than the bordered solve's bookkeeping
 DIRECT_BELOW = 160
-#: systems of at least this many unknowns split the Newton system of uncoupled maps (and skip
-#: their zero column ranges); below, numpy's fixed cost per call outweighs the halved LU.
-#: Steps of the half-plane reference cycle, split over coupled in one process (load 7-12):
-#: 1.07 at 61 pairs, 1.12 at 121, 0.85 at 241, 0.69 at 481
+#: systems of at least this many unknowns skip the zero column ranges of uncoupled maps in
+#: their products (and form N x and T x in one); below, numpy's fixed cost per call outweighs
+#: the halved products. Steps of the half-plane reference cycle, split factor and products
+#: over coupled in one process (load 7-12): 1.07 at 61 pairs, 1.12 at 121, 0.85 at 241, 0.69
+#: at 481. The split factor alone pays at every size (its normal block kept while the contact
+#: set holds, the tangential block about a quarter of the coupled LU): 0.91 at 61 pairs, 0.90
+#: at 121, 1.01 at 241 (load 7, 40 alternating runs; benchmarks/halfplane_phases.py)
 SPLIT_FROM = 400
 #: a bordered solve is accepted when its residual is below this fraction of the size of
 #: the row products (a direct LU solve leaves about 1e-15)
@@ -96,8 +99,9 @@ class _Maps:
             )
         #: the numbers of x (equations and unknowns alike) of the normal problem when it does
         #: not depend on the tangential one (None if it does): see :func:`normal_part`
+        #: (the factor splits at every size; the products only from SPLIT_FROM)
         large = self.n_x >= SPLIT_FROM
-        self.normal_part = normal_part(normal_map, tangential_map, resultant_map) if large else None
+        self.normal_part = normal_part(normal_map, tangential_map, resultant_map)
         #: the column ranges (pressures, shears, blocks) where N and T are not all zero: the
         #: products skip the rest (identical bodies: the shear columns of N, the pressure
         #: columns of T, half of each product)
