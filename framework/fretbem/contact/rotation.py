@@ -226,7 +226,7 @@ def moment_about(problem: CondensedContact, x, beta, target) -> float:
     beta = np.asarray(beta, float)
     offset = rotation.centre - np.asarray(target, float)
     start = 2 * problem.layout.blocks.index(PAD)
-    _, _, base = problem.bases(beta)
+    base = problem.base_at("resultant", beta)
     force = base[start : start + 2] + problem.resultant_map[start : start + 2] @ x
     return rotation.moment(x, beta) + float(offset[0] * force[1] - offset[1] * force[0])
 
