@@ -45,9 +45,10 @@ DIRECT_BELOW = 160
 #: their products (and form N x and T x in one); below, numpy's fixed cost per call outweighs
 #: the halved products. Steps of the half-plane reference cycle, split factor and products
 #: over coupled in one process (load 7-12): 1.07 at 61 pairs, 1.12 at 121, 0.85 at 241, 0.69
-#: at 481. The split factor alone pays at every size (its normal block kept while the contact
-#: set holds, the tangential block about a quarter of the coupled LU): 0.91 at 61 pairs, 0.90
-#: at 121, 1.01 at 241 (load 7, 40 alternating runs; benchmarks/halfplane_phases.py)
+#: at 481. The split factor alone pays below it too (its normal block kept while the contact
+#: set holds, the tangential block about a quarter of the coupled LU), so it is used at every
+#: size: 0.91 at 61 pairs, 0.89 at 121, 0.75 at 181 (load 10-12, 20-40 alternating runs;
+#: benchmarks/split_small_systems.py)
 SPLIT_FROM = 400
 #: a bordered solve is accepted when its residual is below this fraction of the size of
 #: the row products (a direct LU solve leaves about 1e-15)
