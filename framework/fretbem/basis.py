@@ -17,6 +17,7 @@ import attrs
 import numpy as np
 
 from fretbem.geometry.nurbs import NurbsCurve
+from fretbem.numerics.scatter import added_at
 
 from .validators import count_field, float_array, number_field, shape, whole_number
 
@@ -325,9 +326,9 @@ class Basis(ABC):
         """Matrix mapping this segment's coefficients to values at curve ``params``."""
         elements, local = self.to_local(params)
         values, _ = self.shape_functions(elements, local)
-        matrix = np.zeros((len(elements), self.n_functions))
-        np.add.at(matrix, (np.arange(len(elements))[:, None], self.connectivity[elements]), values)
-        return matrix
+        rows = np.arange(len(elements))[:, None]
+        return added_at((len(elements), self.n_functions), (rows, self.connectivity[elements]),
+                        values)  # fmt: skip
 
     def collocation_matrix(self) -> np.ndarray:
         """The E matrix of the paper (eq. 5-6): coefficients to values at collocation points."""

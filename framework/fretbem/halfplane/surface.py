@@ -15,6 +15,7 @@ import scipy.linalg as sla
 from fretbem.basis import Basis
 from fretbem.body import interleaved_map
 from fretbem.material import Material
+from fretbem.numerics.scatter import added_at
 from fretbem.validators import positive
 
 from .influence import (
@@ -260,6 +261,4 @@ def _shape_integrals(face: Basis, samples=None) -> np.ndarray:
     face's :func:`~.influence.gauss_samples`, if already computed)."""
     elements, rule_weights, m = gauss_samples(face) if samples is None else samples
     weights = np.abs(m.tangents[:, 0]) * rule_weights
-    out = np.zeros(face.n_functions)
-    np.add.at(out, face.connectivity[elements], m.values * weights[:, None])
-    return out
+    return added_at(face.n_functions, face.connectivity[elements], m.values * weights[:, None])
