@@ -267,9 +267,10 @@ class Basis(ABC):
         """Element index and local coordinate of curve parameters."""
         params = np.asarray(params, float)
         elements = np.searchsorted(self.element_bounds[:, 0], params, side="right") - 1
-        elements = np.clip(elements, 0, self.n_elements - 1)
+        # np.clip's numbers as the two ufuncs it applies (its own frames cost more here)
+        elements = np.minimum(np.maximum(elements, 0), self.n_elements - 1)
         lo, hi = self.element_bounds[elements].T
-        return elements, np.clip(2.0 * (params - lo) / (hi - lo) - 1.0, -1.0, 1.0)
+        return elements, np.minimum(np.maximum(2.0 * (params - lo) / (hi - lo) - 1.0, -1.0), 1.0)
 
     def to_parameter(self, elements: np.ndarray, local: np.ndarray) -> np.ndarray:
         """Curve parameters of (element, local coordinate) points."""
