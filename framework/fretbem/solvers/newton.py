@@ -307,7 +307,7 @@ class SemiSmoothNewton(Solver):
             history.append(float(norm))
             states = evaluation.states
             state_history.append(states.copy())
-            if n and force_scale > 1e-300 and not states.any():  # every pair SEPARATED (0)
+            if n and force_scale > 1e-300 and not np.logical_or.reduce(states):  # all SEPARATED
                 # nothing touches but the blocks must carry a force: the next step would
                 # move a block held by nothing (a near-singular system); give up so the
                 # Simulation can sub-step the increment

@@ -55,6 +55,9 @@ SPLIT_FROM = 400
 ACCEPT_RESIDUAL = 1e-12
 
 
+#: ndarray.any and .all's reductions called directly: their own Python frame costs as much as
+#: the work on a few hundred numbers, and the Newton step asks several times an iteration
+_any, _all = np.logical_or.reduce, np.logical_and.reduce
 #: no rows (a factor's border before any)
 _NO_ROWS = np.zeros(0, dtype=int)
 _NO_ROWS.setflags(write=False)
@@ -69,12 +72,12 @@ class _Pattern:
         self.stick = self.states == _STICK
         self.slip = self.states == _SLIP
         self.coeff = np.where(self.slip, friction * np.asarray(direction, float), 0.0)
-        self.c = np.flatnonzero(self.contact)
-        self.s = np.flatnonzero(self.stick)
+        self.c = self.contact.nonzero()[0]
+        self.s = self.stick.nonzero()[0]
 
     def same(self, other: _Pattern) -> bool:
         """Whether both patterns give the same Jacobian (states and slip coefficients)."""
-        return bool((self.states == other.states).all() and (self.coeff == other.coeff).all())
+        return bool(_all(self.states == other.states) and _all(self.coeff == other.coeff))
 
     def differing_rows(self, other: _Pattern) -> np.ndarray:
         """Row numbers (of the 2 n pair rows) where this pattern's Jacobian differs."""
@@ -326,7 +329,7 @@ class _Factor:
         kc, ks = self.sizes
         y = np.zeros(b.shape)
         y[self.known] = b[self.known]  # separated p and q; slip q's constant part
-        nonzero = self.known[_flat(y[self.known]).any(axis=1).nonzero()[0]]
+        nonzero = self.known[_any(_flat(y[self.known]), axis=1).nonzero()[0]]
         if nonzero.size:
             nx, tx, rx = maps.products(y, nonzero)
             known_rows = np.concatenate([maps.r_n * nx[c], -maps.r_t * tx[s], rx])
@@ -339,13 +342,15 @@ class _Factor:
             normal, tangential = self.split
             u = np.zeros(rhs.shape)
             rhs_n, rhs_t = rhs[normal], rhs[tangential]
-            if rhs_n.any():  # a shear's unit (a bordered row of the tangential block) has none
+            # a shear's unit (a bordered row of the tangential block) has none
+            if _any(rhs_n, axis=None):
                 u[normal] = u_n = _lu_solve(self.lu, self.piv, rhs_n)
                 if self.coupled:
                     coupling = self._tangential()
                     columns = self.coupling_columns
                     rhs_t -= coupling @ (u_n if columns is None else u_n[columns])
-            if rhs_t.any():  # else the shears are 0 (what the LU would give), not factorised
+            # else the shears are 0 (what the LU would give), not factorised
+            if _any(rhs_t, axis=None):
                 self._tangential()
                 u[tangential] = _lu_solve(self.lu_t, self.piv_t, rhs_t)
         dp = u[:kc]
