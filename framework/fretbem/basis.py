@@ -17,6 +17,7 @@ import attrs
 import numpy as np
 
 from fretbem.geometry.nurbs import NurbsCurve
+from fretbem.numerics.scatter import added_at
 
 from .validators import count_field, float_array, number_field, shape, whole_number
 
@@ -274,9 +275,10 @@ class Basis(ABC):
         """Element index and local coordinate of curve parameters."""
         params = np.asarray(params, float)
         elements = np.searchsorted(self.element_bounds[:, 0], params, side="right") - 1
-        elements = np.clip(elements, 0, self.n_elements - 1)
+        # np.clip's numbers as the two ufuncs it applies (its own frames cost more here)
+        elements = np.minimum(np.maximum(elements, 0), self.n_elements - 1)
         lo, hi = self.element_bounds[elements].T
-        return elements, np.clip(2.0 * (params - lo) / (hi - lo) - 1.0, -1.0, 1.0)
+        return elements, np.minimum(np.maximum(2.0 * (params - lo) / (hi - lo) - 1.0, -1.0), 1.0)
 
     def to_parameter(self, elements: np.ndarray, local: np.ndarray) -> np.ndarray:
         """Curve parameters of (element, local coordinate) points."""
@@ -333,9 +335,9 @@ class Basis(ABC):
         """Matrix mapping this segment's coefficients to values at curve ``params``."""
         elements, local = self.to_local(params)
         values, _ = self.shape_functions(elements, local)
-        matrix = np.zeros((len(elements), self.n_functions))
-        np.add.at(matrix, (np.arange(len(elements))[:, None], self.connectivity[elements]), values)
-        return matrix
+        rows = np.arange(len(elements))[:, None]
+        return added_at((len(elements), self.n_functions), (rows, self.connectivity[elements]),
+                        values)  # fmt: skip
 
     def collocation_matrix(self) -> np.ndarray:
         """The E matrix of the paper (eq. 5-6): coefficients to values at collocation points."""

@@ -288,12 +288,13 @@ class StepResult:
     @classmethod
     def build(
         cls, simulation, problem, load, state, iterations, residuals, seconds, history, *,
-        last: IncrementRecord | None = None,
+        last: IncrementRecord | None = None, increments: tuple = (),
     ):  # fmt: skip
         """Collect a step's pair results, resultants and errors against the reference.
 
         ``last``, the record of the step's last increment (the same state), gives the
-        block's measured approach, delta, moment and rotation without measuring again."""
+        block's measured approach, delta, moment and rotation without measuring again;
+        ``increments``, every increment's record, are kept as they are."""
         x = problem.pairing.points[:, 0]
         unknowns = problem.unknowns(state.x)
         p, q = unknowns.pressure, unknowns.shear
@@ -334,6 +335,7 @@ class StepResult:
             exact=exact,
             layout=problem.layout,
             loads=dict(state.loads),
+            increments=tuple(increments),
         )
 
     def count(self, state: str) -> int:

@@ -646,9 +646,8 @@ def run(
         history.append(load.tangential if load.delta is None else state.tangential)
         step = StepResult.build(
             simulation, problem, load, state, iterations, residuals, seconds, tuple(history),
-            last=increments[-1],
+            last=increments[-1], increments=tuple(increments),
         )  # fmt: skip
-        step = attrs.evolve(step, increments=tuple(increments))
         if check:
             step = attrs.evolve(step, checks=check_step(step, friction))
         steps.append(step)

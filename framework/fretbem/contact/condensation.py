@@ -212,6 +212,15 @@ class CondensedContact:
             self.resultant_base + self.resultant_load @ beta,
         )
 
+    def base_at(self, kind: str, beta: np.ndarray) -> np.ndarray:
+        """One of :meth:`bases` alone ("normal", "tangential" or "resultant"), the same
+        numbers without forming the other two (the step records read one each)."""
+        base = getattr(self, f"{kind}_base")
+        beta = np.asarray(beta, float)
+        if beta.size == 0:
+            return base
+        return base + getattr(self, f"{kind}_load") @ beta
+
     def relative(self, x: np.ndarray, beta: np.ndarray = ()) -> tuple[np.ndarray, np.ndarray]:
         """Relative normal and tangential displacement (upper minus lower) at x and beta."""
         normal_base, tangential_base, _ = self.bases(beta)
@@ -220,11 +229,11 @@ class CondensedContact:
     def relative_normal(self, x: np.ndarray, beta: np.ndarray = ()) -> np.ndarray:
         """The normal one of :meth:`relative` alone: one product with a (pairs, unknowns) map
         instead of two (each reads 3.7 MB at 481 pairs)."""
-        return self.bases(beta)[0] + self.normal_map @ x
+        return self.base_at("normal", beta) + self.normal_map @ x
 
     def relative_tangential(self, x: np.ndarray, beta: np.ndarray = ()) -> np.ndarray:
         """The tangential one of :meth:`relative` alone (the slip), one product."""
-        return self.bases(beta)[1] + self.tangential_map @ x
+        return self.base_at("tangential", beta) + self.tangential_map @ x
 
     def unknowns(self, x: np.ndarray) -> PairUnknowns:
         """x split by name."""

@@ -29,6 +29,8 @@ solver takes it unchanged.
 
 from __future__ import annotations
 
+import weakref
+
 import attrs
 import numpy as np
 
@@ -178,6 +180,19 @@ def _block_rows(problem: CondensedContact) -> slice:
     return slice(start, start + 2)
 
 
+def _motion_rows(problem: CondensedContact) -> np.ndarray:
+    """:func:`motion_rows`, read-only, kept per problem (every increment's record reads it)."""
+    rows = _MOTION_ROWS.get(problem)
+    if rows is None:
+        rows = _MOTION_ROWS[problem] = motion_rows(problem)
+        rows.setflags(write=False)
+    return rows
+
+
+#: :func:`motion_rows` of each condensed problem (weakly: a dropped problem frees it)
+_MOTION_ROWS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
 def motion_rows(problem: CondensedContact) -> np.ndarray:
     """(2, n_x): approach and delta of the pad's block against the datum, per unit x."""
     n, t = frame(problem, "upper")
@@ -209,9 +224,9 @@ def measure(
     ``tilt`` the block's own theta (M is NaN where the pad's model gives no moment)."""
     n, t = frame(problem, "upper")
     beta = np.asarray(beta, float)
-    _, _, base = problem.bases(beta)
+    base = problem.base_at("resultant", beta)
     force = (base + problem.resultant_map @ x)[_block_rows(problem)]
-    approach, delta = motion_rows(problem) @ x
+    approach, delta = _motion_rows(problem) @ x
     normal, tangential = float(-force @ n), float(force @ t)
     c_n, c_t = rig.compliances
     moment, tilt = _moment(problem, x, beta, rig), 0.0

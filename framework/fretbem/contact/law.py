@@ -193,7 +193,8 @@ class CoulombFriction(ContactLaw):
 
     def evaluate(self, p, q, gap, slip, r_n, r_t) -> LawEvaluation:
         """F_n, F_t (module docstring), states and slip directions."""
-        augmented = p - r_n * gap
+        normal_gap = r_n * gap
+        augmented = p - normal_gap
         contact = augmented > 0
         trial = q + r_t * slip
         bound = self.friction * np.maximum(augmented, 0.0)
@@ -201,7 +202,7 @@ class CoulombFriction(ContactLaw):
         # sliding F_t = q - bound sign(trial) is q exactly (q - 0)
         stick = np.abs(trial) < bound
         direction = np.sign(trial)
-        f_n = np.where(contact, r_n * gap, p)
+        f_n = np.where(contact, normal_gap, p)
         f_t = np.where(stick, -r_t * slip, q - bound * direction)
         # SEPARATED 0, STICK 1, SLIP 2 (PairState)
         states = np.where(contact, 2 - stick.astype(int), 0)

@@ -76,6 +76,8 @@ class Pairing:
     axis: np.ndarray | None = attrs.field(
         default=None, converter=attrs.converters.optional(_frozen_array)
     )
+    #: :meth:`load_frame` per side, read-only (the steps ask for it several times each)
+    _frames: dict = attrs.field(init=False, factory=dict, repr=False)
 
     @property
     def n_pairs(self) -> int:
@@ -96,14 +98,22 @@ class Pairing:
 
     def load_frame(self, side: str | None = None) -> tuple[np.ndarray, np.ndarray]:
         """The normal and tangent the loads and the block motion act along: ``axis`` or the
-        pairs' mean normal, in the axes of the body on ``side`` (None: the pair frame's)."""
+        pairs' mean normal, in the axes of the body on ``side`` (None: the pair frame's);
+        read-only arrays, kept."""
+        kept = self._frames.get(side)
+        if kept is not None:
+            return kept
         if self.axis is None:
             normals = self.normals if side is None else self.axes(side)[0]
             normal = normals.mean(axis=0)
         else:
             normal = self.axis if side is None else self.to_body(side, self.axis)
         normal = normal / np.linalg.norm(normal)
-        return normal, np.array([normal[1], -normal[0]])
+        kept = normal, np.array([normal[1], -normal[0]])
+        for vector in kept:
+            vector.setflags(write=False)
+        self._frames[side] = kept
+        return kept
 
     def to_frame(self, side: str, vectors: np.ndarray, axis: int = -1) -> np.ndarray:
         """Vectors given in the axes of the body on ``side`` (components along ``axis``) in

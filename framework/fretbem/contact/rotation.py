@@ -24,6 +24,7 @@ the rotating problem of a turned pad is that of the scene turned back.
 
 from __future__ import annotations
 
+import weakref
 from typing import Any
 
 import attrs
@@ -140,12 +141,22 @@ def condensed(pairing, layout, names, body, response, frame, per_pair) -> PadRot
 
 def first_contact(problem: CondensedContact) -> np.ndarray:
     """The initial first-contact point (the middle of the pairs at the smallest gap), in
-    the pad's own axes."""
-    gap = problem.gap
-    scale = max(float(np.ptp(gap)), 1e-300)
-    closest = gap <= gap.min() + 1e-9 * scale
-    points = in_pad_axes(problem.pair, problem.pairing.points[closest])
-    return np.array([0.5 * (points[:, 0].min() + points[:, 0].max()), points[:, 1].mean()])
+    the pad's own axes (read-only; found once per problem: every step's record asks)."""
+    point = _FIRST_CONTACT.get(problem)
+    if point is None:
+        gap = problem.gap
+        scale = max(float(np.ptp(gap)), 1e-300)
+        closest = gap <= gap.min() + 1e-9 * scale
+        points = in_pad_axes(problem.pair, problem.pairing.points[closest])
+        point = np.array([0.5 * (points[:, 0].min() + points[:, 0].max()),
+                          points[:, 1].mean()])  # fmt: skip
+        point.setflags(write=False)
+        _FIRST_CONTACT[problem] = point
+    return point
+
+
+#: :func:`first_contact` of each condensed problem (weakly: a dropped problem frees it)
+_FIRST_CONTACT: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def in_pad_axes(pair, points: np.ndarray) -> np.ndarray:
@@ -219,7 +230,7 @@ def moment_about(problem: CondensedContact, x, beta, target) -> float:
     beta = np.asarray(beta, float)
     offset = rotation.centre - np.asarray(target, float)
     start = 2 * problem.layout.blocks.index(PAD)
-    _, _, base = problem.bases(beta)
+    base = problem.base_at("resultant", beta)
     force = base[start : start + 2] + problem.resultant_map[start : start + 2] @ x
     return rotation.moment(x, beta) + float(offset[0] * force[1] - offset[1] * force[0])
 

@@ -20,7 +20,9 @@ def check(knots: np.ndarray, degree: int, n_control_points: int) -> None:
     knots = np.asarray(knots, dtype=float)
     if int(degree) != degree or degree < 1:
         raise KnotVectorError(f"degree must be an integer >= 1, got {degree!r}")
-    if knots.ndim != 1 or not np.all(np.isfinite(knots)):
+    # (the ufunc reductions called directly: np.all, np.any and np.diff's own frames cost more
+    # than the work on a knot vector, and a scene build checks a dozen)
+    if knots.ndim != 1 or not np.logical_and.reduce(np.isfinite(knots), axis=None):
         raise KnotVectorError(f"knot vector must be a 1-D array of finite numbers, got {knots!r}")
     expected = n_control_points + degree + 1
     if knots.size != expected:
@@ -28,8 +30,8 @@ def check(knots: np.ndarray, degree: int, n_control_points: int) -> None:
             f"knot vector has {knots.size} entries but degree {degree} with {n_control_points} "
             f"control points needs n + p + 1 = {expected}; add or remove knots or control points"
         )
-    steps = np.diff(knots)
-    if np.any(steps < 0):
+    steps = knots[1:] - knots[:-1]
+    if np.logical_or.reduce(steps < 0):
         where = int(np.argmax(steps < 0))
         raise KnotVectorError(
             f"knot vector must be non-decreasing, but knot {where + 1} ({knots[where + 1]}) < "
@@ -46,7 +48,7 @@ def check(knots: np.ndarray, degree: int, n_control_points: int) -> None:
     # sorted now: a knot repeated more than p times equals the knot p places on
     interior = knots[degree + 1 : -degree - 1]
     repeated = interior[degree:] == interior[:-degree]
-    if repeated.any():
+    if np.logical_or.reduce(repeated):
         bad = interior[degree:][repeated][0]
         raise KnotVectorError(
             f"interior knot {bad} is repeated more than degree = {degree} times, which makes the "

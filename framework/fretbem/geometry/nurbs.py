@@ -8,6 +8,7 @@ import threading
 import attrs
 import numpy as np
 
+from fretbem.numerics.scatter import added_at
 from fretbem.validators import finite, float_array, shape
 
 from . import knots as kv
@@ -129,9 +130,7 @@ def _collocation_matrix(basis: tuple, sites: int, n_functions: int, *, dense=Fal
     cols = (first[:, None] + np.arange(local)).ravel()
     shape = (sites, n_functions)
     if dense:
-        matrix = np.zeros(shape)
-        np.add.at(matrix, (rows, cols), values.ravel())
-        return matrix
+        return added_at(shape, (rows, cols), values.ravel())
     from scipy import sparse
 
     return sparse.csc_array((values.ravel(), (rows, cols)), shape=shape)

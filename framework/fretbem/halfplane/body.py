@@ -20,6 +20,7 @@ from fretbem.body import BlockRotation, Body, ContactFace, ContactResponse
 from fretbem.conditions import LoadingBlock
 from fretbem.geometry.nurbs import NurbsCurve
 from fretbem.material import Material
+from fretbem.numerics.scatter import added_at
 from fretbem.validators import positive
 
 from .influence import DEFAULT_DATUM, HalfPlaneFaceError
@@ -399,5 +400,6 @@ def _moment_integrals(face, centre, samples) -> np.ndarray:
     out = np.zeros((face.n_functions, 2))
     for j in range(2):
         arm = (m.points[:, j] - centre[j]) * weights
-        np.add.at(out[:, j], face.connectivity[elements], m.values * arm[:, None])
+        out[:, j] = added_at(face.n_functions, face.connectivity[elements],
+                             m.values * arm[:, None])  # fmt: skip
     return out

@@ -15,6 +15,7 @@ import scipy.linalg as sla
 from fretbem.basis import Basis
 from fretbem.body import interleaved_map
 from fretbem.material import Material
+from fretbem.numerics.scatter import added_at
 from fretbem.validators import positive
 
 from .influence import (
@@ -231,7 +232,28 @@ def _solve_transposed(matrix: np.ndarray, banded, rows: np.ndarray) -> np.ndarra
     """``rows @ matrix^-1`` through :func:`_bands`' form (dense when None)."""
     if banded is None:
         return np.linalg.solve(matrix.T, rows.T).T
-    return sla.solve_banded(*banded, rows.T).T
+    return _banded(*banded, rows.T).T
+
+
+def _banded(sizes: tuple[int, int], bands: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """``scipy.linalg.solve_banded(sizes, bands, rhs)`` for finite float64 input, through the
+    LAPACK routine it calls (gtsv for one band each side, else gbsv): the same numbers without
+    its checks and batching (~60 % of the call at 61 nodes, four calls per body build)."""
+    lower, upper = sizes
+    if bands.shape[1] == 1 or rhs.size == 0:
+        return sla.solve_banded(sizes, bands, rhs)
+    if lower == upper == 1:
+        *_, x, info = sla.lapack.dgtsv(bands[2, :-1], bands[1, :], bands[0, 1:], rhs,
+                                       False, False, False, False)  # fmt: skip
+    else:
+        factors = np.zeros((2 * lower + upper + 1, bands.shape[1]))
+        factors[lower:] = bands
+        *_, x, info = sla.lapack.dgbsv(lower, upper, factors, rhs, overwrite_ab=True)
+    if info > 0:
+        raise np.linalg.LinAlgError("singular matrix")
+    if info < 0:  # pragma: no cover - LAPACK argument error
+        raise ValueError(f"illegal value in argument {-info} of the banded solve")
+    return x
 
 
 def _shape_integrals(face: Basis, samples=None) -> np.ndarray:
@@ -239,6 +261,4 @@ def _shape_integrals(face: Basis, samples=None) -> np.ndarray:
     face's :func:`~.influence.gauss_samples`, if already computed)."""
     elements, rule_weights, m = gauss_samples(face) if samples is None else samples
     weights = np.abs(m.tangents[:, 0]) * rule_weights
-    out = np.zeros(face.n_functions)
-    np.add.at(out, face.connectivity[elements], m.values * weights[:, None])
-    return out
+    return added_at(face.n_functions, face.connectivity[elements], m.values * weights[:, None])

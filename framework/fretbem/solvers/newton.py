@@ -52,6 +52,11 @@ def _newton_linear(
     return linear
 
 
+def _largest(values: np.ndarray) -> float:
+    """The largest of ``values`` (0 for none): ``values.max(initial=0.0)``'s number."""
+    return np.maximum.reduce(values, initial=0.0)
+
+
 class SolverConvergenceError(ComputationError):
     """A solver did not converge on an increment; the Simulation may then sub-step.
 
@@ -201,6 +206,22 @@ class SemiSmoothNewton(Solver):
         init=False, factory=weakref.WeakKeyDictionary, repr=False, eq=False
     )
 
+    #: the augmentation parameters (r_n, r_t) of each condensed problem, kept likewise
+    _scales: weakref.WeakKeyDictionary = attrs.field(
+        init=False, factory=weakref.WeakKeyDictionary, repr=False, eq=False
+    )
+
+    def _augmentation(self, problem: CondensedContact) -> tuple[float, float]:
+        """r_n and r_t: the inverse mean diagonal compliances of the problem's own pairs
+        (taken once per problem: every increment uses the same)."""
+        scales = self._scales.get(problem)
+        if scales is None:
+            layout = problem.layout
+            r_n = 1.0 / np.mean(np.abs(np.diag(problem.normal_map[:, layout.pressure])))
+            r_t = 1.0 / np.mean(np.abs(np.diag(problem.tangential_map[:, layout.shear])))
+            scales = self._scales[problem] = (r_n, r_t)
+        return scales
+
     def __reduce__(self):
         """Pickled (and copied) by its settings: the kept linear solvers are this process's
         cache, in a weak dictionary that does not pickle; a copy starts without them."""
@@ -257,8 +278,7 @@ class SemiSmoothNewton(Solver):
         """
         n = problem.n_pairs
         layout = problem.layout
-        r_n = 1.0 / np.mean(np.abs(np.diag(problem.normal_map[:, layout.pressure])))
-        r_t = 1.0 / np.mean(np.abs(np.diag(problem.tangential_map[:, layout.shear])))
+        r_n, r_t = self._augmentation(problem)
         forces = np.asarray(forces, float)
         linear = _newton_linear(self._linear, problem, law, r_n, r_t)
         equations = _Equations(problem, law, problem.bases(loads), forces, previous.slip,
@@ -279,15 +299,15 @@ class SemiSmoothNewton(Solver):
             x = x + step
             before = evaluation
             residual, evaluation = equations.evaluate(x, r_n, r_t)
-            traction_scale = max(np.abs(x[tractions]).max(initial=0.0), 1e-300)
-            norm = max(
-                np.abs(residual[: 2 * n]).max(initial=0.0) / traction_scale,
-                np.abs(residual[2 * n :]).max(initial=0.0) / force_scale,
-            )
+            # (ufunc reductions called directly: ndarray.max's own frame costs as much here)
+            traction_scale = max(_largest(np.abs(x[tractions])), 1e-300)
+            size = np.abs(residual)
+            norm = max(_largest(size[: 2 * n]) / traction_scale,
+                       _largest(size[2 * n :]) / force_scale)  # fmt: skip
             history.append(float(norm))
             states = evaluation.states
             state_history.append(states.copy())
-            if n and force_scale > 1e-300 and not states.any():  # every pair SEPARATED (0)
+            if n and force_scale > 1e-300 and not np.logical_or.reduce(states):  # all SEPARATED
                 # nothing touches but the blocks must carry a force: the next step would
                 # move a block held by nothing (a near-singular system); give up so the
                 # Simulation can sub-step the increment
@@ -315,8 +335,8 @@ class SemiSmoothNewton(Solver):
                 residual, evaluation = equations.through_stick(x, r_n, r_t, before, residual,
                                                                evaluation)  # fmt: skip
             states = evaluation.states
-            slipping = states == _SLIP
-            pattern = (states.tobytes(), np.where(slipping, evaluation.direction, 0.0).tobytes())
+            # the slip directions of the slipping pairs: with the states, the same pattern
+            pattern = (states.tobytes(), evaluation.direction[states == _SLIP].tobytes())
             if pattern in seen:
                 seen.clear()
                 r_n *= CYCLE_SOFTENING
@@ -359,7 +379,6 @@ class _Equations:
         self.tangential_map = problem.tangential_map
         self.resultant_map = problem.resultant_map
         self.pressure, self.shear = problem.layout.pressure, problem.layout.shear
-        self.size = problem.layout.size
         self.gap = self.slip = None
 
     def evaluate(self, x: np.ndarray, r_n: float, r_t: float):
@@ -373,12 +392,8 @@ class _Equations:
             slip = self.tangential_base + tangential - self.reference_slip
         self.gap, self.slip = gap, slip
         evaluation = self.law.evaluate(x[self.pressure], x[self.shear], gap, slip, r_n, r_t)
-        n = self.n
-        residual = np.empty(self.size)
-        residual[:n] = evaluation.normal
-        residual[n : 2 * n] = evaluation.tangential
-        residual[2 * n :] = self.resultant_base + self.resultant_map @ x - self.forces
-        return residual, evaluation
+        blocks = self.resultant_base + self.resultant_map @ x - self.forces
+        return np.concatenate([evaluation.normal, evaluation.tangential, blocks]), evaluation
 
     def _on(self, states, direction, x, r_n, r_t, residual):
         """Residual and evaluation continued on the pattern (states, direction) at the x of

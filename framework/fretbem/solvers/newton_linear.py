@@ -41,14 +41,26 @@ SPLIT_BORDER_FRACTION = 0.08
 #: systems of fewer unknowns are factorised afresh every step: their LU (about 70 us at
 #: 120 unknowns) costs less than the bordered solve's bookkeeping
 DIRECT_BELOW = 160
-#: systems of at least this many unknowns split the Newton system of uncoupled maps (and skip
-#: their zero column ranges); below, numpy's fixed cost per call outweighs the halved LU.
-#: Steps of the half-plane reference cycle, split over coupled in one process (load 7-12):
-#: 1.07 at 61 pairs, 1.12 at 121, 0.85 at 241, 0.69 at 481
+#: systems of at least this many unknowns skip the zero column ranges of uncoupled maps in
+#: their products (and form N x and T x in one); below, numpy's fixed cost per call outweighs
+#: the halved products. Steps of the half-plane reference cycle, split factor and products
+#: over coupled in one process (load 7-12): 1.07 at 61 pairs, 1.12 at 121, 0.85 at 241, 0.69
+#: at 481. The split factor alone pays below it too (its normal block kept while the contact
+#: set holds, the tangential block about a quarter of the coupled LU), so it is used at every
+#: size: 0.91 at 61 pairs, 0.89 at 121, 0.75 at 181 (load 10-12, 20-40 alternating runs;
+#: benchmarks/split_small_systems.py)
 SPLIT_FROM = 400
 #: a bordered solve is accepted when its residual is below this fraction of the size of
 #: the row products (a direct LU solve leaves about 1e-15)
 ACCEPT_RESIDUAL = 1e-12
+
+
+#: ndarray.any and .all's reductions called directly: their own Python frame costs as much as
+#: the work on a few hundred numbers, and the Newton step asks several times an iteration
+_any, _all = np.logical_or.reduce, np.logical_and.reduce
+#: no rows (a factor's border before any)
+_NO_ROWS = np.zeros(0, dtype=int)
+_NO_ROWS.setflags(write=False)
 
 
 class _Pattern:
@@ -65,7 +77,7 @@ class _Pattern:
 
     def same(self, other: _Pattern) -> bool:
         """Whether both patterns give the same Jacobian (states and slip coefficients)."""
-        return bool((self.states == other.states).all() and (self.coeff == other.coeff).all())
+        return bool(_all(self.states == other.states) and _all(self.coeff == other.coeff))
 
     def differing_rows(self, other: _Pattern) -> np.ndarray:
         """Row numbers (of the 2 n pair rows) where this pattern's Jacobian differs."""
@@ -91,8 +103,9 @@ class _Maps:
             )
         #: the numbers of x (equations and unknowns alike) of the normal problem when it does
         #: not depend on the tangential one (None if it does): see :func:`normal_part`
+        #: (the factor splits at every size; the products only from SPLIT_FROM)
         large = self.n_x >= SPLIT_FROM
-        self.normal_part = normal_part(normal_map, tangential_map, resultant_map) if large else None
+        self.normal_part = normal_part(normal_map, tangential_map, resultant_map)
         #: the column ranges (pressures, shears, blocks) where N and T are not all zero: the
         #: products skip the rest (identical bodies: the shear columns of N, the pressure
         #: columns of T, half of each product)
@@ -228,9 +241,11 @@ class _Factor:
         self.sizes = (kc, ks)
         sep = (~pattern.contact).nonzero()[0]
         self.known = np.concatenate([sep, n + sep, n + pattern.slip.nonzero()[0]])
-        self.bordered = np.zeros(0, dtype=int)  # rows with a kept column J^-1 e_row
-        self.columns = np.empty((maps.n_x, 0), order="F")
-        self.dense, self.dense_columns = np.empty((0, maps.n_x)), np.empty((0, 0))
+        #: the numbers of x of the reduced unknowns (and equations), in their order
+        self.reduced = columns
+        self.bordered = _NO_ROWS  # rows with a kept column J^-1 e_row
+        #: their columns, N or T rows and products (:meth:`border`; made on first use)
+        self.columns = self.dense = self.dense_columns = None
 
     def _factor_split(self, columns: np.ndarray, slipping: np.ndarray, previous) -> None:
         """The block lower triangular system of uncoupled maps: the normal block (gap and
@@ -314,26 +329,28 @@ class _Factor:
         kc, ks = self.sizes
         y = np.zeros(b.shape)
         y[self.known] = b[self.known]  # separated p and q; slip q's constant part
-        nonzero = self.known[_flat(y[self.known]).any(axis=1).nonzero()[0]]
+        nonzero = self.known[_any(_flat(y[self.known]), axis=1).nonzero()[0]]
         if nonzero.size:
             nx, tx, rx = maps.products(y, nonzero)
             known_rows = np.concatenate([maps.r_n * nx[c], -maps.r_t * tx[s], rx])
         else:
             known_rows = 0.0
-        rhs = np.concatenate([b[c], b[n + s], b[2 * n :]]) - known_rows
+        rhs = b[self.reduced] - known_rows
         if self.split is None:
             u = _lu_solve(self.lu, self.piv, rhs)
         else:
             normal, tangential = self.split
             u = np.zeros(rhs.shape)
             rhs_n, rhs_t = rhs[normal], rhs[tangential]
-            if rhs_n.any():  # a shear's unit (a bordered row of the tangential block) has none
+            # a shear's unit (a bordered row of the tangential block) has none
+            if _any(rhs_n, axis=None):
                 u[normal] = u_n = _lu_solve(self.lu, self.piv, rhs_n)
                 if self.coupled:
                     coupling = self._tangential()
                     columns = self.coupling_columns
                     rhs_t -= coupling @ (u_n if columns is None else u_n[columns])
-            if rhs_t.any():  # else the shears are 0 (what the LU would give), not factorised
+            # else the shears are 0 (what the LU would give), not factorised
+            if _any(rhs_t, axis=None):
                 self._tangential()
                 u[tangential] = _lu_solve(self.lu_t, self.piv_t, rhs_t)
         dp = u[:kc]
@@ -352,6 +369,10 @@ class _Factor:
         factor's costs nothing in the bordered solve, so every kept row stays in the border.
         """
         missing = rows[~np.isin(rows, self.bordered)]
+        if self.columns is None:
+            n_x = self.maps.n_x
+            self.columns = np.empty((n_x, 0), order="F")
+            self.dense, self.dense_columns = np.empty((0, n_x)), np.empty((0, 0))
         if missing.size:
             maps, count = self.maps, self.bordered.size
             new = count + missing.size

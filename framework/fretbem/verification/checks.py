@@ -77,12 +77,18 @@ class CheckRecord:
         return {"residual": clean(self.residual), "limit": clean(self.limit), "passed": self.passed}
 
 
+def _span(x: np.ndarray) -> float:
+    """max - min of a non-empty ``x``: np.ptp's number, without its three frames."""
+    return float(np.maximum.reduce(x) - np.minimum.reduce(x))
+
+
 def _spacing(x: np.ndarray) -> float:
     """Typical pair spacing: the median distance between neighbouring pairs (np.median's
     number, the middle one or the mean of the middle two, without its ~50 us of checks)."""
     if len(x) < 2:
         return math.nan
-    gaps = np.sort(np.diff(np.sort(x)))
+    ordered = np.sort(x)
+    gaps = np.sort(ordered[1:] - ordered[:-1])  # np.diff's numbers without its frame
     middle = gaps.size // 2
     return float(gaps[middle] if gaps.size % 2 else (gaps[middle - 1] + gaps[middle]) / 2.0)
 
@@ -240,12 +246,12 @@ def tangential_hold(
     in_contact = states != SEPARATED
     stick = states == STICK
     spacing = _spacing(x)
-    width = float(np.ptp(x[in_contact])) if np.count_nonzero(in_contact) > 1 else spacing
+    width = _span(x[in_contact]) if np.count_nonzero(in_contact) > 1 else spacing
     width = width if width > 0 else (spacing if math.isfinite(spacing) else 1.0)
     runaway = abs(float(block_displacement)) / width
     if not math.isfinite(runaway):
         runaway = math.inf
-    stick_width = float(np.ptp(x[stick])) if np.count_nonzero(stick) > 1 else 0.0
+    stick_width = _span(x[stick]) if np.count_nonzero(stick) > 1 else 0.0
     no_stick = bool(np.any(in_contact)) and not np.any(stick)
     singular = condition is not None and not (condition <= MAX_CONDITION)
     ok = not no_stick and runaway <= RUNAWAY_FACTOR and not singular

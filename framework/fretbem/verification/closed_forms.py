@@ -79,7 +79,7 @@ def _ellipse(x: np.ndarray, c: float) -> np.ndarray:
     """s_c(x) = sqrt(1 - x²/c²) for |x| < c, 0 elsewhere (and everywhere if c <= 0)."""
     if c <= 0.0:
         return np.zeros_like(x)
-    return np.sqrt(np.clip(1.0 - (x / c) ** 2, 0.0, None))
+    return np.sqrt(np.maximum(1.0 - (x / c) ** 2, 0.0))  # np.clip's number, without its frames
 
 
 @attrs.frozen

@@ -166,14 +166,27 @@ def uncoupled_problem(rng, n, states):
     return normal, tangential, resultant, states, direction, residual
 
 
-def test_small_systems_keep_the_coupled_solve():
-    """Under SPLIT_FROM unknowns the split does not pay (numpy's cost per call): not used."""
+def test_small_systems_split_the_factor_but_not_the_products():
+    """Under SPLIT_FROM unknowns the factor splits (its tangential LU is a fraction of the
+    coupled one) while the products stay whole (numpy's cost per call outweighs the
+    skipped ranges there); the steps still equal the full solve's."""
     rng = np.random.default_rng(12)
     n = 10
-    normal, tangential, resultant, *_ = uncoupled_problem(rng, n, np.full(n, STICK))
-    linear = NewtonLinear(normal, tangential, resultant, 0.3, 1.7, 0.8)
+    states = np.full(n, STICK)
+    states[7:] = SLIP
+    normal, tangential, resultant, states, direction, _ = uncoupled_problem(rng, n, states)
+    f, r_n, r_t = 0.3, 1.7, 0.8
+    linear = NewtonLinear(normal, tangential, resultant, f, r_n, r_t)
     assert 2 * n + 2 < newton_linear.SPLIT_FROM
-    assert linear.maps.normal_part is None
+    maps = linear.maps
+    assert maps.normal_part is not None
+    assert maps.normal_ranges is maps.tangential_ranges is maps.mirrored is None
+    residual = rng.standard_normal(2 * n + 2)
+    jac = full_jacobian(normal, tangential, resultant, states, direction, f, r_n, r_t)
+    expected = np.linalg.solve(jac, -residual)
+    step = linear.step(residual, states, direction)
+    assert linear.factor.split is not None
+    assert np.max(np.abs(step - expected)) <= 1e-12 * np.max(np.abs(expected))
 
 
 def test_normal_part_only_when_the_coupling_is_exactly_zero():
