@@ -313,6 +313,7 @@ def test_a_pad_slides_along_a_concave_arc_from_python():
     data = copy.deepcopy(BASE)
     data["pad"]["radius"] = PAD
     data["contact"].update(pairs=pairs, sliding=False, zone_width=zone)
+    del data["contact"]["frame"]  # a sliding key: the scene here is read without sliding
     data["specimen"] = {  # its shape replaced below; the track twice as fine as the pad
         "shape": "flat", "length": 20.0, "thickness": 10.0,
         "elements": math.ceil(2 * (pairs - 2) * TRACK / zone),
