@@ -968,14 +968,18 @@ def _extreme_normal(m, h, xy, nb, c2, s2, start, o, upper):
     array written per loop, so that LLVM vectorises it)."""
     for g in range(start, start + nb):
         o[g] = -np.inf if upper else np.inf
+    if upper:  # the test outside the loops: LLVM does not unswitch every loop
+        for t in range(m.shape[0]):
+            for b in range(nb):
+                g = start + b
+                ee = m[t, b] + h[t, b] * c2[g] + xy[t, b] * s2[g]
+                o[g] = ee if ee > o[g] else o[g]
+        return
     for t in range(m.shape[0]):
         for b in range(nb):
             g = start + b
             ee = m[t, b] + h[t, b] * c2[g] + xy[t, b] * s2[g]
-            if upper:
-                o[g] = ee if ee > o[g] else o[g]
-            else:
-                o[g] = ee if ee < o[g] else o[g]
+            o[g] = ee if ee < o[g] else o[g]
 
 
 @numba.njit(inline="always", **_LOOPS)
@@ -984,14 +988,18 @@ def _extreme_strain(m, h, xy, tr, nb, nu, c2, s2, start, o, upper):
     a = 1.0 + nu
     for g in range(start, start + nb):
         o[g] = -np.inf if upper else np.inf
+    if upper:  # the test outside the loops: LLVM does not unswitch every loop
+        for t in range(m.shape[0]):
+            for b in range(nb):
+                g = start + b
+                en = a * (m[t, b] + h[t, b] * c2[g] + xy[t, b] * s2[g]) - nu * tr[t, b]
+                o[g] = en if en > o[g] else o[g]
+        return
     for t in range(m.shape[0]):
         for b in range(nb):
             g = start + b
             en = a * (m[t, b] + h[t, b] * c2[g] + xy[t, b] * s2[g]) - nu * tr[t, b]
-            if upper:
-                o[g] = en if en > o[g] else o[g]
-            else:
-                o[g] = en if en < o[g] else o[g]
+            o[g] = en if en < o[g] else o[g]
 
 
 @numba.njit(inline="always", **_LOOPS)
@@ -999,14 +1007,18 @@ def _extreme_shear(m, h, xy, nb, c2, s2, start, o, upper):
     """:func:`_extreme_normal` of tau_e."""
     for g in range(start, start + nb):
         o[g] = -np.inf if upper else np.inf
+    if upper:  # the test outside the loops: LLVM does not unswitch every loop
+        for t in range(m.shape[0]):
+            for b in range(nb):
+                g = start + b
+                te = xy[t, b] * c2[g] - h[t, b] * s2[g]
+                o[g] = te if te > o[g] else o[g]
+        return
     for t in range(m.shape[0]):
         for b in range(nb):
             g = start + b
             te = xy[t, b] * c2[g] - h[t, b] * s2[g]
-            if upper:
-                o[g] = te if te > o[g] else o[g]
-            else:
-                o[g] = te if te < o[g] else o[g]
+            o[g] = te if te < o[g] else o[g]
 
 
 @numba.njit(**_LOOPS)
@@ -1041,15 +1053,16 @@ def _golden_in_plane(m, h, xy, tr, nb, codes, par, nu, E, step, levels, c2, s2, 
     (5, C nb): their quantities, likewise; ``ends`` (2, C nb): the values of the grid
     neighbours, or empty (evaluated here). ``gw`` (12, C nb) scratch; ``out`` (12, C nb),
     ``tau``, ``value`` (C nb): the summaries and values of the evaluated planes. An iteration
-    evaluates only the summaries the criteria's values read; the critical planes' others
-    once at the end (the same numbers: the same planes, the same sums)."""
+    evaluates only the summaries the criteria's values read, the others on the critical
+    planes once at the end (the same numbers: the same planes, the same sums)."""
     n_c = codes.size
     n = n_c * nb
     lo, hi, f_lo, f_hi = gw[0, :n], gw[1, :n], gw[2, :n], gw[3, :n]
     cvalue, second, cscale, qx = gw[4, :n], gw[5, :n], gw[6, :n], gw[7, :n]
-    q2, qs2 = gw[8, :n], gw[9, :n]
+    q2, qs2, ctau, camp = gw[8, :n], gw[9, :n], gw[10, :n], gw[11, :n]
     for i in range(n):
         cvalue[i], second[i] = cres[0, i], cres[2, i]
+        ctau[i], camp[i] = cres[1, i], cres[4, i]
         cscale[i] = max(abs(cvalue[i]), 1e-300)
         lo[i], hi[i] = -step, step
     if ends.shape[1]:  # the bracket's ends: the grid's neighbours (numpy evaluates them again)
@@ -1099,6 +1112,7 @@ def _golden_in_plane(m, h, xy, tr, nb, codes, par, nu, E, step, levels, c2, s2, 
             code, start, stop = codes[ci], ci * nb, (ci + 1) * nb
             _in_plane_values(code, par[ci], E, out, start, stop, tau, value)
             mwcm = code == MWCM
+            strain = code == SWT or code == STRAIN_LIFE
             for b in range(nb):
                 i = start + b
                 x, v, cv = qx[i], value[i], cvalue[i]
@@ -1120,13 +1134,22 @@ def _golden_in_plane(m, h, xy, tr, nb, codes, par, nu, E, step, levels, c2, s2, 
                 s2[i] = qs2[i] if up else s2[i]
                 cvalue[i] = v if up else cv
                 second[i] = s_hi[i] if up else second[i]
-    # the critical planes' quantities: their values as found, the summaries all again
-    _in_plane_summaries(m, h, xy, tr, nb, nu, codes, par, c2, s2, out, True)
+                ctau[i] = tau[i] if up else ctau[i]
+                amp = 0.5 * (out[2, i] - out[3, i]) / E  # read where the criterion's value is
+                camp[i] = amp if up and strain else camp[i]
+    # the critical planes' quantities: those of their winning iteration, sigma_n's minimum
+    # and (where the value does not read it) the strain's range once on the final planes
     for ci in range(n_c):
-        _in_plane_values(codes[ci], par[ci], E, out, ci * nb, (ci + 1) * nb, tau, value)
+        code, start = codes[ci], ci * nb
+        _extreme_normal(m, h, xy, nb, c2, s2, start, out[1], False)
+        if not (code == SWT or code == STRAIN_LIFE):
+            _extreme_strain(m, h, xy, tr, nb, nu, c2, s2, start, out[2], True)
+            _extreme_strain(m, h, xy, tr, nb, nu, c2, s2, start, out[3], False)
+            for i in range(start, start + nb):
+                camp[i] = 0.5 * (out[2, i] - out[3, i]) / E
     for i in range(n):
-        cres[0, i], cres[1, i], cres[2, i] = cvalue[i], tau[i], out[0, i]
-        cres[3, i], cres[4, i] = out[1, i], 0.5 * (out[2, i] - out[3, i]) / E
+        cres[0, i], cres[1, i], cres[2, i] = cvalue[i], ctau[i], second[i]
+        cres[3, i], cres[4, i] = out[1, i], camp[i]
 
 
 @numba.njit(**_JIT)
@@ -1198,7 +1221,7 @@ def search(
     )
     cand_angles = (cand_rows[4, :n_q], cand_rows[5, :n_q])
     best = np.empty(n_c, dtype=np.int64)
-    bracket = np.empty((10, n_cur + _PAD))  # the golden search's scratch
+    bracket = np.empty((12, n_cur + _PAD))  # the golden search's scratch
     ends = np.empty((2, n_cur + _PAD))
     # the in-plane grid closes on itself (180 degrees a whole number of steps): the grid's
     # neighbours of a plane are its bracket's ends, their values known
