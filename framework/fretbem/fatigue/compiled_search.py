@@ -726,6 +726,13 @@ def _cos_sin(x):
     return c, s
 
 
+#: Taylor coefficients of cos x and of (sin x - x) / x in x^2, to x^10: exact to round-off
+#: below 0.1, as :func:`_cos_sin`'s series, by products alone (a division costs ~10 cycles
+#: of throughput: the golden search turns every point's plane at every iteration)
+_C0, _C1, _C2, _C3, _C4 = -1.0 / 2.0, 1.0 / 24.0, -1.0 / 720.0, 1.0 / 40320.0, -1.0 / 3628800.0
+_S0, _S1, _S2, _S3, _S4 = -1.0 / 6.0, 1.0 / 120.0, -1.0 / 5040.0, 1.0 / 362880.0, -1.0 / 39916800.0
+
+
 @numba.njit(**_JIT)
 def _evaluate(data, nb, planes, n_rep, per, codes, par, nu, E, in_plane, against, cur, work,
               keep=None):  # fmt: skip
@@ -954,88 +961,195 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
                         csup[i, 0], csup[i, 1], csup[i, 2] = qsup[i, 0], qsup[i, 1], qsup[i, 2]
 
 
+@numba.njit(inline="always", **_LOOPS)
+def _extreme_normal(m, h, xy, nb, c2, s2, start, o, upper):
+    """Running max (``upper``) or min over the steps of sigma_n on planes ``start:start + nb``
+    (plane ``start + b`` of point b) into ``o``: the steps outside, the points inside (one
+    array written per loop, so that LLVM vectorises it)."""
+    for g in range(start, start + nb):
+        o[g] = -np.inf if upper else np.inf
+    if upper:  # the test outside the loops: LLVM does not unswitch every loop
+        for t in range(m.shape[0]):
+            for b in range(nb):
+                g = start + b
+                ee = m[t, b] + h[t, b] * c2[g] + xy[t, b] * s2[g]
+                o[g] = ee if ee > o[g] else o[g]
+        return
+    for t in range(m.shape[0]):
+        for b in range(nb):
+            g = start + b
+            ee = m[t, b] + h[t, b] * c2[g] + xy[t, b] * s2[g]
+            o[g] = ee if ee < o[g] else o[g]
+
+
+@numba.njit(inline="always", **_LOOPS)
+def _extreme_strain(m, h, xy, tr, nb, nu, c2, s2, start, o, upper):
+    """:func:`_extreme_normal` of E eps_n = (1 + nu) sigma_n - nu tr."""
+    a = 1.0 + nu
+    for g in range(start, start + nb):
+        o[g] = -np.inf if upper else np.inf
+    if upper:  # the test outside the loops: LLVM does not unswitch every loop
+        for t in range(m.shape[0]):
+            for b in range(nb):
+                g = start + b
+                en = a * (m[t, b] + h[t, b] * c2[g] + xy[t, b] * s2[g]) - nu * tr[t, b]
+                o[g] = en if en > o[g] else o[g]
+        return
+    for t in range(m.shape[0]):
+        for b in range(nb):
+            g = start + b
+            en = a * (m[t, b] + h[t, b] * c2[g] + xy[t, b] * s2[g]) - nu * tr[t, b]
+            o[g] = en if en < o[g] else o[g]
+
+
+@numba.njit(inline="always", **_LOOPS)
+def _extreme_shear(m, h, xy, nb, c2, s2, start, o, upper):
+    """:func:`_extreme_normal` of tau_e."""
+    for g in range(start, start + nb):
+        o[g] = -np.inf if upper else np.inf
+    if upper:  # the test outside the loops: LLVM does not unswitch every loop
+        for t in range(m.shape[0]):
+            for b in range(nb):
+                g = start + b
+                te = xy[t, b] * c2[g] - h[t, b] * s2[g]
+                o[g] = te if te > o[g] else o[g]
+        return
+    for t in range(m.shape[0]):
+        for b in range(nb):
+            g = start + b
+            te = xy[t, b] * c2[g] - h[t, b] * s2[g]
+            o[g] = te if te < o[g] else o[g]
+
+
+@numba.njit(**_LOOPS)
+def _in_plane_summaries(m, h, xy, tr, nb, nu, codes, par, c2, s2, out, whole):
+    """The summaries (rows of :func:`_grid_summaries`) of plane ``ci nb + b`` of every
+    criterion ci and point b, by the steps outside: those its value reads (sigma_n max;
+    sigma_n min for stress life; the strain's range for SWT and strain life; tau_e's for the
+    shear criteria), or (``whole``) all six."""
+    for ci in range(codes.size):
+        code, start = codes[ci], ci * nb
+        strain = code == SWT or code == STRAIN_LIFE
+        _extreme_normal(m, h, xy, nb, c2, s2, start, out[0], True)
+        if whole or code == STRESS_LIFE:
+            _extreme_normal(m, h, xy, nb, c2, s2, start, out[1], False)
+        if whole or strain:
+            _extreme_strain(m, h, xy, tr, nb, nu, c2, s2, start, out[2], True)
+            _extreme_strain(m, h, xy, tr, nb, nu, c2, s2, start, out[3], False)
+        if whole or _needs_shear(code):
+            _extreme_shear(m, h, xy, nb, c2, s2, start, out[4], True)
+            _extreme_shear(m, h, xy, nb, c2, s2, start, out[5], False)
+
+
 @numba.njit(**_JIT)
-def _golden_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles, codes, par,
-                  nu, E, step, levels, work, bracket, ends):  # fmt: skip
-    """The numpy search's ``_golden`` (in-plane) for a block of points: every criterion's
-    planes of an iteration in one :func:`_evaluate`. ``cres`` (5, C nb): the current planes'
-    quantities, from the grid in, the final ones out; ``bracket`` (4, C nb) scratch: the
-    bracket's ends (offsets in theta from the current plane) and their values; ``ends``
-    (2, C nb): the values of the grid neighbours, or empty (evaluated here)."""
-    c2, s2, sp, cp, _ = cur_planes
-    th, ps = cur_angles
-    cvalue, cscale, _ = cur
-    lo, hi, f_lo, f_hi = bracket[0], bracket[1], bracket[2], bracket[3]
+def _golden_in_plane(m, h, xy, tr, nb, codes, par, nu, E, step, levels, c2, s2, th, cres, ends,
+                     gw, out, tau, value):  # fmt: skip
+    """The numpy search's ``_golden`` (in-plane) for a block of points, all criteria's planes
+    of an iteration in one pass over the steps (the steps outside, the planes ``ci nb + b``,
+    criterion ci and point b, inside: vectorised), the bracket's update by selects (its four
+    cases as branches mispredict about one point in two).
+
+    ``c2``, ``s2``, ``th`` (C nb): the grid's planes in, the critical ones out; ``cres``
+    (5, C nb): their quantities, likewise; ``ends`` (2, C nb): the values of the grid
+    neighbours, or empty (evaluated here). ``gw`` (12, C nb) scratch; ``out`` (12, C nb),
+    ``tau``, ``value`` (C nb): the summaries and values of the evaluated planes. An iteration
+    evaluates only the summaries the criteria's values read, the others on the critical
+    planes once at the end (the same numbers: the same planes, the same sums)."""
     n_c = codes.size
     n = n_c * nb
-    second = np.empty(n)
-    turn = np.empty(4)
-    out, tau, value = work[0], work[3], work[4]
-    q2, qs2, qsp, qcp, _ = cand
-    qth, qps = cand_angles
+    lo, hi, f_lo, f_hi = gw[0, :n], gw[1, :n], gw[2, :n], gw[3, :n]
+    cvalue, second, cscale, qx = gw[4, :n], gw[5, :n], gw[6, :n], gw[7, :n]
+    q2, qs2, ctau, camp = gw[8, :n], gw[9, :n], gw[10, :n], gw[11, :n]
     for i in range(n):
         cvalue[i], second[i] = cres[0, i], cres[2, i]
+        ctau[i], camp[i] = cres[1, i], cres[4, i]
         cscale[i] = max(abs(cvalue[i]), 1e-300)
         lo[i], hi[i] = -step, step
-    # the bracket's ends: the grid's neighbours (the numpy search evaluates them again)
-    if ends.shape[1]:
+    if ends.shape[1]:  # the bracket's ends: the grid's neighbours (numpy evaluates them again)
         for i in range(n):
             f_lo[i], f_hi[i] = ends[0, i], ends[1, i]
-    for ci in range(n_c if not ends.shape[1] else 0):
+    else:
         for j in range(2):
-            dt = -step if j == 0 else step
-            _turn(dt, 0.0, turn)
-            for b in range(nb):
-                i, g = ci * nb + b, (ci * 2 + j) * nb + b
-                q2[g], qs2[g], qsp[g], qcp[g], qps[g] = _moved(
-                    c2[i], s2[i], sp[i], cp[i], ps[i], dt, 0.0, turn
-                )
-    if not ends.shape[1]:
-        _evaluate(data, nb, cand, n_c * 2, 2, codes, par, nu, E, True, False, cur, work)
-        for ci in range(n_c):
-            for b in range(nb):
-                i, g = ci * nb + b, ci * 2 * nb + b
-                f_lo[i], f_hi[i] = value[g], value[g + nb]
+            tc, ts = _cos_sin(-2.0 * step if j == 0 else 2.0 * step)
+            for i in range(n):
+                q2[i], qs2[i] = c2[i] * tc - s2[i] * ts, s2[i] * tc + c2[i] * ts
+            _in_plane_summaries(m, h, xy, tr, nb, nu, codes, par, q2, qs2, out, False)
+            for ci in range(n_c):
+                _in_plane_values(codes[ci], par[ci], E, out, ci * nb, (ci + 1) * nb, tau, value)
+            for i in range(n):
+                if j == 0:
+                    f_lo[i] = value[i]
+                else:
+                    f_hi[i] = value[i]
+    s_hi = out[0]
     for level in range(levels + 2):
         last = level == levels + 1
-        for i in range(n):
-            if last:  # the vertex of the parabola through the ends and the current plane
+        if last:  # the vertex of the parabola through the ends and the current plane
+            for i in range(n):
                 a, b_ = cvalue[i] - f_hi[i], cvalue[i] - f_lo[i]
                 den = -lo[i] * a + hi[i] * b_
                 x = -0.5 * (lo[i] * lo[i] * a - hi[i] * hi[i] * b_) / den if den != 0.0 else 0.0
-                if not (math.isfinite(x) and lo[i] < x < hi[i]):
-                    x = 0.0
-            else:
-                x = _GOLDEN * hi[i] if hi[i] > -lo[i] else _GOLDEN * lo[i]
-            qth[i] = x  # the offset, until the plane is kept
-            # :func:`_moved` by an angle in theta alone, with scalars (a call per point that
-            # passes arrays reference-counts them)
-            q2[i], qs2[i], qsp[i], qcp[i], qps[i] = c2[i], s2[i], sp[i], cp[i], ps[i]
-            if x != 0.0:
-                tc, ts = _cos_sin(2.0 * x)
+                qx[i] = x if math.isfinite(x) and lo[i] < x < hi[i] else 0.0
+        else:
+            for i in range(n):
+                qx[i] = _GOLDEN * hi[i] if hi[i] > -lo[i] else _GOLDEN * lo[i]
+        # the turned planes: the series by products, libm where the turn is long (rare: a
+        # second loop), the plane itself where the offset is 0
+        for i in range(n):
+            d = 2.0 * qx[i]
+            d2 = d * d
+            tc = 1.0 + d2 * (_C0 + d2 * (_C1 + d2 * (_C2 + d2 * (_C3 + d2 * _C4))))
+            ts = d + d * (d2 * (_S0 + d2 * (_S1 + d2 * (_S2 + d2 * (_S3 + d2 * _S4)))))
+            q2[i], qs2[i] = c2[i] * tc - s2[i] * ts, s2[i] * tc + c2[i] * ts
+        for i in range(n):
+            if qx[i] == 0.0:
+                q2[i], qs2[i] = c2[i], s2[i]
+            elif abs(2.0 * qx[i]) >= 0.1:
+                tc, ts = math.cos(2.0 * qx[i]), math.sin(2.0 * qx[i])
                 q2[i], qs2[i] = c2[i] * tc - s2[i] * ts, s2[i] * tc + c2[i] * ts
-        _evaluate(data, nb, cand, n_c, 1, codes, par, nu, E, True, False, cur, work)
+        _in_plane_summaries(m, h, xy, tr, nb, nu, codes, par, q2, qs2, out, False)
         for ci in range(n_c):
+            code, start, stop = codes[ci], ci * nb, (ci + 1) * nb
+            _in_plane_values(code, par[ci], E, out, start, stop, tau, value)
+            mwcm = code == MWCM
+            strain = code == SWT or code == STRAIN_LIFE
             for b in range(nb):
-                i = ci * nb + b
-                x, v = qth[i], value[i]
-                up = _better(codes[ci], v, out[0, i], cvalue[i], second[i], cscale[i])
+                i = start + b
+                x, v, cv = qx[i], value[i], cvalue[i]
+                tol = _TIE * cscale[i]
+                if mwcm:
+                    up = (v > cv + tol) | ((v >= cv - tol) & (s_hi[i] > second[i]))
+                else:
+                    up = v > cv
+                r = hi[i] > -lo[i]
+                ur, u_r, _ur, _u_r = up & r, up & ~r, ~up & r, ~up & ~r
                 if not last:
-                    right = hi[i] > -lo[i]
-                    if up and right:
-                        lo[i], hi[i], f_lo[i] = -x, hi[i] - x, cvalue[i]
-                    elif up:
-                        lo[i], hi[i], f_hi[i] = lo[i] - x, -x, cvalue[i]
-                    elif right:
-                        hi[i], f_hi[i] = x, v
-                    else:
-                        lo[i], f_lo[i] = x, v
-                if up:  # :func:`_keep`, with the block's arrays
-                    th[i] += x
-                    c2[i], s2[i], sp[i], cp[i] = q2[i], qs2[i], qsp[i], qcp[i]
-                    cvalue[i], second[i] = v, out[0, i]
-                    cres[0, i], cres[1, i], cres[2, i] = v, tau[i], out[0, i]
-                    cres[3, i], cres[4, i] = out[1, i], 0.5 * (out[2, i] - out[3, i]) / E
+                    l0, h0 = lo[i], hi[i]
+                    lo[i] = -x if ur else (l0 - x if u_r else (x if _u_r else l0))
+                    hi[i] = h0 - x if ur else (-x if u_r else (x if _ur else h0))
+                    f_lo[i] = cv if ur else (v if _u_r else f_lo[i])
+                    f_hi[i] = cv if u_r else (v if _ur else f_hi[i])
+                th[i] = th[i] + x if up else th[i]
+                c2[i] = q2[i] if up else c2[i]
+                s2[i] = qs2[i] if up else s2[i]
+                cvalue[i] = v if up else cv
+                second[i] = s_hi[i] if up else second[i]
+                ctau[i] = tau[i] if up else ctau[i]
+                amp = 0.5 * (out[2, i] - out[3, i]) / E  # read where the criterion's value is
+                camp[i] = amp if up and strain else camp[i]
+    # the critical planes' quantities: those of their winning iteration, sigma_n's minimum
+    # and (where the value does not read it) the strain's range once on the final planes
+    for ci in range(n_c):
+        code, start = codes[ci], ci * nb
+        _extreme_normal(m, h, xy, nb, c2, s2, start, out[1], False)
+        if not (code == SWT or code == STRAIN_LIFE):
+            _extreme_strain(m, h, xy, tr, nb, nu, c2, s2, start, out[2], True)
+            _extreme_strain(m, h, xy, tr, nb, nu, c2, s2, start, out[3], False)
+            for i in range(start, start + nb):
+                camp[i] = 0.5 * (out[2, i] - out[3, i]) / E
+    for i in range(n):
+        cres[0, i], cres[1, i], cres[2, i] = cvalue[i], ctau[i], second[i]
+        cres[3, i], cres[4, i] = out[1, i], camp[i]
 
 
 @numba.njit(**_JIT)
@@ -1107,7 +1221,7 @@ def search(
     )
     cand_angles = (cand_rows[4, :n_q], cand_rows[5, :n_q])
     best = np.empty(n_c, dtype=np.int64)
-    bracket = np.empty((4, n_cur + _PAD))
+    bracket = np.empty((12, n_cur + _PAD))  # the golden search's scratch
     ends = np.empty((2, n_cur + _PAD))
     # the in-plane grid closes on itself (180 degrees a whole number of steps): the grid's
     # neighbours of a plane are its bracket's ends, their values known
@@ -1166,9 +1280,9 @@ def search(
             for i in range(n_c * nb):
                 _keep(cres, i, work[4], work[3], work[0], i, E)
         if in_plane:
-            _golden_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles,
-                          codes, par, nu, E, steps[0], levels, work, bracket,
-                          ends if wraps else ends[:, :0])  # fmt: skip
+            _golden_in_plane(m, h, xy, tr, nb, codes, par, nu, E, steps[0], levels, c2, s2, th,
+                             cres, ends if wraps else ends[:, :0], bracket, work[0], work[3],
+                             work[4])  # fmt: skip
         else:
             _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles,
                           codes, par, nu, E, steps, levels, in_plane, work)  # fmt: skip
