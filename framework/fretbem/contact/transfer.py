@@ -102,21 +102,9 @@ def conservative(
         # mass and coupling in coefficient space, from the few functions alive at each point
         cols_m, vals_m = master.local(np.full(s.shape, index), s)
         cols_s, vals_s = slave.local(s_seg, r)
-        mass += np.bincount(
-            (cols_m[:, :, None] * n_m + cols_m[:, None, :]).ravel(),
-            (w_master[:, None, None] * vals_m[:, :, None] * vals_m[:, None, :]).ravel(),
-            minlength=n_m * n_m,
-        )
-        coupling += np.bincount(
-            (cols_m[:, :, None] * n_s + cols_s[:, None, :]).ravel(),
-            (w_slave[:, None, None] * vals_m[:, :, None] * vals_s[:, None, :]).ravel(),
-            minlength=n_m * n_s,
-        )
-    # node values of the master field per unit slave node value: E_m M^-1 B E_s^-1
-    coefficients = np.linalg.solve(
-        mass.reshape(n_m, n_m), coupling.reshape(n_m, n_s) @ slave.inverse_values_matrix()
-    )
-    return (master.values_matrix() @ coefficients)[:, order]
+        mass += _products(w_master, cols_m, vals_m, cols_m, vals_m, (n_m, n_m))
+        coupling += _products(w_slave, cols_m, vals_m, cols_s, vals_s, (n_m, n_s))
+    return _node_map(master, slave, mass, coupling, order)
 
 
 #: transfer name -> function
@@ -193,11 +181,7 @@ def conservative_along_normals(mapping: NormalMap, nodes, normals, order) -> np.
         s, w = _gauss(rule, bounds[:-1], bounds[1:])
         w_master = w * np.linalg.norm(basis.curve.derivatives(s), axis=1)
         cols, vals = master.local(np.full(s.shape, index), s)
-        mass += np.bincount(
-            (cols[:, :, None] * n_m + cols[:, None, :]).ravel(),
-            (w_master[:, None, None] * vals[:, :, None] * vals[:, None, :]).ravel(),
-            minlength=n_m * n_m,
-        )
+        mass += _products(w_master, cols, vals, cols, vals, (n_m, n_m))
         breaks.append(basis.curve.points(bounds))
         break_normals.append(basis.curve.normals(bounds))
     on_slave = mapping.to_slave(np.concatenate(breaks), np.concatenate(break_normals))
@@ -214,11 +198,23 @@ def conservative_along_normals(mapping: NormalMap, nodes, normals, order) -> np.
         m_seg, m_par = mapping.to_master(points, curve.normals(s))
         cols_m, vals_m = master.local(m_seg, m_par)  # zero off the master face
         cols_s, vals_s = slave.local(np.full(s.shape, index), s)
-        coupling += np.bincount(
-            (cols_m[:, :, None] * n_s + cols_s[:, None, :]).ravel(),
-            (w_slave[:, None, None] * vals_m[:, :, None] * vals_s[:, None, :]).ravel(),
-            minlength=n_m * n_s,
-        )
+        coupling += _products(w_slave, cols_m, vals_m, cols_s, vals_s, (n_m, n_s))
+    return _node_map(master, slave, mass, coupling, order)
+
+
+def _products(weights, rows, row_values, cols, col_values, shape: tuple) -> np.ndarray:
+    """Sum over quadrature points of w N_row N_col, as a flat ``shape`` matrix, from the few
+    functions alive at each point (``rows``/``cols``: their numbers, per point)."""
+    return np.bincount(
+        (rows[:, :, None] * shape[1] + cols[:, None, :]).ravel(),
+        (weights[:, None, None] * row_values[:, :, None] * col_values[:, None, :]).ravel(),
+        minlength=shape[0] * shape[1],
+    )
+
+
+def _node_map(master: FaceField, slave: FaceField, mass, coupling, order) -> np.ndarray:
+    """Node values of the master field per unit slave node value: E_m M^-1 B E_s^-1."""
+    n_m, n_s = master.n_nodes, slave.n_nodes
     coefficients = np.linalg.solve(
         mass.reshape(n_m, n_m), coupling.reshape(n_m, n_s) @ slave.inverse_values_matrix()
     )
