@@ -171,10 +171,26 @@ class _CollocatesAtEnds(QuadraticLagrangeBasis):
         return self.natural_collocation
 
 
+class _NotOdd(QuadraticLagrangeBasis):
+    """Points shifted by 1e-13 (harmless to the geometry checks): the map of a point image is
+    no longer the map reflected, which the BEM assembly's reuse of image blocks relies on."""
+
+    def map(self, elements, local):
+        element_map = super().map(elements, local)
+        return attrs.evolve(element_map, points=element_map.points + 1e-13)
+
+
+class _DeclaredNotOdd(_NotOdd):
+    """The same family, declaring it: no point image is taken, and nothing is checked."""
+
+    odd_in_geometry = False
+
+
 @pytest.mark.parametrize(
     ("cls", "message"),
     [
         (_WrongDerivative, "derivatives match finite differences"),
+        (_NotOdd, r"point image \(odd_in_geometry\).*odd_in_geometry = False"),
         (_NoPartition, r"partition of unity \(sum phi = 1\)"),
         (_ClaimsNodal, "functions are nodal at natural_collocation"),
         (_LostFunction, "connectivity indices cover"),
@@ -188,6 +204,11 @@ def test_check_basis_detects_broken_families(cls, message):
     """Each deliberately broken family fails check_basis with the property named."""
     with pytest.raises(AssertionError, match=message):
         check_basis(cls)
+
+
+def test_a_family_that_is_not_odd_in_the_geometry_passes_when_it_says_so():
+    """odd_in_geometry = False: the point-image check is skipped (and images are not reused)."""
+    check_basis(_DeclaredNotOdd)
 
 
 def test_check_basis_accepts_custom_curves_and_names_the_case():

@@ -271,6 +271,47 @@ def _check_collocation(case: _Case, tol: float) -> None:
         )
 
 
+def _check_point_image(case: _Case) -> None:
+    """A family that declares ``odd_in_geometry`` (the default) discretises the curve's point
+    image (control points negated) into the same segment with its geometry negated, and its
+    map negates points, tangents and normals exactly: the BEM assembly then takes one body's
+    blocks for its image's bit for bit (:mod:`fretbem.bem.images`), so this is checked to
+    the last bit; a family for which it does not hold must set ``odd_in_geometry = False``."""
+    cls, curve, basis = case.cls, case.curve, case.basis
+    if not cls.odd_in_geometry:
+        return
+    image_curve = NurbsCurve(curve.degree, curve.knots, -curve.control_points + 0.0, curve.weights)
+    image = cls.discretise(image_curve, case.refinement)
+    same = (
+        np.array_equal(image.element_bounds, basis.element_bounds)
+        and np.array_equal(image.connectivity, basis.connectivity)
+        and np.array_equal(image.natural_collocation, basis.natural_collocation)
+        and np.array_equal(image.geometry_coefficients, -basis.geometry_coefficients + 0.0)
+    )
+    case.require(
+        same,
+        "point image (odd_in_geometry)",
+        "the reflected curve's segment differs from the segment reflected; set "
+        f"{cls.__name__}.odd_in_geometry = False if the family cannot keep it",
+    )
+    elements, local = _element_samples(basis, _LOCAL)
+    mine, theirs = basis.map(elements, local), image.map(elements, local)
+    exact = (
+        np.array_equal(theirs.values, mine.values)
+        and np.array_equal(theirs.jacobians, mine.jacobians)
+        and np.array_equal(theirs.points, -mine.points)
+        and np.array_equal(theirs.tangents, -mine.tangents)
+        and np.array_equal(theirs.normals, -mine.normals)
+    )
+    case.require(
+        exact,
+        "point image (odd_in_geometry)",
+        "map() of the reflected segment is not the map reflected bit for bit (values and "
+        f"Jacobians equal, points, tangents and normals negated); set {cls.__name__}."
+        "odd_in_geometry = False if the family cannot keep it",
+    )
+
+
 def _check_refinement(
     cls: type[Basis], name: str, curve: NurbsCurve, refinement: Refinement, tol: float
 ) -> None:
@@ -352,5 +393,6 @@ def check_basis(
             _check_derivatives(case)
             _check_geometry(case, tol)
             _check_collocation(case, tol)
+            _check_point_image(case)
             if refinement.toward is None or refinement.ratio == 1.0:
                 _check_refinement(cls, name, curve, refinement, tol)
