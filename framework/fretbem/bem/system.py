@@ -18,6 +18,7 @@ import scipy.linalg as sla
 from fretbem.body import BlockRotation, ContactResponse, RigidMotionError
 from fretbem.numerics.blas import one_blas_thread
 
+from . import image_factor
 from .assembly import BLOCKS
 from .layout import BLOCK, CONTACT, DISPLACEMENT, TRACTION, Layout
 
@@ -46,7 +47,7 @@ class BodySystem:
         self.block_dofs = np.flatnonzero(self.kinds == BLOCK)
         self.contact_dofs = np.flatnonzero(self.kinds == CONTACT)
         with one_blas_thread():  # a busy machine made threaded BLAS 60x slower here
-            response = _solve_parameters(h, g, self.kinds, self.known, self.load_known,
+            response = _solve_parameters(body, h, g, self.kinds, self.known, self.load_known,
                                          solves_u, self.block_dofs, self.contact_dofs)  # fmt: skip
         del h, g  # the body releases its own copies once this system is cached
         if not np.all(np.isfinite(response)):
@@ -112,9 +113,11 @@ def g_free_segments(body: Body, layout: Layout) -> tuple[int, ...]:
     return tuple(k for k in range(len(body.segments)) if free[body.function_slice(k)].all())
 
 
-def _solve_parameters(h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs):
+def _solve_parameters(body, h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs):
     """A^-1 [z0 rhs, block columns, contact columns, load columns], A the collocation matrix.
 
+    A body that is the point image of the body factorised just before, with corresponding
+    boundary conditions, is solved with that one's factors (:mod:`fretbem.bem.image_factor`).
     A and the parameters are built F-ordered (LAPACK's order) and factorised and solved in
     place, so at the peak H, G, the LU and the parameters are alive and nothing else dense.
     A is factorised with row pivoting, not as A^T (which moved the 961-pair unknowns by
@@ -123,12 +126,35 @@ def _solve_parameters(h, g, kinds, known, load_known, solves_u, block_dofs, cont
     matrix, parameters = collocation_system(
         h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs
     )
+    segments = body.segments
+    first_dofs = 2 * body.offsets
+    counts = np.bincount(body.collocation.segment, minlength=len(segments))
+    first_rows = 2 * np.concatenate([[0], np.cumsum(counts)])
+    shared = image_factor.solve_as_image(
+        segments, first_dofs, first_rows, BLOCKS.image, matrix, parameters
+    )
+    if shared is not None:
+        return shared
+    small = len(matrix) <= image_factor.KEEP_MAX_ROWS
+    kept_matrix, kept_parameters = (
+        (matrix.copy(order="F"), parameters.copy(order="F")) if small else (None, None)
+    )
     lu, piv, info = sla.lapack.dgetrf(matrix, overwrite_a=True)  # A = P L U
     del matrix
     if info != 0:
+        image_factor.clear()
         return np.full(parameters.shape, np.nan)
     out, info = sla.lapack.dgetrs(lu, piv, parameters, overwrite_b=True)
-    return out if info == 0 else np.full(parameters.shape, np.nan)
+    if info != 0:
+        image_factor.clear()
+        return np.full(parameters.shape, np.nan)
+    if small:
+        image_factor.keep(
+            segments, first_dofs, first_rows, kept_matrix, lu, piv, kept_parameters, out
+        )
+    else:
+        image_factor.clear()
+    return out
 
 
 def collocation_system(h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs):
