@@ -419,10 +419,18 @@ def assemble(
     # rigid-body identity: subtract phi_a(s) * (row sum of the non-singular part of H)
     row_sums = _row_sums(h, n)
     for k, basis, rows, values, *_ in jobs:
+        if integrated is not None:  # the other rows of a mirrored body: filled below
+            on = integrated[rows]
+            rows, values = rows[on], values[on]
         cols = assembler.offsets[k] + basis.connectivity[colloc.element[rows]]
         blocks = -np.einsum("pa,pij->piaj", values, row_sums[rows])
         loops.scatter_blocks(rows, cols, np.ascontiguousarray(blocks), h)
     for k, basis, _, _, rows, elements, singular, with_g in jobs:
+        if integrated is not None:
+            on = integrated[rows]
+            rows, elements = rows[on], elements[on]
+            both = np.concatenate([on, on])
+            singular = tuple(a[both] for a in singular)
         if not rows.size:
             continue
         cols = assembler.offsets[k] + basis.connectivity[elements]
@@ -431,4 +439,7 @@ def assemble(
             np.concatenate([rows, rows]), colloc.points, *singular,
             np.concatenate([cols, cols]), shear_modulus, nu, h, g, *(() if with_g else (False,)),
         )  # fmt: skip
+    if integrated is not None:  # the mirrored rows whole, their singular terms included
+        mirror.fill(h, q, integrated)
+        mirror.fill(g, q, integrated)
     return h, g
