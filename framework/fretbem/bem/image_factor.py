@@ -31,9 +31,11 @@ SUM_ROUNDING = 2.0**-40
 
 @attrs.frozen(eq=False)
 class KeptFactor:
-    """The last small factorisation: its body's segments (weak), their first dofs and first
-    rows, the matrix, its LU factors, the parameter columns and their solution."""
+    """The last small factorisation: its system (weak: the object that asked for it), its
+    body's segments (weak), their first dofs and first rows, the matrix, its LU factors, the
+    parameter columns and their solution."""
 
+    owner: weakref.ref
     segments: tuple
     first_dofs: np.ndarray
     first_rows: np.ndarray
@@ -52,22 +54,23 @@ def clear() -> None:
     _KEPT[0] = None
 
 
-def keep(segments, first_dofs, first_rows, matrix, lu, pivots, parameters, solution) -> None:
+def keep(owner, segments, first_dofs, first_rows, matrix, lu, pivots, parameters, solution) -> None:
     """Keep a factorisation (copies of the matrix and the parameters, taken before LAPACK
     overwrote them) for the next body, if it is small enough; else forget the last one."""
     if len(lu) > KEEP_MAX_ROWS:
         clear()
         return
     refs = tuple(weakref.ref(basis) for basis in segments)
-    _KEPT[0] = KeptFactor(refs, first_dofs, first_rows, matrix, lu, pivots, parameters, solution)
+    _KEPT[0] = KeptFactor(
+        weakref.ref(owner), refs, first_dofs, first_rows, matrix, lu, pivots, parameters, solution
+    )
 
 
-def solve_as_image(
-    segments, first_dofs, first_rows, image_of, matrix, parameters
-) -> np.ndarray | None:
-    """A^-1 parameters from the kept factorisation when A is the kept matrix permuted
-    segment by segment (``image_of(basis)``: the segment ``basis`` is the point image of),
-    checked exactly; None otherwise. The kept factorisation serves once."""
+def solve_as_image(segments, first_dofs, first_rows, image_of, matrix, parameters) -> tuple | None:
+    """(A^-1 parameters, the kept factorisation's owner or None if it is gone) from the kept
+    factorisation when A is the kept matrix permuted segment by segment (``image_of(basis)``:
+    the segment ``basis`` is the point image of), checked; None otherwise. The kept
+    factorisation serves once."""
     kept = _KEPT[0]
     if kept is None or len(kept.lu) != len(matrix):
         return None
@@ -104,7 +107,7 @@ def solve_as_image(
     clear()
     result = np.empty(parameters.shape)
     result[order] = solution[kept_order]
-    return result
+    return result, kept.owner()
 
 
 def _segment_map(kept, segments, first_dofs, first_rows, image_of):

@@ -94,3 +94,29 @@ def test_a_differing_matrix_is_factorised_again(monkeypatch):
         tampered = kept.matrix.copy(order="F")
         tampered[row, column] += 1e-9 * (1 + abs(tampered[row, column]))
         assert solve(attrs.evolve(kept, matrix=tampered)) is None
+
+
+@pytest.mark.parametrize("basis", ["nurbs", "lagrange2"])
+def test_the_image_specimen_takes_the_pads_contact_maps_bit_for_bit(basis, monkeypatch):
+    """Its traction map and contact force are the pad's (E, the face weights and the contact
+    rows of the contact columns equal): the same numbers as computing them."""
+    responses, used = [], []
+    image_response = system._image_response
+    for share in (False, True):
+        _cold()
+
+        def shared(*args, share=share):
+            out = image_response(*args) if share else None
+            used.append(out is not None)
+            return out
+
+        monkeypatch.setattr(system, "_image_response", shared)
+        pair = cattaneo_mindlin(models={}, basis=basis, pairs=21).pair
+        pair.upper.contact_response(pair.upper_tag)
+        responses.append(pair.lower.contact_response(pair.lower_tag))
+    assert used == [False, False, False, True]  # the pad (a block) and the specimen, twice
+    own, taken = responses
+    assert not taken.has_block and taken.rotation is None
+    for name in ("base", "traction_map", "block_map", "load_map", "r_base", "r_traction",
+                 "r_block", "r_load", "contact_force"):  # fmt: skip
+        assert np.array_equal(getattr(own, name), getattr(taken, name)), name
