@@ -18,7 +18,7 @@ import scipy.linalg as sla
 from fretbem.body import BlockRotation, ContactResponse, RigidMotionError
 from fretbem.numerics.blas import one_blas_thread
 
-from . import image_factor
+from . import image_factor, images
 from .assembly import BLOCKS
 from .layout import BLOCK, CONTACT, DISPLACEMENT, TRACTION, Layout
 
@@ -136,7 +136,7 @@ def _solve_parameters(owner, h, g, kinds, known, load_known, solves_u, block_dof
     counts = np.bincount(body.collocation.segment, minlength=len(segments))
     first_rows = 2 * np.concatenate([[0], np.cumsum(counts)])
     shared = image_factor.solve_as_image(
-        segments, first_dofs, first_rows, BLOCKS.image, matrix, parameters
+        segments, first_dofs, first_rows, _image_of, matrix, parameters
     )
     if shared is not None:
         out, owner.image_of = shared
@@ -161,6 +161,14 @@ def _solve_parameters(owner, h, g, kinds, known, load_known, solves_u, block_dof
     else:
         image_factor.clear()
     return out
+
+
+def _image_of(basis):
+    """The segment ``basis`` is the point image of: kept by the block store, or (a body too
+    large to keep its blocks) the one it was discretised from
+    (:func:`fretbem.bem.images.source`)."""
+    image = BLOCKS.image(basis)
+    return image if image is not None else images.source(basis)
 
 
 def collocation_system(h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs):
