@@ -7,8 +7,9 @@ the traction unknown) has that body's collocation matrix with its rows and colum
 segment by segment, to round-off: the rigid-body terms on the diagonal are row sums in
 another order, and the other blocks are equal to the last bit when the image took the other
 body's blocks, to round-off when the compiled loops integrated it again. Its system is then
-solved with the kept LU factors, and the parameter columns equal to the kept body's (the
-contact columns: G's columns on the contact face) take its solved columns. The
+solved with the kept LU factors, and the parameter columns equal to the kept body's to the
+same round-off (the contact columns: G's columns on the contact face) take its solved
+columns. The
 correspondence is checked block by block; anything else is factorised as before. Only the
 last factorisation is kept, and only a small one.
 """
@@ -97,7 +98,8 @@ def solve_as_image(segments, first_dofs, first_rows, image_of, matrix, parameter
     permuted[kept_row_order] = parameters[row_order]
     same = np.zeros(parameters.shape[1], bool)
     if kept.parameters.shape == parameters.shape:  # columns solved already
-        same = np.all(permuted == kept.parameters, axis=0)
+        scale = np.abs(kept.parameters).max(axis=0)
+        same = np.all(np.abs(permuted - kept.parameters) <= ROUNDING * scale, axis=0)
     solution = np.empty(parameters.shape)
     solution[:, same] = kept.solution[:, same]
     if not same.all():
