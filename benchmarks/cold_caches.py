@@ -13,6 +13,10 @@ try:
     from fretbem.bem import images
 except ImportError:  # an older tree
     images = None
+try:
+    from fretbem.bem import image_factor
+except ImportError:  # an older tree
+    image_factor = None
 from fretbem.geometry import nurbs
 from fretbem.scenes import builder
 
@@ -32,6 +36,8 @@ def clear_scene_caches() -> None:
     discretised = getattr(images, "_DISCRETISED", None)
     if discretised is not None:
         discretised.clear()
+    if image_factor is not None:  # the last factorisation, kept for a point image
+        image_factor.clear()
     operators = getattr(nurbs, "_OPERATORS", None)
     if operators is not None:
         operators.clear()

@@ -303,17 +303,18 @@ def _rows_outside(starts: np.ndarray, segments) -> np.ndarray:
 
 
 def _row_sums(h: np.ndarray, n: int, chunk: int = 64) -> np.ndarray:
-    """``h.reshape(n, 2, n, 2).sum(axis=2)``, bit for bit, at a third of its time.
+    """``h.reshape(-1, 2, n, 2).sum(axis=2)`` (h: rows of the 2n columns), bit for bit, at a
+    third of its time.
 
     numpy sums that strided axis in order, column pair after column pair; here each chunk of
     rows is laid out with the column pairs outermost and summed in the same order over
     contiguous rows (a chunk at a time, so no copy of H is ever whole).
     """
-    out = np.empty((2 * n, 2))
-    for start in range(0, 2 * n, chunk):
+    out = np.empty((len(h), 2))
+    for start in range(0, len(h), chunk):
         block = h[start : start + chunk].reshape(-1, n, 2)
         out[start : start + chunk] = np.ascontiguousarray(block.transpose(1, 0, 2)).sum(axis=0)
-    return out.reshape(n, 2, 2)
+    return out.reshape(-1, 2, 2)
 
 
 def _near(loops, basis, rules, points, pr, pe, cols, s, kernel, h, g, with_g) -> None:
@@ -417,12 +418,25 @@ def assemble(
     if reuse:
         BLOCKS.assembled(segments)
     # rigid-body identity: subtract phi_a(s) * (row sum of the non-singular part of H)
-    row_sums = _row_sums(h, n)
+    if integrated is None:
+        row_sums = _row_sums(h, n)
+    else:  # the integrated rows' sums only (each row's sum the same arithmetic)
+        row_sums = np.zeros((n, 2, 2))
+        on = np.flatnonzero(integrated)
+        row_sums[on] = _row_sums(h[(2 * on[:, None] + np.arange(2)).ravel()], n)
     for k, basis, rows, values, *_ in jobs:
+        if integrated is not None:  # the other rows of a mirrored body: filled below
+            on = integrated[rows]
+            rows, values = rows[on], values[on]
         cols = assembler.offsets[k] + basis.connectivity[colloc.element[rows]]
         blocks = -np.einsum("pa,pij->piaj", values, row_sums[rows])
         loops.scatter_blocks(rows, cols, np.ascontiguousarray(blocks), h)
     for k, basis, _, _, rows, elements, singular, with_g in jobs:
+        if integrated is not None:
+            on = integrated[rows]
+            rows, elements = rows[on], elements[on]
+            both = np.concatenate([on, on])
+            singular = tuple(a[both] for a in singular)
         if not rows.size:
             continue
         cols = assembler.offsets[k] + basis.connectivity[elements]
@@ -431,4 +445,7 @@ def assemble(
             np.concatenate([rows, rows]), colloc.points, *singular,
             np.concatenate([cols, cols]), shear_modulus, nu, h, g, *(() if with_g else (False,)),
         )  # fmt: skip
+    if integrated is not None:  # the mirrored rows whole, their singular terms included
+        mirror.fill(h, q, integrated)
+        mirror.fill(g, q, integrated)
     return h, g

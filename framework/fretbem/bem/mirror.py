@@ -7,7 +7,9 @@ mirror segment (traversed the other way: its functions in reverse order are the 
 ones), function b's mirror is function Q(b) and the collocation point of row i mirrors to
 that of row Q(i), so the regular (non-singular) parts obey H[Q(i), Q(b)]_ij =
 s_i s_j H[i, b]_ij, G alike. The assembly integrates one row of each mirrored pair and
-fills the other; the rigid-body and singular terms come after, for every row. The body is
+fills the other; the rigid-body and singular terms come after, on the integrated rows only,
+and the other rows are filled once more, whole (the kernels' symmetry holds for the singular
+parts and the row sums too). The body is
 symmetric to round-off (:data:`TOLERANCE`), so the filled rows agree with their own
 integration to round-off, not bit for bit.
 

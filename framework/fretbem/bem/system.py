@@ -18,6 +18,7 @@ import scipy.linalg as sla
 from fretbem.body import BlockRotation, ContactResponse, RigidMotionError
 from fretbem.numerics.blas import one_blas_thread
 
+from . import image_factor, images
 from .assembly import BLOCKS
 from .layout import BLOCK, CONTACT, DISPLACEMENT, TRACTION, Layout
 
@@ -36,6 +37,10 @@ class BodySystem:
 
     def __init__(self, body: Body, contact_tags: tuple[str, ...]):
         self.body = body
+        #: the system whose factors solved this one, this body being its point image
+        #: (:mod:`fretbem.bem.image_factor`), or None
+        self.image_of: BodySystem | None = None
+        self.contact_tags = tuple(contact_tags)
         layout = body.layout(contact_tags)
         h, g = body.system_matrices(g_free_segments(body, layout))
         start = time.perf_counter()
@@ -46,7 +51,7 @@ class BodySystem:
         self.block_dofs = np.flatnonzero(self.kinds == BLOCK)
         self.contact_dofs = np.flatnonzero(self.kinds == CONTACT)
         with one_blas_thread():  # a busy machine made threaded BLAS 60x slower here
-            response = _solve_parameters(h, g, self.kinds, self.known, self.load_known,
+            response = _solve_parameters(self, h, g, self.kinds, self.known, self.load_known,
                                          solves_u, self.block_dofs, self.contact_dofs)  # fmt: skip
         del h, g  # the body releases its own copies once this system is cached
         if not np.all(np.isfinite(response)):
@@ -112,9 +117,11 @@ def g_free_segments(body: Body, layout: Layout) -> tuple[int, ...]:
     return tuple(k for k in range(len(body.segments)) if free[body.function_slice(k)].all())
 
 
-def _solve_parameters(h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs):
+def _solve_parameters(owner, h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs):
     """A^-1 [z0 rhs, block columns, contact columns, load columns], A the collocation matrix.
 
+    A body that is the point image of the body factorised just before, with corresponding
+    boundary conditions, is solved with that one's factors (:mod:`fretbem.bem.image_factor`).
     A and the parameters are built F-ordered (LAPACK's order) and factorised and solved in
     place, so at the peak H, G, the LU and the parameters are alive and nothing else dense.
     A is factorised with row pivoting, not as A^T (which moved the 961-pair unknowns by
@@ -123,12 +130,45 @@ def _solve_parameters(h, g, kinds, known, load_known, solves_u, block_dofs, cont
     matrix, parameters = collocation_system(
         h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs
     )
+    body = owner.body
+    segments = body.segments
+    first_dofs = 2 * body.offsets
+    counts = np.bincount(body.collocation.segment, minlength=len(segments))
+    first_rows = 2 * np.concatenate([[0], np.cumsum(counts)])
+    shared = image_factor.solve_as_image(
+        segments, first_dofs, first_rows, _image_of, matrix, parameters
+    )
+    if shared is not None:
+        out, owner.image_of = shared
+        return out
+    small = len(matrix) <= image_factor.KEEP_MAX_ROWS
+    kept_matrix, kept_parameters = (
+        (matrix.copy(order="F"), parameters.copy(order="F")) if small else (None, None)
+    )
     lu, piv, info = sla.lapack.dgetrf(matrix, overwrite_a=True)  # A = P L U
     del matrix
     if info != 0:
+        image_factor.clear()
         return np.full(parameters.shape, np.nan)
     out, info = sla.lapack.dgetrs(lu, piv, parameters, overwrite_b=True)
-    return out if info == 0 else np.full(parameters.shape, np.nan)
+    if info != 0:
+        image_factor.clear()
+        return np.full(parameters.shape, np.nan)
+    if small:
+        image_factor.keep(
+            owner, segments, first_dofs, first_rows, kept_matrix, lu, piv, kept_parameters, out
+        )
+    else:
+        image_factor.clear()
+    return out
+
+
+def _image_of(basis):
+    """The segment ``basis`` is the point image of: kept by the block store, or (a body too
+    large to keep its blocks) the one it was discretised from
+    (:func:`fretbem.bem.images.source`)."""
+    image = BLOCKS.image(basis)
+    return image if image is not None else images.source(basis)
 
 
 def collocation_system(h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs):
@@ -219,13 +259,32 @@ def contact_response(body: Body, tag: str) -> ContactResponse:
     the face and block rows of the system's contact response only.
     """
     system = body.system((tag,))
-    band = _Band(face_values_matrix(body, tag))
+    e_matrix = face_values_matrix(body, tag)
+    band = _Band(e_matrix)
     n = band.size
+    face_segments = sorted(body._indices(tag, "the contact pair"))
+    face_weights = body.resultant_weights(face_segments)[face_rows(body, tag)[1]]
+    image = _image_response(system, e_matrix, face_weights)
 
     def node_values(z: np.ndarray) -> np.ndarray:
         """Displacement values (n, 2, cols) at the face nodes from unknown columns z."""
         return band.left(z[system.contact_dofs].reshape(n, 2, z.shape[1]))
 
+    if image is not None:  # the point image's maps: the same numbers (_image_response)
+        k = system.load_response.shape[1]
+        return ContactResponse(
+            base=node_values(system.base[:, None])[:, :, 0],
+            traction_map=image.traction_map.copy(),
+            block_map=np.zeros((n, 2, 2)),
+            load_map=node_values(system.load_response),
+            r_base=np.zeros(2),
+            r_traction=np.zeros((2, 2 * n)),
+            r_block=np.zeros((2, 2)),
+            r_load=np.zeros((2, k)),
+            contact_force=image.contact_force.copy(),
+            has_block=False,
+            rotation=None,
+        )
     # Z (C x I2) on the face and block rows: solve E^T w = Z^T, Z^T with the node axis first;
     # built, solved and multiplied in place, so two face-sized arrays at most are alive
     rows = np.concatenate([system.contact_dofs, system.block_dofs])
@@ -241,8 +300,6 @@ def contact_response(body: Body, tag: str) -> ContactResponse:
     traction_map = transposed.reshape(-1)[: 4 * n * n].reshape(n, 2, 2 * n)
     traction_map.reshape(n, 2, n, 2)[...] = values.transpose(0, 1, 3, 2)
     del values, transposed
-    face_segments = sorted(body._indices(tag, "the contact pair"))
-    face_weights = body.resultant_weights(face_segments)[face_rows(body, tag)[1]]
     weights = band.solve_transposed(face_weights[:, None].copy(order="F"))[:, 0]
     contact_force = np.zeros((2, 2 * n))
     contact_force[0, 0::2] = weights
@@ -274,6 +331,34 @@ def contact_response(body: Body, tag: str) -> ContactResponse:
         has_block=has_block,
         rotation=rotation,
     )
+
+
+def _image_response(system: BodySystem, e_matrix, face_weights) -> ContactResponse | None:
+    """The contact response of the body whose factors solved ``system`` (this body its point
+    image, :mod:`fretbem.bem.image_factor`), when its traction map and contact force are
+    this body's to the last bit and this body has no loading block; else None.
+
+    Both are computed from the face's E, the face weights and the contact rows of the
+    contact columns only, so they are equal when those three are, checked exactly.
+    """
+    source = system.image_of
+    if source is None or system.block_dofs.size or len(source.contact_tags) != 1:
+        return None
+    (tag,) = source.contact_tags
+    response = source.body._cache.get(("response", tag))
+    if response is None or len(source.contact_dofs) != len(system.contact_dofs):
+        return None
+    own = system.contact_response[system.contact_dofs]
+    other = source.contact_response[source.contact_dofs]
+    if not np.array_equal(own, other):
+        return None
+    segments = sorted(source.body._indices(tag, "the contact pair"))
+    weights = source.body.resultant_weights(segments)[face_rows(source.body, tag)[1]]
+    if not np.array_equal(weights, face_weights):
+        return None
+    if not np.array_equal(face_values_matrix(source.body, tag), e_matrix):
+        return None
+    return response
 
 
 def _block_rotation(body, tag, system, block_rows, band, face_segments) -> BlockRotation:

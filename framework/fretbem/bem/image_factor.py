@@ -1,0 +1,139 @@
+"""One factorisation for a body and its point image (the reference scene's pad and specimen).
+
+A body whose every segment is the exact point image of a segment of the body factorised
+just before (:mod:`fretbem.bem.images`: the same H and G blocks) and whose boundary
+conditions correspond (the pad's loading block and the specimen's clamped bottom both leave
+the traction unknown) has that body's collocation matrix with its rows and columns permuted
+segment by segment, to round-off: the rigid-body terms on the diagonal are row sums in
+another order, and the other blocks are equal to the last bit when the image took the other
+body's blocks, to round-off when the compiled loops integrated it again. Its system is then
+solved with the kept LU factors, and the parameter columns equal to the kept body's to the
+same round-off (the contact columns: G's columns on the contact face) take its solved
+columns. The
+correspondence is checked block by block; anything else is factorised as before. Only the
+last factorisation is kept, and only a small one.
+"""
+
+from __future__ import annotations
+
+import weakref
+
+import attrs
+import numpy as np
+import scipy.linalg as sla
+
+#: the largest collocation matrix whose factorisation is kept for a point image (rows): the
+#: kept matrix, its LU factors and its parameter columns, about 100 MB at this size
+KEEP_MAX_ROWS = 2048
+#: how far a block may differ from its image's, relative to the block's largest entry: the
+#: rigid-body terms on the diagonal are row sums taken in the body's segment order, which
+#: differs between the two bodies (measured 4e-16 absolute on entries about 1); the compiled
+#: loops (a body too large to share its blocks) integrate an image to round-off, not to the
+#: last bit (measured 2.8e-17 absolute on entries about 1e-2 at 481 pairs)
+ROUNDING = 2.0**-40
+
+
+@attrs.frozen(eq=False)
+class KeptFactor:
+    """The last small factorisation: its system (weak: the object that asked for it), its
+    body's segments (weak), their first dofs and first rows, the matrix, its LU factors, the
+    parameter columns and their solution."""
+
+    owner: weakref.ref
+    segments: tuple
+    first_dofs: np.ndarray
+    first_rows: np.ndarray
+    matrix: np.ndarray
+    lu: np.ndarray
+    pivots: np.ndarray
+    parameters: np.ndarray
+    solution: np.ndarray
+
+
+_KEPT: list[KeptFactor | None] = [None]
+
+
+def clear() -> None:
+    """Forget the kept factorisation."""
+    _KEPT[0] = None
+
+
+def keep(owner, segments, first_dofs, first_rows, matrix, lu, pivots, parameters, solution) -> None:
+    """Keep a factorisation (copies of the matrix and the parameters, taken before LAPACK
+    overwrote them) for the next body, if it is small enough; else forget the last one."""
+    if len(lu) > KEEP_MAX_ROWS:
+        clear()
+        return
+    refs = tuple(weakref.ref(basis) for basis in segments)
+    _KEPT[0] = KeptFactor(
+        weakref.ref(owner), refs, first_dofs, first_rows, matrix, lu, pivots, parameters, solution
+    )
+
+
+def solve_as_image(segments, first_dofs, first_rows, image_of, matrix, parameters) -> tuple | None:
+    """(A^-1 parameters, the kept factorisation's owner or None if it is gone) from the kept
+    factorisation when A is the kept matrix permuted segment by segment (``image_of(basis)``:
+    the segment ``basis`` is the point image of), checked; None otherwise. The kept
+    factorisation serves once."""
+    kept = _KEPT[0]
+    if kept is None or len(kept.lu) != len(matrix):
+        return None
+    mapped = _segment_map(kept, segments, first_dofs, first_rows, image_of)
+    if mapped is None:
+        return None
+    columns, rows = mapped
+    for own_rows, kept_rows in rows:
+        for own, other in columns:
+            block, kept_block = matrix[own_rows, own], kept.matrix[kept_rows, other]
+            if np.array_equal(block, kept_block):
+                continue
+            if not np.all(np.abs(block - kept_block) <= ROUNDING * np.abs(kept_block).max()):
+                return None
+    every = np.arange(len(matrix))
+    order = np.concatenate([every[own] for own, _ in columns])  # unknowns
+    kept_order = np.concatenate([every[other] for _, other in columns])
+    row_order = np.concatenate([every[own] for own, _ in rows])  # equations
+    kept_row_order = np.concatenate([every[other] for _, other in rows])
+    permuted = np.empty(parameters.shape, order="F")  # [kept row, column]
+    permuted[kept_row_order] = parameters[row_order]
+    same = np.zeros(parameters.shape[1], bool)
+    if kept.parameters.shape == parameters.shape:  # columns solved already
+        scale = np.abs(kept.parameters).max(axis=0)
+        same = np.all(np.abs(permuted - kept.parameters) <= ROUNDING * scale, axis=0)
+    solution = np.empty(parameters.shape)
+    solution[:, same] = kept.solution[:, same]
+    if not same.all():
+        rest = np.asfortranarray(permuted[:, ~same])
+        out, info = sla.lapack.dgetrs(kept.lu, kept.pivots, rest, overwrite_b=True)
+        if info != 0:
+            return None
+        solution[:, ~same] = out
+    clear()
+    result = np.empty(parameters.shape)
+    result[order] = solution[kept_order]
+    return result, kept.owner()
+
+
+def _segment_map(kept, segments, first_dofs, first_rows, image_of):
+    """(own slice, kept slice) per segment of the dofs and of the rows, the kept segment
+    being its point image; None if a segment has none among the kept body's or the counts
+    differ."""
+    index = {id(basis): k for k, ref in enumerate(kept.segments) if (basis := ref()) is not None}
+    if len(index) != len(segments):
+        return None
+    columns, rows = [], []
+    for k, basis in enumerate(segments):
+        image = image_of(basis)
+        j = index.get(id(image)) if image is not None else None
+        if j is None:
+            return None
+        for own_first, kept_first, out in (
+            (first_dofs, kept.first_dofs, columns),
+            (first_rows, kept.first_rows, rows),
+        ):
+            own = slice(int(own_first[k]), int(own_first[k + 1]))
+            other = slice(int(kept_first[j]), int(kept_first[j + 1]))
+            if own.stop - own.start != other.stop - other.start:
+                return None
+            out.append((own, other))
+    return columns, rows

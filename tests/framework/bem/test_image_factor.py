@@ -1,0 +1,122 @@
+"""A specimen that is the pad's point image, with corresponding boundary conditions, is solved
+with the pad's factorisation: its unknowns equal its own factorisation's to round-off, and a
+body that is no image (or whose matrix differs) is factorised as before."""
+
+from __future__ import annotations
+
+import attrs
+import numpy as np
+import pytest
+
+from fretbem.bem import assembly, image_factor, images, system
+from fretbem.scenes import builder, cattaneo_mindlin
+from fretbem.simulation import run
+
+SOLVE_AS_IMAGE = image_factor.solve_as_image
+
+
+def _cold() -> None:
+    """Forget the built scenes, blocks, discretisations and the kept factorisation."""
+    builder._built.cache_clear()
+    assembly.BLOCKS.clear()
+    images._DISCRETISED.clear()
+    image_factor.clear()
+
+
+def _run(shared: bool, monkeypatch, **overrides):
+    """A cold reference run; the number of systems solved with a kept factorisation."""
+    _cold()
+    calls = []
+
+    def counted(*args):
+        out = SOLVE_AS_IMAGE(*args) if shared else None
+        calls.append(out is not None)
+        return out
+
+    monkeypatch.setattr(image_factor, "solve_as_image", counted)
+    return run(cattaneo_mindlin(models={}, **overrides)), sum(calls)
+
+
+@pytest.mark.parametrize("basis", ["nurbs", "lagrange2"])
+@pytest.mark.parametrize("pairs", [21, 61])
+def test_the_image_specimen_takes_the_pads_factors_to_round_off(basis, pairs, monkeypatch):
+    own, _ = _run(False, monkeypatch, basis=basis, pairs=pairs)
+    shared, count = _run(True, monkeypatch, basis=basis, pairs=pairs)
+    assert count == 1
+    scale = max(np.abs(step.pressure).max() for step in own.steps)
+    for a, b in zip(own.steps, shared.steps, strict=True):
+        assert a.iterations == b.iterations
+        # measured 4.5e-13 (61 pairs), 1.3e-13 (21)
+        assert np.abs(a.unknowns - b.unknowns).max() <= 5e-12 * scale
+
+
+def test_a_flat_specimen_is_no_image_of_the_pad(monkeypatch):
+    _, count = _run(True, monkeypatch, pairs=21, lower="flat")
+    assert count == 0
+
+
+def test_a_differing_matrix_is_factorised_again(monkeypatch):
+    """A kept factorisation whose matrix differs from the specimen's (permuted) in one entry
+    off the diagonal blocks, or beyond round-off on them, serves no body."""
+    _cold()
+    systems = []
+    build = system.collocation_system
+
+    def kept_copies(*args):
+        matrix, parameters = build(*args)
+        systems.append((matrix.copy(order="F"), parameters.copy(order="F")))
+        return matrix, parameters
+
+    monkeypatch.setattr(system, "collocation_system", kept_copies)
+    pair = cattaneo_mindlin(models={}, pairs=21).pair
+    body = pair.lower
+    pair.upper.system((pair.upper_tag,))
+    body.system((pair.lower_tag,))
+    matrix, parameters = systems[1]
+    counts = np.bincount(body.collocation.segment, minlength=len(body.segments))
+    first_rows = 2 * np.concatenate([[0], np.cumsum(counts)])
+    first_dofs = 2 * body.offsets
+
+    def solve(kept):
+        image_factor._KEPT[0] = kept
+        return image_factor.solve_as_image(
+            body.segments, first_dofs, first_rows, assembly.BLOCKS.image,
+            matrix, parameters.copy(order="F"),
+        )  # fmt: skip
+
+    _cold()
+    pair.upper.release_matrices()
+    pair.upper._cache.clear()
+    pair.upper.system((pair.upper_tag,))
+    kept = image_factor._KEPT[0]
+    assert solve(kept) is not None  # the untouched factorisation serves
+    for row, column in ((0, len(matrix) - 1), (0, 0)):  # off the diagonal blocks, on them
+        tampered = kept.matrix.copy(order="F")
+        tampered[row, column] += 1e-9 * (1 + abs(tampered[row, column]))
+        assert solve(attrs.evolve(kept, matrix=tampered)) is None
+
+
+@pytest.mark.parametrize("basis", ["nurbs", "lagrange2"])
+def test_the_image_specimen_takes_the_pads_contact_maps_bit_for_bit(basis, monkeypatch):
+    """Its traction map and contact force are the pad's (E, the face weights and the contact
+    rows of the contact columns equal): the same numbers as computing them."""
+    responses, used = [], []
+    image_response = system._image_response
+    for share in (False, True):
+        _cold()
+
+        def shared(*args, share=share):
+            out = image_response(*args) if share else None
+            used.append(out is not None)
+            return out
+
+        monkeypatch.setattr(system, "_image_response", shared)
+        pair = cattaneo_mindlin(models={}, basis=basis, pairs=21).pair
+        pair.upper.contact_response(pair.upper_tag)
+        responses.append(pair.lower.contact_response(pair.lower_tag))
+    assert used == [False, False, False, True]  # the pad (a block) and the specimen, twice
+    own, taken = responses
+    assert not taken.has_block and taken.rotation is None
+    for name in ("base", "traction_map", "block_map", "load_map", "r_base", "r_traction",
+                 "r_block", "r_load", "contact_force"):  # fmt: skip
+        assert np.array_equal(getattr(own, name), getattr(taken, name)), name
