@@ -9,8 +9,9 @@ plane's rank open, the pattern search with halving steps (in-plane: the golden-s
 search), the parabolic step. What differs is how, not what (the answers agree to round-off,
 tests/framework/fatigue/test_search_compiled.py):
 
-- the coarse grid is evaluated point by point (in-plane a block of points per call: a call
-  per point would pass and reference-count ~20 arrays), in-plane in double precision, in 3D
+- the coarse grid is evaluated point by point (in-plane plane by plane for a block of points
+  per call, the points vectorised: a call per point would pass and reference-count ~20
+  arrays), in-plane in double precision, in 3D
   in single precision as numpy's (the chosen planes are evaluated again in double, as
   numpy's), row by row of psi; the extremes of the two shear components are taken once per
   theta and scaled (on a tilted plane they are in-plane quantities times factors >= 0 that
