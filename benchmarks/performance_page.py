@@ -363,7 +363,24 @@ def workflows_section(path: Path) -> list[str]:
         lines.append(
             f"| {name} | {limit:g} | " + " | ".join(text) + f" | {'yes' if met else 'no'} |"
         )
-    return [*lines, ""]
+    return [*lines, "", *WORKFLOW_READING, ""]
+
+
+#: how to read the rows above that one fresh process per round measures loosely (measured
+#: beside the run of 2026-11-27, commands in the text)
+WORKFLOW_READING = (
+    "Reading the table: the fatigue rows time the search against a floor in a fresh",
+    "process per round, whose 1.4 MB float32 copy reads 2.2-3.5 ms from process to process;",
+    "`benchmarks/fatigue_phases.py --runs 21` times both in one process and is the steadier",
+    "figure (in-plane 4.97x, 3D 5.53x in the same session, against 7.82x and 5.49x for the",
+    "session's start, 37c17aa). The single-cycle rows (half-plane and BEM bodies) move by",
+    "10-50 % between runs of the same code; `benchmarks/bem_phases.py` and",
+    "`benchmarks/halfplane_phases.py` (five and ten cycles per process) read BEM 61 pairs",
+    "14.52x (24.03x at 37c17aa) and half-plane 61 pairs 5.48x (6.09x). The demo's default",
+    "compares every installed family: on a machine with `examples/custom_basis` installed it",
+    "solves and draws a third family; `pip install . && fretbem demo` on a fresh machine runs",
+    "the built-in two (the built-in row).",
+)
 
 
 #: issue 28 items 3 and 4: the limits of the small cycles' and the demo's ratios
@@ -612,7 +629,7 @@ SWEEP_TARGETS = (
 
 
 #: what the half-plane section's text says of the trees it compares
-HALFPLANE_BEFORE = "8ac34c8"
+HALFPLANE_BEFORE = "37c17aa"
 
 
 def halfplane_section_after(phases_path: Path, workflows_path: Path) -> list[str]:
