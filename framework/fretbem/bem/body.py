@@ -22,6 +22,7 @@ from fretbem.geometry.boundary import Boundary
 from fretbem.geometry.nurbs import NurbsCurve
 from fretbem.material import Material
 from fretbem.numerics.quadrature import QuadratureRule
+from fretbem.numerics.scatter import added_at
 
 from . import images
 from . import layout as bem_layout
@@ -77,8 +78,7 @@ def _segment_weights(basis: Basis) -> np.ndarray:
     """int phi_a dGamma for the functions of one discretised segment (8-point Gauss)."""
     if basis not in _WEIGHTS:
         functions, _, values, weights = _segment_samples(basis)
-        out = np.zeros(basis.n_functions)
-        np.add.at(out, functions, values * weights[:, None])
+        out = added_at(basis.n_functions, functions, values * weights[:, None])
         out.flags.writeable = False
         _WEIGHTS[basis] = out
     return _WEIGHTS[basis]

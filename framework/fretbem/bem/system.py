@@ -17,6 +17,7 @@ import scipy.linalg as sla
 
 from fretbem.body import BlockRotation, ContactResponse, RigidMotionError
 from fretbem.numerics.blas import one_blas_thread
+from fretbem.numerics.scatter import added_at
 
 from . import image_factor, images
 from .assembly import BLOCKS
@@ -243,8 +244,7 @@ def face_values_matrix(body: Body, tag: str) -> np.ndarray:
             block = basis.collocation_matrix()
         else:
             elements = colloc.element[colloc.segment == k]
-            block = np.zeros((n, n))
-            np.add.at(block, (np.arange(n)[:, None], basis.connectivity[elements]), values)
+            block = added_at((n, n), (np.arange(n)[:, None], basis.connectivity[elements]), values)
         e_matrix[start : start + n, start : start + n] = block
         start += n
     return e_matrix

@@ -22,6 +22,7 @@ from fretbem.basis import Basis
 from fretbem.errors import StressInputError
 from fretbem.numerics.graded import graded_rule
 from fretbem.numerics.quadrature import QuadratureRule
+from fretbem.numerics.scatter import added_at
 
 #: Gauss points per element (far) and per graded piece (near)
 FAR_POINTS = 8
@@ -100,10 +101,11 @@ def halfplane_stress_matrix(face: Basis, x, depth, *, chunk: int = 512) -> np.nd
         raise StressInputError("half-plane points need finite x and depth >= 0 (inside the body)")
     n_el, n_fun, n_loc = face.n_elements, face.n_functions, face.n_local
     element, local, on_face, left, right = _locate(face, x)
-    values_at = np.zeros((len(x), n_fun))
     vals = face.shape_functions(element, local)[0]
     rows = np.flatnonzero(on_face)
-    np.add.at(values_at, (rows[:, None], face.connectivity[element[rows]]), vals[rows])
+    values_at = added_at(
+        (len(x), n_fun), (rows[:, None], face.connectivity[element[rows]]), vals[rows]
+    )
     lo_face, hi_face = left.min(), right.max()
     out = np.zeros((len(x), 3, n_fun, 2))
     # the local value tau(x) times (exact strip over the whole face - the same integral by
