@@ -90,7 +90,7 @@ def _coarse_phase(stress, grid, axes, rank, codes, par, nu, E, in_plane, whole):
                     xy[t, b], zz[t, b] = stress[t, p0 + b, 2], stress[t, p0 + b, 3]
                     tr[t, b] = 2.0 * m[t, b] + zz[t, b]
             cs._coarse_in_plane(m, h, xy, tr, 0, nb, nu, grid[0], grid[1], codes, par, E,
-                                work[0], work[3], work[4], best, found)  # fmt: skip
+                                best, found)  # fmt: skip
             total += found[0, 0]
         return total
     for p in range(n_p):

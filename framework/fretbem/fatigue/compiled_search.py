@@ -529,8 +529,7 @@ def _coarse(data, p, grid, axes, rank, codes, par, nu, E, in_plane, work, scratc
     m, h, xy, zz, tr = data[0], data[1], data[2], data[3], data[4]
     out = work[0]
     if in_plane:
-        _coarse_in_plane(m, h, xy, tr, p, 1, nu, grid[0], grid[1], codes, par, E, out, work[3],
-                         work[4], best, found)  # fmt: skip
+        _coarse_in_plane(m, h, xy, tr, p, 1, nu, grid[0], grid[1], codes, par, E, best, found)
         return
     flat = True  # every criterion convex in the tilt: the in-plane row and psi = 0
     for ci in range(codes.size):
@@ -590,8 +589,7 @@ def _grid_values(code, k, sy, shear_modulus, kind, limit, E, n, s_hi, s_lo, e_rn
 
 
 @numba.njit(**_LOOPS)
-def _coarse_in_plane(m, h, xy, tr, p0, nb, nu, c2, s2, codes, par, E, out, tau, value, best,
-                     found):  # fmt: skip
+def _coarse_in_plane(m, h, xy, tr, p0, nb, nu, c2, s2, codes, par, E, best, found):
     """:func:`_coarse` of the in-plane grid for points ``p0:p0 + nb`` of the step data, into
     ``best`` (C nb) and ``found`` (7, C nb) at ``ci nb + b``: the summaries, each criterion's
     best plane (no circles: the shear paths are straight) and its grid neighbours' values.
@@ -602,7 +600,6 @@ def _coarse_in_plane(m, h, xy, tr, p0, nb, nu, c2, s2, codes, par, E, out, tau, 
     (vectorised over the points). ``found[3]`` (sigma_n min) and ``found[4]`` (the strain
     amplitude) are NaN unless a requested criterion's value reads them: the refinement takes
     them on its final planes (:func:`_golden_in_plane`).
-    ``out``, ``tau``, ``value`` are not used (kept for :func:`_coarse`'s call).
 
     The grid is in the numpy search's order (``rank`` is the identity): an exact tie goes to
     the first plane that has the largest value."""
@@ -1363,8 +1360,8 @@ def search(
                 zz[t, b] = stress[t, p0 + b, 3]
                 tr[t, b] = 2.0 * m[t, b] + zz[t, b]
         if in_plane:  # the block's points in one call (:func:`_coarse_in_plane`)
-            _coarse_in_plane(m, h, xy, tr, 0, nb, nu, grid[0], grid[1], codes, par, E, work[0],
-                             work[3], work[4], best_block, found_block)  # fmt: skip
+            _coarse_in_plane(m, h, xy, tr, 0, nb, nu, grid[0], grid[1], codes, par, E,
+                             best_block, found_block)  # fmt: skip
             for i in range(n_c * nb):
                 g = best_block[i]
                 for r in range(5):
