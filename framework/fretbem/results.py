@@ -394,6 +394,8 @@ class SimulationResult:
             "dofs": int(pair.upper.dofs + pair.lower.dofs),
             "friction": getattr(self.simulation.law, "friction", None),
             "pairing": type(pair).__name__,
+            # node to segment: one frame for all pairs or each its own (a slide along an arc)
+            "frame": getattr(pair, "frame", None),
             "faces": {
                 label: {
                     "basis": body.describe().get("basis"),

@@ -76,8 +76,9 @@ def test_the_wear_history_checks_its_frame():
         WearSimulation(simulation, laws, 10, frame="shared")
 
 
-def _run_file(tmp_path, capsys, data) -> tuple[dict, dict]:
-    """``data`` through ``fretbem run``: each step's (p, q) rows and summary entry."""
+def _run_file(tmp_path, capsys, data) -> tuple[dict, dict, dict]:
+    """``data`` through ``fretbem run``: each step's (p, q) rows and summary entry, and the
+    summary's scene facts."""
     path, out = tmp_path / "scene.toml", tmp_path / "out"
     path.write_text(_toml(data))
     code = main(["run", str(path), "--out", str(out), "--no-figures", "--no-vtk", "--quiet"])
@@ -87,7 +88,8 @@ def _run_file(tmp_path, capsys, data) -> tuple[dict, dict]:
         for row in csv.DictReader(handle):
             rows.setdefault(row["step"], []).append([float(row[k]) for k in ("p", "q")])
     summary = json.loads((out / "summary.json").read_text())
-    return {k: np.array(v) for k, v in rows.items()}, {s["step"]: s for s in summary["steps"]}
+    steps = {s["step"]: s for s in summary["steps"]}
+    return {k: np.array(v) for k, v in rows.items()}, steps, summary["scene"]
 
 
 def _toml(data: dict) -> str:
@@ -115,7 +117,8 @@ def test_the_scene_files_frame_gives_the_python_runs_numbers(tmp_path, capsys, f
     ahead of the pad's axis tilts its pairs' normals; tests/validation/test_sliding_arc.py;
     measured, both ways)."""
     data = scene_data_with(ARC, {**SMALL, "contact__frame": frame})
-    rows, steps = _run_file(tmp_path, capsys, data)
+    rows, steps, scene = _run_file(tmp_path, capsys, data)
+    assert scene["frame"] == frame  # summary.json says which frame the run used
     simulation = build(scene_from_data(data))[0]
     sliding = run_sliding(simulation, note=None, frame=frame)
     for step in sliding.steps:
