@@ -218,7 +218,7 @@ class _Factor:
 
     def __init__(self, maps: _Maps, pattern: _Pattern, previous: _Factor | None = None):
         self.maps, self.pattern = maps, pattern
-        n, n_x = maps.n, maps.n_x
+        n = maps.n
         c, s = pattern.c, pattern.s
         columns = np.concatenate([c, n + s, maps.blocks])
         kc, ks = c.size, s.size
