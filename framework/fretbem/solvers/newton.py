@@ -383,16 +383,24 @@ class _Equations:
 
     def evaluate(self, x: np.ndarray, r_n: float, r_t: float):
         """F(x) (a new array) and the law's evaluation at x; keeps x's gap and slip."""
-        if self.maps is None:
-            gap = self.gap_base + self.normal_map @ x
-            slip = self.tangential_base + self.tangential_map @ x - self.reference_slip
+        maps = self.maps
+        if maps is not None and maps.together is not None:  # small: one product for all three
+            n = self.n
+            products = maps.together @ x
+            gap = self.gap_base + products[:n]
+            slip = self.tangential_base + products[n : 2 * n] - self.reference_slip
+            blocks = self.resultant_base + products[2 * n :] - self.forces
         else:
-            normal, tangential = self.maps.both_times(x)
-            gap = self.gap_base + normal
-            slip = self.tangential_base + tangential - self.reference_slip
+            if maps is None:
+                gap = self.gap_base + self.normal_map @ x
+                slip = self.tangential_base + self.tangential_map @ x - self.reference_slip
+            else:
+                normal, tangential = maps.both_times(x)
+                gap = self.gap_base + normal
+                slip = self.tangential_base + tangential - self.reference_slip
+            blocks = self.resultant_base + self.resultant_map @ x - self.forces
         self.gap, self.slip = gap, slip
         evaluation = self.law.evaluate(x[self.pressure], x[self.shear], gap, slip, r_n, r_t)
-        blocks = self.resultant_base + self.resultant_map @ x - self.forces
         return np.concatenate([evaluation.normal, evaluation.tangential, blocks]), evaluation
 
     def _on(self, states, direction, x, r_n, r_t, residual):

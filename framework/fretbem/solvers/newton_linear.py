@@ -98,11 +98,13 @@ class _Maps:
         self.blocks = np.arange(2 * self.n, self.n_x)
         #: the Jacobian's contact rows stacked (r_n N; -r_t T; R), for small systems only
         #: (their reduced matrix is then one gather of it; a large one would double memory)
-        self.stacked = None
+        self.stacked = self.together = None
         if self.n_x < DIRECT_BELOW:
             self.stacked = np.concatenate(
                 [self.r_n * normal_map, -self.r_t * tangential_map, resultant_map]
             )
+            #: (N; T; R) stacked: F(x)'s three products in one (small systems)
+            self.together = np.concatenate([normal_map, tangential_map, resultant_map])
         #: the numbers of x (equations and unknowns alike) of the normal problem when it does
         #: not depend on the tangential one (None if it does): see :func:`normal_part`
         #: (the factor splits at every size; the products only from SPLIT_FROM)
