@@ -217,8 +217,11 @@ class SemiSmoothNewton(Solver):
         scales = self._scales.get(problem)
         if scales is None:
             layout = problem.layout
-            r_n = 1.0 / np.mean(np.abs(np.diag(problem.normal_map[:, layout.pressure])))
-            r_t = 1.0 / np.mean(np.abs(np.diag(problem.tangential_map[:, layout.shear])))
+            normal = np.abs(np.diag(problem.normal_map[:, layout.pressure]))
+            tangential = np.abs(np.diag(problem.tangential_map[:, layout.shear]))
+            # (np.mean's numbers, its sum by np.add.reduce over the count, without its frames)
+            r_n = 1.0 / (np.add.reduce(normal) / normal.size)
+            r_t = 1.0 / (np.add.reduce(tangential) / tangential.size)
             scales = self._scales[problem] = (r_n, r_t)
         return scales
 
@@ -286,7 +289,7 @@ class SemiSmoothNewton(Solver):
         x = np.zeros(layout.size) if start is None else np.array(start.x, dtype=float)
         residual, evaluation = equations.evaluate(x, r_n, r_t)
         if start is None:
-            evaluation = attrs.evolve(evaluation, states=np.full(n, PairState.STICK, dtype=int))
+            evaluation = attrs.evolve(evaluation, states=np.full(n, _STICK, dtype=int))
         else:
             residual, evaluation = equations.on_previous_pattern(x, r_n, r_t, start, residual,
                                                                  evaluation)  # fmt: skip
