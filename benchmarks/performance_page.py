@@ -376,7 +376,7 @@ WORKFLOW_READING = (
     "session's start, 37c17aa). The single-cycle rows (half-plane and BEM bodies) move by",
     "10-50 % between runs of the same code; `benchmarks/bem_phases.py` and",
     "`benchmarks/halfplane_phases.py` (five and ten cycles per process) read BEM 61 pairs",
-    "14.52x (24.03x at 37c17aa) and half-plane 61 pairs 5.48x (6.09x). The demo's default",
+    "14.52x (24.03x at 37c17aa) and half-plane 61 pairs 4.92x (6.60x). The demo's default",
     "compares every installed family: on a machine with `examples/custom_basis` installed it",
     "solves and draws a third family; `pip install . && fretbem demo` on a fresh machine runs",
     "the built-in two (the built-in row).",

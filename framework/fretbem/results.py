@@ -192,6 +192,25 @@ class IncrementRecord:
         )
 
 
+class _Deferred:
+    """A step's errors against theory and exact tractions, computed when first read: the
+    steps of a run that never reads them (a sweep, a benchmark, a study of other numbers)
+    skip the closed forms (about a twentieth of a 61-pair half-plane cycle). Holds the
+    step's own positions and tractions, so whichever copy of the step reads first gets the
+    numbers the step was built with."""
+
+    def __init__(self, reference, x: np.ndarray, p: np.ndarray, q: np.ndarray, history):
+        self.inputs = (reference, x, p, q, tuple(history))
+        self.value: tuple | None = None
+
+    def get(self) -> tuple[dict, tuple[np.ndarray, np.ndarray]]:
+        """(errors, exact) of :func:`~fretbem.verification.errors.errors_against_theory`."""
+        if self.value is None:
+            self.value = errors_against_theory(*self.inputs)
+            self.inputs = None
+        return self.value
+
+
 @attrs.frozen(eq=False)
 class StepResult:
     """Everything reported for one load step.
@@ -219,7 +238,10 @@ class StepResult:
     resultant : (float, float)
         Integrals of p and q over the contact segment (from the traction field).
     errors : dict or None
-        e_p, e_q (max and L2), normalised by p0 and f p0; None without a reference.
+        e_p, e_q (max and L2), normalised by p0 and f p0; None without a reference
+        (computed when first read).
+    exact : (ndarray, ndarray) or None
+        The reference's p and q at ``x`` (computed with ``errors``).
     checks : dict or None
         The result checks this step passed (name -> CheckRecord with its residual), set by
         :func:`fretbem.simulation.run`.
@@ -259,8 +281,11 @@ class StepResult:
     seconds: float
     unknowns: np.ndarray = attrs.field(converter=_frozen)
     resultant: tuple[float, float]
-    errors: dict | None
-    exact: tuple[np.ndarray, np.ndarray] | None
+    #: dict or None, or the _Deferred that computes both when first read
+    _errors: dict | _Deferred | None = attrs.field(alias="errors", repr=False)
+    _exact: tuple[np.ndarray, np.ndarray] | _Deferred | None = attrs.field(
+        alias="exact", repr=False
+    )
     layout: UnknownLayout | None = None
     loads: dict = attrs.field(factory=dict)
     checks: dict | None = None
@@ -281,6 +306,18 @@ class StepResult:
         return step_html(self)
 
     @property
+    def errors(self) -> dict | None:
+        """e_p, e_q (max and L2), normalised by p0 and f p0; None without a reference."""
+        value = self._errors
+        return value.get()[0] if isinstance(value, _Deferred) else value
+
+    @property
+    def exact(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """The reference's p and q at ``x``; None without a reference."""
+        value = self._exact
+        return value.get()[1] if isinstance(value, _Deferred) else value
+
+    @property
     def pair_unknowns(self) -> PairUnknowns:
         """``unknowns`` split by name (pressure, shear, block displacements)."""
         return PairUnknowns.from_vector(self.unknowns, self.layout)
@@ -295,15 +332,15 @@ class StepResult:
         ``last``, the record of the step's last increment (the same state), gives the
         block's measured approach, delta, moment and rotation without measuring again;
         ``increments``, every increment's record, are kept as they are."""
-        x = problem.pairing.points[:, 0]
+        x = _frozen(problem.pairing.points[:, 0])
         unknowns = problem.unknowns(state.x)
-        p, q = unknowns.pressure, unknowns.shear
+        p, q = _frozen(unknowns.pressure), _frozen(unknowns.shear)
         force = problem.lower_force_map @ state.x  # contact force on the lower body
         normal, tangent = simulation.frame()
         resultant = (float(-force @ normal), float(force @ tangent))
-        errors, exact = None, None
+        errors = exact = None
         if simulation.reference is not None and not _gross_sliding(simulation.reference, history):
-            errors, exact = errors_against_theory(simulation.reference, x, p, q, history)
+            errors = exact = _Deferred(simulation.reference, x, p, q, history)
         if last is not None:
             measured = attrs.asdict(last, recurse=False)
         else:

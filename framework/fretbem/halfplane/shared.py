@@ -42,6 +42,12 @@ class SharedIntegrals:
         self.nodes = nodes  # node abscissae, increasing-x order
         self.value: np.ndarray | None = None
         self.members = self.served = 0
+        #: whether a member's face passed the face check (x monotone: the projection's
+        #: property, so a twin need not map its Gauss points again to check it)
+        self.checked = False
+        #: int phi_a |dx| per unit node value, increasing-x order (n numbers, kept while
+        #: the entry lives): the face's force per unit node traction
+        self.weights: np.ndarray | None = None
 
     def matches(self, nodes: np.ndarray) -> bool:
         """Whether a face with node abscissae ``nodes`` (increasing-x order) has these."""
@@ -78,6 +84,19 @@ class NodeIntegrals:
             shared.value = None
         return value
 
+    def force_weights(self, compute: Callable[[], np.ndarray]) -> np.ndarray:
+        """int phi_a |dx| per unit node value in this face's node order, computed by
+        ``compute`` for the first member that asks and handed to its twin reversed."""
+        shared = self.shared
+        if shared is None:
+            return compute()
+        if shared.weights is None:
+            weights = compute()
+            weights.setflags(write=False)
+            shared.weights = weights[::-1] if self.reverse else weights
+            return weights
+        return shared.weights[::-1] if self.reverse else shared.weights
+
 
 def _reversed(both: np.ndarray) -> np.ndarray:
     """(2 n, n) integrals of stacked ln and sign blocks with the node order reversed."""
@@ -97,10 +116,12 @@ def node_integrals(
     side: str,
     datum: float,
     nodes: np.ndarray,
+    check: Callable[[], None] | None = None,
 ) -> NodeIntegrals:
     """The sharing of a face of ``curves`` (discretised by ``family`` at ``refinement``)
     whose nodes lie at abscissae ``nodes``, joined as one more member; a face without a
-    twin shares with nobody yet."""
+    twin shares with nobody yet. ``check`` (the face check, raising on a bad face) runs
+    before joining unless a twin already passed it."""
     nodes = np.asarray(nodes, float)
     reverse = bool(nodes.size > 1 and nodes[-1] < nodes[0])
     uniform = refinement.toward is None and refinement.at is None and not refinement.c0_at
@@ -125,5 +146,8 @@ def node_integrals(
     if shared is None or not shared.matches(nodes):
         shared = SharedIntegrals(nodes)
         _entries[key] = shared
+    if check is not None and not shared.checked:
+        check()
+        shared.checked = True
     shared.members += 1
     return NodeIntegrals(shared, reverse and uniform)

@@ -68,11 +68,13 @@ class HalfPlaneSurface:
 
     def __attrs_post_init__(self) -> None:
         side_sign(self.side)
-        check_face(self.face, self.gauss_samples)
-        if self.shared_as is not None:  # joined now: a twin made later finds this face
+        if self.shared_as is None:
+            check_face(self.face, self.gauss_samples)
+        else:  # joined now: a twin made later finds this face (and that it passed the check)
             self._cache["shared"] = node_integrals(
-                *self.shared_as, self.side, self.datum, self.points[:, 0]
-            )
+                *self.shared_as, self.side, self.datum, self.points[:, 0],
+                check=lambda: check_face(self.face, self.gauss_samples),
+            )  # fmt: skip
 
     @property
     def compliance(self) -> FlamantCompliance:
@@ -84,9 +86,12 @@ class HalfPlaneSurface:
         """Node positions (n, 2): the face's collocation points."""
         if "points" not in self._cache:
             elements, local = self.face.collocation()
-            points = self.face.map(elements, local).points
+            mapped = self.face.map(elements, local)
+            points = mapped.points
             points.setflags(write=False)
             self._cache["points"] = points
+            if _plain_collocation(self.face):  # E is these shape values, scattered
+                self._cache["node_values"] = (elements, mapped.values)
         return self._cache["points"]
 
     @property
@@ -99,7 +104,16 @@ class HalfPlaneSurface:
     def collocation_matrix(self) -> np.ndarray:
         """E: traction coefficients to node values (computed once)."""
         if "collocation_matrix" not in self._cache:
-            matrix = self.face.collocation_matrix()
+            self.points  # noqa: B018 - maps the nodes, whose shape values E holds
+            if "node_values" in self._cache:
+                # Basis.collocation_matrix's numbers: the shape functions at the same nodes
+                # (evaluated once, for the points), scattered into their columns
+                elements, values = self._cache.pop("node_values")
+                rows = np.arange(len(elements))[:, None]
+                matrix = added_at((len(elements), self.face.n_functions),
+                                  (rows, self.face.connectivity[elements]), values)  # fmt: skip
+            else:
+                matrix = self.face.collocation_matrix()
             matrix.setflags(write=False)
             self._cache["collocation_matrix"] = matrix
         return self._cache["collocation_matrix"]
@@ -175,6 +189,18 @@ class HalfPlaneSurface:
         # blocks of the map are the ln and sign integrals times constants, so two solves
         return self.per_node_value(np.concatenate([integrals.log, integrals.sign]))
 
+    def _force_weights(self) -> np.ndarray:
+        """int phi_a |dx| per unit node value (a twin's, reversed, where shared)."""
+
+        def compute() -> np.ndarray:
+            # int phi_b |dx| per coefficient, then per node value through E^-1
+            integrals = _shape_integrals(self.face, self.gauss_samples)
+            return self.per_node_value(integrals[None])[0]
+
+        if "shared" not in self._cache:
+            return compute()
+        return self._cache["shared"].force_weights(compute)
+
     def bulk_displacement(self, x) -> np.ndarray:
         """Surface displacement (m, 2) per unit far-field stress sigma_xx (the "bulk" load).
 
@@ -189,13 +215,24 @@ class HalfPlaneSurface:
 
     def contact_force(self) -> np.ndarray:
         """Resultant force (2, 2n) of the face tractions per unit node traction."""
-        # int phi_b |dx| per coefficient, then per node value through E^-1
-        weights = self.per_node_value(_shape_integrals(self.face, self.gauss_samples)[None])[0]
+        weights = self._force_weights()
         n = len(weights)
         out = np.zeros((2, n, 2))
         out[0, :, 0] = weights
         out[1, :, 1] = weights
         return out.reshape(2, 2 * n)
+
+
+def _plain_collocation(face) -> bool:
+    """Whether ``face`` is one segment whose E is :class:`~fretbem.basis.Basis`'s own (the
+    shape values at :meth:`~fretbem.basis.Basis.collocation`, scattered): a family that
+    overrides how E or its nodes are formed keeps its own."""
+    kind = type(face)
+    return isinstance(face, Basis) and all(
+        getattr(kind, name) is getattr(Basis, name)
+        for name in ("collocation_matrix", "evaluation_matrix", "collocation",
+                     "collocation_parameters", "to_local")
+    )  # fmt: skip
 
 
 def transposed_solve(matrix: np.ndarray, rows: np.ndarray) -> np.ndarray:

@@ -263,27 +263,32 @@ def refinements(
         except ValueError as err:
             raise SceneFileError(f"{face.where}: {err}") from None
     zone_size = 2 * zone / (k * len(segments))
-    corners = Refinement.graded(scene.mesh.side_elements, (0.0, 1.0), CORNER_RATIO, degree=degree)
-    levels = {
-        "contact": Refinement(elements=k, degree=degree),
-        "top" if pad else "bottom": Refinement.graded(
-            scene.mesh.top_elements, (0.0, 1.0), CORNER_RATIO, degree=degree
-        ),
-    }
-    half = _half_extent(body.shape)
-    flank = grading_ratio(half - zone, scene.mesh.flank_elements, 2 * zone_size)
-    near_zone = {"flank_left": 1.0, "flank_right": 0.0}  # the pad's face runs left to right
-    if not pad:
-        near_zone = {tag: 1.0 - end for tag, end in near_zone.items()}
-    for tag, end in near_zone.items():
-        levels[tag] = Refinement.graded(scene.mesh.flank_elements, end, flank, degree=degree)
     tags = {s.tag for s in _face(scene, zone, pad, whole)} | (
         {s.tag for s in _geometry(body.shape, "boundary", zone).segments}
         if pad and whole
         else set()
     )
-    for tag in ("side_left", "side_right", "end_left", "end_right"):
-        if tag in tags:
+    # only the levels of the tags the body has (a face-only body: its contact alone)
+    levels = {"contact": Refinement(elements=k, degree=degree)}
+    ends = "top" if pad else "bottom"
+    if ends in tags:
+        levels[ends] = Refinement.graded(
+            scene.mesh.top_elements, (0.0, 1.0), CORNER_RATIO, degree=degree
+        )
+    near_zone = {"flank_left": 1.0, "flank_right": 0.0}  # the pad's face runs left to right
+    if not pad:
+        near_zone = {tag: 1.0 - end for tag, end in near_zone.items()}
+    if tags & near_zone.keys():
+        half = _half_extent(body.shape)
+        flank = grading_ratio(half - zone, scene.mesh.flank_elements, 2 * zone_size)
+        for tag, end in near_zone.items():
+            levels[tag] = Refinement.graded(scene.mesh.flank_elements, end, flank, degree=degree)
+    corner_tags = [t for t in ("side_left", "side_right", "end_left", "end_right") if t in tags]
+    if corner_tags:
+        corners = Refinement.graded(
+            scene.mesh.side_elements, (0.0, 1.0), CORNER_RATIO, degree=degree
+        )
+        for tag in corner_tags:
             levels[tag] = corners
     return {tag: level for tag, level in levels.items() if tag in tags}
 

@@ -217,8 +217,11 @@ class SemiSmoothNewton(Solver):
         scales = self._scales.get(problem)
         if scales is None:
             layout = problem.layout
-            r_n = 1.0 / np.mean(np.abs(np.diag(problem.normal_map[:, layout.pressure])))
-            r_t = 1.0 / np.mean(np.abs(np.diag(problem.tangential_map[:, layout.shear])))
+            normal = np.abs(np.diag(problem.normal_map[:, layout.pressure]))
+            tangential = np.abs(np.diag(problem.tangential_map[:, layout.shear]))
+            # (np.mean's numbers, its sum by np.add.reduce over the count, without its frames)
+            r_n = 1.0 / (np.add.reduce(normal) / normal.size)
+            r_t = 1.0 / (np.add.reduce(tangential) / tangential.size)
             scales = self._scales[problem] = (r_n, r_t)
         return scales
 
@@ -286,7 +289,7 @@ class SemiSmoothNewton(Solver):
         x = np.zeros(layout.size) if start is None else np.array(start.x, dtype=float)
         residual, evaluation = equations.evaluate(x, r_n, r_t)
         if start is None:
-            evaluation = attrs.evolve(evaluation, states=np.full(n, PairState.STICK, dtype=int))
+            evaluation = attrs.evolve(evaluation, states=np.full(n, _STICK, dtype=int))
         else:
             residual, evaluation = equations.on_previous_pattern(x, r_n, r_t, start, residual,
                                                                  evaluation)  # fmt: skip
@@ -383,16 +386,24 @@ class _Equations:
 
     def evaluate(self, x: np.ndarray, r_n: float, r_t: float):
         """F(x) (a new array) and the law's evaluation at x; keeps x's gap and slip."""
-        if self.maps is None:
-            gap = self.gap_base + self.normal_map @ x
-            slip = self.tangential_base + self.tangential_map @ x - self.reference_slip
+        maps = self.maps
+        if maps is not None and maps.together is not None:  # small: one product for all three
+            n = self.n
+            products = maps.together @ x
+            gap = self.gap_base + products[:n]
+            slip = self.tangential_base + products[n : 2 * n] - self.reference_slip
+            blocks = self.resultant_base + products[2 * n :] - self.forces
         else:
-            normal, tangential = self.maps.both_times(x)
-            gap = self.gap_base + normal
-            slip = self.tangential_base + tangential - self.reference_slip
+            if maps is None:
+                gap = self.gap_base + self.normal_map @ x
+                slip = self.tangential_base + self.tangential_map @ x - self.reference_slip
+            else:
+                normal, tangential = maps.both_times(x)
+                gap = self.gap_base + normal
+                slip = self.tangential_base + tangential - self.reference_slip
+            blocks = self.resultant_base + self.resultant_map @ x - self.forces
         self.gap, self.slip = gap, slip
         evaluation = self.law.evaluate(x[self.pressure], x[self.shear], gap, slip, r_n, r_t)
-        blocks = self.resultant_base + self.resultant_map @ x - self.forces
         return np.concatenate([evaluation.normal, evaluation.tangential, blocks]), evaluation
 
     def _on(self, states, direction, x, r_n, r_t, residual):

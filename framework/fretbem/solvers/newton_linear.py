@@ -94,13 +94,17 @@ class _Maps:
         self.normal, self.tangential, self.resultant = normal_map, tangential_map, resultant_map
         self.r_n, self.r_t = float(r_n), float(r_t)
         self.n, self.n_x = normal_map.shape
+        #: the numbers of x of the block components (after the 2 n pair unknowns)
+        self.blocks = np.arange(2 * self.n, self.n_x)
         #: the Jacobian's contact rows stacked (r_n N; -r_t T; R), for small systems only
         #: (their reduced matrix is then one gather of it; a large one would double memory)
-        self.stacked = None
+        self.stacked = self.together = None
         if self.n_x < DIRECT_BELOW:
             self.stacked = np.concatenate(
                 [self.r_n * normal_map, -self.r_t * tangential_map, resultant_map]
             )
+            #: (N; T; R) stacked: F(x)'s three products in one (small systems)
+            self.together = np.concatenate([normal_map, tangential_map, resultant_map])
         #: the numbers of x (equations and unknowns alike) of the normal problem when it does
         #: not depend on the tangential one (None if it does): see :func:`normal_part`
         #: (the factor splits at every size; the products only from SPLIT_FROM)
@@ -216,13 +220,18 @@ class _Factor:
 
     def __init__(self, maps: _Maps, pattern: _Pattern, previous: _Factor | None = None):
         self.maps, self.pattern = maps, pattern
-        n, n_x = maps.n, maps.n_x
+        n = maps.n
         c, s = pattern.c, pattern.s
-        columns = np.concatenate([c, n + s, np.arange(2 * n, n_x)])
+        columns = np.concatenate([c, n + s, maps.blocks])
         kc, ks = c.size, s.size
         self.size = columns.size
         self.slip_in_c = pattern.slip[c].nonzero()[0]
         slipping = c[self.slip_in_c]
+        #: a slipping pair's dq follows its dp: dq_i += c_i dp_i (x numbers and c_i)
+        self.slip_p, self.slip_q = slipping, n + slipping
+        self.slip_coeff = pattern.coeff[slipping]
+        #: the reduced rows of the stacked Jacobian (small systems; :meth:`_reduced_rows`)
+        self.rows = None
         self.split = None
         if maps.normal_part is not None:
             self._factor_split(columns, slipping, previous)
@@ -230,13 +239,14 @@ class _Factor:
             if maps.stacked is not None:
                 # rows and columns of the reduced matrix are the same numbers of x: one gather
                 # (C order: its transpose is the F-ordered LAPACK input); dp of a slipping pair
-                # also moves its dq by c_i dp: that column folded in
-                rows = maps.stacked[columns]
+                # also moves its dq by c_i dp: that column folded in (the slipping pairs'
+                # pressure columns, which no known value of a solve multiplies)
+                rows = self.rows = maps.stacked[columns]
                 if slipping.size:
-                    rows[:, slipping] += rows[:, n + slipping] * pattern.coeff[slipping]
+                    rows[:, slipping] += rows[:, n + slipping] * self.slip_coeff
                 matrix = rows[:, columns]
             else:
-                matrix = self._gathered(maps, c, s, columns, slipping, pattern.coeff[slipping])
+                matrix = self._gathered(maps, c, s, columns, slipping, self.slip_coeff)
             self.lu, self.piv = _lu(matrix)
         self.sizes = (kc, ks)
         sep = (~pattern.contact).nonzero()[0]
@@ -268,7 +278,8 @@ class _Factor:
         self.coupled = bool(slipping.size) or maps.tangential_sees_normal
         self.normal_x = normal_x
         if (previous is not None and previous.split is not None
-                and np.array_equal(previous.normal_x, normal_x)):  # fmt: skip
+                and previous.normal_x.size == normal_x.size
+                and _all(previous.normal_x == normal_x)):  # fmt: skip
             self.lu, self.piv = previous.lu, previous.piv
         else:
             self.lu, self.piv = _lu(_block(maps, normal_x, normal_x))
@@ -321,30 +332,37 @@ class _Factor:
             matrix[kc + ks :, slip_in_c] += maps.resultant[:, n + slipping] * coeff
         return matrix
 
+    def _reduced_rows(self) -> np.ndarray:
+        """The stacked Jacobian's rows (r_n N; -r_t T; R) of the reduced equations (small
+        systems), over every column: their product with the known values is one matrix-vector
+        product where the column-range products took a dozen calls."""
+        if self.rows is None:
+            self.rows = self.maps.stacked.take(self.reduced, axis=0)
+        return self.rows
+
     def solve(self, b: np.ndarray) -> np.ndarray:
         """y with J y = b on this pattern (b of shape (n_x,) or (n_x, cols))."""
-        maps, pattern = self.maps, self.pattern
-        n = maps.n
-        c, s = pattern.c, pattern.s
-        kc, ks = self.sizes
+        maps, known = self.maps, self.known
         y = np.zeros(b.shape)
-        y[self.known] = b[self.known]  # separated p and q; slip q's constant part
-        nonzero = self.known[_any(_flat(y[self.known]), axis=1).nonzero()[0]]
-        if nonzero.size:
-            nx, tx, rx = maps.products(y, nonzero)
-            known_rows = np.concatenate([maps.r_n * nx[c], -maps.r_t * tx[s], rx])
+        y[known] = given = b[known]  # separated p and q; slip q's constant part
+        rhs = b[self.reduced]
+        if maps.stacked is not None:
+            if _any(given, axis=None):
+                rhs -= self._reduced_rows() @ y
         else:
-            known_rows = 0.0
-        rhs = b[self.reduced] - known_rows
+            nonzero = known[_any(_flat(given), axis=1).nonzero()[0]]
+            if nonzero.size:
+                c, s = self.pattern.c, self.pattern.s
+                nx, tx, rx = maps.products(y, nonzero)
+                rhs -= np.concatenate([maps.r_n * nx[c], -maps.r_t * tx[s], rx])
         if self.split is None:
-            u = _lu_solve(self.lu, self.piv, rhs)
+            y[self.reduced] = _lu_solve(self.lu, self.piv, rhs)
         else:
             normal, tangential = self.split
-            u = np.zeros(rhs.shape)
             rhs_n, rhs_t = rhs[normal], rhs[tangential]
             # a shear's unit (a bordered row of the tangential block) has none
             if _any(rhs_n, axis=None):
-                u[normal] = u_n = _lu_solve(self.lu, self.piv, rhs_n)
+                y[self.normal_x] = u_n = _lu_solve(self.lu, self.piv, rhs_n)
                 if self.coupled:
                     coupling = self._tangential()
                     columns = self.coupling_columns
@@ -352,13 +370,9 @@ class _Factor:
             # else the shears are 0 (what the LU would give), not factorised
             if _any(rhs_t, axis=None):
                 self._tangential()
-                u[tangential] = _lu_solve(self.lu_t, self.piv_t, rhs_t)
-        dp = u[:kc]
-        y[c] = dp
-        y[n + s] = u[kc : kc + ks]
-        y[2 * n :] = u[kc + ks :]
-        slipping = c[self.slip_in_c]
-        y[n + slipping] += _column(pattern.coeff[slipping], u) * dp[self.slip_in_c]
+                y[self.tangential_x] = _lu_solve(self.lu_t, self.piv_t, rhs_t)
+        if self.slip_q.size:  # y at a slipping pair's p is its dp
+            y[self.slip_q] += _column(self.slip_coeff, y) * y[self.slip_p]
         return y
 
     def border(self, rows: np.ndarray):

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from fretbem.basis import Refinement
-from fretbem.halfplane import shared
+from fretbem.halfplane import shared, surface
 from fretbem.scenes import reference as scenes
 from fretbem.simulation import run
 from fretbem.solvers import newton_linear
@@ -40,6 +40,38 @@ def test_twin_faces_share_their_integrals(basis, monkeypatch):
     scale = np.abs(alone).max()
     assert np.abs(lower.traction_map - alone).max() <= 1e-13 * scale
     assert upper._cache["shared"].shared.value is None  # both took them: nothing kept
+
+
+@pytest.mark.parametrize(("basis", "pairs"), [("nurbs", 21), ("nurbs", 241), ("lagrange2", 61)])
+def test_twin_takes_the_face_check_and_force_weights(basis, pairs):
+    """The specimen joins the pad's entry: the face check it passed and its force per unit
+    node traction (reversed) stand for the specimen's own, which maps no Gauss point and
+    forms no E; the weights equal what it computes alone (measured: 5e-14 of the largest)."""
+    simulation, _ = _condensed(basis=basis, pairs=pairs)
+    upper, lower = simulation.pair.upper.surface, simulation.pair.lower.surface
+    assert upper._cache["shared"].shared.checked
+    assert "gauss_samples" not in lower._cache and "collocation_matrix" not in lower._cache
+    alone = lower.per_node_value(surface._shape_integrals(lower.face, lower.gauss_samples)[None])
+    taken = lower.contact_force()
+    assert np.array_equal(taken[0, 0::2], taken[1, 1::2])
+    assert np.abs(taken[0, 0::2] - alone[0]).max() <= 2e-13 * np.abs(alone).max()
+
+
+def test_a_face_that_fails_its_check_joins_nothing():
+    """The check runs before joining: a failing face leaves the entry unchecked and
+    memberless, and the next face is checked again."""
+    nodes = np.linspace(0.0, 1.0, 5)
+    key = ("nurbs-check", (), Refinement(), "upper", 10.0)
+
+    def bad():
+        raise ValueError("x turns back")
+
+    with pytest.raises(ValueError, match="turns back"):
+        shared.node_integrals(*key, nodes, check=bad)
+    calls = []
+    joined = shared.node_integrals(*key, nodes, check=lambda: calls.append(1))
+    again = shared.node_integrals(*key, nodes, check=lambda: calls.append(2))
+    assert calls == [1] and joined.shared is again.shared and again.shared.members == 2
 
 
 def test_a_face_without_twin_keeps_nothing():
