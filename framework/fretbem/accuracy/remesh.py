@@ -85,8 +85,7 @@ def aligned_breakpoints(
             "them; raise the pair budget"
         )
     if m == 0:
-        uniform = np.linspace(0.0, 1.0, elements + 1)
-        return _mirrored(uniform) if symmetric else uniform
+        return np.linspace(0.0, 1.0, elements + 1)
     slope = (ratio - 1.0) / grading
     grid = _GRID
     # the density of the nearest anchor, anchor by anchor over the grid (the same values
@@ -415,6 +414,13 @@ def _matched(simulation, anchors, pairs, ratio, grading, centred, edges, edge_pe
         and mirror_symmetric(low_curve, tangent)
         and symmetric_anchors(anchors, peaks, _size(up_curve))
     )
+    # similar faces of one material laid out alike: point images of each other to the last
+    # bit, so that the lower body takes the upper's blocks and factors (fretbem.bem.images)
+    alike = (
+        symmetric
+        and point_image(low_curve, up_curve)
+        and getattr(pair.upper, "material", None) == getattr(pair.lower, "material", None)
+    )
     if symmetric:  # the anchors' parameters symmetric exactly, as their positions are
         order = np.argsort(sigma)
         sigma = sigma.copy()
@@ -428,8 +434,8 @@ def _matched(simulation, anchors, pairs, ratio, grading, centred, edges, edge_pe
         )  # fmt: skip
         if flip:
             bounds = (1.0 - bounds)[::-1]
-            if symmetric:
-                bounds = _mirrored(bounds)
+        if alike:  # mirrored exactly (the uniform layout and a flip are so to round-off)
+            bounds = _mirrored(bounds)
         marks = [] if centred else [bounds[np.argmin(np.abs(bounds - t))] for t in sigma]
         marks = np.unique([t for t in marks if 0.0 < t < 1.0])
         return Refinement.explicit(bounds, degree=degree, c0_at=marks)
@@ -453,7 +459,7 @@ def _matched(simulation, anchors, pairs, ratio, grading, centred, edges, edge_pe
         return Refinement.explicit(low_bounds, degree=degree, c0_at=snap)
 
     upper_ref = layout(_fitting_elements(family, degree, pairs, up_curve, marks_of, count))
-    if symmetric and point_image(low_curve, up_curve) and _mirror_layout(upper_ref):
+    if alike and _mirror_layout(upper_ref):
         # the lower face is the upper's point image, C_l(s) = -C_u(s), and the layout is
         # its own mirror: carried by position, each breakpoint s lands on 1 - (1 - s); taken
         # as it is, the two faces are point images to the last bit (their blocks shared,
