@@ -17,13 +17,14 @@ import time
 import attrs
 import numpy as np
 
-from fretbem.contact.pairs import SEPARATED, NodeToNodePair
+from fretbem.contact.pairs import NodeToNodePair
 from fretbem.simulation import run
 from fretbem.solvers.warm_start import WarmStart
 
 from . import estimate
 from .knots import (
     FALLBACK_REACH,
+    SEPARATED,
     Transitions,
     fit_transitions,
     knot_moves,
