@@ -465,11 +465,13 @@ def settle(
             break
         n = used[-1].edges.size
         if symmetric:
-            even = np.concatenate([_odd_part(edge_moves), _odd_part(boundary_moves)])
+            mirrored = np.concatenate([_odd_part(edge_moves), _odd_part(boundary_moves)])
             # the knots stay mirrored while what the mirror keeps them from (each pair's
-            # common move) would count as settled on its own, with room to spare
-            symmetric = _residual(positions, moves - even, scale) <= SYMMETRY_SHARE * tolerance
-            moves = even if symmetric else moves
+            # common move) would count as settled on its own, with room to spare; the
+            # history then holds the mirrored moves (regula falsi on mirrored pairs)
+            common = _residual(positions, moves - mirrored, scale)
+            symmetric = common <= SYMMETRY_SHARE * tolerance
+            moves = mirrored if symmetric else moves
         cap = MAX_MOVE * _half_width(levels[-1])
         after = _next_positions(positions, np.clip(moves, -cap, cap), history)
         history.append((positions, moves))

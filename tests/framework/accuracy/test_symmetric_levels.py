@@ -121,3 +121,28 @@ def test_reference_levels_stay_mirrored_point_images():
     worst = max(max(s.errors["e_p_max"], s.errors["e_q_max"]) for s in out.result.steps)
     assert worst < 0.0086
     assert out.notes == ()
+
+
+@pytest.mark.parametrize("common", [0.0, 0.004])
+def test_knots_move_in_mirrored_pairs_until_their_common_move_counts(monkeypatch, common):
+    """Measured moves whose common part (the same shift of a knot and its mirror) is small
+    move the knots in mirrored pairs; a common move that would not count as settled on its
+    own releases them, each knot moving on its own from there (and on later levels)."""
+    simulation = cattaneo_mindlin(pairs=21)
+    found = Transitions(np.array([-0.33, 0.33]), np.array([-0.27, -0.21, 0.21, 0.27]))
+    odd = 0.002
+
+    def moves(level, used, reach=None):
+        edges = np.array([-odd, odd]) + common
+        return edges, np.zeros(used.boundaries.size)
+
+    monkeypatch.setattr(adaptive, "knot_moves", moves)
+    settings = adaptive.AdaptiveSettings().for_family(simulation.pair.upper.family)
+    _, used, _, mirrored = adaptive.settle(
+        simulation, found, 21, settings, iterations=1, tolerance=1e-6, symmetric=True
+    )
+    moved = next(u for u in used if not np.array_equal(u.edges, found.edges))
+    assert mirrored is (common == 0.0)
+    assert np.array_equal(moved.edges, -moved.edges[::-1]) is (common == 0.0)
+    expected = found.edges + np.array([-odd, odd]) + common
+    np.testing.assert_allclose(moved.edges, expected, atol=1e-15)
