@@ -81,15 +81,23 @@ def test_dissimilar_materials_run_and_say_where_the_estimate_stops():
     assert (first.states == 2).sum() >= 4 and (first.states == 1).sum() >= 10
 
 
-def test_wide_contact_runs_paired_by_projection():
+def test_wide_contact_runs_mirrored_node_to_node_or_paired_by_projection():
     """The reference bodies at P = 900 (a = 0.99 mm, 3.3 a wide): an unsymmetric layout tilts
     the pair frame and the curved faces no longer face node to node (it refused before: 'no
-    facing point ... 1.1e-05 off'); the levels are paired node to segment instead."""
+    facing point ... 1.1e-05 off'); such a layout is paired node to segment instead. The
+    adaptive levels of these mirror-symmetric faces, whose transitions are mirrored, are
+    mirrored too (adaptive.symmetric_faces): they face node to node."""
+    from fretbem.accuracy.remesh import remesh
+
     simulation = from_file("adaptive_wide_contact.toml")
+    unsymmetric = remesh(
+        simulation, np.array([-0.99, -0.7, 0.7, 0.98]), 61, ratio=20.0, grading=0.06
+    )
+    assert isinstance(unsymmetric.pair, NodeToSegmentPair)
+    assert adaptive.symmetric_faces(simulation)
     out = spend(simulation, 61)
     assert out.result.steps[0].x.size == 61
-    kinds = {type(level.simulation.pair) for level in out.levels}
-    assert NodeToSegmentPair in kinds
+    assert {type(level.simulation.pair) for level in out.levels} == {NodeToNodePair}
     assert max(max(e["e_p_max"], e["e_q_max"]) for e in out.estimate.values()) < 0.01
 
 

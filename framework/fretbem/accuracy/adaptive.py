@@ -17,13 +17,14 @@ import time
 import attrs
 import numpy as np
 
-from fretbem.contact.pairs import SEPARATED, NodeToNodePair
+from fretbem.contact.pairs import NodeToNodePair
 from fretbem.simulation import run
 from fretbem.solvers.warm_start import WarmStart
 
 from . import estimate
 from .knots import (
     FALLBACK_REACH,
+    SEPARATED,
     Transitions,
     fit_transitions,
     knot_moves,
@@ -38,6 +39,7 @@ from .remesh import (
     aligned_breakpoints,
     elements_for,
     knots_for,
+    mirror_symmetric,
     pairs_for,
     remesh,
 )
@@ -367,6 +369,54 @@ def _residual(
     return float(np.max(weighted[free]))
 
 
+#: the knots of a mirrored level stay mirrored while each pair's common move (what the
+#: mirror keeps them from, :func:`settle`) is within this share of the settle tolerance, so
+#: that the mirrored knots can settle by the same test as free ones
+SYMMETRY_SHARE = 0.5
+
+
+def symmetric_faces(simulation) -> bool:
+    """Whether both contact faces are their own mirror images about the normal through the
+    origin (positions x -> -x along the pair tangent; node-to-node pairs): aligned levels
+    with mirrored knots are then mirror-symmetric, and similar faces point images of each
+    other (:func:`fretbem.accuracy.remesh.remesh`), whose blocks the assembly shares
+    (:mod:`fretbem.bem.images`, :mod:`fretbem.bem.mirror`)."""
+    pair = simulation.pair
+    if not isinstance(pair, NodeToNodePair):
+        return False
+    tangent = estimate.pair_frame(pair)[1][0]
+    return all(
+        mirror_symmetric(body.face_curve(tag), tangent)
+        for body, tag in ((pair.upper, pair.upper_tag), (pair.lower, pair.lower_tag))
+    )
+
+
+def _odd_part(values: np.ndarray) -> np.ndarray:
+    """The part of sorted mirrored values that is odd under x -> -x (their mirror image
+    negated and reversed averaged in): exactly mirrored, a middle one 0."""
+    return 0.5 * (values - values[::-1])
+
+
+def _merge_distance(simulation) -> float:
+    """The layout's merge distance: :data:`~fretbem.accuracy.remesh.MERGE` of the extent of
+    the contact pairs along the face."""
+    points, tangents = estimate.pair_frame(simulation.pair)
+    return MERGE * float(np.ptp(points @ tangents[0]))
+
+
+def symmetrised(found: Transitions, apart: float) -> Transitions | None:
+    """``found`` mirrored exactly about x = 0 if each edge and each boundary has a mirror
+    image of its kind within ``apart`` (the layout's merge distance: closer transitions
+    share an anchor), else None."""
+    out = []
+    for values in (found.edges, found.boundaries):
+        values = np.sort(np.asarray(values, float))
+        if values.size and np.abs(values + values[::-1]).max() > apart:
+            return None
+        out.append(_odd_part(values))
+    return Transitions(*out)
+
+
 def settle(
     simulation,
     found: Transitions,
@@ -377,12 +427,17 @@ def settle(
     relative: bool = True,
     reach: float | None = None,
     after=None,
+    symmetric: bool = False,
 ):
     """Solve an aligned level and move its knots onto its own discrete transitions.
 
     Returns the solved levels and the transitions of each, the settled level (the one whose
-    knots would move least, :func:`_residual`) last, and that level's residual with its
-    crowded knots counted. ``found`` is
+    knots would move least, :func:`_residual`) last, that level's residual with its
+    crowded knots counted, and whether the knots stayed mirrored. With ``symmetric`` (a
+    face pair that is its own mirror image, :func:`symmetric_faces`) the knots are
+    mirrored about the middle (:func:`symmetrised`) and move in mirrored pairs while the
+    level's transitions are mirrored too (:data:`SYMMETRY_SHARE`); from the first re-solve
+    where they are not, each knot moves on its own. ``found`` is
     first cut to the knots the level can place (:func:`fit_transitions`). Stops when no knot
     would move by more than ``tolerance`` (default ``settings.edge_tolerance``) of its point
     spacing (``relative``) or of the contact half-width, or after ``iterations`` re-solves.
@@ -393,6 +448,10 @@ def settle(
     pair = simulation.pair
     degree = pair.upper.face_refinement(pair.upper_tag).degree
     found = fit_transitions(found, knots_for(pair.upper.family, pairs, degree))
+    if symmetric:
+        mirrored = symmetrised(found, _merge_distance(simulation))
+        symmetric = mirrored is not None
+        found = mirrored if symmetric else found
     levels = [_solve(aligned(simulation, found, pairs, settings), after)]
     used, history, residual, everything = [found], [], [], []
     for k in range(iterations + 1):
@@ -404,15 +463,25 @@ def settle(
         everything.append(_residual(positions, moves, scale, crowded=True))
         if residual[-1] <= tolerance or k == iterations:
             break
+        n = used[-1].edges.size
+        if symmetric:
+            mirrored = np.concatenate([_odd_part(edge_moves), _odd_part(boundary_moves)])
+            # the knots stay mirrored while what the mirror keeps them from (each pair's
+            # common move) would count as settled on its own, with room to spare; the
+            # history then holds the mirrored moves (regula falsi on mirrored pairs)
+            common = _residual(positions, moves - mirrored, scale)
+            symmetric = common <= SYMMETRY_SHARE * tolerance
+            moves = mirrored if symmetric else moves
         cap = MAX_MOVE * _half_width(levels[-1])
         after = _next_positions(positions, np.clip(moves, -cap, cap), history)
         history.append((positions, moves))
-        n = used[-1].edges.size
+        if symmetric:
+            after = np.concatenate([_odd_part(after[:n]), _odd_part(after[n:])])
         used.append(Transitions(after[:n], after[n:]))
         levels.append(_solve(aligned(simulation, used[-1], pairs, settings), levels[-1]))
     best = int(np.argmin(residual))
     order = [*(i for i in range(len(levels)) if i != best), best]
-    return [levels[i] for i in order], [used[i] for i in order], everything[best]
+    return [levels[i] for i in order], [used[i] for i in order], everything[best], symmetric
 
 
 def own_transitions(settled: Transitions, handed: Transitions, apart: float) -> Transitions | None:
@@ -482,6 +551,8 @@ def run_adaptive(
     if bar is not None:
         bar.update(1)
     found = [transitions(levels[0])]
+    # mirrored knots while the faces and the transitions are mirror images (settle)
+    symmetric = symmetric_faces(simulation)
     estimated: dict = {}
     previous = None
     notes: list[str] = []
@@ -496,9 +567,10 @@ def run_adaptive(
             iterations, tolerance = settings.edge_iterations, settings.edge_tolerance
         count = handed.all.size
         settled_before = index > 0 and not coarse
-        solved, used, residual = settle(
+        solved, used, residual, symmetric = settle(
             simulation, handed, pairs, settings, iterations, tolerance, relative=index > 0,
             reach=FALLBACK_REACH if index > 0 and not coarse else None, after=levels[-1],
+            symmetric=symmetric,
         )  # fmt: skip
         if used[-1].all.size < count:
             notes.append(
@@ -524,9 +596,9 @@ def run_adaptive(
             # stick-slip boundary at 0.641 mm, 0.005 mm inside an edge knot: q 1.06 %
             # of f p0 at 61 pairs against 0.67 % at 41): it has no next level to hand them
             # to, so it is settled again with a knot on each (docs/explanation/adaptive.rst)
-            again, more, residual = settle(
+            again, more, residual, symmetric = settle(
                 simulation, own, pairs, settings, iterations, tolerance, relative=True,
-                reach=FALLBACK_REACH,
+                reach=FALLBACK_REACH, after=None, symmetric=symmetric,
             )  # fmt: skip
             levels += again
             found += more

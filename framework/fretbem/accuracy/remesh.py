@@ -34,6 +34,11 @@ __all__ = [
 #: smallest transition spacing kept apart, as a fraction of the face length
 MERGE = 2e-3
 
+#: how far (fraction of the face's parameter, or of its size) a face, a layout or a set of
+#: anchors may be from its mirror image about the face's middle and still count as
+#: symmetric (round-off: the reference pad is symmetric to 1.5e-14 of its height)
+SYMMETRY_TOLERANCE = 1e-11
+
 #: where :func:`aligned_breakpoints` integrates the element density (read-only)
 _GRID = np.linspace(0.0, 1.0, 8001)
 _GRID.flags.writeable = False
@@ -51,13 +56,17 @@ def aligned_breakpoints(
     grading: float = 0.15,
     centred: bool = False,
     peaks: np.ndarray | None = None,
+    symmetric: bool = False,
 ) -> np.ndarray:
     """Breakpoints in [0, 1]: ``elements`` elements, graded toward ``anchors``.
 
     Each anchor is a breakpoint, or with ``centred`` the centre of an element. Element
     density falls linearly with the distance to an anchor, from ``peaks`` (default 1) at it
     to 1 / ``ratio`` at ``grading`` (fraction of [0, 1]) and beyond; the gaps between
-    anchors get whole numbers of elements that equidistribute it.
+    anchors get whole numbers of elements that equidistribute it. With ``symmetric``
+    (anchors and peaks symmetric about 1/2, as :func:`symmetric_anchors` makes them) mirrored
+    gaps get the same count and the breakpoints are symmetric exactly (b = 1 - b reversed);
+    an odd ``elements`` with no gap in the middle gets one element fewer.
     """
     anchors = np.asarray(anchors, float)
     peaks = np.ones(anchors.size) if peaks is None else np.asarray(peaks, float)
@@ -108,12 +117,15 @@ def aligned_breakpoints(
             break
         lo_h, hi_h = bracket
     _, starts, ends, work = layout(math.sqrt(lo_h * hi_h))
-    counts = np.maximum(np.floor(work), 1).astype(int)
-    while counts.sum() < target:
-        counts[np.argmax(work - counts)] += 1
-    while counts.sum() > target:
-        spare = np.where(counts > 1, counts - work, -np.inf)
-        counts[np.argmax(spare)] -= 1
+    if symmetric:
+        counts = _symmetric_counts(0.5 * (work + work[::-1]), target)
+    else:
+        counts = np.maximum(np.floor(work), 1).astype(int)
+        while counts.sum() < target:
+            counts[np.argmax(work - counts)] += 1
+        while counts.sum() > target:
+            spare = np.where(counts > 1, counts - work, -np.inf)
+            counts[np.argmax(spare)] -= 1
     points = [np.array([0.0])]
     for a, b, n in zip(starts, ends, counts, strict=True):
         ca, cb = np.interp([a, b], grid, cumulative)
@@ -122,7 +134,47 @@ def aligned_breakpoints(
         points.append(inner)
     out = np.unique(np.concatenate(points))
     out[0], out[-1] = 0.0, 1.0
-    return out
+    return _mirrored(out) if symmetric else out
+
+
+def _symmetric_counts(work: np.ndarray, target: int) -> np.ndarray:
+    """Whole element counts of gaps mirrored about the middle (``work`` symmetric), the
+    same in each mirrored pair, at most ``target`` in all: the rounding of the free
+    layout, each change made to a gap and its mirror together (the middle gap alone)."""
+    counts = np.maximum(np.floor(work), 1).astype(int)
+    size = work.size
+    half = np.arange((size + 1) // 2)  # a gap of each mirrored pair (and the middle one)
+    step = np.where(half == size - 1 - half, 1, 2)
+    while True:
+        room = target - counts.sum()
+        if room <= 0:
+            break
+        gain = np.where(step <= room, (work - counts)[half], -np.inf)
+        if not np.isfinite(gain).any():
+            break
+        i = int(np.argmax(gain))
+        counts[half[i]] += 1
+        counts[size - 1 - half[i]] += step[i] - 1
+    while counts.sum() > target:
+        spare = np.where(counts[half] > 1, (counts - work)[half], -np.inf)
+        if not np.isfinite(spare).any():
+            break
+        i = int(np.argmax(spare))
+        counts[half[i]] -= 1
+        counts[size - 1 - half[i]] -= step[i] - 1
+    return counts
+
+
+def _mirrored(bounds: np.ndarray) -> np.ndarray:
+    """Breakpoints symmetric about 1/2 to round-off made so exactly: the right half is the
+    left one mirrored (1 - b), and a middle breakpoint is 1/2 (``bounds`` as they are if
+    they are not symmetric: anchors merged on one side only)."""
+    n = bounds.size
+    if np.abs(bounds + bounds[::-1] - 1.0).max() > SYMMETRY_TOLERANCE:
+        return bounds
+    left = bounds[: n // 2]
+    middle = [0.5] if n % 2 else []
+    return np.concatenate([left, middle, (1.0 - left)[::-1]])
 
 
 #: pairs a family puts on a face of that many elements (the discretisation's own count)
@@ -283,6 +335,62 @@ def remesh(
     return attrs.evolve(simulation, pair=new_pair)
 
 
+def _size(curve) -> float:
+    return float(np.abs(curve.control_points).max())
+
+
+def mirror_symmetric(curve, tangent: np.ndarray) -> bool:
+    """Whether ``curve`` is its own mirror image, traversed backwards, about the line through
+    the origin normal to ``tangent`` (to :data:`SYMMETRY_TOLERANCE`): C(1 - s) = M C(s), so
+    positions along ``tangent`` are mirrored x -> -x with the parameter s -> 1 - s."""
+    points = getattr(curve, "control_points", None)
+    weights, knots = getattr(curve, "weights", None), getattr(curve, "knots", None)
+    if points is None or weights is None or knots is None or not points.size:
+        return False
+    t = np.asarray(tangent, float) / np.linalg.norm(tangent)
+    mirrored = points[::-1] - 2.0 * np.outer(points[::-1] @ t, t)
+    return bool(
+        np.abs(mirrored - points).max() <= SYMMETRY_TOLERANCE * _size(curve)
+        and np.abs(weights[::-1] - weights).max() <= SYMMETRY_TOLERANCE * np.abs(weights).max()
+        and np.abs(knots[0] + knots[-1] - knots[::-1] - knots).max()
+        <= SYMMETRY_TOLERANCE * (knots[-1] - knots[0])
+    )
+
+
+def point_image(curve, other) -> bool:
+    """Whether ``curve`` is ``other``'s exact point image (x, y) -> (-x, -y), the same
+    parameterisation: every coefficient equal, the control points negated."""
+    return bool(
+        type(curve) is type(other)
+        and getattr(curve, "degree", None) == getattr(other, "degree", None)
+        and hasattr(curve, "control_points")
+        and np.array_equal(curve.knots, other.knots)
+        and np.array_equal(curve.weights, other.weights)
+        and np.array_equal(curve.control_points, -other.control_points)
+    )
+
+
+def symmetric_anchors(anchors: np.ndarray, peaks: np.ndarray, size: float) -> bool:
+    """Whether positions ``anchors`` (with their ``peaks``) are their own mirror image
+    x -> -x, to :data:`SYMMETRY_TOLERANCE` of ``size``."""
+    anchors = np.asarray(anchors, float)
+    order = np.argsort(anchors)
+    x, peaks = anchors[order], np.asarray(peaks, float)[order]
+    return bool(
+        np.all(np.abs(x + x[::-1]) <= SYMMETRY_TOLERANCE * size)
+        and np.array_equal(peaks, peaks[::-1])
+    )
+
+
+def _mirror_layout(refinement) -> bool:
+    """Whether a face refinement's breakpoints and C0 marks are their own mirror exactly."""
+    bounds, marks = refinement.breakpoints(), np.asarray(refinement.c0_at, float)
+    return bool(
+        np.array_equal(bounds, _mirrored(bounds))
+        and np.allclose(marks, (1.0 - marks)[::-1], rtol=0.0, atol=SYMMETRY_TOLERANCE)
+    )
+
+
 def _matched(simulation, anchors, pairs, ratio, grading, centred, edges, edge_peak):
     """Both faces laid out in the upper face's parameter, the lower carried by position."""
     pair = simulation.pair
@@ -300,14 +408,34 @@ def _matched(simulation, anchors, pairs, ratio, grading, centred, edges, edge_pe
     if flip:
         sigma = 1.0 - sigma
     low_inverse = estimate.parameter_of(low_curve, tangent)
+    symmetric = (
+        not centred
+        and mirror_symmetric(up_curve, tangent)
+        and mirror_symmetric(low_curve, tangent)
+        and symmetric_anchors(anchors, peaks, _size(up_curve))
+    )
+    # similar faces of one material laid out alike: point images of each other to the last
+    # bit, so that the lower body takes the upper's blocks and factors (fretbem.bem.images)
+    alike = (
+        symmetric
+        and point_image(low_curve, up_curve)
+        and getattr(pair.upper, "material", None) == getattr(pair.lower, "material", None)
+    )
+    if symmetric:  # the anchors' parameters symmetric exactly, as their positions are
+        order = np.argsort(sigma)
+        sigma = sigma.copy()
+        sigma[order] = 0.5 * (sigma[order] + 1.0 - sigma[order][::-1])
 
     @functools.cache
     def layout(elements):
         bounds = aligned_breakpoints(
-            sigma, elements, ratio=ratio, grading=grading, centred=centred, peaks=peaks
-        )
+            sigma, elements, ratio=ratio, grading=grading, centred=centred, peaks=peaks,
+            symmetric=symmetric,
+        )  # fmt: skip
         if flip:
             bounds = (1.0 - bounds)[::-1]
+        if alike:  # mirrored exactly (the uniform layout and a flip are so to round-off)
+            bounds = _mirrored(bounds)
         marks = [] if centred else [bounds[np.argmin(np.abs(bounds - t))] for t in sigma]
         marks = np.unique([t for t in marks if 0.0 < t < 1.0])
         return Refinement.explicit(bounds, degree=degree, c0_at=marks)
@@ -331,7 +459,14 @@ def _matched(simulation, anchors, pairs, ratio, grading, centred, edges, edge_pe
         return Refinement.explicit(low_bounds, degree=degree, c0_at=snap)
 
     upper_ref = layout(_fitting_elements(family, degree, pairs, up_curve, marks_of, count))
-    lower_ref = lower_of(upper_ref)
+    if alike and _mirror_layout(upper_ref):
+        # the lower face is the upper's point image, C_l(s) = -C_u(s), and the layout is
+        # its own mirror: carried by position, each breakpoint s lands on 1 - (1 - s); taken
+        # as it is, the two faces are point images to the last bit (their blocks shared,
+        # fretbem.bem.images)
+        lower_ref = upper_ref
+    else:
+        lower_ref = lower_of(upper_ref)
     upper = pair.upper.with_face_refinement(pair.upper_tag, upper_ref)
     lower = pair.lower.with_face_refinement(pair.lower_tag, lower_ref)
     return attrs.evolve(simulation, pair=attrs.evolve(pair, upper=upper, lower=lower))
