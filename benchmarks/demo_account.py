@@ -11,7 +11,10 @@ legend is in both; attrs classes are built during the imports), so only the rows
 ``(all)`` and the imports add up. Beside every run, the floor ``python -c "import numpy,
 scipy.linalg"`` (CPU of a fresh process) is measured; medians of ``--runs`` are printed with
 each piece's share of the demo's CPU and its size in floors. The demo's limit is 4 floors.
-``--before DIR`` runs a second source tree in the same rounds::
+``--before DIR`` runs a second source tree in the same rounds. Each tree's bytecode is written
+first, as ``pip install`` leaves it (``workflows.compile_tree``; ``--source-only`` skips it,
+and then every process compiles fretbem's modules again where PYTHONDONTWRITEBYTECODE is set,
+~0.2 s CPU that the import row would show)::
 
     OPENBLAS_NUM_THREADS=1 python benchmarks/demo_account.py --runs 5 [--before /tmp/old]
 """
@@ -139,8 +142,15 @@ def main(argv: list[str] | None = None) -> dict:
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--before", type=Path, help="source tree of the old code")
     parser.add_argument("--json", help="also write the medians here")
+    parser.add_argument("--source-only", action="store_true",
+                        help="do not write the trees' bytecode first")  # fmt: skip
     args = parser.parse_args(argv)
     trees = {"after": ROOT} if args.before is None else {"before": args.before, "after": ROOT}
+    if not args.source_only:
+        from workflows import compile_tree  # this folder is first on the script's path
+
+        for tree in trees.values():
+            compile_tree(tree)
     rows: dict[str, list[dict]] = {name: [] for name in trees}
     load = [os.getloadavg()[0]]
     with tempfile.TemporaryDirectory() as tmp:

@@ -3,6 +3,8 @@ metrics read once per figure (issue 28: the demo's figures laid text out ~380 ti
 
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 import pytest
 from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -52,10 +54,16 @@ def test_text_of_every_kind_draws_the_plain_canvas_pixels():
 )
 def test_the_demo_figures_draw_the_plain_canvas_pixels(results, make):
     fig = make(results)
-    assert isinstance(fig.canvas, canvas.FigureCanvas)  # save_figures' figures use it
     ours = _pixels(fig, canvas.FigureCanvas)
     plain = _pixels(fig, FigureCanvasAgg)
     np.testing.assert_array_equal(ours, plain)
+
+
+def test_figures_are_made_on_this_canvas_without_pyplot(monkeypatch):
+    """The command line's figures (no pyplot loaded) are drawn on this canvas; with pyplot in
+    use, pyplot's own figures are kept (notebooks, galleries)."""
+    monkeypatch.delitem(sys.modules, "matplotlib.pyplot", raising=False)
+    assert isinstance(figures._figure((2.0, 1.0)).canvas, canvas.FigureCanvas)
 
 
 def test_each_font_is_read_once_per_figure(monkeypatch):
