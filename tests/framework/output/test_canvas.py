@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import sys
 
+import matplotlib
 import numpy as np
 import pytest
 from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -66,9 +67,9 @@ def test_figures_are_made_on_this_canvas_without_pyplot(monkeypatch):
     assert isinstance(figures._figure((2.0, 1.0)).canvas, canvas.FigureCanvas)
 
 
-def test_each_font_is_read_once_per_figure(monkeypatch):
+def test_each_font_is_read_once_per_draw(monkeypatch):
     """Where matplotlib asks the renderer for a font's line metrics (3.11 on), the canvas
-    reads each font and size once per renderer, not once per text laid out."""
+    reads each font and size once per draw, not once per text laid out."""
     reads = []
     read = canvas.font_height_metrics
 
@@ -80,9 +81,30 @@ def test_each_font_is_read_once_per_figure(monkeypatch):
     fig = _texts()
     canvas.FigureCanvas(fig)
     fig.canvas.draw()
-    asked = getattr(fig.canvas.get_renderer(), "_font_heights", {})
+    asked = len(getattr(fig.canvas.get_renderer(), "_font_heights", {}))
     if not reads:
         pytest.skip("this matplotlib does not ask the renderer for a font's line metrics")
-    assert len(reads) == len(set(reads)) == len(asked)
-    fig.canvas.draw()  # the same renderer: nothing read again
-    assert len(reads) == len(asked)
+    assert len(reads) == len(set(reads)) == asked
+    first = list(reads)
+    fig.canvas.draw()  # a new draw reads them again, once each
+    assert sorted(reads[len(first) :]) == sorted(first)
+
+
+def test_a_font_family_changed_between_two_draws_draws_as_the_plain_canvas():
+    """The tables live for one draw: a figure drawn again after the rcParams name another
+    sans-serif font gives the plain canvas's pixels for the same two draws (whose own
+    text-metrics cache keeps the first font's sizes), and a fresh figure the fresh plain
+    canvas's."""
+
+    def drawn(canvas_class, fresh: bool) -> np.ndarray:
+        fig = _texts()
+        canvas_class(fig)
+        if not fresh:
+            fig.canvas.draw()
+        with matplotlib.rc_context({"font.sans-serif": ["DejaVu Sans Mono", "DejaVu Sans"]}):
+            fig.canvas.draw()
+        return np.asarray(fig.canvas.buffer_rgba()).copy()
+
+    for fresh in (False, True):
+        ours, plain = drawn(canvas.FigureCanvas, fresh), drawn(FigureCanvasAgg, fresh)
+        np.testing.assert_array_equal(ours, plain)
