@@ -11,9 +11,12 @@ legend is in both; attrs classes are built during the imports), so only the rows
 ``(all)`` and the imports add up. Beside every run, the floor ``python -c "import numpy,
 scipy.linalg"`` (CPU of a fresh process) is measured; medians of ``--runs`` are printed with
 each piece's share of the demo's CPU and its size in floors. The demo's limit is 4 floors.
-``--before DIR`` runs a second source tree in the same rounds::
+``--before DIR`` runs a second source tree in the same rounds. Each tree's bytecode is written
+first, as ``pip install`` leaves it (``workflows.compile_tree``; ``--source-only`` skips it,
+and then every process compiles fretbem's modules again where PYTHONDONTWRITEBYTECODE is set,
+~0.2 s CPU that the import row would show)::
 
-    OPENBLAS_NUM_THREADS=1 python benchmarks/demo_account.py --runs 5 [--before /tmp/old]
+    OPENBLAS_NUM_THREADS=1 python benchmarks/demo_account.py --runs 5 [--before /tmp/old] [--builtin]
 """
 
 from __future__ import annotations
@@ -88,7 +91,7 @@ timed(fretbem.output.figures, "save_figures", "figures (all)")
 for module in list(sys.modules.values()):
     if getattr(module, "save_figures", None) is figures and module.__name__.startswith("fretbem"):
         module.save_figures = fretbem.output.figures.save_figures
-sys.argv = ["fretbem", "demo", "--out", sys.argv[1]]
+sys.argv = ["fretbem", "demo", "--out", sys.argv[1], *sys.argv[2:]]
 
 def report():  # an exit handler: the console script's demo ends the process in main()
     spent["demo process (all)"] = time.process_time()
@@ -128,8 +131,8 @@ def _floor(tree: Path) -> float:
     return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
 
 
-def _demo(tree: Path, out: Path) -> dict:
-    done = subprocess.run([sys.executable, "-c", CHILD, str(out)], env=_env(tree),
+def _demo(tree: Path, out: Path, flags: list[str]) -> dict:
+    done = subprocess.run([sys.executable, "-c", CHILD, str(out), *flags], env=_env(tree),
                           capture_output=True, text=True, check=True)  # fmt: skip
     return json.loads(done.stderr.strip().splitlines()[-1])
 
@@ -139,14 +142,25 @@ def main(argv: list[str] | None = None) -> dict:
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--before", type=Path, help="source tree of the old code")
     parser.add_argument("--json", help="also write the medians here")
+    parser.add_argument("--builtin", action="store_true",
+                        help="compare the built-in families only (--compare lagrange2), what "
+                        "`pip install . && fretbem demo` runs")  # fmt: skip
+    parser.add_argument("--source-only", action="store_true",
+                        help="do not write the trees' bytecode first")  # fmt: skip
     args = parser.parse_args(argv)
     trees = {"after": ROOT} if args.before is None else {"before": args.before, "after": ROOT}
+    flags = ["--compare", "lagrange2"] if args.builtin else []
+    if not args.source_only:
+        from workflows import compile_tree  # this folder is first on the script's path
+
+        for tree in trees.values():
+            compile_tree(tree)
     rows: dict[str, list[dict]] = {name: [] for name in trees}
     load = [os.getloadavg()[0]]
     with tempfile.TemporaryDirectory() as tmp:
         for k in range(args.runs):
             for name, tree in trees.items():
-                record = _demo(tree, Path(tmp) / f"{name}{k}")
+                record = _demo(tree, Path(tmp) / f"{name}{k}", flags)
                 record["floor"] = _floor(tree)
                 rows[name].append(record)
             load.append(os.getloadavg()[0])

@@ -63,14 +63,16 @@ def _pyplot():
 
 def _figure(figsize: tuple[float, float]) -> Figure:
     """A new figure: pyplot's when pyplot is in use (notebooks, galleries, ``plt.show``), else
-    a plain Figure on an Agg canvas (the command line: no pyplot import, no figure manager)."""
+    a plain Figure on an Agg canvas that reads each font's line metrics once
+    (:mod:`fretbem.output.canvas`; the command line: no pyplot import, no figure manager)."""
     if "matplotlib.pyplot" in sys.modules:
         return sys.modules["matplotlib.pyplot"].figure(figsize=figsize)
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
+    from .canvas import FigureCanvas
+
     fig = Figure(figsize=figsize)
-    FigureCanvasAgg(fig)
+    FigureCanvas(fig)
     return fig
 
 

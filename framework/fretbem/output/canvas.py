@@ -1,0 +1,94 @@
+"""An Agg canvas whose renderer looks each font up once per draw.
+
+matplotlib (3.11) lays a text out with its font's ascent, descent and line gap, read from
+the font file's OS/2 or hhea table on every layout: a font search and two table reads per
+text, each time a text is measured or drawn (a tick label three times per figure); and
+each text measured or drawn searches its font again. The demo's three figures lay text out
+~380 times and measure or draw it ~200 times with ~10 distinct fonts and sizes. This
+renderer keeps, for the length of one draw, each font's line metrics (the answer to
+matplotlib's ``_get_font_height_metrics`` question, which its PDF and PostScript renderers
+answer too, computed as matplotlib computes it) and each font object (its
+``_prepare_font``, the same lookup), so the pixels are the same
+(``tests/framework/output/test_canvas.py`` compares them with the plain canvas's). A
+matplotlib that does not ask the question lays text out as before. matplotlib is
+imported by the caller (:func:`fretbem.output.figures._figure`).
+"""
+
+from __future__ import annotations
+
+from matplotlib.backends.backend_agg import FigureCanvasAgg, RendererAgg
+from matplotlib.font_manager import FontProperties, fontManager, get_font
+
+__all__ = ["FigureCanvas", "font_height_metrics"]
+
+#: the font tables matplotlib reads a line's metrics from, in its order: (table, line gap,
+#: ascent, descent keys)
+HEIGHT_TABLES = (
+    ("OS/2", "sTypoLineGap", "sTypoAscender", "sTypoDescender"),
+    ("hhea", "lineGap", "ascent", "descent"),
+)
+
+
+def font_height_metrics(prop: FontProperties, dpi: float) -> tuple:
+    """(ascent, descent, line gap) in pixels of the font ``prop`` finds at ``dpi``, from the
+    first table the font has (``matplotlib.text.Text._get_layout``'s reading); (None, None,
+    None) if it has neither, and matplotlib then measures the text "lp" instead."""
+    font = get_font(fontManager._find_fonts_by_props(prop))
+    for name, gap, ascent, descent in HEIGHT_TABLES:
+        table = font.get_sfnt_table(name)
+        if table is None:
+            continue
+        scale = 1 / font.get_sfnt_table("head")["unitsPerEm"] * prop.get_size_in_points()
+        scale = scale * dpi / 72
+        return table[ascent] * scale, -table[descent] * scale, table[gap] * scale
+    return None, None, None
+
+
+class _Renderer(RendererAgg):
+    """Agg's renderer with each font and its line metrics remembered from the start of a
+    draw (keyed by the font's properties, as matplotlib's own text-metrics cache is)."""
+
+    def __init__(self, width: float, height: float, dpi: float):
+        super().__init__(width, height, dpi)
+        self._font_heights: dict = {}
+        self._fonts: dict = {}
+
+    def clear(self) -> None:
+        """Clear the pixels and the tables: every draw starts with it (a font family in the
+        rcParams may have changed between two draws of one figure)."""
+        super().clear()
+        self._font_heights.clear()
+        self._fonts.clear()
+
+    def _prepare_font(self, font_prop: FontProperties):
+        """The FT2Font of ``font_prop`` cleared and set to its size, as Agg's own method, the
+        font searched once per draw."""
+        font = self._fonts.get(font_prop)
+        if font is None:
+            font = get_font(fontManager._find_fonts_by_props(font_prop))
+            self._fonts[font_prop.copy()] = font
+        font.clear()
+        font.set_size(font_prop.get_size_in_points(), self.dpi)
+        return font
+
+    def _get_font_height_metrics(self, prop: FontProperties) -> tuple:
+        found = self._font_heights.get(prop)
+        if found is None:
+            found = font_height_metrics(prop, self.dpi)
+            self._font_heights[prop.copy()] = found  # a snapshot: the text's may change
+        return found
+
+
+class FigureCanvas(FigureCanvasAgg):
+    """A FigureCanvasAgg drawing with :class:`_Renderer` (the same pixels, fewer font-file
+    reads); everything else, saving included, is Agg's."""
+
+    def get_renderer(self) -> RendererAgg:
+        """The renderer of the figure's current size and DPI (a new one when they change),
+        as :meth:`FigureCanvasAgg.get_renderer`."""
+        width, height = self.get_width_height(physical=True)
+        key = width, height, self.figure.dpi
+        if self._lastKey != key:
+            self.renderer = _Renderer(width, height, self.figure.dpi)
+            self._lastKey = key
+        return self.renderer
