@@ -28,6 +28,80 @@ ROUNDING = 2.0**-40
 CHUNK = 256
 SIGNS = np.array([-1.0, 1.0])
 
+#: an index array gathered by slices when it falls into at most this fraction of its length
+#: in arithmetic pieces (a mirror reverses whole segments: a few pieces per component)
+PIECES_FRACTION = 1 / 16
+
+
+class Index:
+    """An index array along one axis, gathered and scattered by strided slices (its
+    arithmetic pieces, found once; in two interleaved halves when a dof's x and y
+    alternate), or by fancy indexing when it has too many pieces."""
+
+    def __init__(self, index: np.ndarray):
+        self.index = np.asarray(index, dtype=np.intp)
+        self.pieces = _pieces(self.index, 0, 1)
+        if self.pieces is None:
+            even, odd = _pieces(self.index[0::2], 0, 2), _pieces(self.index[1::2], 1, 2)
+            self.pieces = None if even is None or odd is None else even + odd
+
+    def __len__(self) -> int:
+        return len(self.index)
+
+    def _views(self, array: np.ndarray, axis: int):
+        """(positions, values) slices of each piece: where in the gathered axis, where in
+        ``array``'s."""
+        for start, step, count, first, stride in self.pieces:
+            where = slice(start, start + step * (count - 1) + 1, step)
+            what = slice(first, None if first + stride * count < 0 else first + stride * count,
+                         stride)  # fmt: skip
+            yield (where, what) if axis == 0 else ((slice(None), where), (slice(None), what))
+
+    def take(self, array: np.ndarray, axis: int, out: np.ndarray) -> np.ndarray:
+        """out = array[index] along ``axis`` (0 or 1)."""
+        if self.pieces is None:
+            return np.take(array, self.index, axis=axis, out=out)
+        for where, what in self._views(array, axis):
+            out[where] = array[what]
+        return out
+
+    def put(self, array: np.ndarray, values: np.ndarray, axis: int) -> None:
+        """array[index] = values along ``axis`` (0 or 1)."""
+        if self.pieces is None:
+            if axis == 0:
+                array[self.index] = values
+            else:
+                array[:, self.index] = values
+            return
+        for where, what in self._views(array, axis):
+            array[what] = values[where]
+
+
+def _pieces(values: np.ndarray, start: int, step: int) -> list | None:
+    """(position, position step, count, first value, value step) of the arithmetic pieces of
+    ``values`` (at positions start, start + step, ...), greedily; None if there are more
+    than :data:`PIECES_FRACTION` of its length (and more than 4)."""
+    n = len(values)
+    if n == 0:
+        return []
+    limit = max(4, int(PIECES_FRACTION * n))
+    d = np.diff(values)
+    run = np.concatenate([[0], np.cumsum(d[1:] != d[:-1])]) if d.size else np.zeros(0, int)
+    last = np.zeros(run.max(initial=-1) + 1, dtype=np.intp)
+    last[run] = np.arange(len(d))  # the last position in d of each run of equal steps
+    out, i = [], 0
+    while i < n:
+        if len(out) >= limit:
+            return None
+        if i == n - 1 or d[i] == 0:
+            out.append((start + step * i, step, 1, int(values[i]), 1))
+            i += 1
+            continue
+        stop = int(last[run[i]]) + 2
+        out.append((start + step * i, step, stop - i, int(values[i]), int(d[i])))
+        i = stop
+    return out
+
 
 @attrs.frozen(eq=False)
 class Halves:
@@ -40,6 +114,12 @@ class Halves:
     mirrors: np.ndarray
     signs: np.ndarray
     pairs: int  # the first ``pairs`` dofs represent a mirrored pair, the rest are their own
+    take_dofs: Index = attrs.field(init=False)
+    take_mirrors: Index = attrs.field(init=False)
+
+    def __attrs_post_init__(self) -> None:
+        object.__setattr__(self, "take_dofs", Index(self.dofs))
+        object.__setattr__(self, "take_mirrors", Index(self.mirrors))
 
 
 @attrs.frozen(eq=False)
@@ -50,6 +130,15 @@ class MirrorSplit:
     sign: np.ndarray
     even: Halves
     odd: Halves
+    take_mirror: Index = attrs.field(init=False)
+    pair_rows: Index = attrs.field(init=False)  # the pairs' representatives
+    pair_mirror_rows: Index = attrs.field(init=False)  # and their mirrors
+
+    def __attrs_post_init__(self) -> None:
+        p = self.even.pairs
+        object.__setattr__(self, "take_mirror", Index(self.mirror))
+        object.__setattr__(self, "pair_rows", Index(self.even.dofs[:p]))
+        object.__setattr__(self, "pair_mirror_rows", Index(self.even.mirrors[:p]))
 
     @classmethod
     def of(cls, q: np.ndarray, representative: np.ndarray) -> MirrorSplit:
@@ -105,15 +194,23 @@ def build(split: MirrorSplit, h, g, solves_u, contact) -> HalfSystems | None:
     # buffers reused by every chunk (fresh arrays of a few MB each cost page faults)
     kept = np.empty((2, CHUNK, n))
     mirrored, other = np.empty((CHUNK, n)), np.empty((CHUNK, n))
-    block = np.empty((CHUNK, max(len(half.dofs) for half in halves)))
+    widest = max(len(half.dofs) for half in halves)
+    block, second = np.empty((CHUNK, widest)), np.empty((CHUNK, widest))
+    columns = [
+        ((half.take_dofs, half.take_mirrors, half.signs, matrices[k]),
+         (Index(half.dofs[contact_at[k]]), Index(half.mirrors[contact_at[k]]),
+          half.signs[contact_at[k]], rhs[k]))
+        for k, half in enumerate(halves)
+    ]  # fmt: skip
     for group, which, first in groups:
         for start in range(0, len(group), CHUNK):
             rows = group[start : start + CHUNK]
             m = len(rows)
+            own_rows, mirror_rows = Index(rows), Index(split.mirror[rows])
             for k, matrix in enumerate((h, g)):
-                np.take(matrix, rows, axis=0, out=kept[k, :m])
-                np.take(matrix, split.mirror[rows], axis=0, out=mirrored[:m])
-                np.take(mirrored[:m], split.mirror, axis=1, out=other[:m])
+                own_rows.take(matrix, 0, kept[k, :m])
+                mirror_rows.take(matrix, 0, mirrored[:m])
+                split.take_mirror.take(mirrored[:m], 1, other[:m])
                 other[:m] *= split.sign[rows, None]
                 other[:m] *= split.sign
                 other[:m] -= kept[k, :m]
@@ -123,15 +220,13 @@ def build(split: MirrorSplit, h, g, solves_u, contact) -> HalfSystems | None:
             a_rows[:, negate] = -g_rows[:, negate]
             target = slice(first + start, first + start + m)
             for k in which:
-                for source, columns, out in (
-                    (a_rows, slice(None), matrices[k]),
-                    (g_rows, contact_at[k], rhs[k]),
+                for source, (dofs, mirrors, signs, out) in zip(
+                    (a_rows, g_rows), columns[k], strict=True
                 ):
-                    half = halves[k]
-                    here = block[:m, : len(half.dofs[columns])]
-                    np.take(source, half.mirrors[columns], axis=1, out=here)
-                    here *= half.signs[columns]
-                    here += np.take(source, half.dofs[columns], axis=1)
+                    here, added = block[:m, : len(dofs)], second[:m, : len(dofs)]
+                    mirrors.take(source, 1, here)
+                    here *= signs
+                    here += dofs.take(source, 1, added)
                     out[target] = here
     if np.any(worst > ROUNDING * scale):
         return None
@@ -151,21 +246,24 @@ def expanded(split: MirrorSplit, even, odd, out: np.ndarray, scale: float = 1.0)
     """out = scale (W_+ y_+ + W_- y_-) on every row, W the halves' bases (None: y = 0): on a
     pair's representative y_+ + y_-, on its mirror s (y_+ - y_-), on an own dof 2 y."""
     p = split.even.pairs
-    dofs, mirrors = split.even.dofs[:p], split.even.mirrors[:p]
-    sign = split.sign[dofs, None]
     for half, y in ((split.even, even), (split.odd, odd)):
         if y is None:
             out[half.dofs[p:]] = 0.0
         else:
             out[half.dofs[p:]] = (2.0 * scale) * y[p:]
+    sign = split.sign[split.even.dofs[:p], None]
     if even is None or odd is None:
-        pair = even if odd is None else odd
+        pair = even[:p] if odd is None else odd[:p]
         parity = 1.0 if odd is None else -1.0
-        out[dofs] = scale * pair[:p]
-        out[mirrors] = (parity * scale) * pair[:p] * sign
+        split.pair_rows.put(out, scale * pair, 0)
+        split.pair_mirror_rows.put(out, (parity * scale) * sign * pair, 0)
         return
-    out[dofs] = scale * (even[:p] + odd[:p])
-    out[mirrors] = (scale * (even[:p] - odd[:p])) * sign
+    total = even[:p] + odd[:p]
+    total *= scale
+    split.pair_rows.put(out, total, 0)
+    np.subtract(even[:p], odd[:p], out=total)
+    total *= scale * sign
+    split.pair_mirror_rows.put(out, total, 0)
 
 
 class SplitFactor:
@@ -217,15 +315,17 @@ class SplitFactor:
         mirrored = np.array([column[int(d)] for d in self.split.mirror[dofs]], dtype=np.intp)
         sign = self.split.sign[dofs]
         n = len(out)
+        buffer = np.empty((n, min(CHUNK, len(reps))))
         for start in range(0, len(reps), CHUNK):
             cut = slice(start, min(start + CHUNK, len(reps)))
             e, o = even[:, cut], odd[:, cut]
-            buffer = np.empty((n, e.shape[1]))
-            expanded(self.split, e, o, buffer, 0.5)
-            out[:, targets[cut]] = buffer
-            expanded(self.split, e, -o, buffer, 0.5)
-            buffer *= sign[cut]
-            out[:, mirrored[cut]] = buffer
+            here = buffer[:, : e.shape[1]]
+            expanded(self.split, e, o, here, 0.5)
+            Index(targets[cut]).put(out, here, 1)
+            np.negative(o, out=o)
+            expanded(self.split, e, o, here, 0.5)
+            here *= sign[cut]
+            Index(mirrored[cut]).put(out, here, 1)
         for which, (y, at) in enumerate(solved):
             own = np.flatnonzero(at >= p)
             if not own.size:

@@ -177,3 +177,26 @@ def test_a_matrix_that_breaks_the_symmetry_is_solved_whole(monkeypatch):
     solved = body.system((tag,))
     assert built == [None]
     assert np.all(np.isfinite(solved.contact_response))
+
+
+@pytest.mark.parametrize(
+    "index",
+    [np.arange(12), np.arange(12)[::-1], np.array([5, 4, 3, 0, 1, 2, 9, 7]), np.array([3]),
+     np.array([], dtype=int), np.random.default_rng(0).permutation(40),
+     (2 * np.r_[np.arange(10)[::-1], np.arange(10, 30)[::-1], 30][:, None] + [0, 1]).ravel()],
+)  # fmt: skip
+def test_an_index_gathers_and_scatters_as_fancy_indexing(index):
+    ix = mirror_split.Index(index)
+    source = np.random.default_rng(1).normal(size=(3, 70))
+    for axis, array in ((1, source), (0, source.T.copy())):
+        out = np.empty((3, len(index)) if axis else (len(index), 3))
+        ix.take(array, axis, out)
+        expected = array[:, index] if axis else array[index]
+        assert np.array_equal(out, expected)
+        scattered, reference = np.zeros(array.shape), np.zeros(array.shape)
+        ix.put(scattered, out, axis)
+        if axis:
+            reference[:, index] = out
+        else:
+            reference[index] = out
+        assert np.array_equal(scattered, reference)
