@@ -89,28 +89,31 @@ def solve_as_image(segments, first_dofs, first_rows, image_of, matrix, parameter
                 continue
             if not np.all(np.abs(block - kept_block) <= ROUNDING * np.abs(kept_block).max()):
                 return None
-    every = np.arange(len(matrix))
-    order = np.concatenate([every[own] for own, _ in columns])  # unknowns
-    kept_order = np.concatenate([every[other] for _, other in columns])
-    row_order = np.concatenate([every[own] for own, _ in rows])  # equations
-    kept_row_order = np.concatenate([every[other] for _, other in rows])
-    permuted = np.empty(parameters.shape, order="F")  # [kept row, column]
-    permuted[kept_row_order] = parameters[row_order]
+    # the parameter columns equal to the kept ones (to round-off) take the kept solution;
+    # the others are solved with the kept factors: rows and unknowns permuted segment by
+    # segment, by slices
     same = np.zeros(parameters.shape[1], bool)
     if kept.parameters.shape == parameters.shape:  # columns solved already
-        scale = np.abs(kept.parameters).max(axis=0)
-        same = np.all(np.abs(permuted - kept.parameters) <= ROUNDING * scale, axis=0)
-    solution = np.empty(parameters.shape)
-    solution[:, same] = kept.solution[:, same]
-    if not same.all():
-        rest = np.asfortranarray(permuted[:, ~same])
-        out = kept.solve(rest)
-        if out is None:
+        worst = np.zeros(parameters.shape[1])
+        for own, other in rows:
+            difference = parameters[own] - kept.parameters[other]
+            np.maximum(worst, np.abs(difference).max(axis=0), out=worst)
+        same = worst <= ROUNDING * np.abs(kept.parameters).max(axis=0)
+    rest = np.flatnonzero(~same)
+    solved = None
+    if rest.size:
+        permuted = np.empty((len(parameters), rest.size), order="F")  # [kept row, column]
+        for own, other in rows:
+            permuted[other] = parameters[own][:, rest]
+        solved = kept.solve(permuted)
+        if solved is None:
             return None
-        solution[:, ~same] = out
     clear()
-    result = np.empty(parameters.shape)
-    result[order] = solution[kept_order]
+    result = np.empty(parameters.shape, order="F")
+    for own, other in columns:
+        result[own] = kept.solution[other]
+        if solved is not None:
+            result[own, rest] = solved[other]
     return result, kept.owner()
 
 
