@@ -43,7 +43,7 @@ class BodySystem:
         self.image_of: BodySystem | None = None
         self.contact_tags = tuple(contact_tags)
         layout = body.layout(contact_tags)
-        h, g = body.system_matrices(g_free_segments(body, layout))
+        matrices = list(body.system_matrices(g_free_segments(body, layout)))
         start = time.perf_counter()
         self.kinds, self.known = layout.kinds.ravel(), layout.known.ravel()
         self.load_known = layout.loads.reshape(len(layout.loads), self.kinds.size)  # (k, 2N)
@@ -52,9 +52,9 @@ class BodySystem:
         self.block_dofs = np.flatnonzero(self.kinds == BLOCK)
         self.contact_dofs = np.flatnonzero(self.kinds == CONTACT)
         with one_blas_thread():  # a busy machine made threaded BLAS 60x slower here
-            response = _solve_parameters(self, h, g, self.kinds, self.known, self.load_known,
+            response = _solve_parameters(self, matrices, self.kinds, self.known, self.load_known,
                                          solves_u, self.block_dofs, self.contact_dofs)  # fmt: skip
-        del h, g  # the body releases its own copies once this system is cached
+        del matrices  # the body releases its own copies once this system is cached
         if not np.all(np.isfinite(response)):
             raise RigidMotionError(
                 f"body {body.name!r}: the collocation system is singular; check that the "
@@ -118,8 +118,15 @@ def g_free_segments(body: Body, layout: Layout) -> tuple[int, ...]:
     return tuple(k for k in range(len(body.segments)) if free[body.function_slice(k)].all())
 
 
-def _solve_parameters(owner, h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs):
+def _solve_parameters(
+    owner, matrices, kinds, known, load_known, solves_u, block_dofs, contact_dofs
+):
     """A^-1 [z0 rhs, block columns, contact columns, load columns], A the collocation matrix.
+
+    ``matrices``: the list [H, G], emptied (and the body's own H and G released, for a
+    system with contact faces, as :meth:`~fretbem.bem.body.BemBody.system` does once it is
+    built) as soon as the halves of a large symmetric body are built: its LU and solves
+    then run without H and G in memory.
 
     A body that is the point image of the body factorised just before, with corresponding
     boundary conditions, is solved with that one's factors (:mod:`fretbem.bem.image_factor`).
@@ -132,6 +139,7 @@ def _solve_parameters(owner, h, g, kinds, known, load_known, solves_u, block_dof
     round-off). The LU is kept only for a point image (NaN if singular).
     """
     body = owner.body
+    h, g = matrices
     split = _mirror_split(body, kinds)
     small = len(kinds) <= image_factor.KEEP_MAX_ROWS
     if split is not None and not small:
@@ -139,6 +147,10 @@ def _solve_parameters(owner, h, g, kinds, known, load_known, solves_u, block_dof
         if halves is not None:
             image_factor.clear()
             general = general_parameters(h, g, kinds, known, load_known, block_dofs)
+            del h, g
+            matrices.clear()
+            if owner.contact_tags:
+                body.release_matrices()
             factor = mirror_split.SplitFactor(split, halves)
             del halves
             return _split_response(factor, general, contact_dofs)
