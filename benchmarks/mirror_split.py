@@ -7,7 +7,8 @@ CPU seconds, one BLAS thread:
 
 - ``full``: one LU of A (2/3 N^3 flops) and its solves (2 N^2 per column);
 - ``halves``: :mod:`fretbem.bem.mirror_split`, the even and odd half systems (a quarter of
-  both), their construction and symmetry check (``build``, also timed on its own) included.
+  both), their construction and symmetry check (``build``, also timed on its own) included,
+  at every size (the run splits from ``mirror_split.MIN_ROWS`` rows, set from this).
 
 ``--keep`` lets a body of at most :data:`fretbem.bem.image_factor.KEEP_MAX_ROWS` rows keep
 A for a point image (the run's path: both ways then also build A and copy it); by default
@@ -64,6 +65,7 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--rounds", type=int, default=5)
     parser.add_argument("--keep", action="store_true", help="let small bodies keep A")
     args = parser.parse_args(argv)
+    mirror_split.MIN_ROWS = 0  # the split at every size (the run's threshold is what it sets)
     if not args.keep:
         image_factor.KEEP_MAX_ROWS = 0
     bodies = {}

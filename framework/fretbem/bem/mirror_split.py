@@ -24,6 +24,10 @@ import scipy.linalg as sla
 #: largest entry (the assembly fills them bit for bit; a row that is its own mirror is
 #: integrated and symmetric to round-off, measured 1e-16 relative on the reference pad)
 ROUNDING = 2.0**-40
+#: bodies of fewer rows are solved whole: building and checking the halves costs about what
+#: they save below it (the reference pad's system, A kept for its image: 0.9x at 278 rows,
+#: 1.03x at 638, 1.47x at 1,118; ``benchmarks/mirror_split.py --keep``)
+MIN_ROWS = 800
 #: rows gathered at once by the check and the half matrices' construction (a few MB)
 CHUNK = 256
 SIGNS = np.array([-1.0, 1.0])

@@ -213,8 +213,11 @@ class _LUSolve:
 
 def _mirror_split(body: Body, kinds: np.ndarray) -> mirror_split.MirrorSplit | None:
     """The body's mirror split (:mod:`fretbem.bem.mirror_split`) when its discretisation is
-    symmetric about the y axis and so are its conditions (``kinds``), else None; the
-    matrices are checked by the caller."""
+    symmetric about the y axis and so are its conditions (``kinds``), else None (and for a
+    body of fewer than :data:`~fretbem.bem.mirror_split.MIN_ROWS` rows); the matrices are
+    checked by the caller."""
+    if len(kinds) < mirror_split.MIN_ROWS:
+        return None
     if "mirror split" not in body._cache:
         colloc = body.collocation
         q = mirror.permutation(body.segments, None, colloc.points, body.offsets)

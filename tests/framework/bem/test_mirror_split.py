@@ -18,6 +18,12 @@ from fretbem.simulation import run
 MIRROR_SPLIT = system._mirror_split
 
 
+@pytest.fixture(autouse=True)
+def _every_size(monkeypatch):
+    """Split bodies of any size (the run splits only those of MIN_ROWS rows or more)."""
+    monkeypatch.setattr(mirror_split, "MIN_ROWS", 0)
+
+
 def _cold() -> None:
     builder._built.cache_clear()
     assembly.BLOCKS.clear()
@@ -117,6 +123,7 @@ def test_split_systems_equal_the_full_solve(basis, pairs, lower, keep_rows, monk
     full, used = _systems(monkeypatch, False, keep_rows, **overrides)
     assert not used
     monkeypatch.undo()
+    monkeypatch.setattr(mirror_split, "MIN_ROWS", 0)
     split, used = _systems(monkeypatch, True, keep_rows, **overrides)
     # both bodies split (a specimen solved as the pad's image needs no factors of its own)
     assert len(used) == (1 if lower == "arc" and keep_rows else 2)
@@ -200,3 +207,16 @@ def test_an_index_gathers_and_scatters_as_fancy_indexing(index):
         else:
             reference[index] = out
         assert np.array_equal(scattered, reference)
+
+
+def test_a_small_body_is_solved_whole(monkeypatch):
+    """Below MIN_ROWS the halves cost what they save: the 61-pair pad is solved whole."""
+    monkeypatch.setattr(mirror_split, "MIN_ROWS", 800)
+    _cold()
+    pair = cattaneo_mindlin(models={}, pairs=61).pair
+    body = pair.upper
+    kinds = body.layout((pair.upper_tag,)).kinds.ravel()
+    assert len(kinds) < 800
+    assert MIRROR_SPLIT(body, kinds) is None
+    monkeypatch.setattr(mirror_split, "MIN_ROWS", 0)
+    assert MIRROR_SPLIT(body, kinds) is not None
