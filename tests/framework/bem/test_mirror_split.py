@@ -79,7 +79,7 @@ def test_the_halves_solve_the_full_system(functions, seed):
     factor = mirror_split.SplitFactor(split, halves)
     rhs = np.random.default_rng(seed).normal(size=(len(kinds), 3))
     full = np.linalg.solve(matrix, rhs)
-    # measured 4e-14 of the largest unknown at 300 functions
+    # measured at most 2.4e-13 of the largest unknown (300 functions)
     assert np.abs(factor.solve(np.asfortranarray(rhs)) - full).max() <= 1e-12 * np.abs(full).max()
     out = np.empty((len(kinds), len(contact)))
     factor.solve_contact(contact, out)
