@@ -6,7 +6,7 @@ Q(b)'s, times s_k, s = (-1, 1)) commutes with H and G of a mirror-symmetric body
 are symmetric too. A then maps the even unknowns (P x = x) and the odd ones (P x = -x) to
 themselves: in the basis w_c = e_c +- s_c e_Q(c) of one representative dof c per mirrored
 pair (2 e_c for a dof that is its own mirror and of that parity) A is block diagonal, two
-blocks of half size, A_+- = A[D, D] +- A[D, Q(D)] s (columns). Two half LUs cost a quarter
+blocks of half size, ``A± = A[D, D] ± A[D, Q(D)] s`` (columns). Two half LUs cost a quarter
 of the full one's flops and each right-hand side half of its solves; a contact column's
 even and odd combinations with its mirror column fall in one half each, so the contact
 face's columns cost a quarter too. The change of basis is orthogonal up to powers of two
@@ -168,7 +168,7 @@ class MirrorSplit:
 
 @attrs.frozen(eq=False)
 class HalfSystems:
-    """Both halves' matrices A_+- (F-ordered) and contact right-hand sides G_+- (the
+    """Both halves' matrices ``A±`` (F-ordered) and contact right-hand sides ``G±`` (the
     columns of the contact dofs in the half, at positions ``contact_at`` of its dofs)."""
 
     matrices: tuple[np.ndarray, np.ndarray]
@@ -177,7 +177,7 @@ class HalfSystems:
 
 
 def build(split: MirrorSplit, h, g, solves_u, contact) -> HalfSystems | None:
-    """A_+- = A[D, D] + t A[D, Q(D)] and G_+- = G[D, C] + t G[D, Q(C)], A = H with the
+    """``A± = A[D, D] + t A[D, Q(D)]`` and ``G± = G[D, C] + t G[D, Q(C)]``, A = H with the
     columns of traction unknowns from -G, read row chunk by row chunk from H and G; None
     unless H and G are mirror-symmetric, M[Q(i), Q(j)] s_i s_j = M[i, j] to
     :data:`ROUNDING` of each one's largest entry, on every row the halves keep (a pair's
@@ -248,8 +248,8 @@ def project(half: Halves, columns: np.ndarray) -> np.ndarray:
 
 
 def expanded(split: MirrorSplit, even, odd, out: np.ndarray, scale: float = 1.0) -> None:
-    """out = scale (W_+ y_+ + W_- y_-) on every row, W the halves' bases (None: y = 0): on a
-    pair's representative y_+ + y_-, on its mirror s (y_+ - y_-), on an own dof 2 y."""
+    """``out = scale (W+ y+ + W- y-)`` on every row, W the halves' bases (None: y = 0): on
+    a pair's representative ``y+ + y-``, on its mirror ``s (y+ - y-)``, on an own dof 2 y."""
     p = split.even.pairs
     for half, y in ((split.even, even), (split.odd, odd)):
         if y is None:
