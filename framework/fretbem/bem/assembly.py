@@ -94,6 +94,12 @@ REUSE_MAX_FUNCTIONS = 400
 #: bodies whose segments keep their blocks (the adaptive mode assembles two per level)
 RECENT_BODIES = 4
 
+#: bodies up to this many functions (above :data:`REUSE_MAX_FUNCTIONS`) lend their rules and
+#: blocks to the next body assembled only, then forget them: the reference specimen, the
+#: pad's point image, takes them at 481 pairs (559 functions; assembly of both bodies 162 ->
+#: 119 ms) and the copies (20 MB there) are gone before the steps
+LEND_MAX_FUNCTIONS = 600
+
 
 class BlockStore:
     """The regular part (far, mid and near pairs) of H and G per pair of discretised segments,
@@ -117,13 +123,19 @@ class BlockStore:
         self._blocks: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
         self._rules: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
         self._recent: collections.deque = collections.deque(maxlen=RECENT_BODIES)
+        self._lent: tuple | None = None  # the last body's segments, if it only lends them
         #: each segment's (own, image's) signature, and the kept segments by signature
         self._signatures: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
         self._by_signature: weakref.WeakValueDictionary = weakref.WeakValueDictionary()
 
-    def assembled(self, segments) -> None:
-        """Record a body's segments; forget what no recent body uses."""
-        self._recent.append(tuple(weakref.ref(b) for b in segments))
+    def assembled(self, segments, lent: bool = False) -> None:
+        """Record a body's segments; forget what no recent body uses. A body ``lent`` keeps
+        its rules and blocks for the next body assembled only."""
+        if self._lent is not None and self._lent in self._recent:
+            self._recent.remove(self._lent)
+        entry = tuple(weakref.ref(b) for b in segments)
+        self._recent.append(entry)
+        self._lent = entry if lent else None
         live = {id(b) for body in self._recent for r in body if (b := r()) is not None}
         for store in (self._blocks, self._rules):
             for basis in [b for b in store.keys() if id(b) not in live]:
@@ -193,6 +205,7 @@ class BlockStore:
         self._blocks = weakref.WeakKeyDictionary()
         self._rules = weakref.WeakKeyDictionary()
         self._recent.clear()
+        self._lent = None
         self._by_signature = weakref.WeakValueDictionary()
 
 
@@ -342,14 +355,15 @@ def assemble(
 
     ``loops`` is :mod:`fretbem.bem.compiled_loops` or :mod:`fretbem.bem.numpy_loops`. A body
     of at most :data:`REUSE_MAX_FUNCTIONS` takes the rules and regular blocks of segments
-    it shares with bodies assembled before (:data:`BLOCKS`) and keeps its own. The numpy
+    it shares with bodies assembled before (:data:`BLOCKS`) and keeps its own (one of at
+    most :data:`LEND_MAX_FUNCTIONS` alike, keeping its own for the next body only). The numpy
     loops leave G's columns of the segments numbered in ``g_free`` at 0 (a solve that
     never reads them: traction-free segments); H is the same either way.
     """
     n, s, colloc = assembler.n, assembler.settings, assembler.colloc
     h, g = np.zeros((2 * n, 2 * n)), np.zeros((2 * n, 2 * n))
     segments = assembler.segments
-    reuse = n <= REUSE_MAX_FUNCTIONS
+    reuse = n <= LEND_MAX_FUNCTIONS
     skips_g = getattr(loops, "SKIPS_G", False)
     starts = np.searchsorted(colloc.segment, np.arange(len(segments) + 1))  # rows in order
     with_g = [not (skips_g and k in g_free) for k in range(len(segments))]
@@ -416,7 +430,7 @@ def assemble(
     for basis, row_basis, key, block_rows, columns in stored:
         BLOCKS.put(basis, row_basis, key, h[block_rows, columns], g[block_rows, columns])
     if reuse:
-        BLOCKS.assembled(segments)
+        BLOCKS.assembled(segments, lent=n > REUSE_MAX_FUNCTIONS)
     # rigid-body identity: subtract phi_a(s) * (row sum of the non-singular part of H)
     if integrated is None:
         row_sums = _row_sums(h, n)

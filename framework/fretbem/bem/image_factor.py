@@ -17,10 +17,10 @@ last factorisation is kept, and only a small one.
 from __future__ import annotations
 
 import weakref
+from collections.abc import Callable
 
 import attrs
 import numpy as np
-import scipy.linalg as sla
 
 #: the largest collocation matrix whose factorisation is kept for a point image (rows): the
 #: kept matrix, its LU factors and its parameter columns, about 100 MB at this size
@@ -36,16 +36,16 @@ ROUNDING = 2.0**-40
 @attrs.frozen(eq=False)
 class KeptFactor:
     """The last small factorisation: its system (weak: the object that asked for it), its
-    body's segments (weak), their first dofs and first rows, the matrix, its LU factors, the
-    parameter columns and their solution."""
+    body's segments (weak), their first dofs and first rows, the matrix, the solve with its
+    factors (A^-1 b, None if singular: an LU or the mirror split's halves), the parameter
+    columns and their solution."""
 
     owner: weakref.ref
     segments: tuple
     first_dofs: np.ndarray
     first_rows: np.ndarray
     matrix: np.ndarray
-    lu: np.ndarray
-    pivots: np.ndarray
+    solve: Callable[[np.ndarray], np.ndarray | None]
     parameters: np.ndarray
     solution: np.ndarray
 
@@ -58,15 +58,15 @@ def clear() -> None:
     _KEPT[0] = None
 
 
-def keep(owner, segments, first_dofs, first_rows, matrix, lu, pivots, parameters, solution) -> None:
+def keep(owner, segments, first_dofs, first_rows, matrix, solve, parameters, solution) -> None:
     """Keep a factorisation (copies of the matrix and the parameters, taken before LAPACK
     overwrote them) for the next body, if it is small enough; else forget the last one."""
-    if len(lu) > KEEP_MAX_ROWS:
+    if len(matrix) > KEEP_MAX_ROWS:
         clear()
         return
     refs = tuple(weakref.ref(basis) for basis in segments)
     _KEPT[0] = KeptFactor(
-        weakref.ref(owner), refs, first_dofs, first_rows, matrix, lu, pivots, parameters, solution
+        weakref.ref(owner), refs, first_dofs, first_rows, matrix, solve, parameters, solution
     )
 
 
@@ -76,7 +76,7 @@ def solve_as_image(segments, first_dofs, first_rows, image_of, matrix, parameter
     the segment ``basis`` is the point image of), checked; None otherwise. The kept
     factorisation serves once."""
     kept = _KEPT[0]
-    if kept is None or len(kept.lu) != len(matrix):
+    if kept is None or len(kept.matrix) != len(matrix):
         return None
     mapped = _segment_map(kept, segments, first_dofs, first_rows, image_of)
     if mapped is None:
@@ -89,28 +89,31 @@ def solve_as_image(segments, first_dofs, first_rows, image_of, matrix, parameter
                 continue
             if not np.all(np.abs(block - kept_block) <= ROUNDING * np.abs(kept_block).max()):
                 return None
-    every = np.arange(len(matrix))
-    order = np.concatenate([every[own] for own, _ in columns])  # unknowns
-    kept_order = np.concatenate([every[other] for _, other in columns])
-    row_order = np.concatenate([every[own] for own, _ in rows])  # equations
-    kept_row_order = np.concatenate([every[other] for _, other in rows])
-    permuted = np.empty(parameters.shape, order="F")  # [kept row, column]
-    permuted[kept_row_order] = parameters[row_order]
+    # the parameter columns equal to the kept ones (to round-off) take the kept solution;
+    # the others are solved with the kept factors: rows and unknowns permuted segment by
+    # segment, by slices
     same = np.zeros(parameters.shape[1], bool)
     if kept.parameters.shape == parameters.shape:  # columns solved already
-        scale = np.abs(kept.parameters).max(axis=0)
-        same = np.all(np.abs(permuted - kept.parameters) <= ROUNDING * scale, axis=0)
-    solution = np.empty(parameters.shape)
-    solution[:, same] = kept.solution[:, same]
-    if not same.all():
-        rest = np.asfortranarray(permuted[:, ~same])
-        out, info = sla.lapack.dgetrs(kept.lu, kept.pivots, rest, overwrite_b=True)
-        if info != 0:
+        worst = np.zeros(parameters.shape[1])
+        for own, other in rows:
+            difference = parameters[own] - kept.parameters[other]
+            np.maximum(worst, np.abs(difference).max(axis=0), out=worst)
+        same = worst <= ROUNDING * np.abs(kept.parameters).max(axis=0)
+    rest = np.flatnonzero(~same)
+    solved = None
+    if rest.size:
+        permuted = np.empty((len(parameters), rest.size), order="F")  # [kept row, column]
+        for own, other in rows:
+            permuted[other] = parameters[own][:, rest]
+        solved = kept.solve(permuted)
+        if solved is None:
             return None
-        solution[:, ~same] = out
     clear()
-    result = np.empty(parameters.shape)
-    result[order] = solution[kept_order]
+    result = np.empty(parameters.shape, order="F")
+    for own, other in columns:
+        result[own] = kept.solution[other]
+        if solved is not None:
+            result[own, rest] = solved[other]
     return result, kept.owner()
 
 

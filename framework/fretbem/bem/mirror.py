@@ -32,7 +32,7 @@ TOLERANCE = 1e-11
 
 
 def permutation(
-    segments: Sequence[Basis], far_rules: Sequence[tuple], points: np.ndarray, offsets
+    segments: Sequence[Basis], far_rules: Sequence[tuple] | None, points: np.ndarray, offsets
 ) -> np.ndarray | None:
     """Q, each function's (and collocation row's) mirror index, or None if the body is not
     symmetric about x = 0 to :data:`TOLERANCE` of its size.
@@ -40,7 +40,8 @@ def permutation(
     ``far_rules``: each segment's far rule (points, normals, J w, values per element and
     Gauss point, as :func:`fretbem.bem.assembly._segment_rules` keeps it): a mirror segment's,
     its elements and points in reverse order (the Gauss points are symmetric), are the
-    segment's reflected, its values in reverse local order.
+    segment's reflected, its values in reverse local order. None: not checked (a caller that
+    checks the assembled matrices instead, :mod:`fretbem.bem.mirror_split`).
     """
     scale = float(np.abs(points).max()) if points.size else 0.0
     if not scale > 0.0:
@@ -54,7 +55,9 @@ def permutation(
         partner.append(found[0])
     if any(partner[j] != k for k, j in enumerate(partner)):
         return None
-    if not all(_mirrors(far_rules[k], far_rules[j], tol) for k, j in enumerate(partner)):
+    if far_rules is not None and not all(
+        _mirrors(far_rules[k], far_rules[j], tol) for k, j in enumerate(partner)
+    ):
         return None
     q = np.empty(int(offsets[-1]), dtype=np.intp)
     for k, j in enumerate(partner):

@@ -19,7 +19,7 @@ from fretbem.body import BlockRotation, ContactResponse, RigidMotionError
 from fretbem.numerics.blas import one_blas_thread
 from fretbem.numerics.scatter import added_at
 
-from . import image_factor, images
+from . import image_factor, images, mirror, mirror_split
 from .assembly import BLOCKS
 from .layout import BLOCK, CONTACT, DISPLACEMENT, TRACTION, Layout
 
@@ -43,7 +43,7 @@ class BodySystem:
         self.image_of: BodySystem | None = None
         self.contact_tags = tuple(contact_tags)
         layout = body.layout(contact_tags)
-        h, g = body.system_matrices(g_free_segments(body, layout))
+        matrices = list(body.system_matrices(g_free_segments(body, layout)))
         start = time.perf_counter()
         self.kinds, self.known = layout.kinds.ravel(), layout.known.ravel()
         self.load_known = layout.loads.reshape(len(layout.loads), self.kinds.size)  # (k, 2N)
@@ -52,9 +52,9 @@ class BodySystem:
         self.block_dofs = np.flatnonzero(self.kinds == BLOCK)
         self.contact_dofs = np.flatnonzero(self.kinds == CONTACT)
         with one_blas_thread():  # a busy machine made threaded BLAS 60x slower here
-            response = _solve_parameters(self, h, g, self.kinds, self.known, self.load_known,
+            response = _solve_parameters(self, matrices, self.kinds, self.known, self.load_known,
                                          solves_u, self.block_dofs, self.contact_dofs)  # fmt: skip
-        del h, g  # the body releases its own copies once this system is cached
+        del matrices  # the body releases its own copies once this system is cached
         if not np.all(np.isfinite(response)):
             raise RigidMotionError(
                 f"body {body.name!r}: the collocation system is singular; check that the "
@@ -118,20 +118,45 @@ def g_free_segments(body: Body, layout: Layout) -> tuple[int, ...]:
     return tuple(k for k in range(len(body.segments)) if free[body.function_slice(k)].all())
 
 
-def _solve_parameters(owner, h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs):
+def _solve_parameters(
+    owner, matrices, kinds, known, load_known, solves_u, block_dofs, contact_dofs
+):
     """A^-1 [z0 rhs, block columns, contact columns, load columns], A the collocation matrix.
+
+    ``matrices``: the list [H, G], emptied (and the body's own H and G released, for a
+    system with contact faces, as :meth:`~fretbem.bem.body.BemBody.system` does once it is
+    built) as soon as the halves of a large symmetric body are built: its LU and solves
+    then run without H and G in memory.
 
     A body that is the point image of the body factorised just before, with corresponding
     boundary conditions, is solved with that one's factors (:mod:`fretbem.bem.image_factor`).
-    A and the parameters are built F-ordered (LAPACK's order) and factorised and solved in
-    place, so at the peak H, G, the LU and the parameters are alive and nothing else dense.
-    A is factorised with row pivoting, not as A^T (which moved the 961-pair unknowns by
-    1.4e-9: the condensed problem amplifies round-off). The LU is not kept (NaN if singular).
+    A body symmetric about the y axis with symmetric conditions is solved as two half
+    systems (:mod:`fretbem.bem.mirror_split`), built from H and G without A when it is too
+    large to be kept for an image. Otherwise A and the parameters are built F-ordered
+    (LAPACK's order) and factorised and solved in place, so at the peak H, G, the LU and the
+    parameters are alive and nothing else dense. A is factorised with row pivoting, not as
+    A^T (which moved the 961-pair unknowns by 1.4e-9: the condensed problem amplifies
+    round-off). The LU is kept only for a point image (NaN if singular).
     """
+    body = owner.body
+    h, g = matrices
+    split = _mirror_split(body, kinds)
+    small = len(kinds) <= image_factor.KEEP_MAX_ROWS
+    if split is not None and not small:
+        halves = mirror_split.build(split, h, g, solves_u, contact_dofs)
+        if halves is not None:
+            image_factor.clear()
+            general = general_parameters(h, g, kinds, known, load_known, block_dofs)
+            del h, g
+            matrices.clear()
+            if owner.contact_tags:
+                body.release_matrices()
+            factor = mirror_split.SplitFactor(split, halves)
+            del halves
+            return _split_response(factor, general, contact_dofs)
     matrix, parameters = collocation_system(
         h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs
     )
-    body = owner.body
     segments = body.segments
     first_dofs = 2 * body.offsets
     counts = np.bincount(body.collocation.segment, minlength=len(segments))
@@ -142,25 +167,81 @@ def _solve_parameters(owner, h, g, kinds, known, load_known, solves_u, block_dof
     if shared is not None:
         out, owner.image_of = shared
         return out
-    small = len(matrix) <= image_factor.KEEP_MAX_ROWS
     kept_matrix, kept_parameters = (
         (matrix.copy(order="F"), parameters.copy(order="F")) if small else (None, None)
     )
-    lu, piv, info = sla.lapack.dgetrf(matrix, overwrite_a=True)  # A = P L U
-    del matrix
-    if info != 0:
-        image_factor.clear()
-        return np.full(parameters.shape, np.nan)
-    out, info = sla.lapack.dgetrs(lu, piv, parameters, overwrite_b=True)
-    if info != 0:
-        image_factor.clear()
-        return np.full(parameters.shape, np.nan)
-    if small:
+    halves = None if split is None else mirror_split.build(split, h, g, solves_u, contact_dofs)
+    if halves is not None:
+        del matrix
+        factor = mirror_split.SplitFactor(split, halves)
+        del halves
+        general = np.asfortranarray(
+            np.delete(parameters, np.arange(3, 3 + len(contact_dofs)), axis=1)
+        )
+        out = _split_response(factor, general, contact_dofs)
+        solve = None if factor.failed else factor.solve
+    else:
+        lu, piv, info = sla.lapack.dgetrf(matrix, overwrite_a=True)  # A = P L U
+        del matrix
+        if info != 0:
+            image_factor.clear()
+            return np.full(parameters.shape, np.nan)
+        out, info = sla.lapack.dgetrs(lu, piv, parameters, overwrite_b=True)
+        if info != 0:
+            image_factor.clear()
+            return np.full(parameters.shape, np.nan)
+        solve = _LUSolve(lu, piv)
+    if small and solve is not None:
         image_factor.keep(
-            owner, segments, first_dofs, first_rows, kept_matrix, lu, piv, kept_parameters, out
+            owner, segments, first_dofs, first_rows, kept_matrix, solve, kept_parameters, out
         )
     else:
         image_factor.clear()
+    return out
+
+
+class _LUSolve:
+    """A^-1 b from A's LU factors (a kept factorisation's solve)."""
+
+    def __init__(self, lu: np.ndarray, pivots: np.ndarray):
+        self.lu, self.pivots = lu, pivots
+
+    def __call__(self, rhs: np.ndarray) -> np.ndarray | None:
+        out, info = sla.lapack.dgetrs(self.lu, self.pivots, rhs, overwrite_b=True)
+        return None if info != 0 else out
+
+
+def _mirror_split(body: Body, kinds: np.ndarray) -> mirror_split.MirrorSplit | None:
+    """The body's mirror split (:mod:`fretbem.bem.mirror_split`) when its discretisation is
+    symmetric about the y axis and so are its conditions (``kinds``), else None (and for a
+    body of fewer than :data:`~fretbem.bem.mirror_split.MIN_ROWS` rows); the matrices are
+    checked by the caller."""
+    if len(kinds) < mirror_split.MIN_ROWS:
+        return None
+    if "mirror split" not in body._cache:
+        colloc = body.collocation
+        q = mirror.permutation(body.segments, None, colloc.points, body.offsets)
+        body._cache["mirror split"] = (
+            None
+            if q is None
+            else mirror_split.MirrorSplit.of(q, mirror.integrated_rows(q, colloc.points))
+        )
+    split = body._cache["mirror split"]
+    return split if split is not None and split.symmetric_kinds(kinds) else None
+
+
+def _split_response(factor, general, contact_dofs) -> np.ndarray:
+    """[z0 rhs, block columns, contact columns, load columns] solved by the split factor
+    (``general``: the other columns, z0 and block first), NaN if a half is singular."""
+    size = general.shape[0]
+    out = np.empty((size, general.shape[1] + len(contact_dofs)), order="F")
+    solved = factor.solve(general)
+    out[:, :3] = solved[:, :3]
+    out[:, 3 + len(contact_dofs) :] = solved[:, 3:]
+    if contact_dofs.size:
+        factor.solve_contact(contact_dofs, out[:, 3 : 3 + len(contact_dofs)])
+    if factor.failed:
+        out[...] = np.nan
     return out
 
 
@@ -176,24 +257,34 @@ def collocation_system(h, g, kinds, known, load_known, solves_u, block_dofs, con
     """The collocation matrix A (H with the columns of traction unknowns from -G) and the
     parameter columns [z0 rhs, block columns, contact columns, load columns], both F-ordered
     (benchmarks/dense_floor.py times their solve in other precisions)."""
-    size = len(kinds)
-    fixed_u, fixed_t = kinds == DISPLACEMENT, kinds == TRACTION
+    general = general_parameters(h, g, kinds, known, load_known, block_dofs)
     k = load_known.shape[0]
-    parameters = np.empty((size, 3 + len(contact_dofs) + k), order="F")
-    parameters[:, 0] = g[:, fixed_t] @ known[fixed_t] - h[:, fixed_u] @ known[fixed_u]
-    for column in range(2):  # -h @ block columns: the block dofs of each direction summed
-        dofs = block_dofs[block_dofs % 2 == column]
-        parameters[:, 1 + column] = -h[:, dofs].sum(axis=1) if dofs.size else 0.0
+    parameters = np.empty((len(kinds), 3 + len(contact_dofs) + k), order="F")
+    parameters[:, :3] = general[:, :3]
     contact = slice(3, 3 + len(contact_dofs))
     if contact_dofs.size and np.all(np.diff(contact_dofs) == 1):
         parameters[:, contact] = g[:, contact_dofs[0] : contact_dofs[-1] + 1]
     else:
         parameters[:, contact] = g[:, contact_dofs]
-    parameters[:, 3 + len(contact_dofs) :] = g[:, fixed_t] @ load_known[:, fixed_t].T
+    parameters[:, 3 + len(contact_dofs) :] = general[:, 3:]
     matrix = _fortran_copy(h)
     solves_t = np.flatnonzero(~solves_u)
     matrix[:, solves_t] = -g[:, solves_t]
     return matrix, parameters
+
+
+def general_parameters(h, g, kinds, known, load_known, block_dofs) -> np.ndarray:
+    """The parameter columns other than the contact ones, F-ordered: [z0 rhs, block
+    columns, load columns]."""
+    fixed_u, fixed_t = kinds == DISPLACEMENT, kinds == TRACTION
+    k = load_known.shape[0]
+    out = np.empty((len(kinds), 3 + k), order="F")
+    out[:, 0] = g[:, fixed_t] @ known[fixed_t] - h[:, fixed_u] @ known[fixed_u]
+    for column in range(2):  # -h @ block columns: the block dofs of each direction summed
+        dofs = block_dofs[block_dofs % 2 == column]
+        out[:, 1 + column] = -h[:, dofs].sum(axis=1) if dofs.size else 0.0
+    out[:, 3:] = g[:, fixed_t] @ load_known[:, fixed_t].T
+    return out
 
 
 def _fortran_copy(matrix: np.ndarray, tile: int = 512) -> np.ndarray:

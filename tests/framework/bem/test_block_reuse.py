@@ -40,6 +40,7 @@ def test_remeshed_body_reuses_blocks_and_equals_a_fresh_assembly(basis, compiled
 
 def test_large_bodies_keep_nothing(monkeypatch):
     monkeypatch.setattr(assembly, "REUSE_MAX_FUNCTIONS", 10)
+    monkeypatch.setattr(assembly, "LEND_MAX_FUNCTIONS", 10)
     assembly.BLOCKS.clear()
     body = cattaneo_mindlin(pairs=11).pair.upper
     body.matrices()
@@ -103,3 +104,23 @@ def test_face_values_from_the_kept_rules_equal_a_new_evaluation(basis):
     body.matrices()
     assert assembly.BLOCKS.collocation_values(face, body.integration) is not None
     assert np.array_equal(face_values_matrix(body, "contact"), expected)
+
+
+def test_a_body_above_the_reuse_size_lends_to_the_next_body_only(monkeypatch):
+    """The pad lends its rules and blocks to its point image, the specimen assembled next,
+    which equals its own assembly bit for bit; then the pad's are forgotten."""
+    monkeypatch.setattr(assembly, "REUSE_MAX_FUNCTIONS", 10)
+    pair = cattaneo_mindlin(pairs=21).pair
+    fresh = []
+    for lend in (10, 10**6):
+        monkeypatch.setattr(assembly, "LEND_MAX_FUNCTIONS", lend)
+        assembly.BLOCKS.clear()
+        pad, specimen = attrs.evolve(pair.upper), attrs.evolve(pair.lower)
+        pad.matrices()
+        lent = [basis in assembly.BLOCKS._rules for basis in pad.segments]
+        fresh.append(specimen.matrices())
+        assert all(lent) == (lend > 10)
+        assert not any(basis in assembly.BLOCKS._rules for basis in pad.segments)
+    (own_h, own_g), (h, g) = fresh
+    assert np.array_equal(h, own_h)
+    assert np.array_equal(g, own_g)
