@@ -2,22 +2,25 @@
 
 from __future__ import annotations
 
+import os
 import re
+from fnmatch import fnmatch
 from pathlib import Path
 
 ROOT = Path(__file__).parents[3]
 OUTSIDE = re.compile(r"\.\./shared|(?<![\w.-])shared/(reference|fretting|style)|/work/shared")
 SOURCES = ("*.md", "*.rst", "*.py", "*.txt", "*.toml")
+GENERATED = {"_build", "auto_tutorials", "auto_verification", "api"}
 
 
 def _product_files() -> list[Path]:
+    """os.walk, which skips a folder that vanishes while it walks (the docs build, run beside
+    the tests, writes and renames output folders under docs/tutorials)."""
     files = [ROOT / "README.md"]
     for folder in ("docs", "examples", "framework", "plugins"):
-        for pattern in SOURCES:
-            files += [
-                p for p in (ROOT / folder).rglob(pattern)
-                if not {"_build", "auto_tutorials", "auto_verification", "api"} & set(p.parts)
-            ]  # fmt: skip
+        for top, folders, names in os.walk(ROOT / folder):
+            folders[:] = [f for f in folders if f not in GENERATED]
+            files += [Path(top, n) for n in names if any(fnmatch(n, s) for s in SOURCES)]
     return files
 
 
