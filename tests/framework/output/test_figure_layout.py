@@ -15,8 +15,9 @@ FAMILIES = ("nurbs", "lagrange2", "lagrange3")
 
 
 @pytest.fixture(scope="module")
-def results():
-    """The reference cycle in the three families the demo draws."""
+def results(cubic_plugin):
+    """The reference cycle in the three families the demo draws (the third from the example
+    plugin package, installed for the session if it is not installed)."""
     return [run(cattaneo_mindlin(basis=b, pairs=PAIRS)) for b in FAMILIES]
 
 
