@@ -212,10 +212,10 @@ def _plane_tau(m, h, xy, zz, b, c2, s2, sp, cp, x, y, sup):
 
 @numba.njit(**_LOOPS)
 def _reset(out, start, stop):
-    for g in range(start, stop):
-        for r in range(0, 12, 2):
-            out[r, g] = -np.inf
-            out[r + 1, g] = np.inf
+    for r in range(0, 12, 2):
+        hi, lo = out[r, start:stop], out[r + 1, start:stop]  # views from 0 (:func:`_values`)
+        for g in range(hi.size):
+            hi[g], lo[g] = -np.inf, np.inf
 
 
 @numba.njit(**_LOOPS)
@@ -374,16 +374,23 @@ def _plane_summaries_3d(m, h, xy, zz, tr, b, nu, c, s, sp, cp, shear, out, g):
 
 @numba.njit(**_LOOPS)
 def _shear_bounds(out, start, stop, in_plane, lo, hi):
-    """Lower and upper bounds of each plane's shear amplitude (equal in-plane: a straight path)."""
-    for g in range(start, stop):
-        if in_plane:
-            lo[g] = 0.5 * (out[4, g] - out[5, g])
+    """Lower and upper bounds of each plane's shear amplitude (equal in-plane: a straight path),
+    the rows as views indexed from 0 (:func:`_values`)."""
+    x_hi, x_lo, y_hi, y_lo = out[4, start:stop], out[5, start:stop], out[6, start:stop], \
+        out[7, start:stop]  # fmt: skip
+    u_hi, u_lo, v_hi, v_lo = out[8, start:stop], out[9, start:stop], out[10, start:stop], \
+        out[11, start:stop]  # fmt: skip
+    lo, hi = lo[start:stop], hi[start:stop]
+    if in_plane:
+        for g in range(lo.size):
+            lo[g] = 0.5 * (x_hi[g] - x_lo[g])
             hi[g] = lo[g]
-            continue
-        rx = out[4, g] - out[5, g]
-        ry = out[6, g] - out[7, g]
-        ru = (out[8, g] - out[9, g]) * _HALF_SQRT2
-        rv = (out[10, g] - out[11, g]) * _HALF_SQRT2
+        return
+    for g in range(lo.size):
+        rx = x_hi[g] - x_lo[g]
+        ry = y_hi[g] - y_lo[g]
+        ru = (u_hi[g] - u_lo[g]) * _HALF_SQRT2
+        rv = (v_hi[g] - v_lo[g]) * _HALF_SQRT2
         lo[g] = 0.5 * max(max(rx, ry), max(ru, rv))
         hi[g] = 0.5 * math.sqrt(min(rx * rx + ry * ry, ru * ru + rv * rv))
 
@@ -391,57 +398,68 @@ def _shear_bounds(out, start, stop, in_plane, lo, hi):
 @numba.njit(**_LOOPS)
 def _values(code, par, E, out, tau, start, stop, value):
     """The parameter of criterion ``code`` on planes ``start:stop`` with shear amplitudes
-    ``tau`` (``par``: k, yield strength, G, mean-stress correction kind, its limit)."""
+    ``tau`` (``par``: k, yield strength, G, mean-stress correction kind, its limit).
+
+    The rows are taken as views indexed from 0: an index ``start + g`` may be negative for
+    numba, which wraps it around, and LLVM vectorises the wrapped index by gathers and
+    scatters (measured slower than the contiguous loads and stores of a view)."""
+    s_hi, s_lo, e_hi, e_lo = out[0, start:stop], out[1, start:stop], out[2, start:stop], \
+        out[3, start:stop]  # fmt: skip
+    t, v = tau[start:stop], value[start:stop]
+    n = v.size
     if code == SWT:
-        for g in range(start, stop):
-            value[g] = out[0, g] * (0.5 * (out[2, g] - out[3, g]) / E)
+        for g in range(n):
+            v[g] = s_hi[g] * (0.5 * (e_hi[g] - e_lo[g]) / E)
     elif code == STRAIN_LIFE:
-        for g in range(start, stop):
-            value[g] = 0.5 * (out[2, g] - out[3, g]) / E
+        for g in range(n):
+            v[g] = 0.5 * (e_hi[g] - e_lo[g]) / E
     elif code == STRESS_LIFE:
-        for g in range(start, stop):
-            amp, mean = 0.5 * (out[0, g] - out[1, g]), 0.5 * (out[0, g] + out[1, g])
+        for g in range(n):
+            amp, mean = 0.5 * (s_hi[g] - s_lo[g]), 0.5 * (s_hi[g] + s_lo[g])
             if par[3] == NO_CORRECTION:
-                value[g] = amp + 0.0 * mean
+                v[g] = amp + 0.0 * mean
                 continue
             ratio = mean / par[4]
             factor = 1.0 - ratio * ratio if par[3] == GERBER else 1.0 - ratio
-            value[g] = amp / factor if factor > 0.0 else np.inf
+            v[g] = amp / factor if factor > 0.0 else np.inf
     elif code == FINDLEY:
-        for g in range(start, stop):
-            value[g] = tau[g] + par[0] * out[0, g]
+        for g in range(n):
+            v[g] = t[g] + par[0] * s_hi[g]
     elif code == FATEMI_SOCIE:
-        for g in range(start, stop):
-            value[g] = (tau[g] / par[2]) * (1.0 + par[0] * out[0, g] / par[1])
+        for g in range(n):
+            v[g] = (t[g] / par[2]) * (1.0 + par[0] * s_hi[g] / par[1])
     else:  # MWCM
-        for g in range(start, stop):
-            value[g] = tau[g]
+        for g in range(n):
+            v[g] = t[g]
 
 
 @numba.njit(**_LOOPS)
 def _in_plane_values(code, par, E, out, start, stop, tau, value):
     """:func:`_shear_bounds` and :func:`_values` of in-plane planes ``start:stop``: the shear
-    amplitude is half the range of tau_e (a straight path). Rows of ``out`` taken as 1D
-    arrays, one branch-free loop each, so that LLVM vectorises them without gathers."""
+    amplitude is half the range of tau_e (a straight path). Rows of ``out`` taken as views
+    indexed from 0 (as :func:`_values`), one branch-free loop each, so that LLVM vectorises
+    them with contiguous loads and stores."""
+    t, v = tau[start:stop], value[start:stop]
+    n = v.size
     if not _needs_shear(code):
-        for g in range(start, stop):
-            tau[g] = 0.0
+        for g in range(n):
+            t[g] = 0.0
         _values(code, par, E, out, tau, start, stop, value)
         return
-    t_hi, t_lo, s_hi = out[4], out[5], out[0]
-    for g in range(start, stop):
-        tau[g] = 0.5 * (t_hi[g] - t_lo[g])
+    t_hi, t_lo, s_hi = out[4, start:stop], out[5, start:stop], out[0, start:stop]
+    for g in range(n):
+        t[g] = 0.5 * (t_hi[g] - t_lo[g])
     if code == FINDLEY:
         k = par[0]
-        for g in range(start, stop):
-            value[g] = tau[g] + k * s_hi[g]
+        for g in range(n):
+            v[g] = t[g] + k * s_hi[g]
     elif code == FATEMI_SOCIE:
         k, sy, shear_modulus = par[0], par[1], par[2]
-        for g in range(start, stop):
-            value[g] = (tau[g] / shear_modulus) * (1.0 + k * s_hi[g] / sy)
+        for g in range(n):
+            v[g] = (t[g] / shear_modulus) * (1.0 + k * s_hi[g] / sy)
     else:  # MWCM
-        for g in range(start, stop):
-            value[g] = tau[g]
+        for g in range(n):
+            v[g] = t[g]
 
 
 @numba.njit(**_JIT)
@@ -1042,60 +1060,58 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
 def _extreme_normal(m, h, xy, nb, c2, s2, start, o, upper):
     """Running max (``upper``) or min over the steps of sigma_n on planes ``start:start + nb``
     (plane ``start + b`` of point b) into ``o``: the steps outside, the points inside (one
-    array written per loop, so that LLVM vectorises it)."""
-    for g in range(start, start + nb):
-        o[g] = -np.inf if upper else np.inf
+    array written per loop, so that LLVM vectorises it; views indexed from 0, as
+    :func:`_values`)."""
+    o, c2, s2 = o[start : start + nb], c2[start : start + nb], s2[start : start + nb]
+    for b in range(nb):
+        o[b] = -np.inf if upper else np.inf
     if upper:  # the test outside the loops: LLVM does not unswitch every loop
         for t in range(m.shape[0]):
             for b in range(nb):
-                g = start + b
-                ee = m[t, b] + h[t, b] * c2[g] + xy[t, b] * s2[g]
-                o[g] = ee if ee > o[g] else o[g]
+                ee = m[t, b] + h[t, b] * c2[b] + xy[t, b] * s2[b]
+                o[b] = ee if ee > o[b] else o[b]
         return
     for t in range(m.shape[0]):
         for b in range(nb):
-            g = start + b
-            ee = m[t, b] + h[t, b] * c2[g] + xy[t, b] * s2[g]
-            o[g] = ee if ee < o[g] else o[g]
+            ee = m[t, b] + h[t, b] * c2[b] + xy[t, b] * s2[b]
+            o[b] = ee if ee < o[b] else o[b]
 
 
 @numba.njit(inline="always", **_LOOPS)
 def _extreme_strain(m, h, xy, tr, nb, nu, c2, s2, start, o, upper):
     """:func:`_extreme_normal` of E eps_n = (1 + nu) sigma_n - nu tr."""
     a = 1.0 + nu
-    for g in range(start, start + nb):
-        o[g] = -np.inf if upper else np.inf
+    o, c2, s2 = o[start : start + nb], c2[start : start + nb], s2[start : start + nb]
+    for b in range(nb):
+        o[b] = -np.inf if upper else np.inf
     if upper:  # the test outside the loops: LLVM does not unswitch every loop
         for t in range(m.shape[0]):
             for b in range(nb):
-                g = start + b
-                en = a * (m[t, b] + h[t, b] * c2[g] + xy[t, b] * s2[g]) - nu * tr[t, b]
-                o[g] = en if en > o[g] else o[g]
+                en = a * (m[t, b] + h[t, b] * c2[b] + xy[t, b] * s2[b]) - nu * tr[t, b]
+                o[b] = en if en > o[b] else o[b]
         return
     for t in range(m.shape[0]):
         for b in range(nb):
-            g = start + b
-            en = a * (m[t, b] + h[t, b] * c2[g] + xy[t, b] * s2[g]) - nu * tr[t, b]
-            o[g] = en if en < o[g] else o[g]
+            en = a * (m[t, b] + h[t, b] * c2[b] + xy[t, b] * s2[b]) - nu * tr[t, b]
+            o[b] = en if en < o[b] else o[b]
 
 
 @numba.njit(inline="always", **_LOOPS)
 def _extreme_shear(m, h, xy, nb, c2, s2, start, o, upper):
     """:func:`_extreme_normal` of tau_e."""
-    for g in range(start, start + nb):
-        o[g] = -np.inf if upper else np.inf
+    o, c2, s2 = o[start : start + nb], c2[start : start + nb], s2[start : start + nb]
+    for b in range(nb):
+        o[b] = -np.inf if upper else np.inf
     if upper:  # the test outside the loops: LLVM does not unswitch every loop
         for t in range(m.shape[0]):
             for b in range(nb):
-                g = start + b
-                te = xy[t, b] * c2[g] - h[t, b] * s2[g]
-                o[g] = te if te > o[g] else o[g]
+                te = xy[t, b] * c2[b] - h[t, b] * s2[b]
+                o[b] = te if te > o[b] else o[b]
         return
     for t in range(m.shape[0]):
         for b in range(nb):
-            g = start + b
-            te = xy[t, b] * c2[g] - h[t, b] * s2[g]
-            o[g] = te if te < o[g] else o[g]
+            te = xy[t, b] * c2[b] - h[t, b] * s2[b]
+            o[b] = te if te < o[b] else o[b]
 
 
 @numba.njit(inline="always", **_LOOPS)
@@ -1105,26 +1121,47 @@ def _fused_extremes(m, h, xy, tr, nb, nu, c2, s2, start, out, strain):
     and points: the step data and planes read once (measured faster than a loop per
     extreme), the same numbers."""
     a = 1.0 + nu
-    o0 = out[0]
-    o_hi, o_lo = (out[2], out[3]) if strain else (out[4], out[5])
-    for g in range(start, start + nb):
-        o0[g], o_hi[g], o_lo[g] = -np.inf, -np.inf, np.inf
+    stop = start + nb
+    o0, c2, s2 = out[0, start:stop], c2[start:stop], s2[start:stop]
+    o_hi, o_lo = (out[2, start:stop], out[3, start:stop]) if strain else \
+        (out[4, start:stop], out[5, start:stop])  # fmt: skip
+    for b in range(nb):
+        o0[b], o_hi[b], o_lo[b] = -np.inf, -np.inf, np.inf
     if strain:  # the test outside the loops: LLVM does not unswitch every loop
         for t in range(m.shape[0]):
             for b in range(nb):
-                g = start + b
-                ee = m[t, b] + h[t, b] * c2[g] + xy[t, b] * s2[g]
-                en = a * (m[t, b] + h[t, b] * c2[g] + xy[t, b] * s2[g]) - nu * tr[t, b]
-                o0[g] = max(o0[g], ee)
-                o_hi[g], o_lo[g] = max(o_hi[g], en), min(o_lo[g], en)
+                ee = m[t, b] + h[t, b] * c2[b] + xy[t, b] * s2[b]
+                en = a * (m[t, b] + h[t, b] * c2[b] + xy[t, b] * s2[b]) - nu * tr[t, b]
+                o0[b] = max(o0[b], ee)
+                o_hi[b], o_lo[b] = max(o_hi[b], en), min(o_lo[b], en)
         return
     for t in range(m.shape[0]):
         for b in range(nb):
-            g = start + b
-            ee = m[t, b] + h[t, b] * c2[g] + xy[t, b] * s2[g]
-            te = xy[t, b] * c2[g] - h[t, b] * s2[g]
-            o0[g] = max(o0[g], ee)
-            o_hi[g], o_lo[g] = max(o_hi[g], te), min(o_lo[g], te)
+            ee = m[t, b] + h[t, b] * c2[b] + xy[t, b] * s2[b]
+            te = xy[t, b] * c2[b] - h[t, b] * s2[b]
+            o0[b] = max(o0[b], ee)
+            o_hi[b], o_lo[b] = max(o_hi[b], te), min(o_lo[b], te)
+
+
+@numba.njit(inline="always", **_LOOPS)
+def _final_extremes(m, h, xy, tr, nb, nu, c2, s2, start, out):
+    """sigma_n's minimum and E eps_n's maximum and minimum on planes ``start:start + nb``
+    into rows 1-3 of ``out`` in one loop over the steps and points (the expressions and
+    selects of :func:`_extreme_normal` and :func:`_extreme_strain`: the same numbers, the step
+    data read once)."""
+    a = 1.0 + nu
+    stop = start + nb
+    s_lo, e_hi, e_lo = out[1, start:stop], out[2, start:stop], out[3, start:stop]
+    c2, s2 = c2[start:stop], s2[start:stop]
+    for b in range(nb):
+        s_lo[b], e_hi[b], e_lo[b] = np.inf, -np.inf, np.inf
+    for t in range(m.shape[0]):
+        for b in range(nb):
+            ee = m[t, b] + h[t, b] * c2[b] + xy[t, b] * s2[b]
+            en = a * (m[t, b] + h[t, b] * c2[b] + xy[t, b] * s2[b]) - nu * tr[t, b]
+            s_lo[b] = ee if ee < s_lo[b] else s_lo[b]
+            e_hi[b] = en if en > e_hi[b] else e_hi[b]
+            e_lo[b] = en if en < e_lo[b] else e_lo[b]
 
 
 @numba.njit(**_LOOPS)
@@ -1190,7 +1227,15 @@ def _golden_in_plane(m, h, xy, tr, nb, codes, par, nu, E, step, levels, c2, s2, 
                     f_lo[i] = value[i]
                 else:
                     f_hi[i] = value[i]
-    s_hi = out[0]
+    s_hi, e_hi, e_lo = out[0], out[2], out[3]
+    # per plane: its criterion is MWCM, reads the strain; it moves at this iteration
+    flags = np.empty((3, n), dtype=np.bool_)
+    is_mwcm, is_strain, up = flags[0], flags[1], flags[2]
+    for ci in range(n_c):
+        code = codes[ci]
+        for b in range(nb):
+            is_mwcm[ci * nb + b] = code == MWCM
+            is_strain[ci * nb + b] = code == SWT or code == STRAIN_LIFE
     for level in range(levels + 2):
         last = level == levels + 1
         if last:  # the vertex of the parabola through the ends and the current plane
@@ -1210,52 +1255,59 @@ def _golden_in_plane(m, h, xy, tr, nb, codes, par, nu, E, step, levels, c2, s2, 
             tc = 1.0 + d2 * (_C0 + d2 * (_C1 + d2 * (_C2 + d2 * (_C3 + d2 * _C4))))
             ts = d + d * (d2 * (_S0 + d2 * (_S1 + d2 * (_S2 + d2 * (_S3 + d2 * _S4)))))
             q2[i], qs2[i] = c2[i] * tc - s2[i] * ts, s2[i] * tc + c2[i] * ts
+        far = False  # a test of every plane first (vectorised), the branches only if needed
         for i in range(n):
-            if qx[i] == 0.0:
-                q2[i], qs2[i] = c2[i], s2[i]
-            elif abs(2.0 * qx[i]) >= 0.1:
+            q2[i] = c2[i] if qx[i] == 0.0 else q2[i]
+            qs2[i] = s2[i] if qx[i] == 0.0 else qs2[i]
+            far = far | (abs(2.0 * qx[i]) >= 0.1)
+        for i in range(n if far else 0):
+            if abs(2.0 * qx[i]) >= 0.1:
                 tc, ts = math.cos(2.0 * qx[i]), math.sin(2.0 * qx[i])
                 q2[i], qs2[i] = c2[i] * tc - s2[i] * ts, s2[i] * tc + c2[i] * ts
         _in_plane_summaries(m, h, xy, tr, nb, nu, codes, par, q2, qs2, out, False)
         for ci in range(n_c):
-            code, start, stop = codes[ci], ci * nb, (ci + 1) * nb
-            _in_plane_values(code, par[ci], E, out, start, stop, tau, value)
-            mwcm = code == MWCM
-            strain = code == SWT or code == STRAIN_LIFE
-            for b in range(nb):
-                i = start + b
-                x, v, cv = qx[i], value[i], cvalue[i]
-                tol = _TIE * cscale[i]
-                if mwcm:
-                    up = (v > cv + tol) | ((v >= cv - tol) & (s_hi[i] > second[i]))
-                else:
-                    up = v > cv
+            _in_plane_values(codes[ci], par[ci], E, out, ci * nb, (ci + 1) * nb, tau, value)
+        # the update, every criterion's planes in loops indexed from 0 (an index ci nb + b
+        # may be negative for numba: gathers and scatters), each writing few arrays
+        for i in range(n):
+            v, cv = value[i], cvalue[i]
+            tol = _TIE * cscale[i]
+            tied = (v > cv + tol) | ((v >= cv - tol) & (s_hi[i] > second[i]))
+            up[i] = tied if is_mwcm[i] else v > cv
+        if not last:
+            for i in range(n):
+                x, v, cv, u = qx[i], value[i], cvalue[i], up[i]
                 r = hi[i] > -lo[i]
-                ur, u_r, _ur, _u_r = up & r, up & ~r, ~up & r, ~up & ~r
-                if not last:
-                    l0, h0 = lo[i], hi[i]
-                    lo[i] = -x if ur else (l0 - x if u_r else (x if _u_r else l0))
-                    hi[i] = h0 - x if ur else (-x if u_r else (x if _ur else h0))
-                    f_lo[i] = cv if ur else (v if _u_r else f_lo[i])
-                    f_hi[i] = cv if u_r else (v if _ur else f_hi[i])
-                th[i] = th[i] + x if up else th[i]
-                c2[i] = q2[i] if up else c2[i]
-                s2[i] = qs2[i] if up else s2[i]
-                cvalue[i] = v if up else cv
-                second[i] = s_hi[i] if up else second[i]
-                ctau[i] = tau[i] if up else ctau[i]
-                amp = 0.5 * (out[2, i] - out[3, i]) / E  # read where the criterion's value is
-                camp[i] = amp if up and strain else camp[i]
+                ur, u_r, _ur, _u_r = u & r, u & ~r, ~u & r, ~u & ~r
+                l0, h0 = lo[i], hi[i]
+                lo[i] = -x if ur else (l0 - x if u_r else (x if _u_r else l0))
+                hi[i] = h0 - x if ur else (-x if u_r else (x if _ur else h0))
+                f_lo[i] = cv if ur else (v if _u_r else f_lo[i])
+                f_hi[i] = cv if u_r else (v if _ur else f_hi[i])
+        for i in range(n):
+            u = up[i]
+            th[i] = th[i] + qx[i] if u else th[i]
+            c2[i] = q2[i] if u else c2[i]
+            s2[i] = qs2[i] if u else s2[i]
+        for i in range(n):
+            u = up[i]
+            cvalue[i] = value[i] if u else cvalue[i]
+            second[i] = s_hi[i] if u else second[i]
+            ctau[i] = tau[i] if u else ctau[i]
+            amp = 0.5 * (e_hi[i] - e_lo[i]) / E  # read where the criterion's value is
+            camp[i] = amp if u and is_strain[i] else camp[i]
     # the critical planes' quantities: those of their winning iteration, sigma_n's minimum
     # and (where the value does not read it) the strain's range once on the final planes
     for ci in range(n_c):
         code, start = codes[ci], ci * nb
-        _extreme_normal(m, h, xy, nb, c2, s2, start, out[1], False)
-        if not (code == SWT or code == STRAIN_LIFE):
-            _extreme_strain(m, h, xy, tr, nb, nu, c2, s2, start, out[2], True)
-            _extreme_strain(m, h, xy, tr, nb, nu, c2, s2, start, out[3], False)
-            for i in range(start, start + nb):
-                camp[i] = 0.5 * (out[2, i] - out[3, i]) / E
+        if code == SWT or code == STRAIN_LIFE:
+            _extreme_normal(m, h, xy, nb, c2, s2, start, out[1], False)
+            continue
+        _final_extremes(m, h, xy, tr, nb, nu, c2, s2, start, out)
+        e_hi, e_lo, amp = out[2, start : start + nb], out[3, start : start + nb], \
+            camp[start : start + nb]  # fmt: skip
+        for b in range(nb):
+            amp[b] = 0.5 * (e_hi[b] - e_lo[b]) / E
     for i in range(n):
         cres[0, i], cres[1, i], cres[2, i] = cvalue[i], ctau[i], second[i]
         cres[3, i], cres[4, i] = out[1, i], camp[i]
