@@ -1403,13 +1403,16 @@ def search(
     th, ps = cur_angles
     for p0 in range(0, n_p, nb_max):
         nb = min(nb_max, n_p - p0)
+        # the block's points as a view indexed from 0 (an index p0 + b numba cannot prove
+        # non-negative is wrapped around, a select in every load; so are the outputs below)
+        block = stress[:, p0 : p0 + nb]
         for t in range(n_t):
             for b in range(nb):
-                sxx, syy = stress[t, p0 + b, 0], stress[t, p0 + b, 1]
+                sxx, syy = block[t, b, 0], block[t, b, 1]
                 m[t, b] = 0.5 * (sxx + syy)
                 h[t, b] = 0.5 * (sxx - syy)
-                xy[t, b] = stress[t, p0 + b, 2]
-                zz[t, b] = stress[t, p0 + b, 3]
+                xy[t, b] = block[t, b, 2]
+                zz[t, b] = block[t, b, 3]
                 tr[t, b] = 2.0 * m[t, b] + zz[t, b]
         if in_plane:  # the block's points in one call (:func:`_coarse_in_plane`)
             _coarse_in_plane(m, h, xy, tr, 0, nb, nu, grid[0], grid[1], codes, par, E,
@@ -1457,10 +1460,12 @@ def search(
                     m, h, xy, zz, b, c2[i], s2[i], sp[i], cp[i], data[5], data[6], sup
                 )
         for ci in range(n_c):
+            theta_c, psi_c = theta_out[ci, p0 : p0 + nb], psi_out[ci, p0 : p0 + nb]
             for b in range(nb):
-                i = ci * nb + b
-                theta_out[ci, p0 + b] = th[i]
-                psi_out[ci, p0 + b] = ps[i]
-                for r in range(5):
-                    res_out[r, ci, p0 + b] = cres[r, i]
+                theta_c[b] = th[ci * nb + b]
+                psi_c[b] = ps[ci * nb + b]
+            for r in range(5):
+                res_c = res_out[r, ci, p0 : p0 + nb]
+                for b in range(nb):
+                    res_c[b] = cres[r, ci * nb + b]
     return theta_out, psi_out, res_out
