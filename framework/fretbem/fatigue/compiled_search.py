@@ -643,12 +643,15 @@ def _coarse_in_plane(m, h, xy, tr, p0, nb, nu, c2, s2, codes, par, E, best, foun
             ntr[t, b] = nu * tr[t, p0 + b]
     for g in range(n_g):
         c, s, row = c2[g], s2[g], g * nb
+        # the plane's rows as views indexed from 0 (numba wraps row + b around)
+        sh, sl = s_hi[row : row + nb], s_lo[row : row + nb]
+        er, gt = e_rng[row : row + nb], g_tau[row : row + nb]
         # the extremes the criteria read in one loop over the steps and points (measured
         # 2.4 times faster than a loop per extreme here: the step data is read once); the
         # tests outside the loops, so that each loop vectorises
         for b in range(nb):
-            s_hi[row + b], e_hi[b], t_hi[b] = -np.inf, -np.inf, -np.inf
-            s_lo[row + b], e_lo[b], t_lo[b] = np.inf, np.inf, np.inf
+            sh[b], e_hi[b], t_hi[b] = -np.inf, -np.inf, -np.inf
+            sl[b], e_lo[b], t_lo[b] = np.inf, np.inf, np.inf
         if need_strain and need_shear:
             for t in range(n_t):
                 for b in range(nb):
@@ -656,7 +659,7 @@ def _coarse_in_plane(m, h, xy, tr, p0, nb, nu, c2, s2, codes, par, E, best, foun
                     ee = m[t, p] + h[t, p] * c + xy[t, p] * s
                     en = a * (m[t, p] + h[t, p] * c + xy[t, p] * s) - ntr[t, b]
                     te = xy[t, p] * c - h[t, p] * s
-                    s_hi[row + b] = max(s_hi[row + b], ee)
+                    sh[b] = max(sh[b], ee)
                     e_hi[b], e_lo[b] = max(e_hi[b], en), min(e_lo[b], en)
                     t_hi[b], t_lo[b] = max(t_hi[b], te), min(t_lo[b], te)
         elif need_shear:
@@ -665,7 +668,7 @@ def _coarse_in_plane(m, h, xy, tr, p0, nb, nu, c2, s2, codes, par, E, best, foun
                     p = p0 + b
                     ee = m[t, p] + h[t, p] * c + xy[t, p] * s
                     te = xy[t, p] * c - h[t, p] * s
-                    s_hi[row + b] = max(s_hi[row + b], ee)
+                    sh[b] = max(sh[b], ee)
                     t_hi[b], t_lo[b] = max(t_hi[b], te), min(t_lo[b], te)
         elif need_strain:
             for t in range(n_t):
@@ -673,23 +676,23 @@ def _coarse_in_plane(m, h, xy, tr, p0, nb, nu, c2, s2, codes, par, E, best, foun
                     p = p0 + b
                     ee = m[t, p] + h[t, p] * c + xy[t, p] * s
                     en = a * (m[t, p] + h[t, p] * c + xy[t, p] * s) - ntr[t, b]
-                    s_hi[row + b] = max(s_hi[row + b], ee)
+                    sh[b] = max(sh[b], ee)
                     e_hi[b], e_lo[b] = max(e_hi[b], en), min(e_lo[b], en)
         else:
             for t in range(n_t):
                 for b in range(nb):
                     p = p0 + b
                     ee = m[t, p] + h[t, p] * c + xy[t, p] * s
-                    s_hi[row + b] = max(s_hi[row + b], ee)
+                    sh[b] = max(sh[b], ee)
         if need_lo:  # a loop of its own: with the others, measured slower (6 extremes)
             for t in range(n_t):
                 for b in range(nb):
                     p = p0 + b
                     ee = m[t, p] + h[t, p] * c + xy[t, p] * s
-                    s_lo[row + b] = min(s_lo[row + b], ee)
+                    sl[b] = min(sl[b], ee)
         for b in range(nb):
-            e_rng[row + b] = e_hi[b] - e_lo[b]
-            g_tau[row + b] = 0.5 * (t_hi[b] - t_lo[b])  # a straight path: half its range
+            er[b] = e_hi[b] - e_lo[b]
+            gt[b] = 0.5 * (t_hi[b] - t_lo[b])  # a straight path: half its range
     arg = np.empty(nb, dtype=np.int64)
     for ci in range(n_c):
         code = codes[ci]
@@ -699,9 +702,9 @@ def _coarse_in_plane(m, h, xy, tr, p0, nb, nu, c2, s2, codes, par, E, best, foun
         for b in range(nb):
             top[b], arg[b] = g_val[b], 0
         for g in range(1, n_g):  # the first plane of the largest value
-            row = g * nb
+            gv = g_val[g * nb : (g + 1) * nb]
             for b in range(nb):
-                v = g_val[row + b]
+                v = gv[b]
                 up = v > top[b]
                 top[b] = v if up else top[b]
                 arg[b] = g if up else arg[b]
@@ -711,10 +714,10 @@ def _coarse_in_plane(m, h, xy, tr, p0, nb, nu, c2, s2, codes, par, E, best, foun
                 low[b] = top[b] - _TIE * max(abs(top[b]), 1e-300)
                 high[b], arg[b] = -np.inf, 0
             for g in range(n_g):
-                row = g * nb
+                gv, sh = g_val[g * nb : (g + 1) * nb], s_hi[g * nb : (g + 1) * nb]
                 for b in range(nb):
-                    up = (g_val[row + b] >= low[b]) & (s_hi[row + b] > high[b])
-                    high[b] = s_hi[row + b] if up else high[b]
+                    up = (gv[b] >= low[b]) & (sh[b] > high[b])
+                    high[b] = sh[b] if up else high[b]
                     arg[b] = g if up else arg[b]
         shear = _needs_shear(code)
         for b in range(nb):
