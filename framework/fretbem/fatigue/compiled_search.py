@@ -311,32 +311,6 @@ def _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratc
         o32[r, last] = 0.0
 
 
-@numba.njit(**_LOOPS)
-def _block_summaries(m, h, xy, zz, tr, nb, nu, c2, s2, sp, cp, start, in_plane, out):
-    """:func:`_grid_summaries` of in-plane planes ``start:start + nb``, plane ``start + b`` of
-    point b (3D planes: :func:`_plane_summaries_3d`)."""
-    a = 1.0 + nu
-    n_t = m.shape[0]
-    if in_plane:
-        # point by point, the extremes over the steps in registers (the step by step loops
-        # over the points, vectorised, sliced every step's rows: measured 20 % slower)
-        for b in range(nb):
-            g = start + b
-            c, s = c2[g], s2[g]
-            hi0 = hi1 = hi2 = -np.inf
-            lo0 = lo1 = lo2 = np.inf
-            for t in range(n_t):
-                ee = m[t, b] + h[t, b] * c + xy[t, b] * s
-                en = a * (m[t, b] + h[t, b] * c + xy[t, b] * s) - nu * tr[t, b]
-                te = xy[t, b] * c - h[t, b] * s
-                hi0, lo0 = max(hi0, ee), min(lo0, ee)
-                hi1, lo1 = max(hi1, en), min(lo1, en)
-                hi2, lo2 = max(hi2, te), min(lo2, te)
-            out[0, g], out[1, g], out[2, g], out[3, g] = hi0, lo0, hi1, lo1
-            out[4, g], out[5, g] = hi2, lo2
-        return
-
-
 @numba.njit(inline="always", **_LOOPS)
 def _plane_summaries_3d(m, h, xy, zz, tr, b, nu, c, s, sp, cp, shear, out, g):
     """:func:`_grid_summaries` of one 3D plane of point b into ``out[:, g]``, with the
@@ -832,8 +806,7 @@ _S0, _S1, _S2, _S3, _S4 = -1.0 / 6.0, 1.0 / 120.0, -1.0 / 5040.0, 1.0 / 362880.0
 
 
 @numba.njit(**_JIT)
-def _evaluate(data, nb, planes, n_rep, per, codes, par, nu, E, in_plane, against, cur, work,
-              keep=None):  # fmt: skip
+def _evaluate(data, nb, planes, n_rep, per, codes, par, nu, E, against, cur, work, keep=None):
     """Quantities and values of ``n_rep`` planes per point of a block of ``nb`` points; plane
     ``r nb + b`` is point b's, of criterion ``r // per``. With ``against``, a plane that cannot
     beat its criterion's current value keeps the lower bound of its shear amplitude (the numpy
@@ -845,13 +818,6 @@ def _evaluate(data, nb, planes, n_rep, per, codes, par, nu, E, in_plane, against
     c2, s2, sp, cp, psup = planes
     out, lo, hi, tau, value, vlo, vhi, _, _ = work
     cvalue, cscale, csup = cur
-    if in_plane:
-        for r in range(n_rep):
-            _block_summaries(m, h, xy, zz, tr, nb, nu, c2, s2, sp, cp, r * nb, in_plane, out)
-        for ci in range(codes.size):
-            start, stop = ci * per * nb, (ci + 1) * per * nb
-            _in_plane_values(codes[ci], par[ci], E, out, start, stop, tau, value)
-        return
     for r in range(n_rep):
         shear = _needs_shear(codes[r // per])
         for b in range(nb):
@@ -863,29 +829,28 @@ def _evaluate(data, nb, planes, n_rep, per, codes, par, nu, E, in_plane, against
         code = codes[ci]
         start, stop = ci * per * nb, (ci + 1) * per * nb
         if _needs_shear(code):
-            _shear_bounds(out, start, stop, in_plane, lo, hi)
+            _shear_bounds(out, start, stop, False, lo, hi)
             for g in range(start, stop):
                 if keep is None or not keep[g]:
                     tau[g] = lo[g]
-            if not in_plane:
+            if against:
+                _values(code, par[ci], E, out, lo, start, stop, vlo)
+                _values(code, par[ci], E, out, hi, start, stop, vhi)
+            for g in range(start, stop):
+                if keep is not None and keep[g]:
+                    continue
+                if not hi[g] > lo[g] * (1.0 + 1e-12):
+                    psup[g, 0] = -1
+                    continue
+                b = g % nb
+                k = ci * nb + b
                 if against:
-                    _values(code, par[ci], E, out, lo, start, stop, vlo)
-                    _values(code, par[ci], E, out, hi, start, stop, vhi)
-                for g in range(start, stop):
-                    if keep is not None and keep[g]:
-                        continue
-                    if not hi[g] > lo[g] * (1.0 + 1e-12):
+                    slack = _TIE * cscale[k] if code == MWCM else 0.0
+                    if not max(vlo[g], vhi[g]) >= cvalue[k] - slack:
                         psup[g, 0] = -1
                         continue
-                    b = g % nb
-                    k = ci * nb + b
-                    if against:
-                        slack = _TIE * cscale[k] if code == MWCM else 0.0
-                        if not max(vlo[g], vhi[g]) >= cvalue[k] - slack:
-                            psup[g, 0] = -1
-                            continue
-                    psup[g, 0], psup[g, 1], psup[g, 2] = csup[k, 0], csup[k, 1], csup[k, 2]
-                    tau[g] = _exact_tau(m, h, xy, zz, b, c2[g], s2[g], sp[g], cp[g], x, y, psup[g])
+                psup[g, 0], psup[g, 1], psup[g, 2] = csup[k, 0], csup[k, 1], csup[k, 2]
+                tau[g] = _exact_tau(m, h, xy, zz, b, c2[g], s2[g], sp[g], cp[g], x, y, psup[g])
         else:
             for g in range(start, stop):
                 tau[g] = 0.0
@@ -942,7 +907,7 @@ def _keep(cres, i, value, tau, out, g, E):
 
 @numba.njit(**_JIT)
 def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles, codes, par,
-                  nu, E, steps, levels, in_plane, work):  # fmt: skip
+                  nu, E, steps, levels, work):  # fmt: skip
     """The numpy search's ``_refine`` for a block of points: every criterion's candidates of a
     level in one :func:`_evaluate`. ``cres`` (5, C nb): the current planes' quantities (value,
     tau, sigma_n max and min, normal strain amplitude), from the grid in, the final ones out:
@@ -957,7 +922,7 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
     keep = work[7]
     turn = np.empty(4)
     n_c = codes.size
-    k = 2 if in_plane else 4
+    k = 4
     out = work[0]
     value = work[4]
     # the start planes: the coarse grid's exact quantities (``cres``, kept up to date below)
@@ -984,26 +949,22 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
                         c2[i], s2[i], sp[i], cp[i], ps[i], dt, dp, turn
                     )
                     qth[g] = th[i] + dt
-        if in_plane:
-            _evaluate(data, nb, cand, n_c * k, k, codes, par, nu, E, in_plane, not last, cur,
-                      work)  # fmt: skip
-        else:
-            # not evaluated: a neighbour that is the plane itself (psi = 90 degrees: psi + hp;
-            # psi = 0, the normal z: every neighbour but psi + hp)
-            for ci in range(n_c):
-                for j in range(k):
-                    for b in range(nb):
-                        i = ci * nb + b
-                        same = ps[i] >= 0.5 * np.pi if j == 3 else ps[i] <= 0.0
-                        keep[(ci * k + j) * nb + b] = same
-            _evaluate(data, nb, cand, n_c * k, k, codes, par, nu, E, in_plane, not last, cur,
-                      work, keep)  # fmt: skip
-            for ci in range(n_c):
-                for j in range(k):
-                    for b in range(nb):
-                        i, g = ci * nb + b, (ci * k + j) * nb + b
-                        if ps[i] >= 0.5 * np.pi if j == 3 else ps[i] <= 0.0:
-                            value[g], out[0, g] = cvalue[i], second[i]  # never wins
+        # not evaluated: a neighbour that is the plane itself (psi = 90 degrees: psi + hp;
+        # psi = 0, the normal z: every neighbour but psi + hp)
+        for ci in range(n_c):
+            for j in range(k):
+                for b in range(nb):
+                    i = ci * nb + b
+                    same = ps[i] >= 0.5 * np.pi if j == 3 else ps[i] <= 0.0
+                    keep[(ci * k + j) * nb + b] = same
+        _evaluate(data, nb, cand, n_c * k, k, codes, par, nu, E, not last, cur, work,
+                  keep)  # fmt: skip
+        for ci in range(n_c):
+            for j in range(k):
+                for b in range(nb):
+                    i, g = ci * nb + b, (ci * k + j) * nb + b
+                    if ps[i] >= 0.5 * np.pi if j == 3 else ps[i] <= 0.0:
+                        value[g], out[0, g] = cvalue[i], second[i]  # never wins
         if not last:
             for ci in range(n_c):
                 code = codes[ci]
@@ -1039,15 +1000,13 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
                 i = ci * nb + b
                 g0 = (ci * k) * nb + b
                 dt = _parabola(value[g0], cvalue[i], value[g0 + nb], ht)
-                dp = 0.0
-                if not in_plane:
-                    dp = _parabola(value[g0 + 2 * nb], cvalue[i], value[g0 + 3 * nb], hp)
+                dp = _parabola(value[g0 + 2 * nb], cvalue[i], value[g0 + 3 * nb], hp)
                 _turn(dt, dp, turn)
                 q2[i], qs2[i], qsp[i], qcp[i], qps[i] = _moved(
                     c2[i], s2[i], sp[i], cp[i], ps[i], dt, dp, turn
                 )
                 qth[i] = th[i] + dt
-        _evaluate(data, nb, cand, n_c, 1, codes, par, nu, E, in_plane, True, cur, work)
+        _evaluate(data, nb, cand, n_c, 1, codes, par, nu, E, True, cur, work)
         for ci in range(n_c):
             for b in range(nb):
                 i = ci * nb + b
@@ -1442,8 +1401,7 @@ def search(
             # double (the numpy search evaluates its start planes so too)
             for i in range(n_c * nb):
                 cur_planes[4][i, 0] = -1
-            _evaluate(data, nb, cur_planes, n_c, 1, codes, par, nu, E, in_plane, False, cur,
-                      work)  # fmt: skip
+            _evaluate(data, nb, cur_planes, n_c, 1, codes, par, nu, E, False, cur, work)
             for i in range(n_c * nb):
                 _keep(cres, i, work[4], work[3], work[0], i, E)
         if in_plane:
@@ -1452,7 +1410,7 @@ def search(
                              work[4])  # fmt: skip
         else:
             _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles,
-                          codes, par, nu, E, steps, levels, in_plane, work)  # fmt: skip
+                          codes, par, nu, E, steps, levels, work)  # fmt: skip
         # a criterion whose search needs no shear reports its plane's exact shear amplitude
         for ci in range(n_c):
             if _needs_shear(codes[ci]):
