@@ -212,10 +212,10 @@ def _plane_tau(m, h, xy, zz, b, c2, s2, sp, cp, x, y, sup):
 
 @numba.njit(**_LOOPS)
 def _reset(out, start, stop):
-    for g in range(start, stop):
-        for r in range(0, 12, 2):
-            out[r, g] = -np.inf
-            out[r + 1, g] = np.inf
+    for r in range(0, 12, 2):
+        hi, lo = out[r, start:stop], out[r + 1, start:stop]  # views from 0 (:func:`_values`)
+        for g in range(hi.size):
+            hi[g], lo[g] = -np.inf, np.inf
 
 
 @numba.njit(**_LOOPS)
@@ -311,32 +311,6 @@ def _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratc
         o32[r, last] = 0.0
 
 
-@numba.njit(**_LOOPS)
-def _block_summaries(m, h, xy, zz, tr, nb, nu, c2, s2, sp, cp, start, in_plane, out):
-    """:func:`_grid_summaries` of in-plane planes ``start:start + nb``, plane ``start + b`` of
-    point b (3D planes: :func:`_plane_summaries_3d`)."""
-    a = 1.0 + nu
-    n_t = m.shape[0]
-    if in_plane:
-        # point by point, the extremes over the steps in registers (the step by step loops
-        # over the points, vectorised, sliced every step's rows: measured 20 % slower)
-        for b in range(nb):
-            g = start + b
-            c, s = c2[g], s2[g]
-            hi0 = hi1 = hi2 = -np.inf
-            lo0 = lo1 = lo2 = np.inf
-            for t in range(n_t):
-                ee = m[t, b] + h[t, b] * c + xy[t, b] * s
-                en = a * (m[t, b] + h[t, b] * c + xy[t, b] * s) - nu * tr[t, b]
-                te = xy[t, b] * c - h[t, b] * s
-                hi0, lo0 = max(hi0, ee), min(lo0, ee)
-                hi1, lo1 = max(hi1, en), min(lo1, en)
-                hi2, lo2 = max(hi2, te), min(lo2, te)
-            out[0, g], out[1, g], out[2, g], out[3, g] = hi0, lo0, hi1, lo1
-            out[4, g], out[5, g] = hi2, lo2
-        return
-
-
 @numba.njit(inline="always", **_LOOPS)
 def _plane_summaries_3d(m, h, xy, zz, tr, b, nu, c, s, sp, cp, shear, out, g):
     """:func:`_grid_summaries` of one 3D plane of point b into ``out[:, g]``, with the
@@ -374,16 +348,23 @@ def _plane_summaries_3d(m, h, xy, zz, tr, b, nu, c, s, sp, cp, shear, out, g):
 
 @numba.njit(**_LOOPS)
 def _shear_bounds(out, start, stop, in_plane, lo, hi):
-    """Lower and upper bounds of each plane's shear amplitude (equal in-plane: a straight path)."""
-    for g in range(start, stop):
-        if in_plane:
-            lo[g] = 0.5 * (out[4, g] - out[5, g])
+    """Lower and upper bounds of each plane's shear amplitude (equal in-plane: a straight path),
+    the rows as views indexed from 0 (:func:`_values`)."""
+    x_hi, x_lo, y_hi, y_lo = out[4, start:stop], out[5, start:stop], out[6, start:stop], \
+        out[7, start:stop]  # fmt: skip
+    u_hi, u_lo, v_hi, v_lo = out[8, start:stop], out[9, start:stop], out[10, start:stop], \
+        out[11, start:stop]  # fmt: skip
+    lo, hi = lo[start:stop], hi[start:stop]
+    if in_plane:
+        for g in range(lo.size):
+            lo[g] = 0.5 * (x_hi[g] - x_lo[g])
             hi[g] = lo[g]
-            continue
-        rx = out[4, g] - out[5, g]
-        ry = out[6, g] - out[7, g]
-        ru = (out[8, g] - out[9, g]) * _HALF_SQRT2
-        rv = (out[10, g] - out[11, g]) * _HALF_SQRT2
+        return
+    for g in range(lo.size):
+        rx = x_hi[g] - x_lo[g]
+        ry = y_hi[g] - y_lo[g]
+        ru = (u_hi[g] - u_lo[g]) * _HALF_SQRT2
+        rv = (v_hi[g] - v_lo[g]) * _HALF_SQRT2
         lo[g] = 0.5 * max(max(rx, ry), max(ru, rv))
         hi[g] = 0.5 * math.sqrt(min(rx * rx + ry * ry, ru * ru + rv * rv))
 
@@ -391,57 +372,68 @@ def _shear_bounds(out, start, stop, in_plane, lo, hi):
 @numba.njit(**_LOOPS)
 def _values(code, par, E, out, tau, start, stop, value):
     """The parameter of criterion ``code`` on planes ``start:stop`` with shear amplitudes
-    ``tau`` (``par``: k, yield strength, G, mean-stress correction kind, its limit)."""
+    ``tau`` (``par``: k, yield strength, G, mean-stress correction kind, its limit).
+
+    The rows are taken as views indexed from 0: an index ``start + g`` may be negative for
+    numba, which wraps it around, and LLVM vectorises the wrapped index by gathers and
+    scatters (measured slower than the contiguous loads and stores of a view)."""
+    s_hi, s_lo, e_hi, e_lo = out[0, start:stop], out[1, start:stop], out[2, start:stop], \
+        out[3, start:stop]  # fmt: skip
+    t, v = tau[start:stop], value[start:stop]
+    n = v.size
     if code == SWT:
-        for g in range(start, stop):
-            value[g] = out[0, g] * (0.5 * (out[2, g] - out[3, g]) / E)
+        for g in range(n):
+            v[g] = s_hi[g] * (0.5 * (e_hi[g] - e_lo[g]) / E)
     elif code == STRAIN_LIFE:
-        for g in range(start, stop):
-            value[g] = 0.5 * (out[2, g] - out[3, g]) / E
+        for g in range(n):
+            v[g] = 0.5 * (e_hi[g] - e_lo[g]) / E
     elif code == STRESS_LIFE:
-        for g in range(start, stop):
-            amp, mean = 0.5 * (out[0, g] - out[1, g]), 0.5 * (out[0, g] + out[1, g])
+        for g in range(n):
+            amp, mean = 0.5 * (s_hi[g] - s_lo[g]), 0.5 * (s_hi[g] + s_lo[g])
             if par[3] == NO_CORRECTION:
-                value[g] = amp + 0.0 * mean
+                v[g] = amp + 0.0 * mean
                 continue
             ratio = mean / par[4]
             factor = 1.0 - ratio * ratio if par[3] == GERBER else 1.0 - ratio
-            value[g] = amp / factor if factor > 0.0 else np.inf
+            v[g] = amp / factor if factor > 0.0 else np.inf
     elif code == FINDLEY:
-        for g in range(start, stop):
-            value[g] = tau[g] + par[0] * out[0, g]
+        for g in range(n):
+            v[g] = t[g] + par[0] * s_hi[g]
     elif code == FATEMI_SOCIE:
-        for g in range(start, stop):
-            value[g] = (tau[g] / par[2]) * (1.0 + par[0] * out[0, g] / par[1])
+        for g in range(n):
+            v[g] = (t[g] / par[2]) * (1.0 + par[0] * s_hi[g] / par[1])
     else:  # MWCM
-        for g in range(start, stop):
-            value[g] = tau[g]
+        for g in range(n):
+            v[g] = t[g]
 
 
 @numba.njit(**_LOOPS)
 def _in_plane_values(code, par, E, out, start, stop, tau, value):
     """:func:`_shear_bounds` and :func:`_values` of in-plane planes ``start:stop``: the shear
-    amplitude is half the range of tau_e (a straight path). Rows of ``out`` taken as 1D
-    arrays, one branch-free loop each, so that LLVM vectorises them without gathers."""
+    amplitude is half the range of tau_e (a straight path). Rows of ``out`` taken as views
+    indexed from 0 (as :func:`_values`), one branch-free loop each, so that LLVM vectorises
+    them with contiguous loads and stores."""
+    t, v = tau[start:stop], value[start:stop]
+    n = v.size
     if not _needs_shear(code):
-        for g in range(start, stop):
-            tau[g] = 0.0
+        for g in range(n):
+            t[g] = 0.0
         _values(code, par, E, out, tau, start, stop, value)
         return
-    t_hi, t_lo, s_hi = out[4], out[5], out[0]
-    for g in range(start, stop):
-        tau[g] = 0.5 * (t_hi[g] - t_lo[g])
+    t_hi, t_lo, s_hi = out[4, start:stop], out[5, start:stop], out[0, start:stop]
+    for g in range(n):
+        t[g] = 0.5 * (t_hi[g] - t_lo[g])
     if code == FINDLEY:
         k = par[0]
-        for g in range(start, stop):
-            value[g] = tau[g] + k * s_hi[g]
+        for g in range(n):
+            v[g] = t[g] + k * s_hi[g]
     elif code == FATEMI_SOCIE:
         k, sy, shear_modulus = par[0], par[1], par[2]
-        for g in range(start, stop):
-            value[g] = (tau[g] / shear_modulus) * (1.0 + k * s_hi[g] / sy)
+        for g in range(n):
+            v[g] = (t[g] / shear_modulus) * (1.0 + k * s_hi[g] / sy)
     else:  # MWCM
-        for g in range(start, stop):
-            value[g] = tau[g]
+        for g in range(n):
+            v[g] = t[g]
 
 
 @numba.njit(**_JIT)
@@ -625,12 +617,15 @@ def _coarse_in_plane(m, h, xy, tr, p0, nb, nu, c2, s2, codes, par, E, best, foun
             ntr[t, b] = nu * tr[t, p0 + b]
     for g in range(n_g):
         c, s, row = c2[g], s2[g], g * nb
+        # the plane's rows as views indexed from 0 (numba wraps row + b around)
+        sh, sl = s_hi[row : row + nb], s_lo[row : row + nb]
+        er, gt = e_rng[row : row + nb], g_tau[row : row + nb]
         # the extremes the criteria read in one loop over the steps and points (measured
         # 2.4 times faster than a loop per extreme here: the step data is read once); the
         # tests outside the loops, so that each loop vectorises
         for b in range(nb):
-            s_hi[row + b], e_hi[b], t_hi[b] = -np.inf, -np.inf, -np.inf
-            s_lo[row + b], e_lo[b], t_lo[b] = np.inf, np.inf, np.inf
+            sh[b], e_hi[b], t_hi[b] = -np.inf, -np.inf, -np.inf
+            sl[b], e_lo[b], t_lo[b] = np.inf, np.inf, np.inf
         if need_strain and need_shear:
             for t in range(n_t):
                 for b in range(nb):
@@ -638,7 +633,7 @@ def _coarse_in_plane(m, h, xy, tr, p0, nb, nu, c2, s2, codes, par, E, best, foun
                     ee = m[t, p] + h[t, p] * c + xy[t, p] * s
                     en = a * (m[t, p] + h[t, p] * c + xy[t, p] * s) - ntr[t, b]
                     te = xy[t, p] * c - h[t, p] * s
-                    s_hi[row + b] = max(s_hi[row + b], ee)
+                    sh[b] = max(sh[b], ee)
                     e_hi[b], e_lo[b] = max(e_hi[b], en), min(e_lo[b], en)
                     t_hi[b], t_lo[b] = max(t_hi[b], te), min(t_lo[b], te)
         elif need_shear:
@@ -647,7 +642,7 @@ def _coarse_in_plane(m, h, xy, tr, p0, nb, nu, c2, s2, codes, par, E, best, foun
                     p = p0 + b
                     ee = m[t, p] + h[t, p] * c + xy[t, p] * s
                     te = xy[t, p] * c - h[t, p] * s
-                    s_hi[row + b] = max(s_hi[row + b], ee)
+                    sh[b] = max(sh[b], ee)
                     t_hi[b], t_lo[b] = max(t_hi[b], te), min(t_lo[b], te)
         elif need_strain:
             for t in range(n_t):
@@ -655,23 +650,23 @@ def _coarse_in_plane(m, h, xy, tr, p0, nb, nu, c2, s2, codes, par, E, best, foun
                     p = p0 + b
                     ee = m[t, p] + h[t, p] * c + xy[t, p] * s
                     en = a * (m[t, p] + h[t, p] * c + xy[t, p] * s) - ntr[t, b]
-                    s_hi[row + b] = max(s_hi[row + b], ee)
+                    sh[b] = max(sh[b], ee)
                     e_hi[b], e_lo[b] = max(e_hi[b], en), min(e_lo[b], en)
         else:
             for t in range(n_t):
                 for b in range(nb):
                     p = p0 + b
                     ee = m[t, p] + h[t, p] * c + xy[t, p] * s
-                    s_hi[row + b] = max(s_hi[row + b], ee)
+                    sh[b] = max(sh[b], ee)
         if need_lo:  # a loop of its own: with the others, measured slower (6 extremes)
             for t in range(n_t):
                 for b in range(nb):
                     p = p0 + b
                     ee = m[t, p] + h[t, p] * c + xy[t, p] * s
-                    s_lo[row + b] = min(s_lo[row + b], ee)
+                    sl[b] = min(sl[b], ee)
         for b in range(nb):
-            e_rng[row + b] = e_hi[b] - e_lo[b]
-            g_tau[row + b] = 0.5 * (t_hi[b] - t_lo[b])  # a straight path: half its range
+            er[b] = e_hi[b] - e_lo[b]
+            gt[b] = 0.5 * (t_hi[b] - t_lo[b])  # a straight path: half its range
     arg = np.empty(nb, dtype=np.int64)
     for ci in range(n_c):
         code = codes[ci]
@@ -681,9 +676,9 @@ def _coarse_in_plane(m, h, xy, tr, p0, nb, nu, c2, s2, codes, par, E, best, foun
         for b in range(nb):
             top[b], arg[b] = g_val[b], 0
         for g in range(1, n_g):  # the first plane of the largest value
-            row = g * nb
+            gv = g_val[g * nb : (g + 1) * nb]
             for b in range(nb):
-                v = g_val[row + b]
+                v = gv[b]
                 up = v > top[b]
                 top[b] = v if up else top[b]
                 arg[b] = g if up else arg[b]
@@ -693,10 +688,10 @@ def _coarse_in_plane(m, h, xy, tr, p0, nb, nu, c2, s2, codes, par, E, best, foun
                 low[b] = top[b] - _TIE * max(abs(top[b]), 1e-300)
                 high[b], arg[b] = -np.inf, 0
             for g in range(n_g):
-                row = g * nb
+                gv, sh = g_val[g * nb : (g + 1) * nb], s_hi[g * nb : (g + 1) * nb]
                 for b in range(nb):
-                    up = (g_val[row + b] >= low[b]) & (s_hi[row + b] > high[b])
-                    high[b] = s_hi[row + b] if up else high[b]
+                    up = (gv[b] >= low[b]) & (sh[b] > high[b])
+                    high[b] = sh[b] if up else high[b]
                     arg[b] = g if up else arg[b]
         shear = _needs_shear(code)
         for b in range(nb):
@@ -811,8 +806,7 @@ _S0, _S1, _S2, _S3, _S4 = -1.0 / 6.0, 1.0 / 120.0, -1.0 / 5040.0, 1.0 / 362880.0
 
 
 @numba.njit(**_JIT)
-def _evaluate(data, nb, planes, n_rep, per, codes, par, nu, E, in_plane, against, cur, work,
-              keep=None):  # fmt: skip
+def _evaluate(data, nb, planes, n_rep, per, codes, par, nu, E, against, cur, work, keep=None):
     """Quantities and values of ``n_rep`` planes per point of a block of ``nb`` points; plane
     ``r nb + b`` is point b's, of criterion ``r // per``. With ``against``, a plane that cannot
     beat its criterion's current value keeps the lower bound of its shear amplitude (the numpy
@@ -824,13 +818,6 @@ def _evaluate(data, nb, planes, n_rep, per, codes, par, nu, E, in_plane, against
     c2, s2, sp, cp, psup = planes
     out, lo, hi, tau, value, vlo, vhi, _, _ = work
     cvalue, cscale, csup = cur
-    if in_plane:
-        for r in range(n_rep):
-            _block_summaries(m, h, xy, zz, tr, nb, nu, c2, s2, sp, cp, r * nb, in_plane, out)
-        for ci in range(codes.size):
-            start, stop = ci * per * nb, (ci + 1) * per * nb
-            _in_plane_values(codes[ci], par[ci], E, out, start, stop, tau, value)
-        return
     for r in range(n_rep):
         shear = _needs_shear(codes[r // per])
         for b in range(nb):
@@ -842,29 +829,28 @@ def _evaluate(data, nb, planes, n_rep, per, codes, par, nu, E, in_plane, against
         code = codes[ci]
         start, stop = ci * per * nb, (ci + 1) * per * nb
         if _needs_shear(code):
-            _shear_bounds(out, start, stop, in_plane, lo, hi)
+            _shear_bounds(out, start, stop, False, lo, hi)
             for g in range(start, stop):
                 if keep is None or not keep[g]:
                     tau[g] = lo[g]
-            if not in_plane:
+            if against:
+                _values(code, par[ci], E, out, lo, start, stop, vlo)
+                _values(code, par[ci], E, out, hi, start, stop, vhi)
+            for g in range(start, stop):
+                if keep is not None and keep[g]:
+                    continue
+                if not hi[g] > lo[g] * (1.0 + 1e-12):
+                    psup[g, 0] = -1
+                    continue
+                b = g % nb
+                k = ci * nb + b
                 if against:
-                    _values(code, par[ci], E, out, lo, start, stop, vlo)
-                    _values(code, par[ci], E, out, hi, start, stop, vhi)
-                for g in range(start, stop):
-                    if keep is not None and keep[g]:
-                        continue
-                    if not hi[g] > lo[g] * (1.0 + 1e-12):
+                    slack = _TIE * cscale[k] if code == MWCM else 0.0
+                    if not max(vlo[g], vhi[g]) >= cvalue[k] - slack:
                         psup[g, 0] = -1
                         continue
-                    b = g % nb
-                    k = ci * nb + b
-                    if against:
-                        slack = _TIE * cscale[k] if code == MWCM else 0.0
-                        if not max(vlo[g], vhi[g]) >= cvalue[k] - slack:
-                            psup[g, 0] = -1
-                            continue
-                    psup[g, 0], psup[g, 1], psup[g, 2] = csup[k, 0], csup[k, 1], csup[k, 2]
-                    tau[g] = _exact_tau(m, h, xy, zz, b, c2[g], s2[g], sp[g], cp[g], x, y, psup[g])
+                psup[g, 0], psup[g, 1], psup[g, 2] = csup[k, 0], csup[k, 1], csup[k, 2]
+                tau[g] = _exact_tau(m, h, xy, zz, b, c2[g], s2[g], sp[g], cp[g], x, y, psup[g])
         else:
             for g in range(start, stop):
                 tau[g] = 0.0
@@ -921,7 +907,7 @@ def _keep(cres, i, value, tau, out, g, E):
 
 @numba.njit(**_JIT)
 def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles, codes, par,
-                  nu, E, steps, levels, in_plane, work):  # fmt: skip
+                  nu, E, steps, levels, work):  # fmt: skip
     """The numpy search's ``_refine`` for a block of points: every criterion's candidates of a
     level in one :func:`_evaluate`. ``cres`` (5, C nb): the current planes' quantities (value,
     tau, sigma_n max and min, normal strain amplitude), from the grid in, the final ones out:
@@ -936,7 +922,7 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
     keep = work[7]
     turn = np.empty(4)
     n_c = codes.size
-    k = 2 if in_plane else 4
+    k = 4
     out = work[0]
     value = work[4]
     # the start planes: the coarse grid's exact quantities (``cres``, kept up to date below)
@@ -963,26 +949,22 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
                         c2[i], s2[i], sp[i], cp[i], ps[i], dt, dp, turn
                     )
                     qth[g] = th[i] + dt
-        if in_plane:
-            _evaluate(data, nb, cand, n_c * k, k, codes, par, nu, E, in_plane, not last, cur,
-                      work)  # fmt: skip
-        else:
-            # not evaluated: a neighbour that is the plane itself (psi = 90 degrees: psi + hp;
-            # psi = 0, the normal z: every neighbour but psi + hp)
-            for ci in range(n_c):
-                for j in range(k):
-                    for b in range(nb):
-                        i = ci * nb + b
-                        same = ps[i] >= 0.5 * np.pi if j == 3 else ps[i] <= 0.0
-                        keep[(ci * k + j) * nb + b] = same
-            _evaluate(data, nb, cand, n_c * k, k, codes, par, nu, E, in_plane, not last, cur,
-                      work, keep)  # fmt: skip
-            for ci in range(n_c):
-                for j in range(k):
-                    for b in range(nb):
-                        i, g = ci * nb + b, (ci * k + j) * nb + b
-                        if ps[i] >= 0.5 * np.pi if j == 3 else ps[i] <= 0.0:
-                            value[g], out[0, g] = cvalue[i], second[i]  # never wins
+        # not evaluated: a neighbour that is the plane itself (psi = 90 degrees: psi + hp;
+        # psi = 0, the normal z: every neighbour but psi + hp)
+        for ci in range(n_c):
+            for j in range(k):
+                for b in range(nb):
+                    i = ci * nb + b
+                    same = ps[i] >= 0.5 * np.pi if j == 3 else ps[i] <= 0.0
+                    keep[(ci * k + j) * nb + b] = same
+        _evaluate(data, nb, cand, n_c * k, k, codes, par, nu, E, not last, cur, work,
+                  keep)  # fmt: skip
+        for ci in range(n_c):
+            for j in range(k):
+                for b in range(nb):
+                    i, g = ci * nb + b, (ci * k + j) * nb + b
+                    if ps[i] >= 0.5 * np.pi if j == 3 else ps[i] <= 0.0:
+                        value[g], out[0, g] = cvalue[i], second[i]  # never wins
         if not last:
             for ci in range(n_c):
                 code = codes[ci]
@@ -1018,15 +1000,13 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
                 i = ci * nb + b
                 g0 = (ci * k) * nb + b
                 dt = _parabola(value[g0], cvalue[i], value[g0 + nb], ht)
-                dp = 0.0
-                if not in_plane:
-                    dp = _parabola(value[g0 + 2 * nb], cvalue[i], value[g0 + 3 * nb], hp)
+                dp = _parabola(value[g0 + 2 * nb], cvalue[i], value[g0 + 3 * nb], hp)
                 _turn(dt, dp, turn)
                 q2[i], qs2[i], qsp[i], qcp[i], qps[i] = _moved(
                     c2[i], s2[i], sp[i], cp[i], ps[i], dt, dp, turn
                 )
                 qth[i] = th[i] + dt
-        _evaluate(data, nb, cand, n_c, 1, codes, par, nu, E, in_plane, True, cur, work)
+        _evaluate(data, nb, cand, n_c, 1, codes, par, nu, E, True, cur, work)
         for ci in range(n_c):
             for b in range(nb):
                 i = ci * nb + b
@@ -1042,60 +1022,58 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
 def _extreme_normal(m, h, xy, nb, c2, s2, start, o, upper):
     """Running max (``upper``) or min over the steps of sigma_n on planes ``start:start + nb``
     (plane ``start + b`` of point b) into ``o``: the steps outside, the points inside (one
-    array written per loop, so that LLVM vectorises it)."""
-    for g in range(start, start + nb):
-        o[g] = -np.inf if upper else np.inf
+    array written per loop, so that LLVM vectorises it; views indexed from 0, as
+    :func:`_values`)."""
+    o, c2, s2 = o[start : start + nb], c2[start : start + nb], s2[start : start + nb]
+    for b in range(nb):
+        o[b] = -np.inf if upper else np.inf
     if upper:  # the test outside the loops: LLVM does not unswitch every loop
         for t in range(m.shape[0]):
             for b in range(nb):
-                g = start + b
-                ee = m[t, b] + h[t, b] * c2[g] + xy[t, b] * s2[g]
-                o[g] = ee if ee > o[g] else o[g]
+                ee = m[t, b] + h[t, b] * c2[b] + xy[t, b] * s2[b]
+                o[b] = ee if ee > o[b] else o[b]
         return
     for t in range(m.shape[0]):
         for b in range(nb):
-            g = start + b
-            ee = m[t, b] + h[t, b] * c2[g] + xy[t, b] * s2[g]
-            o[g] = ee if ee < o[g] else o[g]
+            ee = m[t, b] + h[t, b] * c2[b] + xy[t, b] * s2[b]
+            o[b] = ee if ee < o[b] else o[b]
 
 
 @numba.njit(inline="always", **_LOOPS)
 def _extreme_strain(m, h, xy, tr, nb, nu, c2, s2, start, o, upper):
     """:func:`_extreme_normal` of E eps_n = (1 + nu) sigma_n - nu tr."""
     a = 1.0 + nu
-    for g in range(start, start + nb):
-        o[g] = -np.inf if upper else np.inf
+    o, c2, s2 = o[start : start + nb], c2[start : start + nb], s2[start : start + nb]
+    for b in range(nb):
+        o[b] = -np.inf if upper else np.inf
     if upper:  # the test outside the loops: LLVM does not unswitch every loop
         for t in range(m.shape[0]):
             for b in range(nb):
-                g = start + b
-                en = a * (m[t, b] + h[t, b] * c2[g] + xy[t, b] * s2[g]) - nu * tr[t, b]
-                o[g] = en if en > o[g] else o[g]
+                en = a * (m[t, b] + h[t, b] * c2[b] + xy[t, b] * s2[b]) - nu * tr[t, b]
+                o[b] = en if en > o[b] else o[b]
         return
     for t in range(m.shape[0]):
         for b in range(nb):
-            g = start + b
-            en = a * (m[t, b] + h[t, b] * c2[g] + xy[t, b] * s2[g]) - nu * tr[t, b]
-            o[g] = en if en < o[g] else o[g]
+            en = a * (m[t, b] + h[t, b] * c2[b] + xy[t, b] * s2[b]) - nu * tr[t, b]
+            o[b] = en if en < o[b] else o[b]
 
 
 @numba.njit(inline="always", **_LOOPS)
 def _extreme_shear(m, h, xy, nb, c2, s2, start, o, upper):
     """:func:`_extreme_normal` of tau_e."""
-    for g in range(start, start + nb):
-        o[g] = -np.inf if upper else np.inf
+    o, c2, s2 = o[start : start + nb], c2[start : start + nb], s2[start : start + nb]
+    for b in range(nb):
+        o[b] = -np.inf if upper else np.inf
     if upper:  # the test outside the loops: LLVM does not unswitch every loop
         for t in range(m.shape[0]):
             for b in range(nb):
-                g = start + b
-                te = xy[t, b] * c2[g] - h[t, b] * s2[g]
-                o[g] = te if te > o[g] else o[g]
+                te = xy[t, b] * c2[b] - h[t, b] * s2[b]
+                o[b] = te if te > o[b] else o[b]
         return
     for t in range(m.shape[0]):
         for b in range(nb):
-            g = start + b
-            te = xy[t, b] * c2[g] - h[t, b] * s2[g]
-            o[g] = te if te < o[g] else o[g]
+            te = xy[t, b] * c2[b] - h[t, b] * s2[b]
+            o[b] = te if te < o[b] else o[b]
 
 
 @numba.njit(inline="always", **_LOOPS)
@@ -1105,26 +1083,47 @@ def _fused_extremes(m, h, xy, tr, nb, nu, c2, s2, start, out, strain):
     and points: the step data and planes read once (measured faster than a loop per
     extreme), the same numbers."""
     a = 1.0 + nu
-    o0 = out[0]
-    o_hi, o_lo = (out[2], out[3]) if strain else (out[4], out[5])
-    for g in range(start, start + nb):
-        o0[g], o_hi[g], o_lo[g] = -np.inf, -np.inf, np.inf
+    stop = start + nb
+    o0, c2, s2 = out[0, start:stop], c2[start:stop], s2[start:stop]
+    o_hi, o_lo = (out[2, start:stop], out[3, start:stop]) if strain else \
+        (out[4, start:stop], out[5, start:stop])  # fmt: skip
+    for b in range(nb):
+        o0[b], o_hi[b], o_lo[b] = -np.inf, -np.inf, np.inf
     if strain:  # the test outside the loops: LLVM does not unswitch every loop
         for t in range(m.shape[0]):
             for b in range(nb):
-                g = start + b
-                ee = m[t, b] + h[t, b] * c2[g] + xy[t, b] * s2[g]
-                en = a * (m[t, b] + h[t, b] * c2[g] + xy[t, b] * s2[g]) - nu * tr[t, b]
-                o0[g] = max(o0[g], ee)
-                o_hi[g], o_lo[g] = max(o_hi[g], en), min(o_lo[g], en)
+                ee = m[t, b] + h[t, b] * c2[b] + xy[t, b] * s2[b]
+                en = a * (m[t, b] + h[t, b] * c2[b] + xy[t, b] * s2[b]) - nu * tr[t, b]
+                o0[b] = max(o0[b], ee)
+                o_hi[b], o_lo[b] = max(o_hi[b], en), min(o_lo[b], en)
         return
     for t in range(m.shape[0]):
         for b in range(nb):
-            g = start + b
-            ee = m[t, b] + h[t, b] * c2[g] + xy[t, b] * s2[g]
-            te = xy[t, b] * c2[g] - h[t, b] * s2[g]
-            o0[g] = max(o0[g], ee)
-            o_hi[g], o_lo[g] = max(o_hi[g], te), min(o_lo[g], te)
+            ee = m[t, b] + h[t, b] * c2[b] + xy[t, b] * s2[b]
+            te = xy[t, b] * c2[b] - h[t, b] * s2[b]
+            o0[b] = max(o0[b], ee)
+            o_hi[b], o_lo[b] = max(o_hi[b], te), min(o_lo[b], te)
+
+
+@numba.njit(inline="always", **_LOOPS)
+def _final_extremes(m, h, xy, tr, nb, nu, c2, s2, start, out):
+    """sigma_n's minimum and E eps_n's maximum and minimum on planes ``start:start + nb``
+    into rows 1-3 of ``out`` in one loop over the steps and points (the expressions and
+    selects of :func:`_extreme_normal` and :func:`_extreme_strain`: the same numbers, the step
+    data read once)."""
+    a = 1.0 + nu
+    stop = start + nb
+    s_lo, e_hi, e_lo = out[1, start:stop], out[2, start:stop], out[3, start:stop]
+    c2, s2 = c2[start:stop], s2[start:stop]
+    for b in range(nb):
+        s_lo[b], e_hi[b], e_lo[b] = np.inf, -np.inf, np.inf
+    for t in range(m.shape[0]):
+        for b in range(nb):
+            ee = m[t, b] + h[t, b] * c2[b] + xy[t, b] * s2[b]
+            en = a * (m[t, b] + h[t, b] * c2[b] + xy[t, b] * s2[b]) - nu * tr[t, b]
+            s_lo[b] = ee if ee < s_lo[b] else s_lo[b]
+            e_hi[b] = en if en > e_hi[b] else e_hi[b]
+            e_lo[b] = en if en < e_lo[b] else e_lo[b]
 
 
 @numba.njit(**_LOOPS)
@@ -1190,7 +1189,15 @@ def _golden_in_plane(m, h, xy, tr, nb, codes, par, nu, E, step, levels, c2, s2, 
                     f_lo[i] = value[i]
                 else:
                     f_hi[i] = value[i]
-    s_hi = out[0]
+    s_hi, e_hi, e_lo = out[0], out[2], out[3]
+    # per plane: its criterion is MWCM, reads the strain; it moves at this iteration
+    flags = np.empty((3, n), dtype=np.bool_)
+    is_mwcm, is_strain, up = flags[0], flags[1], flags[2]
+    for ci in range(n_c):
+        code = codes[ci]
+        for b in range(nb):
+            is_mwcm[ci * nb + b] = code == MWCM
+            is_strain[ci * nb + b] = code == SWT or code == STRAIN_LIFE
     for level in range(levels + 2):
         last = level == levels + 1
         if last:  # the vertex of the parabola through the ends and the current plane
@@ -1210,52 +1217,59 @@ def _golden_in_plane(m, h, xy, tr, nb, codes, par, nu, E, step, levels, c2, s2, 
             tc = 1.0 + d2 * (_C0 + d2 * (_C1 + d2 * (_C2 + d2 * (_C3 + d2 * _C4))))
             ts = d + d * (d2 * (_S0 + d2 * (_S1 + d2 * (_S2 + d2 * (_S3 + d2 * _S4)))))
             q2[i], qs2[i] = c2[i] * tc - s2[i] * ts, s2[i] * tc + c2[i] * ts
+        far = False  # a test of every plane first (vectorised), the branches only if needed
         for i in range(n):
-            if qx[i] == 0.0:
-                q2[i], qs2[i] = c2[i], s2[i]
-            elif abs(2.0 * qx[i]) >= 0.1:
+            q2[i] = c2[i] if qx[i] == 0.0 else q2[i]
+            qs2[i] = s2[i] if qx[i] == 0.0 else qs2[i]
+            far = far | (abs(2.0 * qx[i]) >= 0.1)
+        for i in range(n if far else 0):
+            if abs(2.0 * qx[i]) >= 0.1:
                 tc, ts = math.cos(2.0 * qx[i]), math.sin(2.0 * qx[i])
                 q2[i], qs2[i] = c2[i] * tc - s2[i] * ts, s2[i] * tc + c2[i] * ts
         _in_plane_summaries(m, h, xy, tr, nb, nu, codes, par, q2, qs2, out, False)
         for ci in range(n_c):
-            code, start, stop = codes[ci], ci * nb, (ci + 1) * nb
-            _in_plane_values(code, par[ci], E, out, start, stop, tau, value)
-            mwcm = code == MWCM
-            strain = code == SWT or code == STRAIN_LIFE
-            for b in range(nb):
-                i = start + b
-                x, v, cv = qx[i], value[i], cvalue[i]
-                tol = _TIE * cscale[i]
-                if mwcm:
-                    up = (v > cv + tol) | ((v >= cv - tol) & (s_hi[i] > second[i]))
-                else:
-                    up = v > cv
+            _in_plane_values(codes[ci], par[ci], E, out, ci * nb, (ci + 1) * nb, tau, value)
+        # the update, every criterion's planes in loops indexed from 0 (an index ci nb + b
+        # may be negative for numba: gathers and scatters), each writing few arrays
+        for i in range(n):
+            v, cv = value[i], cvalue[i]
+            tol = _TIE * cscale[i]
+            tied = (v > cv + tol) | ((v >= cv - tol) & (s_hi[i] > second[i]))
+            up[i] = tied if is_mwcm[i] else v > cv
+        if not last:
+            for i in range(n):
+                x, v, cv, u = qx[i], value[i], cvalue[i], up[i]
                 r = hi[i] > -lo[i]
-                ur, u_r, _ur, _u_r = up & r, up & ~r, ~up & r, ~up & ~r
-                if not last:
-                    l0, h0 = lo[i], hi[i]
-                    lo[i] = -x if ur else (l0 - x if u_r else (x if _u_r else l0))
-                    hi[i] = h0 - x if ur else (-x if u_r else (x if _ur else h0))
-                    f_lo[i] = cv if ur else (v if _u_r else f_lo[i])
-                    f_hi[i] = cv if u_r else (v if _ur else f_hi[i])
-                th[i] = th[i] + x if up else th[i]
-                c2[i] = q2[i] if up else c2[i]
-                s2[i] = qs2[i] if up else s2[i]
-                cvalue[i] = v if up else cv
-                second[i] = s_hi[i] if up else second[i]
-                ctau[i] = tau[i] if up else ctau[i]
-                amp = 0.5 * (out[2, i] - out[3, i]) / E  # read where the criterion's value is
-                camp[i] = amp if up and strain else camp[i]
+                ur, u_r, _ur, _u_r = u & r, u & ~r, ~u & r, ~u & ~r
+                l0, h0 = lo[i], hi[i]
+                lo[i] = -x if ur else (l0 - x if u_r else (x if _u_r else l0))
+                hi[i] = h0 - x if ur else (-x if u_r else (x if _ur else h0))
+                f_lo[i] = cv if ur else (v if _u_r else f_lo[i])
+                f_hi[i] = cv if u_r else (v if _ur else f_hi[i])
+        for i in range(n):
+            u = up[i]
+            th[i] = th[i] + qx[i] if u else th[i]
+            c2[i] = q2[i] if u else c2[i]
+            s2[i] = qs2[i] if u else s2[i]
+        for i in range(n):
+            u = up[i]
+            cvalue[i] = value[i] if u else cvalue[i]
+            second[i] = s_hi[i] if u else second[i]
+            ctau[i] = tau[i] if u else ctau[i]
+            amp = 0.5 * (e_hi[i] - e_lo[i]) / E  # read where the criterion's value is
+            camp[i] = amp if u and is_strain[i] else camp[i]
     # the critical planes' quantities: those of their winning iteration, sigma_n's minimum
     # and (where the value does not read it) the strain's range once on the final planes
     for ci in range(n_c):
         code, start = codes[ci], ci * nb
-        _extreme_normal(m, h, xy, nb, c2, s2, start, out[1], False)
-        if not (code == SWT or code == STRAIN_LIFE):
-            _extreme_strain(m, h, xy, tr, nb, nu, c2, s2, start, out[2], True)
-            _extreme_strain(m, h, xy, tr, nb, nu, c2, s2, start, out[3], False)
-            for i in range(start, start + nb):
-                camp[i] = 0.5 * (out[2, i] - out[3, i]) / E
+        if code == SWT or code == STRAIN_LIFE:
+            _extreme_normal(m, h, xy, nb, c2, s2, start, out[1], False)
+            continue
+        _final_extremes(m, h, xy, tr, nb, nu, c2, s2, start, out)
+        e_hi, e_lo, amp = out[2, start : start + nb], out[3, start : start + nb], \
+            camp[start : start + nb]  # fmt: skip
+        for b in range(nb):
+            amp[b] = 0.5 * (e_hi[b] - e_lo[b]) / E
     for i in range(n):
         cres[0, i], cres[1, i], cres[2, i] = cvalue[i], ctau[i], second[i]
         cres[3, i], cres[4, i] = out[1, i], camp[i]
@@ -1351,13 +1365,16 @@ def search(
     th, ps = cur_angles
     for p0 in range(0, n_p, nb_max):
         nb = min(nb_max, n_p - p0)
+        # the block's points as a view indexed from 0 (an index p0 + b numba cannot prove
+        # non-negative is wrapped around, a select in every load; so are the outputs below)
+        block = stress[:, p0 : p0 + nb]
         for t in range(n_t):
             for b in range(nb):
-                sxx, syy = stress[t, p0 + b, 0], stress[t, p0 + b, 1]
+                sxx, syy = block[t, b, 0], block[t, b, 1]
                 m[t, b] = 0.5 * (sxx + syy)
                 h[t, b] = 0.5 * (sxx - syy)
-                xy[t, b] = stress[t, p0 + b, 2]
-                zz[t, b] = stress[t, p0 + b, 3]
+                xy[t, b] = block[t, b, 2]
+                zz[t, b] = block[t, b, 3]
                 tr[t, b] = 2.0 * m[t, b] + zz[t, b]
         if in_plane:  # the block's points in one call (:func:`_coarse_in_plane`)
             _coarse_in_plane(m, h, xy, tr, 0, nb, nu, grid[0], grid[1], codes, par, E,
@@ -1384,8 +1401,7 @@ def search(
             # double (the numpy search evaluates its start planes so too)
             for i in range(n_c * nb):
                 cur_planes[4][i, 0] = -1
-            _evaluate(data, nb, cur_planes, n_c, 1, codes, par, nu, E, in_plane, False, cur,
-                      work)  # fmt: skip
+            _evaluate(data, nb, cur_planes, n_c, 1, codes, par, nu, E, False, cur, work)
             for i in range(n_c * nb):
                 _keep(cres, i, work[4], work[3], work[0], i, E)
         if in_plane:
@@ -1394,7 +1410,7 @@ def search(
                              work[4])  # fmt: skip
         else:
             _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles,
-                          codes, par, nu, E, steps, levels, in_plane, work)  # fmt: skip
+                          codes, par, nu, E, steps, levels, work)  # fmt: skip
         # a criterion whose search needs no shear reports its plane's exact shear amplitude
         for ci in range(n_c):
             if _needs_shear(codes[ci]):
@@ -1405,10 +1421,12 @@ def search(
                     m, h, xy, zz, b, c2[i], s2[i], sp[i], cp[i], data[5], data[6], sup
                 )
         for ci in range(n_c):
+            theta_c, psi_c = theta_out[ci, p0 : p0 + nb], psi_out[ci, p0 : p0 + nb]
             for b in range(nb):
-                i = ci * nb + b
-                theta_out[ci, p0 + b] = th[i]
-                psi_out[ci, p0 + b] = ps[i]
-                for r in range(5):
-                    res_out[r, ci, p0 + b] = cres[r, i]
+                theta_c[b] = th[ci * nb + b]
+                psi_c[b] = ps[ci * nb + b]
+            for r in range(5):
+                res_c = res_out[r, ci, p0 : p0 + nb]
+                for b in range(nb):
+                    res_c[b] = cres[r, ci * nb + b]
     return theta_out, psi_out, res_out
