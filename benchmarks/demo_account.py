@@ -16,7 +16,7 @@ first, as ``pip install`` leaves it (``workflows.compile_tree``; ``--source-only
 and then every process compiles fretbem's modules again where PYTHONDONTWRITEBYTECODE is set,
 ~0.2 s CPU that the import row would show)::
 
-    OPENBLAS_NUM_THREADS=1 python benchmarks/demo_account.py --runs 5 [--before /tmp/old] [--builtin]
+    OPENBLAS_NUM_THREADS=1 python benchmarks/demo_account.py --runs 5 [--before DIR] [--builtin]
 """
 
 from __future__ import annotations
