@@ -260,3 +260,41 @@ def test_mirrored_maps_share_one_product(direct, monkeypatch):
     assert np.max(np.abs(step - expected)) <= 1e-12 * np.max(np.abs(expected))
     tangential[3, n + 5] *= 1.0 + 1e-15  # no longer mirrored exactly: two products
     assert NewtonLinear(normal, tangential, resultant, f, r_n, r_t).maps.mirrored is None
+
+
+@pytest.mark.parametrize("n", [30, 80])
+@pytest.mark.parametrize("uncoupled", [False, True])
+@pytest.mark.parametrize("direct", [False, True])
+def test_a_small_pattern_keeps_the_large_factor_aside(n, uncoupled, direct, monkeypatch):
+    """Every pair in contact, then a few (the start of a cycle), then every pair again: the
+    small pattern's LU is made with the large one kept aside, which the third step takes
+    back, bit for bit what a fresh solver gives; a pattern a few pairs from it borders it
+    (a small system factorises it); a large new pattern drops the spare. Every step equals
+    the full dense solve's."""
+    monkeypatch.setattr(newton_linear, "DIRECT_BELOW", 10**9 if direct else 0)
+    if uncoupled:
+        monkeypatch.setattr(newton_linear, "SPLIT_FROM", 0)
+    rng = np.random.default_rng(300 + n)
+    make = uncoupled_problem if uncoupled else (lambda r, k, s: problem(r, k, 2, s))
+    everywhere = np.full(n, STICK)
+    normal, tangential, resultant, _, direction, _ = make(rng, n, everywhere)
+    few = np.full(n, SEPARATED)
+    few[n // 2 - 3 : n // 2 + 3] = STICK
+    near = everywhere.copy()
+    near[[1, n - 2]] = SLIP
+    far = np.repeat([SEPARATED, SLIP, STICK], [n // 3, n // 3, n - 2 * (n // 3)])
+    f, r_n, r_t = 0.3, 1.7, 0.8
+    linear = NewtonLinear(normal, tangential, resultant, f, r_n, r_t)
+    for states, factorisations, spare in ((everywhere, 1, False), (few, 2, True),
+                                          (everywhere, 2, True), (near, 2 + direct, not direct),
+                                          (far, 3 + direct, False)):  # fmt: skip
+        residual = rng.standard_normal(2 * n + 2)
+        jac = full_jacobian(normal, tangential, resultant, states, direction, f, r_n, r_t)
+        expected = np.linalg.solve(jac, -residual)
+        step = linear.step(residual, states, direction)
+        assert np.max(np.abs(step - expected)) <= 1e-12 * np.max(np.abs(expected))
+        if states is everywhere:
+            fresh = NewtonLinear(normal, tangential, resultant, f, r_n, r_t)
+            assert np.array_equal(step, fresh.step(residual, states, direction))
+        assert linear.factorisations == factorisations
+        assert (linear.spare is not None) == spare
