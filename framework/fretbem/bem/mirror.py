@@ -26,6 +26,8 @@ import numpy as np
 
 from fretbem.basis import Basis
 
+from .mirror_split import Index
+
 #: largest mismatch of a mirrored point, function value or Jacobian, relative to the body's
 #: size (the reference pad is symmetric to 1.5e-14 of its height)
 TOLERANCE = 1e-11
@@ -95,6 +97,10 @@ def _mirrors(a: tuple, b: tuple, tol: float) -> bool:
     )
 
 
+#: above this many filled rows :func:`fill` works in chunks of it by strided slices
+FILL_CHUNK = 512
+
+
 def integrated_rows(q: np.ndarray, points: np.ndarray) -> np.ndarray:
     """Whether each row is integrated: one of each mirrored pair, the one with the larger
     x y (the smaller index on a tie), and every row that is its own mirror."""
@@ -113,8 +119,30 @@ def fill(matrix: np.ndarray, q: np.ndarray, integrated: np.ndarray) -> None:
     source = (2 * q[missing][:, None] + np.arange(2)).ravel()
     columns = (2 * q[:, None] + np.arange(2)).ravel()
     sign = np.tile([-1.0, 1.0], len(q))
+    if len(dofs) > FILL_CHUNK:
+        _fill_by_slices(matrix, dofs, source, columns, sign)
+        return
     # take along each axis (3x faster than fancy indexing twice); the sign product s_i s_j
     # is +-1, so one multiply gives the same numbers, signed zeros included
     block = matrix.take(source, axis=0).take(columns, axis=1)
     block *= np.multiply.outer(sign[dofs], sign)
     matrix[dofs] = block
+
+
+def _fill_by_slices(matrix, dofs, source, columns, sign) -> None:
+    """:func:`fill` of a large matrix, FILL_CHUNK rows at a time through reused buffers, the
+    rows and columns gathered by strided slices (a mirror reverses whole segments:
+    :class:`~fretbem.bem.mirror_split.Index`) where fancy indexing gathered every entry and
+    held two copies of half the matrix; multiplying by s_j and then by s_i (each +-1) gives
+    the numbers of one multiply by s_i s_j, signed zeros included."""
+    width = matrix.shape[1]
+    rows, block = np.empty((FILL_CHUNK, width)), np.empty((FILL_CHUNK, width))
+    take_columns = Index(columns)
+    for start in range(0, len(dofs), FILL_CHUNK):
+        cut = slice(start, start + FILL_CHUNK)
+        m = len(dofs[cut])
+        Index(source[cut]).take(matrix, 0, rows[:m])
+        take_columns.take(rows[:m], 1, block[:m])
+        block[:m] *= sign
+        block[:m] *= sign[dofs[cut], None]
+        Index(dofs[cut]).put(matrix, block[:m], 0)

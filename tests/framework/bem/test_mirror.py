@@ -68,3 +68,24 @@ def test_an_asymmetric_body_integrates_every_row(monkeypatch):
     assembly.BLOCKS.clear()
     attrs.evolve(body).matrices()
     assert calls == []
+
+
+@pytest.mark.parametrize("chunk", [3, 16])
+def test_a_large_fill_by_slices_equals_the_gathered_fill(monkeypatch, chunk):
+    """Above FILL_CHUNK rows the fill goes chunk by chunk through strided slices: the same
+    numbers, signed zeros included, as the one gathered fill (segments reversed whole, a
+    row that is its own mirror, zeros of both signs)."""
+    rng = np.random.default_rng(3)
+    n = 40
+    q = np.r_[np.arange(19, -1, -1), 20, np.arange(39, 20, -1)]  # two reversed runs, 20 own
+    points = np.c_[np.linspace(-1.0, 1.0, n), np.ones(n)]
+    integrated = mirror.integrated_rows(q, points)
+    matrix = rng.standard_normal((2 * n, 2 * n))
+    matrix[::7, ::5] = 0.0
+    matrix[::11, ::3] = -0.0
+    gathered, sliced = matrix.copy(), matrix.copy()
+    mirror.fill(gathered, q, integrated)  # 2 * (n // 2) rows < FILL_CHUNK: gathered
+    monkeypatch.setattr(mirror, "FILL_CHUNK", chunk)
+    mirror.fill(sliced, q, integrated)
+    assert np.array_equal(gathered, sliced)
+    assert np.array_equal(np.signbit(gathered), np.signbit(sliced))
