@@ -382,8 +382,9 @@ WORKFLOW_READING = (
     "(`benchmarks/adaptive_cost.py --before`, 3 processes x 3 rounds, load 2.2-2.6): 88243ee",
     "3.70, 4.07, 4.14 per process; now 3.11, 2.73, 2.89 (median 2.89). 3,841 pairs",
     "(`benchmarks/large_problems.py --sizes 3841 --runs 1`, load 0.9): 61.3 s CPU (assembly",
-    "7.7, factorisation 17.2, condensation 26.6, steps 27.0; peak 3,336 MiB), 95.0 s at",
-    "88243ee. The demo's default compares every installed family: on a machine with",
+    "7.7, factorisation 17.2, condensation 26.6, steps 27.0; peak 3,336 MiB; 60.3-66.1 s in",
+    "four runs of that day), 95.0 s at 88243ee. The demo's default compares every installed",
+    "family: on a machine with",
     "`examples/custom_basis` installed it solves and draws a third family; `pip install . &&",
     "fretbem demo` on a fresh machine runs the built-in two (the built-in row).",
 )
