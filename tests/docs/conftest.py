@@ -5,7 +5,9 @@ from __future__ import annotations
 
 import importlib
 import importlib.util
+import os
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -36,6 +38,26 @@ def _start_site_build() -> None:
     with open(folder / "stdout.txt", "w") as out, open(folder / "stderr.txt", "w") as err:
         process = subprocess.Popen(site_build_command(folder), stdout=out, stderr=err)
     _site_build.update(process=process, folder=folder)
+    if signal.getsignal(signal.SIGTERM) in (signal.SIG_DFL, None):
+        signal.signal(signal.SIGTERM, _terminate)
+
+
+def _stop_site_build() -> None:
+    """Kill a build still running and remove its files."""
+    if not _site_build:
+        return
+    process = _site_build.pop("process")
+    if process.poll() is None:
+        process.kill()
+        process.wait()
+    shutil.rmtree(_site_build.pop("folder"), ignore_errors=True)
+
+
+def _terminate(signum, frame) -> None:
+    """A test session stopped by SIGTERM stops its build too, then ends as SIGTERM would."""
+    _stop_site_build()
+    signal.signal(signum, signal.SIG_DFL)
+    os.kill(os.getpid(), signum)
 
 
 def pytest_collection_modifyitems(session, config, items):
@@ -55,13 +77,7 @@ def pytest_collection_finish(session):
 
 def pytest_sessionfinish(session):
     """Stop a build still running (an interrupted or failed-early session); remove its files."""
-    if not _site_build:
-        return
-    process = _site_build.pop("process")
-    if process.poll() is None:
-        process.kill()
-        process.wait()
-    shutil.rmtree(_site_build.pop("folder"), ignore_errors=True)
+    _stop_site_build()
 
 
 @pytest.fixture
