@@ -74,7 +74,7 @@ def _mirrored(curve: NurbsCurve) -> NurbsCurve:
     around the body): exactly, coordinate by coordinate."""
     back = curve.reversed()
     points = back.control_points * [-1.0, 1.0] + 0.0  # + 0.0: x = 0 stays 0, not -0
-    return NurbsCurve(back.degree, back.knots, points, back.weights)
+    return NurbsCurve.exact_image(back, back.knots, points, back.weights)
 
 
 def _symmetric(curve: NurbsCurve) -> NurbsCurve:
@@ -84,8 +84,8 @@ def _symmetric(curve: NurbsCurve) -> NurbsCurve:
     points, weights = curve.control_points, curve.weights
     x = (points[:, 0] - points[::-1, 0]) * 0.5 + 0.0
     y = (points[:, 1] + points[::-1, 1]) * 0.5
-    return NurbsCurve(
-        curve.degree, curve.knots, np.column_stack([x, y]), (weights + weights[::-1]) * 0.5
+    return NurbsCurve.exact_image(
+        curve, curve.knots, np.column_stack([x, y]), (weights + weights[::-1]) * 0.5
     )
 
 
@@ -109,7 +109,7 @@ def _point_image(pad_curve: NurbsCurve, own: NurbsCurve, radius: float) -> Nurbs
         and np.array_equal(pad_curve.weights, own.weights)
         and _within(image, own.control_points, 1e-12 * radius)
     )
-    return NurbsCurve(own.degree, own.knots, image, own.weights) if same else own
+    return NurbsCurve.exact_image(own, own.knots, image, own.weights) if same else own
 
 
 def _arc_specimen_boundary(face: list[Segment], half: float, h: float) -> Boundary:
