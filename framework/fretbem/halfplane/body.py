@@ -16,6 +16,7 @@ import numpy as np
 
 from fretbem import registry as bases
 from fretbem.basis import Basis, Refinement
+from fretbem.bem import images
 from fretbem.body import BlockRotation, Body, ContactFace, ContactResponse
 from fretbem.conditions import LoadingBlock
 from fretbem.geometry.nurbs import NurbsCurve
@@ -186,10 +187,15 @@ class HalfPlaneBody(Body):
 
     @property
     def surface(self) -> HalfPlaneSurface:
-        """The discretised surface operator (computed once)."""
+        """The discretised surface operator (computed once).
+
+        A face whose curve is the point image of one discretised before (the specimen of
+        two similar cylinders, the pad's face reflected through the origin) takes that
+        discretisation reflected: the same numbers, without discretising again
+        (:func:`fretbem.bem.images.discretise`)."""
         if "surface" not in self._cache:
             family = bases.get(self.basis)
-            parts = [family.discretise(curve, self.refinement) for curve in self.curves]
+            parts = [images.discretise(family, curve, self.refinement) for curve in self.curves]
             face = parts[0] if len(parts) == 1 else JoinedFace(parts)
             self._cache["surface"] = HalfPlaneSurface(
                 face, self.material, self.side, self.datum, self.bulk_origin,

@@ -34,9 +34,25 @@ SIDES = ("lower", "upper")
 #: augmentation parameters are scaled by (d0 = 0.1 mm made it cycle at 61 pairs)
 DEFAULT_DATUM = 10.0
 
-#: Gauss-Legendre points per (sub)interval and Gauss-log points per singular piece
+#: Gauss-Legendre points per element of the face's own integrals (the face check, force and
+#: moment weights) and of the influence integrals of elements within FAR_RATIO but at least
+#: CLOSE_RATIO of their lengths from a field point: ln's singularity then lies outside the
+#: Bernstein ellipse rho = 1.9 + sqrt(1.9^2 - 1) = 3.52, so the rule's relative error is
+#: about rho^(-2 SMOOTH_POINTS) = 8e-14. CLOSE_RATIO is under one half so that on a uniform
+#: face, whose nodes sit mid-element in the parameter (half an element from the neighbours'
+#: ends in x to within the curvature's 2e-6), the neighbours take this rule, not the graded
+#: pieces
 SMOOTH_POINTS = 12
-LOG_POINTS = 12
+CLOSE_RATIO = 0.45
+#: Gauss-Legendre points per (sub)interval of the influence integrals nearer than that, and
+#: Gauss-log points per singular piece: each integrand there is smooth (the shape functions
+#: times ln of a distance at least the piece's length away, or times ln(r / t), analytic),
+#: so 8 and 6 points reach round-off. With these rules the integrals lie within 3.7e-14 of
+#: their largest entry from a 30-point converged quadrature (nurbs degree 2-4 and lagrange2
+#: faces of 21-481 pairs, at the nodes and at random surface points; 4e-14 with 12 points
+#: everywhere and no CLOSE_RATIO rule)
+NEAR_POINTS = 8
+LOG_POINTS = 6
 #: elements at least FAR_RATIO of their lengths from a field point take FAR_POINTS
 #: Gauss-Legendre points: ln's singularity then lies beyond the Bernstein ellipse
 #: rho = 2 FAR_RATIO + 1 + sqrt((2 FAR_RATIO + 1)^2 - 1) = 15.9, so the rule's relative error
@@ -208,11 +224,13 @@ def surface_integrals(face: Basis, x, datum: float = 1.0, at=None) -> SurfaceInt
     element then needs no search for the local coordinate.
 
     Elements at least FAR_RATIO lengths away use a FAR_POINTS Gauss-Legendre rule, nearer
-    ones but at least their own length away a SMOOTH_POINTS rule (both vectorised over every
-    field point; the ln kernel's nearest singularity bounds either rule's error near 1e-15
-    of the element's integral); a nearer element is split at the field point, with a
-    Gauss-log rule for ln t on each piece, or graded geometrically toward the field point
-    when it lies just outside.
+    ones but at least CLOSE_RATIO of their length away a SMOOTH_POINTS rule (both
+    vectorised over every field point; the ln kernel's nearest singularity bounds either
+    rule's error near 1e-14 of the element's integral); a nearer element is split at the
+    field point, with a Gauss-log rule for ln t on each piece, or graded geometrically
+    toward the field point when it lies just outside. On a uniform face with its nodes in
+    the middle of their elements every neighbour lies half an element away or more: only
+    each node's own element is split, none is graded.
     """
     x = np.asarray(x, dtype=float).ravel()
     smooth = QuadratureRule.gauss_legendre(SMOOTH_POINTS)
@@ -237,14 +255,15 @@ def surface_integrals(face: Basis, x, datum: float = 1.0, at=None) -> SurfaceInt
     kernel = _log_kernel(x[None, :, None], xq_c[:, None, :], datum)
     log_el = np.matmul(kernel, weighted_c).transpose(1, 0, 2)  # (points, elements, local)
     del kernel
-    mid_k, mid_e = np.nonzero((distance < FAR_RATIO * length[None, :]) & (distance >= length))
+    close = CLOSE_RATIO * length[None, :]
+    mid_k, mid_e = np.nonzero((distance < FAR_RATIO * length[None, :]) & (distance >= close))
     if mid_k.size:
         kernel = _log_kernel(x[mid_k, None], xq_s[mid_e], datum)
         log_el[mid_k, mid_e] = np.einsum("pg,pga->pa", kernel, weighted_s[mid_e])
     moments = weighted_s.sum(axis=1)
     centre = 0.5 * (left + right)
     sign, before = _far_sign(face, x, centre, moments)
-    near_k, near_e = np.nonzero(distance < length[None, :])
+    near_k, near_e = np.nonzero(distance < close)
     if near_k.size:
         known = None
         if at is not None:  # the local coordinate of a point in its own element
@@ -344,7 +363,7 @@ def _split(face: Basis, e, xk, datum, ends, known=None):
             star[unknown] = _invert(face, e[unknown], xk[unknown])
     star = np.where(np.abs(xk - ends[:, 0]) <= tol, -1.0, star)
     star = np.where(np.abs(xk - ends[:, 1]) <= tol, 1.0, star)
-    smooth = QuadratureRule.gauss_legendre(SMOOTH_POINTS)
+    smooth = QuadratureRule.gauss_legendre(NEAR_POINTS)
     log_rule = QuadratureRule.gauss_log(LOG_POINTS)
     t_smooth, w_smooth = 0.5 * (smooth.points + 1.0), 0.5 * smooth.weights
     n_s = t_smooth.size
@@ -370,7 +389,7 @@ def _split(face: Basis, e, xk, datum, ends, known=None):
 def _graded(face: Basis, e, xk, datum, ends):
     """Field points just outside: pieces growing geometrically from the near end, each as
     long as its distance to the field point, so one Gauss-Legendre rule resolves ln on each."""
-    smooth = QuadratureRule.gauss_legendre(SMOOTH_POINTS)
+    smooth = QuadratureRule.gauss_legendre(NEAR_POINTS)
     t_smooth, w_smooth = 0.5 * (smooth.points + 1.0), 0.5 * smooth.weights
     to_end = np.abs(xk[:, None] - ends)
     near_end = np.where(to_end[:, 0] < to_end[:, 1], -1.0, 1.0)

@@ -8,11 +8,14 @@ half-plane idealisation of a non-conformal contact (Johnson 1985, sec. 4.1).
 
 from __future__ import annotations
 
+import weakref
+
 import attrs
 import numpy as np
 import scipy.linalg as sla
 
 from fretbem.basis import Basis
+from fretbem.bem import images
 from fretbem.body import interleaved_map
 from fretbem.material import Material
 from fretbem.numerics.scatter import added_at
@@ -85,13 +88,18 @@ class HalfPlaneSurface:
     def points(self) -> np.ndarray:
         """Node positions (n, 2): the face's collocation points."""
         if "points" not in self._cache:
-            elements, local = self.face.collocation()
-            mapped = self.face.map(elements, local)
-            points = mapped.points
+            nodes = _image_nodes(self.face)
+            if nodes is None:
+                elements, local = self.face.collocation()
+                mapped = self.face.map(elements, local)
+                nodes = (mapped.points, elements, mapped.values)
+                if isinstance(self.face, Basis):
+                    _NODES[self.face] = nodes
+            points, elements, values = nodes
             points.setflags(write=False)
             self._cache["points"] = points
             if _plain_collocation(self.face):  # E is these shape values, scattered
-                self._cache["node_values"] = (elements, mapped.values)
+                self._cache["node_values"] = (elements, values)
         return self._cache["points"]
 
     @property
@@ -155,11 +163,11 @@ class HalfPlaneSurface:
         """(A, B) (n, n): ``traction_map`` is ``[[A, B], [-B, A]]`` per node pair."""
         if "traction_blocks" not in self._cache:
             x = self.points[:, 0]
-            at = self.face.collocation()  # the nodes' own (element, local coordinate)
-            if self.shared_as is None:
-                both = self._node_integrals(x, at)
-            else:
-                both = self._cache["shared"].get(lambda: self._node_integrals(x, at))
+
+            def compute() -> np.ndarray:  # at the nodes' own (element, local coordinate)
+                return self._node_integrals(x, self.face.collocation())
+
+            both = compute() if self.shared_as is None else self._cache["shared"].get(compute)
             blocks = self._blocks(both[: x.size], both[x.size :])
             for block in blocks:
                 block.setflags(write=False)
@@ -221,6 +229,24 @@ class HalfPlaneSurface:
         out[0, :, 0] = weights
         out[1, :, 1] = weights
         return out.reshape(2, 2 * n)
+
+
+#: each single-segment face's nodes as mapped (points, elements, shape values), while the
+#: face lives: the face discretised as its point image (:func:`fretbem.bem.images.discretise`)
+#: takes them with the points negated
+_NODES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _image_nodes(face) -> tuple | None:
+    """(points, elements, shape values) at the nodes of ``face`` when it was discretised as
+    the point image of a face whose nodes are known: the points negated, the rest the same
+    (the family's map is odd in the geometry: ``Basis.odd_in_geometry``); else None."""
+    source = images.source(face) if isinstance(face, Basis) else None
+    nodes = None if source is None else _NODES.get(source)
+    if nodes is None:
+        return None
+    points, elements, values = nodes
+    return -points + 0.0, elements, values  # + 0.0: a coordinate 0 stays 0, not -0
 
 
 def _plain_collocation(face) -> bool:

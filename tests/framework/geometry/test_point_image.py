@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from fretbem.geometry.nurbs import NurbsCurve
 from fretbem.geometry.shapes import CylinderPad, CylinderSpecimen
 
 
@@ -36,3 +37,21 @@ def test_a_wider_specimen_keeps_its_own_flanks():
     # its own arc out to x = 4 mm, not the pad's flank reflected (which ends at 3.25 mm)
     assert flank.points([0.0])[0, 0] == pytest.approx(4.0, abs=1e-12)
     assert np.hypot(*(flank.points(np.linspace(0, 1, 9)) - [0.0, -70.0]).T) == pytest.approx(70.0)
+
+
+@pytest.mark.parametrize("width", [6.5, 9.0])
+def test_curves_made_without_checks_are_what_the_checked_constructor_makes(width):
+    """The faces' reversed, mirrored, symmetrised and point-image curves skip the checks
+    (NurbsCurve.exact_image): each is, field by field and bit for bit, read-only, what the
+    checked constructor makes of the same arrays."""
+    pad, specimen = _boundaries(6.5, width)
+    curves = [s.curve for s in (*pad, *specimen)]
+    curves += [c.reversed() for c in curves]
+    for curve in curves:
+        checked = NurbsCurve(curve.degree, curve.knots, curve.control_points, curve.weights)
+        assert type(curve.degree) is int and curve.degree == checked.degree
+        for name in ("knots", "control_points", "weights"):
+            value = getattr(curve, name)
+            assert value.dtype == float and value.flags.c_contiguous
+            assert not value.flags.writeable
+            assert value.tobytes() == getattr(checked, name).tobytes()

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from fretbem.basis import Refinement
+from fretbem.bem import images
 from fretbem.halfplane import shared, surface
 from fretbem.scenes import reference as scenes
 from fretbem.simulation import run
@@ -55,6 +56,22 @@ def test_twin_takes_the_face_check_and_force_weights(basis, pairs):
     taken = lower.contact_force()
     assert np.array_equal(taken[0, 0::2], taken[1, 1::2])
     assert np.abs(taken[0, 0::2] - alone[0]).max() <= 2e-13 * np.abs(alone).max()
+
+
+@pytest.mark.parametrize(("basis", "pairs"), [("nurbs", 21), ("nurbs", 61), ("lagrange2", 41)])
+def test_twin_face_is_the_pads_reflected_with_its_nodes(basis, pairs):
+    """The specimen's face is the pad's discretisation reflected through the origin, and
+    its nodes the pad's negated: bit for bit what its own discretisation and map give (signs
+    of zeros included), and E the same."""
+    simulation, _ = _condensed(basis=basis, pairs=pairs)
+    upper, lower = simulation.pair.upper.surface, simulation.pair.lower.surface
+    assert images.source(lower.face) is upper.face
+    family = type(lower.face)
+    own = family.discretise(simulation.pair.lower.face, simulation.pair.lower.refinement)
+    assert own.geometry_coefficients.tobytes() == lower.face.geometry_coefficients.tobytes()
+    mapped = own.map(*own.collocation())
+    assert lower.points.tobytes() == mapped.points.tobytes()
+    assert np.array_equal(lower.collocation_matrix, own.collocation_matrix())
 
 
 def test_a_face_that_fails_its_check_joins_nothing():
