@@ -65,6 +65,11 @@ timed(attr._make._ClassBuilder, "build_class", "attrs classes built")
 imported("import fretbem (cli, commands)", "fretbem.app.cli")
 import gc
 gc.disable()  # as main() does before it imports the command (UNCOLLECTED)
+try:  # as main() does in the console script's process (a tree without it: nothing)
+    from fretbem.app.lean_matplotlib import install
+    install()
+except ImportError:
+    pass
 imported("import fretbem (cli, commands)", "fretbem.app.commands")
 imported("import matplotlib (figure, Agg)", "matplotlib.figure", "matplotlib.backends.backend_agg")
 import matplotlib.axes._base, matplotlib.axis, matplotlib.legend, matplotlib.text
