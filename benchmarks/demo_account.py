@@ -80,6 +80,9 @@ timed(fretbem.registry, "_installed_entry_points", "registry: entry points read"
 timed(fretbem.bem.assembly, "assemble", "solves: assembly (numpy loops)")
 timed(fretbem.bem.system, "_solve_parameters", "solves: LU and parameter solves")
 timed(agg.RendererAgg, "draw_text", "figures: text drawn (glyphs)")
+import fretbem.output.canvas
+if "draw_text" in vars(fretbem.output.canvas._Renderer):  # the figures' canvas draws its own
+    timed(fretbem.output.canvas._Renderer, "draw_text", "figures: text drawn (glyphs)")
 timed(matplotlib.text.Text, "_get_layout", "figures: text laid out")
 timed(matplotlib.legend.Legend, "draw", "figures: legends drawn")
 timed(matplotlib.axes._base._AxesBase, "__init__", "figures: axes made")
