@@ -65,6 +65,11 @@ timed(attr._make._ClassBuilder, "build_class", "attrs classes built")
 imported("import fretbem (cli, commands)", "fretbem.app.cli")
 import gc
 gc.disable()  # as main() does before it imports the command (UNCOLLECTED)
+try:  # as main() does in the console script's process (a tree without it: nothing)
+    from fretbem.app.lean_matplotlib import install
+    install()
+except ImportError:
+    pass
 imported("import fretbem (cli, commands)", "fretbem.app.commands")
 imported("import matplotlib (figure, Agg)", "matplotlib.figure", "matplotlib.backends.backend_agg")
 import matplotlib.axes._base, matplotlib.axis, matplotlib.legend, matplotlib.text
@@ -75,6 +80,9 @@ timed(fretbem.registry, "_installed_entry_points", "registry: entry points read"
 timed(fretbem.bem.assembly, "assemble", "solves: assembly (numpy loops)")
 timed(fretbem.bem.system, "_solve_parameters", "solves: LU and parameter solves")
 timed(agg.RendererAgg, "draw_text", "figures: text drawn (glyphs)")
+import fretbem.output.canvas
+if "draw_text" in vars(fretbem.output.canvas._Renderer):  # the figures' canvas draws its own
+    timed(fretbem.output.canvas._Renderer, "draw_text", "figures: text drawn (glyphs)")
 timed(matplotlib.text.Text, "_get_layout", "figures: text laid out")
 timed(matplotlib.legend.Legend, "draw", "figures: legends drawn")
 timed(matplotlib.axes._base._AxesBase, "__init__", "figures: axes made")

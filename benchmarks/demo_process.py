@@ -51,6 +51,11 @@ def lap(phase, since):
 t = {k: f() for k, f in clock.items()}
 import fretbem.app.cli
 t = lap("import_cli", t)
+try:  # as main() does in the console script's process (a tree without it: nothing)
+    from fretbem.app.lean_matplotlib import install
+    install()
+except ImportError:
+    pass
 import fretbem.app.commands  # the demo's command module: scenes, solvers, writers
 t = lap("import_demo", t)
 if "--no-figures" not in sys.argv:

@@ -12,6 +12,7 @@ import signal
 import sys
 from importlib.metadata import PackageNotFoundError, version
 
+from fretbem.app import lean_matplotlib
 from fretbem.errors import FretbemError, ResultCheckError
 from fretbem.studies.sweep_options import add_arguments as sweep_arguments
 
@@ -221,6 +222,8 @@ def main(argv: list[str] | None = None) -> int:
         main_parser.print_help()
         return 0
     previous = _terminate_as_interrupt()
+    if argv is None:  # the console script: no docstring is read in this process
+        lean_matplotlib.install()
     ending = argv is None and args.command in UNCOLLECTED
     if ending:
         gc.disable()  # the process ends with the command: its garbage goes with it

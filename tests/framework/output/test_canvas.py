@@ -108,3 +108,55 @@ def test_a_font_family_changed_between_two_draws_draws_as_the_plain_canvas():
     for fresh in (False, True):
         ours, plain = drawn(canvas.FigureCanvas, fresh), drawn(FigureCanvasAgg, fresh)
         np.testing.assert_array_equal(ours, plain)
+
+
+def _hinted_texts() -> Figure:
+    """Texts the glyph loop draws apart: not antialiased (monochrome glyphs), rotated by
+    odd angles, one text twice: with and without font features, and a language (libraqm's
+    inputs)."""
+    fig = _texts()
+    ax = fig.axes[0]
+    plain = ax.text(0.2, 2.0, "mono 0.5 −1", fontsize=11, rotation=12.5)
+    plain.set_antialiased(False)
+    plain.set_language("en")
+    ax.text(1.0, -0.5, "ffi fl AV", rotation=-40)  # ligatures and kerning: libraqm's
+    featured = ax.text(1.0, 1.0, "ffi fl AV", rotation=-40)  # the same text without them
+    featured.set_fontfeatures(["-liga", "-kern"])
+    return fig
+
+
+@pytest.mark.parametrize("hinting", ["no_hinting", "default", "force_autohint"])
+def test_layouts_kept_across_draws_draw_the_plain_canvas_pixels(hinting):
+    """The glyph layouts kept from earlier draws (another hinting, the same texts) give the
+    plain canvas's pixels: the hinting, the features and the language are in the key."""
+    for drawn in ("no_hinting", hinting):  # the layouts of the first draw are kept
+        with matplotlib.rc_context({"text.hinting": drawn}):
+            fig = _hinted_texts()
+            ours = _pixels(fig, canvas.FigureCanvas)
+            plain = _pixels(fig, FigureCanvasAgg)
+        np.testing.assert_array_equal(ours, plain)
+
+
+def test_a_text_drawn_again_is_laid_out_once(monkeypatch):
+    """A second figure with the same texts lays none of them out again."""
+    laid_out = []
+    monkeypatch.setattr(canvas, "_LAYOUTS", {})
+    fig = _hinted_texts()
+    canvas.FigureCanvas(fig)
+    fig.canvas.draw()
+    laid_out.append(len(canvas._LAYOUTS))
+    again = _hinted_texts()
+    canvas.FigureCanvas(again)
+    again.canvas.draw()
+    laid_out.append(len(canvas._LAYOUTS))
+    assert laid_out[0] > 10 and laid_out[1] == laid_out[0]
+
+
+def test_the_layout_table_starts_again_when_full(monkeypatch):
+    """The table holds at most LAYOUTS_KEPT layouts; the pixels do not change."""
+    monkeypatch.setattr(canvas, "_LAYOUTS", {})
+    monkeypatch.setattr(canvas, "LAYOUTS_KEPT", 3)
+    fig = _hinted_texts()
+    ours = _pixels(fig, canvas.FigureCanvas)
+    assert 1 <= len(canvas._LAYOUTS) <= 3
+    np.testing.assert_array_equal(ours, _pixels(fig, FigureCanvasAgg))

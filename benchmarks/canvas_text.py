@@ -1,0 +1,85 @@
+"""The demo's three figures drawn on two trees' figure canvases in one process (issue 28 item 4).
+
+``fretbem.output.canvas`` of ``--before DIR`` and of this checkout draw the same figures
+(the demo's tractions, displacements and pair states of nurbs, lagrange2 and lagrange3 at
+61 pairs, unhinted text as the demo draws it) alternately, ``--rounds`` times; each round
+starts with an empty glyph-layout table, as a demo process does. CPU seconds of the draws
+(``savefig`` to raw RGBA) are printed, medians and the per-round ratio; the first round
+warms matplotlib's caches and is dropped::
+
+    git archive <commit> | tar -x -C /tmp/before
+    OPENBLAS_NUM_THREADS=1 python benchmarks/canvas_text.py --before /tmp/before --rounds 15
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import io
+import os
+import statistics
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _canvas_module(tree: Path, name: str):
+    spec = importlib.util.spec_from_file_location(
+        name, tree / "framework" / "fretbem" / "output" / "canvas.py"
+    )
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def main(argv: list[str] | None = None) -> dict:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--before", type=Path, required=True, help="source tree of the old code")
+    parser.add_argument("--rounds", type=int, default=15)
+    args = parser.parse_args(argv)
+    sys.path[:0] = [str(ROOT / "framework"), str(ROOT / "plugins")]
+    import matplotlib
+
+    from fretbem.output import figures
+    from fretbem.scenes.reference import cattaneo_mindlin
+    from fretbem.simulation import run
+
+    canvases = {"before": _canvas_module(args.before, "canvas_before"),
+                "after": _canvas_module(ROOT, "canvas_after")}  # fmt: skip
+    results = [
+        run(cattaneo_mindlin(basis=b, pairs=61)) for b in ("nurbs", "lagrange2", "lagrange3")
+    ]
+    makers = (figures.traction_figure, figures.displacement_figure, figures.stick_slip_figure)
+
+    def drawn(module) -> float:
+        getattr(module, "_LAYOUTS", {}).clear()
+        spent = 0.0
+        with matplotlib.rc_context({"text.hinting": "no_hinting"}):
+            for make in makers:
+                fig = make(results)
+                module.FigureCanvas(fig)
+                figures._ticks_in_view(fig)
+                start = time.process_time()
+                fig.savefig(io.BytesIO(), dpi=figures.DPI, format="rgba")
+                spent += time.process_time() - start
+        return spent
+
+    times: dict[str, list[float]] = {name: [] for name in canvases}
+    load = [os.getloadavg()[0]]
+    for _ in range(args.rounds + 1):
+        for name, module in canvases.items():
+            times[name].append(drawn(module))
+    load.append(os.getloadavg()[0])
+    out = {name: statistics.median(values[1:]) for name, values in times.items()}
+    ratios = [a / b for a, b in zip(times["after"][1:], times["before"][1:], strict=True)]
+    out["after / before, per round"] = statistics.median(ratios)
+    print(f"draws of the three figures, CPU s (median of {args.rounds}; load {min(load):.1f}-"
+          f"{max(load):.1f}): before {out['before']:.3f}, after {out['after']:.3f}, after / "
+          f"before per round {out['after / before, per round']:.3f}")  # fmt: skip
+    return out
+
+
+if __name__ == "__main__":
+    main()
