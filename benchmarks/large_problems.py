@@ -83,6 +83,7 @@ def summary(pairs: int, runs: list[dict]) -> dict:
     row = {"pairs": pairs, "dofs": runs[0]["dofs"], "runs": len(runs)}
     for key in ("build", *PHASES, "cpu", "peak_rss_mib"):
         row[key] = round(statistics.median(run[key] for run in runs), 3)
+    row["cpu_runs"] = [round(run["cpu"], 2) for run in runs]  # each run's, in order
     row["iterations"] = runs[0]["iterations"]
     if any(run["iterations"] != row["iterations"] for run in runs):  # pragma: no cover
         row["iterations_differ"] = [run["iterations"] for run in runs]

@@ -24,6 +24,7 @@ from fretbem.contact.law import STATE_NAMES, ContactLaw, ContactState, GrossSlid
 from fretbem.contact.pairs import ContactPair
 from fretbem.contact.rotation import RotationError
 from fretbem.errors import InputError
+from fretbem.numerics.memory import KEPT_MEMORY_DOFS, kept_memory
 from fretbem.solvers.newton import IncrementResult, SemiSmoothNewton, Solver, SolverConvergenceError
 from fretbem.solvers.step_memo import Reached, StepMemo
 from fretbem.solvers.warm_start import WarmStart
@@ -602,11 +603,22 @@ def run(
     ``warm`` (a :class:`~fretbem.solvers.warm_start.WarmStart`: a run of the same history on
     another mesh of the contact faces) starts each increment's Newton iteration on that
     run's pattern; the unknowns are the same to the solver's tolerance, in fewer iterations.
+    A run of :data:`~fretbem.numerics.memory.KEPT_MEMORY_DOFS` boundary DOFs or more keeps
+    its large arrays' memory for the next ones until it ends
+    (:func:`~fretbem.numerics.memory.kept_memory`).
     """
 
     start = time.perf_counter()
     pair = simulation.pair
-    check_resources(int(pair.upper.dofs + pair.lower.dofs))
+    dofs = int(pair.upper.dofs + pair.lower.dofs)
+    check_resources(dofs)
+    with kept_memory(dofs >= KEPT_MEMORY_DOFS):
+        return _run(simulation, start, progress, check, memo, warm)
+
+
+def _run(simulation, start, progress, check, memo, warm) -> SimulationResult:
+    """:func:`run` after the resource check."""
+    pair = simulation.pair
     problem = simulation.prepare()
     timings = {
         "assembly": sum(b.timings.get("assembly", 0.0) for b in (pair.upper, pair.lower)),

@@ -263,12 +263,23 @@ def expanded(split: MirrorSplit, even, odd, out: np.ndarray, scale: float = 1.0)
         split.pair_rows.put(out, scale * pair, 0)
         split.pair_mirror_rows.put(out, (parity * scale) * sign * pair, 0)
         return
-    total = even[:p] + odd[:p]
-    total *= scale
-    split.pair_rows.put(out, total, 0)
-    np.subtract(even[:p], odd[:p], out=total)
-    total *= scale * sign
-    split.pair_mirror_rows.put(out, total, 0)
+    _combined(split.pair_rows, np.add, even[:p], odd[:p], scale, out)
+    _combined(split.pair_mirror_rows, np.subtract, even[:p], odd[:p], scale * sign, out)
+
+
+def _combined(rows: Index, operation, a, b, factor, out: np.ndarray) -> None:
+    """``out[rows] = operation(a, b) * factor`` (``factor`` a number or one per row),
+    computed into ``out``'s rows piece by piece where ``rows`` are strided slices (no
+    temporary: a fresh one of a chunk's size cost its page faults every time)."""
+    if rows.pieces is None:
+        total = operation(a, b)
+        total *= factor
+        rows.put(out, total, 0)
+        return
+    for where, what in rows._views(out, 0):
+        target = out[what]
+        operation(a[where], b[where], out=target)
+        target *= factor if np.ndim(factor) == 0 else factor[where]
 
 
 class SplitFactor:
@@ -320,17 +331,15 @@ class SplitFactor:
         mirrored = np.array([column[int(d)] for d in self.split.mirror[dofs]], dtype=np.intp)
         sign = self.split.sign[dofs]
         n = len(out)
-        buffer = np.empty((n, min(CHUNK, len(reps))))
+        # F-ordered like ``out`` and the halves' solutions: every copy runs down columns
+        # (a C-ordered buffer made each of them a transpose, ~12 s at 3,841 pairs)
+        buffer = np.empty((n, min(CHUNK, len(reps))), order="F")
         for start in range(0, len(reps), CHUNK):
             cut = slice(start, min(start + CHUNK, len(reps)))
             e, o = even[:, cut], odd[:, cut]
-            here = buffer[:, : e.shape[1]]
-            expanded(self.split, e, o, here, 0.5)
-            Index(targets[cut]).put(out, here, 1)
+            _expanded_columns(self.split, e, o, out, Index(targets[cut]), buffer)
             np.negative(o, out=o)
-            expanded(self.split, e, o, here, 0.5)
-            here *= sign[cut]
-            Index(mirrored[cut]).put(out, here, 1)
+            _expanded_columns(self.split, e, o, out, Index(mirrored[cut]), buffer, sign[cut])
         for which, (y, at) in enumerate(solved):
             own = np.flatnonzero(at >= p)
             if not own.size:
@@ -340,3 +349,21 @@ class SplitFactor:
             pair = (y[:, own], None) if which == 0 else (None, y[:, own])
             expanded(self.split, *pair, buffer, 0.5)
             out[:, [column[int(d)] for d in half.dofs[at[own]]]] = buffer
+
+
+def _expanded_columns(split, even, odd, out, columns: Index, buffer, sign=None) -> None:
+    """``out[:, columns] = sign 0.5 (W+ even + W- odd)`` (:func:`expanded`'s numbers):
+    straight into ``out``'s columns, piece by piece, when ``columns`` are strided slices of
+    an F-ordered ``out``, else through ``buffer`` (F-ordered, at least as wide)."""
+    if columns.pieces is not None and out.strides[0] == out.itemsize:
+        for where, what in columns._views(out, 1):
+            here = out[what]
+            expanded(split, even[where], odd[where], here, 0.5)
+            if sign is not None:
+                here *= sign[where[1]]
+        return
+    here = buffer[:, : even.shape[1]]
+    expanded(split, even, odd, here, 0.5)
+    if sign is not None:
+        here *= sign
+    columns.put(out, here, 1)

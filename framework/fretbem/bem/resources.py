@@ -27,7 +27,9 @@ from fretbem.errors import ResourceLimitError
 #: (3,791 before): the estimate, 4,149 MiB, is 1.24x it, kept for its margin at small sizes.
 #: Solving a symmetric body as two half systems (:mod:`fretbem.bem.mirror_split`) left the
 #: peaks as they were (3,334 MiB at 3,841 pairs, 407 at 961): the peak is not reached while
-#: a body's system is solved (at 961 pairs it comes in the Newton steps).
+#: a body's system is solved (at 961 pairs it comes in the Newton steps). A large run keeps
+#: its freed arrays' memory on the heap for the next ones (:mod:`fretbem.numerics.memory`):
+#: 3,599 MiB at 3,841 pairs, since a freed block does not always fit the next request.
 BYTES_PER_DOF2 = 16
 #: bytes per DOF: the assembly's and the steps' transients that grow with the boundary
 BYTES_PER_DOF = 20_000

@@ -86,6 +86,11 @@ def test_the_halves_solve_the_full_system(functions, seed):
     full = np.linalg.solve(matrix, g[:, contact])
     assert np.abs(out - full).max() <= 1e-12 * np.abs(full).max()
     assert not factor.failed
+    # into F-ordered columns (the run's response) straight, not through the buffer: the same
+    halves = mirror_split.build(split, h, g, solves_u, contact)
+    columns = np.empty((len(kinds), len(contact)), order="F")
+    mirror_split.SplitFactor(split, halves).solve_contact(contact, columns)
+    assert np.array_equal(columns, out)
 
 
 def test_an_asymmetric_matrix_or_kinds_is_no_split():
