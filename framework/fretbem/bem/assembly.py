@@ -379,7 +379,7 @@ def assemble(
                 BLOCKS.keep_rules(basis, s, rules)
         all_rules.append(rules)
     q = mirror.permutation(
-        segments, [rules["far"] for rules in all_rules], colloc.points, assembler.offsets
+        segments, [rules["far"] for rules in all_rules], colloc.points, assembler.offsets, s
     )
     if q is not None and any(
         with_g[k] != with_g[colloc.segment[q[starts[k]]]] for k in range(len(segments))

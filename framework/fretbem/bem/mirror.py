@@ -20,6 +20,7 @@ its blocks from the other body bit for bit.
 
 from __future__ import annotations
 
+import weakref
 from collections.abc import Sequence
 
 import numpy as np
@@ -33,8 +34,34 @@ from .mirror_split import Index
 TOLERANCE = 1e-11
 
 
+#: the outcome of each pair check of two discretised segments, per tolerance (and per
+#: integration settings for the far rules'), by the segments' ids with weak references that
+#: tell a live pair from a later one of the same ids: the adaptive levels keep every segment
+#: but the contact face, so a level checks only the pairs its new face is in
+_CHECKED: dict = {}
+
+#: the checks kept at most (all are dropped past it: a few per segment pair)
+CHECKED_MAX = 4096
+
+
+def _checked(a: Basis, b: Basis, key: tuple, check) -> bool:
+    """``check()``, computed once per pair of live segments and ``key``."""
+    entry = _CHECKED.get((id(a), id(b), key))
+    if entry is not None and entry[0]() is a and entry[1]() is b:
+        return entry[2]
+    if len(_CHECKED) >= CHECKED_MAX:
+        _CHECKED.clear()
+    outcome = check()
+    _CHECKED[(id(a), id(b), key)] = (weakref.ref(a), weakref.ref(b), outcome)
+    return outcome
+
+
 def permutation(
-    segments: Sequence[Basis], far_rules: Sequence[tuple] | None, points: np.ndarray, offsets
+    segments: Sequence[Basis],
+    far_rules: Sequence[tuple] | None,
+    points: np.ndarray,
+    offsets,
+    settings=None,
 ) -> np.ndarray | None:
     """Q, each function's (and collocation row's) mirror index, or None if the body is not
     symmetric about x = 0 to :data:`TOLERANCE` of its size.
@@ -43,7 +70,8 @@ def permutation(
     Gauss point, as :func:`fretbem.bem.assembly._segment_rules` keeps it): a mirror segment's,
     its elements and points in reverse order (the Gauss points are symmetric), are the
     segment's reflected, its values in reverse local order. None: not checked (a caller that
-    checks the assembled matrices instead, :mod:`fretbem.bem.mirror_split`).
+    checks the assembled matrices instead, :mod:`fretbem.bem.mirror_split`). ``settings``:
+    the integration settings the far rules are of (each pair's far check is then kept).
     """
     scale = float(np.abs(points).max()) if points.size else 0.0
     if not scale > 0.0:
@@ -51,16 +79,29 @@ def permutation(
     tol = TOLERANCE * scale
     partner = []
     for a in segments:
-        found = [j for j, b in enumerate(segments) if _may_mirror(a, b, tol)]
+        found = [
+            j
+            for j, b in enumerate(segments)
+            if _checked(a, b, ("may", tol), lambda a=a, b=b: _may_mirror(a, b, tol))
+        ]
         if len(found) != 1:
             return None
         partner.append(found[0])
     if any(partner[j] != k for k, j in enumerate(partner)):
         return None
-    if far_rules is not None and not all(
-        _mirrors(far_rules[k], far_rules[j], tol) for k, j in enumerate(partner)
-    ):
-        return None
+    for k, j in enumerate(partner if far_rules is not None else ()):
+        if settings is None:
+            mirrored = _mirrors(far_rules[k], far_rules[j], tol)
+        else:
+            key = ("far", tol, settings)
+            mirrored = _checked(
+                segments[k],
+                segments[j],
+                key,
+                lambda k=k, j=j: _mirrors(far_rules[k], far_rules[j], tol),
+            )
+        if not mirrored:
+            return None
     q = np.empty(int(offsets[-1]), dtype=np.intp)
     for k, j in enumerate(partner):
         count = segments[k].n_functions
