@@ -294,13 +294,7 @@ class BemBody(Body):
         matrix = np.concatenate(rows)
         scale = max(np.ptp(self.collocation.points, axis=0).max(), 1e-300)
         matrix[:, 2] /= scale
-        _, singular, vt = np.linalg.svd(matrix, full_matrices=True)
-        rank = int(np.sum(singular > 1e-8 * max(singular.max(initial=0.0), 1.0)))
-        free = []
-        for vector in vt[rank:]:
-            names = ["x translation", "y translation", "rotation"]
-            free.append(names[int(np.argmax(np.abs(vector)))])
-        return sorted(set(free))
+        return list(_free_motions(matrix))
 
     def check_supported(self, contact_tags: tuple[str, ...] = (), *, in_contact=False) -> None:
         """Raise RigidMotionError naming the free motions and how to remove them."""
@@ -421,3 +415,25 @@ class BemBody(Body):
         centre = self.contact_response(tag).rotation.centre
         moved = solution.displacement_coefficients + rotation * self.rotation_coefficients(centre)
         return attrs.evolve(solution, displacement_coefficients=moved)
+
+
+#: the free motions of the last few constraint matrices (:meth:`BemBody.free_rigid_motions`):
+#: bodies re-meshed on a contact face (the adaptive levels) keep the rows of their held
+#: segments, so each level asks again about the same matrix
+_FREE_MOTIONS: dict = {}
+
+
+def _free_motions(matrix: np.ndarray) -> tuple[str, ...]:
+    """The rigid motions (sorted names) in the null space of the scaled constraint rows."""
+    key = (matrix.shape, matrix.tobytes())
+    if key not in _FREE_MOTIONS:
+        _, singular, vt = np.linalg.svd(matrix, full_matrices=True)
+        rank = int(np.sum(singular > 1e-8 * max(singular.max(initial=0.0), 1.0)))
+        free = []
+        for vector in vt[rank:]:
+            names = ["x translation", "y translation", "rotation"]
+            free.append(names[int(np.argmax(np.abs(vector)))])
+        if len(_FREE_MOTIONS) >= 16:
+            _FREE_MOTIONS.pop(next(iter(_FREE_MOTIONS)))
+        _FREE_MOTIONS[key] = tuple(sorted(set(free)))
+    return _FREE_MOTIONS[key]
