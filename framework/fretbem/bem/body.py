@@ -43,6 +43,9 @@ def discretised(family: type[Basis], segment, refinement: Refinement) -> Basis:
     return segment.discretised(family, refinement, images.discretise)
 
 
+#: the refinement of a segment no tag names (one instance: equal to every ``Refinement()``)
+_DEFAULT_REFINEMENT = Refinement()
+
 #: int phi_a dGamma per discretised segment (weak keys: shared by bodies that share it)
 _WEIGHTS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 #: each discretised segment's functions sampled on 8-point Gauss rules per element (weak
@@ -135,7 +138,7 @@ class BemBody(Body):
         if "segments" not in self._cache:
             family = self.family
             self._cache["segments"] = tuple(
-                discretised(family, s, self.refinement.get(s.tag, Refinement()))
+                discretised(family, s, self.refinement.get(s.tag, _DEFAULT_REFINEMENT))
                 for s in self.boundary.segments
             )
         return self._cache["segments"]
@@ -356,7 +359,7 @@ class BemBody(Body):
 
     def face_refinement(self, tag: str) -> Refinement:
         """The refinement of the segment ``tag`` (the default one if none is given)."""
-        return self.refinement.get(tag, Refinement())
+        return self.refinement.get(tag, _DEFAULT_REFINEMENT)
 
     def with_face_refinement(self, tag: str, refinement: Refinement) -> BemBody:
         """A new body with the segment ``tag`` at ``refinement`` (other segments shared)."""
