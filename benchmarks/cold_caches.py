@@ -43,7 +43,12 @@ def clear_scene_caches() -> None:
     operators = getattr(nurbs, "_OPERATORS", None)
     if operators is not None:
         operators.clear()
-    for module, name in ((body, "_FREE_MOTIONS"), (mirror, "_CHECKED"), (remesh, "_DENSITIES")):
+    for module, name in (
+        (body, "_FREE_MOTIONS"),
+        (mirror, "_CHECKED"),
+        (remesh, "_DENSITIES"),
+        (remesh, "_FACES"),
+    ):
         cache = getattr(module, name, None)
         if cache is not None:
             cache.clear()

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import functools
 import math
+import weakref
 
 import attrs
 import numpy as np
@@ -433,10 +434,32 @@ def symmetric_anchors(anchors: np.ndarray, peaks: np.ndarray, size: float) -> bo
 def _mirror_layout(refinement) -> bool:
     """Whether a face refinement's breakpoints and C0 marks are their own mirror exactly."""
     bounds, marks = refinement.breakpoints(), np.asarray(refinement.c0_at, float)
+    # np.allclose(rtol=0) of finite values, without its broadcasting and special cases
     return bool(
         np.array_equal(bounds, _mirrored(bounds))
-        and np.allclose(marks, (1.0 - marks)[::-1], rtol=0.0, atol=SYMMETRY_TOLERANCE)
+        and np.all(np.abs(marks - (1.0 - marks)[::-1]) <= SYMMETRY_TOLERANCE)
     )
+
+
+#: what :func:`_faces` found, per upper face curve, lower face curve and tangent (weak in
+#: the curves: the faces' own curves outlive the levels re-meshed on them)
+_FACES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _faces(up_curve, low_curve, tangent: np.ndarray) -> tuple[bool, bool, bool]:
+    """Whether the upper face runs against ``tangent`` (its layout flipped), whether both
+    faces are their own mirror images (:func:`mirror_symmetric`) and whether the lower is
+    the upper's point image (:func:`point_image`); kept per pair of curves and tangent."""
+    by_lower = _FACES.setdefault(up_curve, weakref.WeakKeyDictionary())
+    found = by_lower.setdefault(low_curve, {})
+    key = tangent.tobytes()
+    if key not in found:
+        found[key] = (
+            bool((up_curve.points([1.0])[0] - up_curve.points([0.0])[0]) @ tangent < 0),
+            mirror_symmetric(up_curve, tangent) and mirror_symmetric(low_curve, tangent),
+            point_image(low_curve, up_curve),
+        )
+    return found[key]
 
 
 def _matched(simulation, anchors, pairs, ratio, grading, centred, edges, edge_peak):
@@ -452,21 +475,15 @@ def _matched(simulation, anchors, pairs, ratio, grading, centred, edges, edge_pe
     peaks = np.concatenate([np.ones(np.size(anchors)), np.full(edges.size, edge_peak)])
     anchors = np.concatenate([np.asarray(anchors, float).ravel(), edges])
     sigma = estimate.parameter_of(up_curve, tangent)(anchors)
-    flip = bool((up_curve.points([1.0])[0] - up_curve.points([0.0])[0]) @ tangent < 0)
+    flip, mirrored, images = _faces(up_curve, low_curve, tangent)
     if flip:
         sigma = 1.0 - sigma
-    low_inverse = estimate.parameter_of(low_curve, tangent)
-    symmetric = (
-        not centred
-        and mirror_symmetric(up_curve, tangent)
-        and mirror_symmetric(low_curve, tangent)
-        and symmetric_anchors(anchors, peaks, _size(up_curve))
-    )
+    symmetric = not centred and mirrored and symmetric_anchors(anchors, peaks, _size(up_curve))
     # similar faces of one material laid out alike: point images of each other to the last
     # bit, so that the lower body takes the upper's blocks and factors (fretbem.bem.images)
     alike = (
         symmetric
-        and point_image(low_curve, up_curve)
+        and images
         and getattr(pair.upper, "material", None) == getattr(pair.lower, "material", None)
     )
     if symmetric:  # the anchors' parameters symmetric exactly, as their positions are
@@ -496,6 +513,7 @@ def _matched(simulation, anchors, pairs, ratio, grading, centred, edges, edge_pe
         return len(layout(elements).c0_at)
 
     def lower_of(upper):
+        low_inverse = estimate.parameter_of(low_curve, tangent)
         bounds, marks = upper.breakpoints(), np.array(upper.c0_at)
         along = up_curve.points(bounds) @ tangent
         low_bounds = low_inverse(along)
