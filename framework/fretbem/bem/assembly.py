@@ -386,6 +386,7 @@ def assemble(
     ):
         q = None  # G's columns left out on one side only
     integrated = None if q is None else mirror.integrated_rows(q, colloc.points)
+    filled = None if q is None else mirror.Fill(q, integrated)  # H and G, twice
     jobs, stored, integrated_any = [], [], False
     for k, basis in enumerate(segments):
         columns = slice(2 * assembler.offsets[k], 2 * assembler.offsets[k + 1])
@@ -425,8 +426,8 @@ def assemble(
              rules["singular_elements"], rules["singular_sides"], with_g[k])
         )  # fmt: skip
     if q is not None and integrated_any:  # the rows not integrated, from their mirrors
-        mirror.fill(h, q, integrated)
-        mirror.fill(g, q, integrated)
+        filled(h)
+        filled(g)
     for basis, row_basis, key, block_rows, columns in stored:
         BLOCKS.put(basis, row_basis, key, h[block_rows, columns], g[block_rows, columns])
     if reuse:
@@ -460,6 +461,6 @@ def assemble(
             np.concatenate([cols, cols]), shear_modulus, nu, h, g, *(() if with_g else (False,)),
         )  # fmt: skip
     if integrated is not None:  # the mirrored rows whole, their singular terms included
-        mirror.fill(h, q, integrated)
-        mirror.fill(g, q, integrated)
+        filled(h)
+        filled(g)
     return h, g

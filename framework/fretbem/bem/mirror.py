@@ -153,21 +153,33 @@ def integrated_rows(q: np.ndarray, points: np.ndarray) -> np.ndarray:
 
 def fill(matrix: np.ndarray, q: np.ndarray, integrated: np.ndarray) -> None:
     """The rows not integrated, from their mirrors: M[Q(i), Q(b)]_ij = s_i s_j M[i, b]_ij."""
-    missing = np.flatnonzero(~integrated)
-    if not missing.size:
-        return
-    dofs = (2 * missing[:, None] + np.arange(2)).ravel()
-    source = (2 * q[missing][:, None] + np.arange(2)).ravel()
-    columns = (2 * q[:, None] + np.arange(2)).ravel()
-    sign = np.tile([-1.0, 1.0], len(q))
-    if len(dofs) > FILL_CHUNK:
-        _fill_by_slices(matrix, dofs, source, columns, sign)
-        return
-    # take along each axis (3x faster than fancy indexing twice); the sign product s_i s_j
-    # is +-1, so one multiply gives the same numbers, signed zeros included
-    block = matrix.take(source, axis=0).take(columns, axis=1)
-    block *= np.multiply.outer(sign[dofs], sign)
-    matrix[dofs] = block
+    Fill(q, integrated)(matrix)
+
+
+class Fill:
+    """:func:`fill` for one Q and one set of integrated rows, its indices (and for a small
+    matrix its signs) worked out once for every matrix filled alike (an assembly fills H
+    and G, twice)."""
+
+    def __init__(self, q: np.ndarray, integrated: np.ndarray):
+        missing = np.flatnonzero(~integrated)
+        self.dofs = (2 * missing[:, None] + np.arange(2)).ravel()
+        self.source = (2 * q[missing][:, None] + np.arange(2)).ravel()
+        self.columns = (2 * q[:, None] + np.arange(2)).ravel()
+        self.sign = np.tile([-1.0, 1.0], len(q))
+        self.row_sign = self.sign[self.dofs]
+
+    def __call__(self, matrix: np.ndarray) -> None:
+        if not self.dofs.size:
+            return
+        if len(self.dofs) > FILL_CHUNK:
+            _fill_by_slices(matrix, self.dofs, self.source, self.columns, self.sign)
+            return
+        # take along each axis (3x faster than fancy indexing twice); the sign product
+        # s_i s_j is +-1, so one multiply gives the same numbers, signed zeros included
+        block = matrix.take(self.source, axis=0).take(self.columns, axis=1)
+        block *= np.multiply.outer(self.row_sign, self.sign)
+        matrix[self.dofs] = block
 
 
 def _fill_by_slices(matrix, dofs, source, columns, sign) -> None:
