@@ -44,14 +44,18 @@ _CHECKED: dict = {}
 CHECKED_MAX = 4096
 
 
-def _checked(a: Basis, b: Basis, key: tuple, check) -> bool:
-    """``check()``, computed once per pair of live segments and ``key``."""
+def _known(a: Basis, b: Basis, key: tuple) -> bool | None:
+    """The kept outcome of check ``key`` on the live pair (a, b), or None."""
     entry = _CHECKED.get((id(a), id(b), key))
     if entry is not None and entry[0]() is a and entry[1]() is b:
         return entry[2]
+    return None
+
+
+def _keep(a: Basis, b: Basis, key: tuple, outcome: bool) -> bool:
+    """Keep (and return) the outcome of check ``key`` on the pair (a, b)."""
     if len(_CHECKED) >= CHECKED_MAX:
         _CHECKED.clear()
-    outcome = check()
     _CHECKED[(id(a), id(b), key)] = (weakref.ref(a), weakref.ref(b), outcome)
     return outcome
 
@@ -78,28 +82,28 @@ def permutation(
         return None
     tol = TOLERANCE * scale
     partner = []
+    may = ("may", tol)
     for a in segments:
-        found = [
-            j
-            for j, b in enumerate(segments)
-            if _checked(a, b, ("may", tol), lambda a=a, b=b: _may_mirror(a, b, tol))
-        ]
+        found = []
+        for j, b in enumerate(segments):
+            mirrored = _known(a, b, may)
+            if mirrored is None:
+                mirrored = _keep(a, b, may, _may_mirror(a, b, tol))
+            if mirrored:
+                found.append(j)
         if len(found) != 1:
             return None
         partner.append(found[0])
     if any(partner[j] != k for k, j in enumerate(partner)):
         return None
+    far = ("far", tol, settings)
     for k, j in enumerate(partner if far_rules is not None else ()):
-        if settings is None:
+        a, b = segments[k], segments[j]
+        mirrored = None if settings is None else _known(a, b, far)
+        if mirrored is None:
             mirrored = _mirrors(far_rules[k], far_rules[j], tol)
-        else:
-            key = ("far", tol, settings)
-            mirrored = _checked(
-                segments[k],
-                segments[j],
-                key,
-                lambda k=k, j=j: _mirrors(far_rules[k], far_rules[j], tol),
-            )
+            if settings is not None:
+                _keep(a, b, far, mirrored)
         if not mirrored:
             return None
     q = np.empty(int(offsets[-1]), dtype=np.intp)
