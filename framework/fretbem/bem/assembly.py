@@ -157,7 +157,13 @@ class BlockStore:
 
     def _signature(self, basis) -> tuple[bytes, bytes] | None:
         if basis not in self._signatures:
-            self._signatures[basis] = images.signatures(basis)
+            # a segment discretised as a kept one's point image has that one's digests
+            # swapped (its fields the same, its geometry the negated one's, zeros +0)
+            source = images.source(basis)
+            known = self._signatures.get(source) if source is not None else None
+            self._signatures[basis] = (
+                images.signatures(basis) if known is None else (known[1], known[0])
+            )
         return self._signatures[basis]
 
     def image(self, basis):
