@@ -311,6 +311,23 @@ def _singular_sides(data: dict, sides: list[dict], settings) -> tuple:
     return _contiguous(*(np.concatenate(pair) for pair in zip(*parts, strict=True)))
 
 
+#: each segment's singular elements and rule sides on the rows a mirrored body integrates,
+#: per settings and row pattern (weak keys: the adaptive levels keep every segment but the
+#: contact face, and integrate the same rows of each)
+_SINGULAR_ON: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _integrated_singular(basis, settings, on: np.ndarray, elements, singular) -> tuple:
+    """``elements[on]`` and every singular side array at the pairs of both sides on ``on``
+    (the segment's singular rows a mirrored body integrates), kept per segment."""
+    kept = _SINGULAR_ON.setdefault(basis, {})
+    key = (settings, on.tobytes())
+    if key not in kept:
+        both = np.concatenate([on, on])
+        kept[key] = (elements[on], tuple(a[both] for a in singular))
+    return kept[key]
+
+
 def _rows_outside(starts: np.ndarray, segments) -> np.ndarray:
     """The collocation rows of no segment in ``segments`` (rows in segment order, segment r's
     from ``starts[r]`` to ``starts[r + 1]``): ``np.isin`` on the rows' segments without its
@@ -455,9 +472,8 @@ def assemble(
     for k, basis, _, _, rows, elements, singular, with_g in jobs:
         if integrated is not None:
             on = integrated[rows]
-            rows, elements = rows[on], elements[on]
-            both = np.concatenate([on, on])
-            singular = tuple(a[both] for a in singular)
+            rows = rows[on]
+            elements, singular = _integrated_singular(basis, s, on, elements, singular)
         if not rows.size:
             continue
         cols = assembler.offsets[k] + basis.connectivity[elements]
