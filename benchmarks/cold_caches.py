@@ -27,7 +27,8 @@ def clear_scene_caches() -> None:
     assembly's block store and the discretisations kept for point images (the last cycle's
     segments, alive until the next cycle's simulation replaces theirs, would otherwise lend
     it their discretisation and rules as point images), and the checks and layouts kept
-    by value (the rigid-motion answers, the mirror pair checks, the layout densities)."""
+    by value (the rigid-motion answers, the mirror pair checks, the layout densities, the
+    integrated singular rows)."""
     for module, name in ((builder, "_built"), (basis, "_graded")):
         cache = getattr(module, name, None)
         if cache is not None:
@@ -48,6 +49,7 @@ def clear_scene_caches() -> None:
         (mirror, "_CHECKED"),
         (remesh, "_DENSITIES"),
         (remesh, "_FACES"),
+        (assembly, "_SINGULAR_ON"),
     ):
         cache = getattr(module, name, None)
         if cache is not None:
