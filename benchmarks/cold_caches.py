@@ -7,7 +7,8 @@ of these caches: a cache the tree does not have is skipped).
 from __future__ import annotations
 
 from fretbem import basis
-from fretbem.bem import assembly
+from fretbem.accuracy import remesh
+from fretbem.bem import assembly, body, mirror
 
 try:
     from fretbem.bem import images
@@ -25,7 +26,9 @@ def clear_scene_caches() -> None:
     """The builder's recent scenes, the graded breakpoints, the refinement operators, the
     assembly's block store and the discretisations kept for point images (the last cycle's
     segments, alive until the next cycle's simulation replaces theirs, would otherwise lend
-    it their discretisation and rules as point images)."""
+    it their discretisation and rules as point images), and the checks and layouts kept
+    by value (the rigid-motion answers, the mirror pair checks, the layout densities, the
+    integrated singular rows)."""
     for module, name in ((builder, "_built"), (basis, "_graded")):
         cache = getattr(module, name, None)
         if cache is not None:
@@ -41,3 +44,13 @@ def clear_scene_caches() -> None:
     operators = getattr(nurbs, "_OPERATORS", None)
     if operators is not None:
         operators.clear()
+    for module, name in (
+        (body, "_FREE_MOTIONS"),
+        (mirror, "_CHECKED"),
+        (remesh, "_DENSITIES"),
+        (remesh, "_FACES"),
+        (assembly, "_SINGULAR_ON"),
+    ):
+        cache = getattr(module, name, None)
+        if cache is not None:
+            cache.clear()

@@ -92,9 +92,12 @@ def _degree(value) -> int | None:
     return whole_number("Refinement.degree", value, low=1, fix=fix)
 
 
-@attrs.frozen
+@attrs.frozen(cache_hash=True)
 class Refinement:
     """How finely one segment is discretised.
+
+    The hash is kept: a segment's discretisations are looked up by refinement, an explicit
+    one of a few dozen breakpoints at every body a level builds.
 
     Attributes
     ----------

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import functools
 import math
+import weakref
 
 import attrs
 import numpy as np
@@ -86,14 +87,8 @@ def aligned_breakpoints(
         )
     if m == 0:
         return np.linspace(0.0, 1.0, elements + 1)
-    slope = (ratio - 1.0) / grading
     grid = _GRID
-    # the density of the nearest anchor, anchor by anchor over the grid (the same values
-    # as one (grid, anchors) array's row maxima, without its strided reduction)
-    rho = np.full(grid.size, 1.0 / ratio)
-    for anchor, peak in zip(anchors, peaks, strict=True):
-        np.maximum(rho, peak / (1.0 + slope * np.abs(grid - anchor)), out=rho)
-    cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (rho[1:] + rho[:-1]) * np.diff(grid))])
+    cumulative = _cumulative_density(anchors, peaks, ratio, grading)
     spacing = np.diff(np.concatenate([[-anchors[0]], anchors, [2.0 - anchors[-1]]]))
     room = 0.3 * np.minimum(spacing[:-1], spacing[1:])
 
@@ -108,11 +103,14 @@ def aligned_breakpoints(
     fixed_work = None if centred else layout(1.0)[3]
     target = elements - fixed
     lo_h, hi_h = 1e-7, 2.0
+    gaps = None if centred else fixed_work.tolist()
     for _ in range(80):
         h = math.sqrt(lo_h * hi_h)
-        work = layout(h)[3] if centred else fixed_work / h
-        total = np.maximum(work, 1.0).sum()
-        bracket = (h, hi_h) if total > target else (lo_h, h)
+        if centred:
+            above = np.maximum(layout(h)[3], 1.0).sum() > target
+        else:
+            above = _exceeds(gaps, h, fixed_work, target)
+        bracket = (h, hi_h) if above else (lo_h, h)
         if bracket == (lo_h, hi_h):  # a fixed point: the remaining rounds would repeat it
             break
         lo_h, hi_h = bracket
@@ -126,15 +124,66 @@ def aligned_breakpoints(
         while counts.sum() > target:
             spare = np.where(counts > 1, counts - work, -np.inf)
             counts[np.argmax(spare)] -= 1
-    points = [np.array([0.0])]
-    for a, b, n in zip(starts, ends, counts, strict=True):
-        ca, cb = np.interp([a, b], grid, cumulative)
-        inner = np.interp(np.linspace(ca, cb, n + 1), cumulative, grid)
-        inner[0], inner[-1] = a, b
-        points.append(inner)
-    out = np.unique(np.concatenate(points))
+    # each gap's points equidistribute the density integral; np.interp maps every value
+    # on its own, so all gaps go through it at once
+    ends_at = np.interp(np.concatenate([starts, ends]), grid, cumulative).tolist()
+    levels = [np.zeros(1)]
+    levels += [
+        np.linspace(ca, cb, n + 1)
+        for ca, cb, n in zip(ends_at[: starts.size], ends_at[starts.size :], counts, strict=True)
+    ]
+    points = np.interp(np.concatenate(levels), cumulative, grid)
+    points[0] = 0.0
+    first = np.cumsum([1, *(n + 1 for n in counts[:-1].tolist())])
+    points[first], points[first + counts] = starts, ends
+    out = np.unique(points)
     out[0], out[-1] = 0.0, 1.0
     return _mirrored(out) if symmetric else out
+
+
+#: the last few element densities' integrals over the grid (a face laid out for several
+#: element counts toward the same anchors: the fitting layouts of one level)
+_DENSITIES: dict = {}
+
+
+def _cumulative_density(anchors, peaks, ratio: float, grading: float) -> np.ndarray:
+    """The integral over :data:`_GRID` of the element density toward ``anchors`` (sorted and
+    merged), kept for the last few anchor sets (read-only)."""
+    key = (anchors.tobytes(), peaks.tobytes(), float(ratio), float(grading))
+    if key in _DENSITIES:
+        return _DENSITIES[key]
+    slope = (ratio - 1.0) / grading
+    grid = _GRID
+    # the density of the nearest anchor, anchor by anchor over the grid (the same values
+    # as one (grid, anchors) array's row maxima, without its strided reduction)
+    rho = np.full(grid.size, 1.0 / ratio)
+    for anchor, peak in zip(anchors, peaks, strict=True):
+        np.maximum(rho, peak / (1.0 + slope * np.abs(grid - anchor)), out=rho)
+    cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (rho[1:] + rho[:-1]) * np.diff(grid))])
+    cumulative.flags.writeable = False
+    if len(_DENSITIES) >= 8:
+        _DENSITIES.pop(next(iter(_DENSITIES)))
+    _DENSITIES[key] = cumulative
+    return cumulative
+
+
+def _exceeds(gaps: list, h: float, fixed_work: np.ndarray, target: int) -> bool:
+    """Whether ``np.maximum(fixed_work / h, 1.0).sum() > target`` (``gaps``: fixed_work's
+    entries as floats): the same entries in floats, summed in order, and only when that sum
+    is within its rounding bound of the target summed again as numpy does (pairwise), so the
+    answer is numpy's at a fraction of its cost (the bisection asks up to 80 times)."""
+    total = 0.0
+    for g in gaps:
+        w = g / h
+        if w != w:  # NaN: numpy's maximum keeps it
+            return bool(np.maximum(fixed_work / h, 1.0).sum() > target)
+        total += w if w > 1.0 else 1.0
+    if abs(total - target) > 4.0 * (len(gaps) + 1) * _EPS * total:
+        return total > target
+    return bool(np.maximum(fixed_work / h, 1.0).sum() > target)
+
+
+_EPS = float(np.finfo(float).eps)
 
 
 def _symmetric_counts(work: np.ndarray, target: int) -> np.ndarray:
@@ -385,10 +434,32 @@ def symmetric_anchors(anchors: np.ndarray, peaks: np.ndarray, size: float) -> bo
 def _mirror_layout(refinement) -> bool:
     """Whether a face refinement's breakpoints and C0 marks are their own mirror exactly."""
     bounds, marks = refinement.breakpoints(), np.asarray(refinement.c0_at, float)
+    # np.allclose(rtol=0) of finite values, without its broadcasting and special cases
     return bool(
         np.array_equal(bounds, _mirrored(bounds))
-        and np.allclose(marks, (1.0 - marks)[::-1], rtol=0.0, atol=SYMMETRY_TOLERANCE)
+        and np.all(np.abs(marks - (1.0 - marks)[::-1]) <= SYMMETRY_TOLERANCE)
     )
+
+
+#: what :func:`_faces` found, per upper face curve, lower face curve and tangent (weak in
+#: the curves: the faces' own curves outlive the levels re-meshed on them)
+_FACES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _faces(up_curve, low_curve, tangent: np.ndarray) -> tuple[bool, bool, bool]:
+    """Whether the upper face runs against ``tangent`` (its layout flipped), whether both
+    faces are their own mirror images (:func:`mirror_symmetric`) and whether the lower is
+    the upper's point image (:func:`point_image`); kept per pair of curves and tangent."""
+    by_lower = _FACES.setdefault(up_curve, weakref.WeakKeyDictionary())
+    found = by_lower.setdefault(low_curve, {})
+    key = tangent.tobytes()
+    if key not in found:
+        found[key] = (
+            bool((up_curve.points([1.0])[0] - up_curve.points([0.0])[0]) @ tangent < 0),
+            mirror_symmetric(up_curve, tangent) and mirror_symmetric(low_curve, tangent),
+            point_image(low_curve, up_curve),
+        )
+    return found[key]
 
 
 def _matched(simulation, anchors, pairs, ratio, grading, centred, edges, edge_peak):
@@ -404,21 +475,15 @@ def _matched(simulation, anchors, pairs, ratio, grading, centred, edges, edge_pe
     peaks = np.concatenate([np.ones(np.size(anchors)), np.full(edges.size, edge_peak)])
     anchors = np.concatenate([np.asarray(anchors, float).ravel(), edges])
     sigma = estimate.parameter_of(up_curve, tangent)(anchors)
-    flip = bool((up_curve.points([1.0])[0] - up_curve.points([0.0])[0]) @ tangent < 0)
+    flip, mirrored, images = _faces(up_curve, low_curve, tangent)
     if flip:
         sigma = 1.0 - sigma
-    low_inverse = estimate.parameter_of(low_curve, tangent)
-    symmetric = (
-        not centred
-        and mirror_symmetric(up_curve, tangent)
-        and mirror_symmetric(low_curve, tangent)
-        and symmetric_anchors(anchors, peaks, _size(up_curve))
-    )
+    symmetric = not centred and mirrored and symmetric_anchors(anchors, peaks, _size(up_curve))
     # similar faces of one material laid out alike: point images of each other to the last
     # bit, so that the lower body takes the upper's blocks and factors (fretbem.bem.images)
     alike = (
         symmetric
-        and point_image(low_curve, up_curve)
+        and images
         and getattr(pair.upper, "material", None) == getattr(pair.lower, "material", None)
     )
     if symmetric:  # the anchors' parameters symmetric exactly, as their positions are
@@ -448,6 +513,7 @@ def _matched(simulation, anchors, pairs, ratio, grading, centred, edges, edge_pe
         return len(layout(elements).c0_at)
 
     def lower_of(upper):
+        low_inverse = estimate.parameter_of(low_curve, tangent)
         bounds, marks = upper.breakpoints(), np.array(upper.c0_at)
         along = up_curve.points(bounds) @ tangent
         low_bounds = low_inverse(along)

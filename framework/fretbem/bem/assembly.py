@@ -157,7 +157,13 @@ class BlockStore:
 
     def _signature(self, basis) -> tuple[bytes, bytes] | None:
         if basis not in self._signatures:
-            self._signatures[basis] = images.signatures(basis)
+            # a segment discretised as a kept one's point image has that one's digests
+            # swapped (its fields the same, its geometry the negated one's, zeros +0)
+            source = images.source(basis)
+            known = self._signatures.get(source) if source is not None else None
+            self._signatures[basis] = (
+                images.signatures(basis) if known is None else (known[1], known[0])
+            )
         return self._signatures[basis]
 
     def image(self, basis):
@@ -305,6 +311,23 @@ def _singular_sides(data: dict, sides: list[dict], settings) -> tuple:
     return _contiguous(*(np.concatenate(pair) for pair in zip(*parts, strict=True)))
 
 
+#: each segment's singular elements and rule sides on the rows a mirrored body integrates,
+#: per settings and row pattern (weak keys: the adaptive levels keep every segment but the
+#: contact face, and integrate the same rows of each)
+_SINGULAR_ON: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _integrated_singular(basis, settings, on: np.ndarray, elements, singular) -> tuple:
+    """``elements[on]`` and every singular side array at the pairs of both sides on ``on``
+    (the segment's singular rows a mirrored body integrates), kept per segment."""
+    kept = _SINGULAR_ON.setdefault(basis, {})
+    key = (settings, on.tobytes())
+    if key not in kept:
+        both = np.concatenate([on, on])
+        kept[key] = (elements[on], tuple(a[both] for a in singular))
+    return kept[key]
+
+
 def _rows_outside(starts: np.ndarray, segments) -> np.ndarray:
     """The collocation rows of no segment in ``segments`` (rows in segment order, segment r's
     from ``starts[r]`` to ``starts[r + 1]``): ``np.isin`` on the rows' segments without its
@@ -379,13 +402,14 @@ def assemble(
                 BLOCKS.keep_rules(basis, s, rules)
         all_rules.append(rules)
     q = mirror.permutation(
-        segments, [rules["far"] for rules in all_rules], colloc.points, assembler.offsets
+        segments, [rules["far"] for rules in all_rules], colloc.points, assembler.offsets, s
     )
     if q is not None and any(
         with_g[k] != with_g[colloc.segment[q[starts[k]]]] for k in range(len(segments))
     ):
         q = None  # G's columns left out on one side only
     integrated = None if q is None else mirror.integrated_rows(q, colloc.points)
+    filled = None if q is None else mirror.Fill(q, integrated)  # H and G, twice
     jobs, stored, integrated_any = [], [], False
     for k, basis in enumerate(segments):
         columns = slice(2 * assembler.offsets[k], 2 * assembler.offsets[k + 1])
@@ -425,8 +449,8 @@ def assemble(
              rules["singular_elements"], rules["singular_sides"], with_g[k])
         )  # fmt: skip
     if q is not None and integrated_any:  # the rows not integrated, from their mirrors
-        mirror.fill(h, q, integrated)
-        mirror.fill(g, q, integrated)
+        filled(h)
+        filled(g)
     for basis, row_basis, key, block_rows, columns in stored:
         BLOCKS.put(basis, row_basis, key, h[block_rows, columns], g[block_rows, columns])
     if reuse:
@@ -448,9 +472,8 @@ def assemble(
     for k, basis, _, _, rows, elements, singular, with_g in jobs:
         if integrated is not None:
             on = integrated[rows]
-            rows, elements = rows[on], elements[on]
-            both = np.concatenate([on, on])
-            singular = tuple(a[both] for a in singular)
+            rows = rows[on]
+            elements, singular = _integrated_singular(basis, s, on, elements, singular)
         if not rows.size:
             continue
         cols = assembler.offsets[k] + basis.connectivity[elements]
@@ -460,6 +483,6 @@ def assemble(
             np.concatenate([cols, cols]), shear_modulus, nu, h, g, *(() if with_g else (False,)),
         )  # fmt: skip
     if integrated is not None:  # the mirrored rows whole, their singular terms included
-        mirror.fill(h, q, integrated)
-        mirror.fill(g, q, integrated)
+        filled(h)
+        filled(g)
     return h, g

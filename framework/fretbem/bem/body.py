@@ -43,6 +43,9 @@ def discretised(family: type[Basis], segment, refinement: Refinement) -> Basis:
     return segment.discretised(family, refinement, images.discretise)
 
 
+#: the refinement of a segment no tag names (one instance: equal to every ``Refinement()``)
+_DEFAULT_REFINEMENT = Refinement()
+
 #: int phi_a dGamma per discretised segment (weak keys: shared by bodies that share it)
 _WEIGHTS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 #: each discretised segment's functions sampled on 8-point Gauss rules per element (weak
@@ -135,7 +138,7 @@ class BemBody(Body):
         if "segments" not in self._cache:
             family = self.family
             self._cache["segments"] = tuple(
-                discretised(family, s, self.refinement.get(s.tag, Refinement()))
+                discretised(family, s, self.refinement.get(s.tag, _DEFAULT_REFINEMENT))
                 for s in self.boundary.segments
             )
         return self._cache["segments"]
@@ -294,13 +297,7 @@ class BemBody(Body):
         matrix = np.concatenate(rows)
         scale = max(np.ptp(self.collocation.points, axis=0).max(), 1e-300)
         matrix[:, 2] /= scale
-        _, singular, vt = np.linalg.svd(matrix, full_matrices=True)
-        rank = int(np.sum(singular > 1e-8 * max(singular.max(initial=0.0), 1.0)))
-        free = []
-        for vector in vt[rank:]:
-            names = ["x translation", "y translation", "rotation"]
-            free.append(names[int(np.argmax(np.abs(vector)))])
-        return sorted(set(free))
+        return list(_free_motions(matrix))
 
     def check_supported(self, contact_tags: tuple[str, ...] = (), *, in_contact=False) -> None:
         """Raise RigidMotionError naming the free motions and how to remove them."""
@@ -362,7 +359,7 @@ class BemBody(Body):
 
     def face_refinement(self, tag: str) -> Refinement:
         """The refinement of the segment ``tag`` (the default one if none is given)."""
-        return self.refinement.get(tag, Refinement())
+        return self.refinement.get(tag, _DEFAULT_REFINEMENT)
 
     def with_face_refinement(self, tag: str, refinement: Refinement) -> BemBody:
         """A new body with the segment ``tag`` at ``refinement`` (other segments shared)."""
@@ -421,3 +418,25 @@ class BemBody(Body):
         centre = self.contact_response(tag).rotation.centre
         moved = solution.displacement_coefficients + rotation * self.rotation_coefficients(centre)
         return attrs.evolve(solution, displacement_coefficients=moved)
+
+
+#: the free motions of the last few constraint matrices (:meth:`BemBody.free_rigid_motions`):
+#: bodies re-meshed on a contact face (the adaptive levels) keep the rows of their held
+#: segments, so each level asks again about the same matrix
+_FREE_MOTIONS: dict = {}
+
+
+def _free_motions(matrix: np.ndarray) -> tuple[str, ...]:
+    """The rigid motions (sorted names) in the null space of the scaled constraint rows."""
+    key = (matrix.shape, matrix.tobytes())
+    if key not in _FREE_MOTIONS:
+        _, singular, vt = np.linalg.svd(matrix, full_matrices=True)
+        rank = int(np.sum(singular > 1e-8 * max(singular.max(initial=0.0), 1.0)))
+        free = []
+        for vector in vt[rank:]:
+            names = ["x translation", "y translation", "rotation"]
+            free.append(names[int(np.argmax(np.abs(vector)))])
+        if len(_FREE_MOTIONS) >= 16:
+            _FREE_MOTIONS.pop(next(iter(_FREE_MOTIONS)))
+        _FREE_MOTIONS[key] = tuple(sorted(set(free)))
+    return _FREE_MOTIONS[key]

@@ -46,9 +46,12 @@ from . import assembly, images, numpy_loops
 from .kernels import KelvinKernel
 
 
-@attrs.frozen
+@attrs.frozen(cache_hash=True)
 class IntegrationSettings:
     """Quadrature orders and distance thresholds (see module docstring).
+
+    The hash is kept (the block store looks the settings up in its keys several hundred
+    times per adaptive run).
 
     ``compiled``: True for the compiled (numba) assembly, False for numpy, None to choose
     by problem size (``COMPILED_MIN_PAIRS``); the two give the same H and G to round-off.

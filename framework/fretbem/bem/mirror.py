@@ -20,6 +20,7 @@ its blocks from the other body bit for bit.
 
 from __future__ import annotations
 
+import weakref
 from collections.abc import Sequence
 
 import numpy as np
@@ -33,8 +34,38 @@ from .mirror_split import Index
 TOLERANCE = 1e-11
 
 
+#: the outcome of each pair check of two discretised segments, per tolerance (and per
+#: integration settings for the far rules'), by the segments' ids with weak references that
+#: tell a live pair from a later one of the same ids: the adaptive levels keep every segment
+#: but the contact face, so a level checks only the pairs its new face is in
+_CHECKED: dict = {}
+
+#: the checks kept at most (all are dropped past it: a few per segment pair)
+CHECKED_MAX = 4096
+
+
+def _known(a: Basis, b: Basis, key: tuple) -> bool | None:
+    """The kept outcome of check ``key`` on the live pair (a, b), or None."""
+    entry = _CHECKED.get((id(a), id(b), key))
+    if entry is not None and entry[0]() is a and entry[1]() is b:
+        return entry[2]
+    return None
+
+
+def _keep(a: Basis, b: Basis, key: tuple, outcome: bool) -> bool:
+    """Keep (and return) the outcome of check ``key`` on the pair (a, b)."""
+    if len(_CHECKED) >= CHECKED_MAX:
+        _CHECKED.clear()
+    _CHECKED[(id(a), id(b), key)] = (weakref.ref(a), weakref.ref(b), outcome)
+    return outcome
+
+
 def permutation(
-    segments: Sequence[Basis], far_rules: Sequence[tuple] | None, points: np.ndarray, offsets
+    segments: Sequence[Basis],
+    far_rules: Sequence[tuple] | None,
+    points: np.ndarray,
+    offsets,
+    settings=None,
 ) -> np.ndarray | None:
     """Q, each function's (and collocation row's) mirror index, or None if the body is not
     symmetric about x = 0 to :data:`TOLERANCE` of its size.
@@ -43,24 +74,38 @@ def permutation(
     Gauss point, as :func:`fretbem.bem.assembly._segment_rules` keeps it): a mirror segment's,
     its elements and points in reverse order (the Gauss points are symmetric), are the
     segment's reflected, its values in reverse local order. None: not checked (a caller that
-    checks the assembled matrices instead, :mod:`fretbem.bem.mirror_split`).
+    checks the assembled matrices instead, :mod:`fretbem.bem.mirror_split`). ``settings``:
+    the integration settings the far rules are of (each pair's far check is then kept).
     """
     scale = float(np.abs(points).max()) if points.size else 0.0
     if not scale > 0.0:
         return None
     tol = TOLERANCE * scale
     partner = []
+    may = ("may", tol)
     for a in segments:
-        found = [j for j, b in enumerate(segments) if _may_mirror(a, b, tol)]
+        found = []
+        for j, b in enumerate(segments):
+            mirrored = _known(a, b, may)
+            if mirrored is None:
+                mirrored = _keep(a, b, may, _may_mirror(a, b, tol))
+            if mirrored:
+                found.append(j)
         if len(found) != 1:
             return None
         partner.append(found[0])
     if any(partner[j] != k for k, j in enumerate(partner)):
         return None
-    if far_rules is not None and not all(
-        _mirrors(far_rules[k], far_rules[j], tol) for k, j in enumerate(partner)
-    ):
-        return None
+    far = ("far", tol, settings)
+    for k, j in enumerate(partner if far_rules is not None else ()):
+        a, b = segments[k], segments[j]
+        mirrored = None if settings is None else _known(a, b, far)
+        if mirrored is None:
+            mirrored = _mirrors(far_rules[k], far_rules[j], tol)
+            if settings is not None:
+                _keep(a, b, far, mirrored)
+        if not mirrored:
+            return None
     q = np.empty(int(offsets[-1]), dtype=np.intp)
     for k, j in enumerate(partner):
         count = segments[k].n_functions
@@ -112,21 +157,33 @@ def integrated_rows(q: np.ndarray, points: np.ndarray) -> np.ndarray:
 
 def fill(matrix: np.ndarray, q: np.ndarray, integrated: np.ndarray) -> None:
     """The rows not integrated, from their mirrors: M[Q(i), Q(b)]_ij = s_i s_j M[i, b]_ij."""
-    missing = np.flatnonzero(~integrated)
-    if not missing.size:
-        return
-    dofs = (2 * missing[:, None] + np.arange(2)).ravel()
-    source = (2 * q[missing][:, None] + np.arange(2)).ravel()
-    columns = (2 * q[:, None] + np.arange(2)).ravel()
-    sign = np.tile([-1.0, 1.0], len(q))
-    if len(dofs) > FILL_CHUNK:
-        _fill_by_slices(matrix, dofs, source, columns, sign)
-        return
-    # take along each axis (3x faster than fancy indexing twice); the sign product s_i s_j
-    # is +-1, so one multiply gives the same numbers, signed zeros included
-    block = matrix.take(source, axis=0).take(columns, axis=1)
-    block *= np.multiply.outer(sign[dofs], sign)
-    matrix[dofs] = block
+    Fill(q, integrated)(matrix)
+
+
+class Fill:
+    """:func:`fill` for one Q and one set of integrated rows, its indices (and for a small
+    matrix its signs) worked out once for every matrix filled alike (an assembly fills H
+    and G, twice)."""
+
+    def __init__(self, q: np.ndarray, integrated: np.ndarray):
+        missing = np.flatnonzero(~integrated)
+        self.dofs = (2 * missing[:, None] + np.arange(2)).ravel()
+        self.source = (2 * q[missing][:, None] + np.arange(2)).ravel()
+        self.columns = (2 * q[:, None] + np.arange(2)).ravel()
+        self.sign = np.tile([-1.0, 1.0], len(q))
+        self.row_sign = self.sign[self.dofs]
+
+    def __call__(self, matrix: np.ndarray) -> None:
+        if not self.dofs.size:
+            return
+        if len(self.dofs) > FILL_CHUNK:
+            _fill_by_slices(matrix, self.dofs, self.source, self.columns, self.sign)
+            return
+        # take along each axis (3x faster than fancy indexing twice); the sign product
+        # s_i s_j is +-1, so one multiply gives the same numbers, signed zeros included
+        block = matrix.take(self.source, axis=0).take(self.columns, axis=1)
+        block *= np.multiply.outer(self.row_sign, self.sign)
+        matrix[self.dofs] = block
 
 
 def _fill_by_slices(matrix, dofs, source, columns, sign) -> None:

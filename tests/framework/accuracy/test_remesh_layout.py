@@ -69,3 +69,39 @@ def test_a_face_curve_with_knots_of_its_own_builds_every_layout():
     elements, built = fitting(NurbsBasis, 2, 61, curve, 3)
     assert elements == loop(NurbsBasis, 2, 61, 3)
     assert len(built) == 2  # the first try and the one that fits
+
+
+def test_the_layout_count_test_answers_as_numpy_sums():
+    """The bisection's count test sums in floats and asks numpy only near the target: its
+    answer is numpy's (pairwise summation) also at sums a few units of round-off from the
+    target, of 1 to 20 gaps, and with a NaN gap."""
+    rng = np.random.default_rng(7)
+    checked = near = 0
+    for _ in range(4000):
+        work = rng.random(rng.integers(1, 21)) * 10.0 ** rng.integers(-3, 3)
+        h = float(rng.random() + 1e-3)
+        exact = float(np.maximum(work / h, 1.0).sum())
+        for target in (int(exact), int(exact) + 1, exact, np.nextafter(exact, 0.0)):
+            # a float target a rounding away from the sum: the fallback decides
+            ulps = abs(exact - target) / np.spacing(exact)
+            near += bool(ulps < 2.0)
+            expected = bool(np.maximum(work / h, 1.0).sum() > target)
+            assert remesh._exceeds(work.tolist(), h, work, target) == expected
+            checked += 1
+    nan = np.array([1.0, np.nan, 3.0])
+    assert remesh._exceeds(nan.tolist(), 0.5, nan, 2) is False
+    assert checked == 16000 and near > 4000
+
+
+def test_aligned_breakpoints_keep_their_density_per_anchor_set():
+    """Two element counts toward the same anchors share one density integral; other anchors
+    get their own, and the layouts equal those of an emptied store."""
+    anchors, peaks = np.array([0.2, 0.45, 0.8]), np.array([1.0, 2.0, 1.0])
+    remesh._DENSITIES.clear()
+    first = [remesh.aligned_breakpoints(anchors, n, peaks=peaks) for n in (21, 27)]
+    assert len(remesh._DENSITIES) == 1
+    remesh.aligned_breakpoints(anchors + 0.01, 21, peaks=peaks)
+    assert len(remesh._DENSITIES) == 2
+    remesh._DENSITIES.clear()
+    again = [remesh.aligned_breakpoints(anchors, n, peaks=peaks) for n in (21, 27)]
+    assert all(np.array_equal(a, b) for a, b in zip(first, again, strict=True))

@@ -118,3 +118,20 @@ def test_a_point_image_is_discretised_and_collocated_as_its_own(basis):
     for segment in specimen.segments:
         mine, own = _segment_samples(segment), _segment_samples(attrs.evolve(segment))
         assert all(np.array_equal(a, b) for a, b in zip(mine, own, strict=True))
+
+
+@pytest.mark.parametrize("basis", ["nurbs", "lagrange2"])
+def test_a_point_image_takes_its_source_digests_swapped(basis):
+    """The block store signs a segment discretised as a kept one's point image with that
+    one's digests swapped: the digests its own fields give, on every segment of both bodies
+    (an aligned level's new faces included)."""
+    from fretbem.accuracy.remesh import remesh
+
+    store = assembly.BlockStore()
+    level = remesh(cattaneo_mindlin(pairs=31, basis=basis), np.array([-0.2, 0.2]), 31)
+    imaged = 0
+    for body in (level.pair.upper, level.pair.lower):  # sources signed first
+        for segment in body.segments:
+            imaged += images.source(segment) is not None
+            assert store._signature(segment) == images.signatures(segment)
+    assert imaged >= 5  # of 6 lower segments (nurbs 6, lagrange2 5)

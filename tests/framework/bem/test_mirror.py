@@ -63,8 +63,8 @@ def test_an_asymmetric_body_integrates_every_row(monkeypatch):
     simulation = cattaneo_mindlin(pairs=21)
     body = remesh(simulation, np.array([0.1]), 21, ratio=4.0).pair.upper  # a kink off centre
     calls = []
-    original = mirror.fill
-    monkeypatch.setattr(mirror, "fill", lambda *a: calls.append(1) or original(*a))
+    original = mirror.Fill
+    monkeypatch.setattr(mirror, "Fill", lambda *a: calls.append(1) or original(*a))
     assembly.BLOCKS.clear()
     attrs.evolve(body).matrices()
     assert calls == []
