@@ -94,11 +94,7 @@ def solve_as_image(segments, first_dofs, first_rows, image_of, matrix, parameter
     # segment, by slices
     same = np.zeros(parameters.shape[1], bool)
     if kept.parameters.shape == parameters.shape:  # columns solved already
-        worst = np.zeros(parameters.shape[1])
-        for own, other in rows:
-            difference = parameters[own] - kept.parameters[other]
-            np.maximum(worst, np.abs(difference).max(axis=0), out=worst)
-        same = worst <= ROUNDING * np.abs(kept.parameters).max(axis=0)
+        same = _same_columns(parameters, kept.parameters, rows)
     rest = np.flatnonzero(~same)
     solved = None
     if rest.size:
@@ -115,6 +111,26 @@ def solve_as_image(segments, first_dofs, first_rows, image_of, matrix, parameter
         if solved is not None:
             result[own, rest] = solved[other]
     return result, kept.owner()
+
+
+def _same_columns(parameters: np.ndarray, kept: np.ndarray, rows) -> np.ndarray:
+    """Whether each parameter column equals the kept one (rows mapped segment by segment)
+    to :data:`ROUNDING` of the kept column's largest entry. Columns equal to the last bit
+    (the image's contact columns of G, from the lent blocks: all but a few) are told by
+    one comparison; only the others are differenced (481 pairs: 965 columns, 2 differ;
+    8-24 -> 3 ms)."""
+    equal = np.ones(parameters.shape[1], bool)
+    for own, other in rows:
+        equal &= (parameters[own] == kept[other]).all(axis=0)
+    if equal.all():
+        return equal
+    differ = np.flatnonzero(~equal)
+    worst = np.zeros(differ.size)
+    for own, other in rows:
+        difference = parameters[own][:, differ] - kept[other][:, differ]
+        np.maximum(worst, np.abs(difference).max(axis=0, initial=0.0), out=worst)
+    equal[differ] = worst <= ROUNDING * np.abs(kept[:, differ]).max(axis=0, initial=0.0)
+    return equal
 
 
 def _segment_map(kept, segments, first_dofs, first_rows, image_of):
