@@ -156,3 +156,14 @@ def test_the_image_check_reads_the_face_rows_it_would_gather(rows):
     taken = system._taken_rows(matrix, rows)
     assert np.array_equal(taken, matrix[rows])
     assert np.shares_memory(taken, matrix) == (rows.size > 0 and bool(np.all(np.diff(rows) == 1)))
+
+
+def test_blocks_are_told_close_as_when_every_entry_is_differenced():
+    kept = np.random.default_rng(5).standard_normal((6, 4))
+    tolerance = image_factor.ROUNDING * np.abs(kept).max()
+    for change, close in ((0.0, True), (0.5 * tolerance, True), (2.0 * tolerance, False),
+                          (np.nan, False)):  # fmt: skip
+        block = kept.copy()
+        block[2, 3] += change
+        whole = bool(np.all(np.abs(block - kept) <= tolerance))
+        assert image_factor._close(block, kept) is close is whole
