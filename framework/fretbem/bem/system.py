@@ -167,10 +167,15 @@ def _solve_parameters(
     if shared is not None:
         out, owner.image_of = shared
         return out
-    kept_matrix, kept_parameters = (
-        (matrix.copy(order="F"), parameters.copy(order="F")) if small else (None, None)
-    )
     halves = None if split is None else mirror_split.build(split, h, g, solves_u, contact_dofs)
+    # kept for a point image: A and the parameters themselves where the halves solve (they
+    # leave both as they are), copies where LAPACK overwrites them (481 pairs: two
+    # face-sized copies fewer, 19 MB)
+    kept_matrix, kept_parameters = None, None
+    if small:
+        copy = halves is None
+        kept_matrix = matrix.copy(order="F") if copy else matrix
+        kept_parameters = parameters.copy(order="F") if copy else parameters
     if halves is not None:
         del matrix
         factor = mirror_split.SplitFactor(split, halves)
