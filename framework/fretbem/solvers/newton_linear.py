@@ -261,6 +261,9 @@ class _Factor:
         #: the numbers of x of the reduced unknowns (and equations), in their order
         self.reduced = columns
         self.bordered = _NO_ROWS  # rows with a kept column J^-1 e_row
+        #: whether each pair row (of the 2 n) is in ``bordered``: membership by one gather,
+        #: where np.isin and np.union1d sorted (about 0.15 ms a step at 481 pairs)
+        self.in_border = np.zeros(2 * maps.n, dtype=bool)
         #: their columns, N or T rows and products (:meth:`border`; made on first use)
         self.columns = self.dense = self.dense_columns = None
 
@@ -389,7 +392,7 @@ class _Factor:
         All are computed once per row and kept; a row whose pattern row is back to this
         factor's costs nothing in the bordered solve, so every kept row stays in the border.
         """
-        missing = rows[~np.isin(rows, self.bordered)]
+        missing = rows[~self.in_border[rows]]
         if self.columns is None:
             n_x = self.maps.n_x
             self.columns = np.empty((n_x, 0), order="F")
@@ -409,12 +412,18 @@ class _Factor:
             self.dense_columns[:count, count:new] = self.dense[:count] @ self.columns[:, count:new]
             self.dense_columns[count:new, :new] = dense @ self.columns[:, :new]
             self.bordered = np.concatenate([self.bordered, missing])
+            self.in_border[missing] = True
         r = self.bordered.size
         return self.bordered, self.columns[:, :r], self.dense[:r], self.dense_columns[:r, :r]
+
+    def border_size(self, rows: np.ndarray) -> int:
+        """How many rows the border would hold with ``rows`` (distinct pair rows) added."""
+        return self.bordered.size + int(np.count_nonzero(~self.in_border[rows]))
 
     def clear_border(self) -> None:
         """Drop the bordered rows and their columns (memory of a factor kept aside)."""
         self.bordered = _NO_ROWS
+        self.in_border[:] = False
         self.columns = self.dense = self.dense_columns = None
 
     def _grow(self, capacity: int) -> None:
@@ -597,15 +606,15 @@ class NewtonLinear:
                 return self.factor.solve(b)
             return self._refactor(pattern, b)
         differing = self.factor.pattern.differing_rows(pattern)
-        border = np.union1d(self.factor.bordered, differing)
-        if self.spare is not None and border.size:
+        border = self.factor.border_size(differing)
+        if self.spare is not None and border:
             differing_spare = self.spare.pattern.differing_rows(pattern)
-            border_spare = np.union1d(self.spare.bordered, differing_spare)
-            if border_spare.size < border.size:
+            border_spare = self.spare.border_size(differing_spare)
+            if border_spare < border:
                 self._swap()
                 differing, border = differing_spare, border_spare
         fraction = BORDER_FRACTION if self.factor.split is None else SPLIT_BORDER_FRACTION
-        if border.size > max(MIN_BORDER, fraction * self.factor.size):
+        if border > max(MIN_BORDER, fraction * self.factor.size):
             return self._refactor(pattern, b)
         y = self.factor.solve(b)
         if differing.size == 0:

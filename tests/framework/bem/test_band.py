@@ -69,3 +69,19 @@ def test_reference_face_band():
     x = np.random.default_rng(3).standard_normal((n, 2, 2, n))
     expected = diagonal_loop(matrix, x.reshape(n, -1), band.lower, band.upper)
     assert np.array_equal(band.left(x), expected.reshape(x.shape))
+
+
+@pytest.mark.parametrize(("n", "lower", "upper"), [(40, 2, 2), (37, 1, 3), (33, 3, 1), (25, 0, 2),
+                                                   (30, 1, 1), (1, 0, 0)])  # fmt: skip
+def test_row_by_row_solve_matches_the_column_solve(n, lower, upper):
+    """E^-T on node-major right-hand sides, row by row, with LAPACK's pivoted band LU: the
+    column solve's numbers to round-off (the same operations, possibly fused there)."""
+    matrix = banded(n, lower, upper, seed=n)
+    band = _Band(matrix)
+    rhs = np.random.default_rng(n).standard_normal((n, 7))
+    rows = band.solve_transposed_rows(rhs.copy())
+    residual = matrix.T @ rows - rhs  # backward stable: small against |E^T| |y|
+    assert np.max(np.abs(residual)) <= 1e-14 * np.max(np.abs(matrix.T) @ np.abs(rows))
+    if n > 1 and lower + upper > 2:  # a pivoted LU (the tridiagonal case uses gtsv)
+        columns = _Band(matrix).solve_transposed(rhs.copy(order="F"))
+        assert np.max(np.abs(rows - columns)) <= 4e-15 * np.max(np.abs(columns))

@@ -120,3 +120,50 @@ def test_the_image_specimen_takes_the_pads_contact_maps_bit_for_bit(basis, monke
     for name in ("base", "traction_map", "block_map", "load_map", "r_base", "r_traction",
                  "r_block", "r_load", "contact_force"):  # fmt: skip
         assert np.array_equal(getattr(own, name), getattr(taken, name)), name
+
+
+def _differenced_columns(parameters, kept, rows):
+    """The columns' comparison as every column differenced (the check before the exact
+    comparison came first)."""
+    worst = np.zeros(parameters.shape[1])
+    for own, other in rows:
+        np.maximum(worst, np.abs(parameters[own] - kept[other]).max(axis=0), out=worst)
+    return worst <= image_factor.ROUNDING * np.abs(kept).max(axis=0)
+
+
+def test_parameter_columns_are_told_same_as_when_every_column_is_differenced():
+    rng = np.random.default_rng(3)
+    kept = np.asfortranarray(rng.standard_normal((12, 7)))
+    rows = [(slice(0, 5), slice(7, 12)), (slice(5, 12), slice(0, 7))]
+    parameters = np.empty_like(kept, order="F")
+    for own, other in rows:
+        parameters[own] = kept[other]
+    scale = np.abs(kept).max(axis=0)
+    parameters[1, 1] += 0.25 * image_factor.ROUNDING * scale[1]  # within round-off: same
+    parameters[8, 3] += 4.0 * image_factor.ROUNDING * scale[3]  # beyond: solved again
+    parameters[2, 5] = np.nan  # never the same
+    same = image_factor._same_columns(parameters, kept, rows)
+    assert same.tolist() == [True, True, True, False, True, False, True]
+    assert np.array_equal(same, _differenced_columns(parameters, kept, rows))
+    parameters[8, 3], parameters[2, 5] = kept[3, 3], kept[9, 5]
+    assert image_factor._same_columns(parameters, kept, rows).all()
+
+
+@pytest.mark.parametrize("rows", [[2, 3, 4, 5], [5, 2, 3], [1, 3, 4], [4], []])
+def test_the_image_check_reads_the_face_rows_it_would_gather(rows):
+    matrix = np.asfortranarray(np.arange(48.0).reshape(8, 6))
+    rows = np.array(rows, dtype=int)
+    taken = system._taken_rows(matrix, rows)
+    assert np.array_equal(taken, matrix[rows])
+    assert np.shares_memory(taken, matrix) == (rows.size > 0 and bool(np.all(np.diff(rows) == 1)))
+
+
+def test_blocks_are_told_close_as_when_every_entry_is_differenced():
+    kept = np.random.default_rng(5).standard_normal((6, 4))
+    tolerance = image_factor.ROUNDING * np.abs(kept).max()
+    for change, close in ((0.0, True), (0.5 * tolerance, True), (2.0 * tolerance, False),
+                          (np.nan, False)):  # fmt: skip
+        block = kept.copy()
+        block[2, 3] += change
+        whole = bool(np.all(np.abs(block - kept) <= tolerance))
+        assert image_factor._close(block, kept) is close is whole
