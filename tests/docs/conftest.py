@@ -37,26 +37,28 @@ def _start_site_build() -> None:
     folder = Path(tempfile.mkdtemp(prefix="fretbem-site-"))
     with open(folder / "stdout.txt", "w") as out, open(folder / "stderr.txt", "w") as err:
         process = subprocess.Popen(site_build_command(folder), stdout=out, stderr=err)
-    _site_build.update(process=process, folder=folder)
+    _site_build.update(process=process, folder=folder, owner=os.getpid())
     if signal.getsignal(signal.SIGTERM) in (signal.SIG_DFL, None):
         signal.signal(signal.SIGTERM, _terminate)
 
 
 def _stop_site_build() -> None:
-    """Kill a build still running and remove its files."""
-    if not _site_build:
+    """Kill a build still running and remove its files (in the process that started it: a
+    forked worker inherits the handler and this record, not the build)."""
+    if not _site_build or _site_build["owner"] != os.getpid():
         return
-    process = _site_build.pop("process")
+    process, folder = _site_build["process"], _site_build["folder"]
+    _site_build.clear()
     if process.poll() is None:
         process.kill()
         process.wait()
-    shutil.rmtree(_site_build.pop("folder"), ignore_errors=True)
+    shutil.rmtree(folder, ignore_errors=True)
 
 
 def _terminate(signum, frame) -> None:
     """A test session stopped by SIGTERM stops its build too, then ends as SIGTERM would."""
     _stop_site_build()
-    signal.signal(signum, signal.SIG_DFL)
+    signal.signal(signum, signal.SIG_DFL)  # a forked worker ends as it would have
     os.kill(os.getpid(), signum)
 
 
