@@ -8,8 +8,12 @@ from __future__ import annotations
 
 from fretbem import basis
 from fretbem.accuracy import remesh
-from fretbem.bem import assembly, body, mirror
+from fretbem.bem import assembly, body
 
+try:
+    from fretbem.bem import mirror
+except ImportError:  # an older tree
+    mirror = None
 try:
     from fretbem.bem import images
 except ImportError:  # an older tree
