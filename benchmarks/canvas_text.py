@@ -14,7 +14,6 @@ warms matplotlib's caches and is dropped::
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import io
 import os
 import statistics
@@ -22,16 +21,13 @@ import sys
 import time
 from pathlib import Path
 
+from tree_module import tree_module
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
 def _canvas_module(tree: Path, name: str):
-    spec = importlib.util.spec_from_file_location(
-        name, tree / "framework" / "fretbem" / "output" / "canvas.py"
-    )
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return tree_module(tree, "fretbem.output.canvas", name)
 
 
 def main(argv: list[str] | None = None) -> dict:

@@ -16,13 +16,13 @@ that tree, alternating in one process; CPU ms, medians.
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import os
 import statistics
 import time
 from pathlib import Path
 
 import numpy as np
+from tree_module import tree_module
 
 from fretbem.halfplane import influence
 from fretbem.scenes import reference as scenes
@@ -72,11 +72,7 @@ def accuracy() -> float:
 
 def _module(tree: Path):
     """``halfplane/influence.py`` of ``tree``, loaded beside this tree's fretbem."""
-    path = tree / "framework" / "fretbem" / "halfplane" / "influence.py"
-    spec = importlib.util.spec_from_file_location("influence_before", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return tree_module(tree, "fretbem.halfplane.influence", "influence_before")
 
 
 def cost(before: Path, pairs: int, rounds: int) -> None:

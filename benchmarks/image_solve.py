@@ -14,13 +14,13 @@ their solutions are printed.
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import os
 import statistics
 import time
 from pathlib import Path
 
 import numpy as np
+from tree_module import tree_module
 
 from fretbem.bem import image_factor, system
 from fretbem.scenes import reference as scenes
@@ -28,11 +28,7 @@ from fretbem.simulation import run
 
 
 def _module(tree: Path):
-    path = tree / "framework" / "fretbem" / "bem" / "image_factor.py"
-    spec = importlib.util.spec_from_file_location("image_factor_before", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return tree_module(tree, "fretbem.bem.image_factor", "image_factor_before")
 
 
 def main() -> None:

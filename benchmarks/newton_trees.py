@@ -13,7 +13,6 @@ Newton step's arithmetic must keep it below 1e-10 and the iterations equal).
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import os
 import statistics
 import time
@@ -21,6 +20,7 @@ from pathlib import Path
 
 import attrs
 import numpy as np
+from tree_module import tree_module
 
 from fretbem.scenes import reference as scenes
 from fretbem.simulation import run
@@ -30,11 +30,7 @@ from fretbem.solvers.newton import SemiSmoothNewton
 
 def _module(tree: Path):
     """The tree's newton_linear module, under a name of its own."""
-    path = tree / "framework" / "fretbem" / "solvers" / "newton_linear.py"
-    spec = importlib.util.spec_from_file_location("newton_linear_before", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return tree_module(tree, "fretbem.solvers.newton_linear", "newton_linear_before")
 
 
 def main() -> None:

@@ -16,13 +16,12 @@ for bit. The LAPACK floor of the phase is printed beside it: 2/3 n^3 per half LU
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import os
 import statistics
 import time
-from pathlib import Path
 
 import numpy as np
+from tree_module import tree_module
 
 from fretbem.bem import mirror, mirror_split
 from fretbem.bem.layout import CONTACT, TRACTION
@@ -32,11 +31,7 @@ from fretbem.scenes import cattaneo_mindlin
 
 def module_of(tree: str):
     """``fretbem.bem.mirror_split`` of another checkout, loaded under another name."""
-    path = Path(tree) / "framework/fretbem/bem/mirror_split.py"
-    spec = importlib.util.spec_from_file_location("before_mirror_split", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return tree_module(tree, "fretbem.bem.mirror_split", "before_mirror_split")
 
 
 def gemm_rate(n: int = 2000) -> float:
