@@ -24,7 +24,11 @@ import math
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg, RendererAgg, get_hinting_flag
 from matplotlib.font_manager import FontProperties, fontManager, get_font
-from matplotlib.ft2font import RenderMode
+
+try:  # matplotlib 3.11: glyphs laid out by libraqm (FT2Font._layout), rendered one by one
+    from matplotlib.ft2font import FT2Font, RenderMode
+except ImportError:  # an older matplotlib: Agg draws its text itself
+    FT2Font = RenderMode = None
 
 __all__ = ["FigureCanvas", "font_height_metrics"]
 
@@ -57,6 +61,13 @@ def font_height_metrics(prop: FontProperties, dpi: float) -> tuple:
 _LAYOUTS: dict = {}
 #: the layouts kept at most (the table starts again when full)
 LAYOUTS_KEPT = 4096
+#: whether this matplotlib draws text as :meth:`_Renderer.draw_text` replays it (3.11's
+#: glyph layout and loop); otherwise Agg's own ``draw_text`` runs
+GLYPH_LAYOUTS = (
+    RenderMode is not None
+    and hasattr(FT2Font, "_layout")
+    and hasattr(RendererAgg, "_draw_text_glyphs_and_boxes")
+)
 
 
 def _layout(font, size: float, dpi: float, text: str, flags, features, language):
@@ -103,7 +114,7 @@ class _Renderer(RendererAgg):
 
     def draw_text(self, gc, x, y, s, prop, angle, ismath=False, mtext=None):
         """Agg's ``draw_text`` with each text's glyph layout remembered (:func:`_layout`)."""
-        if ismath:
+        if ismath or not GLYPH_LAYOUTS:
             return super().draw_text(gc, x, y, s, prop, angle, ismath, mtext)
         font = self._prepare_font(prop)
         size = prop.get_size_in_points()

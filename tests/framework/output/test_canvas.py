@@ -110,6 +110,12 @@ def test_a_font_family_changed_between_two_draws_draws_as_the_plain_canvas():
         np.testing.assert_array_equal(ours, plain)
 
 
+#: the tests of the kept glyph layouts need the matplotlib (3.11+) whose text drawing they replay
+glyph_layouts = pytest.mark.skipif(
+    not canvas.GLYPH_LAYOUTS, reason="this matplotlib draws its text itself (before 3.11)"
+)
+
+
 def _hinted_texts() -> Figure:
     """Texts the glyph loop draws apart: not antialiased (monochrome glyphs), rotated by
     odd angles, one text twice: with and without font features, and a language (libraqm's
@@ -125,6 +131,7 @@ def _hinted_texts() -> Figure:
     return fig
 
 
+@glyph_layouts
 @pytest.mark.parametrize("hinting", ["no_hinting", "default", "force_autohint"])
 def test_layouts_kept_across_draws_draw_the_plain_canvas_pixels(hinting):
     """The glyph layouts kept from earlier draws (another hinting, the same texts) give the
@@ -137,6 +144,7 @@ def test_layouts_kept_across_draws_draw_the_plain_canvas_pixels(hinting):
         np.testing.assert_array_equal(ours, plain)
 
 
+@glyph_layouts
 def test_a_text_drawn_again_is_laid_out_once(monkeypatch):
     """A second figure with the same texts lays none of them out again."""
     laid_out = []
@@ -152,6 +160,7 @@ def test_a_text_drawn_again_is_laid_out_once(monkeypatch):
     assert laid_out[0] > 10 and laid_out[1] == laid_out[0]
 
 
+@glyph_layouts
 def test_the_layout_table_starts_again_when_full(monkeypatch):
     """The table holds at most LAYOUTS_KEPT layouts; the pixels do not change."""
     monkeypatch.setattr(canvas, "_LAYOUTS", {})
@@ -159,4 +168,15 @@ def test_the_layout_table_starts_again_when_full(monkeypatch):
     fig = _hinted_texts()
     ours = _pixels(fig, canvas.FigureCanvas)
     assert 1 <= len(canvas._LAYOUTS) <= 3
+    np.testing.assert_array_equal(ours, _pixels(fig, FigureCanvasAgg))
+
+
+def test_a_matplotlib_without_the_glyph_layout_draws_its_text_itself(monkeypatch):
+    """Where matplotlib lays text out otherwise (before 3.11), Agg's own ``draw_text`` runs:
+    nothing is kept, the pixels are the plain canvas's."""
+    monkeypatch.setattr(canvas, "GLYPH_LAYOUTS", False)
+    monkeypatch.setattr(canvas, "_LAYOUTS", {})
+    fig = _texts()
+    ours = _pixels(fig, canvas.FigureCanvas)
+    assert canvas._LAYOUTS == {}
     np.testing.assert_array_equal(ours, _pixels(fig, FigureCanvasAgg))
