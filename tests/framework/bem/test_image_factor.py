@@ -149,12 +149,15 @@ def test_parameter_columns_are_told_same_as_when_every_column_is_differenced():
     assert image_factor._same_columns(parameters, kept, rows).all()
 
 
+@pytest.mark.parametrize("axis", [0, 1])
 @pytest.mark.parametrize("rows", [[2, 3, 4, 5], [5, 2, 3], [1, 3, 4], [4], []])
-def test_the_image_check_reads_the_face_rows_it_would_gather(rows):
+def test_the_image_check_reads_the_face_rows_it_would_gather(rows, axis):
+    """Rows (the image check) and columns (the contact parameter columns) alike."""
     matrix = np.asfortranarray(np.arange(48.0).reshape(8, 6))
+    matrix = matrix if axis == 0 else np.asfortranarray(matrix.T)
     rows = np.array(rows, dtype=int)
-    taken = system._taken_rows(matrix, rows)
-    assert np.array_equal(taken, matrix[rows])
+    taken = system._taken(matrix, rows, axis)
+    assert np.array_equal(taken, matrix.take(rows, axis=axis))
     assert np.shares_memory(taken, matrix) == (rows.size > 0 and bool(np.all(np.diff(rows) == 1)))
 
 
