@@ -7,10 +7,12 @@ frozen :class:`~fretbem.contact.law.ContactState` records.
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import math
 import numbers
 import time
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 
 import attrs
 import numpy as np
@@ -603,17 +605,40 @@ def run(
     ``warm`` (a :class:`~fretbem.solvers.warm_start.WarmStart`: a run of the same history on
     another mesh of the contact faces) starts each increment's Newton iteration on that
     run's pattern; the unknowns are the same to the solver's tolerance, in fewer iterations.
-    A run of :data:`~fretbem.numerics.memory.KEPT_MEMORY_DOFS` boundary DOFs or more keeps
-    its large arrays' memory for the next ones until it ends
-    (:func:`~fretbem.numerics.memory.kept_memory`).
+    The run is checked against the machine's memory and, from
+    :data:`~fretbem.numerics.memory.KEPT_MEMORY_DOFS` boundary DOFs on, keeps its large
+    arrays' memory for the next ones until it ends (:func:`run_resources`).
     """
 
     start = time.perf_counter()
+    with run_resources(simulation):
+        return _run(simulation, start, progress, check, memo, warm)
+
+
+#: boundary DOFs the enclosing :func:`run_resources` block checked (0 outside any)
+_CHECKED = contextvars.ContextVar("fretbem checked run DOFs", default=0)
+
+
+@contextlib.contextmanager
+def run_resources(simulation: Simulation) -> Iterator[None]:
+    """The block every run path solves in (:func:`run`, finite sliding, wear, a sweep's
+    batch, the run pipeline): the simulation's boundary DOFs checked against the machine's
+    memory (:func:`~fretbem.bem.resources.check_resources`), and from
+    :data:`~fretbem.numerics.memory.KEPT_MEMORY_DOFS` on its large arrays' memory kept for
+    the next ones until the block ends (:func:`~fretbem.numerics.memory.kept_memory`). A
+    block inside one that checked at least as many DOFs is not checked again: the outer
+    estimate is of the whole run, and the memory it holds is no longer available."""
     pair = simulation.pair
     dofs = int(pair.upper.dofs + pair.lower.dofs)
-    check_resources(dofs)
-    with kept_memory(dofs >= KEPT_MEMORY_DOFS):
-        return _run(simulation, start, progress, check, memo, warm)
+    checked = _CHECKED.get()
+    if dofs > checked:
+        check_resources(dofs)
+    token = _CHECKED.set(max(dofs, checked))
+    try:
+        with kept_memory(dofs >= KEPT_MEMORY_DOFS):
+            yield
+    finally:
+        _CHECKED.reset(token)
 
 
 def _run(simulation, start, progress, check, memo, warm) -> SimulationResult:
@@ -681,4 +706,5 @@ __all__ = [
     "loads_between",
     "no_balance",
     "run",
+    "run_resources",
 ]
