@@ -17,7 +17,7 @@ from collections.abc import Iterator, Mapping
 import attrs
 import numpy as np
 
-from fretbem.bem.resources import check_resources
+from fretbem.bem.resources import check_resources, run_size
 from fretbem.contact import control
 from fretbem.contact import rotation as pad_rotation
 from fretbem.contact.condensation import CondensedContact
@@ -628,11 +628,10 @@ def run_resources(simulation: Simulation) -> Iterator[None]:
     the next ones until the block ends (:func:`~fretbem.numerics.memory.kept_memory`). A
     block inside one that checked at least as many DOFs is not checked again: the outer
     estimate is of the whole run, and the memory it holds is no longer available."""
-    pair = simulation.pair
-    dofs = int(pair.upper.dofs + pair.lower.dofs)
-    checked = _CHECKED.get()
+    size = run_size(simulation.pair)
+    dofs, checked = size["dofs"], _CHECKED.get()
     if dofs > checked:
-        check_resources(dofs)
+        check_resources(**size)
     token = _CHECKED.set(max(dofs, checked))
     try:
         with kept_memory(dofs >= KEPT_MEMORY_DOFS):

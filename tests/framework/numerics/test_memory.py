@@ -185,7 +185,9 @@ def test_the_pipeline_checks_once_and_holds_the_block_over_its_phases(
     """The solve, its companion level and a comparison family run in the pipeline's block,
     whose check is the only one (the runs inside read no memory again)."""
     checked, said = [], []
-    monkeypatch.setattr(simulation_module, "check_resources", lambda dofs: checked.append(dofs))
+    monkeypatch.setattr(
+        simulation_module, "check_resources", lambda dofs, **size: checked.append(dofs)
+    )
     simulation = cattaneo_mindlin(pairs=21, models={})
     other = cattaneo_mindlin(pairs=21, models={}, basis="lagrange2")
     run_simulation(
