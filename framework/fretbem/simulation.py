@@ -652,6 +652,7 @@ def _run(simulation, start, progress, check, memo, warm) -> SimulationResult:
     if simulation.rotates:
         check_balance(simulation, problem)
     friction = getattr(simulation.law, "friction", float("nan"))
+    checks = (lambda step: check_step(step, friction)) if check else None
     state = ContactState.initial(problem)
     history: list[float] = []
     steps = []
@@ -682,10 +683,8 @@ def _run(simulation, start, progress, check, memo, warm) -> SimulationResult:
         history.append(load.tangential if load.delta is None else state.tangential)
         step = StepResult.build(
             simulation, problem, load, state, iterations, residuals, seconds, tuple(history),
-            last=increments[-1], increments=tuple(increments),
+            last=increments[-1], increments=tuple(increments), checks=checks,
         )  # fmt: skip
-        if check:
-            step = attrs.evolve(step, checks=check_step(step, friction))
         steps.append(step)
         if progress is not None:
             progress(k, len(simulation.steps), step)

@@ -380,11 +380,11 @@ def _slide(simulation, pair, every, check, note, progress, frame) -> SlidingResu
             time.perf_counter() - tic,
             tuple(history),
         )
-        result = attrs.evolve(
-            _slid(result, offset), increments=tuple(increments), pair=pair
-        )  # the block's delta and the slip counted from where the pad started
-        if check:
-            result = attrs.evolve(result, checks=check_step(result, friction))
+        # the block's delta and the slip counted from where the pad started; the checks read
+        # none of the fields the last record changes (its increments and pairing)
+        slid = _slid(result, offset)
+        checks = check_step(slid, friction) if check else None
+        result = attrs.evolve(slid, increments=tuple(increments), pair=pair, checks=checks)
         results.append(result)
         offsets.append(offset)
         positions.append(offset + _block_delta(problem, state.x))
