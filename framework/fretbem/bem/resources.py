@@ -41,8 +41,8 @@ BASE_BYTES = 72 * 2**20
 COMPILED_BYTES = 135 * 2**20
 #: bytes per DOF and per DOF^2 of a half-plane body (:mod:`fretbem.halfplane`), which holds
 #: no dense body matrices: its face's influence coefficients only. Fitted to the peaks of the
-#: reference scene on half-planes, 61-961 pairs (a growth over the imports of 4-109 MiB;
-#: the estimate 1.08-1.15x the peaks; it was 1.55-2.37x with the BEM bodies' rates)
+#: reference scene on half-planes, 61-1,921 pairs (a growth over the imports of 4-393 MiB;
+#: the estimate 1.09-1.19x the peaks at 61-1,921 pairs; it was 1.55-2.37x at the BEM rates)
 HALF_PLANE_BYTES_PER_DOF = 8_000
 HALF_PLANE_BYTES_PER_DOF2 = 7
 #: seconds per dofs^2 (assembly, condensation, steps) and per dofs^3 (factorisations),
