@@ -821,14 +821,16 @@ def dense_limits_section() -> list[str]:
     rows = []
     for pairs in (961, 1921, 3841, 7681):
         dofs = 4 * pairs + 312  # the reference scene: 4 DOFs per pair plus the rest
-        est = estimate_resources(dofs, available=None)
+        est = estimate_resources(dofs, available=None, compiled=True)  # numba's loops
         rows.append(f"| {pairs} | {dofs} | {est.memory / 2**30:.2g} | {est.seconds:.3g} |")
     return [
         "## Where the dense formulation stops",
         "",
-        "H and G are dense, so memory grows as DOFs^2 (16 bytes per DOF^2 measured at the",
-        "peak, plus 20 kB per DOF) and time as DOFs^3 (the factorisations and the",
-        "condensation). The up-front estimate (`fretbem.bem.resources`) of the reference scene:",
+        "H and G are dense, so memory grows as DOFs^2 (14 bytes per DOF^2 at the peak, plus",
+        "18 kB per DOF and 135 MiB for numba's compiled assembly loops) and time as DOFs^3",
+        "(the factorisations and the condensation). The up-front estimate",
+        "(`fretbem.bem.resources`, within 1.02-1.29x of the measured peaks from 61 to 3,841",
+        "pairs, `benchmarks/memory_estimate.py`) of the reference scene:",
         "",
         "| pairs | DOFs | memory (GiB) | CPU time (s) |",
         "|---|---|---|---|",
@@ -840,12 +842,16 @@ def dense_limits_section() -> list[str]:
         "against 30.1 whole (`benchmarks/mirror_split.py`). A run of 2,048 DOFs or more keeps",
         "its freed arrays' memory on the heap for the next ones (`fretbem.numerics.memory`:",
         "glibc mapped and the kernel zeroed each large array afresh, 15.7 s of system time at",
-        "3,841 pairs). The whole 3,841-pair run now takes 58.2 and 58.6 s CPU in two runs",
+        "3,841 pairs), whichever path runs it (a cycle, finite sliding, a wear history, a",
+        "sweep's batch: `fretbem.simulation.run_resources`; system time 0.36 -> 0.19 s in a",
+        "20-cycle wear history at 2,236 DOFs, 0.82 -> 0.22 s in a finite-sliding run at 2,946,",
+        "`benchmarks/run_paths_memory.py`). The whole",
+        "3,841-pair run now takes 58.2 and 58.6 s CPU in two runs",
         "(`benchmarks/large_problems.py --sizes 3841 --runs 1`, load 1.0: assembly 8.0,",
         "factorisation 18.1, condensation 23.6, Newton steps 27.2-27.8 s, whose condensed",
         "contact problem is dense too; 116 s before this work, same iterations). The estimate",
         "keeps the whole solve's time (bodies without that symmetry); the peak is 3,633 MiB",
-        "(3,335 before the memory was kept), within the estimate's 4,149.",
+        "(3,335 before the memory was kept), within the estimate's 3,757 (1.03x).",
         "",
         "On a 2-core, 16-32 GB machine the practical end is a few thousand pairs: memory runs",
         "out near 30-40k DOFs, time (one BLAS thread) passes minutes beyond ~10k DOFs.",

@@ -21,7 +21,7 @@ from fretbem.accuracy import modes as accuracy
 from fretbem.errors import InputError
 from fretbem.output.write import analyses, write_results
 from fretbem.scenes.builder import build
-from fretbem.simulation import run
+from fretbem.simulation import run, run_resources
 from fretbem.sliding import solve_sliding
 from fretbem.solvers.fallback import with_fallback
 from fretbem.solvers.newton import SolverConvergenceError
@@ -212,48 +212,55 @@ def run_simulation(
         _wear_mesh(mode)
         wear.simulation(simulation, sliding=sliding, frame=frame)
     check_requests(simulation, stress, fatigue_request)  # refused before any solve
-    timed = dict(phases or {})
-    options = {} if progress is None else {"progress": progress}
-    if bars is not None:
-        options["bars"] = bars
-    tic = time.perf_counter()
-    try:
-        if sliding:
-            result = solve_sliding(simulation, say=say, progress=progress, frame=frame)
-        else:
-            result = accuracy.solve(simulation, mode, coarse=companion, memo=memo, **options)
-    except SolverConvergenceError as failure:
-        retry = None if sliding else with_fallback(simulation)
-        if retry is None:
-            raise
-        say(f"Newton did not converge ({str(failure).split(';')[0]}); solving again with "
-            "Lemke's method on the increments Newton fails on")  # fmt: skip
-        coarse = None if companion is None else (lambda n: _fallback(companion(n)))
-        result = accuracy.solve(retry, mode, coarse=coarse, **options)
-    # a failed check ends here: nothing is post-processed or written (the run checked each
-    # step as it solved it: only the consistency of the result is left)
-    check_steps(result, fresh=True)
-    timed["solve"] = time.perf_counter() - tic
-    others = []
-    if compare:
+    # one resource block from the solve to the wear: checked once, and a large run's freed
+    # arrays kept for the next phase's
+    with run_resources(simulation):
+        timed = dict(phases or {})
+        options = {} if progress is None else {"progress": progress}
+        if bars is not None:
+            options["bars"] = bars
         tic = time.perf_counter()
-        for other in compare:
-            say("running a comparison family")
-            others.append(solve_sliding(other, say=_quiet, frame=frame) if sliding else run(other))
-            check_steps(others[-1])
-        timed["compare"] = time.perf_counter() - tic
-    fatigue = None
-    if fatigue_request is not None:
-        say("fatigue assessment")
-        tic = time.perf_counter()
-        fatigue = analyses().fatigue_of(result, fatigue_request, progress=bars)
-        timed["fatigue"] = time.perf_counter() - tic
-    worn = None
-    if wear is not None:
-        tic = time.perf_counter()
-        worn = run_wear_request(simulation, wear, fatigue_request, mode, say, bars, sliding, frame)
-        timed["wear"] = time.perf_counter() - tic
-    return RunResult(result, reason, stress, fatigue, tuple(others), wear=worn, phases=timed)
+        try:
+            if sliding:
+                result = solve_sliding(simulation, say=say, progress=progress, frame=frame)
+            else:
+                result = accuracy.solve(simulation, mode, coarse=companion, memo=memo, **options)
+        except SolverConvergenceError as failure:
+            retry = None if sliding else with_fallback(simulation)
+            if retry is None:
+                raise
+            say(f"Newton did not converge ({str(failure).split(';')[0]}); solving again with "
+                "Lemke's method on the increments Newton fails on")  # fmt: skip
+            coarse = None if companion is None else (lambda n: _fallback(companion(n)))
+            result = accuracy.solve(retry, mode, coarse=coarse, **options)
+        # a failed check ends here: nothing is post-processed or written (the run checked each
+        # step as it solved it: only the consistency of the result is left)
+        check_steps(result, fresh=True)
+        timed["solve"] = time.perf_counter() - tic
+        others = []
+        if compare:
+            tic = time.perf_counter()
+            for other in compare:
+                say("running a comparison family")
+                others.append(
+                    solve_sliding(other, say=_quiet, frame=frame) if sliding else run(other)
+                )
+                check_steps(others[-1])
+            timed["compare"] = time.perf_counter() - tic
+        fatigue = None
+        if fatigue_request is not None:
+            say("fatigue assessment")
+            tic = time.perf_counter()
+            fatigue = analyses().fatigue_of(result, fatigue_request, progress=bars)
+            timed["fatigue"] = time.perf_counter() - tic
+        worn = None
+        if wear is not None:
+            tic = time.perf_counter()
+            worn = run_wear_request(
+                simulation, wear, fatigue_request, mode, say, bars, sliding, frame
+            )
+            timed["wear"] = time.perf_counter() - tic
+        return RunResult(result, reason, stress, fatigue, tuple(others), wear=worn, phases=timed)
 
 
 def run_scene(

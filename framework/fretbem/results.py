@@ -325,13 +325,14 @@ class StepResult:
     @classmethod
     def build(
         cls, simulation, problem, load, state, iterations, residuals, seconds, history, *,
-        last: IncrementRecord | None = None, increments: tuple = (),
+        last: IncrementRecord | None = None, increments: tuple = (), checks=None,
     ):  # fmt: skip
         """Collect a step's pair results, resultants and errors against the reference.
 
         ``last``, the record of the step's last increment (the same state), gives the
         block's measured approach, delta, moment and rotation without measuring again;
-        ``increments``, every increment's record, are kept as they are."""
+        ``increments``, every increment's record, are kept as they are; ``checks(step)``
+        gives the record's :attr:`checks` (None: none)."""
         x = _frozen(problem.pairing.points[:, 0])
         unknowns = problem.unknowns(state.x)
         p, q = _frozen(unknowns.pressure), _frozen(unknowns.shear)
@@ -347,7 +348,7 @@ class StepResult:
             rig = getattr(simulation, "rig", control.RIGID)
             measured = control.measure(problem, state.x, problem.amplitudes(state.loads), rig)
         controls = load.controls
-        return cls(
+        step = cls(
             name=load.name,
             normal=load.normal if controls.normal == "force" else state.normal,
             tangential=load.tangential if controls.tangential == "force" else state.tangential,
@@ -374,6 +375,10 @@ class StepResult:
             loads=dict(state.loads),
             increments=tuple(increments),
         )
+        if checks is not None:  # the record's own checks, set before it leaves here: a second
+            # record (attrs.evolve) would run every field's converter again, 9 us a step
+            object.__setattr__(step, "checks", checks(step))
+        return step
 
     def count(self, state: str) -> int:
         """Number of pairs in ``state`` ("separated", "stick" or "slip")."""

@@ -7,15 +7,17 @@ frozen :class:`~fretbem.contact.law.ContactState` records.
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import math
 import numbers
 import time
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 
 import attrs
 import numpy as np
 
-from fretbem.bem.resources import check_resources
+from fretbem.bem.resources import check_resources, run_size
 from fretbem.contact import control
 from fretbem.contact import rotation as pad_rotation
 from fretbem.contact.condensation import CondensedContact
@@ -603,17 +605,39 @@ def run(
     ``warm`` (a :class:`~fretbem.solvers.warm_start.WarmStart`: a run of the same history on
     another mesh of the contact faces) starts each increment's Newton iteration on that
     run's pattern; the unknowns are the same to the solver's tolerance, in fewer iterations.
-    A run of :data:`~fretbem.numerics.memory.KEPT_MEMORY_DOFS` boundary DOFs or more keeps
-    its large arrays' memory for the next ones until it ends
-    (:func:`~fretbem.numerics.memory.kept_memory`).
+    The run is checked against the machine's memory and, from
+    :data:`~fretbem.numerics.memory.KEPT_MEMORY_DOFS` boundary DOFs on, keeps its large
+    arrays' memory for the next ones until it ends (:func:`run_resources`).
     """
 
     start = time.perf_counter()
-    pair = simulation.pair
-    dofs = int(pair.upper.dofs + pair.lower.dofs)
-    check_resources(dofs)
-    with kept_memory(dofs >= KEPT_MEMORY_DOFS):
+    with run_resources(simulation):
         return _run(simulation, start, progress, check, memo, warm)
+
+
+#: boundary DOFs the enclosing :func:`run_resources` block checked (0 outside any)
+_CHECKED = contextvars.ContextVar("fretbem checked run DOFs", default=0)
+
+
+@contextlib.contextmanager
+def run_resources(simulation: Simulation) -> Iterator[None]:
+    """The block every run path solves in (:func:`run`, finite sliding, wear, a sweep's
+    batch, the run pipeline): the simulation's boundary DOFs checked against the machine's
+    memory (:func:`~fretbem.bem.resources.check_resources`), and from
+    :data:`~fretbem.numerics.memory.KEPT_MEMORY_DOFS` on its large arrays' memory kept for
+    the next ones until the block ends (:func:`~fretbem.numerics.memory.kept_memory`). A
+    block inside one that checked at least as many DOFs is not checked again: the outer
+    estimate is of the whole run, and the memory it holds is no longer available."""
+    size = run_size(simulation.pair)
+    dofs, checked = size["dofs"], _CHECKED.get()
+    if dofs > checked:
+        check_resources(**size)
+    token = _CHECKED.set(max(dofs, checked))
+    try:
+        with kept_memory(dofs >= KEPT_MEMORY_DOFS):
+            yield
+    finally:
+        _CHECKED.reset(token)
 
 
 def _run(simulation, start, progress, check, memo, warm) -> SimulationResult:
@@ -628,6 +652,7 @@ def _run(simulation, start, progress, check, memo, warm) -> SimulationResult:
     if simulation.rotates:
         check_balance(simulation, problem)
     friction = getattr(simulation.law, "friction", float("nan"))
+    checks = (lambda step: check_step(step, friction)) if check else None
     state = ContactState.initial(problem)
     history: list[float] = []
     steps = []
@@ -658,10 +683,8 @@ def _run(simulation, start, progress, check, memo, warm) -> SimulationResult:
         history.append(load.tangential if load.delta is None else state.tangential)
         step = StepResult.build(
             simulation, problem, load, state, iterations, residuals, seconds, tuple(history),
-            last=increments[-1], increments=tuple(increments),
+            last=increments[-1], increments=tuple(increments), checks=checks,
         )  # fmt: skip
-        if check:
-            step = attrs.evolve(step, checks=check_step(step, friction))
         steps.append(step)
         if progress is not None:
             progress(k, len(simulation.steps), step)
@@ -681,4 +704,5 @@ __all__ = [
     "loads_between",
     "no_balance",
     "run",
+    "run_resources",
 ]

@@ -17,7 +17,7 @@ from fretbem import registry as bases
 from fretbem.accuracy import modes as accuracy
 from fretbem.accuracy.modes import Accuracy, mode_of
 from fretbem.app.progress import Bars
-from fretbem.bem.resources import check_resources
+from fretbem.bem.resources import check_resources, run_size
 from fretbem.contact.zones import zone_table
 from fretbem.errors import InputError
 from fretbem.fretting import analyse as analyse_cycles
@@ -145,8 +145,7 @@ def _prepare(make, args: argparse.Namespace):
     compare = _check_compare(args.compare) if not args.no_figures else []
     simulation, reason = make(None)
     _check_steps(simulation, args.steps)
-    pair = simulation.pair
-    estimate = check_resources(int(pair.upper.dofs + pair.lower.dofs))
+    estimate = check_resources(**run_size(simulation.pair))
     if estimate.seconds > 2.0:
         _progress(f"running, estimated {estimate.describe()}")
     return simulation, reason, compare, estimate

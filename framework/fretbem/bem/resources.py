@@ -17,24 +17,34 @@ import attrs
 
 from fretbem.errors import ResourceLimitError
 
-#: peak bytes per dofs^2 above the interpreter's own: two dense 8-byte arrays' worth. The
-#: peak is H, G and the LU of one body with its parameter block, the other body's response
-#: and the condensed maps (H and G are released once a body's contact system is built).
-#: Fitted with BYTES_PER_DOF to the peak RSS of benchmarks/large_problems.py (the growth over
-#: the imports: 174 MiB at 2236 DOFs, 340 at 4156, 1030 at 7996: 16.9 bytes per dofs^2 at
-#: the largest); the estimate is within 0.9-1.15x of those peaks. At 15,676 DOFs (3,841
-#: pairs) the peak is 3,335 MiB since the condensation stopped copying the face's response
-#: (3,791 before): the estimate, 4,149 MiB, is 1.24x it, kept for its margin at small sizes.
-#: Solving a symmetric body as two half systems (:mod:`fretbem.bem.mirror_split`) left the
-#: peaks as they were (3,334 MiB at 3,841 pairs, 407 at 961): the peak is not reached while
-#: a body's system is solved (at 961 pairs it comes in the Newton steps). A large run keeps
-#: its freed arrays' memory on the heap for the next ones (:mod:`fretbem.numerics.memory`):
-#: 3,599 MiB at 3,841 pairs, since a freed block does not always fit the next request.
-BYTES_PER_DOF2 = 16
+from .body import BemBody
+from .integration import LOOP_CHOICE
+
+#: peak bytes per dofs^2 above the interpreter's own (BEM bodies): H, G and the LU of one
+#: body with its parameter block, the other body's response and the condensed maps (H and G
+#: are released once a body's contact system is built). With BYTES_PER_DOF, BASE_BYTES and
+#: COMPILED_BYTES fitted to the peak resident memory of the reference cycle, each run in a
+#: fresh process (benchmarks/memory_estimate.py: 61-961 pairs, nurbs and lagrange2; and
+#: benchmarks/large_problems.py at 3,841 pairs, 15,676 DOFs, 3,599 MiB with the freed arrays
+#: kept on the heap, :mod:`fretbem.numerics.memory`): the estimate is 1.02-1.29x the peak
+#: from 556 to 15,676 DOFs (it was 0.72x at 481 nurbs pairs, whose assembly loads numba, and
+#: up to 1.49x for the small runs, whose interpreter it counted as 100 MB).
+BYTES_PER_DOF2 = 14
 #: bytes per DOF: the assembly's and the steps' transients that grow with the boundary
-BYTES_PER_DOF = 20_000
-#: memory of the interpreter with numpy, scipy and fretbem imported (measured 60 MB)
-BASE_BYTES = 100 * 2**20
+BYTES_PER_DOF = 18_000
+#: memory of the interpreter with numpy, scipy and fretbem imported: 63 MiB measured, with
+#: 9 MiB of margin (the estimate of the small runs is 1.02-1.16x their peaks)
+BASE_BYTES = 72 * 2**20
+#: numba's compiled assembly loops in memory (:mod:`fretbem.bem.compiled_loops`): a run
+#: whose assembly loads them peaks 99-133 MiB higher than with the numpy loops (numba and
+#: llvmlite imported, 54 MiB, and the cached kernels; measured at 241, 481 and 961 pairs)
+COMPILED_BYTES = 135 * 2**20
+#: bytes per DOF and per DOF^2 of a half-plane body (:mod:`fretbem.halfplane`), which holds
+#: no dense body matrices: its face's influence coefficients only. Fitted to the peaks of the
+#: reference scene on half-planes, 61-1,921 pairs (a growth over the imports of 4-393 MiB;
+#: the estimate 1.09-1.19x the peaks at 61-1,921 pairs; it was 1.55-2.37x at the BEM rates)
+HALF_PLANE_BYTES_PER_DOF = 8_000
+HALF_PLANE_BYTES_PER_DOF2 = 7
 #: seconds per dofs^2 (assembly, condensation, steps) and per dofs^3 (factorisations),
 #: fitted to the CPU seconds of the whole cycle, 3.5 s at 4156 and 18 s at 7996 DOFs, on
 #: one BLAS thread (a busy machine stretches the wall time)
@@ -98,25 +108,65 @@ def available_memory() -> float | None:
         return None
 
 
-def estimate_resources(dofs: int, *, available: float | None = math.nan) -> Estimate:
-    """Peak memory and time of a dense BEM run with ``dofs`` boundary unknowns (both bodies).
+def estimate_resources(
+    dofs: int,
+    *,
+    available: float | None = math.nan,
+    half_plane_dofs: int = 0,
+    compiled: bool = False,
+) -> Estimate:
+    """Peak memory (of the process) and time of a run with ``dofs`` boundary unknowns (both
+    bodies), dense BEM bodies unless ``half_plane_dofs`` of them are half-plane bodies';
+    ``compiled``: the run's assembly loads numba's compiled loops (:func:`run_size`).
 
     ``available`` overrides the machine's free memory (bytes; None for unknown).
     """
-    n = float(dofs)
+    n, face = float(dofs - half_plane_dofs), float(half_plane_dofs)
     if available is not None and math.isnan(available):
         available = available_memory()
+    memory = BASE_BYTES + BYTES_PER_DOF * n + BYTES_PER_DOF2 * n * n
+    memory += HALF_PLANE_BYTES_PER_DOF * face + HALF_PLANE_BYTES_PER_DOF2 * face * face
+    n = float(dofs)
     return Estimate(
         dofs=int(dofs),
-        memory=BASE_BYTES + BYTES_PER_DOF * n + BYTES_PER_DOF2 * n * n,
+        memory=memory + (COMPILED_BYTES if compiled else 0),
         seconds=SECONDS_PER_DOF2 * n * n + SECONDS_PER_DOF3 * n**3,
         available=available,
     )
 
 
-def check_resources(dofs: int, *, available: float | None = math.nan) -> Estimate:
+def run_size(pair) -> dict:
+    """The keywords of :func:`estimate_resources` for a run on ``pair``: its DOFs, those of
+    half-plane bodies, and whether its BEM bodies' assembly will load the compiled loops
+    (the process's choice, :data:`~fretbem.bem.integration.LOOP_CHOICE`). A body of
+    another model counts as a dense BEM body."""
+    dofs = half_plane = work = 0
+    forced = False
+    for body in (pair.upper, pair.lower):
+        count = int(body.dofs)
+        dofs += count
+        if isinstance(body, BemBody):
+            choice = body.integration.compiled  # True, False or None: the process's choice
+            forced |= choice is True
+            if choice is None:
+                work += body.n_functions * sum(basis.n_elements for basis in body.segments)
+        elif getattr(body, "describe", dict)().get("model") == "half-plane":
+            half_plane += count
+    compiled = forced or (work > 0 and LOOP_CHOICE.compiled(work))
+    return {"dofs": dofs, "half_plane_dofs": half_plane, "compiled": compiled}
+
+
+def check_resources(
+    dofs: int,
+    *,
+    available: float | None = math.nan,
+    half_plane_dofs: int = 0,
+    compiled: bool = False,
+) -> Estimate:
     """The estimate, or ResourceLimitError when it cannot fit in the available memory."""
-    estimate = estimate_resources(dofs, available=available)
+    estimate = estimate_resources(
+        dofs, available=available, half_plane_dofs=half_plane_dofs, compiled=compiled
+    )
     if not estimate.fits:
         raise ResourceLimitError(
             f"refusing to start: {estimate.describe()}; the dense BEM matrices grow as "

@@ -44,7 +44,13 @@ from fretbem.contact.node_to_segment import FRAMES, NodeToSegmentPair
 from fretbem.contact.pairs import ContactDiscretisationError
 from fretbem.errors import InputError
 from fretbem.results import IncrementRecord, StepResult
-from fretbem.simulation import Simulation, check_balance, loads_between, no_balance
+from fretbem.simulation import (
+    Simulation,
+    check_balance,
+    loads_between,
+    no_balance,
+    run_resources,
+)
 from fretbem.solvers.newton import SolverConvergenceError
 from fretbem.verification.checks import check_step
 
@@ -272,6 +278,12 @@ def run_sliding(
             f"{type(pair).__name__}; use NodeToSegmentPair ([contact] pairing = "
             "'node-to-segment')"
         )
+    with run_resources(simulation):
+        return _slide(simulation, pair, every, check, note, progress, frame)
+
+
+def _slide(simulation, pair, every, check, note, progress, frame) -> SlidingResult:
+    """:func:`run_sliding` after its arguments' checks, in the run's resource block."""
     pair = _on_the_pad(pair)
     try:
         track = Track.of(pair)
@@ -368,11 +380,11 @@ def run_sliding(
             time.perf_counter() - tic,
             tuple(history),
         )
-        result = attrs.evolve(
-            _slid(result, offset), increments=tuple(increments), pair=pair
-        )  # the block's delta and the slip counted from where the pad started
-        if check:
-            result = attrs.evolve(result, checks=check_step(result, friction))
+        # the block's delta and the slip counted from where the pad started; the checks read
+        # none of the fields the last record changes (its increments and pairing)
+        slid = _slid(result, offset)
+        checks = check_step(slid, friction) if check else None
+        result = attrs.evolve(slid, increments=tuple(increments), pair=pair, checks=checks)
         results.append(result)
         offsets.append(offset)
         positions.append(offset + _block_delta(problem, state.x))

@@ -23,7 +23,7 @@ import numpy as np
 from fretbem.contact.law import ContactState
 from fretbem.contact.node_to_segment import FRAMES, NodeToSegmentPair
 from fretbem.results import SimulationResult
-from fretbem.simulation import LoadStep, Simulation, run
+from fretbem.simulation import LoadStep, Simulation, run, run_resources
 from fretbem.sliding import solve_sliding
 from fretbem.solvers.newton import SolverConvergenceError
 from fretbem.validators import count_field, whole_number
@@ -385,6 +385,12 @@ def run_wear(wear: WearSimulation, *, progress=None) -> WearResult:
     ``progress(N, cycles)`` is called after each jump.
     """
     start = time.perf_counter()
+    with run_resources(wear.simulation):
+        return _run_wear(wear, progress, start)
+
+
+def _run_wear(wear: WearSimulation, progress, start: float) -> WearResult:
+    """:func:`run_wear` in the run's resource block."""
     contact = _Sliding(wear) if wear.sliding else _Pairs(wear)
     state = contact.start()
     for load in wear.preload_steps:

@@ -11,6 +11,7 @@ the same worker assemble once.
 
 from __future__ import annotations
 
+import contextlib
 import copy
 import json
 import os
@@ -32,7 +33,7 @@ from fretbem.pipeline import run_scene, run_simulation
 from fretbem.scenes import builder as scene_build
 from fretbem.scenes.file import scene_from_data
 from fretbem.scenes.reference import CattaneoMindlinScene, cattaneo_mindlin
-from fretbem.simulation import LoadStep
+from fretbem.simulation import LoadStep, run_resources
 from fretbem.solvers.step_memo import StepMemo
 from fretbem.studies.sweep.outputs import resolve_all
 
@@ -252,14 +253,17 @@ def group_key(scene: Mapping) -> str:
     return json.dumps(scene, sort_keys=True)
 
 
-def _group_simulation(key: str, scene: dict) -> tuple[Any, StepMemo, float]:
+def _group_simulation(key: str, scene: dict, held: contextlib.ExitStack) -> tuple:
     """The group's condensed simulation and step memo, built here or taken from this
-    process's cache (seconds spent building: 0 when cached)."""
+    process's cache (seconds spent building: 0 when cached), its run's resource block
+    entered on ``held`` before it is assembled."""
     if key in _GROUPS:
         _GROUPS.move_to_end(key)
+        held.enter_context(run_resources(_GROUPS[key][0]))
         return (*_GROUPS[key], 0.0)
     start = time.perf_counter()
     simulation = build_simulation(scene)
+    held.enter_context(run_resources(simulation))
     simulation.prepare()
     seconds = time.perf_counter() - start
     keep_group(key, simulation)
@@ -379,6 +383,12 @@ def run_batch(
     prepared it (pickled to this one), taken instead of assembling it here.
     """
 
+    with contextlib.ExitStack() as held:  # the group's run block: its assembly to its last case
+        return _batch(scene, cases, builder, outputs, extras, prepared, held)
+
+
+def _batch(scene, cases, builder, outputs, extras, prepared, held) -> list[dict[str, Any]]:
+    """:func:`run_batch` with its group's resource block entered on ``held``."""
     worker = f"{socket.gethostname()}:{os.getpid()}"
     simulation, memo, assembly, failure = None, None, 0.0, None
     try:
@@ -387,10 +397,11 @@ def run_batch(
             key = group_key(scene)
             if prepared is not None and key not in _GROUPS:
                 keep_group(key, prepared)
-            simulation, memo, assembly = _group_simulation(key, scene)
+            simulation, memo, assembly = _group_simulation(key, scene, held)
         else:
             tic = time.perf_counter()
             simulation = builder(scene)
+            held.enter_context(run_resources(simulation))
             simulation.prepare()
             memo = StepMemo()
             assembly = time.perf_counter() - tic
