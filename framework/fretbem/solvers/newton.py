@@ -34,12 +34,15 @@ from fretbem.contact.law import (
 from fretbem.errors import ComputationError, SolverSettingsError
 from fretbem.numerics.blas import one_blas_thread
 
-from . import newton_linear
+from . import newton_uncoupled
 from .newton_linear import NewtonLinear
 from .newton_uncoupled import UncoupledSteps
 
 #: factor applied to the normal augmentation r_n when the Newton iteration cycles
 CYCLE_SOFTENING = 0.1
+#: the lean iteration (small uncoupled problems) guards reversals once a residual is above
+#: this fraction of the one before: it has grown, or stalled at round-off
+STALL = 1.0 - 1e-12
 #: the pair states as plain ints (an IntEnum member costs an attribute lookup per use)
 _STICK, _SLIP = int(PairState.STICK), int(PairState.SLIP)
 
@@ -56,9 +59,7 @@ def _newton_linear(
     linear = kept.get(problem)
     if linear is None or not linear.matches(r_n, r_t, friction):
         maps = problem.normal_map, problem.tangential_map, problem.resultant_map
-        part = None
-        if maps[0].shape[1] < newton_linear.DIRECT_BELOW and _plain_coulomb(law):
-            part = newton_linear.normal_part(*maps)
+        part = newton_uncoupled.lean_part(*maps) if _plain_coulomb(law) else None
         if part is None:
             linear = NewtonLinear(*maps, friction, r_n, r_t)
         else:
@@ -414,7 +415,10 @@ class SemiSmoothNewton(Solver):
                 raise _all_separated(iteration, history, n)
             if norm <= self.tolerance:
                 return IncrementResult(increment.x, states, iteration, tuple(history))
-            guarded = guarded or (len(history) > 1 and history[-1] > history[-2])
+            # once the residual stops falling (a stall counts: an all-slip pattern that a
+            # displacement-driven unloading step starts on keeps its residual, and whether
+            # the next equal value reads an ulp above is round-off's choice)
+            guarded = guarded or (len(history) > 1 and history[-1] > history[-2] * STALL)
             if guarded:
                 increment.through_stick(before_states, before_direction)
             states = increment.states

@@ -30,8 +30,18 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg as sla
 
+from . import newton_linear
 from .newton_linear import _lu
 
+#: systems of fewer unknowns take the lean iteration (the size below which NewtonLinear
+#: factorises every pattern afresh: its per-pattern objects then cost more than the LUs)
+LEAN_BELOW = newton_linear.DIRECT_BELOW
+#: coupling entries at most this fraction of their map's largest entry are round-off: two
+#: half-planes of one material on faces discretised differently (a rounded-flat pad on a
+#: flat) add the Dundurs terms of each body, which cancel to about 1e-16 of the map, not 0.
+#: Dissimilar materials couple at about beta (1e-2 to 0.3), faces paired by interpolation
+#: (a track longer than the pad's face) at about 1e-3
+ROUND_OFF = 1e-12
 #: pair states, as in the contact law (SEPARATED, STICK, SLIP)
 _SEPARATED, _STICK, _SLIP = 0, 1, 2
 #: factors kept per kind (normal, tangential; the oldest dropped first): at most this many
@@ -47,6 +57,42 @@ def _largest(values: np.ndarray) -> float:
     return _largest_of(values, initial=0.0)
 
 
+def lean_part(normal_map, tangential_map, resultant_map) -> tuple | None:
+    """The block rows and block columns (numbers of x) of the normal problem of a system the
+    lean iteration takes, else None.
+
+    Taken: fewer than :data:`LEAN_BELOW` unknowns, and uncoupled up to round-off (entries
+    at most :data:`ROUND_OFF` of their map's largest read as 0; F is always evaluated with
+    every entry, the lean step leaves them out of the normal block, whose iterates they
+    would move by about that fraction). A block column is tangential if a slip row sees it;
+    a block row if it sees a shear or a tangential block column. Uncoupled: no gap row sees
+    a tangential column, and the normal block rows are as many as its columns. Unlike
+    :func:`~fretbem.solvers.newton_linear.normal_part` a block row need not be its
+    column's: a step driven by delta or by the approach makes the block's force row of one
+    direction a displacement row of the other.
+    """
+    n, n_x = normal_map.shape
+    if n == 0 or n_x >= LEAN_BELOW or resultant_map.shape[0] != n_x - 2 * n:
+        return None
+    normal, tangential, resultant = (_nonzero(m) for m in (normal_map, tangential_map,
+                                                          resultant_map))  # fmt: skip
+    blocks = np.arange(2 * n, n_x)
+    columns = ~tangential[:, blocks].any(axis=0)  # the normal block columns
+    seen = np.zeros(n_x, dtype=bool)  # the tangential columns
+    seen[n : 2 * n] = True
+    seen[blocks[~columns]] = True
+    rows = ~resultant[:, seen].any(axis=1)
+    if normal[:, seen].any() or rows.sum() != columns.sum():
+        return None
+    return blocks[rows], blocks[columns]
+
+
+def _nonzero(matrix: np.ndarray) -> np.ndarray:
+    """Where ``matrix`` is more than round-off (:data:`ROUND_OFF` of its largest entry)."""
+    size = np.abs(matrix)
+    return size > ROUND_OFF * _largest(size.ravel())
+
+
 class UncoupledSteps:
     """What the lean iteration keeps of one small uncoupled problem: its stacked maps, the
     index sets of each pattern met and the LU factors of each contact and stick set.
@@ -55,8 +101,8 @@ class UncoupledSteps:
     ----------
     normal_map, tangential_map, resultant_map : ndarray
         The condensed problem's maps (n, n_x), (n, n_x), (n_x - 2 n, n_x).
-    part : ndarray of bool, shape (n_x,)
-        The numbers of x of the normal problem (:func:`~fretbem.solvers.newton_linear.normal_part`).
+    part : tuple of ndarray
+        The normal problem's block rows and columns (:func:`lean_part`).
     friction, r_n, r_t : float
         Coulomb coefficient and augmentation parameters.
     """
@@ -72,13 +118,14 @@ class UncoupledSteps:
             [self.r_n * normal_map, -self.r_t * tangential_map, resultant_map]
         )
         blocks = np.arange(2 * n, n_x)
-        #: the block components of the normal and of the tangential problem
-        self.normal_blocks, self.tangential_blocks = blocks[part[2 * n :]], blocks[~part[2 * n :]]
-        #: (T; R of the tangential block components): F's products once the normal is solved
-        self.tangential_rows = np.concatenate(
-            [tangential_map, resultant_map[self.tangential_blocks - 2 * n]]
+        #: the block rows and columns (numbers of x) of the normal and tangential problems
+        self.normal_rows, self.normal_columns = part
+        self.tangential_rows = np.setdiff1d(blocks, self.normal_rows)
+        self.tangential_columns = np.setdiff1d(blocks, self.normal_columns)
+        #: (T; R's tangential rows): F's products once the normal part is solved
+        self.tangential_maps = np.concatenate(
+            [tangential_map, resultant_map[self.tangential_rows - 2 * n]]
         )
-        self.resultant_map = resultant_map
         self.normal_map, self.tangential_map = normal_map, tangential_map
         self.factorisations = 0
         self._patterns: dict[bytes, tuple] = {}
@@ -89,30 +136,36 @@ class UncoupledSteps:
         return (self.r_n, self.r_t, self.friction) == (r_n, r_t, friction)
 
     def indices(self, states: np.ndarray) -> tuple:
-        """Separated, slipping pairs, and the normal and tangential reduced unknowns (the
-        numbers of x: pressures in contact and normal block components; shears sticking
-        and tangential block components) of the pattern ``states`` (kept)."""
+        """Separated and slipping pairs (their pressures, their shears' numbers in x), and
+        the rows and columns of the normal block (the gap rows of the pairs in contact and
+        the normal block rows; their pressures and the normal block columns) and of the
+        tangential one (the slip rows of the sticking pairs, the tangential block rows;
+        their shears, the tangential block columns) of the pattern ``states`` (kept)."""
         key = states.tobytes()
         found = self._patterns.get(key)
         if found is None:
             n = self.n
             separated = (states == _SEPARATED).nonzero()[0]
             slipping = (states == _SLIP).nonzero()[0]
-            normal_x = np.concatenate([(states != _SEPARATED).nonzero()[0], self.normal_blocks])
-            tangential_x = np.concatenate(
-                [n + (states == _STICK).nonzero()[0], self.tangential_blocks]
-            )
-            found = (separated, slipping, n + separated, n + slipping, normal_x, tangential_x)
+            contact = (states != _SEPARATED).nonzero()[0]
+            stick = n + (states == _STICK).nonzero()[0]
+            found = (
+                separated, slipping, n + separated, n + slipping,
+                np.concatenate([contact, self.normal_rows]),
+                np.concatenate([contact, self.normal_columns]),
+                np.concatenate([stick, self.tangential_rows]),
+                np.concatenate([stick, self.tangential_columns]),
+            )  # fmt: skip
             _keep(self._patterns, key, found)
         return found
 
-    def factor(self, reduced: np.ndarray) -> tuple:
-        """The LU of the Jacobian's square block over ``reduced`` (kept per set);
-        LinAlgError if singular."""
-        key = reduced.tobytes()
+    def factor(self, rows: np.ndarray, columns: np.ndarray) -> tuple:
+        """The LU of the Jacobian's block ``rows`` x ``columns`` (kept per row set: the
+        columns follow from the rows); LinAlgError if singular."""
+        key = rows.tobytes()
         found = self._factors.get(key)
         if found is None:
-            found = _lu(self.stacked.take(reduced, axis=0).take(reduced, axis=1))
+            found = _lu(self.stacked.take(rows, axis=0).take(columns, axis=1))
             self.factorisations += 1
             _keep(self._factors, key, found)
         return found
@@ -160,10 +213,8 @@ class UncoupledIncrement:
         #: whether the normal part is solved (its unknowns, F and pattern kept)
         self.frozen = False
         self._normal_size = 0.0
-        tangential = steps.tangential_blocks
-        self._tangential_rows = tangential - 2 * n
-        self._tangential_base = resultant_base[self._tangential_rows]
-        self._tangential_forces = forces[self._tangential_rows]
+        rows = steps.tangential_rows - 2 * n
+        self._tangential_base, self._tangential_forces = resultant_base[rows], forces[rows]
 
     def begin(self, x: np.ndarray, gap: np.ndarray, states=None) -> None:
         """Start at ``x`` (owned from now on) with the problem's ``gap`` (at x = 0): F on
@@ -207,7 +258,7 @@ class UncoupledIncrement:
         """F's tangential part and the pattern at x, the normal part being solved."""
         steps, n, x = self.steps, self.n, self.x
         r_t = steps.r_t
-        products = steps.tangential_rows @ x
+        products = steps.tangential_maps @ x
         slip = self.slip = self.tangential_base + products[:n] - self.reference
         q = x[n : 2 * n]
         trial = q + r_t * slip
@@ -215,7 +266,7 @@ class UncoupledIncrement:
         direction = self.direction = np.sign(trial)
         residual = self.residual
         residual[n : 2 * n] = np.where(stick, -r_t * slip, q - self.bound * direction)
-        residual[steps.tangential_blocks] = (
+        residual[steps.tangential_rows] = (
             self._tangential_base + products[n:] - self._tangential_forces
         )
         self.states = self._contact_states - stick
@@ -250,27 +301,27 @@ class UncoupledIncrement:
         LinAlgError if a reduced matrix is singular. A block whose right-hand side is all
         zero (the shears under a normal load alone) is 0 without its factor."""
         steps = self.steps
-        separated, slipping, separated_q, slipping_q, normal_x, tangential_x = steps.indices(
-            self.states
-        )
+        (separated, slipping, separated_q, slipping_q, normal_rows, normal_columns,
+         tangential_rows, tangential_columns) = steps.indices(self.states)  # fmt: skip
         stacked = steps.stacked
         b = -self.residual
         y = np.zeros(steps.n_x)
         if not self.frozen:
-            rhs = b[normal_x]
+            rhs = b[normal_rows]
             if separated.size:
                 y[separated] = b[separated]
-                rhs -= (stacked @ y)[normal_x]
+                rhs -= (stacked @ y)[normal_rows]
             if _any(rhs):
-                y[normal_x] = _solved(*steps.factor(normal_x), rhs)
+                y[normal_columns] = _solved(*steps.factor(normal_rows, normal_columns), rhs)
         # a separated pair's shear goes to 0, a slipping pair's follows its pressure:
         # dq_i = c_i (dp_i + F_n[i]) - F_t[i]
         y[separated_q] = b[separated_q]
         coeff = steps.friction * self.direction[slipping]
         y[slipping_q] = b[slipping_q] + coeff * (y[slipping] - b[slipping])
-        rhs = b[tangential_x] - (stacked @ y)[tangential_x]
+        rhs = b[tangential_rows] - (stacked @ y)[tangential_rows]
         if _any(rhs):
-            y[tangential_x] = _solved(*steps.factor(tangential_x), rhs)
+            y[tangential_columns] = _solved(*steps.factor(tangential_rows, tangential_columns),
+                                            rhs)  # fmt: skip
         return y
 
     def advance(self, dx: np.ndarray, force_scale: float, exact: bool = True) -> float:
@@ -292,7 +343,7 @@ class UncoupledIncrement:
         if self.frozen:
             traction = max(self._pressure_scale, _largest(np.abs(x[n : 2 * n])))
             pairs = max(self._normal_size, _largest(size[n : 2 * n]))
-            blocks = max(self._block_size, _largest(size[self.steps.tangential_blocks]))
+            blocks = max(self._block_size, _largest(size[self.steps.tangential_rows]))
         else:
             traction = _largest(np.abs(x[: 2 * n]))
             pairs, blocks = _largest(size[: 2 * n]), _largest(size[2 * n :])
@@ -305,7 +356,7 @@ class UncoupledIncrement:
         self._contact_states = self.contact * 2
         size = np.abs(self.residual)
         self._normal_size = _largest(size[:n])
-        self._block_size = _largest(size[self.steps.normal_blocks])
+        self._block_size = _largest(size[self.steps.normal_rows])
         self._pressure_scale = _largest(np.abs(self.x[:n]))
 
     def thaw(self, steps: UncoupledSteps) -> None:
