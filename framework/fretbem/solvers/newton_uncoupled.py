@@ -58,8 +58,8 @@ def _largest(values: np.ndarray) -> float:
 
 
 def lean_part(normal_map, tangential_map, resultant_map) -> tuple | None:
-    """The block rows and block columns (numbers of x) of the normal problem of a system the
-    lean iteration takes, else None.
+    """Which block rows and which block columns belong to the normal problem (two boolean
+    arrays over the block components) of a system the lean iteration takes, else None.
 
     Taken: fewer than :data:`LEAN_BELOW` unknowns, and uncoupled up to round-off (entries
     at most :data:`ROUND_OFF` of their map's largest read as 0; F is always evaluated with
@@ -84,7 +84,7 @@ def lean_part(normal_map, tangential_map, resultant_map) -> tuple | None:
     rows = ~resultant[:, seen].any(axis=1)
     if normal[:, seen].any() or rows.sum() != columns.sum():
         return None
-    return blocks[rows], blocks[columns]
+    return rows, columns
 
 
 def _nonzero(matrix: np.ndarray) -> np.ndarray:
@@ -101,8 +101,8 @@ class UncoupledSteps:
     ----------
     normal_map, tangential_map, resultant_map : ndarray
         The condensed problem's maps (n, n_x), (n, n_x), (n_x - 2 n, n_x).
-    part : tuple of ndarray
-        The normal problem's block rows and columns (:func:`lean_part`).
+    part : tuple of ndarray of bool
+        Which block rows and columns are the normal problem's (:func:`lean_part`).
     friction, r_n, r_t : float
         Coulomb coefficient and augmentation parameters.
     """
@@ -118,10 +118,10 @@ class UncoupledSteps:
             [self.r_n * normal_map, -self.r_t * tangential_map, resultant_map]
         )
         blocks = np.arange(2 * n, n_x)
+        rows, columns = part
         #: the block rows and columns (numbers of x) of the normal and tangential problems
-        self.normal_rows, self.normal_columns = part
-        self.tangential_rows = np.setdiff1d(blocks, self.normal_rows)
-        self.tangential_columns = np.setdiff1d(blocks, self.normal_columns)
+        self.normal_rows, self.tangential_rows = blocks[rows], blocks[~rows]
+        self.normal_columns, self.tangential_columns = blocks[columns], blocks[~columns]
         #: (T; R's tangential rows): F's products once the normal part is solved
         self.tangential_maps = np.concatenate(
             [tangential_map, resultant_map[self.tangential_rows - 2 * n]]
@@ -205,16 +205,17 @@ class UncoupledIncrement:
         n = steps.n
         self.gap_base = None
         self._normal_base = normal_base
-        self.tangential_base, self.resultant_base = tangential_base, resultant_base
-        self.forces, self.reference = forces, slip
+        #: the slip and block rows at x = 0 (slip less the stick reference, resultants less
+        #: the imposed forces)
+        self.slip_base = tangential_base - slip
+        self.block_base = resultant_base - forces
         self.n = n
         self.x = self.residual = self.states = self.direction = None
         self.gap = self.slip = self.bound = self.contact = None
         #: whether the normal part is solved (its unknowns, F and pattern kept)
         self.frozen = False
         self._normal_size = 0.0
-        rows = steps.tangential_rows - 2 * n
-        self._tangential_base, self._tangential_forces = resultant_base[rows], forces[rows]
+        self._tangential_base = self.block_base[steps.tangential_rows - 2 * n]
 
     def begin(self, x: np.ndarray, gap: np.ndarray, states=None) -> None:
         """Start at ``x`` (owned from now on) with the problem's ``gap`` (at x = 0): F on
@@ -238,8 +239,8 @@ class UncoupledIncrement:
         r_n, r_t = steps.r_n, steps.r_t
         products = steps.together @ x
         gap = self.gap = self.gap_base + products[:n]
-        slip = self.slip = self.tangential_base + products[n : 2 * n] - self.reference
-        blocks = self.resultant_base + products[2 * n :] - self.forces
+        slip = self.slip = self.slip_base + products[n : 2 * n]
+        blocks = self.block_base + products[2 * n :]
         p, q = x[:n], x[n : 2 * n]
         normal_gap = r_n * gap
         augmented = p - normal_gap
@@ -259,16 +260,14 @@ class UncoupledIncrement:
         steps, n, x = self.steps, self.n, self.x
         r_t = steps.r_t
         products = steps.tangential_maps @ x
-        slip = self.slip = self.tangential_base + products[:n] - self.reference
+        slip = self.slip = self.slip_base + products[:n]
         q = x[n : 2 * n]
         trial = q + r_t * slip
         stick = np.abs(trial) < self.bound
         direction = self.direction = np.sign(trial)
         residual = self.residual
         residual[n : 2 * n] = np.where(stick, -r_t * slip, q - self.bound * direction)
-        residual[steps.tangential_rows] = (
-            self._tangential_base + products[n:] - self._tangential_forces
-        )
+        residual[steps.tangential_rows] = self._tangential_base + products[n:]
         self.states = self._contact_states - stick
 
     def _continue_on(self, states: np.ndarray, direction: np.ndarray) -> None:
