@@ -330,10 +330,11 @@ class UncoupledIncrement:
         least-squares step), so the normal part is solved if its contact set holds."""
         n = self.n
         self.x += dx
-        if self.frozen:
+        if self.frozen and exact:
             self._evaluate_tangential()
-        else:
+        else:  # (a least-squares step moves the normal part too: F afresh)
             stepped = self.states != _SEPARATED
+            self.frozen = False
             self.evaluate()
             if exact and _all(self.contact == stepped):
                 self._freeze()
