@@ -387,8 +387,9 @@ class SemiSmoothNewton(Solver):
     def _solve_uncoupled(self, problem, law, forces, loads, previous, start, r_n, r_t,
                          steps: UncoupledSteps) -> IncrementResult:  # fmt: skip
         """:meth:`_solve_increment`'s iteration on a small uncoupled problem, through
-        :mod:`fretbem.solvers.newton_uncoupled`: the same iterates to round-off, the same
-        guards (reversal through stick, a repeated pattern softening r_n)."""
+        :mod:`fretbem.solvers.newton_uncoupled`: the same iterates to round-off and the same
+        guards (reversal through stick, from a stalled residual too; a repeated pattern
+        softening r_n)."""
         n = problem.n_pairs
         increment = steps.increment(problem.bases(loads), forces, previous.slip)
         x = np.zeros(problem.layout.size) if start is None else np.array(start.x, dtype=float)

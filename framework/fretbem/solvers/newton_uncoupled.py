@@ -1,28 +1,27 @@
 """The Newton iteration of a small contact problem whose normal part is uncoupled, lean.
 
-Two bodies of identical elastic constants (Dundurs' beta = 0: the half-plane body model of
-two equal materials, for one) make the gap independent of the shear
-(:func:`~fretbem.solvers.newton_linear.normal_part`), so the Newton Jacobian is block lower
-triangular: each step solves the normal block (pressures of the pairs in contact, normal
-block components), then the tangential one (shears of the sticking pairs, tangential block
-components) with the normal update among its known values.
+Two bodies of one elastic material (Dundurs' beta = 0: the half-plane body model of equal
+materials, for one) make the gap independent of the shears, so the Newton Jacobian is
+block lower triangular: each step solves the normal block (pressures of the pairs in
+contact, the normal block components) and then the tangential one (shears of the sticking
+pairs, the tangential block components) with the normal update among its known values
+(:func:`lean_part` tells the blocks apart).
 
-The normal iterates do not depend on the tangential ones. A Newton step solves its
-pattern's affine equations exactly, so once the contact set found after a step is the one
-the step was taken on, the normal part is solved (to round-off) and stays so: from then on
-(:attr:`UncoupledIncrement.frozen`) an iteration evaluates and solves the tangential part
-only, where the general path solves the normal block again at every iteration for
-round-off corrections. The iterates are those of the general path up to round-off, the
-iteration counts the same (tests/framework/solvers/test_newton_uncoupled.py). A cycle's
-steps that keep the normal load then solve the normal problem once each.
+The normal iterates do not depend on the tangential ones, and a step solves its pattern's
+affine equations exactly: once the contact set found after a step is the one the step was
+taken on, the normal part is solved (to round-off) and stays so. From then on (``frozen``)
+an iteration evaluates and solves the tangential part only, where the general path
+(:class:`~fretbem.solvers.newton_linear.NewtonLinear` and the law's evaluation) solves
+the normal block again at every iteration for round-off corrections; a cycle at constant P
+solves its normal problem once per step. F(x) is the Coulomb law's, written out as
+:class:`~fretbem.contact.law.CoulombFriction` evaluates it; the index sets of each
+pattern and the LU of each contact and stick set are kept.
 
-For a small system (fewer than :data:`~fretbem.solvers.newton_linear.DIRECT_BELOW`
-unknowns, where numpy's cost per call outweighs the arithmetic) this does with about a
-third of the numpy calls what :class:`~fretbem.solvers.newton_linear.NewtonLinear` and the
-law's evaluation do: F(x) is the Coulomb law's (Alart-Curnier, as
-:class:`~fretbem.contact.law.CoulombFriction` evaluates it) written out over preallocated
-arrays, and the index sets and LU factors of each pattern are kept (the normal LU per
-contact set, the tangential per stick set).
+The iterates are the general path's to round-off and take as many iterations, or fewer
+where the residual stalls (the solver's reversal guard then applies from the first equal
+residual: fretbem.solvers.newton.STALL). Systems of :data:`LEAN_BELOW` unknowns or more,
+coupled problems and other laws take the general path
+(tests/framework/solvers/test_newton_uncoupled.py, benchmarks/uncoupled_newton_trees.py).
 """
 
 from __future__ import annotations
@@ -44,8 +43,8 @@ LEAN_BELOW = newton_linear.DIRECT_BELOW
 ROUND_OFF = 1e-12
 #: pair states, as in the contact law (SEPARATED, STICK, SLIP)
 _SEPARATED, _STICK, _SLIP = 0, 1, 2
-#: factors kept per kind (normal, tangential; the oldest dropped first): at most this many
-#: LUs of fewer than DIRECT_BELOW unknowns each, 13 MB at most
+#: patterns and LU factors kept (the oldest dropped first): at most this many LUs of fewer
+#: than LEAN_BELOW unknowns each, 6.5 MB at most
 KEPT_FACTORS = 32
 #: ufunc reductions called directly (an ndarray method's own frame costs as much here)
 _largest_of, _any, _all = np.maximum.reduce, np.logical_or.reduce, np.logical_and.reduce
@@ -183,7 +182,7 @@ def _keep(kept: dict, key: bytes, value) -> None:
 
 
 def _solved(lu, piv, rhs: np.ndarray) -> np.ndarray:
-    """y with matrix y = rhs from :func:`~fretbem.solvers.newton_linear._lu`'s factors."""
+    """y with matrix y = rhs from the factors of ``newton_linear._lu`` (LAPACK's getrs)."""
     if rhs.shape[0] == 0:
         return rhs
     u, info = _getrs(lu, piv, rhs, trans=1)
