@@ -518,7 +518,7 @@ def small_cycles_section(ratios_path: Path, costs_path: Path) -> list[str]:
         "  holds, then the stick/slip part alone, each pattern's index sets and each set's",
         "  LU kept), about a third cheaper than the general one on the same increments",
         "  (`benchmarks/uncoupled_newton.py`); the steps still include the records and",
-        "  checks of each increment, and build and prepare are two thirds of the cycle.",
+        "  checks of each increment, and build and prepare are more than half the cycle.",
         f"- *half-plane at 481 pairs*: {hp481['iterations']:.0f} iterations at "
         f"{1e3 * hp481['newton'] / hp481['iterations']:.1f} ms",
         "  (LU of the ~600-unknown reduced system, bordered solves) against the peer's",
