@@ -101,6 +101,24 @@ def test_displacement_controlled_cycles_match_the_general_path(basis, delta, inc
     assert total < sum(s.iterations for s in general.steps) or increments == 1
 
 
+@pytest.mark.parametrize(
+    ("friction", "steps"),
+    [(0.3, (LoadStep("A", normal=100.0),
+            LoadStep("B", normal=150.0, tangential=20.0, increments=3),
+            LoadStep("C", normal=60.0, tangential=-10.0, increments=2))),
+     (0.3, (LoadStep("A", normal=100.0), LoadStep("B", normal=100.0, tangential=29.0, increments=4),
+            LoadStep("C", normal=100.0, tangential=-29.5, increments=6))),
+     (0.0, (LoadStep("A", normal=100.0, delta=0.0), LoadStep("B", normal=100.0, delta=0.002))),
+     (1.2, (LoadStep("A", normal=100.0, delta=0.0), LoadStep("B", normal=100.0, delta=0.002),
+            LoadStep("C", normal=100.0, delta=-0.002)))],
+)  # fmt: skip
+def test_histories_that_move_both_parts_match_the_general_path(friction, steps, monkeypatch):
+    """P and Q changed in one step (the normal part iterates beside the tangential one),
+    Q to near gross slip and back, a frictionless and a high-friction delta history."""
+    simulation = cattaneo_mindlin(pairs=41, models=HALF_PLANES)
+    _same(attrs.evolve(simulation, steps=steps, law=CoulombFriction(friction)), monkeypatch)
+
+
 def test_approach_controlled_steps_match_the_general_path(monkeypatch):
     """The normal approach imposed instead of P (its block row a displacement row)."""
     simulation = cattaneo_mindlin(pairs=41, models=HALF_PLANES)
