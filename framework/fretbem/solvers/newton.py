@@ -355,16 +355,10 @@ class SemiSmoothNewton(Solver):
             if guarded:
                 residual, evaluation = equations.through_stick(x, r_n, r_t, before, residual,
                                                                evaluation)  # fmt: skip
-            states = evaluation.states
-            # the slip directions of the slipping pairs: with the states, the same pattern
-            pattern = (states.tobytes(), evaluation.direction[states == _SLIP].tobytes())
-            if pattern in seen:
-                seen.clear()
+            if _seen_before(seen, evaluation.states, evaluation.direction):
                 r_n *= CYCLE_SOFTENING
                 linear = _newton_linear(self._linear, problem, law, r_n, r_t)
                 residual, evaluation = equations.evaluate(x, r_n, r_t)
-            else:
-                seen.add(pattern)
         raise self._not_converged(history, state_history)
 
     def _not_converged(self, history, state_history) -> NewtonConvergenceError:
@@ -422,16 +416,22 @@ class SemiSmoothNewton(Solver):
             guarded = guarded or (len(history) > 1 and history[-1] > history[-2] * STALL)
             if guarded:
                 increment.through_stick(before_states, before_direction)
-            states = increment.states
-            pattern = (states.tobytes(), increment.direction[states == _SLIP].tobytes())
-            if pattern in seen:
-                seen.clear()
+            if _seen_before(seen, increment.states, increment.direction):
                 r_n *= CYCLE_SOFTENING
                 steps = _newton_linear(self._linear, problem, law, r_n, r_t)
                 increment.thaw(steps)
-            else:
-                seen.add(pattern)
         raise self._not_converged(history, state_history)
+
+
+def _seen_before(seen: set, states: np.ndarray, direction: np.ndarray) -> bool:
+    """Whether the pattern (the states and the slipping pairs' slip directions: F's affine
+    piece) was met before in the increment, which then starts a new set; else it is added."""
+    pattern = (states.tobytes(), direction[states == _SLIP].tobytes())
+    if pattern in seen:
+        seen.clear()
+        return True
+    seen.add(pattern)
+    return False
 
 
 def _all_separated(iteration: int, history, n: int) -> NewtonConvergenceError:
