@@ -12,7 +12,9 @@ the unknowns (round-off: the two factorisations order the arithmetic differently
 
     OPENBLAS_NUM_THREADS=1 python benchmarks/split_small_systems.py --pairs 61 121 181 --rounds 40
 
-(From 200 pairs the system has SPLIT_FROM unknowns or more, where both split.)
+(From 200 pairs the system has SPLIT_FROM unknowns or more, where both split.) Both run
+through NewtonLinear: the lean iteration that small uncoupled problems take by default
+(``fretbem.solvers.newton_uncoupled``, benchmarks/uncoupled_newton.py) is switched off.
 """
 
 from __future__ import annotations
@@ -27,7 +29,7 @@ import numpy as np
 
 from fretbem.scenes import reference as scenes
 from fretbem.simulation import run
-from fretbem.solvers import newton_linear
+from fretbem.solvers import newton_linear, newton_uncoupled
 from fretbem.solvers.newton import SemiSmoothNewton
 
 MODELS = {"upper": "half-plane", "lower": "half-plane"}
@@ -50,6 +52,7 @@ def main() -> None:
     args = parser.parse_args()
     print(f"load {os.getloadavg()[0]:.2f}")
     rules = {"split": _split, "coupled": _coupled_below_split}
+    lean_below, newton_uncoupled.LEAN_BELOW = newton_uncoupled.LEAN_BELOW, 0
     try:
         for pairs in args.pairs:
             prepared = scenes.cattaneo_mindlin(pairs=pairs, models=MODELS)
@@ -78,6 +81,7 @@ def main() -> None:
                   f"{difference:.2g}")  # fmt: skip
     finally:
         newton_linear.normal_part = _split
+        newton_uncoupled.LEAN_BELOW = lean_below
     print(f"load {os.getloadavg()[0]:.2f}")
 
 

@@ -23,14 +23,26 @@ import numpy as np
 import scipy.linalg
 
 from fretbem.contact.condensation import CondensedContact
-from fretbem.contact.law import STATE_NAMES, ContactLaw, ContactState, PairState
+from fretbem.contact.law import (
+    STATE_NAMES,
+    ContactLaw,
+    ContactState,
+    CoulombFriction,
+    LawEvaluation,
+    PairState,
+)
 from fretbem.errors import ComputationError, SolverSettingsError
 from fretbem.numerics.blas import one_blas_thread
 
+from . import newton_uncoupled
 from .newton_linear import NewtonLinear
+from .newton_uncoupled import UncoupledSteps
 
 #: factor applied to the normal augmentation r_n when the Newton iteration cycles
 CYCLE_SOFTENING = 0.1
+#: the lean iteration (small uncoupled problems) guards reversals once a residual is above
+#: this fraction of the one before: it has grown, or stalled at round-off
+STALL = 1.0 - 1e-12
 #: the pair states as plain ints (an IntEnum member costs an attribute lookup per use)
 _STICK, _SLIP = int(PairState.STICK), int(PairState.SLIP)
 
@@ -46,10 +58,24 @@ def _newton_linear(
         return None
     linear = kept.get(problem)
     if linear is None or not linear.matches(r_n, r_t, friction):
-        linear = NewtonLinear(problem.normal_map, problem.tangential_map,
-                              problem.resultant_map, friction, r_n, r_t)  # fmt: skip
+        maps = problem.normal_map, problem.tangential_map, problem.resultant_map
+        part = newton_uncoupled.lean_part(*maps) if _plain_coulomb(law) else None
+        if part is None:
+            linear = NewtonLinear(*maps, friction, r_n, r_t)
+        else:
+            linear = UncoupledSteps(*maps, part, friction, r_n, r_t)
         kept[problem] = linear
     return linear
+
+
+def _plain_coulomb(law: ContactLaw) -> bool:
+    """Whether ``law`` evaluates F as CoulombFriction does (the lean iteration writes that
+    arithmetic out; a subclass that changes it takes the general path)."""
+    kind = type(law)
+    return isinstance(law, CoulombFriction) and all(
+        getattr(kind, name) is getattr(CoulombFriction, name)
+        for name in ("evaluate", "evaluate_on", "jacobian_rows")
+    )
 
 
 def _largest(values: np.ndarray) -> float:
@@ -284,6 +310,9 @@ class SemiSmoothNewton(Solver):
         r_n, r_t = self._augmentation(problem)
         forces = np.asarray(forces, float)
         linear = _newton_linear(self._linear, problem, law, r_n, r_t)
+        if isinstance(linear, UncoupledSteps):
+            return self._solve_uncoupled(problem, law, forces, loads, previous, start, r_n, r_t,
+                                         linear)  # fmt: skip
         equations = _Equations(problem, law, problem.bases(loads), forces, previous.slip,
                                None if linear is None else linear.maps)  # fmt: skip
         x = np.zeros(layout.size) if start is None else np.array(start.x, dtype=float)
@@ -311,18 +340,7 @@ class SemiSmoothNewton(Solver):
             states = evaluation.states
             state_history.append(states.copy())
             if n and force_scale > 1e-300 and not np.logical_or.reduce(states):  # all SEPARATED
-                # nothing touches but the blocks must carry a force: the next step would
-                # move a block held by nothing (a near-singular system); give up so the
-                # Simulation can sub-step the increment
-                raise NewtonConvergenceError(
-                    f"the contact Newton iteration separated every pair at iteration "
-                    f"{iteration} although the loading blocks carry a force; set [contact] "
-                    "solver = 'lemke', or split the steps into sub-increments ([load] "
-                    "increments; in Python LoadStep(increments=...) or "
-                    "SemiSmoothNewton(max_substeps=...))",
-                    history,
-                    np.arange(n),
-                )
+                raise _all_separated(iteration, history, n)
             # F is continuous across the separated/stick/slip boundaries, so a small residual
             # is a solution whichever side round-off puts a pair on. Pairs exactly at a limit
             # (|q| = f p with zero slip increment) flip state at round-off; requiring the
@@ -337,19 +355,18 @@ class SemiSmoothNewton(Solver):
             if guarded:
                 residual, evaluation = equations.through_stick(x, r_n, r_t, before, residual,
                                                                evaluation)  # fmt: skip
-            states = evaluation.states
-            # the slip directions of the slipping pairs: with the states, the same pattern
-            pattern = (states.tobytes(), evaluation.direction[states == _SLIP].tobytes())
-            if pattern in seen:
-                seen.clear()
+            if _seen_before(seen, evaluation.states, evaluation.direction):
                 r_n *= CYCLE_SOFTENING
                 linear = _newton_linear(self._linear, problem, law, r_n, r_t)
                 residual, evaluation = equations.evaluate(x, r_n, r_t)
-            else:
-                seen.add(pattern)
+        raise self._not_converged(history, state_history)
+
+    def _not_converged(self, history, state_history) -> NewtonConvergenceError:
+        """The error of an increment that used up its iterations, naming the pairs whose
+        state kept changing over the last ones."""
         recent = np.array(state_history)
         changing = np.flatnonzero(np.any(recent != recent[-1], axis=0))
-        raise NewtonConvergenceError(
+        return NewtonConvergenceError(
             f"the contact Newton iteration did not converge in {self.max_iterations} iterations "
             f"(last residual {history[-1]:.3g}, tolerance {self.tolerance:.1g}); pairs "
             f"{changing.tolist()} kept changing state "
@@ -360,6 +377,76 @@ class SemiSmoothNewton(Solver):
             history,
             changing,
         )
+
+    def _solve_uncoupled(self, problem, law, forces, loads, previous, start, r_n, r_t,
+                         steps: UncoupledSteps) -> IncrementResult:  # fmt: skip
+        """:meth:`_solve_increment`'s iteration on a small uncoupled problem, through
+        :mod:`fretbem.solvers.newton_uncoupled`: the same iterates to round-off and the same
+        guards (reversal through stick, from a stalled residual too; a repeated pattern
+        softening r_n)."""
+        n = problem.n_pairs
+        increment = steps.increment(problem.bases(loads), forces, previous.slip)
+        x = np.zeros(problem.layout.size) if start is None else np.array(start.x, dtype=float)
+        increment.begin(x, problem.gap, None if start is None else start.states)
+        history, state_history, seen = [], deque([increment.states], maxlen=6), set()
+        force_scale = max(_largest(np.abs(forces)), 1e-300)
+        guarded = False
+        for iteration in range(1, self.max_iterations + 1):
+            before_states, before_direction = increment.states, increment.direction
+            exact = True
+            try:
+                step = increment.step()
+            except np.linalg.LinAlgError:
+                evaluation = LawEvaluation(increment.residual[:n], increment.residual[n : 2 * n],
+                                           before_states, before_direction)  # fmt: skip
+                step = self._newton_step(problem, law, evaluation, increment.residual,
+                                         steps.r_n, r_t, None)  # fmt: skip
+                exact = False
+            norm = increment.advance(step, force_scale, exact)
+            history.append(float(norm))
+            states = increment.states
+            state_history.append(states)
+            if n and force_scale > 1e-300 and not np.logical_or.reduce(states):  # all SEPARATED
+                raise _all_separated(iteration, history, n)
+            if norm <= self.tolerance:
+                return IncrementResult(increment.x, states, iteration, tuple(history))
+            # once the residual stops falling (a stall counts: an all-slip pattern that a
+            # displacement-driven unloading step starts on keeps its residual, and whether
+            # the next equal value reads an ulp above is round-off's choice)
+            guarded = guarded or (len(history) > 1 and history[-1] > history[-2] * STALL)
+            if guarded:
+                increment.through_stick(before_states, before_direction)
+            if _seen_before(seen, increment.states, increment.direction):
+                r_n *= CYCLE_SOFTENING
+                steps = _newton_linear(self._linear, problem, law, r_n, r_t)
+                increment.thaw(steps)
+        raise self._not_converged(history, state_history)
+
+
+def _seen_before(seen: set, states: np.ndarray, direction: np.ndarray) -> bool:
+    """Whether the pattern (the states and the slipping pairs' slip directions: F's affine
+    piece) was met before in the increment, which then starts a new set; else it is added."""
+    pattern = (states.tobytes(), direction[states == _SLIP].tobytes())
+    if pattern in seen:
+        seen.clear()
+        return True
+    seen.add(pattern)
+    return False
+
+
+def _all_separated(iteration: int, history, n: int) -> NewtonConvergenceError:
+    """The error of an iteration that separated every pair while the blocks carry a force:
+    the next step would move a block held by nothing (a near-singular system); the
+    Simulation may sub-step the increment."""
+    return NewtonConvergenceError(
+        f"the contact Newton iteration separated every pair at iteration "
+        f"{iteration} although the loading blocks carry a force; set [contact] "
+        "solver = 'lemke', or split the steps into sub-increments ([load] "
+        "increments; in Python LoadStep(increments=...) or "
+        "SemiSmoothNewton(max_substeps=...))",
+        history,
+        np.arange(n),
+    )
 
 
 class _Equations:

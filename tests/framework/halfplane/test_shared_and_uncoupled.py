@@ -16,7 +16,8 @@ from fretbem.bem import images
 from fretbem.halfplane import shared, surface
 from fretbem.scenes import reference as scenes
 from fretbem.simulation import run
-from fretbem.solvers import newton_linear
+from fretbem.solvers import newton_linear, newton_uncoupled
+from fretbem.solvers.newton_uncoupled import UncoupledSteps
 
 HALF_PLANES = {"upper": "half-plane", "lower": "half-plane"}
 
@@ -127,12 +128,15 @@ def test_a_twin_with_other_nodes_computes_its_own():
 def _cycle(monkeypatch, coupled: bool, **kwargs):
     if coupled:
         monkeypatch.setattr(newton_linear, "normal_part", lambda *maps: None)
+        monkeypatch.setattr(newton_uncoupled, "LEAN_BELOW", 0)
     else:  # the split solve at this small size too (it is the default from SPLIT_FROM)
         monkeypatch.setattr(newton_linear, "SPLIT_FROM", 0)
     simulation = scenes.cattaneo_mindlin(models=HALF_PLANES, **kwargs)
     result = run(simulation)
     linear = simulation.solver._linear[simulation.pair.condensed()]
-    assert (linear.maps.normal_part is None) == coupled
+    # small systems take the lean iteration (newton_uncoupled), larger ones the split factor
+    split = isinstance(linear, UncoupledSteps) or linear.maps.normal_part is not None
+    assert split != coupled
     monkeypatch.undo()
     return result
 
