@@ -19,7 +19,7 @@ from fretbem.body import BlockRotation, ContactResponse, RigidMotionError
 from fretbem.numerics.blas import one_blas_thread
 from fretbem.numerics.scatter import added_at
 
-from . import image_factor, images, mirror, mirror_split
+from . import image_factor, image_matrices, mirror, mirror_split
 from .assembly import BLOCKS
 from .layout import BLOCK, CONTACT, DISPLACEMENT, TRACTION, Layout
 
@@ -154,19 +154,32 @@ def _solve_parameters(
             factor = mirror_split.SplitFactor(split, halves)
             del halves
             return _split_response(factor, general, contact_dofs)
-    matrix, parameters = collocation_system(
-        h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs
-    )
+    # H and G permuted from the body factorised before (its point image): its factors serve
+    # when the kinds correspond, and A is not built
+    source = image_matrices.source_of(h)
+    permuted_from = None if source is None else source.h
+    if permuted_from is None:
+        matrix, parameters = collocation_system(
+            h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs
+        )
+    else:
+        matrix = None
+        parameters = collocation_parameters(
+            h, g, kinds, known, load_known, block_dofs, contact_dofs
+        )
     segments = body.segments
     first_dofs = 2 * body.offsets
     counts = np.bincount(body.collocation.segment, minlength=len(segments))
     first_rows = 2 * np.concatenate([[0], np.cumsum(counts)])
     shared = image_factor.solve_as_image(
-        segments, first_dofs, first_rows, _image_of, matrix, parameters
-    )
+        segments, first_dofs, first_rows, _image_of, matrix, parameters,
+        solves_u=solves_u, permuted_from=permuted_from,
+    )  # fmt: skip
     if shared is not None:
         out, owner.image_of = shared
         return out
+    if matrix is None:
+        matrix = collocation_matrix(h, g, solves_u)
     halves = None if split is None else mirror_split.build(split, h, g, solves_u, contact_dofs)
     # kept for a point image: A and the parameters themselves where the halves solve (they
     # leave both as they are), copies where LAPACK overwrites them (481 pairs: two
@@ -198,8 +211,9 @@ def _solve_parameters(
         solve = _LUSolve(lu, piv)
     if small and solve is not None:
         image_factor.keep(
-            owner, segments, first_dofs, first_rows, kept_matrix, solve, kept_parameters, out
-        )
+            owner, segments, first_dofs, first_rows, kept_matrix, solve, kept_parameters, out,
+            solves_u, h,
+        )  # fmt: skip
     else:
         image_factor.clear()
     return out
@@ -250,18 +264,21 @@ def _split_response(factor, general, contact_dofs) -> np.ndarray:
     return out
 
 
-def _image_of(basis):
-    """The segment ``basis`` is the point image of: kept by the block store, or (a body too
-    large to keep its blocks) the one it was discretised from
-    (:func:`fretbem.bem.images.source`)."""
-    image = BLOCKS.image(basis)
-    return image if image is not None else images.source(basis)
+#: the segment a segment is the exact point image of (:func:`fretbem.bem.image_matrices.image_of`)
+_image_of = image_matrices.image_of
 
 
 def collocation_system(h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs):
     """The collocation matrix A (H with the columns of traction unknowns from -G) and the
     parameter columns [z0 rhs, block columns, contact columns, load columns], both F-ordered
     (benchmarks/dense_floor.py times their solve in other precisions)."""
+    parameters = collocation_parameters(h, g, kinds, known, load_known, block_dofs, contact_dofs)
+    return collocation_matrix(h, g, solves_u), parameters
+
+
+def collocation_parameters(h, g, kinds, known, load_known, block_dofs, contact_dofs):
+    """The parameter columns [z0 rhs, block columns, contact columns, load columns],
+    F-ordered."""
     general = general_parameters(h, g, kinds, known, load_known, block_dofs)
     k = load_known.shape[0]
     parameters = np.empty((len(kinds), 3 + len(contact_dofs) + k), order="F")
@@ -269,10 +286,16 @@ def collocation_system(h, g, kinds, known, load_known, solves_u, block_dofs, con
     contact = slice(3, 3 + len(contact_dofs))
     parameters[:, contact] = _taken(g, contact_dofs, axis=1)
     parameters[:, 3 + len(contact_dofs) :] = general[:, 3:]
+    return parameters
+
+
+def collocation_matrix(h, g, solves_u) -> np.ndarray:
+    """The collocation matrix A, F-ordered: H with the columns of traction unknowns (not
+    ``solves_u``) from -G."""
     matrix = _fortran_copy(h)
     solves_t = np.flatnonzero(~solves_u)
     matrix[:, solves_t] = -g[:, solves_t]
-    return matrix, parameters
+    return matrix
 
 
 def general_parameters(h, g, kinds, known, load_known, block_dofs) -> np.ndarray:
