@@ -39,7 +39,8 @@ ROUNDING = 2.0**-40
 @attrs.frozen(eq=False)
 class KeptFactor:
     """The last small factorisation: its system (weak: the object that asked for it), its
-    body's segments (weak), their first dofs and first rows, the matrix, the solve with its
+    body's segments (weak), their first dofs and first rows, the matrix (None where the
+    mirror split's halves solved it without building it), the solve with its
     factors (A^-1 b, None if singular: an LU or the mirror split's halves), the parameter
     columns and their solution; whether each unknown is a displacement (H's column in the
     matrix, else -G's) and the H the matrix was built from (weak; None: not known)."""
@@ -48,7 +49,7 @@ class KeptFactor:
     segments: tuple
     first_dofs: np.ndarray
     first_rows: np.ndarray
-    matrix: np.ndarray
+    matrix: np.ndarray | None
     solve: Callable[[np.ndarray], np.ndarray | None]
     parameters: np.ndarray
     solution: np.ndarray
@@ -72,7 +73,7 @@ def keep(
     overwrote them) for the next body, if it is small enough; else forget the last one.
     ``solves_u`` and ``h``: the unknowns' kinds and the H the matrix was built from, for a
     body whose H and G are this one's permuted."""
-    if len(matrix) > KEEP_MAX_ROWS:
+    if len(parameters) > KEEP_MAX_ROWS:
         clear()
         return
     refs = tuple(weakref.ref(basis) for basis in segments)
@@ -80,6 +81,17 @@ def keep(
         weakref.ref(owner), refs, first_dofs, first_rows, matrix, solve, parameters, solution,
         solves_u, None if h is None else weakref.ref(h),
     )  # fmt: skip
+
+
+def may_serve(segments, first_dofs, first_rows, image_of) -> bool:
+    """Whether the kept factorisation may serve a body of these segments: each the point
+    image of one of its body's (its matrix then to be compared)."""
+    kept = _KEPT[0]
+    return (
+        kept is not None
+        and kept.matrix is not None
+        and _segment_map(kept, segments, first_dofs, first_rows, image_of) is not None
+    )
 
 
 def solve_as_image(
@@ -98,7 +110,7 @@ def solve_as_image(
     only the kinds ``solves_u`` are compared with the kept ones, and ``matrix`` may be None.
     """
     kept = _KEPT[0]
-    if kept is None or len(kept.matrix) != len(parameters):
+    if kept is None or kept.first_rows[-1] != len(parameters):
         return None
     mapped = _segment_map(kept, segments, first_dofs, first_rows, image_of)
     if mapped is None:
@@ -115,7 +127,7 @@ def solve_as_image(
         for own, other in columns:
             if not np.array_equal(solves_u[own], kept.solves_u[other]):
                 return None
-    elif matrix is None:
+    elif matrix is None or kept.matrix is None:
         return None
     else:
         for own_rows, kept_rows in rows:

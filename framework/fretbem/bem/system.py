@@ -154,11 +154,18 @@ def _solve_parameters(
             factor = mirror_split.SplitFactor(split, halves)
             del halves
             return _split_response(factor, general, contact_dofs)
-    # H and G permuted from the body factorised before (its point image): its factors serve
-    # when the kinds correspond, and A is not built
+    segments = body.segments
+    first_dofs = 2 * body.offsets
+    counts = np.bincount(body.collocation.segment, minlength=len(segments))
+    first_rows = 2 * np.concatenate([[0], np.cumsum(counts)])
+    # A is built only where it is solved or compared: not for H and G permuted from the body
+    # factorised before (its point image: its factors serve when the kinds correspond), nor
+    # for a body the halves solve unless a kept factorisation may serve it
     source = image_matrices.source_of(h)
     permuted_from = None if source is None else source.h
-    if permuted_from is None:
+    if permuted_from is None and (
+        split is None or image_factor.may_serve(segments, first_dofs, first_rows, _image_of)
+    ):
         matrix, parameters = collocation_system(
             h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs
         )
@@ -167,10 +174,6 @@ def _solve_parameters(
         parameters = collocation_parameters(
             h, g, kinds, known, load_known, block_dofs, contact_dofs
         )
-    segments = body.segments
-    first_dofs = 2 * body.offsets
-    counts = np.bincount(body.collocation.segment, minlength=len(segments))
-    first_rows = 2 * np.concatenate([[0], np.cumsum(counts)])
     shared = image_factor.solve_as_image(
         segments, first_dofs, first_rows, _image_of, matrix, parameters,
         solves_u=solves_u, permuted_from=permuted_from,
@@ -178,12 +181,13 @@ def _solve_parameters(
     if shared is not None:
         out, owner.image_of = shared
         return out
-    if matrix is None:
-        matrix = collocation_matrix(h, g, solves_u)
     halves = None if split is None else mirror_split.build(split, h, g, solves_u, contact_dofs)
-    # kept for a point image: A and the parameters themselves where the halves solve (they
-    # leave both as they are), copies where LAPACK overwrites them (481 pairs: two
-    # face-sized copies fewer, 19 MB)
+    if halves is None and matrix is None:
+        matrix = collocation_matrix(h, g, solves_u)
+    # kept for a point image: A (where it was built: a body the halves solve keeps none, and
+    # only a body whose H and G are its own permuted takes its factors, 481 pairs 6 ms less)
+    # and the parameters themselves where the halves solve (they leave both as they are),
+    # copies where LAPACK overwrites them (481 pairs: two face-sized copies fewer, 19 MB)
     kept_matrix, kept_parameters = None, None
     if small:
         copy = halves is None
