@@ -247,3 +247,18 @@ def test_a_pad_the_halves_solve_keeps_no_matrix(permuted, monkeypatch):
     scale = np.abs(shared.contact_response).max()
     # measured 1.2e-13 of the largest entry (the halves' and the full LU's round-off)
     assert np.abs(shared.contact_response - specimen.contact_response).max() <= 5e-13 * scale
+
+
+@pytest.mark.parametrize("basis", ["nurbs", "lagrange2"])
+def test_the_image_specimen_shares_the_pads_contact_maps_read_only(basis):
+    _cold()
+    pair = cattaneo_mindlin(models={}, basis=basis, pairs=21).pair
+    pad = pair.upper.contact_response(pair.upper_tag)
+    specimen = pair.lower.contact_response(pair.lower_tag)
+    for name in ("traction_map", "contact_force"):
+        assert getattr(specimen, name) is getattr(pad, name)
+        assert not getattr(pad, name).flags.writeable
+    e_matrix = system.face_values_matrix(pair.lower, pair.lower_tag)
+    assert e_matrix is system.face_values_matrix(pair.lower, pair.lower_tag)  # kept
+    assert not e_matrix.flags.writeable
+    assert np.array_equal(e_matrix, system._face_values_matrix(pair.lower, pair.lower_tag))
