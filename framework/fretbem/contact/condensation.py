@@ -344,7 +344,7 @@ def _per_pair(operator: np.ndarray, frame: np.ndarray, add_to: np.ndarray | None
     view = add_to.reshape(shape)  # splits the last axis (unit stride): a view, never a copy
     # each component gathered once into contiguous rows (the operator is often a reversed,
     # strided view: each product read it with stride 2, backwards), the products into one
-    # buffer: the same operations in the same order (481 pairs: 24.6 -> 16.3 ms per map)
+    # buffer: the same operations in the same order (481 pairs: 4.5 -> 3.7 ms CPU a call)
     parts = np.empty((2, *operator.shape[:-1]))
     parts[0], parts[1] = operator[..., 0], operator[..., 1]
     product = np.empty(operator.shape[:-1])
