@@ -68,7 +68,9 @@ def clear() -> None:
 
 def keep(segments, first_dofs, first_rows, kernel, settings, g_free, h, g) -> None:
     """Keep a body's H and G (not copied) for its point image, if it is small enough; else
-    forget the last ones."""
+    forget the last ones. They are kept until the next body is assembled, or until a system
+    built from H and G permuted from them is solved with their body's factors
+    (:func:`fretbem.bem.system._solve_parameters`)."""
     clear()
     if len(h) > KEEP_MAX_ROWS:
         return

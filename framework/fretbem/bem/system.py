@@ -180,6 +180,8 @@ def _solve_parameters(
     )  # fmt: skip
     if shared is not None:
         out, owner.image_of = shared
+        if permuted_from is not None:  # served: the kept H and G are not needed any longer
+            image_matrices.clear()
         return out
     halves = None if split is None else mirror_split.build(split, h, g, solves_u, contact_dofs)
     if halves is None and matrix is None:

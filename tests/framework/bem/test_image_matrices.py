@@ -262,3 +262,15 @@ def test_the_image_specimen_shares_the_pads_contact_maps_read_only(basis):
     assert e_matrix is system.face_values_matrix(pair.lower, pair.lower_tag)  # kept
     assert not e_matrix.flags.writeable
     assert np.array_equal(e_matrix, system._face_values_matrix(pair.lower, pair.lower_tag))
+
+
+def test_the_pads_matrices_are_let_go_once_they_served():
+    """Kept from the pad's assembly until the specimen's system took the pad's factors (the
+    pad has released its own by then): not through the cycle's steps."""
+    _cold()
+    pair = cattaneo_mindlin(models={}, pairs=21).pair
+    pair.upper.system((pair.upper_tag,))
+    assert image_matrices._KEPT[0] is not None
+    system_ = pair.lower.system((pair.lower_tag,))
+    assert system_.image_of is not None
+    assert image_matrices._KEPT[0] is None
