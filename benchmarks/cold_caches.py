@@ -22,6 +22,10 @@ try:
     from fretbem.bem import image_factor
 except ImportError:  # an older tree
     image_factor = None
+try:
+    from fretbem.bem import image_matrices
+except ImportError:  # an older tree
+    image_matrices = None
 from fretbem.geometry import nurbs
 from fretbem.scenes import builder
 
@@ -45,6 +49,8 @@ def clear_scene_caches() -> None:
         discretised.clear()
     if image_factor is not None:  # the last factorisation, kept for a point image
         image_factor.clear()
+    if image_matrices is not None:  # the last body's H and G, kept for a point image
+        image_matrices.clear()
     operators = getattr(nurbs, "_OPERATORS", None)
     if operators is not None:
         operators.clear()

@@ -24,7 +24,7 @@ from fretbem.material import Material
 from fretbem.numerics.quadrature import QuadratureRule
 from fretbem.numerics.scatter import added_at
 
-from . import images
+from . import assembly, image_matrices, images
 from . import layout as bem_layout
 from .integration import Assembler, Collocation, IntegrationSettings, offsets
 from .kernels import KelvinKernel
@@ -194,9 +194,24 @@ class BemBody(Body):
         return self._cache[key]
 
     def _assembled(self, g_free: tuple[int, ...] = ()) -> tuple[np.ndarray, np.ndarray]:
+        """H and G: the last body's permuted if this body is its exact point image
+        (:mod:`fretbem.bem.image_matrices`), else assembled (and kept for a point image)."""
         start = time.perf_counter()
         kernel = KelvinKernel.of(self.material)
-        matrices = Assembler(self.segments, kernel, self.integration).assemble(g_free)
+        key = (kernel.shear_modulus, kernel.effective_nu)
+        first_dofs = 2 * self.offsets
+        counts = np.bincount(self.collocation.segment, minlength=len(self.segments))
+        first_rows = 2 * np.concatenate([[0], np.cumsum(counts)])
+        where = (self.segments, first_dofs, first_rows, key, self.integration, g_free)
+        matrices = image_matrices.derived(*where)
+        if matrices is None:
+            matrices = Assembler(self.segments, kernel, self.integration).assemble(g_free)
+            image_matrices.keep(*where, *matrices)
+        elif self.n_functions <= assembly.LEND_MAX_FUNCTIONS:  # recorded as the assembly
+            # would (the last body's blocks lent for this one are not needed any longer)
+            assembly.BLOCKS.assembled(
+                self.segments, lent=self.n_functions > assembly.REUSE_MAX_FUNCTIONS
+            )
         self.timings["assembly"] = time.perf_counter() - start
         return matrices
 

@@ -10,7 +10,10 @@ body's blocks, to round-off when the compiled loops integrated it again. Its sys
 solved with the kept LU factors, and the parameter columns equal to the kept body's to the
 same round-off (the contact columns: G's columns on the contact face) take its solved
 columns. The
-correspondence is checked block by block; anything else is factorised as before. Only the
+correspondence is checked block by block; anything else is factorised as before. A body
+whose H and G are the kept body's permuted (:mod:`fretbem.bem.image_matrices`) needs no
+block check: its matrix is the kept one permuted, exactly, when its unknowns' kinds (u or t
+solved) correspond, which is all that is checked, and its matrix is never built. Only the
 last factorisation is kept, and only a small one.
 """
 
@@ -36,18 +39,22 @@ ROUNDING = 2.0**-40
 @attrs.frozen(eq=False)
 class KeptFactor:
     """The last small factorisation: its system (weak: the object that asked for it), its
-    body's segments (weak), their first dofs and first rows, the matrix, the solve with its
+    body's segments (weak), their first dofs and first rows, the matrix (None where the
+    mirror split's halves solved it without building it), the solve with its
     factors (A^-1 b, None if singular: an LU or the mirror split's halves), the parameter
-    columns and their solution."""
+    columns and their solution; whether each unknown is a displacement (H's column in the
+    matrix, else -G's) and the H the matrix was built from (weak; None: not known)."""
 
     owner: weakref.ref
     segments: tuple
     first_dofs: np.ndarray
     first_rows: np.ndarray
-    matrix: np.ndarray
+    matrix: np.ndarray | None
     solve: Callable[[np.ndarray], np.ndarray | None]
     parameters: np.ndarray
     solution: np.ndarray
+    solves_u: np.ndarray | None = None
+    h: weakref.ref | None = None
 
 
 _KEPT: list[KeptFactor | None] = [None]
@@ -58,35 +65,75 @@ def clear() -> None:
     _KEPT[0] = None
 
 
-def keep(owner, segments, first_dofs, first_rows, matrix, solve, parameters, solution) -> None:
+def keep(
+    owner, segments, first_dofs, first_rows, matrix, solve, parameters, solution,
+    solves_u=None, h=None,
+) -> None:  # fmt: skip
     """Keep a factorisation (copies of the matrix and the parameters, taken before LAPACK
-    overwrote them) for the next body, if it is small enough; else forget the last one."""
-    if len(matrix) > KEEP_MAX_ROWS:
+    overwrote them) for the next body, if it is small enough; else forget the last one.
+    ``solves_u`` and ``h``: the unknowns' kinds and the H the matrix was built from, for a
+    body whose H and G are this one's permuted."""
+    if len(parameters) > KEEP_MAX_ROWS:
         clear()
         return
     refs = tuple(weakref.ref(basis) for basis in segments)
     _KEPT[0] = KeptFactor(
-        weakref.ref(owner), refs, first_dofs, first_rows, matrix, solve, parameters, solution
+        weakref.ref(owner), refs, first_dofs, first_rows, matrix, solve, parameters, solution,
+        solves_u, None if h is None else weakref.ref(h),
+    )  # fmt: skip
+
+
+def may_serve(segments, first_dofs, first_rows, image_of) -> bool:
+    """Whether the kept factorisation may serve a body of these segments: each the point
+    image of one of its body's (its matrix then to be compared)."""
+    kept = _KEPT[0]
+    return (
+        kept is not None
+        and kept.matrix is not None
+        and _segment_map(kept, segments, first_dofs, first_rows, image_of) is not None
     )
 
 
-def solve_as_image(segments, first_dofs, first_rows, image_of, matrix, parameters) -> tuple | None:
+def solve_as_image(
+    segments, first_dofs, first_rows, image_of, matrix, parameters, *,
+    solves_u=None, permuted_from=None,
+) -> tuple | None:  # fmt: skip
     """(A^-1 parameters, the kept factorisation's owner or None if it is gone) from the kept
     factorisation when A is the kept matrix permuted segment by segment (``image_of(basis)``:
     the segment ``basis`` is the point image of), checked; None otherwise. The kept
     factorisation serves once; where it serves, the solution overwrites ``parameters``
-    (F-ordered) and is returned."""
+    (F-ordered) and is returned.
+
+    ``permuted_from``: the H whose rows and columns, permuted segment by segment as
+    ``image_of`` maps them, are this body's H (and the same for G:
+    :func:`fretbem.bem.image_matrices.derived`); when the kept matrix was built from it,
+    only the kinds ``solves_u`` are compared with the kept ones, and ``matrix`` may be None.
+    """
     kept = _KEPT[0]
-    if kept is None or len(kept.matrix) != len(matrix):
+    if kept is None or kept.first_rows[-1] != len(parameters):
         return None
     mapped = _segment_map(kept, segments, first_dofs, first_rows, image_of)
     if mapped is None:
         return None
     columns, rows = mapped
-    for own_rows, kept_rows in rows:
+    permuted = (
+        permuted_from is not None
+        and kept.h is not None
+        and kept.h() is permuted_from
+        and kept.solves_u is not None
+        and solves_u is not None
+    )
+    if permuted:  # A is the kept one permuted when each column is H's or -G's alike
         for own, other in columns:
-            if not _close(matrix[own_rows, own], kept.matrix[kept_rows, other]):
+            if not np.array_equal(solves_u[own], kept.solves_u[other]):
                 return None
+    elif matrix is None or kept.matrix is None:
+        return None
+    else:
+        for own_rows, kept_rows in rows:
+            for own, other in columns:
+                if not _close(matrix[own_rows, own], kept.matrix[kept_rows, other]):
+                    return None
     # the parameter columns equal to the kept ones (to round-off) take the kept solution;
     # the others are solved with the kept factors: rows and unknowns permuted segment by
     # segment, by slices

@@ -19,7 +19,7 @@ from fretbem.body import BlockRotation, ContactResponse, RigidMotionError
 from fretbem.numerics.blas import one_blas_thread
 from fretbem.numerics.scatter import added_at
 
-from . import image_factor, images, mirror, mirror_split
+from . import image_factor, image_matrices, mirror, mirror_split
 from .assembly import BLOCKS
 from .layout import BLOCK, CONTACT, DISPLACEMENT, TRACTION, Layout
 
@@ -154,23 +154,42 @@ def _solve_parameters(
             factor = mirror_split.SplitFactor(split, halves)
             del halves
             return _split_response(factor, general, contact_dofs)
-    matrix, parameters = collocation_system(
-        h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs
-    )
     segments = body.segments
     first_dofs = 2 * body.offsets
     counts = np.bincount(body.collocation.segment, minlength=len(segments))
     first_rows = 2 * np.concatenate([[0], np.cumsum(counts)])
+    # A is built only where it is solved or compared: not for H and G permuted from the body
+    # factorised before (its point image: its factors serve when the kinds correspond), nor
+    # for a body the halves solve unless a kept factorisation may serve it
+    source = image_matrices.source_of(h)
+    permuted_from = None if source is None else source.h
+    if permuted_from is None and (
+        split is None or image_factor.may_serve(segments, first_dofs, first_rows, _image_of)
+    ):
+        matrix, parameters = collocation_system(
+            h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs
+        )
+    else:
+        matrix = None
+        parameters = collocation_parameters(
+            h, g, kinds, known, load_known, block_dofs, contact_dofs
+        )
     shared = image_factor.solve_as_image(
-        segments, first_dofs, first_rows, _image_of, matrix, parameters
-    )
+        segments, first_dofs, first_rows, _image_of, matrix, parameters,
+        solves_u=solves_u, permuted_from=permuted_from,
+    )  # fmt: skip
     if shared is not None:
         out, owner.image_of = shared
+        if permuted_from is not None:  # served: the kept H and G are not needed any longer
+            image_matrices.clear()
         return out
     halves = None if split is None else mirror_split.build(split, h, g, solves_u, contact_dofs)
-    # kept for a point image: A and the parameters themselves where the halves solve (they
-    # leave both as they are), copies where LAPACK overwrites them (481 pairs: two
-    # face-sized copies fewer, 19 MB)
+    if halves is None and matrix is None:
+        matrix = collocation_matrix(h, g, solves_u)
+    # kept for a point image: A (where it was built: a body the halves solve keeps none, and
+    # only a body whose H and G are its own permuted takes its factors, 481 pairs 6 ms less)
+    # and the parameters themselves where the halves solve (they leave both as they are),
+    # copies where LAPACK overwrites them (481 pairs: two face-sized copies fewer, 19 MB)
     kept_matrix, kept_parameters = None, None
     if small:
         copy = halves is None
@@ -198,8 +217,9 @@ def _solve_parameters(
         solve = _LUSolve(lu, piv)
     if small and solve is not None:
         image_factor.keep(
-            owner, segments, first_dofs, first_rows, kept_matrix, solve, kept_parameters, out
-        )
+            owner, segments, first_dofs, first_rows, kept_matrix, solve, kept_parameters, out,
+            solves_u, h,
+        )  # fmt: skip
     else:
         image_factor.clear()
     return out
@@ -250,18 +270,21 @@ def _split_response(factor, general, contact_dofs) -> np.ndarray:
     return out
 
 
-def _image_of(basis):
-    """The segment ``basis`` is the point image of: kept by the block store, or (a body too
-    large to keep its blocks) the one it was discretised from
-    (:func:`fretbem.bem.images.source`)."""
-    image = BLOCKS.image(basis)
-    return image if image is not None else images.source(basis)
+#: the segment a segment is the exact point image of (:func:`fretbem.bem.image_matrices.image_of`)
+_image_of = image_matrices.image_of
 
 
 def collocation_system(h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs):
     """The collocation matrix A (H with the columns of traction unknowns from -G) and the
     parameter columns [z0 rhs, block columns, contact columns, load columns], both F-ordered
     (benchmarks/dense_floor.py times their solve in other precisions)."""
+    parameters = collocation_parameters(h, g, kinds, known, load_known, block_dofs, contact_dofs)
+    return collocation_matrix(h, g, solves_u), parameters
+
+
+def collocation_parameters(h, g, kinds, known, load_known, block_dofs, contact_dofs):
+    """The parameter columns [z0 rhs, block columns, contact columns, load columns],
+    F-ordered."""
     general = general_parameters(h, g, kinds, known, load_known, block_dofs)
     k = load_known.shape[0]
     parameters = np.empty((len(kinds), 3 + len(contact_dofs) + k), order="F")
@@ -269,10 +292,16 @@ def collocation_system(h, g, kinds, known, load_known, solves_u, block_dofs, con
     contact = slice(3, 3 + len(contact_dofs))
     parameters[:, contact] = _taken(g, contact_dofs, axis=1)
     parameters[:, 3 + len(contact_dofs) :] = general[:, 3:]
+    return parameters
+
+
+def collocation_matrix(h, g, solves_u) -> np.ndarray:
+    """The collocation matrix A, F-ordered: H with the columns of traction unknowns (not
+    ``solves_u``) from -G."""
     matrix = _fortran_copy(h)
     solves_t = np.flatnonzero(~solves_u)
     matrix[:, solves_t] = -g[:, solves_t]
-    return matrix, parameters
+    return matrix
 
 
 def general_parameters(h, g, kinds, known, load_known, block_dofs) -> np.ndarray:
@@ -323,8 +352,26 @@ def face_values_matrix(body: Body, tag: str) -> np.ndarray:
 
     A segment whose assembly rules are kept (:data:`fretbem.bem.assembly.BLOCKS`) already
     holds its functions at its collocation points: E is built from those, the same numbers
-    as :meth:`~fretbem.basis.Basis.collocation_matrix` evaluates again.
+    as :meth:`~fretbem.basis.Basis.collocation_matrix` evaluates again. Kept in the body's
+    cache, read-only, for a face of at most :data:`FACE_VALUES_KEPT_MAX` functions (a point
+    image's contact response compares it with its source's; a dense E of 3,841 nodes would
+    hold 118 MB).
     """
+    key = ("face values", tag)
+    if key in body._cache:
+        return body._cache[key]
+    e_matrix = _face_values_matrix(body, tag)
+    if len(e_matrix) <= FACE_VALUES_KEPT_MAX:
+        e_matrix.flags.writeable = False
+        body._cache[key] = e_matrix
+    return e_matrix
+
+
+#: the largest contact face (functions) whose E the body keeps (8 MB)
+FACE_VALUES_KEPT_MAX = 1024
+
+
+def _face_values_matrix(body: Body, tag: str) -> np.ndarray:
     segments = sorted(body._indices(tag, "the contact pair"))
     sizes = [body.segments[k].n_functions for k in segments]
     e_matrix = np.zeros((sum(sizes), sum(sizes)))
@@ -363,18 +410,21 @@ def contact_response(body: Body, tag: str) -> ContactResponse:
         """Displacement values (n, 2, cols) at the face nodes from unknown columns z."""
         return band.left(z[system.contact_dofs].reshape(n, 2, z.shape[1]))
 
-    if image is not None:  # the point image's maps: the same numbers (_image_response)
+    if image is not None:  # the point image's maps: the same numbers (_image_response),
+        # the same arrays, read-only (481 pairs: a 7.4 MB copy fewer)
+        for shared in (image.traction_map, image.contact_force):
+            shared.flags.writeable = False
         k = system.load_response.shape[1]
         return ContactResponse(
             base=node_values(system.base[:, None])[:, :, 0],
-            traction_map=image.traction_map.copy(),
+            traction_map=image.traction_map,
             block_map=np.zeros((n, 2, 2)),
             load_map=node_values(system.load_response),
             r_base=np.zeros(2),
             r_traction=np.zeros((2, 2 * n)),
             r_block=np.zeros((2, 2)),
             r_load=np.zeros((2, k)),
-            contact_force=image.contact_force.copy(),
+            contact_force=image.contact_force,
             has_block=False,
             rotation=None,
         )

@@ -10,11 +10,18 @@ import numpy as np
 import pytest
 
 from fretbem.basis import Refinement
-from fretbem.bem import assembly, images
+from fretbem.bem import assembly, image_matrices, images
 from fretbem.bem.body import _segment_samples
 from fretbem.bem.integration import Collocation, IntegrationSettings
 from fretbem.bem.system import g_free_segments
 from fretbem.scenes import cattaneo_mindlin
+
+
+@pytest.fixture(autouse=True)
+def _assembled_not_permuted(monkeypatch):
+    """These tests are of the assembly: a point image's H and G assembled (taking the pad's
+    blocks), not permuted from the pad's whole (:mod:`fretbem.bem.image_matrices`)."""
+    monkeypatch.setattr(image_matrices, "derived", lambda *args: None)
 
 
 def _bodies(basis: str, compiled: bool, **overrides):

@@ -8,10 +8,17 @@ import numpy as np
 import pytest
 
 from fretbem.accuracy.adaptive import remesh
-from fretbem.bem import assembly, mirror
+from fretbem.bem import assembly, image_matrices, mirror
 from fretbem.bem.integration import IntegrationSettings
 from fretbem.bem.system import g_free_segments
 from fretbem.scenes import cattaneo_mindlin
+
+
+@pytest.fixture(autouse=True)
+def _assembled_not_permuted(monkeypatch):
+    """These tests are of the assembly: a point image's H and G assembled (taking the pad's
+    blocks), not permuted from the pad's whole (:mod:`fretbem.bem.image_matrices`)."""
+    monkeypatch.setattr(image_matrices, "derived", lambda *args: None)
 
 
 def _matrices(body, free, monkeypatch, symmetric: bool):

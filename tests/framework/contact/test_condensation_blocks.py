@@ -107,3 +107,25 @@ def test_interpolated_pairs_go_through_the_pairing():
     values = rng.standard_normal((6, 2, 12))
     assert np.array_equal(_gather(pairs, "lower", values), pairs.gather("lower", values))
     assert np.array_equal(_gather(pairs, "lower", values, pull=True), pairs.pull("lower", values))
+
+
+@pytest.mark.parametrize("step", [1, -1])
+def test_per_pair_adds_each_product_as_the_plain_expression(step):
+    """Each component gathered into contiguous rows first, the products into one buffer:
+    the numbers of ``view += operator[..., j] * frame[:, j, s]`` term by term, bit for bit,
+    on a reversed, strided operator (a node-to-node pairing's view)."""
+    from fretbem.contact.condensation import _per_pair
+
+    rng = np.random.default_rng(7)
+    n = 9
+    operator = rng.standard_normal((n, 2 * n)).reshape(n, n, 2)[:, ::step]
+    frame = rng.standard_normal((n, 2, 2))
+    start = rng.standard_normal((n, 2 * n + 3))
+    expected = start.copy()
+    view = expected[:, : 2 * n].reshape(n, 2, n)
+    for s in range(2):
+        view[:, s, :] += operator[..., 0] * frame[:, 0, s]
+        view[:, s, :] += operator[..., 1] * frame[:, 1, s]
+    out = start.copy()
+    _per_pair(operator, frame, add_to=out[:, : 2 * n])
+    assert np.array_equal(out, expected)

@@ -1,0 +1,80 @@
+"""The reference pad's and specimen's set-up by body, two source trees interleaved (issue 28).
+
+The specimen of the reference scene is the pad's exact point image: its H and G are the
+pad's permuted (``fretbem.bem.image_matrices``) and its system is solved with the pad's
+factors. Each round runs one fresh process per tree (``PYTHONPATH`` = the tree's
+``framework`` and ``plugins``, one BLAS thread); in it, per pair count, ``--cycles`` cold
+cycles (scene caches cleared), each timing (CPU) the pad's assembly (its system matrices,
+as the run asks for them), system and contact response, the specimen's three alike, and the
+rest of ``prepare`` (the condensation); medians over cycles and rounds.
+
+    OPENBLAS_NUM_THREADS=1 python benchmarks/image_specimen.py --before /tmp/before \\
+        --rounds 3 --cycles 5 --pairs 61,481
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+from pathlib import Path
+
+from phase_rounds import interleaved
+
+ROOT = Path(__file__).resolve().parents[1]
+
+CHILD = r"""
+import json, sys, time
+sys.path.insert(0, sys.argv[1])
+from fretbem.scenes import reference as scenes
+from fretbem.simulation import run
+from fretbem.bem.system import g_free_segments
+from cold_caches import clear_scene_caches
+out = {}
+for pairs in map(int, sys.argv[3].split(",")):
+    run(scenes.cattaneo_mindlin(pairs=pairs, models={}, radius=71.0))  # imports: another pad
+    rows = []
+    for _ in range(int(sys.argv[2])):
+        clear_scene_caches()
+        simulation = scenes.cattaneo_mindlin(pairs=pairs, models={})
+        pair = simulation.pair
+        row = []
+        for body, tag in ((pair.upper, pair.upper_tag), (pair.lower, pair.lower_tag)):
+            start = time.process_time()
+            body.system_matrices(g_free_segments(body, body.layout((tag,))))
+            assembled = time.process_time()
+            body.system((tag,))
+            solved = time.process_time()
+            body.contact_response(tag)
+            row += [assembled - start, solved - assembled, time.process_time() - solved]
+        start = time.process_time()
+        simulation.prepare()
+        rows.append(row + [time.process_time() - start])
+    out[pairs] = rows
+print(json.dumps(out))
+"""
+PHASES = ("pad assembly", "pad system", "pad response", "specimen assembly",
+          "specimen system", "specimen response", "condensation")  # fmt: skip
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--before", type=Path, required=True, help="source tree of the old code")
+    parser.add_argument("--after", type=Path, default=ROOT, help="source tree of the new code")
+    parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--cycles", type=int, default=5)
+    parser.add_argument("--pairs", default="61,481", help="comma-separated pair counts")
+    args = parser.parse_args()
+    trees = {"before": args.before.resolve(), "after": args.after.resolve()}
+    rows, load = interleaved(CHILD, trees, args.rounds, [str(args.cycles), args.pairs])
+    print(f"load {load[0]:.2f} -> {load[1]:.2f}; CPU ms, medians of "
+          f"{args.rounds} rounds x {args.cycles} cycles")  # fmt: skip
+    for pairs in rows["before"]:
+        for name in trees:
+            values = rows[name][pairs]
+            ms = [statistics.median(v[i] for v in values) * 1e3 for i in range(len(PHASES))]
+            text = ", ".join(f"{p} {m:.1f}" for p, m in zip(PHASES, ms, strict=True))
+            print(f"{name:6s} {pairs:>3s} pairs: {text}")
+
+
+if __name__ == "__main__":
+    main()

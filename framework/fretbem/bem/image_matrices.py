@@ -1,0 +1,162 @@
+"""H and G of a body that is the exact point image of the body assembled just before.
+
+A body whose every segment is the exact point image of a segment of the last body assembled
+(:mod:`fretbem.bem.images`: the same family, parameterisation and functions, the geometry
+negated bit for bit; told by :func:`image_of`), with the same Kelvin kernel and integration
+settings, has that body's H and G with their rows and columns permuted segment by segment:
+the kernels are even in the offset and the normal together, so each regular, near and
+singular integral is the other body's to the last bit, and the collocation points and
+functions map one to one within a segment. Only the rigid-body terms on the diagonal would
+come out at round-off of the other body's if integrated again (row sums taken in the body's
+own segment order). The reference scene's pad and specimen, two similar cylinders, are such
+images: the specimen's H and G are the pad's permuted, not assembled and compared
+(:mod:`fretbem.bem.image_factor` then needs no block check either, :func:`source_of`).
+Every other body (another material, shape, mesh, settings) is assembled as before.
+"""
+
+from __future__ import annotations
+
+import weakref
+
+import attrs
+import numpy as np
+
+from . import images
+from .assembly import BLOCKS
+
+#: the largest body (rows of H) whose H and G are kept for its point image: the size the
+#: kept factorisation allows (:data:`fretbem.bem.image_factor.KEEP_MAX_ROWS`), 64 MB at most
+KEEP_MAX_ROWS = 2048
+
+
+def image_of(basis):
+    """The segment ``basis`` is the exact point image of: kept by the block store, or (a body
+    too large to keep its blocks) the one it was discretised from
+    (:func:`fretbem.bem.images.source`); None if neither."""
+    image = BLOCKS.image(basis)
+    return image if image is not None else images.source(basis)
+
+
+@attrs.frozen(eq=False)
+class KeptMatrices:
+    """The last body's H and G (its own arrays, never written after the assembly), its
+    segments (weak), their first dofs and first rows, the kernel's (shear modulus,
+    effective nu), the integration settings (``compiled`` left out: both loops integrate
+    alike to round-off) and the segments whose G columns may be 0 (``g_free``)."""
+
+    segments: tuple
+    first_dofs: np.ndarray
+    first_rows: np.ndarray
+    kernel: tuple
+    settings: object
+    g_free: frozenset
+    h: np.ndarray
+    g: np.ndarray
+
+
+_KEPT: list[KeptMatrices | None] = [None]
+#: each derived H (by id, with a weak reference that tells it from a later array of the same
+#: id): the kept matrices it was permuted from
+_DERIVED: dict = {}
+
+
+def clear() -> None:
+    """Forget the kept matrices and what was derived from them."""
+    _KEPT[0] = None
+    _DERIVED.clear()
+
+
+def keep(segments, first_dofs, first_rows, kernel, settings, g_free, h, g) -> None:
+    """Keep a body's H and G (not copied) for its point image, if it is small enough; else
+    forget the last ones. They are kept until the next body is assembled, or until a system
+    built from H and G permuted from them is solved with their body's factors
+    (:func:`fretbem.bem.system._solve_parameters`)."""
+    clear()
+    if len(h) > KEEP_MAX_ROWS:
+        return
+    _KEPT[0] = KeptMatrices(
+        tuple(weakref.ref(basis) for basis in segments),
+        first_dofs,
+        first_rows,
+        kernel,
+        _settings_key(settings),
+        frozenset(g_free),
+        h,
+        g,
+    )
+
+
+def derived(segments, first_dofs, first_rows, kernel, settings, g_free):
+    """(H, G) permuted from the kept body's when every segment is the exact point image of
+    one of its segments (:func:`image_of`, one to one, as many dofs and rows) and the kernel
+    and settings are equal, and the kept G holds every column the caller reads (none of
+    its ``g_free`` segments is the image of a segment outside ``g_free``); else None."""
+    kept = _KEPT[0]
+    if kept is None or kept.kernel != kernel or kept.settings != _settings_key(settings):
+        return None
+    mapped = segment_map(kept, segments, first_dofs, first_rows)
+    if mapped is None:
+        return None
+    columns, rows, images_of = mapped
+    if any(j in kept.g_free and k not in g_free for k, j in enumerate(images_of)):
+        return None
+    columns, rows = _runs(columns), _runs(rows)
+    h, g = np.empty(kept.h.shape), np.empty(kept.g.shape)
+    for out, source in ((h, kept.h), (g, kept.g)):  # block by block, by slices
+        for own_rows, kept_rows in rows:
+            for own, other in columns:
+                out[own_rows, own] = source[kept_rows, other]
+    for array in (h, g):
+        _DERIVED[id(array)] = (weakref.ref(array), kept)
+    return h, g
+
+
+def source_of(h: np.ndarray) -> KeptMatrices | None:
+    """The kept matrices ``h`` was permuted from (:func:`derived`), or None."""
+    entry = _DERIVED.get(id(h))
+    return entry[1] if entry is not None and entry[0]() is h else None
+
+
+def segment_map(kept, segments, first_dofs, first_rows):
+    """(own slice, kept slice) per segment of the dofs and of the rows, and each segment's
+    kept image index, the kept segment being its exact point image (:func:`image_of`); None
+    if a segment has none among the kept ones, two share one, or the sizes differ.
+    ``kept``: a record with ``segments`` (weak references), ``first_dofs``, ``first_rows``."""
+    index = {id(basis): k for k, ref in enumerate(kept.segments) if (basis := ref()) is not None}
+    if len(index) != len(segments):
+        return None
+    columns, rows, found = [], [], []
+    for k, basis in enumerate(segments):
+        image = image_of(basis)
+        j = index.get(id(image)) if image is not None else None
+        if j is None or j in found:
+            return None
+        found.append(j)
+        for own_first, kept_first, out in (
+            (first_dofs, kept.first_dofs, columns),
+            (first_rows, kept.first_rows, rows),
+        ):
+            own = slice(int(own_first[k]), int(own_first[k + 1]))
+            other = slice(int(kept_first[j]), int(kept_first[j + 1]))
+            if own.stop - own.start != other.stop - other.start:
+                return None
+            out.append((own, other))
+    return columns, rows, found
+
+
+def _runs(pairs: list) -> list:
+    """(own slice, kept slice) pairs with consecutive ones merged where both continue each
+    other (a cyclic shift of the segments is two runs): fewer, longer copies."""
+    out = [pairs[0]]
+    for own, other in pairs[1:]:
+        last_own, last_other = out[-1]
+        if own.start == last_own.stop and other.start == last_other.stop:
+            out[-1] = (slice(last_own.start, own.stop), slice(last_other.start, other.stop))
+        else:
+            out.append((own, other))
+    return out
+
+
+def _settings_key(settings):
+    """The settings as they decide the numbers: which loops integrate them is left out."""
+    return attrs.evolve(settings, compiled=None)
