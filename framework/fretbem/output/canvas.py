@@ -1,4 +1,4 @@
-"""An Agg canvas whose renderer looks each font up once per draw.
+"""An Agg canvas whose renderer looks each font up once per draw and draws each text once.
 
 matplotlib (3.11) lays a text out with its font's ascent, descent and line gap, read from
 the font file's OS/2 or hhea table on every layout: a font search and two table reads per
@@ -8,19 +8,22 @@ each text measured or drawn searches its font again. The demo's three figures la
 renderer keeps, for the length of one draw, each font's line metrics (the answer to
 matplotlib's ``_get_font_height_metrics`` question, which its PDF and PostScript renderers
 answer too, computed as matplotlib computes it) and each font object (its
-``_prepare_font``, the same lookup). Drawing a text, Agg has FreeType and libraqm lay its
-glyphs out (~0.3 ms for a title) and forms the glyph transform's matrix for every glyph
-(~1,400 in the demo); this renderer keeps each layout for the process (tick labels and
-axis labels repeat: 57 distinct of the demo's 128 drawn texts) and forms the matrix once
-per text. The pixels are the same (``tests/framework/output/test_canvas.py`` compares
-them with the plain canvas's). A matplotlib that does not ask the question lays text out
-as before. matplotlib is imported by the caller (:func:`fretbem.output.figures._figure`).
+``_prepare_font``, the same lookup). Drawing a text, matplotlib 3.11's Agg has FreeType and
+libraqm lay its glyphs out (~0.3 ms for a title), then renders and blends every glyph on
+its own (~1,400 in the demo, ~40 us each); this renderer composes each text's glyphs into
+one coverage image kept for the process (tick labels and axis labels repeat: 57 distinct of
+the demo's 128 drawn texts) and blends it once, at the text's origin rounded to a whole
+pixel, as matplotlib placed text before 3.11. The pixels are the plain canvas's for text so
+placed, but for glyph edges two glyphs share (``tests/framework/output/test_canvas.py``).
+A matplotlib that does not lay text out so (before 3.11) draws it as before. matplotlib is
+imported by the caller (:func:`fretbem.output.figures._figure`).
 """
 
 from __future__ import annotations
 
 import math
 
+import attrs
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg, RendererAgg, get_hinting_flag
 from matplotlib.font_manager import FontProperties, fontManager, get_font
@@ -55,12 +58,19 @@ def font_height_metrics(prop: FontProperties, dpi: float) -> tuple:
     return None, None, None
 
 
-#: each text's glyphs as FreeType and libraqm lay them out, by (font, size, resolution, text,
-#: hinting, features, language): the same input gives the same glyphs, and tick labels and
-#: axis labels repeat within and across figures
-_LAYOUTS: dict = {}
-#: the layouts kept at most (the table starts again when full)
-LAYOUTS_KEPT = 4096
+#: each text's glyphs as FreeType and libraqm lay them out and render them, composed into one
+#: coverage image, by (font, size, resolution, text, hinting, features, language, angle,
+#: antialiasing): the same input gives the same image, and tick labels and axis labels repeat
+#: within and across figures
+_TEXTS: dict = {}
+#: the text images kept at most (the table starts again when full; the demo keeps ~60)
+TEXTS_KEPT = 4096
+#: each glyph's coverage as FreeType renders it, by font, size, resolution, glyph, hinting,
+#: rendering mode, rotation and the pen's position within its pixel (1/64 pixel): texts
+#: repeat glyphs at the same fraction (a third of the demo's ~1,100 glyphs)
+_GLYPHS: dict = {}
+#: the glyphs kept at most (the table starts again when full)
+GLYPHS_KEPT = 16384
 #: whether this matplotlib draws text as :meth:`_Renderer.draw_text` replays it (3.11's
 #: glyph layout and loop); otherwise Agg's own ``draw_text`` runs
 GLYPH_LAYOUTS = (
@@ -70,19 +80,85 @@ GLYPH_LAYOUTS = (
 )
 
 
-def _layout(font, size: float, dpi: float, text: str, flags, features, language):
-    """``font._layout`` of ``text`` (``font`` set to ``size`` at ``dpi``), remembered."""
-    key = (font, size, dpi, text, flags, features, language)
+@attrs.frozen(eq=False)
+class TextImage:
+    """A text's glyphs composed as Agg would draw them one by one at a whole-pixel origin:
+    the coverage (0-255) of each pixel, and where its top-left pixel sits from the origin
+    (columns right, rows down)."""
+
+    coverage: np.ndarray
+    left: int
+    top: int
+
+
+def text_image(font, size: float, dpi: float, text: str, flags, features, language,
+               angle: float, antialiased: bool) -> TextImage | None:  # fmt: skip
+    """The :class:`TextImage` of ``text`` in ``font`` at ``size`` points and ``dpi``, rotated
+    by ``angle`` degrees, remembered; None for a text without ink (blanks only).
+
+    Every glyph is rendered as matplotlib 3.11's Agg renders it for a text whose origin is
+    a whole pixel: its pen at the same 1/64 pixel, the same transform, hinting and
+    rendering mode. Where two glyphs' pixels meet, the coverages combine as Agg's blending
+    of two draws does (a + b - ab)."""
+    key = (font, size, dpi, text, flags, features, language, angle, antialiased)
     try:
-        items = _LAYOUTS.get(key)
+        found = _TEXTS.get(key, False)
     except TypeError:  # features or language of a kind that cannot be a key
-        return font._layout(text, flags=flags, features=features, language=language)
-    if items is None:
-        items = font._layout(text, flags=flags, features=features, language=language)
-        if len(_LAYOUTS) >= LAYOUTS_KEPT:
-            _LAYOUTS.clear()
-        _LAYOUTS[key] = items
-    return items
+        key, found = None, False
+    if found is not False:
+        return found
+    items = font._layout(text, flags=flags, features=features, language=language)
+    cos, sin = math.cos(math.radians(angle)), math.sin(math.radians(angle))
+    matrix = (0x10000 * np.array([[cos, -sin], [sin, cos]])).round().astype(int)
+    mode = RenderMode.NORMAL if antialiased else RenderMode.MONO
+    turn = tuple(matrix.ravel().tolist())
+    pieces = []
+    for item in items:  # item.y is upwards, as FreeType's
+        pen = (round(0x40 * (item.x * cos - item.y * sin)),
+               round(0x40 * (item.x * sin + item.y * cos)))  # fmt: skip
+        glyph = _glyph(item.ft_object, size, dpi, item.glyph_index, flags, mode, matrix, turn, pen)
+        if glyph is not None:
+            left, top, buffer = glyph
+            pieces.append((left + (pen[0] >> 6), -top - (pen[1] >> 6), buffer))
+    image = None
+    if pieces:
+        left = min(col for col, _, _ in pieces)
+        top = min(row for _, row, _ in pieces)
+        right = max(col + b.shape[1] for col, _, b in pieces)
+        bottom = max(row + b.shape[0] for _, row, b in pieces)
+        coverage = np.zeros((bottom - top, right - left), np.uint16)
+        for col, row, buffer in pieces:
+            view = coverage[row - top : row - top + buffer.shape[0],
+                            col - left : col - left + buffer.shape[1]]  # fmt: skip
+            if not antialiased:  # monochrome glyphs cover 0 or 1
+                buffer = buffer * 0xFF
+            view += buffer - (view * buffer + 127) // 255
+        image = TextImage(coverage.astype(np.uint8), left, top)
+    if key is not None:
+        if len(_TEXTS) >= TEXTS_KEPT:
+            _TEXTS.clear()
+        _TEXTS[key] = image
+    return image
+
+
+def _glyph(font, size, dpi, index, flags, mode, matrix, turn, pen):
+    """(left, top, coverage) of glyph ``index`` of ``font`` rendered with its pen at ``pen``
+    (1/64 pixels, y upwards) turned by ``matrix`` (``turn`` its key), its bitmap's corner
+    counted from the pen's whole pixel; None if it has no ink. Remembered by the pen's
+    fraction: a whole-pixel shift of the pen moves the bitmap by whole pixels and changes
+    nothing else (FreeType translates the hinted outline)."""
+    key = (font, size, dpi, index, flags, mode, turn, pen[0] & 63, pen[1] & 63)
+    found = _GLYPHS.get(key, False)
+    if found is False:
+        font.set_size(size, dpi)
+        font._set_transform(matrix, [pen[0] & 63, pen[1] & 63])
+        bitmap = font._render_glyph(index, flags, mode)
+        buffer = bitmap.buffer
+        found = (bitmap.left, bitmap.top, np.array(buffer, np.uint16)) if buffer.size else None
+        if len(_GLYPHS) >= GLYPHS_KEPT:
+            _GLYPHS.clear()
+        _GLYPHS[key] = found
+    return found
 
 
 class _Renderer(RendererAgg):
@@ -113,43 +189,20 @@ class _Renderer(RendererAgg):
         return font
 
     def draw_text(self, gc, x, y, s, prop, angle, ismath=False, mtext=None):
-        """Agg's ``draw_text`` with each text's glyph layout remembered (:func:`_layout`)."""
+        """Agg's ``draw_text`` as one image per text (:func:`text_image`), kept for the
+        process, its origin rounded to a whole pixel (as matplotlib before 3.11 placed each
+        text): one blend instead of one per glyph, no glyph rendered twice."""
         if ismath or not GLYPH_LAYOUTS:
             return super().draw_text(gc, x, y, s, prop, angle, ismath, mtext)
-        font = self._prepare_font(prop)
-        size = prop.get_size_in_points()
-        items = _layout(
-            font, size, self.dpi, s, get_hinting_flag(),
-            mtext.get_fontfeatures() if mtext is not None else None,
-            mtext.get_language() if mtext is not None else None,
+        image = text_image(
+            self._prepare_font(prop), prop.get_size_in_points(), self.dpi, s,
+            get_hinting_flag(), mtext.get_fontfeatures() if mtext is not None else None,
+            mtext.get_language() if mtext is not None else None, angle, gc.get_antialiased(),
         )  # fmt: skip
-        glyphs = ((item.ft_object, size, item.glyph_index, 0, 1, item.x, item.y) for item in items)
-        self._draw_text_glyphs_and_boxes(gc, x, y, angle, glyphs, [])
-
-    def _draw_text_glyphs_and_boxes(self, gc, x, y, angle, glyphs, boxes):
-        """Agg's glyph loop with the transform's matrix formed once per text, not per glyph
-        (the same matrix and pen positions: plain text is neither slanted nor stretched);
-        mathtext's rules and any slanted or stretched glyph go to Agg's own loop."""
-        glyphs = list(glyphs)
-        if boxes or any(slant != 0 or extend != 1 for _, _, _, slant, extend, _, _ in glyphs):
-            return super()._draw_text_glyphs_and_boxes(gc, x, y, angle, glyphs, boxes)
-        cos, sin = math.cos(math.radians(angle)), math.sin(math.radians(angle))
-        matrix = (0x10000 * np.array([[cos, -sin], [sin, cos]])).round().astype(int)
-        flags = get_hinting_flag()
-        antialiased = gc.get_antialiased()
-        mode = RenderMode.NORMAL if antialiased else RenderMode.MONO
-        height = self.height
-        for font, size, glyph_index, _, _, dx, dy in glyphs:  # dy is upwards
-            font.set_size(size, self.dpi)
-            pen = [round(0x40 * (x + dx * cos - dy * sin)),
-                   round(0x40 * (height - y + dx * sin + dy * cos))]  # fmt: skip
-            font._set_transform(matrix, pen)
-            bitmap = font._render_glyph(glyph_index, flags, mode)
-            buffer = bitmap.buffer
-            if not antialiased:
-                buffer *= 0xFF
+        if image is not None:  # draw_text_image's y is downwards, at the image's bottom row
+            col, row = round(x) + image.left, round(y) + image.top
             self._renderer.draw_text_image(
-                buffer, bitmap.left, int(height) - bitmap.top + buffer.shape[0], 0, gc
+                image.coverage, col, row + image.coverage.shape[0], 0, gc
             )
 
     def _get_font_height_metrics(self, prop: FontProperties) -> tuple:
