@@ -1,4 +1,4 @@
-"""An Agg canvas whose renderer looks each font up once per draw and draws each text once.
+"""An Agg canvas whose renderer looks each font up once per draw and lays each text out once.
 
 matplotlib (3.11) lays a text out with its font's ascent, descent and line gap, read from
 the font file's OS/2 or hhea table on every layout: a font search and two table reads per
@@ -8,20 +8,21 @@ each text measured or drawn searches its font again. The demo's three figures la
 renderer keeps, for the length of one draw, each font's line metrics (the answer to
 matplotlib's ``_get_font_height_metrics`` question, which its PDF and PostScript renderers
 answer too, computed as matplotlib computes it) and each font object (its
-``_prepare_font``, the same lookup). Drawing a text, matplotlib 3.11's Agg has FreeType and
-libraqm lay its glyphs out (~0.3 ms for a title), then renders and blends every glyph on
-its own (~1,400 in the demo, ~40 us each); this renderer composes each text's glyphs into
-one coverage image kept for the process (tick labels and axis labels repeat: 57 distinct of
-the demo's 128 drawn texts) and blends it once, at the text's origin rounded to a whole
-pixel, as matplotlib placed text before 3.11. The pixels are the plain canvas's for text so
-placed, but for glyph edges two glyphs share (``tests/framework/output/test_canvas.py``).
-A matplotlib that does not lay text out so (before 3.11) draws it as before. matplotlib is
+``_prepare_font``, the same lookup). matplotlib 3.11's Agg measures a text with one
+libraqm shaping (``FT2Font.set_text``, ~0.3 ms), shapes it again to draw it
+(``FT2Font._layout``) and renders and blends every glyph on its own (~1,400 glyphs in the
+demo, ~40 us each). This renderer keeps each plain text for the process (tick labels and
+axis labels repeat: 57 distinct of the demo's 128 drawn texts) from one shaping: its measure,
+the same numbers, and its glyphs drawn into one image by FreeType
+(``draw_glyphs_to_bitmap``), blended once at the text's origin rounded to a whole pixel, as
+matplotlib drew every text before 3.11. Layouts are the plain canvas's; each glyph sits
+within a pixel or two of where Agg 3.11 puts it, with the same ink
+(``tests/framework/output/test_canvas.py``). Turned text and mathtext are Agg's own; a
+matplotlib that lays text out otherwise (before 3.11) draws it as before. matplotlib is
 imported by the caller (:func:`fretbem.output.figures._figure`).
 """
 
 from __future__ import annotations
-
-import math
 
 import attrs
 import numpy as np
@@ -58,106 +59,60 @@ def font_height_metrics(prop: FontProperties, dpi: float) -> tuple:
     return None, None, None
 
 
-#: each text's glyphs as FreeType and libraqm lay them out and render them, composed into one
-#: coverage image, by (font, size, resolution, text, hinting, features, language, angle,
-#: antialiasing): the same input gives the same image, and tick labels and axis labels repeat
-#: within and across figures
+#: each text as FreeType and libraqm lay it out and draw it (:func:`text_image`), by (font,
+#: size, resolution, text, hinting, features, language, antialiasing): the same input gives
+#: the same glyphs, and tick labels and axis labels repeat within and across figures
 _TEXTS: dict = {}
-#: the text images kept at most (the table starts again when full; the demo keeps ~60)
+#: the texts kept at most (the table starts again when full; the demo keeps ~70)
 TEXTS_KEPT = 4096
-#: each glyph's coverage as FreeType renders it, by font, size, resolution, glyph, hinting,
-#: rendering mode, rotation and the pen's position within its pixel (1/64 pixel): texts
-#: repeat glyphs at the same fraction (a third of the demo's ~1,100 glyphs)
-_GLYPHS: dict = {}
-#: the glyphs kept at most (the table starts again when full)
-GLYPHS_KEPT = 16384
-#: whether this matplotlib draws text as :meth:`_Renderer.draw_text` replays it (3.11's
-#: glyph layout and loop); otherwise Agg's own ``draw_text`` runs
+#: whether this matplotlib lays text out as :class:`_Renderer` expects (3.11: libraqm's
+#: shaping behind ``FT2Font.set_text`` and ``_layout``, glyphs rendered one by one by
+#: ``_draw_text_glyphs_and_boxes``); otherwise Agg's own text drawing runs
 GLYPH_LAYOUTS = (
     RenderMode is not None
     and hasattr(FT2Font, "_layout")
+    and hasattr(FT2Font, "draw_glyphs_to_bitmap")
     and hasattr(RendererAgg, "_draw_text_glyphs_and_boxes")
 )
 
 
 @attrs.frozen(eq=False)
 class TextImage:
-    """A text's glyphs composed as Agg would draw them one by one at a whole-pixel origin:
-    the coverage (0-255) of each pixel, and where its top-left pixel sits from the origin
-    (columns right, rows down)."""
+    """A text laid out once: matplotlib's measure of it (advance width, height and descent,
+    1/64 pixels; the ink's overhang to the left of the origin) and its glyphs drawn at their
+    sub-pixel pens into one coverage image (0-255, FreeType's padding included)."""
 
-    coverage: np.ndarray
+    width: int
+    height: int
+    descent: int
     left: int
-    top: int
+    coverage: np.ndarray
 
 
-def text_image(font, size: float, dpi: float, text: str, flags, features, language,
-               angle: float, antialiased: bool) -> TextImage | None:  # fmt: skip
-    """The :class:`TextImage` of ``text`` in ``font`` at ``size`` points and ``dpi``, rotated
-    by ``angle`` degrees, remembered; None for a text without ink (blanks only).
-
-    Every glyph is rendered as matplotlib 3.11's Agg renders it for a text whose origin is
-    a whole pixel: its pen at the same 1/64 pixel, the same transform, hinting and
-    rendering mode. Where two glyphs' pixels meet, the coverages combine as Agg's blending
-    of two draws does (a + b - ab)."""
-    key = (font, size, dpi, text, flags, features, language, angle, antialiased)
+def text_image(font, size: float, dpi: float, text: str, flags, features=None, language=None,
+               antialiased: bool = True) -> TextImage:  # fmt: skip
+    """The :class:`TextImage` of ``text`` in ``font`` (which the caller set to ``size``
+    points at ``dpi``), remembered: one ``set_text`` (libraqm's shaping, ~0.3 ms) answers
+    matplotlib's measure of the text and draws it (``draw_glyphs_to_bitmap``: the glyphs of
+    a title in ~0.05 ms), where Agg 3.11 shapes it again to draw it and renders its glyphs
+    one by one."""
+    key = (font, size, dpi, text, flags, features, language, antialiased)
     try:
-        found = _TEXTS.get(key, False)
+        found = _TEXTS.get(key)
     except TypeError:  # features or language of a kind that cannot be a key
-        key, found = None, False
-    if found is not False:
-        return found
-    items = font._layout(text, flags=flags, features=features, language=language)
-    cos, sin = math.cos(math.radians(angle)), math.sin(math.radians(angle))
-    matrix = (0x10000 * np.array([[cos, -sin], [sin, cos]])).round().astype(int)
-    mode = RenderMode.NORMAL if antialiased else RenderMode.MONO
-    turn = tuple(matrix.ravel().tolist())
-    pieces = []
-    for item in items:  # item.y is upwards, as FreeType's
-        pen = (round(0x40 * (item.x * cos - item.y * sin)),
-               round(0x40 * (item.x * sin + item.y * cos)))  # fmt: skip
-        glyph = _glyph(item.ft_object, size, dpi, item.glyph_index, flags, mode, matrix, turn, pen)
-        if glyph is not None:
-            left, top, buffer = glyph
-            pieces.append((left + (pen[0] >> 6), -top - (pen[1] >> 6), buffer))
-    image = None
-    if pieces:
-        left = min(col for col, _, _ in pieces)
-        top = min(row for _, row, _ in pieces)
-        right = max(col + b.shape[1] for col, _, b in pieces)
-        bottom = max(row + b.shape[0] for _, row, b in pieces)
-        coverage = np.zeros((bottom - top, right - left), np.uint16)
-        for col, row, buffer in pieces:
-            view = coverage[row - top : row - top + buffer.shape[0],
-                            col - left : col - left + buffer.shape[1]]  # fmt: skip
-            if not antialiased:  # monochrome glyphs cover 0 or 1
-                buffer = buffer * 0xFF
-            view += buffer - (view * buffer + 127) // 255
-        image = TextImage(coverage.astype(np.uint8), left, top)
-    if key is not None:
-        if len(_TEXTS) >= TEXTS_KEPT:
-            _TEXTS.clear()
-        _TEXTS[key] = image
-    return image
-
-
-def _glyph(font, size, dpi, index, flags, mode, matrix, turn, pen):
-    """(left, top, coverage) of glyph ``index`` of ``font`` rendered with its pen at ``pen``
-    (1/64 pixels, y upwards) turned by ``matrix`` (``turn`` its key), its bitmap's corner
-    counted from the pen's whole pixel; None if it has no ink. Remembered by the pen's
-    fraction: a whole-pixel shift of the pen moves the bitmap by whole pixels and changes
-    nothing else (FreeType translates the hinted outline)."""
-    key = (font, size, dpi, index, flags, mode, turn, pen[0] & 63, pen[1] & 63)
-    found = _GLYPHS.get(key, False)
-    if found is False:
-        font.set_size(size, dpi)
-        font._set_transform(matrix, [pen[0] & 63, pen[1] & 63])
-        bitmap = font._render_glyph(index, flags, mode)
-        buffer = bitmap.buffer
-        found = (bitmap.left, bitmap.top, np.array(buffer, np.uint16)) if buffer.size else None
-        if len(_GLYPHS) >= GLYPHS_KEPT:
-            _GLYPHS.clear()
-        _GLYPHS[key] = found
+        key, found = None, None
+    if found is None:
+        font.set_text(text, 0.0, flags=flags, features=features, language=language)
+        width, height = font.get_width_height()
+        left, _ = font.get_bitmap_offset()
+        descent = font.get_descent()
+        font.draw_glyphs_to_bitmap(antialiased=antialiased)
+        coverage = np.array(font.get_image())  # a copy: the font draws the next text there
+        found = TextImage(width, height, descent, left, coverage)
+        if key is not None:
+            if len(_TEXTS) >= TEXTS_KEPT:
+                _TEXTS.clear()
+            _TEXTS[key] = found
     return found
 
 
@@ -188,22 +143,27 @@ class _Renderer(RendererAgg):
         font.set_size(font_prop.get_size_in_points(), self.dpi)
         return font
 
-    def draw_text(self, gc, x, y, s, prop, angle, ismath=False, mtext=None):
-        """Agg's ``draw_text`` as one image per text (:func:`text_image`), kept for the
-        process, its origin rounded to a whole pixel (as matplotlib before 3.11 placed each
-        text): one blend instead of one per glyph, no glyph rendered twice."""
+    def get_text_width_height_descent(self, s, prop, ismath):
+        """Agg's measure of a plain text, from its kept :class:`TextImage`."""
         if ismath or not GLYPH_LAYOUTS:
+            return super().get_text_width_height_descent(s, prop, ismath)
+        font = self._prepare_font(prop)
+        text = text_image(font, prop.get_size_in_points(), self.dpi, s, get_hinting_flag())
+        return text.width / 64, text.height / 64, text.descent / 64
+
+    def draw_text(self, gc, x, y, s, prop, angle, ismath=False, mtext=None):
+        """A plain text's kept image blended once, at its origin rounded to a whole pixel and
+        turned about it by Agg, as matplotlib drew every text before 3.11 (where 3.11 shapes
+        the text again and renders and blends each glyph on its own)."""
+        if ismath or angle % 360 or not GLYPH_LAYOUTS:  # turned text: Agg turns each glyph
             return super().draw_text(gc, x, y, s, prop, angle, ismath, mtext)
-        image = text_image(
-            self._prepare_font(prop), prop.get_size_in_points(), self.dpi, s,
-            get_hinting_flag(), mtext.get_fontfeatures() if mtext is not None else None,
-            mtext.get_language() if mtext is not None else None, angle, gc.get_antialiased(),
+        text = text_image(
+            self._prepare_font(prop), prop.get_size_in_points(), self.dpi, s, get_hinting_flag(),
+            mtext.get_fontfeatures() if mtext is not None else None,
+            mtext.get_language() if mtext is not None else None, gc.get_antialiased(),
         )  # fmt: skip
-        if image is not None:  # draw_text_image's y is downwards, at the image's bottom row
-            col, row = round(x) + image.left, round(y) + image.top
-            self._renderer.draw_text_image(
-                image.coverage, col, row + image.coverage.shape[0], 0, gc
-            )
+        x, y = round(x + text.left / 64), round(y + text.descent / 64)
+        self._renderer.draw_text_image(text.coverage, x, y + 1, 0, gc)
 
     def _get_font_height_metrics(self, prop: FontProperties) -> tuple:
         found = self._font_heights.get(prop)
