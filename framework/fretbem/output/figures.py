@@ -108,10 +108,12 @@ def _text_unhinted():
 
 
 def _ticks_in_view(fig: Figure) -> None:
-    """Each automatically located axis of ``fig`` given the ticks it shows, before the file is
-    drawn: matplotlib makes a tick (five artists) for every location its locator returns,
-    and ``MaxNLocator`` returns one beyond each end of the view, drawn or not (a third of
-    the demo's ticks). The same ticks and labels are drawn."""
+    """Each automatically located axis of ``fig`` given the ticks it shows and their labels,
+    before the file is drawn: matplotlib makes a tick (five artists) for every location its
+    locator returns, and ``MaxNLocator`` returns one beyond each end of the view, drawn or not
+    (a third of the demo's ticks); and it locates and formats the ticks again three times
+    per draw of an axis. The same ticks and labels are drawn (an axis whose labels carry an
+    offset or a scale, such as "1e-5", keeps its formatter)."""
     from matplotlib.ticker import MaxNLocator
 
     for ax in fig.axes:
@@ -121,7 +123,13 @@ def _ticks_in_view(fig: Figure) -> None:
             low, high = sorted(axis.get_view_interval())
             slack = 1e-9 * (high - low)  # matplotlib's own test keeps 1e-10 of the view
             locations = axis.get_majorticklocs()
-            axis.set_ticks([x for x in locations if low - slack <= x <= high + slack])
+            kept = [x for x in locations if low - slack <= x <= high + slack]
+            formatter = axis.get_major_formatter()
+            labels = formatter.format_ticks(kept)
+            if formatter.get_offset():  # drawn beside the axis: the formatter must stay
+                axis.set_ticks(kept)
+            else:
+                axis.set_ticks(kept, labels)
 
 
 def _save_png(fig: Figure, path: Path) -> None:
