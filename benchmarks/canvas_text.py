@@ -3,9 +3,9 @@
 ``fretbem.output.canvas`` of ``--before DIR`` and of this checkout draw the same figures
 (the demo's tractions, displacements and pair states of nurbs, lagrange2 and lagrange3 at
 61 pairs, unhinted text as the demo draws it) alternately, ``--rounds`` times; each round
-starts with an empty glyph-layout table, as a demo process does. CPU seconds of the draws
-(``savefig`` to raw RGBA) are printed, medians and the per-round ratio; the first round
-warms matplotlib's caches and is dropped::
+starts with empty glyph-layout and text-image tables, as a demo process does. CPU seconds
+of the draws (``savefig`` to raw RGBA) are printed, medians and the per-round ratio; the
+first round warms matplotlib's caches and is dropped::
 
     git archive <commit> | tar -x -C /tmp/before
     OPENBLAS_NUM_THREADS=1 python benchmarks/canvas_text.py --before /tmp/before --rounds 15
@@ -50,7 +50,8 @@ def main(argv: list[str] | None = None) -> dict:
     makers = (figures.traction_figure, figures.displacement_figure, figures.stick_slip_figure)
 
     def drawn(module) -> float:
-        getattr(module, "_LAYOUTS", {}).clear()
+        getattr(module, "_LAYOUTS", {}).clear()  # the tables of texts kept by each tree
+        getattr(module, "_TEXTS", {}).clear()
         spent = 0.0
         with matplotlib.rc_context({"text.hinting": "no_hinting"}):
             for make in makers:

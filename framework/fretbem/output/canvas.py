@@ -1,4 +1,4 @@
-"""An Agg canvas whose renderer looks each font up once per draw.
+"""An Agg canvas whose renderer looks each font up once per draw and lays each text out once.
 
 matplotlib (3.11) lays a text out with its font's ascent, descent and line gap, read from
 the font file's OS/2 or hhea table on every layout: a font search and two table reads per
@@ -8,19 +8,23 @@ each text measured or drawn searches its font again. The demo's three figures la
 renderer keeps, for the length of one draw, each font's line metrics (the answer to
 matplotlib's ``_get_font_height_metrics`` question, which its PDF and PostScript renderers
 answer too, computed as matplotlib computes it) and each font object (its
-``_prepare_font``, the same lookup). Drawing a text, Agg has FreeType and libraqm lay its
-glyphs out (~0.3 ms for a title) and forms the glyph transform's matrix for every glyph
-(~1,400 in the demo); this renderer keeps each layout for the process (tick labels and
-axis labels repeat: 57 distinct of the demo's 128 drawn texts) and forms the matrix once
-per text. The pixels are the same (``tests/framework/output/test_canvas.py`` compares
-them with the plain canvas's). A matplotlib that does not ask the question lays text out
-as before. matplotlib is imported by the caller (:func:`fretbem.output.figures._figure`).
+``_prepare_font``, the same lookup). matplotlib 3.11's Agg measures a text with one
+libraqm shaping (``FT2Font.set_text``, ~0.3 ms), shapes it again to draw it
+(``FT2Font._layout``) and renders and blends every glyph on its own (~1,400 glyphs in the
+demo, ~40 us each). This renderer keeps each plain text for the process (tick labels and
+axis labels repeat: 57 distinct of the demo's 128 drawn texts) from one shaping: its measure,
+the same numbers, and its glyphs drawn into one image by FreeType
+(``draw_glyphs_to_bitmap``), blended once at the text's origin rounded to a whole pixel, as
+matplotlib drew every text before 3.11. Layouts are the plain canvas's; each glyph sits
+within a pixel or two of where Agg 3.11 puts it, with the same ink
+(``tests/framework/output/test_canvas.py``). Turned text and mathtext are Agg's own; a
+matplotlib that lays text out otherwise (before 3.11) draws it as before. matplotlib is
+imported by the caller (:func:`fretbem.output.figures._figure`).
 """
 
 from __future__ import annotations
 
-import math
-
+import attrs
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg, RendererAgg, get_hinting_flag
 from matplotlib.font_manager import FontProperties, fontManager, get_font
@@ -55,34 +59,61 @@ def font_height_metrics(prop: FontProperties, dpi: float) -> tuple:
     return None, None, None
 
 
-#: each text's glyphs as FreeType and libraqm lay them out, by (font, size, resolution, text,
-#: hinting, features, language): the same input gives the same glyphs, and tick labels and
-#: axis labels repeat within and across figures
-_LAYOUTS: dict = {}
-#: the layouts kept at most (the table starts again when full)
-LAYOUTS_KEPT = 4096
-#: whether this matplotlib draws text as :meth:`_Renderer.draw_text` replays it (3.11's
-#: glyph layout and loop); otherwise Agg's own ``draw_text`` runs
+#: each text as FreeType and libraqm lay it out and draw it (:func:`text_image`), by (font,
+#: size, resolution, text, hinting, features, language, antialiasing): the same input gives
+#: the same glyphs, and tick labels and axis labels repeat within and across figures
+_TEXTS: dict = {}
+#: the texts kept at most (the table starts again when full; the demo keeps ~70)
+TEXTS_KEPT = 4096
+#: whether this matplotlib lays text out as :class:`_Renderer` expects (3.11: libraqm's
+#: shaping behind ``FT2Font.set_text`` and ``_layout``, glyphs rendered one by one by
+#: ``_draw_text_glyphs_and_boxes``); otherwise Agg's own text drawing runs
 GLYPH_LAYOUTS = (
     RenderMode is not None
     and hasattr(FT2Font, "_layout")
+    and hasattr(FT2Font, "draw_glyphs_to_bitmap")
     and hasattr(RendererAgg, "_draw_text_glyphs_and_boxes")
 )
 
 
-def _layout(font, size: float, dpi: float, text: str, flags, features, language):
-    """``font._layout`` of ``text`` (``font`` set to ``size`` at ``dpi``), remembered."""
-    key = (font, size, dpi, text, flags, features, language)
+@attrs.frozen(eq=False)
+class TextImage:
+    """A text laid out once: matplotlib's measure of it (advance width, height and descent,
+    1/64 pixels; the ink's overhang to the left of the origin) and its glyphs drawn at their
+    sub-pixel pens into one coverage image (0-255, FreeType's padding included)."""
+
+    width: int
+    height: int
+    descent: int
+    left: int
+    coverage: np.ndarray
+
+
+def text_image(font, size: float, dpi: float, text: str, flags, features=None, language=None,
+               antialiased: bool = True) -> TextImage:  # fmt: skip
+    """The :class:`TextImage` of ``text`` in ``font`` (which the caller set to ``size``
+    points at ``dpi``), remembered: one ``set_text`` (libraqm's shaping, ~0.3 ms) answers
+    matplotlib's measure of the text and draws it (``draw_glyphs_to_bitmap``: the glyphs of
+    a title in ~0.05 ms), where Agg 3.11 shapes it again to draw it and renders its glyphs
+    one by one."""
+    key = (font, size, dpi, text, flags, features, language, antialiased)
     try:
-        items = _LAYOUTS.get(key)
+        found = _TEXTS.get(key)
     except TypeError:  # features or language of a kind that cannot be a key
-        return font._layout(text, flags=flags, features=features, language=language)
-    if items is None:
-        items = font._layout(text, flags=flags, features=features, language=language)
-        if len(_LAYOUTS) >= LAYOUTS_KEPT:
-            _LAYOUTS.clear()
-        _LAYOUTS[key] = items
-    return items
+        key, found = None, None
+    if found is None:
+        font.set_text(text, 0.0, flags=flags, features=features, language=language)
+        width, height = font.get_width_height()
+        left, _ = font.get_bitmap_offset()
+        descent = font.get_descent()
+        font.draw_glyphs_to_bitmap(antialiased=antialiased)
+        coverage = np.array(font.get_image())  # a copy: the font draws the next text there
+        found = TextImage(width, height, descent, left, coverage)
+        if key is not None:
+            if len(_TEXTS) >= TEXTS_KEPT:
+                _TEXTS.clear()
+            _TEXTS[key] = found
+    return found
 
 
 class _Renderer(RendererAgg):
@@ -112,45 +143,27 @@ class _Renderer(RendererAgg):
         font.set_size(font_prop.get_size_in_points(), self.dpi)
         return font
 
-    def draw_text(self, gc, x, y, s, prop, angle, ismath=False, mtext=None):
-        """Agg's ``draw_text`` with each text's glyph layout remembered (:func:`_layout`)."""
+    def get_text_width_height_descent(self, s, prop, ismath):
+        """Agg's measure of a plain text, from its kept :class:`TextImage`."""
         if ismath or not GLYPH_LAYOUTS:
-            return super().draw_text(gc, x, y, s, prop, angle, ismath, mtext)
+            return super().get_text_width_height_descent(s, prop, ismath)
         font = self._prepare_font(prop)
-        size = prop.get_size_in_points()
-        items = _layout(
-            font, size, self.dpi, s, get_hinting_flag(),
-            mtext.get_fontfeatures() if mtext is not None else None,
-            mtext.get_language() if mtext is not None else None,
-        )  # fmt: skip
-        glyphs = ((item.ft_object, size, item.glyph_index, 0, 1, item.x, item.y) for item in items)
-        self._draw_text_glyphs_and_boxes(gc, x, y, angle, glyphs, [])
+        text = text_image(font, prop.get_size_in_points(), self.dpi, s, get_hinting_flag())
+        return text.width / 64, text.height / 64, text.descent / 64
 
-    def _draw_text_glyphs_and_boxes(self, gc, x, y, angle, glyphs, boxes):
-        """Agg's glyph loop with the transform's matrix formed once per text, not per glyph
-        (the same matrix and pen positions: plain text is neither slanted nor stretched);
-        mathtext's rules and any slanted or stretched glyph go to Agg's own loop."""
-        glyphs = list(glyphs)
-        if boxes or any(slant != 0 or extend != 1 for _, _, _, slant, extend, _, _ in glyphs):
-            return super()._draw_text_glyphs_and_boxes(gc, x, y, angle, glyphs, boxes)
-        cos, sin = math.cos(math.radians(angle)), math.sin(math.radians(angle))
-        matrix = (0x10000 * np.array([[cos, -sin], [sin, cos]])).round().astype(int)
-        flags = get_hinting_flag()
-        antialiased = gc.get_antialiased()
-        mode = RenderMode.NORMAL if antialiased else RenderMode.MONO
-        height = self.height
-        for font, size, glyph_index, _, _, dx, dy in glyphs:  # dy is upwards
-            font.set_size(size, self.dpi)
-            pen = [round(0x40 * (x + dx * cos - dy * sin)),
-                   round(0x40 * (height - y + dx * sin + dy * cos))]  # fmt: skip
-            font._set_transform(matrix, pen)
-            bitmap = font._render_glyph(glyph_index, flags, mode)
-            buffer = bitmap.buffer
-            if not antialiased:
-                buffer *= 0xFF
-            self._renderer.draw_text_image(
-                buffer, bitmap.left, int(height) - bitmap.top + buffer.shape[0], 0, gc
-            )
+    def draw_text(self, gc, x, y, s, prop, angle, ismath=False, mtext=None):
+        """A plain text's kept image blended once, at its origin rounded to a whole pixel and
+        turned about it by Agg, as matplotlib drew every text before 3.11 (where 3.11 shapes
+        the text again and renders and blends each glyph on its own)."""
+        if ismath or angle % 360 or not GLYPH_LAYOUTS:  # turned text: Agg turns each glyph
+            return super().draw_text(gc, x, y, s, prop, angle, ismath, mtext)
+        text = text_image(
+            self._prepare_font(prop), prop.get_size_in_points(), self.dpi, s, get_hinting_flag(),
+            mtext.get_fontfeatures() if mtext is not None else None,
+            mtext.get_language() if mtext is not None else None, gc.get_antialiased(),
+        )  # fmt: skip
+        x, y = round(x + text.left / 64), round(y + text.descent / 64)
+        self._renderer.draw_text_image(text.coverage, x, y + 1, 0, gc)
 
     def _get_font_height_metrics(self, prop: FontProperties) -> tuple:
         found = self._font_heights.get(prop)

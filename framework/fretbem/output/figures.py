@@ -108,10 +108,12 @@ def _text_unhinted():
 
 
 def _ticks_in_view(fig: Figure) -> None:
-    """Each automatically located axis of ``fig`` given the ticks it shows, before the file is
-    drawn: matplotlib makes a tick (five artists) for every location its locator returns,
-    and ``MaxNLocator`` returns one beyond each end of the view, drawn or not (a third of
-    the demo's ticks). The same ticks and labels are drawn."""
+    """Each automatically located axis of ``fig`` given the ticks it shows and their labels,
+    before the file is drawn: matplotlib makes a tick (five artists) for every location its
+    locator returns, and ``MaxNLocator`` returns one beyond each end of the view, drawn or not
+    (a third of the demo's ticks); and it locates and formats the ticks again three times
+    per draw of an axis. The same ticks and labels are drawn (an axis whose labels carry an
+    offset or a scale, such as "1e-5", keeps its formatter)."""
     from matplotlib.ticker import MaxNLocator
 
     for ax in fig.axes:
@@ -121,7 +123,13 @@ def _ticks_in_view(fig: Figure) -> None:
             low, high = sorted(axis.get_view_interval())
             slack = 1e-9 * (high - low)  # matplotlib's own test keeps 1e-10 of the view
             locations = axis.get_majorticklocs()
-            axis.set_ticks([x for x in locations if low - slack <= x <= high + slack])
+            kept = [x for x in locations if low - slack <= x <= high + slack]
+            formatter = axis.get_major_formatter()
+            labels = formatter.format_ticks(kept)
+            if formatter.get_offset():  # drawn beside the axis: the formatter must stay
+                axis.set_ticks(kept)
+            else:
+                axis.set_ticks(kept, labels)
 
 
 def _save_png(fig: Figure, path: Path) -> None:
@@ -215,7 +223,8 @@ def _history(result: SimulationResult, name: str) -> list[float]:
 
 
 def _grid(n: int, title: str) -> tuple[Figure, list]:
-    """n panels, at most 3 per row, on fixed axes rectangles (no empty axes are made)."""
+    """n panels, at most 3 per row, on fixed axes rectangles (no empty axes are made),
+    sharing both axes (:func:`_outer_labels`)."""
     cols = min(n, 3)
     rows = -(-n // cols)
     height = 3.3 * rows + 1.2
@@ -225,19 +234,49 @@ def _grid(n: int, title: str) -> tuple[Figure, list]:
         hspace=0.55, wspace=0.25,
     )  # fmt: skip
     fig.suptitle(title)
-    axes = [fig.add_subplot(grid[k // cols, k % cols]) for k in range(n)]
+    axes = _outer_labels(fig, [(grid[k // cols, k % cols], k // cols, k % cols) for k in range(n)])
     for ax in axes:
         ax.locator_params(nbins=TICK_BINS)
     return fig, axes
 
 
-def _error_text(results, name: str, key: str = "e_q_max", label: str = "max e_q") -> str:
-    """A title line with each result's error ``key`` at step ``name`` (empty without theory)."""
+def _outer_labels(fig: Figure, cells: Sequence, share_y: bool = True) -> list:
+    """An axes on each (grid cell, row, column), all sharing one x axis and, if ``share_y``,
+    one y axis: one scale to compare the panels by, and the shared axes' tick labels written
+    on the outer panels only (the first column's y, the lowest panel of each column's x),
+    a third fewer texts to lay out and draw. Each panel keeps its ticks; the caller labels
+    the axes whose tick labels are written (:func:`_axis_label`)."""
+    lowest = {}
+    for _, row, col in cells:
+        lowest[col] = max(row, lowest.get(col, row))
+    axes = []
+    for cell, row, col in cells:
+        first = axes[0] if axes else None
+        ax = fig.add_subplot(cell, sharex=first, sharey=first if share_y else None)
+        ax.tick_params(labelbottom=row == lowest[col], labelleft=col == 0 or not share_y)
+        axes.append(ax)
+    return axes
+
+
+def _axis_label(ax, xlabel: str, ylabel: str) -> None:
+    """``xlabel`` and ``ylabel`` on the axes of ``ax`` whose tick labels are written."""
+    if ax.xaxis.get_tick_params()["labelbottom"]:
+        ax.set_xlabel(xlabel)
+    if ax.yaxis.get_tick_params()["labelleft"]:
+        ax.set_ylabel(ylabel)
+
+
+def _error_text(
+    results, name: str, key: str = "e_q_max", label: str = "max e_q", bases=None
+) -> str:
+    """A title line with each result's error ``key`` at step ``name`` (empty without theory);
+    ``bases``: the results' basis names, if the caller has them."""
     parts = []
-    for r in results:
+    for k, r in enumerate(results):
         errors = r[name].errors
         if errors and errors.get(key) is not None:
-            parts.append(f"{r.describe()['basis']} {100 * errors[key]:.2f}")
+            basis = bases[k] if bases is not None else r.describe()["basis"]
+            parts.append(f"{basis} {100 * errors[key]:.2f}")
     return f"\n{label} (%): " + ", ".join(parts) if parts else ""
 
 
@@ -257,11 +296,13 @@ def traction_figure(
     ref = _reference(results)
     fig, axes = _grid(len(names), "Contact tractions (traction of the upper body on the lower)")
     colors = _colors()
+    labels = [_label(r) for r in results]  # each result described once, not once per line
+    bases = [r.describe()["basis"] for r in results]
     for ax, name in zip(axes, names, strict=False):
         for i, r in enumerate(results):
             s, c = r[name], colors[i % len(colors)]
-            ax.plot(s.x / scale, s.pressure, "o", ms=3.5, color=c, label=f"p, {_label(r)}")
-            ax.plot(s.x / scale, s.shear, "s", ms=3.5, mfc="none", color=c, label=f"q, {_label(r)}")
+            ax.plot(s.x / scale, s.pressure, "o", ms=3.5, color=c, label=f"p, {labels[i]}")
+            ax.plot(s.x / scale, s.shear, "s", ms=3.5, mfc="none", color=c, label=f"q, {labels[i]}")
         if ref is not None:
             span = max(np.abs(r[name].x).max() for r in results)
             fine = np.linspace(-span, span, 801)
@@ -270,11 +311,10 @@ def traction_figure(
             ax.plot(fine / scale, q, "k--", lw=1, label="q, analytical")
         ax.axhline(0.0, color="0.6", lw=0.5)
         ax.set_title(
-            _step_title(results[0][name]) + _error_text(results, name), y=TITLE_Y,
+            _step_title(results[0][name]) + _error_text(results, name, bases=bases), y=TITLE_Y,
             fontsize=TITLE_SIZE,
         )  # fmt: skip
-        ax.set_xlabel(xlabel)
-        ax.set_ylabel("traction (MPa)")
+        _axis_label(ax, xlabel, "traction (MPa)")
     handles, labels = axes[0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=min(len(labels), 4), fontsize=LEGEND_SIZE)
     return fig
@@ -359,7 +399,9 @@ def stick_slip_figure(result: SimulationResult | Sequence[SimulationResult]) -> 
     grid = fig.add_gridspec(
         -(-len(results) // cols), cols, left=0.1, right=0.98, top=0.88, bottom=0.25, wspace=0.3
     )
-    axes = [fig.add_subplot(grid[k // cols, k % cols]) for k in range(len(results))]
+    cells = [(grid[k // cols, k % cols], k // cols, k % cols) for k in range(len(results))]
+    same_steps = len({tuple(s.name for s in r.steps) for r in results}) == 1
+    axes = _outer_labels(fig, cells, share_y=same_steps)  # one step axis if one history
     cmap = ListedColormap(STATE_COLORS)
     norm = BoundaryNorm(np.arange(len(STATE_NAMES) + 1) - 0.5, cmap.N)
     for ax, r in zip(axes, results, strict=True):
@@ -382,9 +424,9 @@ def stick_slip_figure(result: SimulationResult | Sequence[SimulationResult]) -> 
         shown = default_steps(range(len(r.steps)), MAX_STATE_LABELS)
         ax.set_yticks(shown, [r.steps[k].name[:12] for k in shown])
         ax.locator_params(axis="x", nbins=TICK_BINS)
-        ax.invert_yaxis()
-        ax.set_xlabel(xlabel)
-        ax.set_ylabel("load step")
+        if not same_steps or ax is axes[0]:  # shared axes turn together
+            ax.invert_yaxis()
+        _axis_label(ax, xlabel, "load step")
         ax.set_title(f"pair states, {_label(r)}", y=TITLE_Y)
     handles = [Patch(color=c, label=n) for c, n in zip(STATE_COLORS, STATE_NAMES, strict=True)]
     if _reference(results) is not None:

@@ -100,3 +100,34 @@ def test_ticks_in_view_draw_the_same_ticks_with_fewer_made(results, make):
     assert _ticks(fig) == before
     kept = sum(len(axis.get_majorticklocs()) for ax in fig.axes for axis in (ax.xaxis, ax.yaxis))
     assert kept == sum(len(axis) for axis in before) < made
+
+
+def test_ticks_in_view_keep_an_offset_formatter():
+    """An axis whose labels need an offset or a scale ("1e-5", "+1e3") keeps its formatter:
+    fixed labels would lose the offset text; the others get their labels fixed once."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+    from matplotlib.ticker import ScalarFormatter
+
+    fig = Figure()
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot(2, 2, 1)
+    ax.plot([1000.001, 1000.002, 1000.004], [1e-5, 3e-5, 2e-5])
+    ax.locator_params(nbins=figures.TICK_BINS)
+    plain = fig.add_subplot(2, 2, 4)
+    plain.plot([0, 1], [0, 2])
+    plain.locator_params(nbins=figures.TICK_BINS)
+    fig.canvas.draw()
+    offsets = (ax.xaxis.get_major_formatter().get_offset(),
+               ax.yaxis.get_major_formatter().get_offset())  # fmt: skip
+    assert all(offsets)
+    before = _ticks(fig)
+    figures._ticks_in_view(fig)
+    assert _ticks(fig) == before
+    assert isinstance(ax.xaxis.get_major_formatter(), ScalarFormatter)
+    assert isinstance(ax.yaxis.get_major_formatter(), ScalarFormatter)
+    assert [ax.xaxis.get_major_formatter().get_offset(),
+            ax.yaxis.get_major_formatter().get_offset()] == list(offsets)  # fmt: skip
+    # the labels fixed (matplotlib keeps them in a FixedFormatter or, 3.11, a FuncFormatter)
+    assert not isinstance(plain.xaxis.get_major_formatter(), ScalarFormatter)
+    assert not isinstance(plain.yaxis.get_major_formatter(), ScalarFormatter)

@@ -1,0 +1,84 @@
+"""The demo's three PNGs written by two trees' figure code in one process (issue 28 item 4).
+
+``fretbem.output.figures`` (with its canvas and PNG writer) of ``--before DIR`` and of this
+checkout write the demo's tractions, displacements and pair-state PNGs (nurbs, lagrange2 and
+lagrange3 at 61 pairs, solved once by this checkout) alternately, ``--rounds`` times; each
+round empties both canvases' tables of kept texts, as a fresh demo process starts. CPU
+seconds of ``save_figures`` are printed (medians, and the median of the per-round ratios);
+a first round of each tree warms matplotlib's caches and is dropped. Both trees run in the
+same process under the same load, so the ratio holds on a busy machine where the
+fresh-process row of ``workflows.py --only demo`` moves by 20 %::
+
+    git archive <commit> | tar -x -C /tmp/before
+    OPENBLAS_NUM_THREADS=1 python benchmarks/figures_trees.py --before /tmp/before --rounds 11
+"""
+
+from __future__ import annotations
+
+import argparse
+import gc
+import importlib
+import os
+import statistics
+import sys
+import tempfile
+import time
+import types
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+#: the tables of kept texts a tree's canvas may have (each round starts with them empty)
+TABLES = ("_LAYOUTS", "_TEXTS", "_GLYPHS")
+
+
+def _figure_modules(tree: Path, name: str):
+    """``tree``'s figures and canvas modules, imported as the package ``name`` (their relative
+    imports resolve inside it; their imports of fretbem to the fretbem already imported)."""
+    package = types.ModuleType(name)
+    package.__path__ = [str(tree / "framework" / "fretbem" / "output")]
+    sys.modules[name] = package
+    return importlib.import_module(f"{name}.figures"), importlib.import_module(f"{name}.canvas")
+
+
+def main(argv: list[str] | None = None) -> dict:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--before", type=Path, required=True, help="source tree of the old code")
+    parser.add_argument("--rounds", type=int, default=11)
+    args = parser.parse_args(argv)
+    sys.path[:0] = [str(ROOT / "framework"), str(ROOT / "plugins")]
+    from fretbem.scenes.reference import cattaneo_mindlin
+    from fretbem.simulation import run
+
+    trees = {"before": _figure_modules(args.before, "figures_before"),
+             "after": _figure_modules(ROOT, "figures_after")}  # fmt: skip
+    results = [
+        run(cattaneo_mindlin(basis=b, pairs=61)) for b in ("nurbs", "lagrange2", "lagrange3")
+    ]
+
+    def written(figures, canvas, directory: str) -> float:
+        for table in TABLES:
+            getattr(canvas, table, {}).clear()
+        start = time.process_time()
+        figures.save_figures(results, directory)
+        spent = time.process_time() - start
+        gc.collect()  # the figures' cycles, between the timed calls
+        return spent
+
+    times: dict[str, list[float]] = {name: [] for name in trees}
+    load = [os.getloadavg()[0]]
+    with tempfile.TemporaryDirectory() as tmp:
+        for _ in range(args.rounds + 1):
+            for name, (figures, canvas) in trees.items():
+                times[name].append(written(figures, canvas, f"{tmp}/{name}"))
+    load.append(os.getloadavg()[0])
+    out = {name: statistics.median(values[1:]) for name, values in times.items()}
+    ratios = [a / b for a, b in zip(times["after"][1:], times["before"][1:], strict=True)]
+    out["after / before, per round"] = statistics.median(ratios)
+    print(f"the demo's three PNGs, CPU s (median of {args.rounds}; load {min(load):.1f}-"
+          f"{max(load):.1f}): before {out['before']:.3f}, after {out['after']:.3f}, after / "
+          f"before per round {out['after / before, per round']:.3f}")  # fmt: skip
+    return out
+
+
+if __name__ == "__main__":
+    main()
