@@ -1,7 +1,7 @@
-"""A study: what a coarser 3D grid buys in time and costs in accuracy (issue 28, item 1).
+"""What a coarser 3D grid buys in time and costs in accuracy (issue 28, item 1).
 
-Not a change to the search: the 3D critical-plane search (four criteria, the workflows
-benchmark's 10,000 points) is ~4.5-6x its projection floor against a limit of 3, and
+The 3D critical-plane search (four criteria, the workflows benchmark's 10,000 points) was
+4.2-6x the projection floor of its 5 x 10 degree grid against a limit of 3, and
 ``benchmarks/fatigue_3d_layouts.py`` found the per-plane loops near what numba makes of them.
 This script measures the remaining lever, fewer planes, in one process:
 
@@ -16,6 +16,16 @@ This script measures the remaining lever, fewer planes, in one process:
   reference ten times finer than the default grid (0.5 x 1 degree, 10 refinement levels):
   the largest shortfall (reference - found) over the history's largest reference value, and
   the shortfall of the history's hot spot (the largest value over its points).
+
+Measured on 2026-11-27 (load 4, least of 21; the floor 17-21 ms from run to run): the
+search's refinement and per-point work alone (a 4-plane grid, 60/90/5) are 2.4x the floor,
+so no grid with five levels meets 3x robustly (5/10/5 4.8-6.0x, 10/15/5 3.4x, 10/30/5 3.0x,
+5/45/5 3.0-3.5x); 5/45/3, the default since, 2.4-2.9x (5/45/4 3.2x, 5/45/2 2.2x). A 10 degree
+theta step misses second maxima on contact cycles (Findley 7.0e-3 of the largest value
+against 1.6e-3); psi rows 90 and 45 degrees keep every contact cycle's shortfall of the
+5 x 10 grid (the psi rows in between never win there) and on random histories with a free
+sigma_zz lose more to second maxima (Findley 3.7e-3 -> 6.7e-3) and less (MWCM 3.1e-3 ->
+6e-11); psi rows 90, 60, 30 (5/30/5) lose MWCM 4.9e-2 there; 90 alone (5/90/5) 8.6e-2.
 
 Run from the repository root::
 

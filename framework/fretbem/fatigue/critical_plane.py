@@ -64,8 +64,9 @@ class PlaneSearch:
         3D search is the default because sigma_zz != 0 in plane strain.
     theta_step_deg, psi_step_deg : float
         Coarse grid steps of the in-plane angle and of the out-of-plane angle. The default
-        psi rows, 90 and 45 degrees and the plane normal to z, hold every critical plane of a
-        proportional history (z is a principal direction of the 2D models' stresses).
+        psi rows, 90 and 45 degrees and the plane normal to z, hold the planes of largest
+        normal and shear stress amplitude of a proportional history (z is a principal
+        direction of the 2D models' stresses); docs/explanation/fatigue.md measures them.
     refine_levels : int
         Halvings of the step in the local pattern search around each best plane (3D, default
         3); in-plane, ``refine_levels + 1`` golden-section steps in the grid bracket of each
