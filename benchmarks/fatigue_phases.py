@@ -10,9 +10,16 @@ parabolic step), and the whole ``critical_plane_parameters`` call.
 Medians of ``--runs`` CPU times; run it alone (the machine is shared: ratios, not seconds).
 
 ``--before DIR``: instead, the compiled search of another source tree (``git archive <commit>
-| tar -x -C DIR``) against this tree's, on the same arguments, interleaved run by run in one
-process against one floor; the least CPU time of ``--runs`` each (the other tree's module
-is compiled afresh, without numba's cache); ``--methods`` the criteria searched there.
+| tar -x -C DIR``) against this tree's, interleaved run by run in one process against one
+floor; the least CPU time of ``--runs`` each (the other tree's module is compiled afresh,
+without numba's cache); ``--methods`` the criteria searched there. The other tree searches
+with the defaults before issue 28's 3D grid change (``FORMER``: psi every 10 degrees, five
+levels; in-plane the same search), this tree with its own.
+
+The floor is always the projection of the 5 x 10 degree grid (``FLOOR_GRID``, 325 planes in
+3D): the issue's floor, and the search the default 3D grid (73 planes, three levels) was
+checked against for accuracy (``benchmarks/fatigue_3d_grid_study.py``). Against the
+projection of its own 73 planes the default 3D search is ~12x (that study prints both).
 
 Run from the repository root::
 
@@ -45,6 +52,10 @@ from fretbem.fatigue import compiled_search as cs
 from fretbem.fatigue.planes import plane_grid, projection
 
 CONSTANTS = {"findley_k": 0.3, "fatemi_socie_k": 0.5, "yield_strength": 941.8}
+#: theta and psi steps (degrees) of the projection floor
+FLOOR_GRID = (5.0, 10.0)
+#: the 3D search's settings before issue 28's grid change (in-plane: unchanged)
+FORMER = {"psi_step_deg": 10.0, "refine_levels": 5}
 
 
 def stress_cycle() -> np.ndarray:
@@ -123,8 +134,8 @@ def median_cpu(fn, runs: int) -> float:
 def phases(stress: np.ndarray, in_plane: bool, runs: int) -> None:
     """Print each phase's median CPU time over the floor's, in-plane or 3D."""
     search = PlaneSearch(in_plane_only=in_plane, compiled=True)
-    theta, psi = plane_grid(in_plane_only=in_plane, theta_step_deg=search.theta_step_deg,
-                            psi_step_deg=search.psi_step_deg)  # fmt: skip
+    theta, psi = plane_grid(in_plane_only=in_plane, theta_step_deg=FLOOR_GRID[0],
+                            psi_step_deg=FLOOR_GRID[1])  # fmt: skip
     coef = projection(theta, psi).astype(np.float32).transpose(2, 0, 1).reshape(4, -1)
 
     def floor():
@@ -167,8 +178,9 @@ def phases(stress: np.ndarray, in_plane: bool, runs: int) -> None:
         print(f"  {name:<28s} {median_cpu(fn, runs) / t_floor:6.2f} x floor")
 
 
-def search_arguments(stress: np.ndarray, in_plane: bool, methods=METHODS[:4]) -> tuple:
-    """The arguments ``critical_plane_parameters`` hands to the compiled search."""
+def search_arguments(stress: np.ndarray, in_plane: bool, methods=METHODS[:4], **settings) -> tuple:
+    """The arguments ``critical_plane_parameters`` hands to the compiled search (``settings``:
+    of :class:`PlaneSearch`, the defaults otherwise)."""
     captured = {}
     real = cs.search
 
@@ -179,7 +191,8 @@ def search_arguments(stress: np.ndarray, in_plane: bool, methods=METHODS[:4]) ->
     cs.search = spy
     try:
         critical_plane_parameters(stress, E=116000.0, nu=0.342, methods=methods,
-                                  search=PlaneSearch(in_plane_only=in_plane, compiled=True),
+                                  search=PlaneSearch(in_plane_only=in_plane, compiled=True,
+                                                     **settings),
                                   **CONSTANTS)  # fmt: skip
     finally:
         cs.search = real
@@ -193,7 +206,9 @@ def against_tree(stress: np.ndarray, before: Path, runs: int, methods=METHODS[:4
     exec(compile(text.replace('"cache": True', '"cache": False'), "before", "exec"), old.__dict__)
     for in_plane in (True, False):
         a = search_arguments(stress, in_plane, methods)
-        theta, psi = plane_grid(in_plane_only=in_plane, theta_step_deg=5.0, psi_step_deg=10.0)
+        b = search_arguments(stress, in_plane, methods, **({} if in_plane else FORMER))
+        theta, psi = plane_grid(in_plane_only=in_plane, theta_step_deg=FLOOR_GRID[0],
+                                psi_step_deg=FLOOR_GRID[1])  # fmt: skip
         coef = projection(theta, psi).astype(np.float32).transpose(2, 0, 1).reshape(4, -1)
 
         def floor(coef=coef):
@@ -201,7 +216,7 @@ def against_tree(stress: np.ndarray, before: Path, runs: int, methods=METHODS[:4
             for i in range(0, s32.shape[1], 400):
                 s32[:, i : i + 400] @ coef
 
-        fns = {"floor": floor, "before": lambda a=a: old.search(*a),
+        fns = {"floor": floor, "before": lambda b=b: old.search(*b),
                "after": lambda a=a: cs.search(*a)}  # fmt: skip
         times = {k: [] for k in fns}
         for fn in fns.values():

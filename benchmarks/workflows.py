@@ -12,10 +12,10 @@ while numpy, scipy and matplotlib load their bytecode). Workflows:
 - ``rig``: ``fretbem run examples/fretting_rig.toml`` (with [stress] and [fatigue]) against
   the same scene without those tables, whole process;
 - ``fatigue``: the critical-plane search, all four criteria, on 10,000 points and a
-  9-step cycle, against its projection floor (every (step, point, plane) of the coarse grid
-  in one float32 product per chunk), in-plane and 3D; the compiled search where the tree has
-  it (``PlaneSearch(compiled=True)``, after a warm-up: numba's load is the rig's), and the
-  numpy search beside it;
+  9-step cycle, against its projection floor (every (step, point, plane) of the 5 x 10
+  degree grid, 325 planes in 3D, in one float32 product per chunk), in-plane and 3D; the
+  compiled search where the tree has it (``PlaneSearch(compiled=True)``, after a warm-up:
+  numba's load is the rig's), and the numpy search beside it;
 - ``halfplane``: the half-plane body model's cycle (scene built cold, five steps) against the
   BEM bodies of the same scene and against a numpy Toeplitz influence-coefficient peer
   (``benchmarks/halfplane_peer.py``) on the same nodes, at 61 and 481 pairs, and the BEM
@@ -83,8 +83,9 @@ if "compiled" not in attrs.fields_dict(PlaneSearch):
 out = {}
 for in_plane in (True, False):
     search = PlaneSearch(in_plane_only=in_plane)
-    th, ps = plane_grid(in_plane_only=in_plane, theta_step_deg=search.theta_step_deg,
-                        psi_step_deg=search.psi_step_deg)
+    # the floor of the 5 x 10 degree grid in every tree (the issue's floor; the default 3D
+    # grid since issue 28 has 73 planes, checked against it: fatigue_3d_grid_study.py)
+    th, ps = plane_grid(in_plane_only=in_plane, theta_step_deg=5.0, psi_step_deg=10.0)
     coef = projection(th, ps).astype(np.float32).transpose(2, 0, 1).reshape(4, -1)
     def floor():
         s32 = stress.astype(np.float32)

@@ -63,10 +63,14 @@ class PlaneSearch:
         Search only planes containing the out-of-plane axis z (the 2D restriction); the full
         3D search is the default because sigma_zz != 0 in plane strain.
     theta_step_deg, psi_step_deg : float
-        Coarse grid steps of the in-plane angle and of the out-of-plane angle.
+        Coarse grid steps of the in-plane angle and of the out-of-plane angle. The default
+        psi rows, 90 and 45 degrees and the plane normal to z, hold the planes of largest
+        normal and shear stress amplitude of a proportional history (z is a principal
+        direction of the 2D models' stresses); docs/explanation/fatigue.md measures them.
     refine_levels : int
-        Halvings of the step in the local pattern search around each best plane (3D); in-plane,
-        ``refine_levels + 1`` golden-section steps in the grid bracket of each best plane.
+        Halvings of the step in the local pattern search around each best plane (3D, default
+        3); in-plane, ``refine_levels + 1`` golden-section steps in the grid bracket of each
+        best plane (default 5).
     chunk_points : int
         Points evaluated at once on the coarse grid (memory ~ steps x chunk x planes).
     compiled : bool or None
@@ -77,8 +81,10 @@ class PlaneSearch:
 
     in_plane_only: bool = False
     theta_step_deg: float = 5.0
-    psi_step_deg: float = 10.0
-    refine_levels: int = 5
+    psi_step_deg: float = 45.0
+    refine_levels: int = attrs.field(
+        default=attrs.Factory(lambda self: 5 if self.in_plane_only else 3, takes_self=True)
+    )
     chunk_points: int = 400
     compiled: bool | None = attrs.field(
         default=None, validator=attrs.validators.optional(attrs.validators.instance_of(bool))
@@ -612,8 +618,9 @@ def _golden(evaluate, criteria, theta, step, levels):
 
 #: (step, point, plane) evaluations from which the compiled search is the default: about
 #: what loading numba (0.45 s) and the cached kernel (0.06 s) cost at the numpy search's
-#: 1e-8 s per evaluation (0.53 s for 10,000 points, 9 steps, 325 grid + 240 refinement planes
-#: in 3D; 0.11 s for 36 + 120 in-plane); benchmarks/fatigue_grid.py
+#: 1e-8 s per evaluation (0.38 s for 10,000 points, 9 steps, 73 grid + 240 refinement planes
+#: in 3D, where a fresh process's compiled search takes 0.39 s; 0.11 s for 36 + 120
+#: in-plane); benchmarks/fatigue_grid.py
 COMPILED_MIN_EVALUATIONS = 5e7
 
 

@@ -386,3 +386,38 @@ def test_convex_criteria_take_their_3d_maximum_in_plane_or_normal_to_z(compiled)
         assert np.all(np.isclose(tilt, 0.0, atol=1e-9) | np.isclose(tilt, 90.0, atol=1e-9))
         assert np.any(z_value > scan[name]) and np.any(z_value < scan[name])
     assert np.any(np.abs(res["findley"].normal_tilt_deg) > 1.0)
+
+
+def _contact_cycle(tangential_ratio, bulk, n, seed):
+    from fretbem.fatigue import CattaneoMindlinCycle, last_full_reversal
+
+    cm = CattaneoMindlinCycle(a=0.5, p0=300.0, f=0.6, tangential_ratio=tangential_ratio,
+                              sigma_bulk_max=bulk, nu=0.342, steps_per_branch=2)  # fmt: skip
+    rng = np.random.default_rng(seed)
+    points = np.stack([rng.uniform(-0.75, 0.75, n), rng.uniform(0.0, 0.5, n)], axis=1)
+    return cm.stress_at(points)[last_full_reversal(cm.driver)]
+
+
+@pytest.mark.parametrize(
+    ("tangential_ratio", "bulk", "n"), [(0.3, 0.0, 40), (0.5, 80.0, 25), (0.8, 150.0, 40)]
+)
+def test_default_3d_grid_against_a_dense_search(tangential_ratio, bulk, n):
+    """The default 3D search (psi rows 90 and 45 degrees, three levels) against a search ten
+    times finer (0.5 x 1 degree, ten levels) on fretting-contact cycles at three loads: each
+    point's value at most 1e-4 of the largest value further below than the former 5 x 10
+    degree, five-level search's (both up to 8e-4 below for Findley, where they refine a
+    second local maximum; the three levels leave it up to 3.2e-5 further, SWT 7e-10, MWCM
+    7e-15), the hot spot's within 1e-6 (measured 3.1e-7, Fatemi-Socie)."""
+    stress = _contact_cycle(tangential_ratio, bulk, n, 11)
+    kw = {**KW, "E": 116000.0, "nu": 0.342, "yield_strength": 941.8}
+    dense = PlaneSearch(theta_step_deg=0.5, psi_step_deg=1.0, refine_levels=10, compiled=True)
+    former = PlaneSearch(psi_step_deg=10.0, refine_levels=5, compiled=True)
+    ref = critical_plane_parameters(stress, search=dense, **kw)
+    old = critical_plane_parameters(stress, search=former, **kw)
+    new = critical_plane_parameters(stress, search=PlaneSearch(compiled=True), **kw)
+    for method, r in ref.items():
+        scale = np.abs(r.value).max()
+        short_new = (r.value - new[method].value) / scale
+        short_old = (r.value - old[method].value) / scale
+        assert np.all(short_new <= np.maximum(short_old, 0.0) + 1e-4), method
+        assert (r.value.max() - new[method].value.max()) / scale <= 1e-6, method
