@@ -90,7 +90,7 @@ def may_serve(segments, first_dofs, first_rows, image_of) -> bool:
     return (
         kept is not None
         and kept.matrix is not None
-        and _segment_map(kept, segments, first_dofs, first_rows, image_of) is not None
+        and segment_map(kept, segments, first_dofs, first_rows, image_of) is not None
     )
 
 
@@ -112,10 +112,10 @@ def solve_as_image(
     kept = _KEPT[0]
     if kept is None or kept.first_rows[-1] != len(parameters):
         return None
-    mapped = _segment_map(kept, segments, first_dofs, first_rows, image_of)
+    mapped = segment_map(kept, segments, first_dofs, first_rows, image_of)
     if mapped is None:
         return None
-    columns, rows = mapped
+    columns, rows, _ = mapped
     permuted = (
         permuted_from is not None
         and kept.h is not None
@@ -197,19 +197,21 @@ def _same_columns(parameters: np.ndarray, kept: np.ndarray, rows) -> np.ndarray:
     return equal
 
 
-def _segment_map(kept, segments, first_dofs, first_rows, image_of):
-    """(own slice, kept slice) per segment of the dofs and of the rows, the kept segment
-    being its point image; None if a segment has none among the kept body's or the counts
-    differ."""
+def segment_map(kept, segments, first_dofs, first_rows, image_of):
+    """(own slice, kept slice) per segment of the dofs and of the rows, and each segment's
+    kept image index, the kept segment being its point image (``image_of(basis)``); None
+    if a segment has none among the kept body's, two share one, or the sizes differ.
+    ``kept``: a record with ``segments`` (weak references), ``first_dofs``, ``first_rows``."""
     index = {id(basis): k for k, ref in enumerate(kept.segments) if (basis := ref()) is not None}
     if len(index) != len(segments):
         return None
-    columns, rows = [], []
+    columns, rows, found = [], [], []
     for k, basis in enumerate(segments):
         image = image_of(basis)
         j = index.get(id(image)) if image is not None else None
-        if j is None:
+        if j is None or j in found:
             return None
+        found.append(j)
         for own_first, kept_first, out in (
             (first_dofs, kept.first_dofs, columns),
             (first_rows, kept.first_rows, rows),
@@ -219,4 +221,4 @@ def _segment_map(kept, segments, first_dofs, first_rows, image_of):
             if own.stop - own.start != other.stop - other.start:
                 return None
             out.append((own, other))
-    return columns, rows
+    return columns, rows, found

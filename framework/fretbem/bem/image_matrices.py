@@ -23,6 +23,7 @@ import numpy as np
 
 from . import images
 from .assembly import BLOCKS
+from .image_factor import segment_map
 
 #: the largest body (rows of H) whose H and G are kept for its point image: the size the
 #: kept factorisation allows (:data:`fretbem.bem.image_factor.KEEP_MAX_ROWS`), 64 MB at most
@@ -94,7 +95,7 @@ def derived(segments, first_dofs, first_rows, kernel, settings, g_free):
     kept = _KEPT[0]
     if kept is None or kept.kernel != kernel or kept.settings != _settings_key(settings):
         return None
-    mapped = segment_map(kept, segments, first_dofs, first_rows)
+    mapped = segment_map(kept, segments, first_dofs, first_rows, image_of)
     if mapped is None:
         return None
     columns, rows, images_of = mapped
@@ -115,33 +116,6 @@ def source_of(h: np.ndarray) -> KeptMatrices | None:
     """The kept matrices ``h`` was permuted from (:func:`derived`), or None."""
     entry = _DERIVED.get(id(h))
     return entry[1] if entry is not None and entry[0]() is h else None
-
-
-def segment_map(kept, segments, first_dofs, first_rows):
-    """(own slice, kept slice) per segment of the dofs and of the rows, and each segment's
-    kept image index, the kept segment being its exact point image (:func:`image_of`); None
-    if a segment has none among the kept ones, two share one, or the sizes differ.
-    ``kept``: a record with ``segments`` (weak references), ``first_dofs``, ``first_rows``."""
-    index = {id(basis): k for k, ref in enumerate(kept.segments) if (basis := ref()) is not None}
-    if len(index) != len(segments):
-        return None
-    columns, rows, found = [], [], []
-    for k, basis in enumerate(segments):
-        image = image_of(basis)
-        j = index.get(id(image)) if image is not None else None
-        if j is None or j in found:
-            return None
-        found.append(j)
-        for own_first, kept_first, out in (
-            (first_dofs, kept.first_dofs, columns),
-            (first_rows, kept.first_rows, rows),
-        ):
-            own = slice(int(own_first[k]), int(own_first[k + 1]))
-            other = slice(int(kept_first[j]), int(kept_first[j + 1]))
-            if own.stop - own.start != other.stop - other.start:
-                return None
-            out.append((own, other))
-    return columns, rows, found
 
 
 def _runs(pairs: list) -> list:

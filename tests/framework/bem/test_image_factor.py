@@ -8,25 +8,17 @@ import attrs
 import numpy as np
 import pytest
 
-from fretbem.bem import assembly, image_factor, image_matrices, images, system
-from fretbem.scenes import builder, cattaneo_mindlin
+from fretbem.bem import assembly, image_factor, image_matrices, system
+from fretbem.scenes import cattaneo_mindlin
 from fretbem.simulation import run
+from fretbem.testing.caches import forget_assembled
 
 SOLVE_AS_IMAGE = image_factor.solve_as_image
 
 
-def _cold() -> None:
-    """Forget the built scenes, blocks, discretisations and the kept factorisation."""
-    builder._built.cache_clear()
-    assembly.BLOCKS.clear()
-    images._DISCRETISED.clear()
-    image_factor.clear()
-    image_matrices.clear()
-
-
 def _run(shared: bool, monkeypatch, **overrides):
     """A cold reference run; the number of systems solved with a kept factorisation."""
-    _cold()
+    forget_assembled()
     calls = []
 
     def counted(*args, **kwargs):
@@ -59,7 +51,7 @@ def test_a_flat_specimen_is_no_image_of_the_pad(monkeypatch):
 def test_a_differing_matrix_is_factorised_again(monkeypatch):
     """A kept factorisation whose matrix differs from the specimen's (permuted) in one entry
     off the diagonal blocks, or beyond round-off on them, serves no body."""
-    _cold()
+    forget_assembled()
     systems = []
     build = system.collocation_system
 
@@ -87,7 +79,7 @@ def test_a_differing_matrix_is_factorised_again(monkeypatch):
             matrix, parameters.copy(order="F"),
         )  # fmt: skip
 
-    _cold()
+    forget_assembled()
     pair.upper.release_matrices()
     pair.upper._cache.clear()
     pair.upper.system((pair.upper_tag,))
@@ -106,7 +98,7 @@ def test_the_image_specimen_takes_the_pads_contact_maps_bit_for_bit(basis, monke
     responses, used = [], []
     image_response = system._image_response
     for share in (False, True):
-        _cold()
+        forget_assembled()
 
         def shared(*args, share=share):
             out = image_response(*args) if share else None

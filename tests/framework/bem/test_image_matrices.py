@@ -11,23 +11,16 @@ import numpy as np
 import pytest
 
 from fretbem.basis import Refinement
-from fretbem.bem import assembly, image_factor, image_matrices, images, mirror_split, system
+from fretbem.bem import image_factor, image_matrices, mirror_split, system
 from fretbem.bem import layout as bem_layout
 from fretbem.bem.body import BemBody
 from fretbem.bem.integration import IntegrationSettings
 from fretbem.bem.system import g_free_segments
-from fretbem.scenes import builder, cattaneo_mindlin
+from fretbem.scenes import cattaneo_mindlin
 from fretbem.simulation import run
+from fretbem.testing.caches import forget_assembled
 
 DERIVED = image_matrices.derived
-
-
-def _cold() -> None:
-    builder._built.cache_clear()
-    assembly.BLOCKS.clear()
-    images._DISCRETISED.clear()
-    image_factor.clear()
-    image_matrices.clear()
 
 
 def _assembled(body: BemBody, g_free=(), monkeypatch=None) -> tuple[np.ndarray, np.ndarray]:
@@ -40,7 +33,7 @@ def _assembled(body: BemBody, g_free=(), monkeypatch=None) -> tuple[np.ndarray, 
 def _pad_then_specimen(changed=None, **overrides):
     """The scene's pad assembled as a run assembles it, then the specimen's system matrices
     (``changed``: replaces the specimen); the specimen, its H and G and its g_free."""
-    _cold()
+    forget_assembled()
     pair = cattaneo_mindlin(models={}, **overrides).pair
     pad = pair.upper
     specimen = changed(pair.lower) if changed else pair.lower
@@ -97,9 +90,9 @@ def test_the_image_specimen_takes_the_pads_matrices_permuted(basis, pairs, monke
 def test_the_reference_cycle_is_unchanged(basis, pairs, monkeypatch):
     """The specimen's unknowns come from the pad's factors and solved columns either way
     (:mod:`fretbem.bem.image_factor`): measured bit for bit, 21 to 481 pairs."""
-    _cold()
+    forget_assembled()
     permuted = run(cattaneo_mindlin(models={}, basis=basis, pairs=pairs))
-    _cold()
+    forget_assembled()
     monkeypatch.setattr(image_matrices, "derived", lambda *args: None)
     assembled = run(cattaneo_mindlin(models={}, basis=basis, pairs=pairs))
     for a, b in zip(permuted.steps, assembled.steps, strict=True):
@@ -140,7 +133,7 @@ def test_a_specimen_that_is_no_image_is_assembled(basis, overrides, changed, mon
 
 @pytest.mark.parametrize("models", [{"lower": "half-plane"}, {"upper": "half-plane"}])
 def test_a_half_plane_body_takes_no_permuted_matrices(models, monkeypatch):
-    _cold()
+    forget_assembled()
     calls = []
     monkeypatch.setattr(
         image_matrices, "derived", lambda *args: calls.append(out := DERIVED(*args)) or out
@@ -153,7 +146,7 @@ def test_a_half_plane_body_takes_no_permuted_matrices(models, monkeypatch):
 def test_g_left_out_on_the_pad_is_never_lent_where_the_specimen_reads_it(monkeypatch):
     """The pad's G without its traction-free columns (the numpy loops) serves a specimen
     that leaves out the same columns, and not one that reads them all."""
-    _cold()
+    forget_assembled()
     pair = cattaneo_mindlin(models={}, pairs=21).pair
     numpy = IntegrationSettings(compiled=False)
     pad, specimen = (attrs.evolve(b, integration=numpy) for b in (pair.upper, pair.lower))
@@ -164,7 +157,7 @@ def test_g_left_out_on_the_pad_is_never_lent_where_the_specimen_reads_it(monkeyp
     own_h, own_g = _assembled(specimen, (), monkeypatch)
     assert np.array_equal(g, own_g) and np.array_equal(h, own_h)
     # and the other way: the pad whole, the specimen's system matrices taken from it
-    _cold()
+    forget_assembled()
     pad, specimen = (attrs.evolve(b, integration=numpy) for b in (pair.upper, pair.lower))
     pad.matrices()
     free = g_free_segments(specimen, specimen.layout((pair.lower_tag,)))
@@ -178,7 +171,7 @@ def test_g_left_out_on_the_pad_is_never_lent_where_the_specimen_reads_it(monkeyp
 def test_differing_kinds_build_the_matrix(monkeypatch):
     """A body with permuted H and G whose unknowns' kinds differ from the kept factor's in
     one column is not solved with it (its A is not the kept one permuted)."""
-    _cold()
+    forget_assembled()
     pair = cattaneo_mindlin(models={}, pairs=21).pair
     pair.upper.system((pair.upper_tag,))
     specimen = pair.lower
@@ -229,7 +222,7 @@ def test_a_pad_the_halves_solve_keeps_no_matrix(permuted, monkeypatch):
     monkeypatch.setattr(mirror_split, "MIN_ROWS", 0)
     if not permuted:
         monkeypatch.setattr(image_matrices, "derived", lambda *args: None)
-    _cold()
+    forget_assembled()
     pair = cattaneo_mindlin(models={}, pairs=21).pair
     pad = pair.upper.system((pair.upper_tag,))
     assert image_factor._KEPT[0].matrix is None
@@ -237,7 +230,7 @@ def test_a_pad_the_halves_solve_keeps_no_matrix(permuted, monkeypatch):
     assert (specimen.image_of is pad) is permuted
     if permuted:
         return
-    _cold()
+    forget_assembled()
     monkeypatch.undo()
     monkeypatch.setattr(mirror_split, "MIN_ROWS", 0)
     pair = cattaneo_mindlin(models={}, pairs=21).pair
@@ -251,7 +244,7 @@ def test_a_pad_the_halves_solve_keeps_no_matrix(permuted, monkeypatch):
 
 @pytest.mark.parametrize("basis", ["nurbs", "lagrange2"])
 def test_the_image_specimen_shares_the_pads_contact_maps_read_only(basis):
-    _cold()
+    forget_assembled()
     pair = cattaneo_mindlin(models={}, basis=basis, pairs=21).pair
     pad = pair.upper.contact_response(pair.upper_tag)
     specimen = pair.lower.contact_response(pair.lower_tag)
@@ -267,7 +260,7 @@ def test_the_image_specimen_shares_the_pads_contact_maps_read_only(basis):
 def test_the_pads_matrices_are_let_go_once_they_served():
     """Kept from the pad's assembly until the specimen's system took the pad's factors (the
     pad has released its own by then): not through the cycle's steps."""
-    _cold()
+    forget_assembled()
     pair = cattaneo_mindlin(models={}, pairs=21).pair
     pair.upper.system((pair.upper_tag,))
     assert image_matrices._KEPT[0] is not None

@@ -10,10 +10,11 @@ import numpy as np
 import pytest
 
 from fretbem.accuracy.adaptive import remesh
-from fretbem.bem import assembly, image_factor, images, mirror_split, system
+from fretbem.bem import image_factor, mirror_split, system
 from fretbem.bem.layout import BLOCK, CONTACT, DISPLACEMENT, TRACTION
-from fretbem.scenes import builder, cattaneo_mindlin
+from fretbem.scenes import cattaneo_mindlin
 from fretbem.simulation import run
+from fretbem.testing.caches import forget_assembled
 
 MIRROR_SPLIT = system._mirror_split
 
@@ -22,13 +23,6 @@ MIRROR_SPLIT = system._mirror_split
 def _every_size(monkeypatch):
     """Split bodies of any size (the run splits only those of MIN_ROWS rows or more)."""
     monkeypatch.setattr(mirror_split, "MIN_ROWS", 0)
-
-
-def _cold() -> None:
-    builder._built.cache_clear()
-    assembly.BLOCKS.clear()
-    images._DISCRETISED.clear()
-    image_factor.clear()
 
 
 def _split_counted(monkeypatch, split: bool) -> list:
@@ -109,7 +103,7 @@ def test_an_asymmetric_matrix_or_kinds_is_no_split():
 
 def _systems(monkeypatch, split: bool, keep_rows: int, **overrides):
     """Both bodies' factorised systems of a cold reference scene, and which were split."""
-    _cold()
+    forget_assembled()
     used = _split_counted(monkeypatch, split)
     monkeypatch.setattr(image_factor, "KEEP_MAX_ROWS", keep_rows)
     pair = cattaneo_mindlin(models={}, **overrides).pair
@@ -154,7 +148,7 @@ def test_split_systems_equal_the_full_solve(basis, pairs, lower, keep_rows, monk
 def test_the_reference_cycle_is_unchanged(basis, iterations, monkeypatch):
     results = []
     for split in (False, True):
-        _cold()
+        forget_assembled()
         with monkeypatch.context() as patch:
             used = _split_counted(patch, split)
             results.append(run(cattaneo_mindlin(models={}, basis=basis)))
@@ -178,7 +172,7 @@ def test_an_asymmetric_body_is_solved_whole(monkeypatch):
 
 def test_a_matrix_that_breaks_the_symmetry_is_solved_whole(monkeypatch):
     """The assembled H tampered in one entry: the split declines and the full solve runs."""
-    _cold()
+    forget_assembled()
     pair = cattaneo_mindlin(models={}, pairs=21).pair
     body, tag = pair.upper, pair.upper_tag
     h, _ = body.system_matrices(system.g_free_segments(body, body.layout((tag,))))
@@ -217,7 +211,7 @@ def test_an_index_gathers_and_scatters_as_fancy_indexing(index):
 def test_a_small_body_is_solved_whole(monkeypatch):
     """Below MIN_ROWS the halves cost what they save: the 61-pair pad is solved whole."""
     monkeypatch.setattr(mirror_split, "MIN_ROWS", 800)
-    _cold()
+    forget_assembled()
     pair = cattaneo_mindlin(models={}, pairs=61).pair
     body = pair.upper
     kinds = body.layout((pair.upper_tag,)).kinds.ravel()
