@@ -21,6 +21,7 @@ from fretbem.scenes.file import scene_from_data
 from fretbem.simulation import run
 from fretbem.sliding.slide import run_sliding
 from fretbem.studies.sweep import cases as sweep_cases
+from fretbem.testing.scenes import SMALL_SCENE
 from fretbem.wear.law import ArchardWear
 from fretbem.wear.run import WearSimulation, run_wear
 
@@ -143,15 +144,8 @@ def test_a_wear_history_runs_in_the_block(heap, kept_from_zero, sliding):
     assert _mapped_alone(heap)
 
 
-#: a small sweep group (tests/framework/studies/test_sweep.py's scene), two loads
-SWEEP_SCENE = {
-    "scene": {"basis": "nurbs", "pairs": 21, "zone": 1.5},
-    "geometry": {"radius": 70.0, "width": 6.5, "height": 16.25, "lower": "arc"},
-    "mesh": {"flank_elements": 8, "side_elements": 8, "top_elements": 6},
-    "material": {"E": 73400.0, "nu": 0.33},
-    "contact": {"friction": 0.3},
-    "load": {"P": 100.0, "Q": [0.0, 18.0, 0.0, -18.0, 0.0], "steps": ["A", "B", "C", "D", "E"]},
-}
+#: a small sweep group, two loads
+SWEEP_SCENE = SMALL_SCENE
 
 
 def test_a_sweep_batch_runs_in_one_block_from_its_assembly(heap, kept_from_zero, monkeypatch):

@@ -11,15 +11,9 @@ from fretbem.simulation import LoadStep, run
 from fretbem.solvers.newton import SemiSmoothNewton
 from fretbem.solvers.step_memo import StepMemo
 from fretbem.studies.sweep.cases import build_simulation
+from fretbem.testing.scenes import SMALL_SCENE
 
-SCENE = {
-    "scene": {"basis": "nurbs", "pairs": 21, "zone": 1.5},
-    "geometry": {"radius": 70.0, "width": 6.5, "height": 16.25, "lower": "arc"},
-    "mesh": {"flank_elements": 8, "side_elements": 8, "top_elements": 6},
-    "material": {"E": 73400.0, "nu": 0.33},
-    "contact": {"friction": 0.3},
-    "load": {"P": 100.0, "Q": [0.0, 18.0, 0.0, -18.0, 0.0], "steps": ["A", "B", "C", "D", "E"]},
-}
+SCENE = SMALL_SCENE
 
 
 @pytest.fixture(scope="module")

@@ -26,18 +26,12 @@ from fretbem.studies.sweep.spec import (
     set_path,
     split_path,
 )
+from fretbem.testing.scenes import SMALL_SCENE
 
 pd = pytest.importorskip("pandas")
 
 #: a small reference-type scene (coarse mesh, 21 pairs): fast to assemble
-SCENE = {
-    "scene": {"basis": "nurbs", "pairs": 21, "zone": 1.5},
-    "geometry": {"radius": 70.0, "width": 6.5, "height": 16.25, "lower": "arc"},
-    "mesh": {"flank_elements": 8, "side_elements": 8, "top_elements": 6},  # equilibrium to 1e-3 P
-    "material": {"E": 73400.0, "nu": 0.33},
-    "contact": {"friction": 0.3},
-    "load": {"P": 100.0, "Q": [0.0, 18.0, 0.0, -18.0, 0.0], "steps": ["A", "B", "C", "D", "E"]},
-}
+SCENE = SMALL_SCENE
 CYCLE = [0.0, 1.0, 0.0, -1.0, 0.0]
 
 

@@ -9,6 +9,7 @@ from html.parser import HTMLParser
 import numpy as np
 
 from fretbem.contact.zones import step_zones
+from fretbem.testing.scenes import SMALL_SCENE, scene_data_with
 from fretbem.views.display import MAX_ROWS
 
 #: a repr is one readable line
@@ -144,14 +145,9 @@ def test_stress_and_fatigue_display(rig_run):
 def test_sweep_display(tmp_path):
     from fretbem.studies.sweep.run import sweep
 
-    scene = {
-        "scene": {"basis": "nurbs", "pairs": 21, "zone": 1.5},
-        "geometry": {"radius": 70.0, "width": 6.5, "height": 16.25, "lower": "arc"},
-        "mesh": {"flank_elements": 8, "side_elements": 8, "top_elements": 6},
-        "material": {"E": 73400.0, "nu": 0.33},
-        "contact": {"friction": 0.3},
-        "load": {"P": 100.0, "Q": [0.0, 18.0, 0.0], "steps": ["A", "B", "C"]},
-    }
+    scene = scene_data_with(
+        SMALL_SCENE, {"load__Q": [0.0, 18.0, 0.0], "load__steps": ["A", "B", "C"]}
+    )
     result = sweep(
         scene,
         {"load.P": [80.0, 120.0], "contact.friction": [0.3, 0.5]},
