@@ -137,9 +137,10 @@ def estimate_resources(
 
 def run_size(pair) -> dict:
     """The keywords of :func:`estimate_resources` for a run on ``pair``: its DOFs, those of
-    half-plane bodies, and whether its BEM bodies' assembly will load the compiled loops
-    (the process's choice, :data:`~fretbem.bem.integration.LOOP_CHOICE`). A body of
-    another model counts as a dense BEM body."""
+    half-plane bodies (those whose segments cover their face alone: ``outline_complete``
+    False), and whether its BEM bodies' assembly will load the compiled loops (the process's
+    choice, :data:`~fretbem.bem.integration.LOOP_CHOICE`). Any other body counts as a dense
+    BEM body."""
     dofs = half_plane = work = 0
     forced = False
     for body in (pair.upper, pair.lower):
@@ -150,7 +151,7 @@ def run_size(pair) -> dict:
             forced |= choice is True
             if choice is None:
                 work += body.n_functions * sum(basis.n_elements for basis in body.segments)
-        elif getattr(body, "describe", dict)().get("model") == "half-plane":
+        elif not body.outline_complete:  # unknowns on its face alone (a half-plane body)
             half_plane += count
     compiled = forced or (work > 0 and LOOP_CHOICE.compiled(work))
     return {"dofs": dofs, "half_plane_dofs": half_plane, "compiled": compiled}
