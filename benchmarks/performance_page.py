@@ -840,7 +840,7 @@ def dense_limits_section() -> list[str]:
         "H and G are dense, so memory grows as DOFs^2 (14 bytes per DOF^2 at the peak, plus",
         "18 kB per DOF and 135 MiB for numba's compiled assembly loops) and time as DOFs^3",
         "(the factorisations and the condensation). The up-front estimate",
-        "(`fretbem.bem.resources`, within 1.02-1.29x of the measured peaks from 61 to 3,841",
+        "(`fretbem.bem.resources`, within 1.05-1.26x of the measured peaks from 61 to 3,841",
         "pairs, `benchmarks/memory_estimate.py`) of the reference scene:",
         "",
         "| pairs | DOFs | memory (GiB) | CPU time (s) |",

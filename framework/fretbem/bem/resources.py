@@ -17,7 +17,9 @@ import attrs
 
 from fretbem.errors import ResourceLimitError
 
+from . import images
 from .body import BemBody
+from .image_matrices import KEEP_MAX_ROWS
 from .integration import LOOP_CHOICE
 
 #: peak bytes per dofs^2 above the interpreter's own (BEM bodies): H, G and the LU of one
@@ -26,10 +28,14 @@ from .integration import LOOP_CHOICE
 #: COMPILED_BYTES fitted to the peak resident memory of the reference cycle, each run in a
 #: fresh process (benchmarks/memory_estimate.py: 61-961 pairs, nurbs and lagrange2; and
 #: benchmarks/large_problems.py at 3,841 pairs, 15,676 DOFs, 3,599 MiB with the freed arrays
-#: kept on the heap, :mod:`fretbem.numerics.memory`): the estimate is 1.02-1.29x the peak
-#: from 556 to 15,676 DOFs (it was 0.72x at 481 nurbs pairs, whose assembly loads numba, and
+#: kept on the heap, :mod:`fretbem.numerics.memory`): the estimate is 1.05-1.26x the peak
+#: from 244 to 4,408 DOFs and 1.03x at 15,676 (it was 0.72x at 481 nurbs pairs, whose assembly loads numba, and
 #: up to 1.49x for the small runs, whose interpreter it counted as 100 MB).
 BYTES_PER_DOF2 = 14
+#: and while both bodies are small enough for the first one's H and G to be kept for its
+#: point image (:data:`~fretbem.bem.image_matrices.KEEP_MAX_ROWS` rows each), those too:
+#: 2 x 8 bytes x (dofs / 2)^2 (at 241 pairs the estimate was 0.99-1.00x the peak without)
+KEPT_BYTES_PER_DOF2 = 4
 #: bytes per DOF: the assembly's and the steps' transients that grow with the boundary
 BYTES_PER_DOF = 18_000
 #: memory of the interpreter with numpy, scipy and fretbem imported: 63 MiB measured, with
@@ -124,7 +130,8 @@ def estimate_resources(
     n, face = float(dofs - half_plane_dofs), float(half_plane_dofs)
     if available is not None and math.isnan(available):
         available = available_memory()
-    memory = BASE_BYTES + BYTES_PER_DOF * n + BYTES_PER_DOF2 * n * n
+    per_dof2 = BYTES_PER_DOF2 + (KEPT_BYTES_PER_DOF2 if n <= 2 * KEEP_MAX_ROWS else 0)
+    memory = BASE_BYTES + BYTES_PER_DOF * n + per_dof2 * n * n
     memory += HALF_PLANE_BYTES_PER_DOF * face + HALF_PLANE_BYTES_PER_DOF2 * face * face
     n = float(dofs)
     return Estimate(
@@ -143,18 +150,33 @@ def run_size(pair) -> dict:
     BEM body."""
     dofs = half_plane = work = 0
     forced = False
-    for body in (pair.upper, pair.lower):
+    for body, other in ((pair.upper, None), (pair.lower, pair.upper)):
         count = int(body.dofs)
         dofs += count
         if isinstance(body, BemBody):
             choice = body.integration.compiled  # True, False or None: the process's choice
             forced |= choice is True
-            if choice is None:
+            if choice is None and not _derived(body, other):
                 work += body.n_functions * sum(basis.n_elements for basis in body.segments)
         elif not body.outline_complete:  # unknowns on its face alone (a half-plane body)
             half_plane += count
     compiled = forced or (work > 0 and LOOP_CHOICE.compiled(work))
     return {"dofs": dofs, "half_plane_dofs": half_plane, "compiled": compiled}
+
+
+def _derived(body: BemBody, other) -> bool:
+    """Whether ``body``'s H and G will be permuted from ``other``'s, not assembled (every
+    segment discretised as the point image of one of ``other``'s, the same material and
+    integration: :mod:`fretbem.bem.image_matrices`): its assembly adds no work toward the
+    compiled loops."""
+    sources = {id(basis) for basis in getattr(other, "segments", ())}
+    return (
+        isinstance(other, BemBody)
+        and body.dofs <= KEEP_MAX_ROWS
+        and body.material == other.material
+        and body.integration == other.integration
+        and all(id(images.source(basis)) in sources for basis in body.segments)
+    )
 
 
 def check_resources(
