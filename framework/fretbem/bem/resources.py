@@ -29,8 +29,9 @@ from .integration import LOOP_CHOICE
 #: fresh process (benchmarks/memory_estimate.py: 61-961 pairs, nurbs and lagrange2; and
 #: benchmarks/large_problems.py at 3,841 pairs, 15,676 DOFs, 3,599 MiB with the freed arrays
 #: kept on the heap, :mod:`fretbem.numerics.memory`): the estimate is 1.05-1.26x the peak
-#: from 244 to 4,408 DOFs and 1.03x at 15,676 (it was 0.72x at 481 nurbs pairs, whose assembly loads numba, and
-#: up to 1.49x for the small runs, whose interpreter it counted as 100 MB).
+#: from 244 to 4,408 DOFs and 1.03x at 15,676 (it was 0.72x at 481 nurbs pairs while the
+#: numba its assembly loaded went uncounted, and up to 1.49x for the small runs, whose
+#: interpreter it counted as 100 MB).
 BYTES_PER_DOF2 = 14
 #: and while both bodies are small enough for the first one's H and G to be kept for its
 #: point image (:data:`~fretbem.bem.image_matrices.KEEP_MAX_ROWS` rows each), those too:
