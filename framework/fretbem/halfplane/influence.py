@@ -189,9 +189,10 @@ def _rule_points(n_elements: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 def rule_map(face) -> ElementMap:
-    """The face mapped at :func:`_rule_points`: the one basis evaluation of
-    :func:`surface_integrals` (its ``mapped``) and, in its first rows, of
-    :func:`gauss_samples`, for a surface that needs both."""
+    """The face mapped at every element's smooth-rule points, then at its ends and
+    coarse-rule points: the one basis evaluation of :func:`surface_integrals` (its
+    ``mapped``) and, in its first rows, of :func:`gauss_samples`, for a surface that needs
+    both."""
     return face.map(*_rule_points(face.n_elements))
 
 
