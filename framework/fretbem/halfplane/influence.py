@@ -20,7 +20,7 @@ import math
 import attrs
 import numpy as np
 
-from fretbem.basis import Basis
+from fretbem.basis import Basis, ElementMap
 from fretbem.errors import InputError
 from fretbem.material import Material
 from fretbem.numerics.quadrature import QuadratureRule
@@ -161,14 +161,39 @@ def _element_map(face: Basis, elements: np.ndarray, local: np.ndarray):
     return x, np.abs(dx, out=dx), values
 
 
-def gauss_samples(face: Basis):
+def gauss_samples(face: Basis, mapped: ElementMap | None = None):
     """The face mapped at the SMOOTH_POINTS-point Gauss-Legendre rule of every element:
     (element of each point, its rule weight, the mapping); the face check and the force
-    and moment integrals all read these points."""
+    and moment integrals all read these points. ``mapped``: the face's :func:`rule_map`,
+    whose first rows are these (the same numbers: each point is mapped alone)."""
     rule = QuadratureRule.gauss_legendre(SMOOTH_POINTS)
     elements = np.repeat(np.arange(face.n_elements), rule.points.size)
-    local = np.tile(rule.points, face.n_elements)
-    return elements, np.tile(rule.weights, face.n_elements), face.map(elements, local)
+    weights = np.tile(rule.weights, face.n_elements)
+    if mapped is None:
+        return elements, weights, face.map(elements, np.tile(rule.points, face.n_elements))
+    rows = slice(elements.size)
+    return elements, weights, ElementMap(
+        mapped.values[rows], mapped.points[rows], mapped.tangents[rows],
+        mapped.jacobians[rows], mapped.normals[rows],
+    )  # fmt: skip
+
+
+def _rule_points(n_elements: int) -> tuple[np.ndarray, np.ndarray]:
+    """(elements, local coordinates) :func:`surface_integrals` maps: every element's
+    smooth-rule points (the Gauss samples' rows), then its ends and coarse-rule points."""
+    smooth = QuadratureRule.gauss_legendre(SMOOTH_POINTS).points
+    rest = np.concatenate([[-1.0, 1.0], QuadratureRule.gauss_legendre(FAR_POINTS).points])
+    numbers = np.arange(n_elements)
+    elements = np.concatenate([np.repeat(numbers, smooth.size), np.repeat(numbers, rest.size)])
+    return elements, np.concatenate([np.tile(smooth, n_elements), np.tile(rest, n_elements)])
+
+
+def rule_map(face) -> ElementMap:
+    """The face mapped at every element's smooth-rule points, then at its ends and
+    coarse-rule points: the one basis evaluation of :func:`surface_integrals` (its
+    ``mapped``) and, in its first rows, of :func:`gauss_samples`, for a surface that needs
+    both."""
+    return face.map(*_rule_points(face.n_elements))
 
 
 def check_face(face: Basis, samples=None) -> None:
@@ -216,12 +241,16 @@ def _invert(face: Basis, elements: np.ndarray, targets: np.ndarray) -> np.ndarra
     return xi
 
 
-def surface_integrals(face: Basis, x, datum: float = 1.0, at=None) -> SurfaceIntegrals:
+def surface_integrals(
+    face: Basis, x, datum: float = 1.0, at=None, mapped: ElementMap | None = None
+) -> SurfaceIntegrals:
     """ln and sign integrals of the face's shape functions for field points ``x`` on the surface.
 
     ``at``: (element, local coordinate) of each point of ``x`` on the face where it is one
     of the face's own points (its nodes: ``face.collocation()``), whose split in its own
-    element then needs no search for the local coordinate.
+    element then needs no search for the local coordinate. ``mapped``: the face's
+    :func:`rule_map`, if already computed (the same numbers as mapping here: x and its
+    derivative are summed as ``Basis.map`` sums them).
 
     Elements at least FAR_RATIO lengths away use a FAR_POINTS Gauss-Legendre rule, nearer
     ones but at least CLOSE_RATIO of their length away a SMOOTH_POINTS rule (both
@@ -236,18 +265,20 @@ def surface_integrals(face: Basis, x, datum: float = 1.0, at=None) -> SurfaceInt
     smooth = QuadratureRule.gauss_legendre(SMOOTH_POINTS)
     coarse = QuadratureRule.gauss_legendre(FAR_POINTS)
     n_el, n_c = face.n_elements, coarse.points.size
-    # one basis evaluation for both element ends, the coarse and the smooth rule
-    local = np.concatenate([[-1.0, 1.0], coarse.points, smooth.points])
-    xq, jac, values = _element_map(
-        face, np.repeat(np.arange(n_el), local.size), np.tile(local, n_el)
-    )
-    xq, jac = xq.reshape(n_el, -1), jac.reshape(n_el, -1)
-    values = values.reshape(n_el, local.size, -1)
-    ends = xq[:, :2]
-    xq_c, xq_s = xq[:, 2 : 2 + n_c], xq[:, 2 + n_c :]
-    weighted_c = (jac[:, 2 : 2 + n_c] * coarse.weights)[..., None] * values[:, 2 : 2 + n_c]
-    weights_s = jac[:, 2 + n_c :] * smooth.weights
-    weighted_s = weights_s[..., None] * values[:, 2 + n_c :]
+    # one basis evaluation for the smooth rule, both element ends and the coarse rule
+    if mapped is None:
+        xq, jac, values = _element_map(face, *_rule_points(n_el))
+    else:
+        xq, jac, values = mapped.points[:, 0], np.abs(mapped.tangents[:, 0]), mapped.values
+    n_s = n_el * smooth.points.size
+    xq_s, jac_s = xq[:n_s].reshape(n_el, -1), jac[:n_s].reshape(n_el, -1)
+    rest, jac_rest = xq[n_s:].reshape(n_el, -1), jac[n_s:].reshape(n_el, -1)
+    values_s = values[:n_s].reshape(n_el, smooth.points.size, -1)
+    values_c = values[n_s:].reshape(n_el, 2 + n_c, -1)[:, 2:]
+    ends, xq_c = rest[:, :2], rest[:, 2:]
+    weighted_c = (jac_rest[:, 2:] * coarse.weights)[..., None] * values_c
+    weights_s = jac_s * smooth.weights
+    weighted_s = weights_s[..., None] * values_s
     left, right = ends.min(axis=1), ends.max(axis=1)
     length = right - left
     distance = np.maximum(np.maximum(left[None, :] - x[:, None], x[:, None] - right[None, :]), 0)

@@ -26,6 +26,7 @@ from .influence import (
     FlamantCompliance,
     check_face,
     gauss_samples,
+    rule_map,
     side_sign,
     surface_integrals,
 )
@@ -131,8 +132,18 @@ class HalfPlaneSurface:
         """The face at every element's Gauss points (:func:`~.influence.gauss_samples`),
         computed once: the face check, the force and the moment integrals share them."""
         if "gauss_samples" not in self._cache:
-            self._cache["gauss_samples"] = gauss_samples(self.face)
+            self._cache["gauss_samples"] = gauss_samples(self.face, self._rule_map)
         return self._cache["gauss_samples"]
+
+    @property
+    def _rule_map(self):
+        """The face mapped once at the points of both its own integrals and the influence
+        integrals (:func:`~.influence.rule_map`), kept: the Gauss samples are its rows, and
+        the node integrals map no point again (a surface computing them needs the samples
+        too: the face check, the force and moment weights)."""
+        if "rule_map" not in self._cache:
+            self._cache["rule_map"] = rule_map(self.face)
+        return self._cache["rule_map"]
 
     def per_node_value(self, per_coefficient: np.ndarray) -> np.ndarray:
         """Rows of ``per_coefficient`` (m, N) taken through E^-1: per unit node value (E's
@@ -146,7 +157,7 @@ class HalfPlaneSurface:
 
         Column 2 b + j: unit coefficient of traction component j on shape function b.
         """
-        integrals = surface_integrals(self.face, x, self.datum)
+        integrals = surface_integrals(self.face, x, self.datum, mapped=self._cache.get("rule_map"))
         return self._displacement_map(integrals.log, integrals.sign)
 
     def _blocks(self, log: np.ndarray, sign: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -192,7 +203,9 @@ class HalfPlaneSurface:
         """The ln integrals over the rows of the sign integrals (2 m, n) at abscissae ``x``,
         per unit node value (``at``: the points' (element, local coordinate) on the face,
         if they are its own)."""
-        integrals = surface_integrals(self.face, x, self.datum, at)
+        # the face's own nodes (``at``): mapped with the Gauss samples (once for both)
+        mapped = self._rule_map if at is not None else self._cache.get("rule_map")
+        integrals = surface_integrals(self.face, x, self.datum, at, mapped)
         # per node value = per coefficient @ E^-1 (coefficients = E^-1 values): the four
         # blocks of the map are the ln and sign integrals times constants, so two solves
         return self.per_node_value(np.concatenate([integrals.log, integrals.sign]))

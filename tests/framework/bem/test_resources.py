@@ -23,7 +23,9 @@ from fretbem.bem.resources import (
     HALF_PLANE_BYTES_PER_DOF,
     HALF_PLANE_BYTES_PER_DOF2,
     KEPT_BYTES_PER_DOF2,
+    available_memory,
     estimate_resources,
+    mem_available,
     run_size,
 )
 from fretbem.scenes import cattaneo_mindlin
@@ -147,3 +149,21 @@ def test_the_estimate_covers_larger_runs_within_the_limit(pairs, basis, model):
     the pad's H and G permuted (no longer loading them) while still counted; 241 pairs read
     0.99-1.00 while the pad's kept H and G went uncounted."""
     assert 1.0 <= _ratio(pairs, basis, model) <= 1.3
+
+
+def test_mem_available_reads_the_line_wherever_it_stands():
+    text = b"MemTotal:       24684096 kB\nMemFree:  19398796 kB\nMemAvailable:   23998456 kB\n"
+    assert mem_available(text) == 23998456 * 1024.0
+    assert mem_available(b"MemAvailable: 12 kB\nMemTotal: 40 kB\n") == 12 * 1024.0
+    assert mem_available(b"MemTotal: 40 kB\nMemAvailable: 7 kB") == 7 * 1024.0  # no newline
+    assert mem_available(b"MemTotal: 40 kB\nXMemAvailable: 7 kB\n") is None
+    assert mem_available(b"MemTotal: 40 kB\nMemAvailable:\n") is None
+
+
+@pytest.mark.skipif(not os.path.exists("/proc/meminfo"), reason="Linux only")
+def test_available_memory_is_the_meminfo_line():
+    with open("/proc/meminfo") as handle:
+        line = next(line for line in handle if line.startswith("MemAvailable:"))
+    text = float(line.split()[1]) * 1024
+    # the machine's memory moves between the two reads: within 1 % of it
+    assert available_memory() == pytest.approx(text, rel=1e-2)

@@ -494,3 +494,25 @@ def test_shared_refinement_operator_still_checks_each_curve():
         bent.refine(coarser)
     again, _ = straight.refine(coarser)
     np.testing.assert_array_equal(again.control_points, refined.control_points)
+
+
+@pytest.mark.parametrize("sweep", [0.2, 1.0, 3.0, 2 * math.pi, -4.0])
+def test_arcs_and_lines_equal_their_checked_construction(sweep):
+    """Arcs and lines are built without the field checks (valid by construction): the same
+    fields as the checked constructor makes, read-only; a bad input is still named."""
+    arc = NurbsCurve.arc([1.5, -70.0], 70.0, 0.3, 0.3 + sweep)
+    curves = [arc, *(NurbsCurve.line([0.5, -1.0], [2.0, 3.0], degree=d) for d in (1, 2, 3))]
+    for curve in curves:
+        checked = NurbsCurve(curve.degree, curve.knots, curve.control_points, curve.weights)
+        assert type(curve.degree) is int and curve.degree == checked.degree
+        for name in ("knots", "control_points", "weights"):
+            got, want = getattr(curve, name), getattr(checked, name)
+            assert np.array_equal(got, want) and got.dtype == want.dtype
+            assert not got.flags.writeable
+    with pytest.raises(ValueError, match="control_points must be finite"):
+        NurbsCurve.arc([float("nan"), 0.0], 1.0, 0.0, 1.0)
+    infinite = pytest.raises(ValueError, match="control_points must be finite")
+    with infinite, np.errstate(all="ignore"):
+        NurbsCurve.line([0.0, float("inf")], [1.0, 1.0])
+    with pytest.raises(ValueError, match=r"shape \(n, 2\)"):
+        NurbsCurve.line([0.0, 0.0, 0.0], [1.0, 1.0, 1.0])

@@ -157,3 +157,21 @@ def test_nodes_located_by_their_own_coordinates(family, name, monkeypatch):
     for got, want in ((located.log, searched.log), (located.sign, searched.sign)):
         np.testing.assert_allclose(got, want, rtol=0, atol=1e-12 * np.abs(want).max())
     assert searched_points[1] <= searched_points[0] - n  # every node's own element skipped
+
+
+@pytest.mark.parametrize("family", ["nurbs", "lagrange2"])
+@pytest.mark.parametrize("name", FACES)
+def test_one_face_map_serves_the_samples_and_the_integrals(family, name):
+    """The rule map (one basis evaluation) gives the Gauss samples and the influence
+    integrals each face maps alone, bit for bit: every point is mapped on its own, and x
+    and its derivative are summed as the face's map sums them."""
+    face = FACES[name](family)
+    mapped = influence.rule_map(face)
+    alone, shared = influence.gauss_samples(face), influence.gauss_samples(face, mapped)
+    for a, b in zip(alone[:2], shared[:2], strict=True):
+        assert np.array_equal(a, b)
+    for field in ("values", "points", "tangents", "jacobians", "normals"):
+        assert np.array_equal(getattr(alone[2], field), getattr(shared[2], field))
+    x = _field_points(face)
+    own, given = surface_integrals(face, x, 0.7), surface_integrals(face, x, 0.7, mapped=mapped)
+    assert np.array_equal(own.log, given.log) and np.array_equal(own.sign, given.sign)
