@@ -26,6 +26,10 @@ try:
     from fretbem.bem import image_matrices
 except ImportError:  # an older tree
     image_matrices = None
+try:
+    from fretbem.halfplane import shared
+except ImportError:  # an older tree
+    shared = None
 from fretbem.geometry import nurbs
 from fretbem.scenes import builder
 
@@ -36,7 +40,8 @@ def clear_scene_caches() -> None:
     segments, alive until the next cycle's simulation replaces theirs, would otherwise lend
     it their discretisation and rules as point images), and the checks and layouts kept
     by value (the rigid-motion answers, the mirror pair checks, the layout densities, the
-    integrated singular rows)."""
+    integrated singular rows, the half-plane faces' shared checks and force weights, whose
+    last cycle's simulation is still alive while the next one builds)."""
     for module, name in ((builder, "_built"), (basis, "_graded")):
         cache = getattr(module, name, None)
         if cache is not None:
@@ -60,6 +65,7 @@ def clear_scene_caches() -> None:
         (remesh, "_DENSITIES"),
         (remesh, "_FACES"),
         (assembly, "_SINGULAR_ON"),
+        (shared, "_entries"),
     ):
         cache = getattr(module, name, None)
         if cache is not None:
