@@ -324,8 +324,10 @@ def test_adaptive_sweep_over_variants(budget, label):
 @pytest.mark.parametrize("load", [175.0, 250.0])
 def test_finite_bodies_are_the_wide_contacts_error(load):
     """On the 6.5 mm body the wide contacts miss half-plane theory by the bodies' size, not
-    the mesh: at budget 61 e_p measured 3.2 % (P = 175) and 5.5 % (P = 250) against the
-    closed form, but 0.20 % against a converged (161 pairs) BEM of the same bodies."""
+    the mesh: a converged (161 pairs) BEM of the same bodies is 6.2 % (P = 175) and 7.6 %
+    (P = 250) from the closed form in e_p, budget 61 2.5 % and 5.1 %, but 0.19 % from the
+    converged BEM (budget 61 read 3.6 % and 5.8 % against the closed form before the knot
+    margins were set in point spacings; the model error is the converged BEM's)."""
     out, e = adaptive_worst(61, normal=load)
     reference = adaptive.run_adaptive(
         scene(normal=load),
@@ -333,7 +335,8 @@ def test_finite_bodies_are_the_wide_contacts_error(load):
     ).result
     change = estimate.difference(out.result, reference, at="coarse")
     bem = {k: max(d[k[2:]] for d in change) for k in KEYS}
-    assert e["e_p_max"] > 0.03  # the model error
+    assert worst(reference)["e_p_max"] > 0.05  # the model error
+    assert e["e_p_max"] > 0.02
     assert bem["e_p_max"] < 0.0025 and bem["e_q_max"] < 0.0035, bem
 
 

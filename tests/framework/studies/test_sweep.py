@@ -497,8 +497,11 @@ def test_tasks_lost_with_their_workers_are_left_for_the_next_run(tmp_path):
     assert first.summary.lost and "KilledWorker" in first.summary.lost[0]
     assert "lost by the cluster" in str(first.summary)
     assert set(first.table["geometry.radius"]) <= {70.0, -1.0}  # nothing of radius 60 stored
-    rest = sweep(SCENE, PARAMETERS, out=tmp_path, serial=True, batch=3)
-    whole = sweep(SCENE, PARAMETERS, out=tmp_path.parent / "whole-lost", serial=True)
+    # the default builder, named: the up-front value check would refuse the failing radius
+    rest = sweep(SCENE, PARAMETERS, out=tmp_path, serial=True, batch=3, builder=build_simulation)
+    whole = sweep(
+        SCENE, PARAMETERS, out=tmp_path.parent / "whole-lost", serial=True, builder=build_simulation
+    )
     pd.testing.assert_frame_equal(_results(rest.table), _results(whole.table))
 
 
