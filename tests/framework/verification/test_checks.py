@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 from fretbem.bem.resources import (
     BYTES_PER_DOF,
     BYTES_PER_DOF2,
+    KEPT_BYTES_PER_DOF2,
     check_resources,
     estimate_resources,
 )
@@ -172,7 +173,8 @@ def test_resource_estimate_grows_as_dofs_squared_and_refuses_what_cannot_fit():
     """Reproducer: --pairs 20001 (80316 DOFs) needs ~190 GB: refused up front with the
     estimate and the machine's free memory."""
     small, large = estimate_resources(1000, available=None), estimate_resources(2000)
-    growth = BYTES_PER_DOF2 * (2000**2 - 1000**2) + BYTES_PER_DOF * 1000
+    per_dof2 = BYTES_PER_DOF2 + KEPT_BYTES_PER_DOF2  # bodies small enough to keep H and G
+    growth = per_dof2 * (2000**2 - 1000**2) + BYTES_PER_DOF * 1000
     assert large.memory - small.memory == pytest.approx(growth)
     assert BYTES_PER_DOF2 * 80316**2 > 10 * BYTES_PER_DOF * 80316  # the square dominates
     assert large.seconds > 4 * small.seconds
