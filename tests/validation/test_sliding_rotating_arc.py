@@ -283,6 +283,18 @@ def test_a_moment_that_tips_the_sliding_block_is_named():
         run_sliding(simulation, note=None)
 
 
+def test_a_moment_no_contact_can_balance_is_named_on_every_path():
+    """M = -400 at the end of the back step needs |Q| = (M +- 0.48 P) / h > f P for the
+    contact's centre to stay in the zone: no balanced state exists, so whichever path the
+    Newton iteration takes (round-off decides between a tilt that diverges and a contact
+    iteration that does not converge; 2e-16 nudges of the refined curves measured both),
+    the step is refused with the tipping block's message."""
+    simulation = scene(rig={"pivot_height": 5.0}, moment=[0.0, 150.0, 150.0, -400.0])
+    with pytest.raises(SolverConvergenceError, match=r"'back': no balance found for the pad "
+                       r"block's rotation.*\[load\] moment.*pivot_height"):  # fmt: skip
+        run_sliding(simulation, note=None)
+
+
 def test_the_example_scene_turns_the_block_along_the_arc(tmp_path):
     """examples/gross_sliding_arc_rotating.toml through fretbem run (21 pairs, VTK on):
     summary.json and loops.csv carry M, theta and tilt; M = -k_r tilt, M = h Q - e P with
