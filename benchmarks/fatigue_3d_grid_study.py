@@ -38,11 +38,10 @@ from __future__ import annotations
 
 import argparse
 import os
-import time
 
 import numpy as np
 from fatigue_accuracy import KW, free_history
-from fatigue_phases import CONSTANTS, stress_cycle
+from fatigue_phases import captured_arguments, floor_of, least_cpu, stress_cycle
 
 from fretbem.fatigue import (
     METHODS,
@@ -53,7 +52,7 @@ from fretbem.fatigue import (
 )
 from fretbem.fatigue import compiled_search as cs
 from fretbem.fatigue.mean_stress import MeanStressCorrection
-from fretbem.fatigue.planes import plane_grid, projection
+from fretbem.fatigue.planes import plane_grid
 from fretbem.testing.fatigue import contact_stress_history, random_stress_history
 
 #: theta step / psi step / refinement levels: the default, coarser psi, coarser theta, and a
@@ -73,53 +72,15 @@ def parse_grid(text: str) -> PlaneSearch:
                        refine_levels=int(levels), compiled=True)  # fmt: skip
 
 
-def floor_of(stress: np.ndarray, theta_deg: float, psi_deg: float):
-    """The projection floor of a grid: every (step, point, plane) in one float32 product."""
-    theta, psi = plane_grid(in_plane_only=False, theta_step_deg=theta_deg, psi_step_deg=psi_deg)
-    coef = projection(theta, psi).astype(np.float32).transpose(2, 0, 1).reshape(4, -1)
-
-    def floor():
-        s32 = stress.astype(np.float32)
-        for a in range(0, s32.shape[1], 400):
-            s32[:, a : a + 400] @ coef
-
-    return floor
-
-
-def search_arguments(stress: np.ndarray, search: PlaneSearch) -> tuple:
-    captured = {}
-    real = cs.search
-
-    def spy(*a):
-        captured["args"] = a
-        return real(*a)
-
-    cs.search = spy
-    try:
-        critical_plane_parameters(stress, E=116000.0, nu=0.342, methods=METHODS[:4],
-                                  search=search, **CONSTANTS)  # fmt: skip
-    finally:
-        cs.search = real
-    return captured["args"]
-
-
 def timing(grids: list[str], runs: int) -> None:
     stress = stress_cycle()
-    fns = {"floor 5/10": floor_of(stress, 5.0, 10.0)}
+    fns = {"floor 5/10": floor_of(stress, False, 5.0, 10.0)}
     for text in grids:
         search = parse_grid(text)
-        args = search_arguments(stress, search)
+        args = captured_arguments(stress, search)
         fns[text] = lambda a=args: cs.search(*a)
-        fns[f"floor {text}"] = floor_of(stress, search.theta_step_deg, search.psi_step_deg)
-    times = {k: [] for k in fns}
-    for fn in fns.values():
-        fn()
-    for _ in range(runs):
-        for key, fn in fns.items():
-            start = time.process_time()
-            fn()
-            times[key].append(time.process_time() - start)
-    low = {k: min(v) for k, v in times.items()}
+        fns[f"floor {text}"] = floor_of(stress, False, search.theta_step_deg, search.psi_step_deg)
+    low = least_cpu(fns, runs)
     print(f"3D, four criteria, 10,000 points: floor of the 5 x 10 grid "
           f"{low['floor 5/10'] * 1e3:.1f} ms")  # fmt: skip
     print(f"{'grid':<10}{'planes':>7}{'search ms':>11}{'/ 5x10 floor':>14}{'/ own floor':>13}")

@@ -134,32 +134,13 @@ def median_cpu(fn, runs: int) -> float:
 def phases(stress: np.ndarray, in_plane: bool, runs: int) -> None:
     """Print each phase's median CPU time over the floor's, in-plane or 3D."""
     search = PlaneSearch(in_plane_only=in_plane, compiled=True)
-    theta, psi = plane_grid(in_plane_only=in_plane, theta_step_deg=FLOOR_GRID[0],
-                            psi_step_deg=FLOOR_GRID[1])  # fmt: skip
-    coef = projection(theta, psi).astype(np.float32).transpose(2, 0, 1).reshape(4, -1)
-
-    def floor():
-        s32 = stress.astype(np.float32)
-        for a in range(0, s32.shape[1], search.chunk_points):
-            s32[:, a : a + search.chunk_points] @ coef
-
-    captured = {}
-    real = cs.search
-
-    def spy(*a):
-        captured["args"] = a
-        return real(*a)
+    floor = floor_of(stress, in_plane, chunk=search.chunk_points)
 
     def whole():
         critical_plane_parameters(stress, E=116000.0, nu=0.342, methods=METHODS[:4],
                                   search=search, **CONSTANTS)  # fmt: skip
 
-    cs.search = spy
-    try:
-        whole()
-    finally:
-        cs.search = real
-    a = captured["args"]
+    a = captured_arguments(stress, search)
     grid, axes, rank, codes, par, nu, E = a[1], a[2], a[3], a[6], a[7], a[8], a[9]
     t_floor = median_cpu(floor, runs)
     rows = {
@@ -178,9 +159,25 @@ def phases(stress: np.ndarray, in_plane: bool, runs: int) -> None:
         print(f"  {name:<28s} {median_cpu(fn, runs) / t_floor:6.2f} x floor")
 
 
-def search_arguments(stress: np.ndarray, in_plane: bool, methods=METHODS[:4], **settings) -> tuple:
-    """The arguments ``critical_plane_parameters`` hands to the compiled search (``settings``:
-    of :class:`PlaneSearch`, the defaults otherwise)."""
+def floor_of(stress: np.ndarray, in_plane: bool, theta_deg: float = FLOOR_GRID[0],
+             psi_deg: float = FLOOR_GRID[1], chunk: int = 400):  # fmt: skip
+    """The projection floor of a grid: every (step, point, plane) in one float32 product per
+    chunk of points."""
+    theta, psi = plane_grid(in_plane_only=in_plane, theta_step_deg=theta_deg,
+                            psi_step_deg=psi_deg)  # fmt: skip
+    coef = projection(theta, psi).astype(np.float32).transpose(2, 0, 1).reshape(4, -1)
+
+    def floor():
+        s32 = stress.astype(np.float32)
+        for a in range(0, s32.shape[1], chunk):
+            s32[:, a : a + chunk] @ coef
+
+    return floor
+
+
+def captured_arguments(stress: np.ndarray, search: PlaneSearch, methods=METHODS[:4]) -> tuple:
+    """The arguments ``critical_plane_parameters`` hands to the compiled search with
+    ``search``."""
     captured = {}
     real = cs.search
 
@@ -191,12 +188,30 @@ def search_arguments(stress: np.ndarray, in_plane: bool, methods=METHODS[:4], **
     cs.search = spy
     try:
         critical_plane_parameters(stress, E=116000.0, nu=0.342, methods=methods,
-                                  search=PlaneSearch(in_plane_only=in_plane, compiled=True,
-                                                     **settings),
-                                  **CONSTANTS)  # fmt: skip
+                                  search=search, **CONSTANTS)  # fmt: skip
     finally:
         cs.search = real
     return captured["args"]
+
+
+def search_arguments(stress: np.ndarray, in_plane: bool, methods=METHODS[:4], **settings) -> tuple:
+    """The compiled search's arguments (``settings``: of :class:`PlaneSearch`, the defaults
+    otherwise)."""
+    search = PlaneSearch(in_plane_only=in_plane, compiled=True, **settings)
+    return captured_arguments(stress, search, methods)
+
+
+def least_cpu(fns: dict, runs: int) -> dict:
+    """Each function's least CPU time of ``runs``, interleaved run by run after one warm-up."""
+    times = {k: [] for k in fns}
+    for fn in fns.values():
+        fn()
+    for _ in range(runs):
+        for key, fn in fns.items():
+            start = time.process_time()
+            fn()
+            times[key].append(time.process_time() - start)
+    return {k: min(v) for k, v in times.items()}
 
 
 def against_tree(stress: np.ndarray, before: Path, runs: int, methods=METHODS[:4]) -> None:
@@ -207,26 +222,9 @@ def against_tree(stress: np.ndarray, before: Path, runs: int, methods=METHODS[:4
     for in_plane in (True, False):
         a = search_arguments(stress, in_plane, methods)
         b = search_arguments(stress, in_plane, methods, **({} if in_plane else FORMER))
-        theta, psi = plane_grid(in_plane_only=in_plane, theta_step_deg=FLOOR_GRID[0],
-                                psi_step_deg=FLOOR_GRID[1])  # fmt: skip
-        coef = projection(theta, psi).astype(np.float32).transpose(2, 0, 1).reshape(4, -1)
-
-        def floor(coef=coef):
-            s32 = stress.astype(np.float32)
-            for i in range(0, s32.shape[1], 400):
-                s32[:, i : i + 400] @ coef
-
-        fns = {"floor": floor, "before": lambda b=b: old.search(*b),
+        fns = {"floor": floor_of(stress, in_plane), "before": lambda b=b: old.search(*b),
                "after": lambda a=a: cs.search(*a)}  # fmt: skip
-        times = {k: [] for k in fns}
-        for fn in fns.values():
-            fn()
-        for _ in range(runs):
-            for key, fn in fns.items():
-                start = time.process_time()
-                fn()
-                times[key].append(time.process_time() - start)
-        low = {k: min(v) for k, v in times.items()}
+        low = least_cpu(fns, runs)
         print(f"{'in-plane' if in_plane else '3D'}: floor {low['floor'] * 1e3:.1f} ms, search "
               f"before {low['before'] / low['floor']:.2f} x floor, after "
               f"{low['after'] / low['floor']:.2f} x floor")  # fmt: skip
