@@ -18,12 +18,7 @@ cycle assembles with the numpy loops and the 481-pair one with the compiled loop
 
 from __future__ import annotations
 
-import argparse
-from pathlib import Path
-
-from phase_rounds import interleaved, medians
-
-ROOT = Path(__file__).resolve().parents[1]
+from phase_rounds import interleaved, medians, tree_parser, trees_of
 
 CHILD = r"""
 import json, sys, time
@@ -65,14 +60,10 @@ PHASES = ("build", "assembly", "rest of prepare", "steps", "total", "peer")
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--before", type=Path, required=True, help="source tree of the old code")
-    parser.add_argument("--after", type=Path, default=ROOT, help="source tree of the new code")
-    parser.add_argument("--rounds", type=int, default=3)
-    parser.add_argument("--cycles", type=int, default=5)
+    parser = tree_parser(__doc__.splitlines()[0])
     parser.add_argument("--pairs", default="61,481", help="comma-separated pair counts")
     args = parser.parse_args()
-    trees = {"before": args.before.resolve(), "after": args.after.resolve()}
+    trees = trees_of(args)
     rows, load = interleaved(CHILD, trees, args.rounds, [str(args.cycles), args.pairs])
     medians(rows, PHASES, args.rounds, args.cycles, load)
 

@@ -14,15 +14,12 @@ seconds, medians over cycles and rounds, and the median ratio of cycle to peer.
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import platform
 from pathlib import Path
 
-from phase_rounds import interleaved, medians
-
-ROOT = Path(__file__).resolve().parents[1]
+from phase_rounds import interleaved, medians, tree_parser, trees_of
 
 CHILD = r"""
 import json, statistics, sys, time
@@ -55,14 +52,10 @@ PHASES = ("build", "prepare", "steps", "total", "peer")
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--before", type=Path, required=True, help="source tree of the old code")
-    parser.add_argument("--after", type=Path, default=ROOT, help="source tree of the new code")
-    parser.add_argument("--rounds", type=int, default=4)
-    parser.add_argument("--cycles", type=int, default=5)
+    parser = tree_parser(__doc__.splitlines()[0], rounds=4)
     parser.add_argument("--json", type=Path, help="write the medians and ratios here")
     args = parser.parse_args()
-    trees = {"before": args.before.resolve(), "after": args.after.resolve()}
+    trees = trees_of(args)
     rows, load = interleaved(CHILD, trees, args.rounds, [str(args.cycles)])
     table, ratios = medians(rows, PHASES, args.rounds, args.cycles, load)
     if args.json:

@@ -14,13 +14,9 @@ rest of ``prepare`` (the condensation); medians over cycles and rounds.
 
 from __future__ import annotations
 
-import argparse
 import statistics
-from pathlib import Path
 
-from phase_rounds import interleaved
-
-ROOT = Path(__file__).resolve().parents[1]
+from phase_rounds import interleaved, tree_parser, trees_of
 
 CHILD = r"""
 import json, sys, time
@@ -57,14 +53,10 @@ PHASES = ("pad assembly", "pad system", "pad response", "specimen assembly",
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--before", type=Path, required=True, help="source tree of the old code")
-    parser.add_argument("--after", type=Path, default=ROOT, help="source tree of the new code")
-    parser.add_argument("--rounds", type=int, default=3)
-    parser.add_argument("--cycles", type=int, default=5)
+    parser = tree_parser(__doc__.splitlines()[0])
     parser.add_argument("--pairs", default="61,481", help="comma-separated pair counts")
     args = parser.parse_args()
-    trees = {"before": args.before.resolve(), "after": args.after.resolve()}
+    trees = trees_of(args)
     rows, load = interleaved(CHILD, trees, args.rounds, [str(args.cycles), args.pairs])
     print(f"load {load[0]:.2f} -> {load[1]:.2f}; CPU ms, medians of "
           f"{args.rounds} rounds x {args.cycles} cycles")  # fmt: skip

@@ -4,6 +4,7 @@ cycle's total and the peer's)."""
 
 from __future__ import annotations
 
+import argparse
 import json
 import os
 import statistics
@@ -12,6 +13,22 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+
+
+def tree_parser(description: str, rounds: int = 3) -> argparse.ArgumentParser:
+    """The options every two-tree phase benchmark takes: --before, --after, --rounds and
+    --cycles (a script adds its own)."""
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("--before", type=Path, required=True, help="source tree of the old code")
+    parser.add_argument("--after", type=Path, default=ROOT, help="source tree of the new code")
+    parser.add_argument("--rounds", type=int, default=rounds)
+    parser.add_argument("--cycles", type=int, default=5)
+    return parser
+
+
+def trees_of(args: argparse.Namespace) -> dict[str, Path]:
+    """The two trees of :func:`tree_parser`'s options, by name."""
+    return {"before": args.before.resolve(), "after": args.after.resolve()}
 
 
 def interleaved(child: str, trees: dict[str, Path], rounds: int, args: list[str]) -> tuple:
