@@ -24,6 +24,14 @@ from pathlib import Path
 from tree_module import tree_module
 
 ROOT = Path(__file__).resolve().parents[1]
+#: the tables of kept texts a tree's canvas may have (each round starts with them empty)
+TABLES = ("_LAYOUTS", "_TEXTS", "_GLYPHS")
+
+
+def forget_texts(canvas) -> None:
+    """Empty the canvas module's tables of kept texts (those the tree has)."""
+    for table in TABLES:
+        getattr(canvas, table, {}).clear()
 
 
 def _canvas_module(tree: Path, name: str):
@@ -50,8 +58,7 @@ def main(argv: list[str] | None = None) -> dict:
     makers = (figures.traction_figure, figures.displacement_figure, figures.stick_slip_figure)
 
     def drawn(module) -> float:
-        getattr(module, "_LAYOUTS", {}).clear()  # the tables of texts kept by each tree
-        getattr(module, "_TEXTS", {}).clear()
+        forget_texts(module)
         spent = 0.0
         with matplotlib.rc_context({"text.hinting": "no_hinting"}):
             for make in makers:

@@ -26,9 +26,9 @@ import time
 import types
 from pathlib import Path
 
+from canvas_text import forget_texts
+
 ROOT = Path(__file__).resolve().parents[1]
-#: the tables of kept texts a tree's canvas may have (each round starts with them empty)
-TABLES = ("_LAYOUTS", "_TEXTS", "_GLYPHS")
 
 
 def _figure_modules(tree: Path, name: str):
@@ -56,8 +56,7 @@ def main(argv: list[str] | None = None) -> dict:
     ]
 
     def written(figures, canvas, directory: str) -> float:
-        for table in TABLES:
-            getattr(canvas, table, {}).clear()
+        forget_texts(canvas)
         start = time.process_time()
         figures.save_figures(results, directory)
         spent = time.process_time() - start
