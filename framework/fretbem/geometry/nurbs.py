@@ -226,13 +226,13 @@ def _refinement_operator(
 
 
 def _contains(new_knots: np.ndarray, knots: np.ndarray) -> bool:
-    """Whether the sorted ``new_knots`` hold every knot of ``knots`` at least as often (the
-    spline space of one degree on them then contains the old one) on the same domain."""
+    """Whether the sorted ``new_knots`` hold every knot of the sorted ``knots`` at least as
+    often on the same domain (the spline space of one degree on them then holds the old)."""
     if new_knots[0] != knots[0] or new_knots[-1] != knots[-1]:
         return False
-    values, counts = np.unique(knots, return_counts=True)
-    have = np.searchsorted(new_knots, values, side="right") - np.searchsorted(new_knots, values)
-    return bool(np.all(have >= counts))
+    have = np.searchsorted(new_knots, knots, side="right") - np.searchsorted(new_knots, knots)
+    need = np.searchsorted(knots, knots, side="right") - np.searchsorted(knots, knots)
+    return bool(np.logical_and.reduce(have >= need))
 
 
 def _insertion_operator(knots: np.ndarray, degree: int, new_knots: np.ndarray) -> np.ndarray:
@@ -244,31 +244,19 @@ def _insertion_operator(knots: np.ndarray, degree: int, new_knots: np.ndarray) -
     p = degree
     n_old = knots.size - p - 1
     n_new = new_knots.size - p - 1
-    if p == 0:
-        span = np.searchsorted(knots, new_knots[:n_new], side="right") - 1
-        transform = np.zeros((n_new, n_old))
-        transform[np.arange(n_new), np.minimum(span, n_old - 1)] = 1.0
-        return transform
     greville = kv.greville(new_knots, p)
     span = np.minimum(np.maximum(np.searchsorted(knots, greville, side="right") - 1, p), n_old - 1)
-    # the arguments tau_{i+1} .. tau_{i+p} and the old knots span - p + 1 .. span + p
-    arguments = [new_knots[k : k + n_new] for k in range(1, p + 1)]
     window = knots[np.arange(1 - p, p + 1)[:, None] + span]  # row r: knot span + 1 - p + r
-    # coefficients[r]: the weights of P_{span - p + r} .. in the level's point r (columns)
-    coefficients = [[np.full(n_new, 1.0 if a == r else 0.0) for a in range(p + 1)]
-                    for r in range(p + 1)]  # fmt: skip
+    # weights[r, a]: the weight of P_{span - p + a} in de Boor's point r (unit at the start)
+    weights = np.repeat(np.eye(p + 1)[:, :, None], n_new, axis=2)
     for level in range(1, p + 1):
-        x = arguments[level - 1]
-        for r in range(p, level - 1, -1):
-            # point r mixes points r - 1 and r over old knots span - p + r .. span + 1 + r - level
-            low, high = window[r - 1], window[r + p - level]
-            alpha = (x - low) / (high - low)
-            coefficients[r] = [(1.0 - alpha) * before + alpha * now for before, now in
-                               zip(coefficients[r - 1], coefficients[r], strict=True)]  # fmt: skip
+        # points level .. p mix their predecessors at tau_{i + level} over the old knots
+        # span - p + r .. span + 1 + r - level
+        low, high = window[level - 1 : p], window[p : 2 * p + 1 - level]
+        alpha = ((new_knots[level : level + n_new] - low) / (high - low))[:, None, :]
+        weights[level:] = (1.0 - alpha) * weights[level - 1 : p] + alpha * weights[level:]
     transform = np.zeros((n_new, n_old))
-    rows = np.arange(n_new)
-    for a, column in enumerate(coefficients[p]):
-        transform[rows, span - p + a] = column
+    transform[np.arange(n_new)[:, None], span[:, None] - p + np.arange(p + 1)] = weights[p].T
     transform[np.abs(transform) < 1e-14] = 0.0
     return transform
 
