@@ -33,6 +33,7 @@ from fretbem.scenes.builder import build
 from fretbem.scenes.file import scene_from_data
 from fretbem.simulation import LoadStep, Simulation, run
 from fretbem.sliding import run_sliding
+from fretbem.solvers.newton import SolverConvergenceError
 from fretbem.testing.sliding import traction_moment
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -48,17 +49,23 @@ def scene(
     rig=None,
     moment=None,
     rotation=None,
+    zone=None,
 ) -> Simulation:
     """``examples/<example>`` pressed by ``load``, slid 3 a and 6 a and back, with the
-    block's rotation given by ``rig`` ([rig] keys), ``moment`` or ``rotation`` per step."""
+    block's rotation given by ``rig`` ([rig] keys), ``moment`` or ``rotation`` per step;
+    five moments: a "turn" step before "back" turns the moment with the block driven 0.1 mm
+    back (``zone``: [contact] zone)."""
     data = tomllib.loads((ROOT / "examples" / example).read_text())
     data.pop("stress", None)
     data["contact"]["pairs"] = pairs
+    if zone is not None:
+        data["contact"]["zone"] = zone
+    turn = moment is not None and len(moment) == 5
     data["load"].update(
-        steps=["press", "half", "slide", "back"],
+        steps=["press", "half", "slide", *(["turn"] if turn else []), "back"],
         P=load,
-        delta=[0.0, 3 * a, 6 * a, 0.0],
-        increments=[1, 6, 6, 12],
+        delta=[0.0, 3 * a, 6 * a, *([6 * a - 0.1] if turn else []), 0.0],
+        increments=[1, 6, 6, *([2] if turn else []), 12],
     )
     if rig is not None:
         data["rig"] = dict(rig)
@@ -95,7 +102,7 @@ def twins_of(simulation: Simulation, sliding) -> list:
 CASES = {
     "spring": {"rig": {"stiffness_rotation": 2.0e5}},
     "spring-60": {"rig": {"stiffness_rotation": 1.0e5}, "load": 60.0, "a": 0.360},
-    "moment": {"moment": [0.0, 280.0, 280.0, -280.0]},
+    "moment": {"moment": [0.0, 280.0, 280.0, -280.0, -280.0], "zone": 6.0, "pairs": 101},
     "rotation": {"rotation": [0.0, -2e-3, -2e-3, 2e-3]},
     "rotation-spring": {"rig": {"stiffness_rotation": 2.0e5},
                         "rotation": [0.0, -1e-3, -1e-3, 1e-3]},
@@ -154,6 +161,45 @@ def test_the_block_turns_as_the_closed_forms_say(slid):
             assert tilt == pytest.approx(load.rotation - M / k_r, rel=1e-12)
 
 
+@pytest.mark.parametrize(
+    ("load", "zone", "fractions", "nudges"),
+    [(100.0, 6.0, (0.95, 1.05), 1),
+     pytest.param(100.0, 6.0, (0.98, 1.02), 3, marks=pytest.mark.slow),
+     pytest.param(60.0, 8.5, (0.98, 1.02), 2, marks=pytest.mark.slow),
+     pytest.param(140.0, 5.0, (0.98, 1.02), 2, marks=pytest.mark.slow)],
+)  # fmt: skip
+def test_a_moment_beyond_the_contacts_capacity_tips_the_block(load, zone, fractions, nudges):
+    """Slid in gross slip under M = 2.8 P N mm/mm, then M turned to M_1 while the block is
+    driven 0.1 mm back (Q = -f P): the pressure's centre must be e = (h Q - M_1) / P, and a
+    Hertzian contact of half-width a inside a zone reaching r carries at most
+    |M_1| = h f P + P (r - a). Below it (0.95, 0.98 of it) the turn balances with
+    theta = -(h Q - M_1) / (P R) and the contact inside the zone; beyond it (1.02, 1.05) the
+    contact reaches the zone's end and the turn is refused with the tipping block's
+    message: at three loads and under round-off nudges of P (relative 2.2e-16), the same
+    answer each time."""
+    a = 0.465 * np.sqrt(load / 100.0)
+    keys = {"a": a, "zone": zone, "pairs": 101}
+    m = 2.8 * load
+    reach = float(np.max(scene(load=load, moment=[0.0, m, m, 0.0, 0.0], **keys)
+                         .pair.pairing().points[:, 0]))  # fmt: skip
+    capacity = H * F * load + load * (reach - a)
+    for fraction in fractions:
+        for nudge in range(nudges):
+            P = load * (1.0 + nudge * 2.2e-16)
+            turned = -fraction * capacity
+            simulation = scene(load=P, moment=[0.0, m, m, turned, turned], **keys)
+            if fraction > 1.0:
+                with pytest.raises(SolverConvergenceError, match=r"'turn': .*the zone's end"):
+                    run_sliding(simulation, note=None)
+                continue
+            step = run_sliding(simulation, note=None)["turn"]
+            assert step.tangential == pytest.approx(-F * P, rel=1e-9)
+            assert step.moment == pytest.approx(turned, abs=1e-9)
+            assert step.states[[0, -1]].max() == 0
+            centre = (H * step.tangential - turned) / P
+            assert abs(step.tilt + centre / R) < 1e-2 * abs(step.tilt)  # 5e-3: 16 pairs in contact
+
+
 def test_finite_bodies_slide_with_a_rotating_block():
     """BEM bodies (21 pairs) with a stiff spring: every step equals its twin (measured
     1.8e-13 p0), M balances the tractions within the BEM pad's own equilibrium (2.15e-3 of
@@ -182,7 +228,7 @@ def test_without_repairing_the_loop_solves_the_fixed_run():
     """With no re-pairing (every = 1e6 spacings) the sliding loop solves run()'s rotating
     problem on the same pairs: every increment equal to 1e-12."""
     for kwargs in (CASES["spring"], CASES["moment"], CASES["rotation-spring"]):
-        simulation = scene(pairs=21, **kwargs)
+        simulation = scene(**{"pairs": 21, **kwargs})
         sliding = run_sliding(simulation, every=1e6, note=None)
         assert sliding.repairings == 0
         plain = run(simulation)

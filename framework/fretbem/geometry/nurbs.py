@@ -163,7 +163,8 @@ def _refinement_operator(
 ) -> tuple[np.ndarray, tuple, tuple]:
     """T (Pw_new = T @ Pw_old) from one spline space to a finer one, and the basis triples of
     both at the probes of the refinement's check (the Greville sites first); see
-    :meth:`NurbsCurve.refine`.
+    :meth:`NurbsCurve.refine`. Knot insertion into a space holding the old one is
+    :func:`_insertion_operator`'s, exact by construction (the triples None: no check).
 
     T depends on the knot vectors and degrees only, not on the curve: the segments of a
     scene refined alike (a body's sides, the faces' contact arcs) share one solve. Kept in
@@ -174,6 +175,15 @@ def _refinement_operator(
     if operator is not None:
         return operator
     kv.check(new_knots, new_degree, new_knots.size - new_degree - 1)
+    if new_degree == degree and _contains(new_knots, knots):
+        operator = (_insertion_operator(knots, degree, new_knots), None, None)
+        operator[0].setflags(write=False)
+        if operator[0].shape[0] <= DENSE_REFINE_MAX:
+            with _OPERATORS_LOCK:
+                if len(_OPERATORS) >= 256:
+                    _OPERATORS.pop(next(iter(_OPERATORS)))
+                _OPERATORS[key] = operator
+        return operator
     if new_degree < degree or new_knots[0] != knots[0] or new_knots[-1] != knots[-1]:
         raise ValueError(
             f"refinement must keep the domain {(float(knots[0]), float(knots[-1]))} and may "
@@ -213,6 +223,42 @@ def _refinement_operator(
                 _OPERATORS.pop(next(iter(_OPERATORS)))
             _OPERATORS[key] = operator
     return operator
+
+
+def _contains(new_knots: np.ndarray, knots: np.ndarray) -> bool:
+    """Whether the sorted ``new_knots`` hold every knot of the sorted ``knots`` at least as
+    often on the same domain (the spline space of one degree on them then holds the old)."""
+    if new_knots[0] != knots[0] or new_knots[-1] != knots[-1]:
+        return False
+    have = np.searchsorted(new_knots, knots, side="right") - np.searchsorted(new_knots, knots)
+    need = np.searchsorted(knots, knots, side="right") - np.searchsorted(knots, knots)
+    return bool(np.logical_and.reduce(have >= need))
+
+
+def _insertion_operator(knots: np.ndarray, degree: int, new_knots: np.ndarray) -> np.ndarray:
+    """T (Pw_new = T @ Pw_old) of knot insertion, ``new_knots`` holding ``knots``: each new
+    control point is the blossom of the old curve's piece about its Greville abscissa at its
+    p interior knots (de Boor's recursion, one argument per level: the Oslo algorithm of
+    Cohen, Lyche and Riesenfeld 1980), vectorised over the new control points. The exact
+    refinement: the rows are convex weights, the refined curve the old one to round-off."""
+    p = degree
+    n_old = knots.size - p - 1
+    n_new = new_knots.size - p - 1
+    greville = kv.greville(new_knots, p)
+    span = np.minimum(np.maximum(np.searchsorted(knots, greville, side="right") - 1, p), n_old - 1)
+    window = knots[np.arange(1 - p, p + 1)[:, None] + span]  # row r: knot span + 1 - p + r
+    # weights[r, a]: the weight of P_{span - p + a} in de Boor's point r (unit at the start)
+    weights = np.repeat(np.eye(p + 1)[:, :, None], n_new, axis=2)
+    for level in range(1, p + 1):
+        # points level .. p mix their predecessors at tau_{i + level} over the old knots
+        # span - p + r .. span + 1 + r - level
+        low, high = window[level - 1 : p], window[p : 2 * p + 1 - level]
+        alpha = ((new_knots[level : level + n_new] - low) / (high - low))[:, None, :]
+        weights[level:] = (1.0 - alpha) * weights[level - 1 : p] + alpha * weights[level:]
+    transform = np.zeros((n_new, n_old))
+    transform[np.arange(n_new)[:, None], span[:, None] - p + np.arange(p + 1)] = weights[p].T
+    transform[np.abs(transform) < 1e-14] = 0.0
+    return transform
 
 
 #: refinement operators by (degree, knots, new degree, new knots): see _refinement_operator
@@ -401,9 +447,10 @@ class NurbsCurve:
     def refine(self, new_knots: np.ndarray, new_degree: int | None = None):
         """The same curve in a finer spline space, and the matrix T with Pw_new = T @ Pw_old.
 
-        The new space (``new_knots``, ``new_degree``) must contain the old one; then the
-        homogeneous control points are found exactly (up to round-off) by interpolating at
-        the new Greville abscissae, which covers knot insertion and degree elevation alike.
+        The new space (``new_knots``, ``new_degree``) must contain the old one. Knot
+        insertion (same degree, every old knot kept) takes the Oslo algorithm; a degree
+        elevation interpolates the homogeneous control points at the new Greville abscissae
+        and checks the curve is kept (both exact up to round-off).
         """
         degree = self.degree if new_degree is None else int(new_degree)
         new_knots = np.asarray(new_knots, float)
@@ -413,6 +460,9 @@ class NurbsCurve:
         transform = transform.copy()
         old_hom = self._homogeneous()
         hom = transform @ old_hom
+        if new_basis is None:  # knot insertion: exact; convex rows keep the weights > 0
+            refined = NurbsCurve(degree, new_knots, hom[:, :2] / hom[:, 2:], hom[:, 2])
+            return refined, transform
         refined = NurbsCurve(degree, new_knots, hom[:, :2] / hom[:, 2:], hom[:, 2])
         # the check is the curve's own: a space that lacks the old one may still hold a curve
         new_points = _curve_points(new_basis, refined._homogeneous())
