@@ -62,29 +62,50 @@ GROWTH = 1.5
 def _polyfit(x: np.ndarray, y: np.ndarray, degree: int) -> np.ndarray:
     """``np.polyfit(x, y, degree)`` (degree 1 or 2), the same arithmetic bit for bit (the
     scaled Vandermonde columns and the one least-squares solve) without its argument
-    checks and general Vandermonde: the adaptive mode fits ~90 of them a run."""
+    checks and general Vandermonde: the adaptive mode fits ~90 of them a run. The solve is
+    numpy's own LAPACK routine (:data:`_LSTSQ`, what ``np.linalg.lstsq`` calls) without
+    the wrapper's checks, for finite data (others take ``np.linalg.lstsq``, and its error)."""
     x = np.asarray(x, float)
-    columns = [x * x, x, np.ones(x.size)] if degree == 2 else [x, np.ones(x.size)]
-    lhs = np.column_stack(columns)  # C-ordered as np.vander's: the column sums alike
+    y = np.asarray(y, float)
+    lhs = np.empty((x.size, degree + 1))  # C-ordered as np.vander's: the column sums alike
+    if degree == 2:
+        lhs[:, 0] = x * x
+    lhs[:, degree - 1] = x
+    lhs[:, degree] = 1.0
     scale = np.sqrt((lhs * lhs).sum(axis=0))
     lhs /= scale
-    coefficients = np.linalg.lstsq(lhs, y, rcond=x.size * _EPS)[0]
+    rcond = x.size * _EPS
+    if _LSTSQ is not None and math.isfinite(float(lhs.sum()) + float(y.sum())):
+        coefficients = _LSTSQ(lhs, y[:, None], rcond, signature="ddd->ddid")[0][:, 0]
+    else:
+        coefficients = np.linalg.lstsq(lhs, y, rcond=rcond)[0]
     return coefficients / scale
 
 
 _EPS = float(np.finfo(float).eps)
 
+#: the gufuncs ``np.linalg.lstsq`` and ``np.linalg.eigvals`` call (numpy's LAPACK
+#: wrappers), or None where this numpy has them elsewhere: a fit then takes the public
+#: function, the same numbers at twice the time (~20 us of checks a call)
+_UMATH_LINALG = getattr(np.linalg, "_umath_linalg", None)
+_LSTSQ = getattr(_UMATH_LINALG, "lstsq", None)
+_EIGVALS = getattr(_UMATH_LINALG, "eigvals", None)
+
 
 def _polyroots(coefficients: np.ndarray) -> np.ndarray:
     """``np.roots(coefficients)`` of a line or quadratic with nonzero ends: the eigenvalues
-    of the same companion matrix, built directly (np.roots otherwise)."""
+    of the same companion matrix, built directly, by the routine ``np.linalg.eigvals``
+    calls (np.roots otherwise)."""
     if coefficients[0] == 0.0 or coefficients[-1] == 0.0:
         return np.roots(coefficients)
     companion = np.zeros((coefficients.size - 1, coefficients.size - 1))
     companion[0, :] = -coefficients[1:] / coefficients[0]
     if coefficients.size == 3:
         companion[1, 0] = 1.0
-    return np.linalg.eigvals(companion)
+    if _EIGVALS is None or not math.isfinite(float(companion.sum())):
+        return np.linalg.eigvals(companion)
+    values = _EIGVALS(companion, signature="d->D")
+    return values.real if not values.imag.any() else values
 
 
 def _root_of_square(x: np.ndarray, values: np.ndarray, towards: float) -> float | None:
