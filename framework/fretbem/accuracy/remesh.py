@@ -43,6 +43,9 @@ SYMMETRY_TOLERANCE = 1e-11
 #: where :func:`aligned_breakpoints` integrates the element density (read-only)
 _GRID = np.linspace(0.0, 1.0, 8001)
 _GRID.flags.writeable = False
+#: its spacings (``np.diff(_GRID)``, read-only)
+_GRID_STEPS = np.diff(_GRID)
+_GRID_STEPS.flags.writeable = False
 
 
 class AdaptiveError(InputError):
@@ -155,11 +158,20 @@ def _cumulative_density(anchors, peaks, ratio: float, grading: float) -> np.ndar
     slope = (ratio - 1.0) / grading
     grid = _GRID
     # the density of the nearest anchor, anchor by anchor over the grid (the same values
-    # as one (grid, anchors) array's row maxima, without its strided reduction)
+    # as one (grid, anchors) array's row maxima, without its strided reduction), each
+    # compared only where it can exceed the floor 1 / ratio: within (peak ratio - 1) / slope
+    # of its anchor (a thousandth more: outside, it lies below the floor by far more than
+    # round-off), a sixth of the grid at the adaptive levels' ratio and grading
     rho = np.full(grid.size, 1.0 / ratio)
     for anchor, peak in zip(anchors, peaks, strict=True):
-        np.maximum(rho, peak / (1.0 + slope * np.abs(grid - anchor)), out=rho)
-    cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (rho[1:] + rho[:-1]) * np.diff(grid))])
+        part = slice(None)
+        if slope > 0.0 and peak * ratio > 1.0 + 1e-6:
+            reach = 1.001 * (peak * ratio - 1.0) / slope
+            lo, hi = np.searchsorted(grid, (anchor - reach, anchor + reach))
+            part = slice(int(lo), int(hi))
+        near = grid[part]
+        np.maximum(rho[part], peak / (1.0 + slope * np.abs(near - anchor)), out=rho[part])
+    cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (rho[1:] + rho[:-1]) * _GRID_STEPS)])
     cumulative.flags.writeable = False
     if len(_DENSITIES) >= 8:
         _DENSITIES.pop(next(iter(_DENSITIES)))
