@@ -82,3 +82,31 @@ def test_the_fits_are_numpys_bit_for_bit():
             assert np.array_equal(fitted, np.polyfit(x, y, degree))
             roots, expected = knots._polyroots(fitted), np.roots(fitted)
             assert roots.dtype == expected.dtype and np.array_equal(roots, expected)
+
+
+def test_a_level_is_sorted_along_the_face_once():
+    """A solved level's pairs in face order, kept per result and read-only: the positions,
+    the smallest spacing and every step's states, p, q, slip, slip increment (from the step
+    before, the first from 0) and gap, as the knots' functions took them one by one."""
+    from fretbem.accuracy import estimate
+    from fretbem.scenes import cattaneo_mindlin
+    from fretbem.simulation import run
+
+    result = run(cattaneo_mindlin(pairs=21))
+    level = knots._level(result)
+    assert knots._level(result) is level
+    order = np.argsort(estimate.positions(result))
+    assert np.array_equal(level.x, estimate.positions(result)[order])
+    assert level.spacing == float(np.min(np.diff(level.x)))
+    gap = np.asarray(result.simulation.pair.pairing().gap, float)
+    previous = np.zeros(order.size)
+    for step, kept in zip(result.steps, level.steps, strict=True):
+        slip = step.tangential_displacement[order]
+        assert np.array_equal(kept.states, step.states[order])
+        assert np.array_equal(kept.pressure, step.pressure[order])
+        assert np.array_equal(kept.shear, step.shear[order])
+        assert np.array_equal(kept.increment, np.abs(slip - previous))
+        assert np.array_equal(kept.gap, gap[order] + step.normal_displacement[order])
+        assert not kept.pressure.flags.writeable and not kept.gap.flags.writeable
+        previous = slip
+    assert not level.x.flags.writeable
