@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from fretbem.accuracy import knots
 from fretbem.contact.pairs import SLIP, STICK
@@ -110,3 +111,20 @@ def test_a_level_is_sorted_along_the_face_once():
         assert not kept.pressure.flags.writeable and not kept.gap.flags.writeable
         previous = slip
     assert not level.x.flags.writeable
+
+
+def test_the_fits_without_numpys_gufuncs_and_on_non_finite_data(monkeypatch):
+    """Non-finite data take the public functions (np.polyfit's NaN coefficients, np.roots's
+    error), and so does a numpy without the gufuncs: the same numbers."""
+    x = np.linspace(0.2, 0.33, 6)
+    y = np.maximum(0.33**2 - x**2, 0.0)
+    nan = np.array([1.0, np.nan, 2.0, 3.0])
+    assert np.isnan(knots._polyfit(np.arange(4.0), nan, 2)).all()
+    with pytest.raises(np.linalg.LinAlgError):
+        knots._polyroots(np.array([1.0, np.nan, 2.0]))
+    fitted = knots._polyfit(x, y, 2)
+    roots = knots._polyroots(fitted)
+    monkeypatch.setattr(knots, "_LSTSQ", None)
+    monkeypatch.setattr(knots, "_EIGVALS", None)
+    assert np.array_equal(knots._polyfit(x, y, 2), fitted)
+    assert np.array_equal(knots._polyroots(fitted), roots)
