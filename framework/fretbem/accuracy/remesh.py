@@ -165,8 +165,8 @@ def _cumulative_density(anchors, peaks, ratio: float, grading: float) -> np.ndar
     rho = np.full(grid.size, 1.0 / ratio)
     for anchor, peak in zip(anchors, peaks, strict=True):
         part = slice(None)
-        if slope > 0.0 and peak * ratio > 1.0 + 1e-6:
-            reach = 1.001 * (peak * ratio - 1.0) / slope
+        reach = 1.001 * (peak * ratio - 1.0) / slope if slope > 0.0 else math.inf
+        if peak * ratio > 1.0 + 1e-6 and math.isfinite(reach):
             lo, hi = np.searchsorted(grid, (anchor - reach, anchor + reach))
             part = slice(int(lo), int(hi))
         near = grid[part]
