@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import weakref
 
 import attrs
 import numpy as np
@@ -62,29 +63,50 @@ GROWTH = 1.5
 def _polyfit(x: np.ndarray, y: np.ndarray, degree: int) -> np.ndarray:
     """``np.polyfit(x, y, degree)`` (degree 1 or 2), the same arithmetic bit for bit (the
     scaled Vandermonde columns and the one least-squares solve) without its argument
-    checks and general Vandermonde: the adaptive mode fits ~90 of them a run."""
+    checks and general Vandermonde: the adaptive mode fits ~90 of them a run. The solve is
+    numpy's own LAPACK routine (:data:`_LSTSQ`, what ``np.linalg.lstsq`` calls) without
+    the wrapper's checks, for finite data (others take ``np.linalg.lstsq``, and its error)."""
     x = np.asarray(x, float)
-    columns = [x * x, x, np.ones(x.size)] if degree == 2 else [x, np.ones(x.size)]
-    lhs = np.column_stack(columns)  # C-ordered as np.vander's: the column sums alike
+    y = np.asarray(y, float)
+    lhs = np.empty((x.size, degree + 1))  # C-ordered as np.vander's: the column sums alike
+    if degree == 2:
+        lhs[:, 0] = x * x
+    lhs[:, degree - 1] = x
+    lhs[:, degree] = 1.0
     scale = np.sqrt((lhs * lhs).sum(axis=0))
     lhs /= scale
-    coefficients = np.linalg.lstsq(lhs, y, rcond=x.size * _EPS)[0]
+    rcond = x.size * _EPS
+    if _LSTSQ is not None and math.isfinite(float(lhs.sum()) + float(y.sum())):
+        coefficients = _LSTSQ(lhs, y[:, None], rcond, signature="ddd->ddid")[0][:, 0]
+    else:
+        coefficients = np.linalg.lstsq(lhs, y, rcond=rcond)[0]
     return coefficients / scale
 
 
 _EPS = float(np.finfo(float).eps)
 
+#: the gufuncs ``np.linalg.lstsq`` and ``np.linalg.eigvals`` call (numpy's LAPACK
+#: wrappers), or None where this numpy has them elsewhere: a fit then takes the public
+#: function, the same numbers at twice the time (~20 us of checks a call)
+_UMATH_LINALG = getattr(np.linalg, "_umath_linalg", None)
+_LSTSQ = getattr(_UMATH_LINALG, "lstsq", None)
+_EIGVALS = getattr(_UMATH_LINALG, "eigvals", None)
+
 
 def _polyroots(coefficients: np.ndarray) -> np.ndarray:
     """``np.roots(coefficients)`` of a line or quadratic with nonzero ends: the eigenvalues
-    of the same companion matrix, built directly (np.roots otherwise)."""
+    of the same companion matrix, built directly, by the routine ``np.linalg.eigvals``
+    calls (np.roots otherwise)."""
     if coefficients[0] == 0.0 or coefficients[-1] == 0.0:
         return np.roots(coefficients)
     companion = np.zeros((coefficients.size - 1, coefficients.size - 1))
     companion[0, :] = -coefficients[1:] / coefficients[0]
     if coefficients.size == 3:
         companion[1, 0] = 1.0
-    return np.linalg.eigvals(companion)
+    if _EIGVALS is None or not math.isfinite(float(companion.sum())):
+        return np.linalg.eigvals(companion)
+    values = _EIGVALS(companion, signature="d->D")
+    return values.real if not values.imag.any() else values
 
 
 def _root_of_square(x: np.ndarray, values: np.ndarray, towards: float) -> float | None:
@@ -186,15 +208,13 @@ def transitions(result) -> Transitions:
     is linear near its zero). Falls back to the midpoint between the nodes on either side
     where a fit is not possible.
     """
-    along = estimate.positions(result)
-    order = np.argsort(along)
-    x = along[order]
-    gap = float(np.min(np.diff(x)))
+    level = _level(result)
+    x, gap = level.x, level.spacing
     friction = estimate.friction_of(result.simulation)
     edges: list[float] = []
     boundaries: list[float] = []
-    for step in result.steps:
-        p, q, states = step.pressure[order], step.shear[order], step.states[order]
+    for step in level.steps:
+        p, q, states = step.pressure, step.shear, step.states
         inside = states != SEPARATED
         if not inside.any():
             continue
@@ -255,13 +275,66 @@ def fit_transitions(found: Transitions, most: int) -> Transitions:
     return Transitions(edges, boundaries)
 
 
-# -- knots on the transitions of an aligned level --------------------------------------------
-def _sorted_level(result):
-    """Positions along the face (sorted), the sort order and the smallest spacing."""
+# -- a level's pairs in order along the face ----------------------------------------------------
+@attrs.frozen(eq=False)
+class _SortedStep:
+    """One step's pair results in the order of the pairs along the face (read-only)."""
+
+    states: np.ndarray
+    pressure: np.ndarray
+    shear: np.ndarray
+    slip: np.ndarray  # tangential_displacement
+    increment: np.ndarray  # abs(slip - the step before's slip), the first step's from 0
+    gap: np.ndarray  # initial gap + normal_displacement
+
+
+@attrs.frozen(eq=False)
+class _SortedLevel:
+    """A solved level's pair positions along the face (sorted), the sort order, the smallest
+    spacing and every step's results in that order."""
+
+    x: np.ndarray
+    order: np.ndarray
+    spacing: float
+    steps: tuple
+
+
+#: each solved level's :class:`_SortedLevel` (weak keys: it goes with the result); the
+#: transitions, knot moves and spacings of a level ask for it up to ten times
+_LEVELS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _level(result) -> _SortedLevel:
+    """``result`` in the order of its pairs along the face, kept per result."""
+    level = _LEVELS.get(result)
+    if level is not None:
+        return level
     along = estimate.positions(result)
     order = np.argsort(along)
     x = along[order]
-    return x, order, float(np.min(np.diff(x)))
+    initial = np.asarray(result.simulation.pair.pairing().gap, float)[order]
+    steps, previous = [], np.zeros(x.size)
+    for step in result.steps:
+        slip = step.tangential_displacement[order]
+        sorted_step = _SortedStep(
+            states=step.states[order],
+            pressure=step.pressure[order],
+            shear=step.shear[order],
+            slip=slip,
+            increment=np.abs(slip - previous),
+            gap=initial + step.normal_displacement[order],
+        )
+        previous = slip
+        for array in attrs.astuple(sorted_step, recurse=False):
+            array.flags.writeable = False
+        steps.append(sorted_step)
+    x.flags.writeable = order.flags.writeable = False
+    level = _SortedLevel(x, order, float(np.min(np.diff(x))), tuple(steps))
+    _LEVELS[result] = level
+    return level
+
+
+# -- knots on the transitions of an aligned level --------------------------------------------
 
 
 def _knot_index(x: np.ndarray, knot: float, spacing: float) -> int | None:
@@ -293,16 +366,17 @@ def _outside_move(x, values, k: int, away: int) -> float | None:
     return float(r * abs(x[o] - x[k]) / (1.0 - r))
 
 
-def _edge_move(x, order, knot, k, steps, gaps, margin: float) -> float | None:
+def _edge_move(level: _SortedLevel, knot, k, margin: float) -> float | None:
     """Move of an edge knot to ``margin`` outside the discrete edge, from the steps whose
     contact ends at its point or just inside it."""
+    x = level.x
     side = 1 if knot > 0.5 * (x[0] + x[-1]) else -1
     inner, outer = k - side, k + side
     if not (0 <= inner < x.size):
         return None
     out, into = [], []
-    for step, gap in zip(steps, gaps, strict=True):
-        states, p = step.states[order], step.pressure[order]
+    for step in level.steps:
+        states, p, gap = step.states, step.pressure, step.gap
         contact = states != SEPARATED
         beyond = not (0 <= outer < x.size) or not contact[outer]
         if contact[k] and beyond:  # the last contact point: pressure says how far out
@@ -321,17 +395,15 @@ def _edge_move(x, order, knot, k, steps, gaps, margin: float) -> float | None:
     return None
 
 
-def _boundary_move(x, order, k, steps, friction, margin: float) -> float | None:
+def _boundary_move(level: _SortedLevel, k, friction, margin: float) -> float | None:
     """Move of a stick-slip knot to ``margin`` on the slip side of the discrete boundary: the
     reserve on its point if stick, the slip increment if slip, averaged over the steps whose
     stick-slip boundary is next to its point."""
+    x = level.x
     moves = []
-    previous = np.zeros(x.size)
-    for step in steps:
-        states = step.states[order]
-        slip_now = step.tangential_displacement[order]
-        increment, previous = np.abs(slip_now - previous), slip_now
-        p, q = step.pressure[order], step.shear[order]
+    for step in level.steps:
+        states, increment = step.states, step.increment
+        p, q = step.pressure, step.shear
         for t in (-1, 1):  # t: direction from the stick side to the slip side
             j = k + t
             if not (0 <= j < x.size and 0 <= k - t < x.size):
@@ -352,7 +424,8 @@ def _boundary_move(x, order, k, steps, friction, margin: float) -> float | None:
 def knot_spacings(result, found: Transitions) -> np.ndarray:
     """Distance from each knot's point to its nearer neighbour point (edges, then
     boundaries); the contact half-width where no point is on the knot."""
-    x, _, spacing = _sorted_level(result)
+    level = _level(result)
+    x, spacing = level.x, level.spacing
     half = 0.5 * float(x[-1] - x[0])
     out = []
     for knot in np.concatenate([found.edges, found.boundaries]):
@@ -379,18 +452,17 @@ def knot_moves(
     ``reach`` (in its point spacings, e.g. :data:`FALLBACK_REACH`) a stick-slip knot does
     so only if that one is closer, else it stays (edge knots always move).
     """
-    x, order, spacing = _sorted_level(result)
+    level = _level(result)
+    x, spacing = level.x, level.spacing
     friction = estimate.friction_of(result.simulation)
-    initial = np.asarray(result.simulation.pair.pairing().gap, float)
-    gaps = [initial[order] + step.normal_displacement[order] for step in result.steps]
     spacings = knot_spacings(result, found)
     margins = EDGE_MARGIN * spacings
-    states = [step.states[order] for step in result.steps]
+    states = [step.states for step in level.steps]
     edges = np.zeros(found.edges.size)
     for j, knot in enumerate(found.edges):
         k = _knot_index(x, knot, spacing)
         margin = margins[j]
-        move = None if k is None else _edge_move(x, order, knot, k, result.steps, gaps, margin)
+        move = None if k is None else _edge_move(level, knot, k, margin)
         if move is None:
             move = _nearest_change(x, states, knot, SEPARATED, (STICK, SLIP)) - knot
         edges[j] = move
@@ -398,7 +470,7 @@ def knot_moves(
     for j, knot in enumerate(found.boundaries):
         k = _knot_index(x, knot, spacing)
         margin = margins[found.edges.size + j]
-        move = None if k is None else _boundary_move(x, order, k, result.steps, friction, margin)
+        move = None if k is None else _boundary_move(level, k, friction, margin)
         if move is None:
             spacing = spacings[found.edges.size + j]
             move = _fallback(x, states, knot, k, spacing, reach, SLIP, (STICK,))
@@ -444,13 +516,14 @@ def _nearest_change(x, states, knot: float, outer: int, inner: tuple) -> float:
 
 def knot_pressures(result, edges: np.ndarray) -> np.ndarray:
     """Largest pressure over the steps at the point on each edge knot (0 if separated)."""
-    x, order, spacing = _sorted_level(result)
+    level = _level(result)
+    x, spacing = level.x, level.spacing
     out = np.zeros(len(edges))
     for j, edge in enumerate(edges):
         k = _knot_index(x, edge, spacing)
         if k is None:
             continue
-        for step in result.steps:
-            if step.states[order][k] != SEPARATED:
-                out[j] = max(out[j], float(step.pressure[order][k]))
+        for step in level.steps:
+            if step.states[k] != SEPARATED:
+                out[j] = max(out[j], float(step.pressure[k]))
     return out

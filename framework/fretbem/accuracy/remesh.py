@@ -43,6 +43,9 @@ SYMMETRY_TOLERANCE = 1e-11
 #: where :func:`aligned_breakpoints` integrates the element density (read-only)
 _GRID = np.linspace(0.0, 1.0, 8001)
 _GRID.flags.writeable = False
+#: its spacings (``np.diff(_GRID)``, read-only)
+_GRID_STEPS = np.diff(_GRID)
+_GRID_STEPS.flags.writeable = False
 
 
 class AdaptiveError(InputError):
@@ -155,11 +158,20 @@ def _cumulative_density(anchors, peaks, ratio: float, grading: float) -> np.ndar
     slope = (ratio - 1.0) / grading
     grid = _GRID
     # the density of the nearest anchor, anchor by anchor over the grid (the same values
-    # as one (grid, anchors) array's row maxima, without its strided reduction)
+    # as one (grid, anchors) array's row maxima, without its strided reduction), each
+    # compared only where it can exceed the floor 1 / ratio: within (peak ratio - 1) / slope
+    # of its anchor (a thousandth more: outside, it lies below the floor by far more than
+    # round-off), a sixth of the grid at the adaptive levels' ratio and grading
     rho = np.full(grid.size, 1.0 / ratio)
     for anchor, peak in zip(anchors, peaks, strict=True):
-        np.maximum(rho, peak / (1.0 + slope * np.abs(grid - anchor)), out=rho)
-    cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (rho[1:] + rho[:-1]) * np.diff(grid))])
+        part = slice(None)
+        reach = 1.001 * (peak * ratio - 1.0) / slope if slope > 0.0 else math.inf
+        if peak * ratio > 1.0 + 1e-6 and math.isfinite(reach):
+            lo, hi = np.searchsorted(grid, (anchor - reach, anchor + reach))
+            part = slice(int(lo), int(hi))
+        near = grid[part]
+        np.maximum(rho[part], peak / (1.0 + slope * np.abs(near - anchor)), out=rho[part])
+    cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (rho[1:] + rho[:-1]) * _GRID_STEPS)])
     cumulative.flags.writeable = False
     if len(_DENSITIES) >= 8:
         _DENSITIES.pop(next(iter(_DENSITIES)))
@@ -288,6 +300,43 @@ def _fitting_elements(family, degree, pairs: int, curve, marks_of, count_of) -> 
     return settle(count_of)[0]
 
 
+def _marks_count(sigma: np.ndarray, centred: bool) -> int | None:
+    """The C0 marks of every layout toward anchors at parameters ``sigma`` (in the layout's
+    own parameter), without laying one out: one per anchor when each stays a breakpoint of
+    its own (inside (MERGE, 1 - MERGE) and farther than MERGE from the next:
+    :func:`aligned_breakpoints` keeps it, with an element either side, so the breakpoint
+    nearest it is its own); None when a layout must say (centred, or an anchor merged or
+    dropped, whose mark is whichever breakpoint lies nearest)."""
+    if centred:
+        return None
+    values = np.sort(np.asarray(sigma, float))
+    if values.size and (
+        values[0] <= MERGE or values[-1] >= 1.0 - MERGE or np.any(np.diff(values) <= MERGE)
+    ):
+        return None
+    return int(values.size)
+
+
+def _fitted_layout(family, degree, pairs: int, curve, layout, count, marks: int | None):
+    """``layout(elements)`` of the most elements whose face holds at most ``pairs`` points
+    (:func:`_fitting_elements`). ``marks`` (:func:`_marks_count`, or None) counts the C0 marks
+    of every layout, so that the layouts that do not fit are never built (a level's first
+    guess rarely fits: each knot costs a point); the one that fits is checked against it,
+    and a count other than foreseen goes through every layout's own."""
+    foreseen = [marks]
+
+    def marks_of(elements):
+        if foreseen[0] is None or elements < foreseen[0] + 1:  # too few: its layout says why
+            return len(layout(elements).c0_at)
+        return foreseen[0]
+
+    elements = _fitting_elements(family, degree, pairs, curve, marks_of, count)
+    if foreseen[0] is not None and len(layout(elements).c0_at) != foreseen[0]:
+        foreseen[0] = None
+        elements = _fitting_elements(family, degree, pairs, curve, marks_of, count)
+    return layout(elements)
+
+
 def _face_layout(body, tag, tangent, sigma_at, peaks, pairs, *, ratio, grading, centred):
     """One face's refinement toward the anchors (positions along ``tangent``), in its own
     parameter, family and degree, with at most ``pairs`` collocation points."""
@@ -314,10 +363,7 @@ def _face_layout(body, tag, tangent, sigma_at, peaks, pairs, *, ratio, grading, 
         refined = body.with_face_refinement(tag, layout(elements))
         return refined.face_segment(tag)[1].n_functions
 
-    def marks_of(elements):
-        return len(layout(elements).c0_at)
-
-    return layout(_fitting_elements(family, degree, pairs, curve, marks_of, count))
+    return _fitted_layout(family, degree, pairs, curve, layout, count, _marks_count(sigma, centred))
 
 
 def remesh(
@@ -509,9 +555,6 @@ def _matched(simulation, anchors, pairs, ratio, grading, centred, edges, edge_pe
         refined = pair.upper.with_face_refinement(pair.upper_tag, layout(elements))
         return refined.face_segment(pair.upper_tag)[1].n_functions
 
-    def marks_of(elements):
-        return len(layout(elements).c0_at)
-
     def lower_of(upper):
         low_inverse = estimate.parameter_of(low_curve, tangent)
         bounds, marks = upper.breakpoints(), np.array(upper.c0_at)
@@ -524,7 +567,10 @@ def _matched(simulation, anchors, pairs, ratio, grading, centred, edges, edge_pe
         snap = [low_bounds[np.argmin(np.abs(low_bounds - t))] for t in low_marks]
         return Refinement.explicit(low_bounds, degree=degree, c0_at=snap)
 
-    upper_ref = layout(_fitting_elements(family, degree, pairs, up_curve, marks_of, count))
+    # the marks lie at the breakpoints nearest the anchors' parameters: with the layout
+    # flipped back (flip) those are another face end's, so only its layouts say how many
+    marks = None if flip else _marks_count(sigma, centred)
+    upper_ref = _fitted_layout(family, degree, pairs, up_curve, layout, count, marks)
     if alike and _mirror_layout(upper_ref):
         # the lower face is the upper's point image, C_l(s) = -C_u(s), and the layout is
         # its own mirror: carried by position, each breakpoint s lands on 1 - (1 - s); taken

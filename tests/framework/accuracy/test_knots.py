@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from fretbem.accuracy import knots
 from fretbem.contact.pairs import SLIP, STICK
@@ -82,3 +83,48 @@ def test_the_fits_are_numpys_bit_for_bit():
             assert np.array_equal(fitted, np.polyfit(x, y, degree))
             roots, expected = knots._polyroots(fitted), np.roots(fitted)
             assert roots.dtype == expected.dtype and np.array_equal(roots, expected)
+
+
+def test_a_level_is_sorted_along_the_face_once():
+    """A solved level's pairs in face order, kept per result and read-only: the positions,
+    the smallest spacing and every step's states, p, q, slip, slip increment (from the step
+    before, the first from 0) and gap, as the knots' functions took them one by one."""
+    from fretbem.accuracy import estimate
+    from fretbem.scenes import cattaneo_mindlin
+    from fretbem.simulation import run
+
+    result = run(cattaneo_mindlin(pairs=21))
+    level = knots._level(result)
+    assert knots._level(result) is level
+    order = np.argsort(estimate.positions(result))
+    assert np.array_equal(level.x, estimate.positions(result)[order])
+    assert level.spacing == float(np.min(np.diff(level.x)))
+    gap = np.asarray(result.simulation.pair.pairing().gap, float)
+    previous = np.zeros(order.size)
+    for step, kept in zip(result.steps, level.steps, strict=True):
+        slip = step.tangential_displacement[order]
+        assert np.array_equal(kept.states, step.states[order])
+        assert np.array_equal(kept.pressure, step.pressure[order])
+        assert np.array_equal(kept.shear, step.shear[order])
+        assert np.array_equal(kept.increment, np.abs(slip - previous))
+        assert np.array_equal(kept.gap, gap[order] + step.normal_displacement[order])
+        assert not kept.pressure.flags.writeable and not kept.gap.flags.writeable
+        previous = slip
+    assert not level.x.flags.writeable
+
+
+def test_the_fits_without_numpys_gufuncs_and_on_non_finite_data(monkeypatch):
+    """Non-finite data take the public functions (np.polyfit's NaN coefficients, np.roots's
+    error), and so does a numpy without the gufuncs: the same numbers."""
+    x = np.linspace(0.2, 0.33, 6)
+    y = np.maximum(0.33**2 - x**2, 0.0)
+    nan = np.array([1.0, np.nan, 2.0, 3.0])
+    assert np.isnan(knots._polyfit(np.arange(4.0), nan, 2)).all()
+    with pytest.raises(np.linalg.LinAlgError):
+        knots._polyroots(np.array([1.0, np.nan, 2.0]))
+    fitted = knots._polyfit(x, y, 2)
+    roots = knots._polyroots(fitted)
+    monkeypatch.setattr(knots, "_LSTSQ", None)
+    monkeypatch.setattr(knots, "_EIGVALS", None)
+    assert np.array_equal(knots._polyfit(x, y, 2), fitted)
+    assert np.array_equal(knots._polyroots(fitted), roots)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from fretbem.accuracy import remesh
-from fretbem.basis import face_points
+from fretbem.basis import Refinement, face_points
 from fretbem.geometry.nurbs import NurbsCurve
 from fretbem_lagrange.quadratic import QuadraticLagrangeBasis
 from fretbem_nurbs.basis import NurbsBasis
@@ -105,3 +105,75 @@ def test_aligned_breakpoints_keep_their_density_per_anchor_set():
     remesh._DENSITIES.clear()
     again = [remesh.aligned_breakpoints(anchors, n, peaks=peaks) for n in (21, 27)]
     assert all(np.array_equal(a, b) for a, b in zip(first, again, strict=True))
+
+
+def _toward(sigma):
+    """Layouts toward anchors at parameters ``sigma``, marked as the re-meshing marks them
+    (the breakpoint nearest each anchor), kept per element count."""
+    kept = {}
+
+    def layout(elements):
+        if elements not in kept:
+            bounds = remesh.aligned_breakpoints(sigma, elements, ratio=20.0, grading=0.06)
+            marks = np.unique(
+                [t for t in (bounds[np.argmin(np.abs(bounds - s))] for s in sigma) if 0 < t < 1]
+            )
+            kept[elements] = Refinement.explicit(bounds, degree=2, c0_at=marks)
+        return kept[elements]
+
+    return layout, kept
+
+
+def test_the_marks_are_counted_without_laying_out():
+    """Anchors that each stay a breakpoint of their own carry one C0 mark each in every
+    layout toward them, so only the layout that fits is built; anchors merged, at a face
+    end or coincident are counted by their layouts. The layout chosen is the one every
+    layout's own count chooses, for random anchors and budgets."""
+    rng = np.random.default_rng(11)
+    cost = remesh.c0_cost(NurbsBasis, 2)
+    foreseen = 0
+    for _ in range(150):
+        sigma = rng.uniform(0.0, 1.0, rng.integers(0, 9))
+        if sigma.size > 1 and rng.random() < 0.3:  # two anchors merged, or one at an end
+            sigma[0] = sigma[1] + 0.5 * remesh.MERGE if rng.random() < 0.5 else 1e-4
+        pairs = int(rng.integers(31, 122))
+        layout, kept = _toward(sigma)
+
+        def count(elements, layout=layout):
+            return face_points(NurbsBasis, elements, 2) + cost * len(layout(elements).c0_at)
+
+        def marks_of(elements, layout=layout):
+            return len(layout(elements).c0_at)
+
+        chosen = remesh._fitting_elements(NurbsBasis, 2, pairs, LINE, marks_of, count)
+        marks = remesh._marks_count(sigma, centred=False)
+        layout, kept = _toward(sigma)
+        got = remesh._fitted_layout(NurbsBasis, 2, pairs, LINE, layout, count, marks)
+        assert got == layout(chosen)
+        if marks is not None:
+            foreseen += 1
+            assert list(kept) == [chosen]  # no other layout built
+            assert marks == len(got.c0_at)
+    assert remesh._marks_count(np.array([0.3]), centred=True) is None
+    assert 60 < foreseen < 150
+
+
+def test_the_density_is_compared_near_each_anchor_only():
+    """Each anchor's density is compared with the floor only within its reach: the same
+    integral, bit for bit, as comparing it over the whole grid, for random anchors, peaks
+    (up to 2), ratios (1 to 50) and gradings."""
+    rng = np.random.default_rng(5)
+    grid = remesh._GRID
+    for _ in range(300):
+        anchors = np.sort(rng.uniform(0.0, 1.0, rng.integers(1, 10)))
+        peaks = rng.choice([1.0, 0.5, 2.0, float(rng.uniform(0.01, 1.0))], anchors.size)
+        ratio = float(rng.choice([1.0, 4.0, 20.0, rng.uniform(1.0, 50.0)]))
+        grading = float(rng.choice([0.06, 0.15, 1.0, rng.uniform(1e-4, 1.0)]))
+        remesh._DENSITIES.clear()
+        got = remesh._cumulative_density(anchors, peaks, ratio, grading)
+        slope = (ratio - 1.0) / grading
+        rho = np.full(grid.size, 1.0 / ratio)
+        for anchor, peak in zip(anchors, peaks, strict=True):
+            np.maximum(rho, peak / (1.0 + slope * np.abs(grid - anchor)), out=rho)
+        want = np.concatenate([[0.0], np.cumsum(0.5 * (rho[1:] + rho[:-1]) * np.diff(grid))])
+        assert np.array_equal(got, want)
