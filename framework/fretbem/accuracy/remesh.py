@@ -547,7 +547,9 @@ def _matched(simulation, anchors, pairs, ratio, grading, centred, edges, edge_pe
             bounds = (1.0 - bounds)[::-1]
         if alike:  # mirrored exactly (the uniform layout and a flip are so to round-off)
             bounds = _mirrored(bounds)
-        marks = [] if centred else [bounds[np.argmin(np.abs(bounds - t))] for t in sigma]
+        # the bounds are in the face's own parameter again: so are the anchors' marks
+        targets = 1.0 - sigma if flip else sigma
+        marks = [] if centred else [bounds[np.argmin(np.abs(bounds - t))] for t in targets]
         marks = np.unique([t for t in marks if 0.0 < t < 1.0])
         return Refinement.explicit(bounds, degree=degree, c0_at=marks)
 

@@ -4,9 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from fretbem.accuracy import remesh
+from fretbem.accuracy import estimate, remesh
 from fretbem.basis import Refinement, face_points
 from fretbem.geometry.nurbs import NurbsCurve
+from fretbem.scenes.builder import build
+from fretbem.scenes.file import scene_from_data
+from fretbem.testing.scenes import SMALL_SCENE
 from fretbem_lagrange.quadratic import QuadraticLagrangeBasis
 from fretbem_nurbs.basis import NurbsBasis
 
@@ -177,3 +180,29 @@ def test_the_density_is_compared_near_each_anchor_only():
             np.maximum(rho, peak / (1.0 + slope * np.abs(grid - anchor)), out=rho)
         want = np.concatenate([[0.0], np.cumsum(0.5 * (rho[1:] + rho[:-1]) * np.diff(grid))])
         assert np.array_equal(got, want)
+
+
+def test_a_flipped_upper_face_marks_the_anchors_not_their_mirrors(monkeypatch):
+    """A face laid out against the pair tangent (its parameter flipped, then flipped back)
+    carries its C0 marks at the breakpoints nearest the anchors' own parameters, as an
+    unflipped face does, not at their mirror images: asymmetric anchors on the small scene,
+    the flip forced (CCW outlines never run the upper face against the tangent)."""
+
+    simulation = build(scene_from_data(SMALL_SCENE))[0]
+    anchors = np.array([-0.35, 0.12])
+    plain = remesh.remesh(simulation, anchors, 21, independent=False)
+    faces = remesh._faces
+
+    def flipped(up_curve, low_curve, tangent):
+        return (True, *faces(up_curve, low_curve, tangent)[1:])
+
+    monkeypatch.setattr(remesh, "_faces", flipped)
+    turned = remesh.remesh(simulation, anchors, 21, independent=False)
+    pair = simulation.pair
+    tangent = estimate.pair_frame(pair)[1][0]
+    sigma = estimate.parameter_of(pair.upper.face_curve(pair.upper_tag), tangent)(anchors)
+    for result in (plain, turned):
+        refinement = result.pair.upper.face_refinement(pair.upper_tag)
+        bounds, marks = refinement.breakpoints(), np.array(refinement.c0_at)
+        nearest = [bounds[np.argmin(np.abs(bounds - t))] for t in sigma]
+        assert marks.size == 2 and np.allclose(np.sort(marks), np.sort(nearest))
