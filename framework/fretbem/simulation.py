@@ -26,7 +26,7 @@ from fretbem.contact.law import STATE_NAMES, ContactLaw, ContactState, GrossSlid
 from fretbem.contact.pairs import ContactPair
 from fretbem.contact.rotation import RotationError
 from fretbem.errors import InputError
-from fretbem.numerics.memory import HUGE_PAGES_OFF_DOFS, KEPT_MEMORY_DOFS, kept_memory
+from fretbem.numerics.memory import KEPT_MEMORY_DOFS, kept_memory
 from fretbem.solvers.newton import IncrementResult, SemiSmoothNewton, Solver, SolverConvergenceError
 from fretbem.solvers.step_memo import Reached, StepMemo
 from fretbem.solvers.warm_start import WarmStart
@@ -361,13 +361,8 @@ class Simulation:
 
     def prepare(self) -> CondensedContact:
         """Assemble both bodies and condense them onto the pair unknowns (cached); with the
-        pad block's rotation among them when the simulation :attr:`rotates`. The first
-        time in the run's resource block (:func:`run_resources`, not checked again inside
-        a run): the assembly and the condensation hold most of a run's large arrays."""
-        if self.pair.is_condensed:
-            return self.condense(self.pair)
-        with run_resources(self):
-            return self.condense(self.pair)
+        pad block's rotation among them when the simulation :attr:`rotates`."""
+        return self.condense(self.pair)
 
     def condense(self, pair: ContactPair) -> CondensedContact:
         """``pair`` (this simulation's, or a re-paired or worn one) condensed, with the pad
@@ -639,7 +634,7 @@ def run_resources(simulation: Simulation) -> Iterator[None]:
         check_resources(**size)
     token = _CHECKED.set(max(dofs, checked))
     try:
-        with kept_memory(dofs >= KEPT_MEMORY_DOFS, huge_pages=dofs < HUGE_PAGES_OFF_DOFS):
+        with kept_memory(dofs >= KEPT_MEMORY_DOFS):
             yield
     finally:
         _CHECKED.reset(token)

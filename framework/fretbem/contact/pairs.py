@@ -121,11 +121,6 @@ class ContactPair(ABC):
         """Number of pairs."""
         return self.pairing().n_pairs
 
-    @property
-    def is_condensed(self) -> bool:
-        """Whether :meth:`condensed` has been computed (asking again costs nothing)."""
-        return "condensed" in self._cache
-
     def condensed(self) -> CondensedContact:
         """Both bodies condensed onto the pair unknowns (computed once)."""
         if "condensed" not in self._cache:

@@ -12,13 +12,6 @@ bit-identical (one run each, load 5-8). The peak grows, 3,335 -> 3,599 MiB, sinc
 block does not always fit the next request. The memory goes back to the system and the
 settings to their defaults when the block ends. Only glibc has these settings; elsewhere
 the heap part does nothing.
-
-A smaller run's arrays (a few MB each) lie below glibc's largest mmap threshold, but its
-dynamic threshold and the heap's trimming still hand many of them back and fault them in
-again: the 481-pair reference cycle (2,236 DOFs) spent ~50 ms of its ~400 ms CPU so. There
-huge pages pay (its Newton steps stream 3.7 MB maps: steps 144 -> 114 ms with them), so a
-run below :data:`HUGE_PAGES_OFF_DOFS` keeps its memory and numpy's huge-page advice
-(``huge_pages=True``; benchmarks/bem_phases.py).
 """
 
 from __future__ import annotations
@@ -41,12 +34,9 @@ _KEPT_TRIM_THRESHOLD = 2**31 - 1
 #: runs of at least this many boundary DOFs keep their memory (:func:`kept_memory`): their
 #: dense (dofs x dofs) arrays of 8-byte numbers exceed glibc's largest mmap threshold, 32 MB
 KEPT_MEMORY_DOFS = 2048
-#: runs of at least this many boundary DOFs also keep numpy from asking for transparent huge
-#: pages (whose faults cost more system time at 3,841 pairs); below, numpy's advice stays
-HUGE_PAGES_OFF_DOFS = 8192
 
 _lock = threading.Lock()
-_state: dict = {"libc": None, "depth": 0, "no huge pages": 0, "huge pages": None}
+_state: dict = {"libc": None, "depth": 0, "huge pages": None}
 
 
 def _glibc():
@@ -65,12 +55,11 @@ def _glibc():
 
 
 @contextlib.contextmanager
-def kept_memory(enabled: bool = True, *, huge_pages: bool = False):
+def kept_memory(enabled: bool = True):
     """Within the block, large arrays are allocated on the heap and their memory is kept
     for the next ones when freed; returned to the system when the outermost block ends
-    (nested and concurrent blocks share one setting). numpy asks for no huge pages while a
-    block with ``huge_pages`` False is open (a large run); ``huge_pages`` True leaves its
-    advice as it is. ``enabled`` False does nothing."""
+    (nested and concurrent blocks share one setting). ``enabled`` False (a small run:
+    its arrays are below glibc's mmap threshold anyway) does nothing."""
     libc = _glibc() if enabled else False
     if not libc:
         yield
@@ -79,23 +68,17 @@ def kept_memory(enabled: bool = True, *, huge_pages: bool = False):
         if _state["depth"] == 0:
             libc.mallopt(_M_MMAP_MAX, 0)
             libc.mallopt(_M_TRIM_THRESHOLD, _KEPT_TRIM_THRESHOLD)
+            _state["huge pages"] = _huge_pages(False)
         _state["depth"] += 1
-        if not huge_pages:
-            if _state["no huge pages"] == 0:
-                _state["huge pages"] = _huge_pages(False)
-            _state["no huge pages"] += 1
     try:
         yield
     finally:
         with _lock:
-            if not huge_pages:
-                _state["no huge pages"] -= 1
-                if _state["no huge pages"] == 0:
-                    _huge_pages(_state["huge pages"])
             _state["depth"] -= 1
             if _state["depth"] == 0:
                 libc.mallopt(_M_MMAP_MAX, _DEFAULT_MMAP_MAX)
                 libc.mallopt(_M_TRIM_THRESHOLD, _DEFAULT_TRIM_THRESHOLD)
+                _huge_pages(_state["huge pages"])
                 libc.malloc_trim(0)
 
 

@@ -1,6 +1,5 @@
 """Inside ``kept_memory`` a large array lives on the heap and its memory stays there when it
-is freed, and numpy asks for no huge pages in a large run's block (a smaller run keeps its
-advice); outside (after the block, and when not enabled)
+is freed, and numpy asks for no huge pages; outside (after the block, and when not enabled)
 an array is mapped by itself and the settings are back. Every run path (run, finite
 sliding, wear, a sweep's batch, the run pipeline) solves inside the block
 (``run_resources``), checked against the memory once."""
@@ -98,60 +97,6 @@ def test_no_huge_pages_inside_the_block():
     with memory.kept_memory():
         assert not multiarray._get_madvise_hugepage()
     assert multiarray._get_madvise_hugepage() == before
-
-
-def test_huge_pages_left_as_they_are_when_asked(heap):
-    multiarray = np._core.multiarray
-    before = multiarray._get_madvise_hugepage()
-    with memory.kept_memory(huge_pages=True):
-        assert multiarray._get_madvise_hugepage() == before
-        assert not _mapped_alone(heap)
-        with memory.kept_memory():  # a large run's block inside: none while it is open
-            assert not multiarray._get_madvise_hugepage()
-        assert multiarray._get_madvise_hugepage() == before
-        assert not _mapped_alone(heap)  # the outer block still keeps the memory
-    assert multiarray._get_madvise_hugepage() == before
-    assert _mapped_alone(heap)
-
-
-@pytest.mark.parametrize("huge_from", [0, 10**9])
-def test_a_run_asks_for_huge_pages_below_the_large_size(heap, monkeypatch, huge_from):
-    """A run below HUGE_PAGES_OFF_DOFS keeps numpy's huge-page advice (its steps stream maps
-    of a few MB, faster with them); a larger one asks for none; both keep their memory."""
-    multiarray = np._core.multiarray
-    before = multiarray._get_madvise_hugepage()
-    monkeypatch.setattr(simulation_module, "KEPT_MEMORY_DOFS", 0)
-    monkeypatch.setattr(simulation_module, "HUGE_PAGES_OFF_DOFS", huge_from)
-    seen = []
-    simulation = cattaneo_mindlin(pairs=21, models={})
-    run(simulation, progress=lambda *a: seen.append((multiarray._get_madvise_hugepage(),
-                                                     _mapped_alone(heap))))  # fmt: skip
-    expected = before if huge_from else False
-    assert seen and all(advice == expected and not alone for advice, alone in seen)
-    assert multiarray._get_madvise_hugepage() == before
-
-
-def test_prepare_alone_runs_in_the_block(heap, monkeypatch):
-    """The assembly and condensation hold most large arrays: prepare keeps memory too when
-    called outside a run, checked against the memory once."""
-    monkeypatch.setattr(simulation_module, "KEPT_MEMORY_DOFS", 0)
-    checked, seen = [], []
-    monkeypatch.setattr(
-        simulation_module, "check_resources", lambda dofs, **size: checked.append(dofs)
-    )
-    condense = simulation_module.Simulation.condense
-
-    def condensed(simulation, pair):
-        seen.append(_mapped_alone(heap))
-        return condense(simulation, pair)
-
-    monkeypatch.setattr(simulation_module.Simulation, "condense", condensed)
-    simulation = cattaneo_mindlin(pairs=21, models={})
-    simulation.prepare()
-    assert seen == [False] and len(checked) == 1
-    assert _mapped_alone(heap)
-    run(simulation)  # its prepare inside the run's block: checked once more, by the run
-    assert len(checked) == 2 and seen == [False, False]
 
 
 HALF_PLANES = {"upper": "half-plane", "lower": "half-plane"}
