@@ -4,7 +4,9 @@ Each round runs one fresh process per tree (``PYTHONPATH`` = the tree's ``framew
 ``plugins``, one BLAS thread); in it, at 61 and 481 pairs, ``--cycles`` cold cycles (scene
 cache cleared) with BEM bodies, each split into the scene build, the assembly of both
 bodies' H and G as the run assembles them (G's columns on traction-free segments left out
-by the numpy loops where the tree does so: ``BemBody.system_matrices``), the rest of
+by the numpy loops where the tree does so: ``BemBody.system_matrices``; none for a point
+image whose system takes the pad's columns without forming them, where the tree does so:
+``BemBody.permuted_source``), the rest of
 ``prepare`` (factorisation, contact responses, condensation) and the five steps, each
 followed by the numpy Toeplitz peer
 (``benchmarks/halfplane_peer.py``); CPU seconds, medians over cycles and rounds, and the
@@ -32,7 +34,10 @@ def assemble(body, tag):  # what the run assembles (older trees: all of H and G)
         from fretbem.bem.system import g_free_segments
     except ImportError:
         return body.matrices()
-    return body.system_matrices(g_free_segments(body, body.layout((tag,))))
+    free = g_free_segments(body, body.layout((tag,)))
+    if getattr(body, "permuted_source", lambda free: None)(free) is not None:
+        return None  # the run never forms them: the pad's taken permuted, column by column
+    return body.system_matrices(free)
 out = {}
 for pairs in map(int, sys.argv[3].split(",")):
     run(scenes.cattaneo_mindlin(pairs=pairs, models={}, radius=71.0))  # imports: another pad
