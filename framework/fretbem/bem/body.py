@@ -195,8 +195,8 @@ class BemBody(Body):
 
     def permuted_source(self, g_free: tuple[int, ...] = ()):
         """(kept matrices, column map, row map) when this body's H and G, not in memory yet,
-        would be the last assembled body's permuted (:func:`~fretbem.bem.image_matrices.
-        permutation`), without forming them; else None."""
+        would be the last assembled body's permuted, without forming them; else None
+        (:func:`~fretbem.bem.image_matrices.permutation`)."""
         if "matrices" in self._cache or ("system matrices", tuple(g_free)) in self._cache:
             return None
         return image_matrices.permutation(*self._image_key(g_free))

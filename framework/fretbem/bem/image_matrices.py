@@ -11,6 +11,8 @@ come out at round-off of the other body's if integrated again (row sums taken in
 own segment order). The reference scene's pad and specimen, two similar cylinders, are such
 images: the specimen's H and G are the pad's permuted, not assembled and compared
 (:mod:`fretbem.bem.image_factor` then needs no block check either, :func:`source_of`).
+Where the kept factorisation serves its system, they are not even formed: only their
+columns on its known dofs are taken (:func:`permutation`, :func:`permuted_columns`).
 Every other body (another material, shape, mesh, settings) is assembled as before.
 """
 
