@@ -28,7 +28,7 @@ from .integration import LOOP_CHOICE
 #: COMPILED_BYTES fitted to the peak resident memory of the reference cycle, each run in a
 #: fresh process (benchmarks/memory_estimate.py: 61-961 pairs, nurbs and lagrange2; and
 #: benchmarks/large_problems.py at 3,841 pairs, 15,676 DOFs, 3,599 MiB with the freed arrays
-#: kept on the heap, :mod:`fretbem.numerics.memory`): the estimate is 1.05-1.26x the peak
+#: kept on the heap, :mod:`fretbem.numerics.memory`): the estimate is 1.04-1.28x the peak
 #: from 244 to 4,408 DOFs and 1.03x at 15,676 (it was 0.72x at 481 nurbs pairs while the
 #: numba its assembly loaded went uncounted, and up to 1.49x for the small runs, whose
 #: interpreter it counted as 100 MB).
