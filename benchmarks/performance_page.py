@@ -61,7 +61,21 @@ assembled just before takes that body's whole H and G permuted segment by segmen
 (`fretbem.bem.image_matrices`), and is solved with its kept factors after comparing only
 which unknowns are displacements: no assembly, no collocation matrix, no comparison of
 blocks (the specimen at 481 pairs: assembly 37 -> 17 ms, system 34 -> 15 ms CPU at load 7,
-`benchmarks/image_specimen.py`).
+`benchmarks/image_specimen.py`). Its H and G are not even formed where its system asks for
+nothing else (`fretbem.bem.system._permuted_parameters`): only their columns on the known
+dofs are taken from the kept ones (its z0, block and load columns), its contact columns are
+the pad's, rows permuted, so their solution is the pad's; the same numbers bit for bit, the
+specimen's system at 481 pairs ~22 -> ~8 ms and its peak 5-19 MiB lower at 241-481 pairs.
+Once numba is loaded (the compiled assembly loops), four multi-pass numpy steps of the
+481-pair set-up run as single compiled passes with the numpy paths' operations in the same
+order (bit-identical): the condensation's projection of a node-to-node traction map onto
+the pair frame (`fretbem.contact.compiled_condensation`, 26 -> 3.3 ms), the contact
+response's banded solve along the node axis (`fretbem.bem.compiled_band`, 6.7 -> 1.7 ms),
+the mirror fill (`fretbem.bem.compiled_loops.fill_mirrored`, 2.0 -> 0.4 ms a matrix) and
+the mirror split's halves with their symmetry check (`fretbem.bem.compiled_split`,
+10.6 -> 5.7 ms). With the never-formed image, the 481-pair cycle read 6.41 -> 5.55 times
+its peer against 92d930d (`benchmarks/bem_phases.py --rounds 5 --cycles 5 --pairs 481`,
+load 2.0-3.1; 309 -> 266 ms CPU), 61 pairs unchanged.
 
 `IntegrationSettings(compiled=None)` (the default) chooses by ski rental: the numpy loops
 run until the process has spent `COMPILED_MIN_PAIRS` (400,000) point-element pairs on

@@ -193,27 +193,46 @@ class BemBody(Body):
             self._cache[key] = self._assembled(key[1])
         return self._cache[key]
 
-    def _assembled(self, g_free: tuple[int, ...] = ()) -> tuple[np.ndarray, np.ndarray]:
-        """H and G: the last body's permuted if this body is its exact point image
-        (:mod:`fretbem.bem.image_matrices`), else assembled (and kept for a point image)."""
-        start = time.perf_counter()
+    def permuted_source(self, g_free: tuple[int, ...] = ()):
+        """(kept matrices, column map, row map) when this body's H and G, not in memory yet,
+        would be the last assembled body's permuted, without forming them; else None
+        (:func:`~fretbem.bem.image_matrices.permutation`)."""
+        if "matrices" in self._cache or ("system matrices", tuple(g_free)) in self._cache:
+            return None
+        return image_matrices.permutation(*self._image_key(g_free))
+
+    def _image_key(self, g_free: tuple[int, ...]) -> tuple:
+        """What tells whether this body's H and G are a kept body's permuted: segments,
+        first dofs and rows, the kernel's constants, the settings, ``g_free``."""
         kernel = KelvinKernel.of(self.material)
         key = (kernel.shear_modulus, kernel.effective_nu)
         first_dofs = 2 * self.offsets
         counts = np.bincount(self.collocation.segment, minlength=len(self.segments))
         first_rows = 2 * np.concatenate([[0], np.cumsum(counts)])
-        where = (self.segments, first_dofs, first_rows, key, self.integration, g_free)
+        return (self.segments, first_dofs, first_rows, key, self.integration, g_free)
+
+    def _assembled(self, g_free: tuple[int, ...] = ()) -> tuple[np.ndarray, np.ndarray]:
+        """H and G: the last body's permuted if this body is its exact point image
+        (:mod:`fretbem.bem.image_matrices`), else assembled (and kept for a point image)."""
+        start = time.perf_counter()
+        where = self._image_key(g_free)
         matrices = image_matrices.derived(*where)
         if matrices is None:
+            kernel = KelvinKernel.of(self.material)
             matrices = Assembler(self.segments, kernel, self.integration).assemble(g_free)
             image_matrices.keep(*where, *matrices)
-        elif self.n_functions <= assembly.LEND_MAX_FUNCTIONS:  # recorded as the assembly
-            # would (the last body's blocks lent for this one are not needed any longer)
+        else:
+            self.note_permuted()
+        self.timings["assembly"] = time.perf_counter() - start
+        return matrices
+
+    def note_permuted(self) -> None:
+        """Record, as an assembly would, that this body's H and G are the last body's
+        permuted (the last body's blocks lent for this one are not needed any longer)."""
+        if self.n_functions <= assembly.LEND_MAX_FUNCTIONS:
             assembly.BLOCKS.assembled(
                 self.segments, lent=self.n_functions > assembly.REUSE_MAX_FUNCTIONS
             )
-        self.timings["assembly"] = time.perf_counter() - start
-        return matrices
 
     def function_slice(self, segment: int) -> slice:
         """Global function indices of one segment."""

@@ -304,3 +304,16 @@ def integrate_singular(
             g[r0, c1] += gb[1, k]
             g[r1, c0] += gb[1, k]
             g[r1, c1] += gb[2, k]
+
+
+@numba.njit(**_JIT)
+def fill_mirrored(matrix, dofs, source, columns, sign):
+    """:func:`fretbem.bem.mirror.fill`'s rows in one pass: matrix[dofs[r], c] =
+    matrix[source[r], columns[c]] s_c s_(dofs[r]) (each s +-1: exact, the numpy path's
+    numbers, signed zeros included)."""
+    width = matrix.shape[1]
+    for r in range(dofs.size):
+        row, of = dofs[r], source[r]
+        row_sign = sign[row]
+        for c in range(width):
+            matrix[row, c] = matrix[of, columns[c]] * sign[c] * row_sign

@@ -160,6 +160,65 @@ def solve_as_image(
     return result, kept.owner()
 
 
+def solve_permuted(
+    segments, first_dofs, first_rows, image_of, general, contact_dofs, column_map, *,
+    solves_u, permuted_from,
+) -> tuple | None:  # fmt: skip
+    """:func:`solve_as_image` for a body whose H and G are the kept body's permuted and are
+    never formed: from its general parameter columns [z0, block columns, load columns]
+    alone. Its contact columns (G's on its contact dofs) are then the kept body's contact
+    columns, rows permuted, exactly, when ``column_map`` (the kept dof of each own dof)
+    takes its contact dofs to the kept body's in order: their solution is the kept one's.
+    The same numbers as :func:`solve_as_image` (whose comparison finds those columns equal
+    to the last bit); None where it would not serve, or where the contact dofs do not
+    correspond so."""
+    kept = _KEPT[0]
+    owner = None if kept is None else kept.owner()
+    if (
+        owner is None
+        or kept.first_rows[-1] != len(general)
+        or kept.h is None
+        or kept.h() is not permuted_from
+        or kept.solves_u is None
+    ):
+        return None
+    kept_contact = getattr(owner, "contact_dofs", None)
+    contacts = len(contact_dofs)
+    if (
+        kept_contact is None
+        or len(kept_contact) != contacts
+        or kept.parameters.shape != (len(general), general.shape[1] + contacts)
+        or not np.array_equal(column_map[contact_dofs], kept_contact)
+    ):
+        return None
+    mapped = segment_map(kept, segments, first_dofs, first_rows, image_of)
+    if mapped is None:
+        return None
+    columns, rows, _ = mapped
+    for own, other in columns:
+        if not np.array_equal(solves_u[own], kept.solves_u[other]):
+            return None
+    # the general columns of the parameters: [z0, block x, block y] first, loads last
+    where = np.r_[0:3, 3 + contacts : kept.parameters.shape[1]]
+    same = _same_columns(general, kept.parameters[:, where], rows)
+    rest = np.flatnonzero(~same)
+    solved = None
+    if rest.size:
+        permuted = np.empty((len(general), rest.size), order="F")  # [kept row, column]
+        for own, other in rows:
+            permuted[other] = general[own][:, rest]
+        solved = kept.solve(permuted)
+        if solved is None:
+            return None
+    clear()
+    result = np.empty(kept.parameters.shape, order="F")
+    for own, other in columns:
+        result[own] = kept.solution[other]
+        if solved is not None:
+            result[own, where[rest]] = solved[other]
+    return result, owner
+
+
 def _close(block: np.ndarray, kept: np.ndarray) -> bool:
     """Whether ``block`` equals ``kept`` to :data:`ROUNDING` of kept's largest entry. Only
     the entries that differ are differenced: a diagonal block differs in its rigid-body

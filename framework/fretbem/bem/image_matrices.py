@@ -11,6 +11,8 @@ come out at round-off of the other body's if integrated again (row sums taken in
 own segment order). The reference scene's pad and specimen, two similar cylinders, are such
 images: the specimen's H and G are the pad's permuted, not assembled and compared
 (:mod:`fretbem.bem.image_factor` then needs no block check either, :func:`source_of`).
+Where the kept factorisation serves its system, they are not even formed: only their
+columns on its known dofs are taken (:func:`permutation`, :func:`permuted_columns`).
 Every other body (another material, shape, mesh, settings) is assembled as before.
 """
 
@@ -87,11 +89,10 @@ def keep(segments, first_dofs, first_rows, kernel, settings, g_free, h, g) -> No
     )
 
 
-def derived(segments, first_dofs, first_rows, kernel, settings, g_free):
-    """(H, G) permuted from the kept body's when every segment is the exact point image of
-    one of its segments (:func:`image_of`, one to one, as many dofs and rows) and the kernel
-    and settings are equal, and the kept G holds every column the caller reads (none of
-    its ``g_free`` segments is the image of a segment outside ``g_free``); else None."""
+def permutation(segments, first_dofs, first_rows, kernel, settings, g_free):
+    """(kept matrices, column map, row map) when a body of these segments has the kept
+    body's H and G permuted (:func:`derived`'s conditions), without forming them; else None.
+    The maps are (own slice, kept slice) pairs, consecutive ones merged."""
     kept = _KEPT[0]
     if kept is None or kept.kernel != kernel or kept.settings != _settings_key(settings):
         return None
@@ -101,7 +102,18 @@ def derived(segments, first_dofs, first_rows, kernel, settings, g_free):
     columns, rows, images_of = mapped
     if any(j in kept.g_free and k not in g_free for k, j in enumerate(images_of)):
         return None
-    columns, rows = _runs(columns), _runs(rows)
+    return kept, _runs(columns), _runs(rows)
+
+
+def derived(segments, first_dofs, first_rows, kernel, settings, g_free):
+    """(H, G) permuted from the kept body's when every segment is the exact point image of
+    one of its segments (:func:`image_of`, one to one, as many dofs and rows) and the kernel
+    and settings are equal, and the kept G holds every column the caller reads (none of
+    its ``g_free`` segments is the image of a segment outside ``g_free``); else None."""
+    found = permutation(segments, first_dofs, first_rows, kernel, settings, g_free)
+    if found is None:
+        return None
+    kept, columns, rows = found
     h, g = np.empty(kept.h.shape), np.empty(kept.g.shape)
     for out, source in ((h, kept.h), (g, kept.g)):  # block by block, by slices
         for own_rows, kept_rows in rows:
@@ -110,6 +122,25 @@ def derived(segments, first_dofs, first_rows, kernel, settings, g_free):
     for array in (h, g):
         _DERIVED[id(array)] = (weakref.ref(array), kept)
     return h, g
+
+
+def permuted_columns(matrix: np.ndarray, columns: list, rows: list, dofs: np.ndarray):
+    """``derived``'s permuted ``matrix`` (the kept H or G) at columns ``dofs`` only (every
+    row), the same numbers: its columns taken, then its rows permuted."""
+    column_map = index_map(columns, matrix.shape[1])
+    taken = matrix[:, column_map[dofs]]
+    out = np.empty_like(taken)  # in the layout numpy's column take gives (its products' sums)
+    for own, other in rows:
+        out[own] = taken[other]
+    return out
+
+
+def index_map(pairs: list, size: int) -> np.ndarray:
+    """The kept index of each own index, from (own slice, kept slice) pairs."""
+    out = np.empty(size, dtype=np.intp)
+    for own, other in pairs:
+        out[own] = np.arange(other.start, other.stop)
+    return out
 
 
 def source_of(h: np.ndarray) -> KeptMatrices | None:

@@ -20,6 +20,7 @@ its blocks from the other body bit for bit.
 
 from __future__ import annotations
 
+import sys
 import weakref
 from collections.abc import Sequence
 
@@ -144,6 +145,9 @@ def _mirrors(a: tuple, b: tuple, tol: float) -> bool:
 
 #: above this many filled rows :func:`fill` works in chunks of it by strided slices
 FILL_CHUNK = 512
+#: the module of the compiled assembly loops: once numba has loaded it, a fill is one
+#: compiled pass (:func:`fretbem.bem.compiled_loops.fill_mirrored`)
+_COMPILED = "fretbem.bem.compiled_loops"
 
 
 def integrated_rows(q: np.ndarray, points: np.ndarray) -> np.ndarray:
@@ -172,9 +176,21 @@ class Fill:
         self.columns = (2 * q[:, None] + np.arange(2)).ravel()
         self.sign = np.tile([-1.0, 1.0], len(q))
         self.row_sign = self.sign[self.dofs]
+        self._overlap = None
 
     def __call__(self, matrix: np.ndarray) -> None:
         if not self.dofs.size:
+            return
+        if (
+            _COMPILED in sys.modules
+            and matrix.flags.c_contiguous
+            and matrix.dtype == np.float64
+            and not self._reads_filled()
+        ):
+            # numba loaded (the compiled assembly loops): one pass, the same numbers
+            sys.modules[_COMPILED].fill_mirrored(
+                matrix, self.dofs, self.source, self.columns, self.sign
+            )
             return
         if len(self.dofs) > FILL_CHUNK:
             _fill_by_slices(matrix, self.dofs, self.source, self.columns, self.sign)
@@ -184,6 +200,13 @@ class Fill:
         block = matrix.take(self.source, axis=0).take(self.columns, axis=1)
         block *= np.multiply.outer(self.row_sign, self.sign)
         matrix[self.dofs] = block
+
+    def _reads_filled(self) -> bool:
+        """Whether a filled row is also a source row (never, for one of each mirrored pair
+        integrated: then the rows may be filled in any order, in place)."""
+        if self._overlap is None:
+            self._overlap = bool(np.intersect1d(self.dofs, self.source).size)
+        return self._overlap
 
 
 def _fill_by_slices(matrix, dofs, source, columns, sign) -> None:

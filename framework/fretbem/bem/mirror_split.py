@@ -16,6 +16,8 @@ and the rows of A it drops are the mirrors of the rows it keeps (checked, to
 
 from __future__ import annotations
 
+import sys
+
 import attrs
 import numpy as np
 import scipy.linalg as sla
@@ -34,6 +36,9 @@ MIN_ROWS = 800
 #: alternating, medians of 15 (load 7): the build 38.2 ms at 256, 13.0 ms at 128 (9 more
 #: alternating: 21.6 at 256, 14.2 at 128, 14.9 at 64); the same numbers (elementwise work)
 CHUNK = 128
+#: the module of the compiled assembly loops: once numba has loaded it, :func:`build` runs
+#: as one compiled pass (:mod:`fretbem.bem.compiled_split`)
+_COMPILED = "fretbem.bem.compiled_loops"
 SIGNS = np.array([-1.0, 1.0])
 
 #: an index array gathered by slices when it falls into at most this fraction of its length
@@ -198,6 +203,12 @@ def build(split: MirrorSplit, h, g, solves_u, contact) -> HalfSystems | None:
     worst, scale = np.zeros(2), np.zeros(2)
     groups = ((split.even.dofs[:p], (0, 1), 0), (split.even.dofs[p:], (0,), p),
               (split.odd.dofs[p:], (1,), p))  # fmt: skip
+    if _COMPILED in sys.modules and _compiled_build(
+        split, h, g, solves_u, groups, matrices, rhs, contact_at, worst, scale
+    ):
+        if np.any(worst > ROUNDING * scale):
+            return None
+        return HalfSystems(matrices, rhs, contact_at)
     n = len(split.mirror)
     # buffers reused by every chunk (fresh arrays of a few MB each cost page faults)
     kept = np.empty((2, CHUNK, n))
@@ -239,6 +250,29 @@ def build(split: MirrorSplit, h, g, solves_u, contact) -> HalfSystems | None:
     if np.any(worst > ROUNDING * scale):
         return None
     return HalfSystems(matrices, rhs, contact_at)
+
+
+def _compiled_build(split, h, g, solves_u, groups, matrices, rhs, contact_at, worst, scale):
+    """:func:`build`'s loop as one compiled pass (:mod:`fretbem.bem.compiled_split`, the
+    same numbers), for C-ordered float H and G; False (nothing done) otherwise."""
+    if not (h.flags.c_contiguous and g.flags.c_contiguous and h.dtype == g.dtype == np.float64):
+        return False
+    from . import compiled_split
+
+    rows = np.concatenate([group for group, _, _ in groups])
+    which = np.concatenate([np.full(len(group), 2 if len(halves) == 2 else halves[0])
+                            for group, halves, _ in groups])  # fmt: skip
+    targets = np.concatenate([first + np.arange(len(group)) for group, _, first in groups])
+    halves = tuple(
+        (half.dofs, half.mirrors, half.signs, matrices[k], half.dofs[contact_at[k]],
+         half.mirrors[contact_at[k]], half.signs[contact_at[k]], rhs[k])
+        for k, half in enumerate((split.even, split.odd))
+    )  # fmt: skip
+    compiled_split.build_rows(
+        h, g, rows.astype(np.intp), which.astype(np.intp), targets.astype(np.intp),
+        split.mirror, split.sign, np.asarray(solves_u, dtype=np.bool_), halves, worst, scale,
+    )  # fmt: skip
+    return True
 
 
 def project(half: Halves, columns: np.ndarray) -> np.ndarray:

@@ -28,7 +28,7 @@ from .integration import LOOP_CHOICE
 #: COMPILED_BYTES fitted to the peak resident memory of the reference cycle, each run in a
 #: fresh process (benchmarks/memory_estimate.py: 61-961 pairs, nurbs and lagrange2; and
 #: benchmarks/large_problems.py at 3,841 pairs, 15,676 DOFs, 3,599 MiB with the freed arrays
-#: kept on the heap, :mod:`fretbem.numerics.memory`): the estimate is 1.05-1.26x the peak
+#: kept on the heap, :mod:`fretbem.numerics.memory`): the estimate is 1.04-1.28x the peak
 #: from 244 to 4,408 DOFs and 1.03x at 15,676 (it was 0.72x at 481 nurbs pairs while the
 #: numba its assembly loaded went uncounted, and up to 1.49x for the small runs, whose
 #: interpreter it counted as 100 MB).
@@ -37,6 +37,11 @@ BYTES_PER_DOF2 = 14
 #: point image (:data:`~fretbem.bem.image_matrices.KEEP_MAX_ROWS` rows each), those too:
 #: 2 x 8 bytes x (dofs / 2)^2 (at 241 pairs the estimate was 0.99-1.00x the peak without)
 KEPT_BYTES_PER_DOF2 = 4
+#: less, per squared DOF of a body whose H and G are never formed (the point image of the
+#: other, :func:`fretbem.bem.system._permuted_parameters`): its own H and G would take 16;
+#: the peak fell by 5-19 MiB at 241-481 pairs (benchmarks/memory_estimate.py, both
+#: families), 12 leaves the estimate 1.04-1.28x the peaks there
+IMAGE_BYTES_PER_DOF2 = 12
 #: bytes per DOF: the assembly's and the steps' transients that grow with the boundary
 BYTES_PER_DOF = 18_000
 #: memory of the interpreter with numpy, scipy and fretbem imported: 63 MiB measured, with
@@ -140,10 +145,12 @@ def estimate_resources(
     available: float | None = math.nan,
     half_plane_dofs: int = 0,
     compiled: bool = False,
+    image_dofs: int = 0,
 ) -> Estimate:
     """Peak memory (of the process) and time of a run with ``dofs`` boundary unknowns (both
     bodies), dense BEM bodies unless ``half_plane_dofs`` of them are half-plane bodies';
-    ``compiled``: the run's assembly loads numba's compiled loops (:func:`run_size`).
+    ``compiled``: the run's assembly loads numba's compiled loops; ``image_dofs``: those of
+    a body whose H and G are never formed (:func:`run_size`).
 
     ``available`` overrides the machine's free memory (bytes; None for unknown).
     """
@@ -152,6 +159,7 @@ def estimate_resources(
         available = available_memory()
     per_dof2 = BYTES_PER_DOF2 + (KEPT_BYTES_PER_DOF2 if n <= 2 * KEEP_MAX_ROWS else 0)
     memory = BASE_BYTES + BYTES_PER_DOF * n + per_dof2 * n * n
+    memory -= IMAGE_BYTES_PER_DOF2 * float(image_dofs) ** 2
     memory += HALF_PLANE_BYTES_PER_DOF * face + HALF_PLANE_BYTES_PER_DOF2 * face * face
     n = float(dofs)
     return Estimate(
@@ -166,9 +174,9 @@ def run_size(pair) -> dict:
     """The keywords of :func:`estimate_resources` for a run on ``pair``: its DOFs, those of
     half-plane bodies (those whose segments cover their face alone: ``outline_complete``
     False), and whether its BEM bodies' assembly will load the compiled loops (the process's
-    choice, :data:`~fretbem.bem.integration.LOOP_CHOICE`). Any other body counts as a dense
-    BEM body."""
-    dofs = half_plane = work = 0
+    choice, :data:`~fretbem.bem.integration.LOOP_CHOICE`), and the DOFs of a body whose H and
+    G are the other's permuted, never formed. Any other body counts as a dense BEM body."""
+    dofs = half_plane = work = image = 0
     forced = False
     for body, other in ((pair.upper, None), (pair.lower, pair.upper)):
         count = int(body.dofs)
@@ -176,12 +184,15 @@ def run_size(pair) -> dict:
         if isinstance(body, BemBody):
             choice = body.integration.compiled  # True, False or None: the process's choice
             forced |= choice is True
-            if choice is None and not _derived(body, other):
+            derived = _derived(body, other)
+            image += count if derived else 0
+            if choice is None and not derived:
                 work += body.n_functions * sum(basis.n_elements for basis in body.segments)
         elif not body.outline_complete:  # unknowns on its face alone (a half-plane body)
             half_plane += count
     compiled = forced or (work > 0 and LOOP_CHOICE.compiled(work))
-    return {"dofs": dofs, "half_plane_dofs": half_plane, "compiled": compiled}
+    return {"dofs": dofs, "half_plane_dofs": half_plane, "compiled": compiled,
+            "image_dofs": image}  # fmt: skip
 
 
 def _derived(body: BemBody, other) -> bool:
@@ -205,11 +216,13 @@ def check_resources(
     available: float | None = math.nan,
     half_plane_dofs: int = 0,
     compiled: bool = False,
+    image_dofs: int = 0,
 ) -> Estimate:
     """The estimate, or ResourceLimitError when it cannot fit in the available memory."""
     estimate = estimate_resources(
-        dofs, available=available, half_plane_dofs=half_plane_dofs, compiled=compiled
-    )
+        dofs, available=available, half_plane_dofs=half_plane_dofs, compiled=compiled,
+        image_dofs=image_dofs,
+    )  # fmt: skip
     if not estimate.fits:
         raise ResourceLimitError(
             f"refusing to start: {estimate.describe()}; the dense BEM matrices grow as "

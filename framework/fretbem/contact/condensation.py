@@ -9,6 +9,7 @@ block resultants as affine maps of x and of the load amplitudes beta: all a solv
 
 from __future__ import annotations
 
+import sys
 import time
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any, Protocol
@@ -34,6 +35,9 @@ class PairedFaces(Protocol):
 
 
 SIDES = (("upper", 1.0), ("lower", -1.0))
+#: the module whose import loads numba: once it is loaded, the condensation's projection
+#: runs compiled too (:func:`_add_traction_map`)
+_COMPILED = "fretbem.bem.compiled_loops"
 
 
 def _assembly_seconds(pair) -> float:
@@ -271,8 +275,20 @@ class CondensedContact:
 
 def _add_traction_map(pairing, label, response, sign, directions, frame, layout) -> None:
     """Add one body's traction map, projected on the pair frame, to the normal and
-    tangential maps: pair-point rows first, then the traction columns."""
+    tangential maps: pair-point rows first, then the traction columns. Paired node to node
+    in a process that has loaded numba (the compiled assembly loops), one compiled pass
+    with the same arithmetic (:mod:`fretbem.contact.compiled_condensation`)."""
     n, face_nodes = pairing.n_pairs, response.n_nodes
+    step = _node_to_node(pairing, label, face_nodes)
+    if step and _COMPILED in sys.modules and response.traction_map.dtype == np.float64:
+        from . import compiled_condensation
+
+        targets = [target[:, layout.tractions] for target, _ in directions]
+        compiled_condensation.add_traction_map(
+            np.ascontiguousarray(response.traction_map), step, sign,
+            [direction for _, direction in directions], frame, targets,
+        )  # fmt: skip
+        return
     gathered = _gather(pairing, label, response.traction_map)  # (n, 2, 2 face nodes)
     projected, term = np.empty((n, 2 * face_nodes)), np.empty((n, 2 * face_nodes))
     for target, direction in directions:

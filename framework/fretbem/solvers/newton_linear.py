@@ -454,8 +454,25 @@ def _block(maps: _Maps, rows: np.ndarray, columns: np.ndarray) -> np.ndarray:
 
 def _taken(matrix: np.ndarray, rows: np.ndarray, columns: np.ndarray) -> np.ndarray:
     """``matrix[np.ix_(rows, columns)]`` as a row take then a column take: the same numbers
-    at about a third of the cost of the two-axis fancy index (C-ordered)."""
-    return matrix.take(rows, axis=0).take(columns, axis=1)
+    at about a third of the cost of the two-axis fancy index (C-ordered). An axis taken
+    whole, in order, is not gathered (the first pattern of a cycle, every pair in contact
+    and sticking: one plain copy at 481 pairs where two takes gathered 7.4 MB each, 4.5 ms).
+    Always a new array (callers write it)."""
+    every_row, every_column = _whole(rows, matrix.shape[0]), _whole(columns, matrix.shape[1])
+    if every_row and every_column:
+        return matrix.copy()
+    if every_row:
+        return matrix.take(columns, axis=1)
+    return (
+        matrix.take(rows, axis=0)
+        if every_column
+        else matrix.take(rows, axis=0).take(columns, axis=1)
+    )
+
+
+def _whole(index: np.ndarray, size: int) -> bool:
+    """Whether ``index`` is 0, 1, ..., size - 1."""
+    return index.size == size and bool(_all(index == np.arange(size)))
 
 
 def _nonzero_ranges(matrix: np.ndarray, n: int) -> tuple[slice, ...] | None:

@@ -26,7 +26,7 @@ DERIVED = image_matrices.derived
 def _assembled(body: BemBody, g_free=(), monkeypatch=None) -> tuple[np.ndarray, np.ndarray]:
     """The body's own assembly (a fresh copy of it, nothing permuted)."""
     with monkeypatch.context() as patch:
-        patch.setattr(image_matrices, "derived", lambda *args: None)
+        patch.setattr(image_matrices, "permutation", lambda *args: None)
         return attrs.evolve(body)._assembled(tuple(g_free))
 
 
@@ -93,7 +93,7 @@ def test_the_reference_cycle_is_unchanged(basis, pairs, monkeypatch):
     forget_assembled()
     permuted = run(cattaneo_mindlin(models={}, basis=basis, pairs=pairs))
     forget_assembled()
-    monkeypatch.setattr(image_matrices, "derived", lambda *args: None)
+    monkeypatch.setattr(image_matrices, "permutation", lambda *args: None)
     assembled = run(cattaneo_mindlin(models={}, basis=basis, pairs=pairs))
     for a, b in zip(permuted.steps, assembled.steps, strict=True):
         assert a.iterations == b.iterations
@@ -221,7 +221,7 @@ def test_a_pad_the_halves_solve_keeps_no_matrix(permuted, monkeypatch):
     nothing can compare its matrix; both give the same specimen system to round-off."""
     monkeypatch.setattr(mirror_split, "MIN_ROWS", 0)
     if not permuted:
-        monkeypatch.setattr(image_matrices, "derived", lambda *args: None)
+        monkeypatch.setattr(image_matrices, "permutation", lambda *args: None)
     forget_assembled()
     pair = cattaneo_mindlin(models={}, pairs=21).pair
     pad = pair.upper.system((pair.upper_tag,))
@@ -267,3 +267,70 @@ def test_the_pads_matrices_are_let_go_once_they_served():
     system_ = pair.lower.system((pair.lower_tag,))
     assert system_.image_of is not None
     assert image_matrices._KEPT[0] is None
+
+
+def _specimen_system(basis, pairs, formed: bool):
+    """The specimen's system after the pad's, its H and G formed (permuted) first or never
+    formed (:func:`fretbem.bem.system._permuted_parameters`)."""
+    forget_assembled()
+    pair = cattaneo_mindlin(models={}, basis=basis, pairs=pairs).pair
+    pair.upper.system((pair.upper_tag,))
+    specimen = pair.lower
+    if formed:
+        h, _ = specimen.system_matrices(
+            g_free_segments(specimen, specimen.layout((pair.lower_tag,)))
+        )
+        assert image_matrices.source_of(h) is not None
+    return specimen, specimen.system((pair.lower_tag,))
+
+
+@pytest.mark.parametrize("basis", ["nurbs", "lagrange2"])
+@pytest.mark.parametrize("pairs", [21, 61, 241])
+def test_the_image_specimens_system_without_its_matrices_is_the_same(basis, pairs, monkeypatch):
+    """Its H and G are never formed (nothing permuted, nothing assembled), its system is the
+    one solved with them permuted bit for bit, and the kept H and G are let go."""
+    derived = []
+    monkeypatch.setattr(
+        image_matrices, "derived", lambda *args: derived.append(out := DERIVED(*args)) or out
+    )
+    _, formed = _specimen_system(basis, pairs, formed=True)
+    assert any(out is not None for out in derived)
+    derived.clear()
+    specimen, never = _specimen_system(basis, pairs, formed=False)
+    assert all(out is None for out in derived) and never.image_of is not None
+    assert image_matrices._KEPT[0] is None and image_factor._KEPT[0] is None
+    assert not any(isinstance(key, tuple) and "matrices" in key[0] for key in specimen._cache)
+    assert "matrices" not in specimen._cache and "assembly" not in specimen.timings
+    for name in ("base", "block_response", "contact_response", "load_response"):
+        assert np.array_equal(getattr(formed, name), getattr(never, name)), name
+
+
+def test_a_specimen_held_displaced_solves_its_own_general_columns():
+    """A specimen whose bottom is displaced: its z0 column differs from the pad's and is
+    solved with the pad's factors, the same numbers as with its H and G formed."""
+    from fretbem.conditions import Displacement
+
+    systems = []
+    for formed in (True, False):
+        forget_assembled()
+        pair = cattaneo_mindlin(models={}, pairs=21).pair
+        pair.upper.system((pair.upper_tag,))
+        specimen = attrs.evolve(pair.lower, conditions=(Displacement("bottom", 0.0, -1e-3),))
+        if formed:
+            specimen.system_matrices(g_free_segments(specimen, specimen.layout((pair.lower_tag,))))
+        systems.append(specimen.system((pair.lower_tag,)))
+    formed, never = systems
+    assert never.image_of is not None and np.abs(never.base).max() > 0
+    for name in ("base", "block_response", "contact_response", "load_response"):
+        assert np.array_equal(getattr(formed, name), getattr(never, name)), name
+
+
+def test_a_specimen_whose_contact_dofs_do_not_correspond_forms_its_matrices(monkeypatch):
+    """Where the kept factorisation cannot serve without the matrices (here refused
+    outright), H and G are formed and the system solved as before, the same numbers."""
+    monkeypatch.setattr(image_factor, "solve_permuted", lambda *args, **kwargs: None)
+    _, never = _specimen_system("nurbs", 21, formed=False)
+    _, formed = _specimen_system("nurbs", 21, formed=True)
+    assert never.image_of is not None  # served by the formed path's comparison instead
+    for name in ("base", "contact_response", "load_response"):
+        assert np.array_equal(getattr(formed, name), getattr(never, name)), name

@@ -21,7 +21,7 @@ from fretbem.scenes import cattaneo_mindlin
 def _assembled_not_permuted(monkeypatch):
     """These tests are of the assembly: a point image's H and G assembled (taking the pad's
     blocks), not permuted from the pad's whole (:mod:`fretbem.bem.image_matrices`)."""
-    monkeypatch.setattr(image_matrices, "derived", lambda *args: None)
+    monkeypatch.setattr(image_matrices, "permutation", lambda *args: None)
 
 
 def _bodies(basis: str, compiled: bool, **overrides):

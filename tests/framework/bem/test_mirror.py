@@ -18,7 +18,7 @@ from fretbem.scenes import cattaneo_mindlin
 def _assembled_not_permuted(monkeypatch):
     """These tests are of the assembly: a point image's H and G assembled (taking the pad's
     blocks), not permuted from the pad's whole (:mod:`fretbem.bem.image_matrices`)."""
-    monkeypatch.setattr(image_matrices, "derived", lambda *args: None)
+    monkeypatch.setattr(image_matrices, "permutation", lambda *args: None)
 
 
 def _matrices(body, free, monkeypatch, symmetric: bool):
@@ -96,3 +96,25 @@ def test_a_large_fill_by_slices_equals_the_gathered_fill(monkeypatch, chunk):
     mirror.fill(sliced, q, integrated)
     assert np.array_equal(gathered, sliced)
     assert np.array_equal(np.signbit(gathered), np.signbit(sliced))
+
+
+def test_the_compiled_fill_gives_the_numpy_numbers(monkeypatch):
+    """Once numba is loaded a fill is one compiled pass: the numpy paths' numbers, signed
+    zeros included, for a small and a chunked fill."""
+    pytest.importorskip("numba")
+    from fretbem.bem import compiled_loops  # noqa: F401 - loads numba as the assembly does
+
+    rng = np.random.default_rng(5)
+    for size in (12, 2 * mirror.FILL_CHUNK + 40):  # pairs of rows mirrored, q reversing
+        q = np.arange(size)[::-1].copy()
+        integrated = np.arange(size) < size // 2
+        matrix = rng.standard_normal((2 * size, 2 * size))
+        matrix[rng.random(matrix.shape) < 0.05] = 0.0
+        compiled, numpy = matrix.copy(), matrix.copy()
+        mirror.fill(compiled, q, integrated)
+        with monkeypatch.context() as patch:
+            patch.setattr(mirror, "_COMPILED", "no such module")
+            mirror.fill(numpy, q, integrated)
+        assert np.array_equal(compiled, numpy)
+        assert np.array_equal(np.signbit(compiled), np.signbit(numpy))
+        assert not np.array_equal(compiled, matrix)  # rows were filled

@@ -219,3 +219,31 @@ def test_a_small_body_is_solved_whole(monkeypatch):
     assert MIRROR_SPLIT(body, kinds) is None
     monkeypatch.setattr(mirror_split, "MIN_ROWS", 0)
     assert MIRROR_SPLIT(body, kinds) is not None
+
+
+@pytest.mark.parametrize(("functions", "seed"), [(9, 0), (40, 1), (151, 2)])
+def test_the_compiled_build_gives_the_numpy_halves_and_check(functions, seed, monkeypatch):
+    """Once numba is loaded the halves are built in one compiled pass: the numpy loop's
+    half matrices and contact right-hand sides bit for bit, and the same refusal of a
+    matrix that breaks the symmetry."""
+    pytest.importorskip("numba")
+    from fretbem.bem import compiled_loops  # noqa: F401 - loads numba as the assembly does
+
+    h, g, kinds, split = _synthetic(functions, seed)
+    solves_u, contact = kinds != DISPLACEMENT, np.flatnonzero(kinds == CONTACT)
+    assert contact.size
+    built = {}
+    for compiled in (True, False):
+        with monkeypatch.context() as patch:
+            if not compiled:
+                patch.setattr(mirror_split, "_COMPILED", "no such module")
+            built[compiled] = mirror_split.build(split, h, g, solves_u, contact)
+            broken = h.copy()
+            broken[3, 5] += 1e-9 * np.abs(h).max()
+            assert mirror_split.build(split, broken, g, solves_u, contact) is None
+    for ours, theirs in zip(
+        built[True].matrices + built[True].contact,
+        built[False].matrices + built[False].contact,
+        strict=True,
+    ):
+        assert np.array_equal(ours, theirs)

@@ -298,3 +298,18 @@ def test_a_small_pattern_keeps_the_large_factor_aside(n, uncoupled, direct, monk
             assert np.array_equal(step, fresh.step(residual, states, direction))
         assert linear.factorisations == factorisations
         assert (linear.spare is not None) == spare
+
+
+def test_a_whole_axis_is_copied_not_gathered_and_only_in_order():
+    """``_taken`` skips the gather of an axis taken whole in order, always returns a new
+    array, and gathers an index of the axis's length that is not 0, 1, ... (a concatenation
+    of column sets with repeats)."""
+    from fretbem.solvers.newton_linear import _taken
+
+    matrix = np.arange(20.0).reshape(4, 5)
+    rows, columns = np.arange(4), np.arange(5)
+    for r, c in ((rows, columns), (rows, columns[::-1]), (rows[[0, 2, 2, 3]], columns),
+                 (rows[[1, 3]], np.array([0, 1, 1, 4, 2]))):  # fmt: skip
+        out = _taken(matrix, r, c)
+        assert np.array_equal(out, matrix[np.ix_(r, c)])
+        assert not np.shares_memory(out, matrix)
