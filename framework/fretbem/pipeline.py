@@ -21,7 +21,7 @@ from fretbem.accuracy import modes as accuracy
 from fretbem.errors import InputError
 from fretbem.output.write import analyses, write_results
 from fretbem.scenes.builder import build
-from fretbem.simulation import run, run_resources
+from fretbem.simulation import BlockTippingError, run, run_resources
 from fretbem.sliding import solve_sliding
 from fretbem.solvers.fallback import with_fallback
 from fretbem.solvers.newton import SolverConvergenceError
@@ -226,7 +226,9 @@ def run_simulation(
             else:
                 result = accuracy.solve(simulation, mode, coarse=companion, memo=memo, **options)
         except SolverConvergenceError as failure:
-            retry = None if sliding else with_fallback(simulation)
+            # (a rotating block that tips has no answer for Lemke's method either)
+            tipped = sliding or isinstance(failure, BlockTippingError)
+            retry = None if tipped else with_fallback(simulation)
             if retry is None:
                 raise
             say(f"Newton did not converge ({str(failure).split(';')[0]}); solving again with "

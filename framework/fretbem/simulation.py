@@ -22,7 +22,13 @@ from fretbem.contact import control
 from fretbem.contact import rotation as pad_rotation
 from fretbem.contact.condensation import CondensedContact
 from fretbem.contact.control import Controls
-from fretbem.contact.law import STATE_NAMES, ContactLaw, ContactState, GrossSlidingError
+from fretbem.contact.law import (
+    STATE_NAMES,
+    ContactLaw,
+    ContactState,
+    GrossSlidingError,
+    PairState,
+)
 from fretbem.contact.pairs import ContactPair
 from fretbem.contact.rotation import RotationError
 from fretbem.errors import InputError
@@ -513,9 +519,11 @@ class Simulation:
         ``record(state)``, if given, is called after every increment (the per-increment
         results of a cyclic history). ``starts`` (a warm start's mapper,
         :meth:`fretbem.solvers.warm_start.WarmStart.mapper`) gives each increment's first
-        Newton start."""
+        Newton start. A rotating block's increments are each checked by :func:`check_tilt`
+        (a contact rolled onto the zone's end is refused with the tipping block's message)."""
         iterations, residuals = 0, []
         controls = load.controls
+        turning = self.rotates
         start_n, start_t, start_r = self._start(problem, state, controls)
         start_loads = dict(state.loads)
         for k in range(1, load.increments + 1):
@@ -531,6 +539,8 @@ class Simulation:
                 problem, state, target_n, target_t, target_loads, controls=controls,
                 rotation=target_r, guess=guess,
             )  # fmt: skip
+            if turning:
+                check_tilt(self, problem, state, load)
             iterations += its
             residuals += res
             if record is not None:
@@ -556,6 +566,11 @@ def check_balance(simulation: Simulation, problem) -> None:
             raise LoadHistoryError(no_balance(simulation, problem, load, "found before solving"))
 
 
+class BlockTippingError(SolverConvergenceError):
+    """A rotating block's increment refused by :func:`check_tilt`; its message is already
+    the tipping block's (:func:`no_balance`)."""
+
+
 def no_balance(simulation: Simulation, problem, load: LoadStep, failure) -> str:
     """The message of a rotating simulation whose step found no solution (the likely cause,
     the block tipping, with the scene keys that turn it)."""
@@ -573,6 +588,39 @@ def no_balance(simulation: Simulation, problem, load: LoadStep, failure) -> str:
         tangential=load.tangential if by_moment else None,
         moment=load.moment if by_moment else None, keys=keys,
     )  # fmt: skip
+
+
+def check_tilt(simulation: Simulation, problem, state: ContactState, load) -> None:
+    """Refuse an increment of a rotating block whose contact reached an end of the candidate
+    zone (or whose tilt is not a number), with the tipping block's message, before the next
+    carried friction history, or a sliding run's next re-pairing, builds on its nonsense.
+
+    The moment about the pivot is carried by the pressure's resultant, whose centre lies
+    where the pressure does; a non-negative pressure over the zone carries at most P times
+    the zone's reach. An answer with the zone's outermost pair in contact is at that limit:
+    the block's rotation rolled the contact onto the zone's end, and the true contact lies
+    beyond it (the block tips, or rolls further than the zone reaches), so the increment's
+    tractions are those of a truncated contact, whatever its tilt. Checked at every
+    increment of every stepping loop (:meth:`Simulation.step`, finite sliding and sliding
+    wear; a step's end alone is checked for every block by the zone-edge check): the
+    friction history carried to the next increments would inherit the truncation."""
+    if not simulation.rotates:
+        return
+    tilt = float(state.x[problem.layout.rotation("upper")])
+    reason = None if math.isfinite(tilt) else f"the block's tilt reached {tilt} rad"
+    if reason is None:
+        along = pad_rotation.in_pad_axes(problem.pair, problem.pairing.points)[:, 0]
+        ends = np.unique(np.argsort(along)[[0, -1]])
+        touching = ends[state.states[ends] != PairState.SEPARATED]
+        if touching.size:
+            where = " and ".join(f"x = {along[k]:.4g} mm" for k in touching)
+            reason = (
+                f"the contact reached the zone's end at {where} in the pad's axes with the "
+                f"block's tilt at {tilt:.3g} rad: the moment needs the pressure's centre at or "
+                "beyond the zone's end"
+            )
+    if reason is not None:
+        raise BlockTippingError(no_balance(simulation, problem, load, reason))
 
 
 def loads_between(start: Mapping[str, float], end: Mapping[str, float], frac: float) -> dict:
@@ -670,7 +718,7 @@ def _run(simulation, start, progress, check, memo, warm) -> SimulationResult:
             try:
                 state, iterations, residuals = simulation.step(problem, state, load, record, starts)
             except SolverConvergenceError as failure:
-                if not simulation.rotates:
+                if not simulation.rotates or isinstance(failure, BlockTippingError):
                     raise
                 message = no_balance(simulation, problem, load, failure)
                 raise SolverConvergenceError(message, failure.residuals) from None
@@ -695,12 +743,14 @@ def _run(simulation, start, progress, check, memo, warm) -> SimulationResult:
 
 __all__ = [
     "STATE_NAMES",
+    "BlockTippingError",
     "ContactState",
     "GrossSlidingError",
     "LoadHistoryError",
     "LoadStep",
     "Simulation",
     "check_balance",
+    "check_tilt",
     "loads_between",
     "no_balance",
     "run",

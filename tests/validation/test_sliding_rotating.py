@@ -200,6 +200,51 @@ def test_a_moment_beyond_the_contacts_capacity_tips_the_block(load, zone, fracti
             assert abs(step.tilt + centre / R) < 1e-2 * abs(step.tilt)  # 5e-3: 16 pairs in contact
 
 
+def dragged(zone: float) -> Simulation:
+    """examples/gross_sliding.toml not sliding (41 pairs, [contact] ``zone``): pressed at
+    P = 100, then in two increments driven 1 mm into gross slip while M ramps to h f P, so
+    the pressure's centre d = (h Q - M) / P is 1.5 mm after the first increment and 0 at
+    the step's end."""
+    data = tomllib.loads((ROOT / "examples" / "gross_sliding.toml").read_text())
+    data.pop("stress", None)
+    data["contact"].update(pairs=41, zone=zone, sliding=False)
+    data["load"].update(
+        steps=["press", "drag"], P=100.0, delta=[0.0, 1.0], increments=[1, 2],
+        moment=[0.0, H * F * 100.0],
+    )  # fmt: skip
+    return build(scene_from_data(data))[0]
+
+
+@pytest.mark.parametrize("zone", [3.0, 4.0])
+def test_a_plain_run_refuses_a_contact_truncated_mid_step(zone):
+    """The drag's first increment needs the contact (half-width 0.465 mm) centred 1.5 mm
+    off, beyond a zone reaching 1.38 or 1.84 mm, though at the step's end it is back at the
+    centre: run() refuses it at that increment (before, the end pair carried the truncated
+    contact and the step's end passed its checks), with the tipping block's message, the
+    same as finite sliding's on the same problem, with or without the step-end checks."""
+    simulation = dragged(zone)
+    with pytest.raises(SolverConvergenceError, match=r"'drag': .*the zone's end") as plain:
+        run(simulation)
+    with pytest.raises(SolverConvergenceError) as unchecked:
+        run(simulation, check=False)
+    with pytest.raises(SolverConvergenceError) as slid:
+        run_sliding(simulation, every=1e6, note=None)
+    assert str(plain.value) == str(unchecked.value) == str(slid.value)
+
+
+def test_a_plain_run_balances_a_contact_inside_the_zone():
+    """The same drag in a zone reaching 2.77 mm balances: after the first increment the
+    tilt is theta = -(h Q - M) / (P R) (measured within 4.6e-3 of it: the pressure's centre
+    on 41 pairs) with the zone's end pairs apart, and the step ends with the block level."""
+    step = run(dragged(6.0))["drag"]
+    first = step.increments[0]
+    P, Q, M = first.normal, first.tangential, first.moment
+    assert Q == pytest.approx(F * P, rel=1e-9) and M == pytest.approx(0.5 * H * F * P)
+    assert abs(first.tilt + (H * Q - M) / (P * R)) < 6e-3 * abs(first.tilt)
+    assert first.states[[0, -1]].max() == 0 and step.states[[0, -1]].max() == 0
+    assert abs(step.tilt) < 1e-5
+
+
 def test_finite_bodies_slide_with_a_rotating_block():
     """BEM bodies (21 pairs) with a stiff spring: every step equals its twin (measured
     1.8e-13 p0), M balances the tractions within the BEM pad's own equilibrium (2.15e-3 of

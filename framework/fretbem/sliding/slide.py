@@ -32,7 +32,6 @@ axis. The same bodies without sliding show the same shift (docs/explanation/pair
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Callable
 
@@ -40,7 +39,6 @@ import attrs
 import numpy as np
 
 from fretbem.contact import control
-from fretbem.contact import rotation as pad_rotation
 from fretbem.contact.law import ContactState, PairState
 from fretbem.contact.node_to_segment import FRAMES, NodeToSegmentPair
 from fretbem.contact.pairs import ContactDiscretisationError
@@ -49,6 +47,7 @@ from fretbem.results import IncrementRecord, StepResult
 from fretbem.simulation import (
     Simulation,
     check_balance,
+    check_tilt,
     loads_between,
     no_balance,
     run_resources,
@@ -217,38 +216,6 @@ def condenser(simulation: Simulation) -> Callable:
         return simulation.condense
     check_balance(simulation, simulation.prepare())
     return simulation.condense
-
-
-def check_tilt(simulation: Simulation, problem, state: ContactState, load) -> None:
-    """Refuse an increment of a rotating block whose contact reached an end of the candidate
-    zone (or whose tilt is not a number), with the tipping block's message, before the next
-    re-pairing slides the faces by its nonsense.
-
-    The moment about the pivot is carried by the pressure's resultant, whose centre lies
-    where the pressure does; a non-negative pressure over the zone carries at most P times
-    the zone's reach. An answer with the zone's outermost pair in contact is at that limit:
-    the block's rotation rolled the contact onto the zone's end, and the true contact lies
-    beyond it (the block tips, or rolls further than the zone reaches), so the increment's
-    tractions are those of a truncated contact, whatever its tilt. Checked at every
-    increment (a step's end alone is checked for every block by the zone-edge check): the
-    friction history carried to the next increments would inherit the truncation."""
-    if not simulation.rotates:
-        return
-    tilt = float(state.x[problem.layout.rotation("upper")])
-    reason = None if math.isfinite(tilt) else f"the block's tilt reached {tilt} rad"
-    if reason is None:
-        along = pad_rotation.in_pad_axes(problem.pair, problem.pairing.points)[:, 0]
-        ends = np.unique(np.argsort(along)[[0, -1]])
-        touching = ends[state.states[ends] != PairState.SEPARATED]
-        if touching.size:
-            where = " and ".join(f"x = {along[k]:.4g} mm" for k in touching)
-            reason = (
-                f"the contact reached the zone's end at {where} in the pad's axes with the "
-                f"block's tilt at {tilt:.3g} rad: the moment needs the pressure's centre at or "
-                "beyond the zone's end"
-            )
-    if reason is not None:
-        raise SolverConvergenceError(no_balance(simulation, problem, load, reason))
 
 
 def _spacing(pair: NodeToSegmentPair) -> float:

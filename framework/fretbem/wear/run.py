@@ -23,7 +23,7 @@ import numpy as np
 from fretbem.contact.law import ContactState
 from fretbem.contact.node_to_segment import FRAMES, NodeToSegmentPair
 from fretbem.results import SimulationResult
-from fretbem.simulation import LoadStep, Simulation, run, run_resources
+from fretbem.simulation import BlockTippingError, LoadStep, Simulation, run, run_resources
 from fretbem.sliding import solve_sliding
 from fretbem.solvers.newton import SolverConvergenceError
 from fretbem.validators import count_field, whole_number
@@ -326,11 +326,14 @@ class _Sliding:
 def _cycle(contact, state: ContactState, wear: WearSimulation, n: int, profile: WornProfile):
     """One simulated cycle; a cycle whose solver fails is solved again with its steps'
     increments doubled (a sliding contact whose pairs all reach the cone together at a
-    reversal can need finer increments than the unworn contact did)."""
+    reversal can need finer increments than the unworn contact did); a rotating block that
+    tips is refused at once."""
     steps = wear.cycle_steps
     for attempt in range(RETRIES + 1):
         try:
             return contact.cycle(state, steps, wear.laws, profile)
+        except BlockTippingError:  # the moment's answer, not the increments' size
+            raise
         except SolverConvergenceError as error:
             if attempt == RETRIES:
                 raise SolverConvergenceError(

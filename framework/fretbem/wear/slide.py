@@ -30,7 +30,7 @@ import numpy as np
 from fretbem.contact.condensation import CondensedContact
 from fretbem.contact.law import ContactState, PairState
 from fretbem.contact.node_to_segment import NodeToSegmentPair
-from fretbem.simulation import LoadStep, Simulation, loads_between
+from fretbem.simulation import LoadStep, Simulation, check_tilt, loads_between
 from fretbem.sliding import track as sliding_track
 from fretbem.sliding.slide import (
     SlidingError,
@@ -38,7 +38,6 @@ from fretbem.sliding.slide import (
     _carried,
     _repaired,
     _spacing,
-    check_tilt,
     condenser,
 )
 

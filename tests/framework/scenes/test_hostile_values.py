@@ -417,10 +417,13 @@ def test_a_displacement_driven_simulation_gets_no_lemke_fallback():
     assert not FallbackSolver().displacement_control
 
 
-def test_a_rotation_the_contact_cannot_follow_is_named_by_the_zone_check():
-    """A 1 rad rotation pushes the contact to the zone's end: the zone check says the block
-    turns and names the rotation keys, not only 'enlarge the zone'."""
-    from fretbem.verification.checks import ContactZoneError
+def test_a_rotation_the_contact_cannot_follow_is_refused_at_its_increment():
+    """A 1 rad rotation pushes the contact to the zone's end: the increment that reaches it
+    is refused with the tipping block's message (as in finite sliding), which names the
+    rotation key and the fixes, not only 'widen the zone'."""
+    from fretbem.simulation import BlockTippingError
 
-    with pytest.raises(ContactZoneError, match=r"the pad block turns here .*\[load\] moment or "):
+    with pytest.raises(
+        BlockTippingError, match=r"the zone's end .*turned by \[load\] rotation .*\[rig\] stiff"
+    ):
         _solve(_turning(load={"rotation": [0.0, 1.0]}))

@@ -1,15 +1,27 @@
 """A wear history whose pad block rotates: its M, theta and tilt in wear.csv,
-wear_summary.csv and wear.json, as the plain run reports them in summary.json."""
+wear_summary.csv and wear.json, as the plain run reports them in summary.json; a wear
+cycle whose moment rolls the contact off the zone is refused as a plain run's is."""
 
 from __future__ import annotations
 
 import csv
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
+import tomllib
 
 from fretbem.app import cli
+from fretbem.contact.law import ContactState
+from fretbem.scenes.builder import build
+from fretbem.scenes.file import scene_from_data
+from fretbem.simulation import BlockTippingError
+from fretbem.wear import run as wear_run
+from fretbem.wear.cycle import simulate_cycle
+from fretbem.wear.law import ArchardWear
+
+ROOT = Path(__file__).resolve().parents[3]
 
 SCENE = """
 [pad]
@@ -88,3 +100,36 @@ def test_wear_files_carry_the_rotating_blocks_moment_and_tilt(tmp_path, rig):
         assert float(r["theta"]) == pytest.approx(0.0, abs=1e-15)
         assert float(r["tilt"]) == pytest.approx(-float(r["M"]) / 2.0e5, rel=1e-9, abs=1e-15)
     assert {int(r["N"]) for r in wear} == {0, 500, 3000}
+
+
+def test_a_wear_cycle_refuses_a_contact_the_moment_rolls_off_the_zone():
+    """A wear cycle steps its increments as a plain run does (Simulation.step), so a
+    rotating block whose contact the moment rolls onto the zone's end mid-step is refused
+    there with the tipping block's message (the drag of
+    tests/validation/test_sliding_rotating.py in a zone reaching 1.38 mm), and the wear
+    run does not retry it with finer increments: the moment has no answer in that zone."""
+    data = tomllib.loads((ROOT / "examples" / "gross_sliding.toml").read_text())
+    data.pop("stress", None)
+    data["contact"].update(pairs=41, zone=3.0, sliding=False)
+    data["load"].update(
+        steps=["press", "drag"], P=100.0, delta=[0.0, 1.0], increments=[1, 2],
+        moment=[0.0, 300.0],
+    )  # fmt: skip
+    simulation = build(scene_from_data(data))[0]
+    problem = simulation.prepare()
+    laws = {"upper": ArchardWear(1e-8), "lower": ArchardWear(1e-8)}
+    pressed = simulation.step(problem, ContactState.initial(problem), simulation.steps[0])[0]
+    with pytest.raises(BlockTippingError, match=r"'drag': .*the zone's end at x = 1.384 mm"):
+        simulate_cycle(simulation, problem, pressed, simulation.steps[1:], laws)
+
+    class Contact:  # the wear run's contact: each cycle solved afresh
+        calls = 0
+
+        def cycle(self, state, steps, laws, profile):
+            Contact.calls += 1
+            return simulate_cycle(simulation, problem, state, steps, laws)
+
+    wear = type("Wear", (), {"cycle_steps": simulation.steps[1:], "laws": laws})()
+    with pytest.raises(BlockTippingError):
+        wear_run._cycle(Contact(), pressed, wear, 1, None)
+    assert Contact.calls == 1
