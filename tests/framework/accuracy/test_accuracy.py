@@ -14,8 +14,10 @@ import pytest
 from fretbem import simulation
 from fretbem.accuracy import modes as accuracy
 from fretbem.app import cli
+from fretbem.bem.integration import LOOP_CHOICE
 from fretbem.scenes.reference import cattaneo_mindlin
 from fretbem.scenes.spec import SceneFileError, scene_from_dict
+from fretbem.testing.caches import forget_assembled
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -116,8 +118,16 @@ def test_bad_modes_from_python(fields, message):
 
 # -- the estimate against the closed form ----------------------------------------------------
 def test_fixed_mode_keeps_the_unknowns_and_adds_the_estimate():
-    """The estimate solves a second, coarser level; the answer is run()'s, bit for bit."""
+    """The estimate solves a second, coarser level; the answer is run()'s, bit for bit.
+
+    Both from cold and under one choice of assembly loops: the numpy and compiled loops
+    agree to round-off only (3.3e-11 in these unknowns, measured), as do a point image's
+    permuted H and its own assembly (5.5e-11), and which of them serves a run depends on
+    what the process assembled and kept before (after tests/framework/scenes both did)."""
+    LOOP_CHOICE.reset()
+    forget_assembled()
     plain = simulation.run(cattaneo_mindlin(pairs=41))
+    forget_assembled()
     result = accuracy.solve(cattaneo_mindlin(pairs=41))
     for a, b in zip(plain.steps, result.steps, strict=True):
         assert np.array_equal(a.unknowns, b.unknowns) and a.iterations == b.iterations
