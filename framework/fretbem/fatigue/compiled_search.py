@@ -218,7 +218,7 @@ def _reset(out, start, stop):
             hi[g], lo[g] = -np.inf, np.inf
 
 
-@numba.njit(**_LOOPS)
+@numba.njit(inline="always", **_LOOPS)  # in 3D called per point: as :func:`_coarse`
 def _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratch, rows=-1):
     """Running max / min over the steps of every grid plane at point ``p`` into ``out``
     (12, G): sigma_n, E eps_n and the shear extents (in-plane tau_e; 3D tau_1, tau_2, their
@@ -493,7 +493,7 @@ def _convex_in_tilt(code, par):
     return code == STRAIN_LIFE or (code == STRESS_LIFE and par[3] == NO_CORRECTION)
 
 
-@numba.njit(**_LOOPS)
+@numba.njit(inline="always", **_LOOPS)
 def _bounds_top(value, vhi, n):
     """``vhi`` becomes the larger of ``value`` and ``vhi`` (the value's upper bound, whichever
     way it varies with tau); returns the largest of the smaller ones (the best lower bound)."""
@@ -505,7 +505,7 @@ def _bounds_top(value, vhi, n):
     return top
 
 
-@numba.njit(**_LOOPS)
+@numba.njit(inline="always", **_LOOPS)
 def _reaching(vhi, done, low, n, order):
     """The planes not ``done`` whose ``vhi`` reaches ``low``, into ``order``; their number."""
     count = 0
@@ -516,7 +516,7 @@ def _reaching(vhi, done, low, n, order):
     return count
 
 
-@numba.njit(**_LOOPS)
+@numba.njit(inline="always", **_LOOPS)
 def _first_at(value, top, rank, n):
     """The plane of ``value[:n]`` equal to ``top`` that comes first by ``rank``."""
     arg, first = 0, n
@@ -526,7 +526,7 @@ def _first_at(value, top, rank, n):
     return arg
 
 
-@numba.njit(**_LOOPS)
+@numba.njit(inline="always", **_LOOPS)
 def _best_tied(value, low, second, rank, n):
     """Of the planes whose ``value`` reaches ``low``, the one of largest ``second``, then the
     first by ``rank``."""
@@ -537,7 +537,7 @@ def _best_tied(value, low, second, rank, n):
     return arg
 
 
-@numba.njit(**_LOOPS)
+@numba.njit(inline="always", **_LOOPS)
 def _largest(value, n):
     """The largest of ``value[:n]`` (no NaN: a vectorised reduction)."""
     top = -np.inf
@@ -546,7 +546,7 @@ def _largest(value, n):
     return top
 
 
-@numba.njit(**_JIT)
+@numba.njit(inline="always", **_JIT)  # a call per point would pass ~30 arrays (measured 8 %)
 def _coarse(data, p, grid, axes, rank, codes, par, nu, E, in_plane, work, scratch, best, found,
             sup):  # fmt: skip
     """Index of the best grid plane of every criterion at point ``p`` of the step data, into
