@@ -333,7 +333,7 @@ def _plane_summaries_3d(m, h, xy, zz, tr, b, nu, c, s, sp, cp, shear, out, g):
     ``shear`` the normal stress and strain alone (rows 0-3: SWT, stress and strain life).
 
     A plane that contains z (sin psi = 1: most critical planes of a 2D model's stresses) has
-    tau_2 = tau_e and tau_1 = cos psi (...) zero to round-off (cos psi ~ 6e-17): its shear
+    tau_2 = tau_e and tau_1, which carries cos psi (~6e-17), zero to round-off: its shear
     rows take tau_1 as 0, so the path is tau_e's segment and both bounds are half its range,
     as they are with the round-off tau_1 (the amplitude equal; tau_1 alone, a range ~1e-15
     of the stresses where tau_e is constant, is dropped)."""
@@ -957,8 +957,10 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
     takes the plane's value unevaluated. The last level halves no step: where a plane did not
     move at the level before, its neighbours are that level's, and their values (where exact:
     the parabolic step reads them) are taken as they are; where it moved, the neighbour back
-    is the plane it left, whose exact value is known (the same plane to round-off).
-    ``exact`` (bool, C 4 nb): :func:`_evaluate`'s."""
+    is the plane it left, whose exact value is known (the same plane to round-off). There,
+    too, a boundary plane's tilted neighbour keeps its bound where it cannot beat the plane:
+    below the plane's value, the parabolic step in psi clips back to the boundary whatever
+    it is. ``exact`` (bool, C 4 nb): :func:`_evaluate`'s."""
     c2, s2, sp, cp, csup = cur_planes
     th, ps = cur_angles
     cvalue, cscale, _ = cur
