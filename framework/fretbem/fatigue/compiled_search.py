@@ -956,8 +956,9 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
     In 3D, a neighbour that is the plane itself (on the boundaries psi = 0 and 90 degrees)
     takes the plane's value unevaluated. The last level halves no step: where a plane did not
     move at the level before, its neighbours are that level's, and their values (where exact:
-    the parabolic step reads them) are taken as they are; where it moved, the neighbour back
-    is the plane it left, whose exact value is known (the same plane to round-off). There,
+    the parabolic step reads them) are taken as they are; where it moved in theta, the
+    neighbour back is the plane it left, whose exact value is known (the same plane to
+    round-off; not so in psi, where a move may have been clipped at a boundary). There,
     too, a boundary plane's tilted neighbour keeps its bound where it cannot beat the plane:
     below the plane's value, the parabolic step in psi clips back to the boundary whatever
     it is. ``exact`` (bool, C 4 nb): :func:`_evaluate`'s."""
@@ -1002,7 +1003,7 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
                     qth[g] = th[i] + dt
         # not evaluated: a neighbour that is the plane itself (psi = 90 degrees: psi + hp;
         # psi = 0, the normal z: every neighbour but psi + hp), and on the last level the
-        # level before's exact neighbours of a plane that stayed, and the plane it left
+        # level before's exact neighbours of a plane that stayed, and the plane it left in theta
         for ci in range(n_c):
             for j in range(k):
                 for b in range(nb):
@@ -1010,7 +1011,7 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
                     same[g] = ps[i] >= 0.5 * np.pi if j == 3 else ps[i] <= 0.0
                     tilted[g] = ps[i] >= 0.5 * np.pi if j == 2 else (j == 3 and ps[i] <= 0.0)
                     keep[g] = same[g] or (again and moved[i] < 0 and exact[g])
-                    keep[g] = keep[g] or (again and moved[i] >= 0 and moved[i] == j ^ 1)
+                    keep[g] = keep[g] or (again and j < 2 and moved[i] == j ^ 1)
         _evaluate(data, nb, cand, n_c * k, k, codes, par, nu, E, not last, cur, work, exact,
                   keep, tilted)  # fmt: skip
         for ci in range(n_c):
@@ -1019,7 +1020,7 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
                     i, g = ci * nb + b, (ci * k + j) * nb + b
                     if same[g]:
                         value[g], out[0, g] = cvalue[i], second[i]  # never wins
-                    elif again and moved[i] >= 0 and moved[i] == j ^ 1:
+                    elif again and j < 2 and moved[i] == j ^ 1:
                         value[g] = left[i]  # the last level reads the values alone
         for i in range(n_c * nb):
             moved[i] = -1
