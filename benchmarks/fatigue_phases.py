@@ -14,7 +14,8 @@ Medians of ``--runs`` CPU times; run it alone (the machine is shared: ratios, no
 floor; the least CPU time of ``--runs`` each (the other tree's module is compiled afresh,
 without numba's cache); ``--methods`` the criteria searched there. The other tree searches
 with the defaults before issue 28's 3D grid change (``FORMER``: psi every 10 degrees, five
-levels; in-plane the same search), this tree with its own.
+levels; in-plane the same search), this tree with its own; ``--same-grid``: the other tree with
+this tree's defaults too (a tree from after the grid change: the code's change alone).
 
 The floor is always the projection of the 5 x 10 degree grid (``FLOOR_GRID``, 325 planes in
 3D): the issue's floor, and the search the default 3D grid (73 planes, three levels) was
@@ -214,14 +215,16 @@ def least_cpu(fns: dict, runs: int) -> dict:
     return {k: min(v) for k, v in times.items()}
 
 
-def against_tree(stress: np.ndarray, before: Path, runs: int, methods=METHODS[:4]) -> None:
+def against_tree(
+    stress: np.ndarray, before: Path, runs: int, methods=METHODS[:4], same_grid: bool = False
+) -> None:
     """This tree's compiled search and ``before``'s over the floor, interleaved, least times."""
     text = (before / "framework/fretbem/fatigue/compiled_search.py").read_text()
     old = types.ModuleType("compiled_search_before")
     exec(compile(text.replace('"cache": True', '"cache": False'), "before", "exec"), old.__dict__)
     for in_plane in (True, False):
         a = search_arguments(stress, in_plane, methods)
-        b = search_arguments(stress, in_plane, methods, **({} if in_plane else FORMER))
+        b = search_arguments(stress, in_plane, methods, **({} if in_plane or same_grid else FORMER))
         fns = {"floor": floor_of(stress, in_plane), "before": lambda b=b: old.search(*b),
                "after": lambda a=a: cs.search(*a)}  # fmt: skip
         low = least_cpu(fns, runs)
@@ -241,11 +244,16 @@ def main() -> None:
         choices=METHODS,
         help="the criteria of --before (default: the four critical-plane ones)",
     )
+    parser.add_argument(
+        "--same-grid",
+        action="store_true",
+        help="the --before tree searches this tree's default grid too (not the former one)",
+    )
     args = parser.parse_args()
     print(f"load average {os.getloadavg()[0]:.1f}")
     stress = stress_cycle()
     if args.before:
-        against_tree(stress, args.before, args.runs, tuple(args.methods))
+        against_tree(stress, args.before, args.runs, tuple(args.methods), args.same_grid)
         return
     for in_plane in (True, False):
         phases(stress, in_plane, args.runs)

@@ -218,7 +218,7 @@ def _reset(out, start, stop):
             hi[g], lo[g] = -np.inf, np.inf
 
 
-@numba.njit(**_LOOPS)
+@numba.njit(inline="always", **_LOOPS)  # in 3D called per point: as :func:`_coarse`
 def _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratch, rows=-1):
     """Running max / min over the steps of every grid plane at point ``p`` into ``out``
     (12, G): sigma_n, E eps_n and the shear extents (in-plane tau_e; 3D tau_1, tau_2, their
@@ -233,7 +233,9 @@ def _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratc
     grid is summarised in single precision, as the numpy search's coarse grid: ``axes`` and
     ``scratch`` = (6, n_theta), (12, G) are float32, the summaries go to ``scratch[1]``.
     ``rows`` >= 0: the normal stress and strain of the first ``rows`` rows of psi and of the
-    last plane only (the others' stay at -inf, inf: criteria convex in the tilt).
+    last plane only (the others' stay at -inf, inf: criteria convex in the tilt). The row
+    sin psi = 1 (planes that contain z) leaves tau_1's round-off (cos psi ~ 6e-17) out of
+    its sum and difference rows: they are +-tau_e's extremes, set after the steps.
     """
     a = 1.0 + nu
     n_t = m.shape[0]
@@ -282,6 +284,16 @@ def _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratc
         for j in range(n_ps if rows < 0 else min(rows, n_ps)):
             sp2, cp2, spcp, spj = psp[j] * psp[j], pcp[j] * pcp[j], psp[j] * pcp[j], psp[j]
             row = j * n_th
+            if spj == 1.0:  # planes that contain z: the shear rows after the steps (below)
+                for i in range(n_th):
+                    g = row + i
+                    sn = sp2 * ee_t[i] + cp2 * zzt
+                    en = a32 * sn - trt
+                    o32[0, g] = max(o32[0, g], sn)
+                    o32[1, g] = min(o32[1, g], sn)
+                    o32[2, g] = max(o32[2, g], en)
+                    o32[3, g] = min(o32[3, g], en)
+                continue
             for i in range(n_th):
                 g = row + i
                 sn = sp2 * ee_t[i] + cp2 * zzt
@@ -307,6 +319,9 @@ def _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratc
         for i in range(n_th):
             o32[4, row + i], o32[5, row + i] = spcp * d_hi[i], spcp * d_lo[i]
             o32[6, row + i], o32[7, row + i] = spj * te_hi[i], spj * te_lo[i]
+            if spj == 1.0:  # tau_1 ~ cos psi is zero to round-off: tau_2 = tau_e alone
+                o32[8, row + i], o32[9, row + i] = te_hi[i], te_lo[i]
+                o32[10, row + i], o32[11, row + i] = -te_lo[i], -te_hi[i]
     for r in range(4, 12):
         o32[r, last] = 0.0
 
@@ -315,11 +330,30 @@ def _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratc
 def _plane_summaries_3d(m, h, xy, zz, tr, b, nu, c, s, sp, cp, shear, out, g):
     """:func:`_grid_summaries` of one 3D plane of point b into ``out[:, g]``, with the
     running extremes in registers (the loop over the steps stores nothing); without
-    ``shear`` the normal stress and strain alone (rows 0-3: SWT, stress and strain life)."""
+    ``shear`` the normal stress and strain alone (rows 0-3: SWT, stress and strain life).
+
+    A plane that contains z (sin psi = 1: most critical planes of a 2D model's stresses) has
+    tau_2 = tau_e and tau_1, which carries cos psi (~6e-17), zero to round-off: its shear
+    rows take tau_1 as 0, so the path is tau_e's segment and both bounds are half its range,
+    as they are with the round-off tau_1 (the amplitude equal; tau_1 alone, a range ~1e-15
+    of the stresses where tau_e is constant, is dropped)."""
     a = 1.0 + nu
     sp2, cp2, spcp = sp * sp, cp * cp, sp * cp
     hi0 = hi1 = hi2 = hi3 = hi4 = hi5 = -np.inf
     lo0 = lo1 = lo2 = lo3 = lo4 = lo5 = np.inf
+    if shear and sp == 1.0:
+        for t in range(m.shape[0]):
+            ee = m[t, b] + h[t, b] * c + xy[t, b] * s
+            te = xy[t, b] * c - h[t, b] * s
+            sn = sp2 * ee + cp2 * zz[t, b]
+            en = a * sn - nu * tr[t, b]
+            hi0, lo0 = max(hi0, sn), min(lo0, sn)
+            hi1, lo1 = max(hi1, en), min(lo1, en)
+            hi3, lo3 = max(hi3, te), min(lo3, te)
+        out[0, g], out[1, g], out[2, g], out[3, g] = hi0, lo0, hi1, lo1
+        out[4, g], out[5, g], out[6, g], out[7, g] = 0.0, 0.0, hi3, lo3
+        out[8, g], out[9, g], out[10, g], out[11, g] = hi3, lo3, -lo3, -hi3
+        return
     if not shear:
         for t in range(m.shape[0]):
             sn = sp2 * (m[t, b] + h[t, b] * c + xy[t, b] * s) + cp2 * zz[t, b]
@@ -459,7 +493,7 @@ def _convex_in_tilt(code, par):
     return code == STRAIN_LIFE or (code == STRESS_LIFE and par[3] == NO_CORRECTION)
 
 
-@numba.njit(**_LOOPS)
+@numba.njit(inline="always", **_LOOPS)
 def _bounds_top(value, vhi, n):
     """``vhi`` becomes the larger of ``value`` and ``vhi`` (the value's upper bound, whichever
     way it varies with tau); returns the largest of the smaller ones (the best lower bound)."""
@@ -471,7 +505,7 @@ def _bounds_top(value, vhi, n):
     return top
 
 
-@numba.njit(**_LOOPS)
+@numba.njit(inline="always", **_LOOPS)
 def _reaching(vhi, done, low, n, order):
     """The planes not ``done`` whose ``vhi`` reaches ``low``, into ``order``; their number."""
     count = 0
@@ -482,7 +516,7 @@ def _reaching(vhi, done, low, n, order):
     return count
 
 
-@numba.njit(**_LOOPS)
+@numba.njit(inline="always", **_LOOPS)
 def _first_at(value, top, rank, n):
     """The plane of ``value[:n]`` equal to ``top`` that comes first by ``rank``."""
     arg, first = 0, n
@@ -492,7 +526,7 @@ def _first_at(value, top, rank, n):
     return arg
 
 
-@numba.njit(**_LOOPS)
+@numba.njit(inline="always", **_LOOPS)
 def _best_tied(value, low, second, rank, n):
     """Of the planes whose ``value`` reaches ``low``, the one of largest ``second``, then the
     first by ``rank``."""
@@ -503,7 +537,7 @@ def _best_tied(value, low, second, rank, n):
     return arg
 
 
-@numba.njit(**_LOOPS)
+@numba.njit(inline="always", **_LOOPS)
 def _largest(value, n):
     """The largest of ``value[:n]`` (no NaN: a vectorised reduction)."""
     top = -np.inf
@@ -512,7 +546,7 @@ def _largest(value, n):
     return top
 
 
-@numba.njit(**_JIT)
+@numba.njit(inline="always", **_JIT)  # a call per point would pass ~30 arrays (measured 8 %)
 def _coarse(data, p, grid, axes, rank, codes, par, nu, E, in_plane, work, scratch, best, found,
             sup):  # fmt: skip
     """Index of the best grid plane of every criterion at point ``p`` of the step data, into
@@ -806,13 +840,16 @@ _S0, _S1, _S2, _S3, _S4 = -1.0 / 6.0, 1.0 / 120.0, -1.0 / 5040.0, 1.0 / 362880.0
 
 
 @numba.njit(**_JIT)
-def _evaluate(data, nb, planes, n_rep, per, codes, par, nu, E, against, cur, work, keep=None):
+def _evaluate(data, nb, planes, n_rep, per, codes, par, nu, E, against, cur, work, exact,
+              keep=None, bounded=None):  # fmt: skip
     """Quantities and values of ``n_rep`` planes per point of a block of ``nb`` points; plane
     ``r nb + b`` is point b's, of criterion ``r // per``. With ``against``, a plane that cannot
     beat its criterion's current value keeps the lower bound of its shear amplitude (the numpy
     search's ``_SharedPass._exact``); the exact circles start from the current plane's support.
     ``keep`` (3D): the planes g where it is True are not evaluated; the caller sets their
-    values.
+    values. ``exact`` (bool, one per plane) out: whether a plane's shear amplitude is its
+    exact one (bounds that meet, or its circle), not a bound. ``bounded`` (without
+    ``against``): the planes that keep the bound, as ``against`` says, where it is True.
     """
     m, h, xy, zz, tr, x, y = data
     c2, s2, sp, cp, psup = planes
@@ -833,27 +870,30 @@ def _evaluate(data, nb, planes, n_rep, per, codes, par, nu, E, against, cur, wor
             for g in range(start, stop):
                 if keep is None or not keep[g]:
                     tau[g] = lo[g]
-            if against:
+            if against or bounded is not None:
                 _values(code, par[ci], E, out, lo, start, stop, vlo)
                 _values(code, par[ci], E, out, hi, start, stop, vhi)
             for g in range(start, stop):
                 if keep is not None and keep[g]:
                     continue
+                exact[g] = True
                 if not hi[g] > lo[g] * (1.0 + 1e-12):
                     psup[g, 0] = -1
                     continue
                 b = g % nb
                 k = ci * nb + b
-                if against:
+                if against or (bounded is not None and bounded[g]):
                     slack = _TIE * cscale[k] if code == MWCM else 0.0
                     if not max(vlo[g], vhi[g]) >= cvalue[k] - slack:
                         psup[g, 0] = -1
+                        exact[g] = False
                         continue
                 psup[g, 0], psup[g, 1], psup[g, 2] = csup[k, 0], csup[k, 1], csup[k, 2]
                 tau[g] = _exact_tau(m, h, xy, zz, b, c2[g], s2[g], sp[g], cp[g], x, y, psup[g])
         else:
             for g in range(start, stop):
                 tau[g] = 0.0
+                exact[g] = True
         _values(code, par[ci], E, out, tau, start, stop, value)
 
 
@@ -907,18 +947,29 @@ def _keep(cres, i, value, tau, out, g, E):
 
 @numba.njit(**_JIT)
 def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles, codes, par,
-                  nu, E, steps, levels, work):  # fmt: skip
+                  nu, E, steps, levels, work, exact):  # fmt: skip
     """The numpy search's ``_refine`` for a block of points: every criterion's candidates of a
     level in one :func:`_evaluate`. ``cres`` (5, C nb): the current planes' quantities (value,
     tau, sigma_n max and min, normal strain amplitude), from the grid in, the final ones out:
     a plane that wins has its exact circle (one that cannot win keeps a bound, never wins).
 
     In 3D, a neighbour that is the plane itself (on the boundaries psi = 0 and 90 degrees)
-    takes the plane's value unevaluated."""
+    takes the plane's value unevaluated. The last level halves no step: where a plane did not
+    move at the level before, its neighbours are that level's, and their values (where exact:
+    the parabolic step reads them) are taken as they are; where it moved in theta, the
+    neighbour back is the plane it left, whose exact value is known (the same plane to
+    round-off; not so in psi, where a move may have been clipped at a boundary). There,
+    too, a boundary plane's tilted neighbour keeps its bound where it cannot beat the plane:
+    below the plane's value, the parabolic step in psi clips back to the boundary whatever
+    it is. ``exact`` (bool, C 4 nb): :func:`_evaluate`'s."""
     c2, s2, sp, cp, csup = cur_planes
     th, ps = cur_angles
     cvalue, cscale, _ = cur
     second = np.empty(cvalue.size)
+    left = np.empty(cvalue.size)  # the value of the plane left at the level before
+    moved = np.empty(cvalue.size, dtype=np.int64)  # the slot it moved to then, or -1
+    same = np.empty(exact.size, dtype=np.bool_)  # a neighbour that is the plane itself
+    tilted = np.empty(exact.size, dtype=np.bool_)  # the other neighbour in psi of such a one
     keep = work[7]
     turn = np.empty(4)
     n_c = codes.size
@@ -935,6 +986,7 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
     qth, qps = cand_angles
     for level in range(levels + 1):
         last = level == levels
+        again = last and levels > 0  # the step of the level before: its neighbours again
         ht = steps[0] / 2 ** min(level + 1, levels)
         hp = steps[1] / 2 ** min(level + 1, levels)
         for ci in range(n_c):
@@ -950,21 +1002,28 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
                     )
                     qth[g] = th[i] + dt
         # not evaluated: a neighbour that is the plane itself (psi = 90 degrees: psi + hp;
-        # psi = 0, the normal z: every neighbour but psi + hp)
-        for ci in range(n_c):
-            for j in range(k):
-                for b in range(nb):
-                    i = ci * nb + b
-                    same = ps[i] >= 0.5 * np.pi if j == 3 else ps[i] <= 0.0
-                    keep[(ci * k + j) * nb + b] = same
-        _evaluate(data, nb, cand, n_c * k, k, codes, par, nu, E, not last, cur, work,
-                  keep)  # fmt: skip
+        # psi = 0, the normal z: every neighbour but psi + hp), and on the last level the
+        # level before's exact neighbours of a plane that stayed, and the plane it left in theta
         for ci in range(n_c):
             for j in range(k):
                 for b in range(nb):
                     i, g = ci * nb + b, (ci * k + j) * nb + b
-                    if ps[i] >= 0.5 * np.pi if j == 3 else ps[i] <= 0.0:
+                    same[g] = ps[i] >= 0.5 * np.pi if j == 3 else ps[i] <= 0.0
+                    tilted[g] = ps[i] >= 0.5 * np.pi if j == 2 else (j == 3 and ps[i] <= 0.0)
+                    keep[g] = same[g] or (again and moved[i] < 0 and exact[g])
+                    keep[g] = keep[g] or (again and j < 2 and moved[i] == j ^ 1)
+        _evaluate(data, nb, cand, n_c * k, k, codes, par, nu, E, not last, cur, work, exact,
+                  keep, tilted)  # fmt: skip
+        for ci in range(n_c):
+            for j in range(k):
+                for b in range(nb):
+                    i, g = ci * nb + b, (ci * k + j) * nb + b
+                    if same[g]:
                         value[g], out[0, g] = cvalue[i], second[i]  # never wins
+                    elif again and j < 2 and moved[i] == j ^ 1:
+                        value[g] = left[i]  # the last level reads the values alone
+        for i in range(n_c * nb):
+            moved[i] = -1
         if not last:
             for ci in range(n_c):
                 code = codes[ci]
@@ -983,6 +1042,7 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
                             if value[g] >= top - tol and (arg < 0 or out[0, g] > out[0, arg]):
                                 arg = g
                     if _better(code, value[arg], out[0, arg], cvalue[i], second[i], cscale[i]):
+                        moved[i], left[i] = (arg - b) // nb - ci * k, cvalue[i]
                         th[i], ps[i] = qth[arg], qps[arg]
                         c2[i], s2[i], sp[i], cp[i] = q2[arg], qs2[arg], qsp[arg], qcp[arg]
                         cvalue[i], second[i] = value[arg], out[0, arg]
@@ -1006,7 +1066,7 @@ def _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles
                     c2[i], s2[i], sp[i], cp[i], ps[i], dt, dp, turn
                 )
                 qth[i] = th[i] + dt
-        _evaluate(data, nb, cand, n_c, 1, codes, par, nu, E, True, cur, work)
+        _evaluate(data, nb, cand, n_c, 1, codes, par, nu, E, True, cur, work, exact)
         for ci in range(n_c):
             for b in range(nb):
                 i = ci * nb + b
@@ -1344,6 +1404,7 @@ def search(
     )
     cand_angles = (cand_rows[4, :n_q], cand_rows[5, :n_q])
     best = np.empty(n_c, dtype=np.int64)
+    exact = np.empty(n_q, dtype=np.bool_)  # the refinement's planes whose tau is exact
     bracket = np.empty((12, n_cur + _PAD))  # the golden search's scratch
     ends = np.empty((2, n_cur + _PAD))
     # the in-plane grid closes on itself (180 degrees a whole number of steps): the grid's
@@ -1401,7 +1462,7 @@ def search(
             # double (the numpy search evaluates its start planes so too)
             for i in range(n_c * nb):
                 cur_planes[4][i, 0] = -1
-            _evaluate(data, nb, cur_planes, n_c, 1, codes, par, nu, E, False, cur, work)
+            _evaluate(data, nb, cur_planes, n_c, 1, codes, par, nu, E, False, cur, work, exact)
             for i in range(n_c * nb):
                 _keep(cres, i, work[4], work[3], work[0], i, E)
         if in_plane:
@@ -1410,7 +1471,7 @@ def search(
                              work[4])  # fmt: skip
         else:
             _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles,
-                          codes, par, nu, E, steps, levels, work)  # fmt: skip
+                          codes, par, nu, E, steps, levels, work, exact)  # fmt: skip
         # a criterion whose search needs no shear reports its plane's exact shear amplitude
         for ci in range(n_c):
             if _needs_shear(codes[ci]):
