@@ -31,7 +31,7 @@ from fretbem.contact.law import (
 )
 from fretbem.contact.pairs import ContactPair
 from fretbem.contact.rotation import RotationError
-from fretbem.errors import InputError
+from fretbem.errors import InputError, ResultCheckError
 from fretbem.numerics.memory import KEPT_MEMORY_DOFS, kept_memory
 from fretbem.solvers.newton import IncrementResult, SemiSmoothNewton, Solver, SolverConvergenceError
 from fretbem.solvers.step_memo import Reached, StepMemo
@@ -566,9 +566,13 @@ def check_balance(simulation: Simulation, problem) -> None:
             raise LoadHistoryError(no_balance(simulation, problem, load, "found before solving"))
 
 
-class BlockTippingError(SolverConvergenceError):
+class BlockTippingError(SolverConvergenceError, ResultCheckError):
     """A rotating block's increment refused by :func:`check_tilt`; its message is already
-    the tipping block's (:func:`no_balance`)."""
+    the tipping block's (:func:`no_balance`). It is the zone-edge check applied at every
+    increment, so it is a failed result check too (``fretbem run`` exits 1, as the check
+    at a step's end does)."""
+
+    check = "zone_edge"
 
 
 def no_balance(simulation: Simulation, problem, load: LoadStep, failure) -> str:

@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pytest
 
-from fretbem.errors import InputError, ResourceLimitError
+from fretbem.errors import InputError, ResourceLimitError, ResultCheckError
 from fretbem.fatigue import fatigue_request_from_dict
 from fretbem.fatigue.material import CONSTANTS, RANGES
 from fretbem.scenes import limits
@@ -425,5 +425,7 @@ def test_a_rotation_the_contact_cannot_follow_is_refused_at_its_increment():
 
     with pytest.raises(
         BlockTippingError, match=r"the zone's end .*turned by \[load\] rotation .*\[rig\] stiff"
-    ):
+    ) as refused:
         _solve(_turning(load={"rotation": [0.0, 1.0]}))
+    # the zone-edge check at every increment: a failed result check (fretbem run exits 1)
+    assert isinstance(refused.value, ResultCheckError) and refused.value.check == "zone_edge"
