@@ -143,10 +143,7 @@ def solve_as_image(
     rest = np.flatnonzero(~same)
     solved = None
     if rest.size:
-        permuted = np.empty((len(parameters), rest.size), order="F")  # [kept row, column]
-        for own, other in rows:
-            permuted[other] = parameters[own][:, rest]
-        solved = kept.solve(permuted)
+        solved = _kept_solve(kept, parameters, rest, rows)
         if solved is None:
             return None
     clear()
@@ -204,10 +201,7 @@ def solve_permuted(
     rest = np.flatnonzero(~same)
     solved = None
     if rest.size:
-        permuted = np.empty((len(general), rest.size), order="F")  # [kept row, column]
-        for own, other in rows:
-            permuted[other] = general[own][:, rest]
-        solved = kept.solve(permuted)
+        solved = _kept_solve(kept, general, rest, rows)
         if solved is None:
             return None
     clear()
@@ -217,6 +211,16 @@ def solve_permuted(
         if solved is not None:
             result[own, where[rest]] = solved[other]
     return result, owner
+
+
+def _kept_solve(kept, parameters: np.ndarray, rest: np.ndarray, rows) -> np.ndarray | None:
+    """The kept factors' solution of ``parameters``' columns ``rest``, their rows permuted
+    segment by segment into the kept body's order (``rows``: own and kept row slices);
+    None where the kept factors are gone."""
+    permuted = np.empty((len(parameters), rest.size), order="F")  # [kept row, column]
+    for own, other in rows:
+        permuted[other] = parameters[own][:, rest]
+    return kept.solve(permuted)
 
 
 def _close(block: np.ndarray, kept: np.ndarray) -> bool:
