@@ -21,7 +21,7 @@ and the 481-pair one with the compiled loops.
 
 from __future__ import annotations
 
-from phase_rounds import interleaved, medians, tree_parser, trees_of
+from phase_rounds import medians, rounds_by_pairs
 
 CHILD = r"""
 import json, sys, time
@@ -69,11 +69,7 @@ PHASES = ("build", "assembly", "rest of prepare", "steps", "total", "peer")
 
 
 def main() -> None:
-    parser = tree_parser(__doc__.splitlines()[0])
-    parser.add_argument("--pairs", default="61,481", help="comma-separated pair counts")
-    args = parser.parse_args()
-    trees = trees_of(args)
-    rows, load = interleaved(CHILD, trees, args.rounds, [str(args.cycles), args.pairs])
+    rows, load, args = rounds_by_pairs(__doc__.splitlines()[0], CHILD)
     medians(rows, PHASES, args.rounds, args.cycles, load)
 
 

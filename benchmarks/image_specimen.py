@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import statistics
 
-from phase_rounds import interleaved, tree_parser, trees_of
+from phase_rounds import rounds_by_pairs
 
 CHILD = r"""
 import json, sys, time
@@ -58,15 +58,11 @@ PHASES = ("pad assembly", "pad system", "pad response", "specimen assembly",
 
 
 def main() -> None:
-    parser = tree_parser(__doc__.splitlines()[0])
-    parser.add_argument("--pairs", default="61,481", help="comma-separated pair counts")
-    args = parser.parse_args()
-    trees = trees_of(args)
-    rows, load = interleaved(CHILD, trees, args.rounds, [str(args.cycles), args.pairs])
+    rows, load, args = rounds_by_pairs(__doc__.splitlines()[0], CHILD)
     print(f"load {load[0]:.2f} -> {load[1]:.2f}; CPU ms, medians of "
           f"{args.rounds} rounds x {args.cycles} cycles")  # fmt: skip
     for pairs in rows["before"]:
-        for name in trees:
+        for name in rows:
             values = rows[name][pairs]
             ms = [statistics.median(v[i] for v in values) * 1e3 for i in range(len(PHASES))]
             text = ", ".join(f"{p} {m:.1f}" for p, m in zip(PHASES, ms, strict=True))

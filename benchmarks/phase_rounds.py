@@ -52,6 +52,17 @@ def interleaved(child: str, trees: dict[str, Path], rounds: int, args: list[str]
     return rows, load
 
 
+def rounds_by_pairs(description: str, child: str) -> tuple:
+    """Parse :func:`tree_parser`'s options and --pairs (comma-separated pair counts), then
+    run ``child`` :func:`interleaved` with ``cycles`` and the pair counts as its arguments;
+    returns ``(rows, load, args)``."""
+    parser = tree_parser(description)
+    parser.add_argument("--pairs", default="61,481", help="comma-separated pair counts")
+    args = parser.parse_args()
+    rows, load = interleaved(child, trees_of(args), args.rounds, [str(args.cycles), args.pairs])
+    return rows, load, args
+
+
 def medians(rows: dict, phases: tuple[str, ...], rounds: int, cycles: int, load) -> tuple:
     """Print each tree's median phases (CPU ms) and median cycle / peer per pair count;
     returns ``(medians_ms, ratios)`` keyed by tree, then pair count."""
