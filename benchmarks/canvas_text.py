@@ -34,27 +34,38 @@ def forget_texts(canvas) -> None:
         getattr(canvas, table, {}).clear()
 
 
+def options(description: str, rounds: int, argv: list[str] | None) -> argparse.Namespace:
+    """--before (the old tree) and --rounds, with this checkout's framework and plugins put
+    first on the path (the figure benchmarks import fretbem from here)."""
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("--before", type=Path, required=True, help="source tree of the old code")
+    parser.add_argument("--rounds", type=int, default=rounds)
+    args = parser.parse_args(argv)
+    sys.path[:0] = [str(ROOT / "framework"), str(ROOT / "plugins")]
+    return args
+
+
+def demo_results() -> list:
+    """What the demo draws: the reference cycle of nurbs, lagrange2 and lagrange3, 61 pairs."""
+    from fretbem.scenes.reference import cattaneo_mindlin
+    from fretbem.simulation import run
+
+    return [run(cattaneo_mindlin(basis=b, pairs=61)) for b in ("nurbs", "lagrange2", "lagrange3")]
+
+
 def _canvas_module(tree: Path, name: str):
     return tree_module(tree, "fretbem.output.canvas", name)
 
 
 def main(argv: list[str] | None = None) -> dict:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--before", type=Path, required=True, help="source tree of the old code")
-    parser.add_argument("--rounds", type=int, default=15)
-    args = parser.parse_args(argv)
-    sys.path[:0] = [str(ROOT / "framework"), str(ROOT / "plugins")]
+    args = options(__doc__.split("\n\n")[0], 15, argv)
     import matplotlib
 
     from fretbem.output import figures
-    from fretbem.scenes.reference import cattaneo_mindlin
-    from fretbem.simulation import run
 
     canvases = {"before": _canvas_module(args.before, "canvas_before"),
                 "after": _canvas_module(ROOT, "canvas_after")}  # fmt: skip
-    results = [
-        run(cattaneo_mindlin(basis=b, pairs=61)) for b in ("nurbs", "lagrange2", "lagrange3")
-    ]
+    results = demo_results()
     makers = (figures.traction_figure, figures.displacement_figure, figures.stick_slip_figure)
 
     def drawn(module) -> float:

@@ -15,7 +15,6 @@ fresh-process row of ``workflows.py --only demo`` moves by 20 %::
 
 from __future__ import annotations
 
-import argparse
 import gc
 import importlib
 import os
@@ -26,7 +25,7 @@ import time
 import types
 from pathlib import Path
 
-from canvas_text import forget_texts
+from canvas_text import demo_results, forget_texts, options
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -41,19 +40,10 @@ def _figure_modules(tree: Path, name: str):
 
 
 def main(argv: list[str] | None = None) -> dict:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--before", type=Path, required=True, help="source tree of the old code")
-    parser.add_argument("--rounds", type=int, default=11)
-    args = parser.parse_args(argv)
-    sys.path[:0] = [str(ROOT / "framework"), str(ROOT / "plugins")]
-    from fretbem.scenes.reference import cattaneo_mindlin
-    from fretbem.simulation import run
-
+    args = options(__doc__.split("\n\n")[0], 11, argv)
+    results = demo_results()  # fretbem imported before the trees' figure modules
     trees = {"before": _figure_modules(args.before, "figures_before"),
              "after": _figure_modules(ROOT, "figures_after")}  # fmt: skip
-    results = [
-        run(cattaneo_mindlin(basis=b, pairs=61)) for b in ("nurbs", "lagrange2", "lagrange3")
-    ]
 
     def written(figures, canvas, directory: str) -> float:
         forget_texts(canvas)
