@@ -53,6 +53,18 @@ def demo_results() -> list:
     return [run(cattaneo_mindlin(basis=b, pairs=61)) for b in ("nurbs", "lagrange2", "lagrange3")]
 
 
+def summary(times: dict, load: list, rounds: int, what: str) -> dict:
+    """Print and return each tree's median CPU seconds and the median after / before ratio
+    per round, the first (warm-up) round dropped."""
+    out = {name: statistics.median(values[1:]) for name, values in times.items()}
+    ratios = [a / b for a, b in zip(times["after"][1:], times["before"][1:], strict=True)]
+    out["after / before, per round"] = statistics.median(ratios)
+    print(f"{what}, CPU s (median of {rounds}; load {min(load):.1f}-{max(load):.1f}): before "
+          f"{out['before']:.3f}, after {out['after']:.3f}, after / before per round "
+          f"{out['after / before, per round']:.3f}")  # fmt: skip
+    return out
+
+
 def _canvas_module(tree: Path, name: str):
     return tree_module(tree, "fretbem.output.canvas", name)
 
@@ -87,13 +99,7 @@ def main(argv: list[str] | None = None) -> dict:
         for name, module in canvases.items():
             times[name].append(drawn(module))
     load.append(os.getloadavg()[0])
-    out = {name: statistics.median(values[1:]) for name, values in times.items()}
-    ratios = [a / b for a, b in zip(times["after"][1:], times["before"][1:], strict=True)]
-    out["after / before, per round"] = statistics.median(ratios)
-    print(f"draws of the three figures, CPU s (median of {args.rounds}; load {min(load):.1f}-"
-          f"{max(load):.1f}): before {out['before']:.3f}, after {out['after']:.3f}, after / "
-          f"before per round {out['after / before, per round']:.3f}")  # fmt: skip
-    return out
+    return summary(times, load, args.rounds, "draws of the three figures")
 
 
 if __name__ == "__main__":

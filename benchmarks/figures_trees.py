@@ -18,14 +18,13 @@ from __future__ import annotations
 import gc
 import importlib
 import os
-import statistics
 import sys
 import tempfile
 import time
 import types
 from pathlib import Path
 
-from canvas_text import demo_results, forget_texts, options
+from canvas_text import demo_results, forget_texts, options, summary
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -60,13 +59,7 @@ def main(argv: list[str] | None = None) -> dict:
             for name, (figures, canvas) in trees.items():
                 times[name].append(written(figures, canvas, f"{tmp}/{name}"))
     load.append(os.getloadavg()[0])
-    out = {name: statistics.median(values[1:]) for name, values in times.items()}
-    ratios = [a / b for a, b in zip(times["after"][1:], times["before"][1:], strict=True)]
-    out["after / before, per round"] = statistics.median(ratios)
-    print(f"the demo's three PNGs, CPU s (median of {args.rounds}; load {min(load):.1f}-"
-          f"{max(load):.1f}): before {out['before']:.3f}, after {out['after']:.3f}, after / "
-          f"before per round {out['after / before, per round']:.3f}")  # fmt: skip
-    return out
+    return summary(times, load, args.rounds, "the demo's three PNGs")
 
 
 if __name__ == "__main__":
