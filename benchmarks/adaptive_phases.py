@@ -9,6 +9,9 @@ adaptive mode has to remove: the level solves (how many, and what each costs) ag
 mode's own work (re-meshing, knots, estimate), and the Newton iterations of each mode.
 
     OPENBLAS_NUM_THREADS=1 python benchmarks/adaptive_phases.py --rounds 9
+
+``--knot-starts`` times instead the adaptive run with and without its levels' knot starts
+(:class:`fretbem.solvers.warm_start.WarmStart` ``knots``), interleaved in one process.
 """
 
 from __future__ import annotations
@@ -130,10 +133,43 @@ def measure(rounds: int) -> dict:
     return out
 
 
+def knot_starts(rounds: int) -> None:
+    """Median CPU of the cold adaptive run with and without the knot starts, interleaved."""
+    import fretbem.bem.compiled_loops  # noqa: F401  (the same loops in every round)
+    from fretbem.accuracy import adaptive
+
+    run = cases(61)["adaptive"]
+    run()
+    told = adaptive._solve
+
+    def untold(simulation, after=None, knots=None):
+        return told(simulation, after, None)
+
+    times: dict = {"with knot starts": [], "without": []}
+    for _ in range(rounds):
+        for name, solve in (("with knot starts", told), ("without", untold)):
+            adaptive._solve = solve
+            clear_caches()
+            start = time.process_time()
+            run()
+            times[name].append(time.process_time() - start)
+    adaptive._solve = told
+    medians = {name: statistics.median(values) for name, values in times.items()}
+    for name, value in medians.items():
+        print(f"adaptive, {name:18s} {1e3 * value:7.1f} ms CPU")
+    print(f"with / without {medians['with knot starts'] / medians['without']:.3f}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--rounds", type=int, default=7)
+    parser.add_argument("--knot-starts", action="store_true", help="time the knot starts")
     args = parser.parse_args()
+    if args.knot_starts:
+        load = os.getloadavg()[0]
+        knot_starts(args.rounds)
+        print(f"load average {load:.1f} -> {os.getloadavg()[0]:.1f}")
+        return
     load = os.getloadavg()[0]
     out = measure(args.rounds)
     names = list(out)
