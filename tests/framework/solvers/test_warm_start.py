@@ -142,4 +142,6 @@ def test_knots_handed_on_start_the_finer_level_on_its_own_pattern():
     _same_solution(told, cold, 5e-12)
     _same_solution(untold, cold, 5e-12)
     assert [s.iterations for s in told.steps] == [1] * 5
+    # the adaptive mode tells its levels their knots (fretbem.accuracy.adaptive.settle)
+    assert [s.iterations for s in level.steps] == [1] * 5
     assert sum(s.iterations for s in untold.steps) == 15
