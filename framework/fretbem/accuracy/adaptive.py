@@ -231,11 +231,18 @@ class AdaptiveResult:
         return max(max(e["e_p_max"], e["e_q_max"]) for e in self.estimate.values())
 
 
-def _solve(simulation, after=None):
+def _solve(simulation, after=None, knots=None):
     """Run a level; ``after`` (the level solved before it, or None) gives each increment's
     Newton start (:class:`~fretbem.solvers.warm_start.WarmStart`): the same unknowns to the
-    solver's tolerance, in fewer iterations."""
-    return run(simulation, warm=None if after is None else WarmStart.of(after))
+    solver's tolerance, in fewer iterations. ``knots`` (positions along the pair tangent of
+    the level's C0 knots) say where the start's pattern changes when a knot lies on one of
+    ``after``'s pairs (node-to-node pairs, which share one frame)."""
+    if after is None:
+        return run(simulation)
+    points = None
+    if knots is not None and isinstance(simulation.pair, NodeToNodePair):
+        points = np.outer(np.asarray(knots, float), estimate.pair_frame(simulation.pair)[1][0])
+    return run(simulation, warm=WarmStart.of(after, points))
 
 
 #: a transition of a settled level is carried onto a knot closer than this many knot point
@@ -452,7 +459,7 @@ def settle(
         mirrored = symmetrised(found, _merge_distance(simulation))
         symmetric = mirrored is not None
         found = mirrored if symmetric else found
-    levels = [_solve(aligned(simulation, found, pairs, settings), after)]
+    levels = [_solve(aligned(simulation, found, pairs, settings), after, found.all)]
     used, history, residual, everything = [found], [], [], []
     for k in range(iterations + 1):
         edge_moves, boundary_moves = knot_moves(levels[-1], used[-1], reach)
@@ -478,7 +485,8 @@ def settle(
         if symmetric:
             after = np.concatenate([_odd_part(after[:n]), _odd_part(after[n:])])
         used.append(Transitions(after[:n], after[n:]))
-        levels.append(_solve(aligned(simulation, used[-1], pairs, settings), levels[-1]))
+        level = aligned(simulation, used[-1], pairs, settings)
+        levels.append(_solve(level, levels[-1], used[-1].all))
     best = int(np.argmin(residual))
     order = [*(i for i in range(len(levels)) if i != best), best]
     return [levels[i] for i in order], [used[i] for i in order], everything[best], symmetric

@@ -2,10 +2,14 @@
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import attrs
 import numpy as np
 import pytest
 
+from fretbem.accuracy import estimate
+from fretbem.accuracy.adaptive import AdaptiveSettings, run_adaptive
 from fretbem.accuracy.remesh import remesh
 from fretbem.scenes import cattaneo_mindlin
 from fretbem.simulation import LoadStep, run
@@ -86,3 +90,58 @@ def test_a_failed_warm_start_is_solved_again_from_the_usual_start(coarse):
         # the refused attempt's two iterations are reported with the solve's
         assert a.iterations == b.iterations + 2
         assert a.residuals[:2] == (1.0, 0.5)
+
+
+# -- the pattern's change at a knot on a solved pair ------------------------------------------
+def _mapper(knots, new=(0.5, 1.0, 1.3, 1.8, 2.5), states=(0, 0, 1, 1)):
+    """A mapper from a solved run of pairs at x = 0..3 (``states``) to pairs at ``new``."""
+    old = np.array([[x, 0.0] for x in range(len(states))])
+    steps = (("A", ((np.array(states), np.zeros(len(states)), np.zeros(len(states))),)),)
+    warm = WarmStart(points=old, steps=steps, knots=np.array([[k, 0.0] for k in knots]))
+    n = len(new)
+    problem = SimpleNamespace(
+        pairing=SimpleNamespace(
+            points=np.array([[x, 0.0] for x in new]), tangents=np.tile([1.0, 0.0], (n, 1))
+        ),
+        layout=SimpleNamespace(pressure=np.arange(n), shear=n + np.arange(n)),
+    )
+    return warm.mapper(problem)
+
+
+def _pattern(mapper):
+    n = mapper.new.size
+    state = SimpleNamespace(x=np.zeros(2 * n), slip=np.zeros(n))
+    return mapper.start("A", 1, 1, state).states.tolist()
+
+
+def test_the_pattern_changes_at_a_knot_on_a_solved_pair():
+    # nearest solved pair: the change halfway between x = 1 and 2
+    assert _pattern(_mapper([])) == [0, 0, 0, 1, 1]
+    # a knot on the solved pair at x = 1: the new pairs past it take the next pair's state,
+    # the pair on the knot keeps its own
+    assert _pattern(_mapper([1.0])) == [0, 0, 1, 1, 1]
+    # the same from the other side: a knot on the pair at x = 2
+    assert _pattern(_mapper([2.0], new=(1.2, 1.7, 2.0, 2.5))) == [0, 0, 1, 1]
+    # a knot between solved pairs, or where the pairs around it agree: the nearest pair's
+    assert _pattern(_mapper([1.5])) == [0, 0, 0, 1, 1]
+    assert _pattern(_mapper([1.0], states=(0, 0, 0, 1))) == [0, 0, 0, 0, 0]
+
+
+def test_knots_handed_on_start_the_finer_level_on_its_own_pattern():
+    """The reference scene at budget 61: the first 61-pair level starts on the settled
+    31-pair level, its knots on that level's knot points. Told the knots, its start's
+    pattern is its own converged one (1 iteration a step; 3 without); the solution is the
+    same to the solver's tolerance (measured 2.1e-12 of the largest traction)."""
+    out = run_adaptive(cattaneo_mindlin(pairs=61), AdaptiveSettings(budget=61, first=31))
+    settled, level = out.levels[2], out.levels[3]
+    knots = out.transitions[2].all
+    tangent = estimate.pair_frame(level.simulation.pair)[1][0]
+    told = run(level.simulation, warm=WarmStart.of(settled, np.outer(knots, tangent)))
+    untold = run(level.simulation, warm=WarmStart.of(settled))
+    cold = run(level.simulation)
+    _same_solution(told, cold, 5e-12)
+    _same_solution(untold, cold, 5e-12)
+    assert [s.iterations for s in told.steps] == [1] * 5
+    # the adaptive mode tells its levels their knots (fretbem.accuracy.adaptive.settle)
+    assert [s.iterations for s in level.steps] == [1] * 5
+    assert sum(s.iterations for s in untold.steps) == 15
