@@ -105,9 +105,14 @@ class HalfPlaneSurface:
 
     @property
     def normals(self) -> np.ndarray:
-        """Outward unit normals (n, 2) of the half-plane: (0, 1) below, (0, -1) above."""
-        normal = np.array([0.0, side_sign(self.side)])
-        return np.tile(normal, (len(self.points), 1))
+        """Outward unit normals (n, 2) of the half-plane: (0, 1) below, (0, -1) above
+        (formed once, read-only: the contact pair asks for the face several times)."""
+        if "normals" not in self._cache:
+            normals = np.zeros((len(self.points), 2))
+            normals[:, 1] = side_sign(self.side)
+            normals.setflags(write=False)
+            self._cache["normals"] = normals
+        return self._cache["normals"]
 
     @property
     def collocation_matrix(self) -> np.ndarray:

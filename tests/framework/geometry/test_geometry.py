@@ -556,3 +556,18 @@ def test_arcs_and_lines_equal_their_checked_construction(sweep):
         NurbsCurve.line([0.0, float("inf")], [1.0, 1.0])
     with pytest.raises(ValueError, match=r"shape \(n, 2\)"):
         NurbsCurve.line([0.0, 0.0, 0.0], [1.0, 1.0, 1.0])
+
+
+def test_points_are_those_of_points_and_derivatives_bit_for_bit():
+    """points() sums the homogeneous point without the derivative, as the joint
+    evaluation sums it: the same numbers, at knots and between them, any shape of xi."""
+    xi = np.concatenate([SMOOTH_XI, [0.0, 0.2, 0.45, 1.0]])
+    for curve in (
+        CUBIC,
+        NurbsCurve.arc([0.0, 0.0], 2.0, 0.3, 2.9),
+        NurbsCurve.line([0, 1], [2, 3]),
+    ):
+        for values in (xi, xi.reshape(-1, 1), np.array(0.45)):
+            np.testing.assert_array_equal(
+                curve.points(values), curve.points_and_derivatives(values)[0]
+            )
