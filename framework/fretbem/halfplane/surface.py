@@ -32,6 +32,7 @@ from .influence import (
 )
 from .joined import JoinedFace
 from .shared import node_integrals
+from .symmetry import mirrored, mirrored_rows
 
 
 @attrs.frozen(eq=False)
@@ -181,7 +182,13 @@ class HalfPlaneSurface:
             x = self.points[:, 0]
 
             def compute() -> np.ndarray:  # at the nodes' own (element, local coordinate)
-                return self._node_integrals(x, self.face.collocation())
+                at = self.face.collocation()
+                half = mirrored_rows(self.face, x, self._rule_map)
+                if half is None:
+                    return self._node_integrals(x, at)
+                # a symmetric face: its first half's rows, the rest mirrored
+                first = self._node_integrals(x[:half], (at[0][:half], at[1][:half]))
+                return mirrored(first, x.size)
 
             both = compute() if self.shared_as is None else self._cache["shared"].get(compute)
             blocks = self._blocks(both[: x.size], both[x.size :])
