@@ -165,11 +165,7 @@ def gauss_samples(face: Basis, mapped: ElementMap | None = None):
     if mapped is None:
         rule = QuadratureRule.gauss_legendre(SMOOTH_POINTS)
         return elements, weights, face.map(elements, np.tile(rule.points, face.n_elements))
-    rows = slice(elements.size)
-    return elements, weights, ElementMap(
-        mapped.values[rows], mapped.points[rows], mapped.tangents[rows],
-        mapped.jacobians[rows], mapped.normals[rows],
-    )  # fmt: skip
+    return elements, weights, _map_rows(mapped, slice(elements.size))
 
 
 @functools.lru_cache(maxsize=32)
@@ -205,6 +201,25 @@ def rule_map(face) -> ElementMap:
     ``mapped``) and, in its first rows, of :func:`gauss_samples`, for a surface that needs
     both."""
     return face.map(*_rule_points(face.n_elements))
+
+
+def rule_map_with(face, elements: np.ndarray, local: np.ndarray) -> tuple[ElementMap, ElementMap]:
+    """:func:`rule_map` and the face's map at (``elements``, ``local``), from one basis
+    evaluation: the same numbers as two (each point is mapped alone), one call's overhead."""
+    rule_elements, rule_local = _rule_points(face.n_elements)
+    both = face.map(np.concatenate([rule_elements, elements]),
+                    np.concatenate([rule_local, local]))  # fmt: skip
+    return _map_rows(both, slice(rule_elements.size)), _map_rows(
+        both, slice(rule_elements.size, None)
+    )
+
+
+def _map_rows(mapped: ElementMap, rows: slice) -> ElementMap:
+    """The rows ``rows`` of an element map (views)."""
+    return ElementMap(
+        mapped.values[rows], mapped.points[rows], mapped.tangents[rows],
+        mapped.jacobians[rows], mapped.normals[rows],
+    )  # fmt: skip
 
 
 def check_face(face: Basis, samples=None) -> None:

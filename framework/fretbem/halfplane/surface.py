@@ -27,6 +27,7 @@ from .influence import (
     check_face,
     gauss_samples,
     rule_map,
+    rule_map_with,
     side_sign,
     surface_integrals,
 )
@@ -93,7 +94,12 @@ class HalfPlaneSurface:
             nodes = _image_nodes(self.face)
             if nodes is None:
                 elements, local = self.face.collocation()
-                mapped = self.face.map(elements, local)
+                if "rule_map" not in self._cache and self._needs_rules:
+                    # the rule map is wanted anyway: the nodes mapped in the same call
+                    rules, mapped = rule_map_with(self.face, elements, local)
+                    self._cache["rule_map"] = rules
+                else:
+                    mapped = self.face.map(elements, local)
                 nodes = (mapped.points, elements, mapped.values)
                 if isinstance(self.face, Basis):
                     _NODES[self.face] = nodes
@@ -148,8 +154,19 @@ class HalfPlaneSurface:
         the node integrals map no point again (a surface computing them needs the samples
         too: the face check, the force and moment weights)."""
         if "rule_map" not in self._cache:
-            self._cache["rule_map"] = rule_map(self.face)
+            if "points" not in self._cache and self._needs_rules:
+                self.points  # noqa: B018 - maps the nodes and the rule points in one call
+            if "rule_map" not in self._cache:  # the nodes were known (a point image's)
+                self._cache["rule_map"] = rule_map(self.face)
         return self._cache["rule_map"]
+
+    @property
+    def _needs_rules(self) -> bool:
+        """Whether this surface will map its rule points whatever happens: a face that
+        checks itself alone (no sharing), or an upper one (a pad, whose block's moment
+        integrals read the Gauss samples). A lower twin of a face already checked may never
+        need them: its nodes are then mapped alone."""
+        return self.shared_as is None or self.side == "upper"
 
     def per_node_value(self, per_coefficient: np.ndarray) -> np.ndarray:
         """Rows of ``per_coefficient`` (m, N) taken through E^-1: per unit node value (E's
