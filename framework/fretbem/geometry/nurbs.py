@@ -465,7 +465,9 @@ class NurbsCurve:
         old_hom = self._homogeneous()
         hom = transform @ old_hom
         if new_basis is None:  # knot insertion: exact; convex rows keep the weights > 0
-            refined = NurbsCurve(degree, new_knots, hom[:, :2] / hom[:, 2:], hom[:, 2])
+            # valid by construction: the knots passed kv.check when the operator was made,
+            # the points and weights are convex combinations of this valid curve's
+            refined = NurbsCurve._valid(degree, new_knots, hom[:, :2] / hom[:, 2:], hom[:, 2])
             return refined, transform
         refined = NurbsCurve(degree, new_knots, hom[:, :2] / hom[:, 2:], hom[:, 2])
         # the check is the curve's own: a space that lacks the old one may still hold a curve
