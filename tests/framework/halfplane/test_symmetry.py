@@ -29,10 +29,9 @@ def _arc(family: str, elements: int, half_angle: float = 0.3) -> object:
     return bases.get(family).discretise(curve, Refinement(elements=elements))
 
 
-def _line(family: str, elements: int) -> object:
-    return bases.get(family).discretise(
-        NurbsCurve.line([-1.0, 0.2], [1.5, 0.2]), Refinement(elements=elements)
-    )
+def _line(family: str, elements: int, reverse: bool = False) -> object:
+    ends = ([1.5, 0.2], [-1.0, 0.2]) if reverse else ([-1.0, 0.2], [1.5, 0.2])
+    return bases.get(family).discretise(NurbsCurve.line(*ends), Refinement(elements=elements))
 
 
 def _full(surface: HalfPlaneSurface) -> np.ndarray:
@@ -44,6 +43,7 @@ SYMMETRIC = {
     "nurbs arc 9": lambda: _arc("nurbs", 9),
     "nurbs arc 20": lambda: _arc("nurbs", 20),
     "nurbs line 6": lambda: _line("nurbs", 6),
+    "nurbs line 8 reversed": lambda: _line("nurbs", 8, reverse=True),
     "lagrange2 arc 10": lambda: _arc("lagrange2", 10),
     "lagrange2 line 7": lambda: _line("lagrange2", 7),
 }
