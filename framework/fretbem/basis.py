@@ -310,6 +310,19 @@ class Basis(ABC):
         np.divide(-tx, jacobians, out=normals[:, 1])
         return ElementMap(values, points, tangents, jacobians, normals)
 
+    def abscissae(self, elements: np.ndarray, local: np.ndarray):
+        """(x, dx/d(local), shape values (m, n_local)) at the points: :meth:`map`'s first
+        coordinates, summed as it sums them (the same numbers), without y, the Jacobians and
+        the normals (the half-plane's influence integrals read x alone)."""
+        values, derivatives = self.shape_functions(elements, local)
+        column = self.geometry_coefficients[:, 0][self.connectivity[elements]]
+        x = values[:, 0] * column[:, 0]
+        dx = derivatives[:, 0] * column[:, 0]
+        for a in range(1, column.shape[1]):
+            x += values[:, a] * column[:, a]
+            dx += derivatives[:, a] * column[:, a]
+        return x, dx, values
+
     def geometry(self, elements: np.ndarray, local: np.ndarray):
         """Points, tangents d x / d(local), Jacobians and unit outward normals, from the basis."""
         m = self.map(elements, local)

@@ -109,6 +109,18 @@ class NurbsBasis(Basis):
             _stacked((ty / jacobians, -tx / jacobians)),
         )
 
+    def abscissae(self, elements, local):
+        """:meth:`map`'s x and dx/d(local) with the values (the same arithmetic, bit for
+        bit), from the coefficients :func:`_columns` gathers: no y, Jacobian or normal, no
+        second gather of the coefficients, no stacked derivatives."""
+        values, derivatives, scale, (x, _) = _columns(self, elements, local)
+        point = values[0] * x[0]
+        tangent = (derivatives[0] * scale) * x[0]
+        for a in range(1, len(values)):
+            point += values[a] * x[a]
+            tangent += (derivatives[a] * scale) * x[a]
+        return point, tangent, _stacked(values)
+
 
 def _stacked(columns) -> np.ndarray:
     """``np.stack(columns, axis=1)`` (C order) without its dispatch."""

@@ -57,3 +57,23 @@ def test_map_is_the_generic_map_bit_for_bit(name, refinement, degree):
         for got, want in zip(basis.shape_functions(elements, local),
                              reference.shape_functions(elements, local), strict=True):  # fmt: skip
             np.testing.assert_array_equal(got, want)
+
+
+@pytest.mark.parametrize(("name", "refinement", "degree"), CASES)
+def test_abscissae_are_the_maps_first_coordinates_bit_for_bit(name, refinement, degree):
+    """The half-plane's x-only evaluation: x, dx/d(local) and the values of the full map
+    (its own gather of the coefficients), and the generic Basis.abscissae's."""
+    curve = default_curves()[name]
+    basis = NurbsBasis.discretise(curve, attrs.evolve(refinement, degree=degree))
+    rng = np.random.default_rng(11)
+    for size in (0, 1, 5, 400):
+        elements = rng.integers(0, basis.n_elements, size)
+        local = rng.uniform(-1.0, 1.0, size)
+        full = basis.map(elements, local)
+        x, dx, values = basis.abscissae(elements, local)
+        np.testing.assert_array_equal(x, full.points[:, 0])
+        np.testing.assert_array_equal(dx, full.tangents[:, 0])
+        np.testing.assert_array_equal(values, full.values)
+        for got, want in zip((x, dx, values), Basis.abscissae(basis, elements, local),
+                             strict=True):  # fmt: skip
+            np.testing.assert_array_equal(got, want)

@@ -130,7 +130,7 @@ class CondensedContact:
             response = responses[label]
             # the pair frame in the body's own axes (a turned pad's differ: Pairing.axes)
             body_normals, body_tangents = pairing.axes(label)
-            frame = np.stack([-body_normals, body_tangents], axis=-1)
+            frame = _frame(body_normals, body_tangents)
             frame = -frame if label == "upper" else frame
             load_columns = [names.index(name) for name in body.load_names]
             relative_base += sign * pairing.to_frame(label, pairing.gather(label, response.base))
@@ -167,7 +167,7 @@ class CondensedContact:
             pad_normals, pad_tangents = pairing.axes(pad_rotation.PAD)
             rotation = pad_rotation.condensed(
                 pairing, layout, names, pair.side(pad_rotation.PAD)[0],
-                responses[pad_rotation.PAD], -np.stack([-pad_normals, pad_tangents], axis=-1),
+                responses[pad_rotation.PAD], -_frame(pad_normals, pad_tangents),
                 _per_pair,
             )  # fmt: skip
         seconds = time.perf_counter() - start - (_assembly_seconds(pair) - body_before)
@@ -296,6 +296,15 @@ def _add_traction_map(pairing, label, response, sign, directions, frame, layout)
         projected += np.multiply(sign * direction[:, 1, None], gathered[:, 1], out=term)
         columns = _gather(pairing, label, projected.reshape(n, face_nodes, 2), 1, pull=True)
         _per_pair(columns, frame, add_to=target[:, layout.tractions])
+
+
+def _frame(normals: np.ndarray, tangents: np.ndarray) -> np.ndarray:
+    """(n, 2, 2): per pair, the traction per unit (p, q) on the lower body, -n and t as
+    columns (``np.stack([-normals, tangents], axis=-1)`` without its checks)."""
+    frame = np.empty((len(normals), 2, 2))
+    np.negative(normals, out=frame[..., 0])
+    frame[..., 1] = tangents
+    return frame
 
 
 def _add_blocks(blocks, step: int, sign: float, directions, frame, layout) -> None:

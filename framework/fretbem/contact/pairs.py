@@ -156,12 +156,14 @@ class NodeToNodePair(ContactPair):
                 "elements, mirrored parameters) so their points face each other"
             )
         # facing = same position along the mean tangent (the direction the surfaces share)
-        mean_normal = normals.mean(axis=0) / np.linalg.norm(normals.mean(axis=0))
+        mean_normal = normals.mean(axis=0)
+        mean_normal = mean_normal / np.linalg.norm(mean_normal)
         mean_tangent = np.array([mean_normal[1], -mean_normal[0]])
         partner, miss = _facing(low_points, up_points, mean_tangent)
         spacing = np.min(np.linalg.norm(np.diff(low_points, axis=0), axis=1))
         bad = np.flatnonzero(miss > 1e-3 * spacing)
-        if bad.size or np.unique(partner).size != partner.size:
+        # partners are upper node indices: a node taken twice counts above one
+        if bad.size or (partner.size and np.bincount(partner).max() > 1):
             k = int(bad[0]) if bad.size else int(np.argmax(np.bincount(partner)))
             raise ContactDiscretisationError(
                 f"contact pair: the lower collocation point at {_shown(low_points[k])} has no "
@@ -170,7 +172,8 @@ class NodeToNodePair(ContactPair):
                 "discretisations must match node to node: use the same family and refinement "
                 "on both contact segments, with facing parameters"
             )
-        order = np.argsort(low_points[:, 0] if np.ptp(low_points[:, 0]) > 0 else low_points[:, 1])
+        along_x = low_points[:, 0]
+        order = np.argsort(along_x if along_x.max() > along_x.min() else low_points[:, 1])
         low, up = order, partner[order]
         # the faces must look at each other: the upper face's outward normal points back
         # toward the lower face (a segment on the far side of the upper body would
@@ -179,8 +182,9 @@ class NodeToNodePair(ContactPair):
         # one frame for all pairs: the mean normal, along which the points face each other
         # (a per-point normal of one curved face would turn part of the normal approach
         # into spurious slip)
-        pair_normals = np.tile(mean_normal, (len(low), 1))
-        pair_tangents = np.tile(mean_tangent, (len(low), 1))
+        pair_normals, pair_tangents = np.empty((len(low), 2)), np.empty((len(low), 2))
+        pair_normals[:] = mean_normal
+        pair_tangents[:] = mean_tangent
         gap = np.einsum("pd,pd->p", up_points[up] - low_points[low], pair_normals)
         check_overlap(gap, low_points[low], spacing)
         return Pairing(

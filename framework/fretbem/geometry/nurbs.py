@@ -407,7 +407,11 @@ class NurbsCurve:
 
     def points(self, xi) -> np.ndarray:
         """Curve points C(xi), shape xi.shape + (2,)."""
-        hom, _ = self._homogeneous_at(xi)
+        # the homogeneous point as _homogeneous_at sums it (the same numbers), without the
+        # derivative it also forms
+        values, _, first = _bspline_columns(self.knots, self.degree, np.ravel(xi))
+        hom = self._homogeneous()[first[:, None] + np.arange(self.degree + 1)]
+        hom = np.einsum("ma,mak->mk", np.stack(values, axis=1), hom)
         return (hom[:, :2] / hom[:, 2:]).reshape(*np.shape(xi), 2)
 
     def derivatives(self, xi) -> np.ndarray:
@@ -461,7 +465,9 @@ class NurbsCurve:
         old_hom = self._homogeneous()
         hom = transform @ old_hom
         if new_basis is None:  # knot insertion: exact; convex rows keep the weights > 0
-            refined = NurbsCurve(degree, new_knots, hom[:, :2] / hom[:, 2:], hom[:, 2])
+            # valid by construction: the knots passed kv.check when the operator was made,
+            # the points and weights are convex combinations of this valid curve's
+            refined = NurbsCurve._valid(degree, new_knots, hom[:, :2] / hom[:, 2:], hom[:, 2])
             return refined, transform
         refined = NurbsCurve(degree, new_knots, hom[:, :2] / hom[:, 2:], hom[:, 2])
         # the check is the curve's own: a space that lacks the old one may still hold a curve

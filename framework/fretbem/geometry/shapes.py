@@ -49,6 +49,11 @@ def _length(what: str):
     )
 
 
+#: curve parameters at which a cylinder specimen's contact arc is compared with the pad's
+_FACING_SAMPLES = np.linspace(0.0, 1.0, 7)
+_FACING_SAMPLES.setflags(write=False)
+
+
 def _arcs(center: Sequence[float], radius: float, angles: Sequence[float]) -> list[NurbsCurve]:
     return [NurbsCurve.arc(center, radius, a0, a1) for a0, a1 in itertools.pairwise(angles)]
 
@@ -195,7 +200,8 @@ class CylinderPad:
         r = self.radius
         phi_w, phi_z = math.asin(self.width / 2 / r), math.asin(zone / r)
         down = -math.pi / 2
-        arcs = _arcs([0.0, r], r, [down - phi_w, down - phi_z, down + phi_z, down + phi_w])
+        # the left flank and the contact arc: the right flank is the left one mirrored
+        arcs = _arcs([0.0, r], r, [down - phi_w, down - phi_z, down + phi_z])
         # symmetric about x = 0 to the last bit (the arcs' cosines and sines are not): the
         # right flank the left one mirrored, the contact arc its mean with its mirror
         return _face_tags([[arcs[0]], [_symmetric(arcs[1])], [_mirrored(arcs[0])]])
@@ -364,7 +370,7 @@ class CylinderSpecimen:
         up = math.pi / 2
         arcs = _arcs([0.0, -r], r, [up - phi_w, up - phi_z, up + phi_z, up + phi_w])
         contact = [s.curve for s in pad_face if s.tag == "contact"]
-        samples = np.linspace(0.0, 1.0, 7)
+        samples = _FACING_SAMPLES
         if len(contact) != 1 or not _within(
             contact[0].points(samples)[:, 0], arcs[1].points(samples[::-1])[:, 0], 1e-9 * r, 1e-5
         ):

@@ -15,6 +15,7 @@ point per unit traction coefficient; through the face's E matrix, per unit node 
 
 from __future__ import annotations
 
+import functools
 import math
 
 import attrs
@@ -145,19 +146,13 @@ class SurfaceIntegrals:
 def _element_map(face: Basis, elements: np.ndarray, local: np.ndarray):
     """Projected position x(xi) and |dx/dxi| with the shape-function values.
 
-    On one segment, x and dx/dxi alone, summed as :meth:`Basis.map` sums them (the same
-    numbers) without the y, Jacobian and normal it also forms, which the integrals never
-    read (a third of the map's arithmetic); a joined face maps through its parts."""
+    On one segment, :meth:`Basis.abscissae` (x and dx/dxi summed as :meth:`Basis.map` sums
+    them, the same numbers, without the y, Jacobian and normal it also forms, which the
+    integrals never read); a joined face maps through its parts."""
     if not isinstance(face, Basis):
         m = face.map(elements, local)
         return m.points[:, 0], np.abs(m.tangents[:, 0]), m.values
-    values, derivatives = face.shape_functions(elements, local)
-    column = face.geometry_coefficients[:, 0][face.connectivity[elements]]
-    x = values[:, 0] * column[:, 0]
-    dx = derivatives[:, 0] * column[:, 0]
-    for a in range(1, column.shape[1]):
-        x += values[:, a] * column[:, a]
-        dx += derivatives[:, a] * column[:, a]
+    x, dx, values = face.abscissae(elements, local)
     return x, np.abs(dx, out=dx), values
 
 
@@ -166,26 +161,38 @@ def gauss_samples(face: Basis, mapped: ElementMap | None = None):
     (element of each point, its rule weight, the mapping); the face check and the force
     and moment integrals all read these points. ``mapped``: the face's :func:`rule_map`,
     whose first rows are these (the same numbers: each point is mapped alone)."""
-    rule = QuadratureRule.gauss_legendre(SMOOTH_POINTS)
-    elements = np.repeat(np.arange(face.n_elements), rule.points.size)
-    weights = np.tile(rule.weights, face.n_elements)
+    elements, weights = _sample_table(face.n_elements)
     if mapped is None:
+        rule = QuadratureRule.gauss_legendre(SMOOTH_POINTS)
         return elements, weights, face.map(elements, np.tile(rule.points, face.n_elements))
-    rows = slice(elements.size)
-    return elements, weights, ElementMap(
-        mapped.values[rows], mapped.points[rows], mapped.tangents[rows],
-        mapped.jacobians[rows], mapped.normals[rows],
-    )  # fmt: skip
+    return elements, weights, _map_rows(mapped, slice(elements.size))
 
 
+@functools.lru_cache(maxsize=32)
+def _sample_table(n_elements: int) -> tuple[np.ndarray, np.ndarray]:
+    """The element and rule weight of every smooth-rule point of :func:`gauss_samples`
+    (tabulated per element count, read-only)."""
+    rule = QuadratureRule.gauss_legendre(SMOOTH_POINTS)
+    elements = np.repeat(np.arange(n_elements), rule.points.size)
+    weights = np.tile(rule.weights, n_elements)
+    for array in (elements, weights):
+        array.setflags(write=False)
+    return elements, weights
+
+
+@functools.lru_cache(maxsize=32)
 def _rule_points(n_elements: int) -> tuple[np.ndarray, np.ndarray]:
     """(elements, local coordinates) :func:`surface_integrals` maps: every element's
-    smooth-rule points (the Gauss samples' rows), then its ends and coarse-rule points."""
+    smooth-rule points (the Gauss samples' rows), then its ends and coarse-rule points
+    (tabulated per element count, like the rules themselves: read-only)."""
     smooth = QuadratureRule.gauss_legendre(SMOOTH_POINTS).points
     rest = np.concatenate([[-1.0, 1.0], QuadratureRule.gauss_legendre(FAR_POINTS).points])
     numbers = np.arange(n_elements)
     elements = np.concatenate([np.repeat(numbers, smooth.size), np.repeat(numbers, rest.size)])
-    return elements, np.concatenate([np.tile(smooth, n_elements), np.tile(rest, n_elements)])
+    local = np.concatenate([np.tile(smooth, n_elements), np.tile(rest, n_elements)])
+    for array in (elements, local):
+        array.setflags(write=False)
+    return elements, local
 
 
 def rule_map(face) -> ElementMap:
@@ -194,6 +201,25 @@ def rule_map(face) -> ElementMap:
     ``mapped``) and, in its first rows, of :func:`gauss_samples`, for a surface that needs
     both."""
     return face.map(*_rule_points(face.n_elements))
+
+
+def rule_map_with(face, elements: np.ndarray, local: np.ndarray) -> tuple[ElementMap, ElementMap]:
+    """:func:`rule_map` and the face's map at (``elements``, ``local``), from one basis
+    evaluation: the same numbers as two (each point is mapped alone), one call's overhead."""
+    rule_elements, rule_local = _rule_points(face.n_elements)
+    both = face.map(np.concatenate([rule_elements, elements]),
+                    np.concatenate([rule_local, local]))  # fmt: skip
+    return _map_rows(both, slice(rule_elements.size)), _map_rows(
+        both, slice(rule_elements.size, None)
+    )
+
+
+def _map_rows(mapped: ElementMap, rows: slice) -> ElementMap:
+    """The rows ``rows`` of an element map (views)."""
+    return ElementMap(
+        mapped.values[rows], mapped.points[rows], mapped.tangents[rows],
+        mapped.jacobians[rows], mapped.normals[rows],
+    )  # fmt: skip
 
 
 def check_face(face: Basis, samples=None) -> None:
@@ -279,7 +305,8 @@ def surface_integrals(
     weighted_c = (jac_rest[:, 2:] * coarse.weights)[..., None] * values_c
     weights_s = jac_s * smooth.weights
     weighted_s = weights_s[..., None] * values_s
-    left, right = ends.min(axis=1), ends.max(axis=1)
+    # the smaller and larger end of each element (a reduction over two: the same numbers)
+    left, right = np.minimum(ends[:, 0], ends[:, 1]), np.maximum(ends[:, 0], ends[:, 1])
     length = right - left
     distance = np.maximum(np.maximum(left[None, :] - x[:, None], x[:, None] - right[None, :]), 0)
     # every pair by the coarse rule first: (elements, points, rule) @ (elements, rule, local)
@@ -293,7 +320,7 @@ def surface_integrals(
         log_el[mid_k, mid_e] = np.einsum("pg,pga->pa", kernel, weighted_s[mid_e])
     moments = weighted_s.sum(axis=1)
     centre = 0.5 * (left + right)
-    sign, before = _far_sign(face, x, centre, moments)
+    sign = _far_sign(face, x, centre, moments)
     near_k, near_e = np.nonzero(distance < close)
     if near_k.size:
         known = None
@@ -304,15 +331,15 @@ def surface_integrals(
             face, near_e, x[near_k], datum, ends[near_e], known
         )
         # the near pairs' sign integrals replace the whole-element terms counted for them
-        counted = np.where(before[near_k, near_e], 1.0, -1.0)[:, None] * moments[near_e]
+        before = centre[near_e] < x[near_k]  # the element was counted whole before x
+        counted = np.where(before, 1.0, -1.0)[:, None] * moments[near_e]
         np.add.at(sign, (near_k[:, None], face.connectivity[near_e]), near_sign - counted)
     return SurfaceIntegrals(_to_functions(face, log_el), sign)
 
 
 def _far_sign(face: Basis, x: np.ndarray, centre: np.ndarray, moments: np.ndarray):
     """The sign integrals (points, functions) with every element taken whole, sign(x - s) =
-    +1 on an element whose centre lies before x and -1 on the others, and that choice
-    (points, elements) as booleans.
+    +1 on an element whose centre lies before x and -1 on the others.
 
     Summed as twice the running sum of the elements' moments in the order of their centres,
     taken where x falls, minus the total: O(points x functions) work, where forming every
@@ -327,7 +354,7 @@ def _far_sign(face: Basis, x: np.ndarray, centre: np.ndarray, moments: np.ndarra
     sign = running[position]
     sign *= 2.0
     sign -= running[-1]
-    return sign, centre[None, :] < x[:, None]
+    return sign
 
 
 def _log_kernel(x: np.ndarray, xq: np.ndarray, datum: float) -> np.ndarray:
@@ -343,11 +370,16 @@ def _to_functions(face: Basis, per_element: np.ndarray) -> np.ndarray:
     """(points, functions) sums of per-element integrals (points, elements, local)."""
     out = np.zeros((per_element.shape[0], face.n_functions))
     connectivity = face.connectivity
+    n_el = connectivity.shape[0]
+    # which local functions run over consecutive columns element after element (a spline
+    # face's all): their sums are slices, found in one pass over the connectivity
+    steps = np.diff(connectivity, axis=0)
+    consecutive = (steps == 1).all(axis=0) if n_el > 1 else np.zeros(connectivity.shape[1], bool)
     for a in range(connectivity.shape[1]):
         columns = connectivity[:, a]
-        first = columns[0] if columns.size else 0
-        if columns.size > 1 and np.array_equal(columns, np.arange(first, first + columns.size)):
-            out[:, first : first + columns.size] += per_element[:, :, a]  # a slice: no gather
+        if consecutive[a]:
+            first = columns[0]
+            out[:, first : first + n_el] += per_element[:, :, a]  # a slice: no gather
         elif np.unique(columns).size == columns.size:  # one element per function: no clash
             out[:, columns] += per_element[:, :, a]
         else:
@@ -363,11 +395,14 @@ def _near(face: Basis, e: np.ndarray, xk: np.ndarray, datum: float, ends: np.nda
     ``ends`` (m, 2) holds x at local -1 and +1 of each element; ``known`` (m,), if given,
     each point's local coordinate in its element where known (nan elsewhere).
     """
-    log_out = np.zeros((len(e), face.n_local))
-    sign_out = np.zeros((len(e), face.n_local))
     length = np.abs(ends[:, 1] - ends[:, 0])
     tol = 1e-12 * length
-    inside = (xk >= ends.min(axis=1) - tol) & (xk <= ends.max(axis=1) + tol)
+    low, high = np.minimum(ends[:, 0], ends[:, 1]), np.maximum(ends[:, 0], ends[:, 1])
+    inside = (xk >= low - tol) & (xk <= high + tol)
+    if inside.all():  # every point in its element (a face's own nodes): split them all
+        return _split(face, e, xk, datum, ends, known)
+    log_out = np.zeros((len(e), face.n_local))
+    sign_out = np.zeros((len(e), face.n_local))
     if inside.any():
         log_out[inside], sign_out[inside] = _split(
             face, e[inside], xk[inside], datum, ends[inside],
@@ -394,15 +429,14 @@ def _split(face: Basis, e, xk, datum, ends, known=None):
             star[unknown] = _invert(face, e[unknown], xk[unknown])
     star = np.where(np.abs(xk - ends[:, 0]) <= tol, -1.0, star)
     star = np.where(np.abs(xk - ends[:, 1]) <= tol, 1.0, star)
-    smooth = QuadratureRule.gauss_legendre(NEAR_POINTS)
-    log_rule = QuadratureRule.gauss_log(LOG_POINTS)
-    t_smooth, w_smooth = 0.5 * (smooth.points + 1.0), 0.5 * smooth.weights
+    t_smooth, w_smooth, log_weights, t = _split_rules()
     n_s = t_smooth.size
     # both pieces xi = star + h t (h = end - star, t in [0, 1]), both rules, one evaluation
-    h = np.stack([-1.0 - star, 1.0 - star], axis=1)  # (m, 2)
+    h = np.empty((star.size, 2))  # (m, 2): np.stack's numbers without its checks
+    np.subtract(-1.0, star, out=h[:, 0])
+    np.subtract(1.0, star, out=h[:, 1])
     empty = np.abs(h) < 1e-14
     h = np.where(empty, 0.0, h)
-    t = np.concatenate([t_smooth, log_rule.points])
     xs, jac, values = _map_at(face, e, (star[:, None, None] + h[..., None] * t).reshape(len(e), -1))
     xs, jac = xs.reshape(len(e), 2, -1), jac.reshape(len(e), 2, -1)
     values = values.reshape(len(e), 2, t.size, -1)
@@ -412,9 +446,22 @@ def _split(face: Basis, e, xk, datum, ends, known=None):
     f = (scale[..., :n_s] * w_smooth)[..., None] * values[..., :n_s, :]
     log_sum = np.einsum("mhg,mhga->ma", np.log(r_over_t / datum), f)
     sign_sum = np.einsum("mhg,mhga->ma", np.sign(xk[:, None, None] - xs[..., :n_s]), f)
-    log_f = (scale[..., n_s:] * log_rule.weights)[..., None] * values[..., n_s:, :]
+    log_f = (scale[..., n_s:] * log_weights)[..., None] * values[..., n_s:, :]
     log_sum -= log_f.sum(axis=(1, 2))
     return log_sum, sign_sum
+
+
+@functools.cache
+def _split_rules() -> tuple[np.ndarray, ...]:
+    """:func:`_split`'s rules on t in [0, 1]: the NEAR_POINTS Gauss-Legendre points and
+    weights, the LOG_POINTS Gauss-log weights, and both rules' points in one row."""
+    smooth = QuadratureRule.gauss_legendre(NEAR_POINTS)
+    log_rule = QuadratureRule.gauss_log(LOG_POINTS)
+    t_smooth, w_smooth = 0.5 * (smooth.points + 1.0), 0.5 * smooth.weights
+    rules = (t_smooth, w_smooth, log_rule.weights, np.concatenate([t_smooth, log_rule.points]))
+    for array in rules:
+        array.setflags(write=False)
+    return rules
 
 
 def _graded(face: Basis, e, xk, datum, ends):

@@ -27,11 +27,13 @@ from .influence import (
     check_face,
     gauss_samples,
     rule_map,
+    rule_map_with,
     side_sign,
     surface_integrals,
 )
 from .joined import JoinedFace
 from .shared import node_integrals
+from .symmetry import mirrored, mirrored_rows
 
 
 @attrs.frozen(eq=False)
@@ -92,7 +94,12 @@ class HalfPlaneSurface:
             nodes = _image_nodes(self.face)
             if nodes is None:
                 elements, local = self.face.collocation()
-                mapped = self.face.map(elements, local)
+                if "rule_map" not in self._cache and self._needs_rules:
+                    # the rule map is wanted anyway: the nodes mapped in the same call
+                    rules, mapped = rule_map_with(self.face, elements, local)
+                    self._cache["rule_map"] = rules
+                else:
+                    mapped = self.face.map(elements, local)
                 nodes = (mapped.points, elements, mapped.values)
                 if isinstance(self.face, Basis):
                     _NODES[self.face] = nodes
@@ -105,9 +112,14 @@ class HalfPlaneSurface:
 
     @property
     def normals(self) -> np.ndarray:
-        """Outward unit normals (n, 2) of the half-plane: (0, 1) below, (0, -1) above."""
-        normal = np.array([0.0, side_sign(self.side)])
-        return np.tile(normal, (len(self.points), 1))
+        """Outward unit normals (n, 2) of the half-plane: (0, 1) below, (0, -1) above
+        (formed once, read-only: the contact pair asks for the face several times)."""
+        if "normals" not in self._cache:
+            normals = np.zeros((len(self.points), 2))
+            normals[:, 1] = side_sign(self.side)
+            normals.setflags(write=False)
+            self._cache["normals"] = normals
+        return self._cache["normals"]
 
     @property
     def collocation_matrix(self) -> np.ndarray:
@@ -142,8 +154,19 @@ class HalfPlaneSurface:
         the node integrals map no point again (a surface computing them needs the samples
         too: the face check, the force and moment weights)."""
         if "rule_map" not in self._cache:
-            self._cache["rule_map"] = rule_map(self.face)
+            if "points" not in self._cache and self._needs_rules:
+                self.points  # noqa: B018 - maps the nodes and the rule points in one call
+            if "rule_map" not in self._cache:  # the nodes were known (a point image's)
+                self._cache["rule_map"] = rule_map(self.face)
         return self._cache["rule_map"]
+
+    @property
+    def _needs_rules(self) -> bool:
+        """Whether this surface will map its rule points whatever happens: a face that
+        checks itself alone (no sharing), or an upper one (a pad, whose block's moment
+        integrals read the Gauss samples). A lower twin of a face already checked may never
+        need them: its nodes are then mapped alone."""
+        return self.shared_as is None or self.side == "upper"
 
     def per_node_value(self, per_coefficient: np.ndarray) -> np.ndarray:
         """Rows of ``per_coefficient`` (m, N) taken through E^-1: per unit node value (E's
@@ -176,7 +199,13 @@ class HalfPlaneSurface:
             x = self.points[:, 0]
 
             def compute() -> np.ndarray:  # at the nodes' own (element, local coordinate)
-                return self._node_integrals(x, self.face.collocation())
+                at = self.face.collocation()
+                half = mirrored_rows(self.face, x, self._rule_map)
+                if half is None:
+                    return self._node_integrals(x, at)
+                # a symmetric face: its first half's rows, the rest mirrored
+                first = self._node_integrals(x[:half], (at[0][:half], at[1][:half]))
+                return mirrored(first, x.size)
 
             both = compute() if self.shared_as is None else self._cache["shared"].get(compute)
             blocks = self._blocks(both[: x.size], both[x.size :])

@@ -84,6 +84,8 @@ def grading_ratio(length: float, elements: int, smallest: float) -> float:
     lo, hi = 1e-9, math.log(1e6)
     for _ in range(80):
         mid = 0.5 * (lo + hi)
+        if mid in (lo, hi):  # lo and hi adjacent floats: no later step moves either
+            break
         lo, hi = (mid, hi) if mid / math.expm1(mid) > target else (lo, mid)
     return math.exp(0.5 * (lo + hi))
 
@@ -361,8 +363,9 @@ def _call(shape, method: str, *args):
 _built = functools.lru_cache(maxsize=64)(_call)
 
 
-def build(scene: Scene, **contact_overrides):
-    """The Simulation of ``scene`` (``contact_overrides`` replace [contact] keys, e.g. pairs)."""
+def build(scene: Scene, *, name: str = "scene", **contact_overrides):
+    """The Simulation of ``scene``, named ``name`` (``contact_overrides`` replace [contact]
+    keys, e.g. pairs)."""
     overrides = {k: v for k, v in contact_overrides.items() if v is not None}
     if overrides:
         scene = attrs.evolve(scene, contact=attrs.evolve(scene.contact, **overrides))
@@ -418,7 +421,7 @@ def build(scene: Scene, **contact_overrides):
         solver=solver(scene.contact.solver),
         law=law(scene.contact.law, scene.contact.friction),
         reference=closed_form,
-        name="scene",
+        name=name,
         rig=rig(scene),
     ), reason
 

@@ -152,8 +152,5 @@ def cattaneo_mindlin(
             f"the candidate zone half-width {zone:.4g} mm must lie inside the face (half-width "
             f"{scene.width / 2:g} mm); lower 'zone' or widen the bodies"
         )
-    simulation, _ = build(scene.to_scene())
-    changes = {"name": "cattaneo-mindlin"}
-    if solver is not None:
-        changes["solver"] = solver
-    return attrs.evolve(simulation, **changes)
+    simulation, _ = build(scene.to_scene(), name="cattaneo-mindlin")
+    return simulation if solver is None else attrs.evolve(simulation, solver=solver)

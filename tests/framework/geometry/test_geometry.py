@@ -556,3 +556,32 @@ def test_arcs_and_lines_equal_their_checked_construction(sweep):
         NurbsCurve.line([0.0, float("inf")], [1.0, 1.0])
     with pytest.raises(ValueError, match=r"shape \(n, 2\)"):
         NurbsCurve.line([0.0, 0.0, 0.0], [1.0, 1.0, 1.0])
+
+
+def test_points_are_those_of_points_and_derivatives_bit_for_bit():
+    """points() sums the homogeneous point without the derivative, as the joint
+    evaluation sums it: the same numbers, at knots and between them, any shape of xi."""
+    xi = np.concatenate([SMOOTH_XI, [0.0, 0.2, 0.45, 1.0]])
+    for curve in (
+        CUBIC,
+        NurbsCurve.arc([0.0, 0.0], 2.0, 0.3, 2.9),
+        NurbsCurve.line([0, 1], [2, 3]),
+    ):
+        for values in (xi, xi.reshape(-1, 1), np.array(0.45)):
+            np.testing.assert_array_equal(
+                curve.points(values), curve.points_and_derivatives(values)[0]
+            )
+
+
+def test_inserted_curve_equals_its_checked_construction():
+    """Knot insertion builds the refined curve without the field checks (its knots passed
+    the operator's check, its points and weights are convex combinations): the same fields
+    as the checked constructor makes, read-only, whether the operator is new or shared."""
+    for _ in range(2):  # the second refine takes the kept operator
+        refined, _ = CUBIC.refine(kv.insert(CUBIC.knots, np.array([0.1, 0.45, 0.6, 0.6])))
+        checked = NurbsCurve(refined.degree, refined.knots, refined.control_points, refined.weights)
+        assert type(refined.degree) is int and refined.degree == checked.degree
+        for field in ("knots", "control_points", "weights"):
+            got, want = getattr(refined, field), getattr(checked, field)
+            np.testing.assert_array_equal(got, want)
+            assert got.dtype == want.dtype and not got.flags.writeable

@@ -175,3 +175,34 @@ def test_one_face_map_serves_the_samples_and_the_integrals(family, name):
     x = _field_points(face)
     own, given = surface_integrals(face, x, 0.7), surface_integrals(face, x, 0.7, mapped=mapped)
     assert np.array_equal(own.log, given.log) and np.array_equal(own.sign, given.sign)
+
+
+@pytest.mark.parametrize("family", ["nurbs", "lagrange2"])
+@pytest.mark.parametrize("name", FACES)
+def test_element_map_reads_the_faces_map(family, name):
+    """The integrals' x-only evaluation (``Basis.abscissae``, a family's own where it has
+    one) gives the face map's x, |dx/d(local)| and values bit for bit."""
+    face = FACES[name](family)
+    elements, local = influence._rule_points(face.n_elements)
+    x, jac, values = influence._element_map(face, elements, local)
+    full = face.map(elements, local)
+    np.testing.assert_array_equal(x, full.points[:, 0])
+    np.testing.assert_array_equal(jac, np.abs(full.tangents[:, 0]))
+    np.testing.assert_array_equal(values, full.values)
+
+
+@pytest.mark.parametrize("family", ["nurbs", "lagrange2"])
+@pytest.mark.parametrize("name", FACES)
+@pytest.mark.parametrize("side", ["lower", "upper"])
+def test_nodes_and_rule_points_mapped_in_one_call(family, name, side):
+    """A surface that needs its rule map (a lone face, an upper one) maps its nodes in the
+    same call: its points, E and rule map those of mapping each alone, bit for bit."""
+    face = FACES[name](family)
+    surface = HalfPlaneSurface(face, STEEL, side, datum=2.0)
+    assert "rule_map" in surface._cache and "points" in surface._cache
+    alone = face.map(*face.collocation())
+    assert np.array_equal(surface.points, alone.points)
+    assert np.array_equal(surface.collocation_matrix, face.collocation_matrix())
+    rules = influence.rule_map(face)
+    for field in ("values", "points", "tangents", "jacobians", "normals"):
+        assert np.array_equal(getattr(surface._rule_map, field), getattr(rules, field))
