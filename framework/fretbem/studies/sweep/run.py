@@ -372,12 +372,13 @@ def _pool_task(index: int) -> list[dict]:
     return run_batch(task.scene, task.cases, builder, outputs, extras)
 
 
-def _run_pool(queue, workers, builder, outputs, extras, on_rows, limit):
+def _run_pool(queue, workers, builder, outputs, extras, on_rows, limit, on_start=None):
     """Solve the queued tasks on ``workers`` forked processes, storing each as it returns.
 
     Returns (stopped early, errors of tasks lost with a worker). The workers
     inherit this process's memory: the groups it prepared (``cases._GROUPS``), the builder
     and the output functions are theirs without pickling; each task sends back its rows.
+    ``on_start()`` runs once every task is submitted (the workers forked).
     """
     finished, lost, stopped = 0, [], False
     _POOL["work"] = (list(queue), builder, outputs, extras)
@@ -389,6 +390,8 @@ def _run_pool(queue, workers, builder, outputs, extras, on_rows, limit):
     )
     try:
         futures = [pool.submit(_pool_task, k) for k in range(len(queue))]
+        if on_start is not None:
+            on_start()
         for future in concurrent.futures.as_completed(futures):
             try:
                 rows = future.result()
@@ -446,32 +449,59 @@ def _run_engine(
 
     forked = engine == "processes" or (engine == "auto" and fork_available() and workers > 1)
     note = ""
+    # the rows of the task solved here last before forking: stored once the workers run
+    # (the store's first write imports pandas, 0.3-0.5 CPU s the workers need not wait for)
+    held: list[list[dict]] = []
+
+    def store_held():
+        while held:
+            on_rows(held.pop(0))
+
+    def store_or_hold(rows):
+        if forked and queue and chose:
+            held.append(rows)
+        else:
+            on_rows(rows)
+
+    chose = engine == "processes"
     if engine == "auto":
         probe, threshold = WorkProbe(), auto_threshold(workers, forked)
 
         def worth_it(row, cases, groups):
+            nonlocal chose
             probe.add(row)
             remaining = probe.remaining(cases, groups)
-            return remaining is not None and remaining > threshold
+            chose = remaining is not None and remaining > threshold
+            return chose
 
         def never(row, cases, groups):  # one core: the serial engine, no estimate
             return False
 
         stop = never if math.isinf(threshold) else worth_it
-        finished += _solve_here(queue, builder, outputs, extras, on_rows, stop, budget())
-        chose = probe.peak is not None and probe.peak[0] > threshold
+        try:
+            finished += _solve_here(queue, builder, outputs, extras, store_or_hold, stop, budget())
+        except BaseException:  # interrupted: what was solved is stored
+            store_held()
+            raise
         if not queue or (limit is not None and finished >= limit):
-            note = auto_note(probe, threshold, workers, forked, chose=False, limited=chose)
+            store_held()
+            note = auto_note(probe, threshold, workers, forked, limited=bool(queue))
             return 1, bool(queue), lost, "serial", note
         note = auto_note(probe, threshold, workers, forked, chose=True)
     elif forked:  # the first case here: the workers inherit its group, prepared
-        finished += _solve_here(queue, builder, outputs, extras, on_rows, _always, 1)
+        finished += _solve_here(queue, builder, outputs, extras, store_or_hold, _always, 1)
         if not queue or (limit is not None and finished >= limit):
+            store_held()
             return workers, bool(queue), lost, "process", note
     if resplit and engine == "auto":  # the batches were sized for one worker
         queue = _split(queue, workers)
     if forked:
-        stopped, lost = _run_pool(queue, workers, builder, outputs, extras, on_rows, budget())
+        try:
+            stopped, lost = _run_pool(
+                queue, workers, builder, outputs, extras, on_rows, budget(), store_held
+            )
+        finally:
+            store_held()
         return workers, stopped, lost, "process", note
     try:
         from dask.distributed import as_completed
@@ -564,6 +594,11 @@ def auto_note(probe: WorkProbe, threshold: float, workers: int, forked: bool,
     estimate = f"the work left, estimated at {seconds:.3g} CPU s after {cases} case(s)"
     if chose:
         return f"engine auto: {engine}: {estimate}, passed {threshold:.3g} s ({limit})"
+    if seconds > threshold:  # on the last case: nothing left to hand over
+        return (
+            f"engine auto: solved in this process: {estimate}, passed {threshold:.3g} s only "
+            "on the last case"
+        )
     return (
         f"engine auto: solved in this process: {estimate}, stayed under the {threshold:.3g} s "
         f"that pay for {engine} ({limit})"
