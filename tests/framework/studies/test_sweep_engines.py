@@ -196,3 +196,21 @@ def test_dask_workers_take_the_groups_this_process_prepared(tmp_path):
     assert not set(shared.table["worker"]) & set(serial.table["worker"])  # solved remotely
     pd.testing.assert_frame_equal(_results(shared.table), _results(serial.table))
     sweep_cases._GROUPS.clear()
+
+
+def test_default_engine_without_fork_starts_a_local_cluster_and_says_why(tmp_path, monkeypatch):
+    """Where processes cannot be forked, the default engine's parallel start is a Dask
+    LocalCluster, once the estimate passes its threshold; the summary names it and why."""
+    pytest.importorskip("distributed")
+    parameters = {"load.Q": {"values": [0.0, 6.0, 12.0, 18.0], "pattern": CYCLE}}
+    serial = sweep_run.sweep(SCENE, parameters, out=tmp_path / "serial", serial=True)
+    monkeypatch.setattr(sweep_run, "fork_available", lambda: False)
+    monkeypatch.setattr(sweep_run, "machine_cores", lambda: 2)
+    monkeypatch.setattr(sweep_run, "CLUSTER_START_SECONDS", 0.0)
+    auto = sweep_run.sweep(SCENE, parameters, out=tmp_path / "auto")
+    note = auto.summary.engine_note
+    assert note.startswith("engine auto: a Dask LocalCluster: the work left, estimated at")
+    assert "(PARALLEL_MIN_STARTS x CLUSTER_START_SECONDS)" in note
+    assert auto.summary.mode == "dask" and auto.summary.stored == 4
+    pd.testing.assert_frame_equal(_results(auto.table), _results(serial.table))
+    sweep_cases._GROUPS.clear()
