@@ -386,17 +386,12 @@ def run_batch(
     return list(batch_rows(scene, cases, builder, outputs, extras, prepared))
 
 
-def batch_rows(
-    scene: dict,
-    cases: Sequence[tuple[int, dict, dict]],
-    builder: Callable[[Mapping], Any] | None = None,
-    outputs: Sequence[str] = (),
-    extras: Mapping[str, Any] | None = None,
-    prepared=None,
-) -> Iterator[dict[str, Any]]:
-    """The rows of :func:`run_batch`, each as soon as its case is solved: a caller that
-    decides between cases (the default engine's estimate) stops by closing the iterator,
-    with the group looked up and its resource block entered once, as for a whole batch."""
+def batch_rows(scene: dict, cases: Sequence[tuple[int, dict, dict]], builder=None,
+               outputs: Sequence[str] = (), extras=None, prepared=None,
+               ) -> Iterator[dict[str, Any]]:  # fmt: skip
+    """The rows of :func:`run_batch` (same arguments), each as soon as its case is solved:
+    a caller that decides between cases (the default engine's estimate) stops by closing
+    the iterator, the group looked up and its resource block entered once, as for a batch."""
     with contextlib.ExitStack() as held:  # the group's run block: its assembly to its last case
         yield from _batch(scene, cases, builder, outputs, extras, prepared, held)
 
