@@ -126,7 +126,10 @@ def test_the_command_takes_an_engine(tmp_path, capsys):
     out = str(tmp_path / "out")
     args = [str(sweep_file), "--out", out, "--no-figures", "--quiet"]
     assert sweep_run.sweep_command([*args, "--engine", "serial"]) == 0
-    assert "on 1 serial worker" in capsys.readouterr().out
+    printed = capsys.readouterr().out
+    assert "on 1 serial worker" in printed and "engine auto" not in printed
+    assert sweep_run.sweep_command([*args[:2], str(tmp_path / "auto"), *args[3:]]) == 0
+    assert "\n  engine auto: solved in this process" in capsys.readouterr().out  # and why
     assert sweep_run.sweep_command([*args, "--engine", "serial", "--scheduler", "x:1"]) == 2
     assert "drop the client/scheduler" in capsys.readouterr().err
 
