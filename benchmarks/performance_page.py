@@ -685,8 +685,10 @@ SWEEP_TARGETS = (
     ("sweep default / --serial, 144 cases (wall)", 1.1, False),
     ("sweep default / --serial, 144 cases (CPU)", None, False),
     ("sweep --serial / default, 1,440 cases (wall speed-up)", 1.6, True),
+    ("sweep --serial CPU / default on two free cores, 1,440 cases (speed-up)", 1.6, True),
     ("sweep default / --serial, 1,440 cases (CPU)", None, False),
     ("10,000-case load sweep, default engine (wall s)", 60.0, False),
+    ("10,000-case load sweep on two free cores, from its CPU (wall s)", 60.0, False),
     ("10,000-case load sweep, CPU s per case (ms)", None, False),
     ("10,000-case load sweep, CPU s / 2 cores (wall on two free cores at best)", None, False),
 )

@@ -10,9 +10,18 @@ process and its workers, and wall), before and after alternating round by round:
         --before /tmp/before --rounds 3 --json docs/results/sweeps.json
     python benchmarks/performance_page.py
 
+``--sharing [PAIRS ...]`` (see ``sharing``): a prepared group pickled and unpickled for a
+Dask worker against that worker assembling it again (forked workers inherit it).
+
 ``--targets`` (see ``targets``): the example map (144 cases) default engine against
 ``--serial``; the same map with 10x its work (1,440 cases) default against ``--serial``;
-a 10,000-case load sweep at 61 pairs with the default engine.
+a 10,000-case load sweep at 61 pairs with the default engine. The trees' bytecode is
+written first (as ``workflows.py`` does: this machine sets PYTHONDONTWRITEBYTECODE, and
+every process would compile fretbem again), the two engines alternate which runs first, and
+the ratios are medians of per-round ratios. Each process reports its own CPU and its
+workers': on a loaded machine two workers do not get two cores, so besides the wall
+speed-up the table gives the speed-up on two free cores from the CPU times (the sweep's
+process in full plus half its workers', ``two_free_cores``).
 
 1. Reuse: on the reference scene (61 pairs) the assembly + condensation of one geometry
    against the solve of one load case on it, and a case built and solved from scratch.
@@ -34,7 +43,10 @@ import statistics
 import sys
 import tempfile
 import time
+from collections.abc import Sequence
 from pathlib import Path
+
+from workflows import compile_tree  # the trees' bytecode, as the workflow runs have it
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -164,6 +176,44 @@ def size_effect(radii: int, workers: int) -> dict:
     }
 
 
+def sharing(pairs: Sequence[int], repeat: int) -> dict:
+    """A prepared group sent to a worker against the worker assembling it again, per pair
+    count: build + prepare (assembly and condensation) against pickling the prepared
+    simulation and unpickling it (what a Dask worker receives; a forked worker inherits
+    it for nothing), with the pickle's size. Medians of ``repeat`` runs."""
+    import pickle
+
+    from fretbem.studies.sweep.cases import build_simulation
+
+    out = {}
+    for n in pairs:
+        scene = reference_scene()
+        scene["contact"]["pairs"] = n
+        build, dumps, loads, size = [], [], [], 0
+        for _ in range(repeat):
+            tic = time.perf_counter()
+            simulation = build_simulation(scene)
+            simulation.prepare()
+            build.append(time.perf_counter() - tic)
+            tic = time.perf_counter()
+            data = pickle.dumps(simulation, protocol=pickle.HIGHEST_PROTOCOL)
+            dumps.append(time.perf_counter() - tic)
+            tic = time.perf_counter()
+            pickle.loads(data)
+            loads.append(time.perf_counter() - tic)
+            size = len(data)
+        ship = statistics.median(dumps) + statistics.median(loads)
+        out[n] = {
+            "assembly_condensation_s": statistics.median(build),
+            "pickle_s": statistics.median(dumps),
+            "unpickle_s": statistics.median(loads),
+            "pickle_MB": size / 1e6,
+            "assembly_over_shipping": statistics.median(build) / ship,
+        }
+        print(f"{n} pairs: " + ", ".join(f"{k} {v:.3g}" for k, v in out[n].items()), flush=True)
+    return out
+
+
 def cluster_start(workers: int) -> float:
     """Seconds to start and stop the default LocalCluster (part of every Dask run above)."""
     from dask.distributed import Client
@@ -203,8 +253,25 @@ TARGET_SWEEPS = (
 )  # fmt: skip
 
 
-def _sweep_process(tree: Path, sweep_file: Path, out: Path, *flags: str) -> tuple[float, float]:
-    """(wall, CPU of the process and its children) of one ``fretbem sweep`` process."""
+#: a ``fretbem sweep`` process that reports its own CPU and its workers' (RUSAGE_CHILDREN:
+#: the forked workers it has waited for) on its last line of stderr
+SWEEP_CHILD = r"""
+import json, resource, sys
+from fretbem.app.cli import main
+try:
+    code = main(["sweep", *sys.argv[1:]])
+finally:
+    own = resource.getrusage(resource.RUSAGE_SELF)
+    workers = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = [own.ru_utime + own.ru_stime, workers.ru_utime + workers.ru_stime]
+    sys.stderr.write("\nCPU " + json.dumps(cpu) + "\n")
+raise SystemExit(code)
+"""
+
+
+def _sweep_process(tree: Path, sweep_file: Path, out: Path, *flags: str) -> dict[str, float]:
+    """Wall and CPU (the whole process tree; the sweep's own process; its workers) of one
+    ``fretbem sweep`` process."""
     import resource
     import shutil
     import subprocess
@@ -212,8 +279,8 @@ def _sweep_process(tree: Path, sweep_file: Path, out: Path, *flags: str) -> tupl
     shutil.rmtree(out, ignore_errors=True)
     env = {**os.environ, "PYTHONPATH": f"{tree / 'framework'}{os.pathsep}{tree / 'plugins'}",
            "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}  # fmt: skip
-    command = [sys.executable, "-m", "fretbem.app.cli", "sweep", str(sweep_file), "--out",
-               str(out), "--no-figures", "--quiet", *flags]  # fmt: skip
+    command = [sys.executable, "-c", SWEEP_CHILD, str(sweep_file), "--out", str(out),
+               "--no-figures", "--quiet", *flags]  # fmt: skip
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     tic = time.perf_counter()
     done = subprocess.run(command, env=env, cwd=out.parent, capture_output=True, text=True)
@@ -222,40 +289,65 @@ def _sweep_process(tree: Path, sweep_file: Path, out: Path, *flags: str) -> tupl
     if done.returncode != 0:
         raise RuntimeError(f"{' '.join(command)} failed:\n{done.stderr}")
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    return wall, cpu
+    own, workers = json.loads(done.stderr.strip().splitlines()[-1].removeprefix("CPU "))
+    return {"wall": wall, "cpu": cpu, "own_cpu": own, "workers_cpu": workers}
+
+
+def two_free_cores(run: dict[str, float], workers: int = 2) -> float:
+    """The wall time of a run on ``workers`` free cores, from its CPU times: the sweep's own
+    process in full (its start, the cases before forking, the store) plus its workers'
+    share, as if balanced. A loaded machine stretches wall times, not these."""
+    return run["own_cpu"] + run["workers_cpu"] / workers
 
 
 def targets(trees: dict[str, Path], rounds: int, work: Path, big: bool = True) -> dict:
-    """Medians over ``rounds`` interleaved rounds of every target sweep, per tree."""
+    """Medians over ``rounds`` interleaved rounds of every target sweep, per tree; the
+    default engine and ``--serial`` alternate which runs first from round to round."""
     files = {name: _sweep_file(work, name, table, outputs)
              for name, table, outputs in TARGET_SWEEPS}  # fmt: skip
     runs: dict[str, list[dict]] = {label: [] for label in trees}
     for tree in trees.values():  # unmeasured: bytecode and numba caches of a fresh tree
         _sweep_process(tree, files["map144"], work / "warm-up", "--serial")
+    engines = (("default", ()), ("serial", ("--serial",)))
     for k in range(rounds):
         for label, tree in trees.items():
             one = {}
             for name in ("map144", "map1440"):
-                for engine, flags in (("default", ()), ("serial", ("--serial",))):
-                    wall, cpu = _sweep_process(tree, files[name], work / f"{name}-{engine}", *flags)
-                    one[f"{name}_{engine}_wall"], one[f"{name}_{engine}_cpu"] = wall, cpu
+                for engine, flags in engines[:: 1 if k % 2 == 0 else -1]:
+                    run = _sweep_process(tree, files[name], work / f"{name}-{engine}", *flags)
+                    for key, value in run.items():
+                        one[f"{name}_{engine}_{key}"] = value
             if big:
-                wall, cpu = _sweep_process(tree, files["load10k"], work / "load10k")
-                one["load10k_default_wall"], one["load10k_default_cpu"] = wall, cpu
+                run = _sweep_process(tree, files["load10k"], work / "load10k")
+                for key, value in run.items():
+                    one[f"load10k_default_{key}"] = value
             runs[label].append(one)
-            print(f"round {k + 1} {label}: " + ", ".join(f"{n} {v:.1f}" for n, v in one.items()),
+            shown = {n: v for n, v in one.items() if n.endswith(("_wall", "_cpu"))
+                     and "own" not in n and "workers" not in n}  # fmt: skip
+            print(f"round {k + 1} {label}: " + ", ".join(f"{n} {v:.1f}" for n, v in shown.items()),
                   f"(load {os.getloadavg()[0]:.1f})", flush=True)  # fmt: skip
     medians = {label: {n: statistics.median(r[n] for r in rs) for n in rs[0]}
                for label, rs in runs.items()}  # fmt: skip
     ratios = {}
-    for label, m in medians.items():
+    for label, rs in runs.items():
+        m = medians[label]
+        # per round, then the median: the two runs of a round saw the same load
+        per_round = {
+            "wall144": [r["map144_default_wall"] / r["map144_serial_wall"] for r in rs],
+            "cpu144": [r["map144_default_cpu"] / r["map144_serial_cpu"] for r in rs],
+            "wall1440": [r["map1440_serial_wall"] / r["map1440_default_wall"] for r in rs],
+            "free1440": [
+                r["map1440_serial_cpu"] / two_free_cores(_run(r, "map1440_default")) for r in rs
+            ],
+        }
+        per_round = {n: statistics.median(v) for n, v in per_round.items()}
         ratios[label] = {
-            "sweep default / --serial, 144 cases (wall)": m["map144_default_wall"]
-            / m["map144_serial_wall"],
-            "sweep default / --serial, 144 cases (CPU)": m["map144_default_cpu"]
-            / m["map144_serial_cpu"],
-            "sweep --serial / default, 1,440 cases (wall speed-up)": m["map1440_serial_wall"]
-            / m["map1440_default_wall"],
+            "sweep default / --serial, 144 cases (wall)": per_round["wall144"],
+            "sweep default / --serial, 144 cases (CPU)": per_round["cpu144"],
+            "sweep --serial / default, 1,440 cases (wall speed-up)": per_round["wall1440"],
+            "sweep --serial CPU / default on two free cores, 1,440 cases (speed-up)": per_round[
+                "free1440"
+            ],
             "sweep default / --serial, 1,440 cases (CPU)": m["map1440_default_cpu"]
             / m["map1440_serial_cpu"],
         }
@@ -266,10 +358,15 @@ def targets(trees: dict[str, Path], rounds: int, work: Path, big: bool = True) -
             ratios[label]["10,000-case load sweep, CPU s per case (ms)"] = (
                 1000 * m["load10k_default_cpu"] / 10_000
             )
-            ratios[label][
-                "10,000-case load sweep, CPU s / 2 cores (wall on two free cores at best)"
-            ] = m["load10k_default_cpu"] / 2
+            ratios[label]["10,000-case load sweep on two free cores, from its CPU (wall s)"] = (
+                statistics.median(two_free_cores(_run(r, "load10k_default")) for r in rs)
+            )
     return {"medians": medians, "ratios": ratios}
+
+
+def _run(one: dict, prefix: str) -> dict[str, float]:
+    """The timings of one process of a round (``<prefix>_wall``, ``_own_cpu``...)."""
+    return {key: one[f"{prefix}_{key}"] for key in ("wall", "cpu", "own_cpu", "workers_cpu")}
 
 
 def main(argv=None) -> int:
@@ -285,6 +382,18 @@ def main(argv=None) -> int:
     )
     parser.add_argument("--rounds", type=int, default=3, help="with --targets")
     parser.add_argument("--no-10k", action="store_true", help="with --targets: skip the 10k sweep")
+    parser.add_argument(
+        "--source-only",
+        action="store_true",
+        help="with --targets: do not write the trees' bytecode first (every process compiles)",
+    )
+    parser.add_argument(
+        "--sharing",
+        nargs="*",
+        type=int,
+        metavar="PAIRS",
+        help="only: a prepared group pickled for a worker against assembling it, per pair count",
+    )
     parser.add_argument("--cases", type=int, default=1000)
     parser.add_argument("--radii", type=int, default=20)
     parser.add_argument("--workers", type=int, default=None)
@@ -295,6 +404,9 @@ def main(argv=None) -> int:
         trees = {"after": args.after.resolve()}
         if args.before:
             trees = {"before": args.before.resolve(), **trees}
+        if not args.source_only:  # as an installed package has it (see workflows.py)
+            for tree in trees.values():
+                compile_tree(tree)
         load = [os.getloadavg()[0]]
         with tempfile.TemporaryDirectory() as tmp:
             report = targets(trees, args.rounds, Path(tmp), big=not args.no_10k)
@@ -304,6 +416,11 @@ def main(argv=None) -> int:
         for name in report["ratios"]["after"]:
             cells = "".join(f"{report['ratios'][k].get(name, float('nan')):9.2f}" for k in trees)
             print(f"{name:58s}{cells}")
+        if args.json:
+            args.json.write_text(json.dumps(report, indent=1))
+        return 0
+    if args.sharing is not None:
+        report = sharing(args.sharing or [61, 241, 481], args.repeat)
         if args.json:
             args.json.write_text(json.dumps(report, indent=1))
         return 0

@@ -219,8 +219,9 @@ def compile_tree(tree: Path) -> None:
                    capture_output=True)  # fmt: skip
 
 
-def one_round(tree: Path, tmp: Path, which: set[str]) -> dict:
-    """Every workflow once on ``tree`` (its own example files: scene keys may differ)."""
+def one_round(tree: Path, tmp: Path, which: set[str], index: int = 0) -> dict:
+    """Every workflow once on ``tree`` (its own example files: scene keys may differ); the
+    sweep's two engines alternate which runs first with the round ``index``."""
     out: dict = {}
     work = Path(tempfile.mkdtemp(dir=tmp))
     if "rig" in which:
@@ -239,10 +240,12 @@ def one_round(tree: Path, tmp: Path, which: set[str]) -> dict:
             out[f"halfplane_{pairs}"] = json.loads(text)
     if "sweep" in which:
         example = str(tree / "examples" / "fretting_map.toml")
-        auto = _process(_cli(tree, "sweep", example, "--out", str(work / "auto"),
-                             "--no-figures"), tree, work)  # fmt: skip
-        serial = _process(_cli(tree, "sweep", example, "--serial", "--out",
-                               str(work / "serial"), "--no-figures"), tree, work)  # fmt: skip
+        engines = {"auto": (), "serial": ("--serial",)}
+        sweeps = {}
+        for name in list(engines)[:: 1 if index % 2 == 0 else -1]:
+            sweeps[name] = _process(_cli(tree, "sweep", example, *engines[name], "--out",
+                                         str(work / name), "--no-figures"), tree, work)  # fmt: skip
+        auto, serial = sweeps["auto"], sweeps["serial"]
         out["sweep"] = {"default_wall": auto[0], "default_cpu": auto[1],
                         "serial_wall": serial[0], "serial_cpu": serial[1]}  # fmt: skip
     if "demo" in which:
@@ -340,7 +343,7 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         for k in range(args.rounds):
             for label, tree in trees.items():
-                runs[label].append(one_round(tree, Path(tmp), set(args.only)))
+                runs[label].append(one_round(tree, Path(tmp), set(args.only), k))
                 print(f"round {k + 1} {label} done, load {os.getloadavg()[0]:.2f}", flush=True)
     load.append(os.getloadavg()[0])
     result = {

@@ -590,6 +590,7 @@ def test_default_engine_stays_serial_when_the_work_is_small_next_to_a_parallel_s
     pd = pytest.importorskip("pandas")
     from fretbem.studies.sweep import run as sweep_run
     from fretbem.studies.sweep.cases import build_simulation
+    from fretbem.studies.sweep.probe import WorkProbe, queued_work
     from fretbem.studies.sweep.run import sweep
 
     # above this sweep's work on any machine, however loaded (it is about 1 s)
@@ -604,13 +605,23 @@ def test_default_engine_stays_serial_when_the_work_is_small_next_to_a_parallel_s
     assert auto.summary.mode == "serial" and auto.summary.workers == 1
     assert auto.summary.tasks == serial.summary.tasks  # batches sized for one worker
     pd.testing.assert_frame_equal(_results(auto.table), _results(serial.table))
+    assert "stayed under the" in auto.summary.engine_note  # the choice, explained
+    assert auto.summary.engine_note in str(auto.summary)
+    assert serial.summary.engine_note == ""  # asked for: nothing to explain
     # the estimate: median solve x queued cases + one assembly per further queued group
     rows = [{"solve_seconds": 0.01, "assembly_seconds": a} for a in (2.0, 0.0, 0.0)]
-    queue = [
-        sweep_run.Task({"a": 1}, ((0, {}, {}),) * 100),
-        sweep_run.Task({"b": 2}, ((1, {}, {}),)),
-    ]
-    assert sweep_run._remaining_seconds(rows, queue) == pytest.approx(0.01 * 101 + 2.0)
-    assert sweep_run._remaining_seconds(rows[:2], queue) is None  # too few cases yet
+    first = sweep_run.Task({"a": 1}, ((0, {}, {}),) * 100)
+    queue = [first, sweep_run.Task({"b": 2}, ((1, {}, {}),)), sweep_run.Task(first.scene, ())]
+    assert queued_work(queue, first.scene) == (101, 1)
+    assert queued_work(queue) == (101, 2)
+    probe = WorkProbe()
+    for row in rows[:2]:
+        probe.add(row)
+    assert probe.remaining(101, 1) is None  # too few cases yet
+    probe.add(rows[2])
+    assert probe.remaining(101, 1) == pytest.approx(0.01 * 101 + 2.0)
+    assert probe.peak == (pytest.approx(3.01), 3)
+    probe.add({"status": "refused"})  # no solve: no change
+    assert probe.remaining(50, 0) == pytest.approx(0.5) and probe.peak[0] == pytest.approx(3.01)
     split = sweep_run._split(queue, workers=2)
     assert sum(len(t.cases) for t in split) == 101 and len(split) >= 2 * sweep_run.TASKS_PER_WORKER

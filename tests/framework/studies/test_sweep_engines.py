@@ -58,6 +58,8 @@ def test_default_engine_forks_once_the_work_pays_and_workers_do_not_assemble(tmp
     sweep_cases._GROUPS.clear()
     auto = sweep_run.sweep(SCENE, parameters, out=tmp_path / "auto")
     assert auto.summary.mode == "process" and auto.summary.workers == 2
+    assert "2 forked worker processes" in auto.summary.engine_note
+    assert "passed 0 s (POOL_MIN_SECONDS)" in str(auto.summary)
     table = auto.table
     assert table["worker"].nunique() >= 2
     assert (table["assembly_seconds"] > 0).sum() == 1  # the one assembly of this process
@@ -70,6 +72,30 @@ def test_default_engine_on_one_core_stays_in_this_process(tmp_path, monkeypatch)
     parameters = {"load.Q": {"values": [0.0, 6.0, 12.0, 18.0], "pattern": CYCLE}}
     auto = sweep_run.sweep(SCENE, parameters, out=tmp_path / "auto")
     assert auto.summary.mode == "serial" and auto.summary.workers == 1
+    assert "one core" in auto.summary.engine_note
+
+
+def test_default_engine_in_this_process_solves_batches_as_serial_does(tmp_path, monkeypatch):
+    """Staying in its process, the default engine takes each task as one batch (the group
+    looked up and its resource block entered once per task, as --serial), not case by case."""
+    parameters = {"load.P": [80.0, 100.0], "load.Q": {"values": [0.0, 6.0, 12.0, 18.0],
+                  "pattern": CYCLE}}  # fmt: skip
+    monkeypatch.setattr(sweep_run, "POOL_MIN_SECONDS", 1e6)
+    monkeypatch.setattr(sweep_run, "machine_cores", lambda: 2)
+    entered = []
+    real = sweep_cases.run_resources
+
+    def counted(simulation):
+        entered.append(1)
+        return real(simulation)
+
+    monkeypatch.setattr(sweep_cases, "run_resources", counted)
+    serial = sweep_run.sweep(SCENE, parameters, out=tmp_path / "serial", serial=True, batch=3)
+    blocks, entered[:] = len(entered), []
+    auto = sweep_run.sweep(SCENE, parameters, out=tmp_path / "auto", batch=3)
+    assert auto.summary.mode == "serial" and "stayed under the 1e+06 s" in str(auto.summary)
+    assert len(entered) == blocks == serial.summary.tasks == auto.summary.tasks == 3
+    pd.testing.assert_frame_equal(_results(auto.table), _results(serial.table))
 
 
 def test_engine_options_that_clash_are_refused_naming_the_fix():
@@ -100,7 +126,10 @@ def test_the_command_takes_an_engine(tmp_path, capsys):
     out = str(tmp_path / "out")
     args = [str(sweep_file), "--out", out, "--no-figures", "--quiet"]
     assert sweep_run.sweep_command([*args, "--engine", "serial"]) == 0
-    assert "on 1 serial worker" in capsys.readouterr().out
+    printed = capsys.readouterr().out
+    assert "on 1 serial worker" in printed and "engine auto" not in printed
+    assert sweep_run.sweep_command([*args[:2], str(tmp_path / "auto"), *args[3:]]) == 0
+    assert "\n  engine auto: solved in this process" in capsys.readouterr().out  # and why
     assert sweep_run.sweep_command([*args, "--engine", "serial", "--scheduler", "x:1"]) == 2
     assert "drop the client/scheduler" in capsys.readouterr().err
 
@@ -169,4 +198,22 @@ def test_dask_workers_take_the_groups_this_process_prepared(tmp_path):
     assert (shared.table["assembly_seconds"] == 0).all()
     assert not set(shared.table["worker"]) & set(serial.table["worker"])  # solved remotely
     pd.testing.assert_frame_equal(_results(shared.table), _results(serial.table))
+    sweep_cases._GROUPS.clear()
+
+
+def test_default_engine_without_fork_starts_a_local_cluster_and_says_why(tmp_path, monkeypatch):
+    """Where processes cannot be forked, the default engine's parallel start is a Dask
+    LocalCluster, once the estimate passes its threshold; the summary names it and why."""
+    pytest.importorskip("distributed")
+    parameters = {"load.Q": {"values": [0.0, 6.0, 12.0, 18.0], "pattern": CYCLE}}
+    serial = sweep_run.sweep(SCENE, parameters, out=tmp_path / "serial", serial=True)
+    monkeypatch.setattr(sweep_run, "fork_available", lambda: False)
+    monkeypatch.setattr(sweep_run, "machine_cores", lambda: 2)
+    monkeypatch.setattr(sweep_run, "CLUSTER_START_SECONDS", 0.0)
+    auto = sweep_run.sweep(SCENE, parameters, out=tmp_path / "auto")
+    note = auto.summary.engine_note
+    assert note.startswith("engine auto: a Dask LocalCluster: the work left, estimated at")
+    assert "(PARALLEL_MIN_STARTS x CLUSTER_START_SECONDS)" in note
+    assert auto.summary.mode == "dask" and auto.summary.stored == 4
+    pd.testing.assert_frame_equal(_results(auto.table), _results(serial.table))
     sweep_cases._GROUPS.clear()

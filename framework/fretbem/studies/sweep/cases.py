@@ -18,7 +18,7 @@ import os
 import socket
 import time
 from collections import OrderedDict
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from typing import Any
 
 import attrs
@@ -383,12 +383,21 @@ def run_batch(
     prepared it (pickled to this one), taken instead of assembling it here.
     """
 
+    return list(batch_rows(scene, cases, builder, outputs, extras, prepared))
+
+
+def batch_rows(scene: dict, cases: Sequence[tuple[int, dict, dict]], builder=None,
+               outputs: Sequence[str] = (), extras=None, prepared=None,
+               ) -> Iterator[dict[str, Any]]:  # fmt: skip
+    """The rows of :func:`run_batch` (same arguments), each as soon as its case is solved:
+    a caller that decides between cases (the default engine's estimate) stops by closing
+    the iterator, the group looked up and its resource block entered once, as for a batch."""
     with contextlib.ExitStack() as held:  # the group's run block: its assembly to its last case
-        return _batch(scene, cases, builder, outputs, extras, prepared, held)
+        yield from _batch(scene, cases, builder, outputs, extras, prepared, held)
 
 
-def _batch(scene, cases, builder, outputs, extras, prepared, held) -> list[dict[str, Any]]:
-    """:func:`run_batch` with its group's resource block entered on ``held``."""
+def _batch(scene, cases, builder, outputs, extras, prepared, held) -> Iterator[dict[str, Any]]:
+    """:func:`batch_rows` with its group's resource block entered on ``held``."""
     worker = f"{socket.gethostname()}:{os.getpid()}"
     simulation, memo, assembly, failure = None, None, 0.0, None
     try:
@@ -407,7 +416,6 @@ def _batch(scene, cases, builder, outputs, extras, prepared, held) -> list[dict[
             assembly = time.perf_counter() - tic
     except Exception as err:  # recorded on every case of the group, not fatal
         failure = _error(err)
-    rows = []
     for index, values, case_scene in cases:
         row: dict[str, Any] = {"case": index, **values, "worker": worker}
         try:
@@ -420,8 +428,7 @@ def _batch(scene, cases, builder, outputs, extras, prepared, held) -> list[dict[
             row.update(status="error", error=_error(err), regime="")
         row["assembly_seconds"] = assembly
         assembly = 0.0  # paid once per batch: charged to its first case
-        rows.append(row)
-    return rows
+        yield row
 
 
 __all__ = [
@@ -430,6 +437,7 @@ __all__ = [
     "TIMING_COLUMNS",
     "GroupBuildError",
     "Loading",
+    "batch_rows",
     "build_simulation",
     "case_loading",
     "forget_outputs",

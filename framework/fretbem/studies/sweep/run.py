@@ -48,6 +48,7 @@ from .cases import (
     ROTATION_CYCLE_COLUMNS,
     STEP_COLUMNS,
     TIMING_COLUMNS,
+    batch_rows,
     case_loading,
     group_key,
     representative,
@@ -56,6 +57,7 @@ from .cases import (
 from .labelled import sweep_dataset, sweep_html, sweep_repr
 from .maps import check_maps, draw_maps
 from .outputs import declared_columns, resolve_all
+from .probe import PROBE_CASES, WorkProbe, queued_work
 from .spec import SweepSpec, SweepSpecError, load_sweep, set_path
 from .store import SweepStore, read_table
 
@@ -83,10 +85,6 @@ CLUSTER_START_SECONDS = 8.0
 #: from the cases solved in this process so far, exceeds this many cluster starts: below
 #: it the start and the workers' own assemblies cost more than the second core gives back
 PARALLEL_MIN_STARTS = 3.0
-#: cases solved in this process before the remaining work is estimated
-PROBE_CASES = 3
-#: the recent cases the per-case estimate is taken over
-PROBE_WINDOW = 25
 
 #: default tasks per worker: small enough to balance the last round, large enough that the
 #: per-task cost (scheduling, one Parquet chunk) stays below 1 % of the solves
@@ -168,8 +166,8 @@ class _Progress:
         filled = int(width * self.done_cases / max(1, self.cases))
         bar = "#" * filled + "." * (width - filled)
         self.stream.write(
-            f"\r[{bar}] {self.done_cases}/{self.cases} cases, {self.done_tasks}/{self.tasks} "
-            f"tasks, {time.perf_counter() - self.start:.1f} s"
+            f"\r[{bar}] {self.done_cases}/{self.cases} cases, {self.done_tasks} tasks, "
+            f"{time.perf_counter() - self.start:.1f} s"
         )
         self.stream.flush()
 
@@ -199,6 +197,8 @@ class SweepSummary:
     solve_seconds: float | None
     stopped: bool
     lost: tuple[str, ...] = ()
+    #: why the engine ran as it did (the default engine's choice), "" when it was asked for
+    engine_note: str = ""
 
     def __str__(self) -> str:
         def fmt(value, unit=" s"):
@@ -214,6 +214,7 @@ class SweepSummary:
         lines = [
             f"sweep: {self.cases} cases in {self.groups} condensation groups -> {self.directory}",
             run,
+            *([f"  {self.engine_note}"] if self.engine_note else []),
             "  stored: "
             + ", ".join(f"{n} {k}" for k, n in sorted(self.status.items()))
             + f" ({self.stored}/{self.cases})",
@@ -272,7 +273,7 @@ def _summarise(table, spec, directory, stats) -> SweepSummary:
         stored=len(table),
         status=dict(status),
         regimes={k: regimes.get(k, 0) for k in REGIMES},
-        groups=len(spec.groups()),
+        groups=spec.group_count(),
         assembly_seconds=median("assembly_seconds", positive=True),
         solve_seconds=median("solve_seconds"),
         **stats,
@@ -316,27 +317,6 @@ def _cluster_threads(client) -> int:
     return sum(int(w.get("nthreads", 1)) for w in workers.values())
 
 
-def _remaining_seconds(rows: list[dict], queue: list[Task]) -> float | None:
-    """Serial seconds the queued tasks would take, from the rows solved so far (None: too few).
-
-    Median solve per case (CPU, of the last ``PROBE_WINDOW`` rows) times the queued cases, plus
-    the median assembly of a group for every further queued group.
-    """
-    # CPU seconds where recorded: a busy machine stretches the wall time of every process alike
-    solves = [
-        float(r.get("solve_cpu_seconds", r["solve_seconds"]))
-        for r in rows[-PROBE_WINDOW:]
-        if "solve_seconds" in r
-    ]
-    if len(solves) < PROBE_CASES:
-        return None
-    assemblies = [float(r["assembly_seconds"]) for r in rows if r.get("assembly_seconds")]
-    per_group = statistics.median(assemblies) if assemblies else 0.0
-    cases = sum(len(t.cases) for t in queue)
-    groups = len({id(t.scene) for t in queue})
-    return statistics.median(solves) * cases + per_group * max(groups - 1, 0)
-
-
 def _split(queue: list[Task], workers: int) -> list[Task]:
     """The queued tasks cut to ``TASKS_PER_WORKER`` tasks per worker (at most MAX_BATCH)."""
     cases = sum(len(t.cases) for t in queue)
@@ -347,22 +327,30 @@ def _split(queue: list[Task], workers: int) -> list[Task]:
 
 
 def _solve_here(queue, builder, outputs, extras, on_rows, stop, max_tasks) -> int:
-    """Solve queued tasks in this process, case by case, until ``stop(rows so far)`` or
-    ``max_tasks`` tasks (None: no limit); returns the tasks finished. A task cut short goes
-    back to the front of the queue with its unsolved cases (and counts as finished)."""
+    """Solve queued tasks in this process until ``stop(row, cases, groups)`` after a case
+    (the cases and further groups left, this task's unsolved cases included) or
+    ``max_tasks`` tasks (None: no limit); returns the tasks finished. A task is one batch,
+    its group looked up and its resource block entered once, as ``--serial`` does; a task
+    cut short goes back to the front of the queue with its unsolved cases (and counts as
+    finished)."""
     finished = 0
-    solved: list[dict] = []
     while queue and (max_tasks is None or finished < max_tasks):
-        task, rows = queue.pop(0), []
-        for k, case in enumerate(task.cases):
-            rows += run_batch(task.scene, [case], builder, outputs, extras)
-            solved.append(rows[-1])
-            if stop(solved) and k + 1 < len(task.cases):
-                queue.insert(0, Task(task.scene, task.cases[k + 1 :]))
-                break
+        task, rows, stopped = queue.pop(0), [], False
+        cases, groups = queued_work(queue, task.scene)
+        batch = batch_rows(task.scene, task.cases, builder, outputs, extras)
+        try:
+            for row in batch:
+                rows.append(row)
+                if stop(row, cases + len(task.cases) - len(rows), groups):
+                    stopped = True
+                    break
+        finally:
+            batch.close()
+        if len(rows) < len(task.cases):
+            queue.insert(0, Task(task.scene, task.cases[len(rows) :]))
         on_rows(rows)
         finished += 1
-        if stop(solved):
+        if stopped:
             break
     return finished
 
@@ -384,12 +372,13 @@ def _pool_task(index: int) -> list[dict]:
     return run_batch(task.scene, task.cases, builder, outputs, extras)
 
 
-def _run_pool(queue, workers, builder, outputs, extras, on_rows, limit):
+def _run_pool(queue, workers, builder, outputs, extras, on_rows, limit, on_start=None):
     """Solve the queued tasks on ``workers`` forked processes, storing each as it returns.
 
     Returns (stopped early, errors of tasks lost with a worker). The workers
     inherit this process's memory: the groups it prepared (``cases._GROUPS``), the builder
     and the output functions are theirs without pickling; each task sends back its rows.
+    ``on_start()`` runs once every task is submitted (the workers forked).
     """
     finished, lost, stopped = 0, [], False
     _POOL["work"] = (list(queue), builder, outputs, extras)
@@ -401,6 +390,8 @@ def _run_pool(queue, workers, builder, outputs, extras, on_rows, limit):
     )
     try:
         futures = [pool.submit(_pool_task, k) for k in range(len(queue))]
+        if on_start is not None:
+            on_start()
         for future in concurrent.futures.as_completed(futures):
             try:
                 rows = future.result()
@@ -435,8 +426,9 @@ def _run_engine(
     """Run the tasks on ``engine`` ("auto", "processes" or "dask"), storing each batch as it
     completes.
 
-    Returns (workers, stopped early, errors of tasks lost with a worker, mode): a lost
-    task's cases stay unstored, for the next run.
+    Returns (workers, stopped early, errors of tasks lost with a worker, mode, note): a lost
+    task's cases stay unstored, for the next run; the note says why the default engine ran
+    as it did ("" for an engine asked for).
 
     "auto" (the default engine) solves in this process until the remaining work, estimated
     from the cases solved so far, is worth a parallel start: ``POOL_MIN_SECONDS`` for a pool
@@ -456,30 +448,61 @@ def _run_engine(
         return None if limit is None else limit - finished
 
     forked = engine == "processes" or (engine == "auto" and fork_available() and workers > 1)
-    if engine == "auto":
-        if workers <= 1:
-            threshold = math.inf  # one core: nothing to gain from a parallel engine
-        elif forked:
-            threshold = POOL_MIN_SECONDS
+    note = ""
+    # the rows of the task solved here last before forking: stored once the workers run
+    # (the store's first write imports pandas, 0.3-0.5 CPU s the workers need not wait for)
+    held: list[list[dict]] = []
+
+    def store_held():
+        while held:
+            on_rows(held.pop(0))
+
+    def store_or_hold(rows):
+        if forked and queue and chose:
+            held.append(rows)
         else:
-            threshold = PARALLEL_MIN_STARTS * CLUSTER_START_SECONDS
+            on_rows(rows)
 
-        def worth_it(rows):
-            remaining = _remaining_seconds(rows, queue)
-            return remaining is not None and remaining > threshold
+    chose = engine == "processes"
+    if engine == "auto":
+        probe, threshold = WorkProbe(), auto_threshold(workers, forked)
 
-        finished += _solve_here(queue, builder, outputs, extras, on_rows, worth_it, budget())
+        def worth_it(row, cases, groups):
+            nonlocal chose
+            probe.add(row)
+            remaining = probe.remaining(cases, groups)
+            chose = remaining is not None and remaining > threshold
+            return chose
+
+        def never(row, cases, groups):  # one core: the serial engine, no estimate
+            return False
+
+        stop = never if math.isinf(threshold) else worth_it
+        try:
+            finished += _solve_here(queue, builder, outputs, extras, store_or_hold, stop, budget())
+        except BaseException:  # interrupted: what was solved is stored
+            store_held()
+            raise
         if not queue or (limit is not None and finished >= limit):
-            return 1, bool(queue), lost, "serial"
+            store_held()
+            note = auto_note(probe, threshold, workers, forked, limited=bool(queue))
+            return 1, bool(queue), lost, "serial", note
+        note = auto_note(probe, threshold, workers, forked, chose=True)
     elif forked:  # the first case here: the workers inherit its group, prepared
-        finished += _solve_here(queue, builder, outputs, extras, on_rows, lambda rows: True, 1)
+        finished += _solve_here(queue, builder, outputs, extras, store_or_hold, _always, 1)
         if not queue or (limit is not None and finished >= limit):
-            return workers, bool(queue), lost, "process"
+            store_held()
+            return workers, bool(queue), lost, "process", note
     if resplit and engine == "auto":  # the batches were sized for one worker
         queue = _split(queue, workers)
     if forked:
-        stopped, lost = _run_pool(queue, workers, builder, outputs, extras, on_rows, budget())
-        return workers, stopped, lost, "process"
+        try:
+            stopped, lost = _run_pool(
+                queue, workers, builder, outputs, extras, on_rows, budget(), store_held
+            )
+        finally:
+            store_held()
+        return workers, stopped, lost, "process", note
     try:
         from dask.distributed import as_completed
     except ImportError as err:  # pragma: no cover - dask is a dependency
@@ -488,7 +511,7 @@ def _run_engine(
         with concurrent.futures.ThreadPoolExecutor(1) as pool:
             starting = pool.submit(_connect, scheduler, workers)
 
-            def started(_rows):
+            def started(row, cases, groups):
                 return starting.done()
 
             # case by case, so the cluster never waits for this process to finish a task
@@ -500,7 +523,7 @@ def _run_engine(
     try:
         n_workers = len(client.scheduler_info().get("workers", {})) or workers
         if limit is not None and finished >= limit:
-            return n_workers, bool(queue), lost, "dask"
+            return n_workers, bool(queue), lost, "dask", note
         total = finished + len(queue)
         shared = _share_prepared(client, queue, builder)
         futures = [
@@ -533,7 +556,53 @@ def _run_engine(
             own_client.close()
         if cluster is not None:
             cluster.close()
-    return n_workers, stopped, lost, "dask"
+    return n_workers, stopped, lost, "dask", note
+
+
+def _always(row, cases, groups) -> bool:
+    return True
+
+
+def auto_threshold(workers: int, forked: bool) -> float:
+    """Serial CPU seconds of work left above which the default engine goes parallel:
+    ``POOL_MIN_SECONDS`` for forked workers, ``PARALLEL_MIN_STARTS`` cluster starts for a
+    Dask LocalCluster, never on one core."""
+    if workers <= 1:
+        return math.inf
+    return POOL_MIN_SECONDS if forked else PARALLEL_MIN_STARTS * CLUSTER_START_SECONDS
+
+
+def auto_note(probe: WorkProbe, threshold: float, workers: int, forked: bool,
+              chose: bool = False, limited: bool = False) -> str:  # fmt: skip
+    """What the default engine chose and why, for the summary: ``chose`` when it hands the
+    rest to a parallel engine, else it stayed in this process (``limited``: the task limit
+    came first)."""
+    if limited:
+        return "engine auto: solved in this process until the task limit (--limit, limit=)"
+    if math.isinf(threshold):
+        return "engine auto: solved in this process (one core: no parallel engine can pay)"
+    if forked:
+        engine, limit = f"{workers} forked worker processes", "POOL_MIN_SECONDS"
+    else:
+        engine, limit = "a Dask LocalCluster", "PARALLEL_MIN_STARTS x CLUSTER_START_SECONDS"
+    if probe.peak is None:
+        return (
+            f"engine auto: solved in this process (fewer than {PROBE_CASES} cases solved, "
+            "too few to estimate the work)"
+        )
+    seconds, cases = probe.peak
+    estimate = f"the work left, estimated at {seconds:.3g} CPU s after {cases} case(s)"
+    if chose:
+        return f"engine auto: {engine}: {estimate}, passed {threshold:.3g} s ({limit})"
+    if seconds > threshold:  # on the last case: nothing left to hand over
+        return (
+            f"engine auto: solved in this process: {estimate}, passed {threshold:.3g} s only "
+            "on the last case"
+        )
+    return (
+        f"engine auto: solved in this process: {estimate}, stayed under the {threshold:.3g} s "
+        f"that pay for {engine} ({limit})"
+    )
 
 
 def _share_prepared(client, queue: list[Task], builder) -> dict:
@@ -730,15 +799,16 @@ def _run_locked(spec, out, outputs, extras, start, *, client, scheduler, engine,
     # the default engine starts as a serial run: batches sized for one worker (fewer chunks)
     tasks = plan(spec, done, 1 if engine == "auto" else n_workers, batch)
     bar = _Progress(len(tasks), sum(len(t.cases) for t in tasks), progress)
-    solved = 0
+    solved = ran = 0
 
     def on_rows(rows):
-        nonlocal solved
+        nonlocal solved, ran
         store.write(rows)
         solved += len(rows)
+        ran += 1
         bar.update(len(rows))
 
-    stopped, lost = False, []
+    stopped, lost, note = False, [], ""
     try:
         if not tasks:
             mode = "none"
@@ -750,7 +820,7 @@ def _run_locked(spec, out, outputs, extras, start, *, client, scheduler, engine,
                     break
                 on_rows(run_batch(task.scene, task.cases, builder, outputs, extras))
         else:
-            n_workers, stopped, lost, mode = _run_engine(
+            n_workers, stopped, lost, mode, note = _run_engine(
                 tasks,
                 client,
                 scheduler,
@@ -771,12 +841,13 @@ def _run_locked(spec, out, outputs, extras, start, *, client, scheduler, engine,
     stats = {
         "solved_now": solved,
         "skipped": len(done),
-        "tasks": len(tasks),
+        "tasks": ran + len(lost),  # the default engine re-cuts its batches when it forks
         "workers": n_workers,
         "mode": mode,
         "wall": time.perf_counter() - start,
         "stopped": stopped,
         "lost": tuple(lost),
+        "engine_note": note,
     }
     return SweepResult(table, _summarise(table, spec, store.directory, stats), spec)
 

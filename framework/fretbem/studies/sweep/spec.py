@@ -274,6 +274,11 @@ class SweepSpec:
             groups.setdefault(case.group, []).append(case)
         return groups
 
+    def group_count(self) -> int:
+        """Number of condensation groups, without building the cases' scenes."""
+        return len({_group_key(dict(zip(self.paths, combo, strict=True)))
+                    for combo in self.combinations()})  # fmt: skip
+
     def count(self) -> int:
         """Number of cases, without expanding them."""
         if not self.parameters:
