@@ -94,10 +94,12 @@ REUSE_MAX_FUNCTIONS = 400
 #: bodies whose segments keep their blocks (the adaptive mode assembles two per level)
 RECENT_BODIES = 4
 
-#: bodies up to this many functions (above :data:`REUSE_MAX_FUNCTIONS`) lend their rules and
-#: blocks to the next body assembled only, then forget them: the reference specimen, the
-#: pad's point image, takes them at 481 pairs (559 functions; assembly of both bodies 162 ->
-#: 119 ms) and the copies (20 MB there) are gone before the steps
+#: bodies up to this many functions (above :data:`REUSE_MAX_FUNCTIONS`) lend their rules to
+#: the next body assembled only, then forget them (the reference specimen, the pad's point
+#: image, tells itself one by them at 481 pairs, 559 functions). They keep no blocks: the
+#: only body that took them, the point image, now takes the whole H and G permuted
+#: (:mod:`fretbem.bem.image_matrices`) or never forms them, so their copies (20 MB, 5 ms of
+#: the 481-pair cycle, 18 ms on a loaded machine) were never read
 LEND_MAX_FUNCTIONS = 600
 
 
@@ -353,6 +355,24 @@ def _row_sums(h: np.ndarray, n: int, chunk: int = 64) -> np.ndarray:
     return out.reshape(-1, 2, 2)
 
 
+def _rigid_row_sums(loops, h: np.ndarray, n: int, integrated: np.ndarray | None) -> np.ndarray:
+    """(n, 2, 2) row sums of H over each function's rows, for the rows ``integrated`` (every
+    row if None; the others 0): :func:`_row_sums`' numbers, computed in place by the compiled
+    loops where they are used (481 pairs: 4 ms -> 0.5 ms, the gathered half of H and its
+    transposed chunks never made)."""
+    on = np.arange(n) if integrated is None else np.flatnonzero(integrated)
+    compiled = getattr(loops, "row_sums", None)
+    if compiled is not None and h.flags.c_contiguous and h.dtype == np.float64:
+        out = np.zeros((n, 2, 2))
+        compiled(h, on.astype(np.intp), n, out)
+        return out
+    if integrated is None:
+        return _row_sums(h, n)
+    out = np.zeros((n, 2, 2))
+    out[on] = _row_sums(h[(2 * on[:, None] + np.arange(2)).ravel()], n)
+    return out
+
+
 def _near(loops, basis, rules, points, pr, pe, cols, s, kernel, h, g, with_g) -> None:
     """Near pairs (row ``pr[p]``, element ``pe[p]``) on rules graded toward each row's
     closest point of its element, into H and G (G only ``with_g``)."""
@@ -379,7 +399,7 @@ def assemble(
     ``loops`` is :mod:`fretbem.bem.compiled_loops` or :mod:`fretbem.bem.numpy_loops`. A body
     of at most :data:`REUSE_MAX_FUNCTIONS` takes the rules and regular blocks of segments
     it shares with bodies assembled before (:data:`BLOCKS`) and keeps its own (one of at
-    most :data:`LEND_MAX_FUNCTIONS` alike, keeping its own for the next body only). The numpy
+    most :data:`LEND_MAX_FUNCTIONS` alike, keeping its rules only, for the next body). The numpy
     loops leave G's columns of the segments numbered in ``g_free`` at 0 (a solve that
     never reads them: traction-free segments); H is the same either way.
     """
@@ -387,6 +407,7 @@ def assemble(
     h, g = np.zeros((2 * n, 2 * n)), np.zeros((2 * n, 2 * n))
     segments = assembler.segments
     reuse = n <= LEND_MAX_FUNCTIONS
+    keeps_blocks = n <= REUSE_MAX_FUNCTIONS
     skips_g = getattr(loops, "SKIPS_G", False)
     starts = np.searchsorted(colloc.segment, np.arange(len(segments) + 1))  # rows in order
     with_g = [not (skips_g and k in g_free) for k in range(len(segments))]
@@ -442,7 +463,7 @@ def assemble(
             block_rows = slice(2 * starts[r], 2 * starts[r + 1])
             if r in known:
                 h[block_rows, columns], g[block_rows, columns] = known[r]
-            elif reuse:
+            elif keeps_blocks:
                 stored.append((basis, segments[r], key, block_rows, columns))
         jobs.append(
             (k, basis, rows, rules["values"], rows[rules["singular_rows"]],
@@ -456,12 +477,8 @@ def assemble(
     if reuse:
         BLOCKS.assembled(segments, lent=n > REUSE_MAX_FUNCTIONS)
     # rigid-body identity: subtract phi_a(s) * (row sum of the non-singular part of H)
-    if integrated is None:
-        row_sums = _row_sums(h, n)
-    else:  # the integrated rows' sums only (each row's sum the same arithmetic)
-        row_sums = np.zeros((n, 2, 2))
-        on = np.flatnonzero(integrated)
-        row_sums[on] = _row_sums(h[(2 * on[:, None] + np.arange(2)).ravel()], n)
+    # (a mirrored body: the integrated rows' sums only, each row's sum the same arithmetic)
+    row_sums = _rigid_row_sums(loops, h, n, None if integrated is None else integrated)
     for k, basis, rows, values, *_ in jobs:
         if integrated is not None:  # the other rows of a mirrored body: filled below
             on = integrated[rows]

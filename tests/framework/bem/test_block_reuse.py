@@ -107,8 +107,9 @@ def test_face_values_from_the_kept_rules_equal_a_new_evaluation(basis):
 
 
 def test_a_body_above_the_reuse_size_lends_to_the_next_body_only(monkeypatch):
-    """The pad lends its rules and blocks to its point image, the specimen assembled next,
-    which equals its own assembly bit for bit; then the pad's are forgotten."""
+    """The pad lends its rules (no blocks: its point image takes its H and G permuted) to
+    the specimen assembled next, which equals its own assembly bit for bit; then the pad's
+    are forgotten."""
     monkeypatch.setattr(assembly, "REUSE_MAX_FUNCTIONS", 10)
     pair = cattaneo_mindlin(pairs=21).pair
     fresh = []
@@ -118,6 +119,7 @@ def test_a_body_above_the_reuse_size_lends_to_the_next_body_only(monkeypatch):
         pad, specimen = attrs.evolve(pair.upper), attrs.evolve(pair.lower)
         pad.matrices()
         lent = [basis in assembly.BLOCKS._rules for basis in pad.segments]
+        assert not any(basis in assembly.BLOCKS._blocks for basis in pad.segments)  # rules only
         fresh.append(specimen.matrices())
         assert all(lent) == (lend > 10)
         assert not any(basis in assembly.BLOCKS._rules for basis in pad.segments)
