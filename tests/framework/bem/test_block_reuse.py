@@ -126,3 +126,29 @@ def test_a_body_above_the_reuse_size_lends_to_the_next_body_only(monkeypatch):
     (own_h, own_g), (h, g) = fresh
     assert np.array_equal(h, own_h)
     assert np.array_equal(g, own_g)
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+@pytest.mark.parametrize("basis", ["nurbs", "lagrange2"])
+def test_a_mirrored_body_keeping_no_blocks_fills_its_rows_once_to_the_same_numbers(
+    compiled, basis, monkeypatch
+):
+    """A mirror-symmetric body that keeps no blocks skips the fill before the singular terms
+    (only the kept blocks read it): H and G equal, bit for bit, those of the same body
+    assembled keeping its blocks (both fills)."""
+    if compiled:
+        pytest.importorskip("numba")
+    body = _with_loops(cattaneo_mindlin(pairs=21, basis=basis).pair.upper, compiled)
+    assembly.BLOCKS.clear()
+    kept_h, kept_g = attrs.evolve(body).matrices()
+    assert any(basis in assembly.BLOCKS._blocks for basis in body.segments)
+    monkeypatch.setattr(assembly, "REUSE_MAX_FUNCTIONS", 10)
+    monkeypatch.setattr(assembly, "LEND_MAX_FUNCTIONS", 10)
+    assembly.BLOCKS.clear()
+    calls = []
+    fill = assembly.mirror.Fill.__call__
+    monkeypatch.setattr(assembly.mirror.Fill, "__call__", lambda *a: calls.append(1) or fill(*a))
+    h, g = attrs.evolve(body).matrices()
+    assert len(calls) == 2  # H and G once each: the body is mirrored, nothing kept
+    assert np.array_equal(h, kept_h)
+    assert np.array_equal(g, kept_g)
