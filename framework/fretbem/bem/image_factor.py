@@ -168,7 +168,12 @@ def solve_permuted(
     takes its contact dofs to the kept body's in order: their solution is the kept one's.
     The same numbers as :func:`solve_as_image` (whose comparison finds those columns equal
     to the last bit); None where it would not serve, or where the contact dofs do not
-    correspond so."""
+    correspond so.
+
+    Returns (the general columns' solution, its contact columns' as :class:`PermutedRows`,
+    the kept factorisation's owner): the contact columns are the kept solution's rows
+    permuted, formed only if asked for (a run never asks: its contact response takes the
+    kept body's; 481 pairs, an 8.6 MB copy, 3-7 ms, fewer)."""
     kept = _KEPT[0]
     owner = None if kept is None else kept.owner()
     if (
@@ -205,12 +210,28 @@ def solve_permuted(
         if solved is None:
             return None
     clear()
-    result = np.empty(kept.parameters.shape, order="F")
+    result = np.empty(general.shape, order="F")
     for own, other in columns:
-        result[own] = kept.solution[other]
+        result[own] = kept.solution[other][:, where]
         if solved is not None:
-            result[own, where[rest]] = solved[other]
-    return result, owner
+            result[own, rest] = solved[other]
+    contact = PermutedRows(kept.solution[:, 3 : 3 + contacts], columns)
+    return result, contact, owner
+
+
+class PermutedRows:
+    """A kept solution's columns with their rows permuted segment by segment (``columns``:
+    own and kept slices), formed on first call: the numbers :func:`solve_permuted` would
+    copy."""
+
+    def __init__(self, kept: np.ndarray, columns: list):
+        self.kept, self.columns = kept, columns
+
+    def __call__(self) -> np.ndarray:
+        out = np.empty(self.kept.shape, order="F")
+        for own, other in self.columns:
+            out[own] = self.kept[other]
+        return out
 
 
 def _kept_solve(kept, parameters: np.ndarray, rest: np.ndarray, rows) -> np.ndarray | None:

@@ -57,9 +57,12 @@ class BodySystem:
         self.solves_u = solves_u
         self.block_dofs = np.flatnonzero(self.kinds == BLOCK)
         self.contact_dofs = np.flatnonzero(self.kinds == CONTACT)
+        contact = None  # the contact columns, where they are formed apart (a point image)
         with one_blas_thread():  # a busy machine made threaded BLAS 60x slower here
             response = None if source is None else _permuted_parameters(self, source)
-            if response is None:
+            if response is not None:
+                response, contact = response
+            else:
                 matrices = list(body.system_matrices(g_free))
                 start = time.perf_counter()
                 response = _solve_parameters(
@@ -75,9 +78,22 @@ class BodySystem:
         k = self.load_known.shape[0]
         self.base = response[:, 0]
         self.block_response = response[:, 1:3]
-        self.contact_response = response[:, 3 : response.shape[1] - k]
         self.load_response = response[:, response.shape[1] - k :]
+        if contact is None:
+            contact_columns = response[:, 3 : response.shape[1] - k]
+            self._contact_response, self._contact_columns = contact_columns, None
+        else:  # general columns only: the contact ones formed when first asked for
+            self._contact_response, self._contact_columns = None, contact
         body.timings["factorisation"] = time.perf_counter() - start
+
+    @property
+    def contact_response(self) -> np.ndarray:
+        """Z_contact (unknowns x contact dofs); for a point image served by its source's
+        solution permuted, formed on first use (a run's contact response never asks)."""
+        if self._contact_response is None:
+            self._contact_response = self._contact_columns()
+            self._contact_columns = None
+        return self._contact_response
 
     def unknowns(self, delta, contact_tractions, loads=()) -> np.ndarray:
         """z = z0 + Z_delta delta + Z_contact t_contact + Z_beta beta."""
@@ -123,8 +139,9 @@ class BodySystem:
         return BodySolution(self.body, u.reshape(-1, 2), t.reshape(-1, 2), delta)
 
 
-def _permuted_parameters(owner: BodySystem, source) -> np.ndarray | None:
-    """A^-1 [z0 rhs, block, contact, load columns] of a body whose H and G are the kept
+def _permuted_parameters(owner: BodySystem, source) -> tuple | None:
+    """(A^-1 [z0 rhs, block, load columns], A^-1 [contact columns] formed when called) of a
+    body whose H and G are the kept
     body's permuted (``source``: :meth:`~fretbem.bem.body.BemBody.permuted_source`) and
     whose unknowns' kinds correspond, from that body's kept factors and solution, H and G
     never formed: only their columns on the known dofs are taken (the general parameter
@@ -148,11 +165,11 @@ def _permuted_parameters(owner: BodySystem, source) -> np.ndarray | None:
     )  # fmt: skip
     if shared is None:
         return None
-    out, owner.image_of = shared
+    out, contact, owner.image_of = shared
     owner.shares_contact_block = True
     image_matrices.clear()  # served: the kept H and G are not needed any longer
     body.note_permuted()
-    return out
+    return out, contact
 
 
 class _PermutedColumns:
