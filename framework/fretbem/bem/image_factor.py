@@ -42,8 +42,9 @@ class KeptFactor:
     body's segments (weak), their first dofs and first rows, the matrix (None where the
     mirror split's halves solved it without building it), the solve with its
     factors (A^-1 b, None if singular: an LU or the mirror split's halves), the parameter
-    columns and their solution; whether each unknown is a displacement (H's column in the
-    matrix, else -G's) and the H the matrix was built from (weak; None: not known)."""
+    columns (:class:`LazyParameters` where only the general ones are held) and their
+    solution; whether each unknown is a displacement (H's column in the matrix, else -G's)
+    and the H the matrix was built from (weak; None: not known)."""
 
     owner: weakref.ref
     segments: tuple
@@ -51,13 +52,46 @@ class KeptFactor:
     first_rows: np.ndarray
     matrix: np.ndarray | None
     solve: Callable[[np.ndarray], np.ndarray | None]
-    parameters: np.ndarray
+    parameters: np.ndarray | LazyParameters
     solution: np.ndarray
     solves_u: np.ndarray | None = None
     h: weakref.ref | None = None
 
 
 _KEPT: list[KeptFactor | None] = [None]
+
+
+class LazyParameters:
+    """A kept body's parameter columns [z0, block, contact, load columns] of which only the
+    general ones are held, the contact ones (G's on the contact dofs) taken from G when
+    first asked for (:func:`full`): the halves of a mirror-split body never form them, and
+    its point image served by :func:`solve_permuted` never asks."""
+
+    def __init__(self, general: np.ndarray, g: np.ndarray, contact_dofs: np.ndarray):
+        self.general, self.g, self.contact_dofs = general, g, contact_dofs
+        self.shape = (len(general), general.shape[1] + len(contact_dofs))
+
+    def full(self) -> np.ndarray:
+        """The columns in order, F-ordered: the numbers the body's own parameters hold
+        (:func:`fretbem.bem.system.collocation_parameters`)."""
+        contacts = len(self.contact_dofs)
+        out = np.empty(self.shape, order="F")
+        out[:, :3] = self.general[:, :3]
+        out[:, 3 : 3 + contacts] = self.g[:, self.contact_dofs]
+        out[:, 3 + contacts :] = self.general[:, 3:]
+        return out
+
+
+def _full(parameters) -> np.ndarray:
+    """A kept factorisation's parameter columns, formed where they are kept lazily."""
+    return parameters.full() if isinstance(parameters, LazyParameters) else parameters
+
+
+def _general(parameters, where: np.ndarray) -> np.ndarray:
+    """A kept factorisation's general parameter columns (``where``: their numbers)."""
+    if isinstance(parameters, LazyParameters):
+        return parameters.general
+    return parameters[:, where]
 
 
 def clear() -> None:
@@ -73,7 +107,7 @@ def keep(
     overwrote them) for the next body, if it is small enough; else forget the last one.
     ``solves_u`` and ``h``: the unknowns' kinds and the H the matrix was built from, for a
     body whose H and G are this one's permuted."""
-    if len(parameters) > KEEP_MAX_ROWS:
+    if parameters.shape[0] > KEEP_MAX_ROWS:
         clear()
         return
     refs = tuple(weakref.ref(basis) for basis in segments)
@@ -139,7 +173,7 @@ def solve_as_image(
     # segment, by slices
     same = np.zeros(parameters.shape[1], bool)
     if kept.parameters.shape == parameters.shape:  # columns solved already
-        same = _same_columns(parameters, kept.parameters, rows)
+        same = _same_columns(parameters, _full(kept.parameters), rows)
     rest = np.flatnonzero(~same)
     solved = None
     if rest.size:
@@ -202,7 +236,7 @@ def solve_permuted(
             return None
     # the general columns of the parameters: [z0, block x, block y] first, loads last
     where = np.r_[0:3, 3 + contacts : kept.parameters.shape[1]]
-    same = _same_columns(general, kept.parameters[:, where], rows)
+    same = _same_columns(general, _general(kept.parameters, where), rows)
     rest = np.flatnonzero(~same)
     solved = None
     if rest.size:

@@ -241,21 +241,29 @@ def _solve_parameters(
     # for a body the halves solve unless a kept factorisation may serve it
     source = image_matrices.source_of(h)
     permuted_from = None if source is None else source.h
+    general = None  # the parameter columns but the contact ones, where only they are formed
     if permuted_from is None and (
         split is None or image_factor.may_serve(segments, first_dofs, first_rows, _image_of)
     ):
         matrix, parameters = collocation_system(
             h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs
         )
+    elif permuted_from is None:  # for the halves, which no kept factorisation may serve (no
+        # A to compare): their contact right-hand sides are their own, and the contact
+        # columns a point image may compare are formed only if it asks (481 pairs, 4 ms)
+        matrix = parameters = None
+        general = general_parameters(h, g, kinds, known, load_known, block_dofs)
     else:
         matrix = None
         parameters = collocation_parameters(
             h, g, kinds, known, load_known, block_dofs, contact_dofs
         )
-    shared = image_factor.solve_as_image(
-        segments, first_dofs, first_rows, _image_of, matrix, parameters,
-        solves_u=solves_u, permuted_from=permuted_from,
-    )  # fmt: skip
+    shared = None
+    if parameters is not None:  # (without A or a permuted H, no kept factorisation serves)
+        shared = image_factor.solve_as_image(
+            segments, first_dofs, first_rows, _image_of, matrix, parameters,
+            solves_u=solves_u, permuted_from=permuted_from,
+        )  # fmt: skip
     if shared is not None:
         out, owner.image_of = shared
         if permuted_from is not None:  # served: the kept H and G are not needed any longer
@@ -264,6 +272,10 @@ def _solve_parameters(
     halves = None if split is None else mirror_split.build(split, h, g, solves_u, contact_dofs)
     if halves is None and matrix is None:
         matrix = collocation_matrix(h, g, solves_u)
+    if halves is None and parameters is None:
+        parameters = collocation_parameters(
+            h, g, kinds, known, load_known, block_dofs, contact_dofs
+        )
     # kept for a point image: A (where it was built: a body the halves solve keeps none, and
     # only a body whose H and G are its own permuted takes its factors, 481 pairs 6 ms less)
     # and the parameters themselves where the halves solve (they leave both as they are),
@@ -272,14 +284,18 @@ def _solve_parameters(
     if small:
         copy = halves is None
         kept_matrix = matrix.copy(order="F") if copy else matrix
-        kept_parameters = parameters.copy(order="F") if copy else parameters
+        if parameters is None:
+            kept_parameters = image_factor.LazyParameters(general, g, contact_dofs)
+        else:
+            kept_parameters = parameters.copy(order="F") if copy else parameters
     if halves is not None:
         del matrix
         factor = mirror_split.SplitFactor(split, halves)
         del halves
-        general = np.asfortranarray(
-            np.delete(parameters, np.arange(3, 3 + len(contact_dofs)), axis=1)
-        )
+        if general is None:
+            general = np.asfortranarray(
+                np.delete(parameters, np.arange(3, 3 + len(contact_dofs)), axis=1)
+            )
         out = _split_response(factor, general, contact_dofs)
         solve = None if factor.failed else factor.solve
     else:
