@@ -243,12 +243,9 @@ def _segment_rules(basis, settings, element, local, parameter) -> dict:
         [center[:, None]] + [np.concatenate([d["local"], d["log_local"]], 1) for d in sides],
         axis=1,
     )
-    q_sing = singular_local.shape[1]
     m = basis.map(
-        np.concatenate(
-            [np.repeat(np.arange(n_el), per_element.size), element, np.repeat(se, q_sing)]
-        ),
-        np.concatenate([np.tile(per_element, n_el), local, singular_local.ravel()]),
+        np.concatenate([np.repeat(np.arange(n_el), per_element.size), element]),
+        np.concatenate([np.tile(per_element, n_el), local]),
     )
     a0 = n_el * per_element.size
     a1 = a0 + element.size
@@ -272,10 +269,6 @@ def _segment_rules(basis, settings, element, local, parameter) -> dict:
     )
     samples = np.ascontiguousarray(per_el(m.points, 2)[:, ::2])
     centres = 0.5 * (samples.max(axis=1) + samples.min(axis=1))
-    singular = {
-        name: getattr(m, name)[a1:].reshape(len(se), q_sing, *getattr(m, name).shape[1:])
-        for name in ("points", "normals", "jacobians", "values")
-    }
     return {
         "far": far,
         "mid": mid,
@@ -288,8 +281,52 @@ def _segment_rules(basis, settings, element, local, parameter) -> dict:
         "values": m.values[a0:a1],
         "singular_rows": sr,
         "singular_elements": se,
-        "singular_sides": _singular_sides(singular, sides, settings),
+        "singular_sides": SingularRules(basis, se, singular_local, sides, settings),
     }
+
+
+class SingularRules:
+    """Both sides' rules of a segment's singular pairs (its collocation points on their own
+    elements), the basis evaluated on first use and only at the pairs asked for: a mirrored
+    body integrates the singular terms of half its rows (481 pairs: 27,000 of the rules'
+    46,000 basis evaluations were singular points, half never used). Every evaluation is
+    pointwise, so the numbers are those of one evaluation of every pair. A point image's
+    are its source's with the points and normals negated (:meth:`reflected`)."""
+
+    def __init__(self, basis, elements, local, sides, settings, source=None):
+        self._basis = None if basis is None else weakref.ref(basis)  # rules are kept per basis
+        self.elements, self.local, self.sides, self.settings = elements, local, sides, settings
+        self._source = source
+        self._every = None
+
+    def reflected(self) -> SingularRules:
+        """The rules of this segment's point image."""
+        return SingularRules(None, self.elements, self.local, self.sides, self.settings, self)
+
+    def arrays(self, on: np.ndarray | None = None) -> tuple:
+        """The arguments of ``integrate_singular`` (:func:`_singular_sides`) for the pairs
+        ``on`` (a mask over them; None: every pair, kept)."""
+        if on is None and self._every is not None:
+            return self._every
+        if self._source is not None:
+            out = tuple(
+                images._negated(a) if i in images.NEGATED["singular_sides"] else a
+                for i, a in enumerate(self._source.arrays(on))
+            )
+        else:
+            pairs = slice(None) if on is None else on
+            elements, local = self.elements[pairs], self.local[pairs]
+            q_sing = local.shape[1]
+            m = self._basis().map(np.repeat(elements, q_sing), local.ravel())
+            data = {
+                name: getattr(m, name).reshape(len(elements), q_sing, *getattr(m, name).shape[1:])
+                for name in ("points", "normals", "jacobians", "values")
+            }
+            sides = [{key: value[pairs] for key, value in side.items()} for side in self.sides]
+            out = _singular_sides(data, sides, self.settings)
+        if on is None:
+            self._every = out
+        return out
 
 
 def _singular_sides(data: dict, sides: list[dict], settings) -> tuple:
@@ -325,8 +362,7 @@ def _integrated_singular(basis, settings, on: np.ndarray, elements, singular) ->
     kept = _SINGULAR_ON.setdefault(basis, {})
     key = (settings, on.tobytes())
     if key not in kept:
-        both = np.concatenate([on, on])
-        kept[key] = (elements[on], tuple(a[both] for a in singular))
+        kept[key] = (elements[on], singular.arrays(on))
     return kept[key]
 
 
@@ -495,6 +531,8 @@ def assemble(
             elements, singular = _integrated_singular(basis, s, on, elements, singular)
         if not rows.size:
             continue
+        if integrated is None:
+            singular = singular.arrays()
         cols = assembler.offsets[k] + basis.connectivity[elements]
         # both sides of every split element in one call: the pairs of side -1, then side +1
         loops.integrate_singular(

@@ -152,3 +152,25 @@ def test_a_mirrored_body_keeping_no_blocks_fills_its_rows_once_to_the_same_numbe
     assert len(calls) == 2  # H and G once each: the body is mirrored, nothing kept
     assert np.array_equal(h, kept_h)
     assert np.array_equal(g, kept_g)
+
+
+@pytest.mark.parametrize("basis", ["nurbs", "lagrange2"])
+def test_singular_rules_evaluated_for_some_pairs_are_those_of_every_pair(basis):
+    """A segment's singular rules evaluated at a subset of its pairs (a mirrored body's
+    integrated rows) are the rows of the evaluation at every pair, bit for bit (the basis
+    evaluation is pointwise)."""
+    body = cattaneo_mindlin(pairs=21, basis=basis).pair.upper
+    colloc = body.collocation
+    for k, segment in enumerate(body.segments):
+        rows = colloc.segment == k
+        rules = assembly._segment_rules(
+            segment, body.integration, colloc.element[rows], colloc.local[rows],
+            colloc.parameter[rows],
+        )  # fmt: skip
+        singular = rules["singular_sides"]
+        every = singular.arrays()
+        assert singular.arrays() is every  # kept
+        on = np.random.default_rng(k).random(len(singular.elements)) < 0.5
+        both = np.concatenate([on, on])  # side -1's pairs, then side +1's
+        for part, whole in zip(singular.arrays(on), every, strict=True):
+            assert np.array_equal(part, whole[both])
