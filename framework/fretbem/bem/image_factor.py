@@ -64,7 +64,7 @@ _KEPT: list[KeptFactor | None] = [None]
 class LazyParameters:
     """A kept body's parameter columns [z0, block, contact, load columns] of which only the
     general ones are held, the contact ones (G's on the contact dofs) taken from G when
-    first asked for (:func:`full`): the halves of a mirror-split body never form them, and
+    first asked for (:meth:`full`): the halves of a mirror-split body never form them, and
     its point image served by :func:`solve_permuted` never asks."""
 
     def __init__(self, general: np.ndarray, g: np.ndarray, contact_dofs: np.ndarray):
