@@ -1,10 +1,9 @@
 """The BEM reference cycle inside ``run`` (as a user runs it), two source trees interleaved:
 CPU of the preparation and of the steps, and the preparation's page faults.
 
-:mod:`bem_phases` times the preparation outside ``run`` (where large arrays are not kept by
-the allocator, :func:`fretbem.numerics.memory.kept_memory`), and the peer after it reads
-10-40 % apart between trees on a loaded machine; here each cold cycle is one ``run`` (scene
-cache cleared), its ``prepare`` and steps timed by wrapping ``Simulation.prepare`` and
+:mod:`bem_phases` calls the phases itself (the assembly apart from the rest of the
+preparation); here each cold cycle is one ``run`` (scene cache cleared), its ``prepare``
+and steps timed by wrapping ``Simulation.prepare`` and
 ``Simulation.step`` (CPU: user + system, as ``time.process_time``), the minor page faults of
 the preparation counted (``getrusage``), then the numpy Toeplitz peer
 (``benchmarks/halfplane_peer.py``). Warm-ups as in :mod:`bem_phases`. Medians over cycles
