@@ -13,7 +13,13 @@ followed by the numpy Toeplitz peer
 median ratio of cycle to peer. As in ``benchmarks/workflows.py``, each pair count first
 runs two cycles on other pads (imports; at 481 pairs numba's compiled loops, which one
 pad's assembly alone does not reach), so the 61-pair cycle assembles with the numpy loops
-and the 481-pair one with the compiled loops.
+and the 481-pair one with the compiled loops. The phases run inside the run's resource block
+(``fretbem.simulation.run_resources``), as ``run`` prepares a simulation: from 2,048 DOFs
+the allocator keeps large arrays' memory there. Prepared outside it (before 2026-11-27),
+the allocator's state after the cycle depended on what the preparation had freed: against
+83d0dc3, the peer after this tree's cycle took 12,600-13,300 page faults where it took
+2,100-2,200 after 83d0dc3's, and read 35 % slower (481 pairs, load 3.6-4.5), which made
+the cycle / peer ratio read 4.1 where, prepared inside the block, it reads 5.2.
 
     OPENBLAS_NUM_THREADS=1 python benchmarks/bem_phases.py --before /tmp/before \\
         --rounds 3 --cycles 5
@@ -27,7 +33,7 @@ CHILD = r"""
 import json, sys, time
 sys.path.insert(0, sys.argv[1])
 from fretbem.scenes import reference as scenes
-from fretbem.simulation import run
+from fretbem.simulation import run, run_resources
 import halfplane_peer
 from cold_caches import clear_scene_caches
 def assemble(body, tag):  # what the run assembles (older trees: all of H and G)
@@ -52,12 +58,13 @@ for pairs in map(int, sys.argv[3].split(",")):
         simulation = scenes.cattaneo_mindlin(pairs=pairs, models={})
         built = time.process_time()
         pair = simulation.pair
-        assemble(pair.upper, pair.upper_tag)
-        assemble(pair.lower, pair.lower_tag)
-        assembled = time.process_time()
-        simulation.prepare()
-        prepared = time.process_time()
-        run(simulation)
+        with run_resources(simulation):  # as run() prepares: the allocator keeps memory
+            assemble(pair.upper, pair.upper_tag)
+            assemble(pair.lower, pair.lower_tag)
+            assembled = time.process_time()
+            simulation.prepare()
+            prepared = time.process_time()
+            run(simulation)
         done = time.process_time()
         halfplane_peer.cycle(pairs)
         rows.append((built - start, assembled - built, prepared - assembled, done - prepared,

@@ -20,9 +20,21 @@ while numpy, scipy and matplotlib load their bytecode). Workflows:
   BEM bodies of the same scene and against a numpy Toeplitz influence-coefficient peer
   (``benchmarks/halfplane_peer.py``) on the same nodes, at 61 and 481 pairs, and the BEM
   bodies' cycle against the same peer; the process first runs both models on another pad
-  (imports, compiled loops), so no geometry cache holds the measured scene, and clears the
-  scene builder's cache before each model (the BEM bodies' build would otherwise serve the
-  half-plane one);
+  (imports, compiled loops), so no geometry cache holds the measured scene, and the peer once
+  (its imports). Then ``--cycles`` cycles, each a cold BEM cycle, a cold half-plane cycle
+  (the scene builder's caches cleared before each: the BEM bodies' build would otherwise
+  serve the half-plane one) and one peer run, so each side is measured in the state the
+  others leave; the ratios are the medians of the per-cycle ratios (``bem_per_peer``,
+  ``halfplane_per_peer``), the times the medians over cycles. Reported beside them: the
+  first cycle alone (``bem_first``, ``halfplane_first``) and the peer's own best, five runs
+  back to back after the cycles (``peer_warm`` their mean, ``peer_warm_best`` the fastest),
+  with rows of each model's median cycle against that best warm run (the harshest reading).
+  Before 2026-11-27 this workflow timed one cold cycle of ours per process against the
+  mean of five warm back-to-back peer runs: one sample against a mean taken in another
+  state. Measured in one process (load 1.6-3, three processes each): our first cycle and
+  our back-to-back cycles read alike (BEM 481 pairs 345/359/403 ms first, 333/349/366
+  back to back), while the peer read 2.56-3.75 ms warm and 2.77-4.11 interleaved at 61
+  pairs, 62-69 and 56-66 ms at 481, and the ratio of one sample swung with either;
 - ``sweep``: ``fretbem sweep examples/fretting_map.toml`` (144 cases) default engine against
   ``--serial``, whole process;
 - ``demo``: ``fretbem demo`` with figures and VTK against ``python -c "import numpy,
@@ -112,31 +124,43 @@ print(json.dumps(out))
 """
 
 HALFPLANE_CHILD = r"""
-import json, sys, time
+import json, statistics, sys, time
 sys.path.insert(0, sys.argv[2])
 from fretbem.scenes import reference as scenes
 from fretbem.simulation import run
 import halfplane_peer
 from cold_caches import clear_scene_caches
-pairs = int(sys.argv[1])
+pairs, cycles = int(sys.argv[1]), int(sys.argv[3])
 models = {"bem": {}, "halfplane": {"upper": "half-plane", "lower": "half-plane"}}
 for m in models.values():  # imports, compiled loops: on another pad, so no cache holds the scene;
     for _ in range(2):  # twice: the pad's second assembly crosses the compiled loops' threshold
         # where its image specimen's used to (it now takes the pad's H and G, unassembled)
         run(scenes.cattaneo_mindlin(pairs=pairs, models=m, radius=71.0))
-out = {}
-for name, m in models.items():
-    clear_scene_caches()  # cold for each model: the BEM run built the same shapes
+halfplane_peer.cycle(pairs)  # the peer's imports and first call
+def cold(m):  # scene build + five steps, the scene builder's caches cleared first
+    clear_scene_caches()  # cold for each model: the other model's run built the same shapes
     c = time.process_time()
     simulation = scenes.cattaneo_mindlin(pairs=pairs, models=m)
-    out[name + "_build"] = time.process_time() - c
+    built = time.process_time() - c
     run(simulation)
-    out[name] = time.process_time() - c
-halfplane_peer.cycle(pairs)
-t = time.process_time()
-for _ in range(5):
+    return built, time.process_time() - c
+def peer():
+    t = time.process_time()
     halfplane_peer.cycle(pairs)
-out["peer"] = (time.process_time() - t) / 5
+    return time.process_time() - t
+rows = []
+for _ in range(cycles):  # interleaved: each cycle measured as the other sides are
+    row = {}
+    for name, m in models.items():
+        row[name + "_build"], row[name] = cold(m)
+    row["peer"] = peer()
+    rows.append(row)
+out = {k: statistics.median(r[k] for r in rows) for k in rows[0]}
+for name in models:  # the median of the per-cycle ratios
+    out[name + "_per_peer"] = statistics.median(r[name] / r["peer"] for r in rows)
+out["bem_first"], out["halfplane_first"] = rows[0]["bem"], rows[0]["halfplane"]
+warm = [peer() for _ in range(5)]  # the peer's own best: back to back after the cycles
+out["peer_warm"], out["peer_warm_best"] = statistics.mean(warm), min(warm)
 print(json.dumps(out))
 """
 
@@ -219,9 +243,10 @@ def compile_tree(tree: Path) -> None:
                    capture_output=True)  # fmt: skip
 
 
-def one_round(tree: Path, tmp: Path, which: set[str], index: int = 0) -> dict:
+def one_round(tree: Path, tmp: Path, which: set[str], index: int = 0, cycles: int = 5) -> dict:
     """Every workflow once on ``tree`` (its own example files: scene keys may differ); the
-    sweep's two engines alternate which runs first with the round ``index``."""
+    sweep's two engines alternate which runs first with the round ``index``; the small
+    cycles take ``cycles`` interleaved cold cycles."""
     out: dict = {}
     work = Path(tempfile.mkdtemp(dir=tmp))
     if "rig" in which:
@@ -236,7 +261,7 @@ def one_round(tree: Path, tmp: Path, which: set[str], index: int = 0) -> dict:
     if "halfplane" in which:
         for pairs in (61, 481):
             text = _process([sys.executable, "-c", HALFPLANE_CHILD, str(pairs),
-                             str(ROOT / "benchmarks")], tree, work)[2]  # fmt: skip
+                             str(ROOT / "benchmarks"), str(cycles)], tree, work)[2]  # fmt: skip
             out[f"halfplane_{pairs}"] = json.loads(text)
     if "sweep" in which:
         example = str(tree / "examples" / "fretting_map.toml")
@@ -294,10 +319,17 @@ def ratios(m: dict) -> dict:
                 )
     for pairs in (61, 481):
         h = m.get(f"halfplane_{pairs}")
-        if h:
-            r[f"half-plane body / numpy Toeplitz peer, {pairs} pairs"] = h["halfplane"] / h["peer"]
+        if h:  # medians of the per-cycle ratios (a JSON of before this method: of the times)
+            for name, label in (("halfplane", "half-plane body"), ("bem", "BEM bodies")):
+                r[f"{label} / numpy Toeplitz peer, {pairs} pairs"] = h.get(
+                    f"{name}_per_peer", h[name] / h["peer"]
+                )
             r[f"half-plane body / BEM bodies, {pairs} pairs"] = h["halfplane"] / h["bem"]
-            r[f"BEM bodies / numpy Toeplitz peer, {pairs} pairs"] = h["bem"] / h["peer"]
+            if "peer_warm_best" in h:  # against the peer's own best, back to back, warm
+                for name, label in (("halfplane", "half-plane body"), ("bem", "BEM bodies")):
+                    r[f"{label} / the peer's best warm run, {pairs} pairs"] = (
+                        h[name] / h["peer_warm_best"]
+                    )
     if "sweep" in m:
         s = m["sweep"]
         r["sweep default / --serial, 144 cases (wall)"] = s["default_wall"] / s["serial_wall"]
@@ -325,6 +357,10 @@ def main() -> None:
     parser.add_argument("--before", type=Path, help="source tree of the old code")
     parser.add_argument("--after", type=Path, default=ROOT, help="source tree of the new code")
     parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument(
+        "--cycles", type=int, default=5,
+        help="interleaved cold cycles per process in the halfplane workflow",
+    )  # fmt: skip
     parser.add_argument("--only", nargs="*", choices=ALL, default=list(ALL))
     parser.add_argument("--json", type=Path)
     parser.add_argument(
@@ -343,7 +379,7 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         for k in range(args.rounds):
             for label, tree in trees.items():
-                runs[label].append(one_round(tree, Path(tmp), set(args.only), k))
+                runs[label].append(one_round(tree, Path(tmp), set(args.only), k, args.cycles))
                 print(f"round {k + 1} {label} done, load {os.getloadavg()[0]:.2f}", flush=True)
     load.append(os.getloadavg()[0])
     result = {

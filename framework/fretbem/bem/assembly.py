@@ -94,10 +94,12 @@ REUSE_MAX_FUNCTIONS = 400
 #: bodies whose segments keep their blocks (the adaptive mode assembles two per level)
 RECENT_BODIES = 4
 
-#: bodies up to this many functions (above :data:`REUSE_MAX_FUNCTIONS`) lend their rules and
-#: blocks to the next body assembled only, then forget them: the reference specimen, the
-#: pad's point image, takes them at 481 pairs (559 functions; assembly of both bodies 162 ->
-#: 119 ms) and the copies (20 MB there) are gone before the steps
+#: bodies up to this many functions (above :data:`REUSE_MAX_FUNCTIONS`) lend their rules to
+#: the next body assembled only, then forget them (the reference specimen, the pad's point
+#: image, tells itself one by them at 481 pairs, 559 functions). They keep no blocks: the
+#: only body that took them, the point image, now takes the whole H and G permuted
+#: (:mod:`fretbem.bem.image_matrices`) or never forms them, so their copies (20 MB, 5 ms of
+#: the 481-pair cycle, 18 ms on a loaded machine) were never read
 LEND_MAX_FUNCTIONS = 600
 
 
@@ -241,12 +243,9 @@ def _segment_rules(basis, settings, element, local, parameter) -> dict:
         [center[:, None]] + [np.concatenate([d["local"], d["log_local"]], 1) for d in sides],
         axis=1,
     )
-    q_sing = singular_local.shape[1]
     m = basis.map(
-        np.concatenate(
-            [np.repeat(np.arange(n_el), per_element.size), element, np.repeat(se, q_sing)]
-        ),
-        np.concatenate([np.tile(per_element, n_el), local, singular_local.ravel()]),
+        np.concatenate([np.repeat(np.arange(n_el), per_element.size), element]),
+        np.concatenate([np.tile(per_element, n_el), local]),
     )
     a0 = n_el * per_element.size
     a1 = a0 + element.size
@@ -270,10 +269,6 @@ def _segment_rules(basis, settings, element, local, parameter) -> dict:
     )
     samples = np.ascontiguousarray(per_el(m.points, 2)[:, ::2])
     centres = 0.5 * (samples.max(axis=1) + samples.min(axis=1))
-    singular = {
-        name: getattr(m, name)[a1:].reshape(len(se), q_sing, *getattr(m, name).shape[1:])
-        for name in ("points", "normals", "jacobians", "values")
-    }
     return {
         "far": far,
         "mid": mid,
@@ -286,8 +281,52 @@ def _segment_rules(basis, settings, element, local, parameter) -> dict:
         "values": m.values[a0:a1],
         "singular_rows": sr,
         "singular_elements": se,
-        "singular_sides": _singular_sides(singular, sides, settings),
+        "singular_sides": SingularRules(basis, se, singular_local, sides, settings),
     }
+
+
+class SingularRules:
+    """Both sides' rules of a segment's singular pairs (its collocation points on their own
+    elements), the basis evaluated on first use and only at the pairs asked for: a mirrored
+    body integrates the singular terms of half its rows (481 pairs: 27,000 of the rules'
+    46,000 basis evaluations were singular points, half never used). Every evaluation is
+    pointwise, so the numbers are those of one evaluation of every pair. A point image's
+    are its source's with the points and normals negated (:meth:`reflected`)."""
+
+    def __init__(self, basis, elements, local, sides, settings, source=None):
+        self._basis = None if basis is None else weakref.ref(basis)  # rules are kept per basis
+        self.elements, self.local, self.sides, self.settings = elements, local, sides, settings
+        self._source = source
+        self._every = None
+
+    def reflected(self) -> SingularRules:
+        """The rules of this segment's point image."""
+        return SingularRules(None, self.elements, self.local, self.sides, self.settings, self)
+
+    def arrays(self, on: np.ndarray | None = None) -> tuple:
+        """The arguments of ``integrate_singular`` (:func:`_singular_sides`) for the pairs
+        ``on`` (a mask over them; None: every pair, kept)."""
+        if on is None and self._every is not None:
+            return self._every
+        if self._source is not None:
+            out = tuple(
+                images._negated(a) if i in images.NEGATED["singular_sides"] else a
+                for i, a in enumerate(self._source.arrays(on))
+            )
+        else:
+            pairs = slice(None) if on is None else on
+            elements, local = self.elements[pairs], self.local[pairs]
+            q_sing = local.shape[1]
+            m = self._basis().map(np.repeat(elements, q_sing), local.ravel())
+            data = {
+                name: getattr(m, name).reshape(len(elements), q_sing, *getattr(m, name).shape[1:])
+                for name in ("points", "normals", "jacobians", "values")
+            }
+            sides = [{key: value[pairs] for key, value in side.items()} for side in self.sides]
+            out = _singular_sides(data, sides, self.settings)
+        if on is None:
+            self._every = out
+        return out
 
 
 def _singular_sides(data: dict, sides: list[dict], settings) -> tuple:
@@ -323,8 +362,7 @@ def _integrated_singular(basis, settings, on: np.ndarray, elements, singular) ->
     kept = _SINGULAR_ON.setdefault(basis, {})
     key = (settings, on.tobytes())
     if key not in kept:
-        both = np.concatenate([on, on])
-        kept[key] = (elements[on], tuple(a[both] for a in singular))
+        kept[key] = (elements[on], singular.arrays(on))
     return kept[key]
 
 
@@ -353,6 +391,24 @@ def _row_sums(h: np.ndarray, n: int, chunk: int = 64) -> np.ndarray:
     return out.reshape(-1, 2, 2)
 
 
+def _rigid_row_sums(loops, h: np.ndarray, n: int, integrated: np.ndarray | None) -> np.ndarray:
+    """(n, 2, 2) row sums of H over each function's rows, for the rows ``integrated`` (every
+    row if None; the others 0): :func:`_row_sums`' numbers, computed in place by the compiled
+    loops where they are used (481 pairs: 4 ms -> 0.5 ms, the gathered half of H and its
+    transposed chunks never made)."""
+    on = np.arange(n) if integrated is None else np.flatnonzero(integrated)
+    compiled = getattr(loops, "row_sums", None)
+    if compiled is not None and h.flags.c_contiguous and h.dtype == np.float64:
+        out = np.zeros((n, 2, 2))
+        compiled(h, on.astype(np.intp), n, out)
+        return out
+    if integrated is None:
+        return _row_sums(h, n)
+    out = np.zeros((n, 2, 2))
+    out[on] = _row_sums(h[(2 * on[:, None] + np.arange(2)).ravel()], n)
+    return out
+
+
 def _near(loops, basis, rules, points, pr, pe, cols, s, kernel, h, g, with_g) -> None:
     """Near pairs (row ``pr[p]``, element ``pe[p]``) on rules graded toward each row's
     closest point of its element, into H and G (G only ``with_g``)."""
@@ -379,7 +435,7 @@ def assemble(
     ``loops`` is :mod:`fretbem.bem.compiled_loops` or :mod:`fretbem.bem.numpy_loops`. A body
     of at most :data:`REUSE_MAX_FUNCTIONS` takes the rules and regular blocks of segments
     it shares with bodies assembled before (:data:`BLOCKS`) and keeps its own (one of at
-    most :data:`LEND_MAX_FUNCTIONS` alike, keeping its own for the next body only). The numpy
+    most :data:`LEND_MAX_FUNCTIONS` alike, keeping its rules only, for the next body). The numpy
     loops leave G's columns of the segments numbered in ``g_free`` at 0 (a solve that
     never reads them: traction-free segments); H is the same either way.
     """
@@ -387,6 +443,7 @@ def assemble(
     h, g = np.zeros((2 * n, 2 * n)), np.zeros((2 * n, 2 * n))
     segments = assembler.segments
     reuse = n <= LEND_MAX_FUNCTIONS
+    keeps_blocks = n <= REUSE_MAX_FUNCTIONS
     skips_g = getattr(loops, "SKIPS_G", False)
     starts = np.searchsorted(colloc.segment, np.arange(len(segments) + 1))  # rows in order
     with_g = [not (skips_g and k in g_free) for k in range(len(segments))]
@@ -442,13 +499,15 @@ def assemble(
             block_rows = slice(2 * starts[r], 2 * starts[r + 1])
             if r in known:
                 h[block_rows, columns], g[block_rows, columns] = known[r]
-            elif reuse:
+            elif keeps_blocks:
                 stored.append((basis, segments[r], key, block_rows, columns))
         jobs.append(
             (k, basis, rows, rules["values"], rows[rules["singular_rows"]],
              rules["singular_elements"], rules["singular_sides"], with_g[k])
         )  # fmt: skip
-    if q is not None and integrated_any:  # the rows not integrated, from their mirrors
+    if q is not None and integrated_any and stored:  # the rows not integrated, from their
+        # mirrors, for the blocks kept (each whole row is filled again at the end: a body
+        # that keeps no blocks skips this pass, 481 pairs 2-4 ms, the same numbers)
         filled(h)
         filled(g)
     for basis, row_basis, key, block_rows, columns in stored:
@@ -456,12 +515,8 @@ def assemble(
     if reuse:
         BLOCKS.assembled(segments, lent=n > REUSE_MAX_FUNCTIONS)
     # rigid-body identity: subtract phi_a(s) * (row sum of the non-singular part of H)
-    if integrated is None:
-        row_sums = _row_sums(h, n)
-    else:  # the integrated rows' sums only (each row's sum the same arithmetic)
-        row_sums = np.zeros((n, 2, 2))
-        on = np.flatnonzero(integrated)
-        row_sums[on] = _row_sums(h[(2 * on[:, None] + np.arange(2)).ravel()], n)
+    # (a mirrored body: the integrated rows' sums only, each row's sum the same arithmetic)
+    row_sums = _rigid_row_sums(loops, h, n, None if integrated is None else integrated)
     for k, basis, rows, values, *_ in jobs:
         if integrated is not None:  # the other rows of a mirrored body: filled below
             on = integrated[rows]
@@ -476,6 +531,8 @@ def assemble(
             elements, singular = _integrated_singular(basis, s, on, elements, singular)
         if not rows.size:
             continue
+        if integrated is None:
+            singular = singular.arrays()
         cols = assembler.offsets[k] + basis.connectivity[elements]
         # both sides of every split element in one call: the pairs of side -1, then side +1
         loops.integrate_singular(

@@ -38,3 +38,27 @@ def solve_rows(lu, pivots, lower, upper, rhs):
             for c in range(cols):
                 rhs[i, c] -= factor * rhs[j, c]
     return rhs
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def traction_map(indptr, indices, data, solved, out):
+    """out[b, k, a, j] = (E solved)[b, k, j, a], E in CSR (``indptr``, ``indices``,
+    ``data``) and ``solved`` (n, 2, rows) C-ordered, read at its rows 2 c + k: E @ x along
+    the node axis as scipy's CSR product sums it (from 0, the row's entries in stored order;
+    no fused multiply-adds), written straight in the traction map's order, where numpy
+    copied the strided rows, multiplied and transposed the product (three face-sized
+    passes)."""
+    n = out.shape[0]
+    for a in range(n):  # each row of ``solved`` read whole, in order (a node-major take)
+        for j in range(2):
+            row = solved[a, j]
+            for b in range(n):
+                start, stop = indptr[b], indptr[b + 1]
+                total_x, total_y = 0.0, 0.0  # k = 0, 1: rows 2 c and 2 c + 1
+                for p in range(start, stop):
+                    c = 2 * indices[p]
+                    total_x += data[p] * row[c]
+                    total_y += data[p] * row[c + 1]
+                out[b, 0, a, j] = total_x
+                out[b, 1, a, j] = total_y
+    return out

@@ -317,3 +317,21 @@ def fill_mirrored(matrix, dofs, source, columns, sign):
         row_sign = sign[row]
         for c in range(width):
             matrix[row, c] = matrix[of, columns[c]] * sign[c] * row_sign
+
+
+@numba.njit(**_JIT)
+def row_sums(h, functions, n, out):
+    """out[f, i, j] = the sum over b of h[2 f + i, 2 b + j] for each f in ``functions``, the
+    terms added in order of b to 0 (the order of
+    :func:`fretbem.bem.assembly._row_sums`, bit for bit), read in place: no gathered rows and
+    no transposed chunks."""
+    for p in range(functions.shape[0]):
+        f = functions[p]
+        for i in range(2):
+            r = 2 * f + i
+            s0, s1 = 0.0, 0.0  # numpy's sum starts from its identity (-0.0 + 0.0 is 0.0)
+            for b in range(n):
+                s0 += h[r, 2 * b]
+                s1 += h[r, 2 * b + 1]
+            out[f, i, 0] = s0
+            out[f, i, 1] = s1

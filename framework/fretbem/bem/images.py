@@ -93,7 +93,9 @@ def reflected_rules(rules: dict) -> dict:
     out = dict(rules)
     for name, entries in NEGATED.items():
         value = rules[name]
-        if entries is None:
+        if hasattr(value, "reflected"):  # evaluated when used (assembly.SingularRules)
+            out[name] = value.reflected()
+        elif entries is None:
             out[name] = _negated(value)
         else:
             out[name] = tuple(_negated(v) if i in entries else v for i, v in enumerate(value))

@@ -42,6 +42,10 @@ class BodySystem:
         #: the system whose factors solved this one, this body being its point image
         #: (:mod:`fretbem.bem.image_factor`), or None
         self.image_of: BodySystem | None = None
+        #: whether the contact rows of the contact columns are ``image_of``'s, by
+        #: construction (its solution permuted, the contact dofs mapped in order:
+        #: :func:`~fretbem.bem.image_factor.solve_permuted`)
+        self.shares_contact_block = False
         self.contact_tags = tuple(contact_tags)
         layout = body.layout(contact_tags)
         g_free = g_free_segments(body, layout)
@@ -53,9 +57,12 @@ class BodySystem:
         self.solves_u = solves_u
         self.block_dofs = np.flatnonzero(self.kinds == BLOCK)
         self.contact_dofs = np.flatnonzero(self.kinds == CONTACT)
+        contact = None  # the contact columns, where they are formed apart (a point image)
         with one_blas_thread():  # a busy machine made threaded BLAS 60x slower here
             response = None if source is None else _permuted_parameters(self, source)
-            if response is None:
+            if response is not None:
+                response, contact = response
+            else:
                 matrices = list(body.system_matrices(g_free))
                 start = time.perf_counter()
                 response = _solve_parameters(
@@ -71,9 +78,22 @@ class BodySystem:
         k = self.load_known.shape[0]
         self.base = response[:, 0]
         self.block_response = response[:, 1:3]
-        self.contact_response = response[:, 3 : response.shape[1] - k]
         self.load_response = response[:, response.shape[1] - k :]
+        if contact is None:
+            contact_columns = response[:, 3 : response.shape[1] - k]
+            self._contact_response, self._contact_columns = contact_columns, None
+        else:  # general columns only: the contact ones formed when first asked for
+            self._contact_response, self._contact_columns = None, contact
         body.timings["factorisation"] = time.perf_counter() - start
+
+    @property
+    def contact_response(self) -> np.ndarray:
+        """Z_contact (unknowns x contact dofs); for a point image served by its source's
+        solution permuted, formed on first use (a run's contact response never asks)."""
+        if self._contact_response is None:
+            self._contact_response = self._contact_columns()
+            self._contact_columns = None
+        return self._contact_response
 
     def unknowns(self, delta, contact_tractions, loads=()) -> np.ndarray:
         """z = z0 + Z_delta delta + Z_contact t_contact + Z_beta beta."""
@@ -119,8 +139,9 @@ class BodySystem:
         return BodySolution(self.body, u.reshape(-1, 2), t.reshape(-1, 2), delta)
 
 
-def _permuted_parameters(owner: BodySystem, source) -> np.ndarray | None:
-    """A^-1 [z0 rhs, block, contact, load columns] of a body whose H and G are the kept
+def _permuted_parameters(owner: BodySystem, source) -> tuple | None:
+    """(A^-1 [z0 rhs, block, load columns], A^-1 [contact columns] formed when called) of a
+    body whose H and G are the kept
     body's permuted (``source``: :meth:`~fretbem.bem.body.BemBody.permuted_source`) and
     whose unknowns' kinds correspond, from that body's kept factors and solution, H and G
     never formed: only their columns on the known dofs are taken (the general parameter
@@ -144,10 +165,11 @@ def _permuted_parameters(owner: BodySystem, source) -> np.ndarray | None:
     )  # fmt: skip
     if shared is None:
         return None
-    out, owner.image_of = shared
+    out, contact, owner.image_of = shared
+    owner.shares_contact_block = True
     image_matrices.clear()  # served: the kept H and G are not needed any longer
     body.note_permuted()
-    return out
+    return out, contact
 
 
 class _PermutedColumns:
@@ -219,21 +241,29 @@ def _solve_parameters(
     # for a body the halves solve unless a kept factorisation may serve it
     source = image_matrices.source_of(h)
     permuted_from = None if source is None else source.h
+    general = None  # the parameter columns but the contact ones, where only they are formed
     if permuted_from is None and (
         split is None or image_factor.may_serve(segments, first_dofs, first_rows, _image_of)
     ):
         matrix, parameters = collocation_system(
             h, g, kinds, known, load_known, solves_u, block_dofs, contact_dofs
         )
+    elif permuted_from is None:  # for the halves, which no kept factorisation may serve (no
+        # A to compare): their contact right-hand sides are their own, and the contact
+        # columns a point image may compare are formed only if it asks (481 pairs, 4 ms)
+        matrix = parameters = None
+        general = general_parameters(h, g, kinds, known, load_known, block_dofs)
     else:
         matrix = None
         parameters = collocation_parameters(
             h, g, kinds, known, load_known, block_dofs, contact_dofs
         )
-    shared = image_factor.solve_as_image(
-        segments, first_dofs, first_rows, _image_of, matrix, parameters,
-        solves_u=solves_u, permuted_from=permuted_from,
-    )  # fmt: skip
+    shared = None
+    if parameters is not None:  # (without A or a permuted H, no kept factorisation serves)
+        shared = image_factor.solve_as_image(
+            segments, first_dofs, first_rows, _image_of, matrix, parameters,
+            solves_u=solves_u, permuted_from=permuted_from,
+        )  # fmt: skip
     if shared is not None:
         out, owner.image_of = shared
         if permuted_from is not None:  # served: the kept H and G are not needed any longer
@@ -242,6 +272,10 @@ def _solve_parameters(
     halves = None if split is None else mirror_split.build(split, h, g, solves_u, contact_dofs)
     if halves is None and matrix is None:
         matrix = collocation_matrix(h, g, solves_u)
+    if halves is None and parameters is None:
+        parameters = collocation_parameters(
+            h, g, kinds, known, load_known, block_dofs, contact_dofs
+        )
     # kept for a point image: A (where it was built: a body the halves solve keeps none, and
     # only a body whose H and G are its own permuted takes its factors, 481 pairs 6 ms less)
     # and the parameters themselves where the halves solve (they leave both as they are),
@@ -250,14 +284,18 @@ def _solve_parameters(
     if small:
         copy = halves is None
         kept_matrix = matrix.copy(order="F") if copy else matrix
-        kept_parameters = parameters.copy(order="F") if copy else parameters
+        if parameters is None:
+            kept_parameters = image_factor.LazyParameters(general, g, contact_dofs)
+        else:
+            kept_parameters = parameters.copy(order="F") if copy else parameters
     if halves is not None:
         del matrix
         factor = mirror_split.SplitFactor(split, halves)
         del halves
-        general = np.asfortranarray(
-            np.delete(parameters, np.arange(3, 3 + len(contact_dofs)), axis=1)
-        )
+        if general is None:
+            general = np.asfortranarray(
+                np.delete(parameters, np.arange(3, 3 + len(contact_dofs)), axis=1)
+            )
         out = _split_response(factor, general, contact_dofs)
         solve = None if factor.failed else factor.solve
     else:
@@ -498,12 +536,18 @@ def contact_response(body: Body, tag: str) -> ContactResponse:
             transposed[chunk] = by_node[:, :, rows[chunk]].transpose(2, 1, 0)
         by_row = band.solve_transposed(transposed.reshape(-1, n).T).T.reshape(len(rows), 2, n)
     block_rows = by_row[2 * n :].transpose(0, 2, 1).reshape(-1, 2 * n).copy()  # [row, (b, j)]
-    values = band.left(by_row[: 2 * n].reshape(n, 2, 2, n))  # [node b', j', j, node b]
-    del by_row
-    # the map goes into the right-hand sides' buffer (already in memory, at least as large)
-    traction_map = transposed.reshape(-1)[: 4 * n * n].reshape(n, 2, 2 * n)
-    traction_map.reshape(n, 2, n, 2)[...] = values.transpose(0, 1, 3, 2)
-    del values, transposed
+    node_major = n > max(ROW_SOLVE_MIN, SPARSE_LEFT_MIN)  # [node a, j, row]; left by CSR
+    if node_major and _COMPILED in sys.modules and transposed.flags.c_contiguous:
+        traction_map = band.left_compiled(transposed)  # the same numbers, in one pass
+        del by_row
+    else:
+        values = band.left(by_row[: 2 * n].reshape(n, 2, 2, n))  # [node b', j', j, node b]
+        del by_row
+        # the map goes into the right-hand sides' buffer (already in memory, as large)
+        traction_map = transposed.reshape(-1)[: 4 * n * n].reshape(n, 2, 2 * n)
+        traction_map.reshape(n, 2, n, 2)[...] = values.transpose(0, 1, 3, 2)
+        del values
+    del transposed
     weights = band.solve_transposed(face_weights[:, None].copy(order="F"))[:, 0]
     contact_force = np.zeros((2, 2 * n))
     contact_force[0, 0::2] = weights
@@ -543,7 +587,9 @@ def _image_response(system: BodySystem, e_matrix, face_weights) -> ContactRespon
     this body's to the last bit and this body has no loading block; else None.
 
     Both are computed from the face's E, the face weights and the contact rows of the
-    contact columns only, so they are equal when those three are, checked exactly.
+    contact columns only, so they are equal when those three are, checked exactly (the
+    contact rows only where they are not the source's by construction,
+    :attr:`BodySystem.shares_contact_block`).
     """
     source = system.image_of
     if source is None or system.block_dofs.size or len(source.contact_tags) != 1:
@@ -552,10 +598,13 @@ def _image_response(system: BodySystem, e_matrix, face_weights) -> ContactRespon
     response = source.body._cache.get(("response", tag))
     if response is None or len(source.contact_dofs) != len(system.contact_dofs):
         return None
-    own = _taken(system.contact_response, system.contact_dofs)
-    other = _taken(source.contact_response, source.contact_dofs)
-    if not np.array_equal(own, other):
-        return None
+    # equal by construction where the system took the source's solution permuted (its
+    # contact dofs mapped to the source's in order): not compared again (481 pairs, 2.5 ms)
+    if not system.shares_contact_block:
+        own = _taken(system.contact_response, system.contact_dofs)
+        other = _taken(source.contact_response, source.contact_dofs)
+        if not np.array_equal(own, other):
+            return None
     segments = sorted(source.body._indices(tag, "the contact pair"))
     weights = source.body.resultant_weights(segments)[face_rows(source.body, tag)[1]]
     if not np.array_equal(weights, face_weights):
@@ -651,11 +700,7 @@ class _Band:
         n = self.size
         shape, x = x.shape, x.reshape(n, -1)
         if n > SPARSE_LEFT_MIN:
-            if self._sparse is None:  # built once: a contact response multiplies 5-7 times
-                from scipy import sparse
-
-                self._sparse = sparse.csr_array(self.matrix)
-            return (self._sparse @ x).reshape(shape)
+            return (self._csr() @ x).reshape(shape)
         out = np.zeros(x.shape)
         for columns in _chunks(x.shape[1], 4096):
             tile = max(32, 2**15 // max(columns.stop - columns.start, 1))  # 256 kB and more
@@ -667,6 +712,28 @@ class _Band:
                             self.diagonals[d][lo:hi, None] * x[lo + d : hi + d, columns]
                         )
         return out.reshape(shape)
+
+    def _csr(self):
+        """E as a scipy CSR array (built once: a contact response multiplies 5-7 times)."""
+        if self._sparse is None:
+            from scipy import sparse
+
+            self._sparse = sparse.csr_array(self.matrix)
+        return self._sparse
+
+    def left_compiled(self, solved: np.ndarray) -> np.ndarray:
+        """The traction map (n, 2, 2 n) from the solved node-major right-hand sides
+        ``solved`` (n, 2, rows; C-ordered, the face's rows first): :meth:`left` of their
+        face rows, transposed into the map's order, bit for bit, in one compiled pass
+        (:func:`fretbem.bem.compiled_band.traction_map`; 481 pairs 11 -> 3.5-5 ms, and two
+        face-sized arrays fewer)."""
+        from . import compiled_band
+
+        n = self.size
+        csr = self._csr()
+        out = np.empty((n, 2, n, 2))
+        compiled_band.traction_map(csr.indptr, csr.indices, csr.data, solved, out)
+        return out.reshape(n, 2, 2 * n)
 
     def solve_transposed(self, rhs: np.ndarray) -> np.ndarray:
         """E^-T rhs for rhs (n, cols), in place when rhs is F-ordered.

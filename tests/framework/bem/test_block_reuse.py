@@ -107,8 +107,9 @@ def test_face_values_from_the_kept_rules_equal_a_new_evaluation(basis):
 
 
 def test_a_body_above_the_reuse_size_lends_to_the_next_body_only(monkeypatch):
-    """The pad lends its rules and blocks to its point image, the specimen assembled next,
-    which equals its own assembly bit for bit; then the pad's are forgotten."""
+    """The pad lends its rules (no blocks: its point image takes its H and G permuted) to
+    the specimen assembled next, which equals its own assembly bit for bit; then the pad's
+    are forgotten."""
     monkeypatch.setattr(assembly, "REUSE_MAX_FUNCTIONS", 10)
     pair = cattaneo_mindlin(pairs=21).pair
     fresh = []
@@ -118,9 +119,58 @@ def test_a_body_above_the_reuse_size_lends_to_the_next_body_only(monkeypatch):
         pad, specimen = attrs.evolve(pair.upper), attrs.evolve(pair.lower)
         pad.matrices()
         lent = [basis in assembly.BLOCKS._rules for basis in pad.segments]
+        assert not any(basis in assembly.BLOCKS._blocks for basis in pad.segments)  # rules only
         fresh.append(specimen.matrices())
         assert all(lent) == (lend > 10)
         assert not any(basis in assembly.BLOCKS._rules for basis in pad.segments)
     (own_h, own_g), (h, g) = fresh
     assert np.array_equal(h, own_h)
     assert np.array_equal(g, own_g)
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+@pytest.mark.parametrize("basis", ["nurbs", "lagrange2"])
+def test_a_mirrored_body_keeping_no_blocks_fills_its_rows_once_to_the_same_numbers(
+    compiled, basis, monkeypatch
+):
+    """A mirror-symmetric body that keeps no blocks skips the fill before the singular terms
+    (only the kept blocks read it): H and G equal, bit for bit, those of the same body
+    assembled keeping its blocks (both fills)."""
+    if compiled:
+        pytest.importorskip("numba")
+    body = _with_loops(cattaneo_mindlin(pairs=21, basis=basis).pair.upper, compiled)
+    assembly.BLOCKS.clear()
+    kept_h, kept_g = attrs.evolve(body).matrices()
+    assert any(basis in assembly.BLOCKS._blocks for basis in body.segments)
+    monkeypatch.setattr(assembly, "REUSE_MAX_FUNCTIONS", 10)
+    monkeypatch.setattr(assembly, "LEND_MAX_FUNCTIONS", 10)
+    assembly.BLOCKS.clear()
+    calls = []
+    fill = assembly.mirror.Fill.__call__
+    monkeypatch.setattr(assembly.mirror.Fill, "__call__", lambda *a: calls.append(1) or fill(*a))
+    h, g = attrs.evolve(body).matrices()
+    assert len(calls) == 2  # H and G once each: the body is mirrored, nothing kept
+    assert np.array_equal(h, kept_h)
+    assert np.array_equal(g, kept_g)
+
+
+@pytest.mark.parametrize("basis", ["nurbs", "lagrange2"])
+def test_singular_rules_evaluated_for_some_pairs_are_those_of_every_pair(basis):
+    """A segment's singular rules evaluated at a subset of its pairs (a mirrored body's
+    integrated rows) are the rows of the evaluation at every pair, bit for bit (the basis
+    evaluation is pointwise)."""
+    body = cattaneo_mindlin(pairs=21, basis=basis).pair.upper
+    colloc = body.collocation
+    for k, segment in enumerate(body.segments):
+        rows = colloc.segment == k
+        rules = assembly._segment_rules(
+            segment, body.integration, colloc.element[rows], colloc.local[rows],
+            colloc.parameter[rows],
+        )  # fmt: skip
+        singular = rules["singular_sides"]
+        every = singular.arrays()
+        assert singular.arrays() is every  # kept
+        on = np.random.default_rng(k).random(len(singular.elements)) < 0.5
+        both = np.concatenate([on, on])  # side -1's pairs, then side +1's
+        for part, whole in zip(singular.arrays(on), every, strict=True):
+            assert np.array_equal(part, whole[both])

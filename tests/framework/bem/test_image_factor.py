@@ -171,3 +171,24 @@ def test_blocks_are_told_close_as_when_every_entry_is_differenced():
         block[2, 3] += change
         whole = bool(np.all(np.abs(block - kept) <= tolerance))
         assert image_factor._close(block, kept) is close is whole
+
+
+@pytest.mark.parametrize("basis", ["nurbs", "lagrange2"])
+@pytest.mark.parametrize("pairs", [21, 61])
+def test_a_specimen_served_by_permutation_shares_the_pads_contact_block(basis, pairs):
+    """The specimen whose system took the pad's solution permuted (H and G never formed)
+    has the pad's contact rows of the contact columns, bit for bit, by construction: the
+    contact response skips comparing them (``shares_contact_block``), and they are equal."""
+    forget_assembled()
+    pair = cattaneo_mindlin(models={}, basis=basis, pairs=pairs).pair
+    pair.upper.contact_response(pair.upper_tag)
+    taken = pair.lower.contact_response(pair.lower_tag)
+    assert taken.traction_map is pair.upper.contact_response(pair.upper_tag).traction_map
+    specimen = pair.lower.system((pair.lower_tag,))
+    pad = pair.upper.system((pair.upper_tag,))
+    assert specimen.shares_contact_block and specimen.image_of is pad
+    assert not pad.shares_contact_block
+    assert specimen._contact_response is None  # its contact columns not formed for a run
+    own = specimen.contact_response[specimen.contact_dofs]
+    other = pad.contact_response[pad.contact_dofs]
+    assert np.array_equal(own, other)

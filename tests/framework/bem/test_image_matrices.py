@@ -334,3 +334,41 @@ def test_a_specimen_whose_contact_dofs_do_not_correspond_forms_its_matrices(monk
     assert never.image_of is not None  # served by the formed path's comparison instead
     for name in ("base", "contact_response", "load_response"):
         assert np.array_equal(getattr(formed, name), getattr(never, name)), name
+
+
+@pytest.mark.parametrize("basis", ["nurbs", "lagrange2"])
+def test_a_split_pad_keeps_its_contact_columns_unformed_and_they_serve_alike(basis, monkeypatch):
+    """A pad the mirror split's halves solve keeps only its general parameter columns for
+    its point image (the halves build their own contact right-hand sides); formed on
+    request they are the pad's parameter columns bit for bit, and the specimen's system is
+    the same whether served from its permuted solution or through its formed matrices'
+    comparison (which forms them)."""
+    monkeypatch.setattr(mirror_split, "MIN_ROWS", 100)  # the 61-pair pad splits
+    systems = {}
+    for formed in (False, True):
+        forget_assembled()
+        pair = cattaneo_mindlin(models={}, basis=basis, pairs=61).pair
+        pad = pair.upper
+        pad_h, pad_g = pad.system_matrices(g_free_segments(pad, pad.layout((pair.upper_tag,))))
+        pad.system((pair.upper_tag,))
+        kept = image_factor._KEPT[0]
+        assert isinstance(kept.parameters, image_factor.LazyParameters)
+        kinds = pad.system((pair.upper_tag,)).kinds
+        layout = pad.layout((pair.upper_tag,))
+        expected = system.collocation_parameters(
+            pad_h, pad_g, kinds, layout.known.ravel(),
+            layout.loads.reshape(len(layout.loads), kinds.size),
+            np.flatnonzero(kinds == bem_layout.BLOCK), np.flatnonzero(kinds == bem_layout.CONTACT),
+        )  # fmt: skip
+        full = kept.parameters.full()
+        assert full.shape == kept.parameters.shape and full.flags.f_contiguous
+        assert np.array_equal(full, expected)
+        specimen = pair.lower
+        if formed:  # the comparison path: H and G permuted, the kept columns formed
+            monkeypatch.setattr(image_factor, "solve_permuted", lambda *a, **k: None)
+        systems[formed] = specimen.system((pair.lower_tag,))
+        assert systems[formed].image_of is not None
+        monkeypatch.undo()
+        monkeypatch.setattr(mirror_split, "MIN_ROWS", 100)
+    for name in ("base", "block_response", "contact_response", "load_response"):
+        assert np.array_equal(getattr(systems[False], name), getattr(systems[True], name)), name
