@@ -36,10 +36,10 @@ from fretbem.numerics.memory import KEPT_MEMORY_DOFS, kept_memory
 from fretbem.solvers.newton import IncrementResult, SemiSmoothNewton, Solver, SolverConvergenceError
 from fretbem.solvers.step_memo import Reached, StepMemo
 from fretbem.solvers.warm_start import WarmStart
-from fretbem.verification.checks import check_step, step_names
+from fretbem.verification.checks import check_step, pair_positions, step_names
 from fretbem.verification.closed_forms import MindlinDeresiewicz
 
-from .results import IncrementRecord, SimulationResult, StepResult
+from .results import IncrementRecord, SimulationResult, StepResult, pair_x
 from .validators import as_scalar, count_field, number_field, real_number
 
 
@@ -704,7 +704,9 @@ def _run(simulation, start, progress, check, memo, warm) -> SimulationResult:
     if simulation.rotates:
         check_balance(simulation, problem)
     friction = getattr(simulation.law, "friction", float("nan"))
-    checks = (lambda step: check_step(step, friction)) if check else None
+    along = pair_x(problem)  # the pairs' positions and what the checks read of them, once
+    positions = pair_positions(along) if check else None
+    checks = (lambda step: check_step(step, friction, positions=positions)) if check else None
     state = ContactState.initial(problem)
     history: list[float] = []
     steps = []
@@ -735,7 +737,7 @@ def _run(simulation, start, progress, check, memo, warm) -> SimulationResult:
         history.append(load.tangential if load.delta is None else state.tangential)
         step = StepResult.build(
             simulation, problem, load, state, iterations, residuals, seconds, tuple(history),
-            last=increments[-1], increments=tuple(increments), checks=checks,
+            last=increments[-1], increments=tuple(increments), checks=checks, x=along,
         )  # fmt: skip
         steps.append(step)
         if progress is not None:
