@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import contextlib
 import contextvars
+import functools
 import math
 import numbers
 import time
@@ -220,10 +221,10 @@ class LoadStep:
     @property
     def controls(self) -> Controls:
         """Which directions this step drives by displacement (and the rotation by moment)."""
-        return Controls(
-            normal="force" if self.approach is None else "displacement",
-            tangential="force" if self.delta is None else "displacement",
-            rotation="rotation" if self.moment is None else "moment",
+        return _controls(
+            "force" if self.approach is None else "displacement",
+            "force" if self.delta is None else "displacement",
+            "rotation" if self.moment is None else "moment",
         )
 
     @property
@@ -347,7 +348,7 @@ class Simulation:
         """Whether the pad block's rotation is an unknown: a rotational rig spring, or a
         step that gives a moment or a rotation. Otherwise the block does not rotate and the
         problem is exactly that of a non-rotating block."""
-        return bool(np.isfinite(self.rig.rotational)) or any(s.turns for s in self.steps)
+        return math.isfinite(self.rig.rotational) or any(s.turns for s in self.steps)
 
     def frame(self, side: str | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Mean normal and tangent of the pair: loads act along these; in the axes of the
@@ -546,6 +547,13 @@ class Simulation:
             if record is not None:
                 record(state)
         return state, iterations, residuals
+
+
+@functools.cache
+def _controls(normal: str, tangential: str, rotation: str) -> Controls:
+    """The (frozen) Controls of these three choices, made once: every increment of a step
+    asks its step for them."""
+    return Controls(normal=normal, tangential=tangential, rotation=rotation)
 
 
 def _turning(problem: CondensedContact) -> bool:

@@ -139,6 +139,13 @@ class UncoupledSteps:
         #: where the residual's measure splits: the pair rows (0, 2 n) and block rows; and,
         #: once the normal part is solved, the slip rows and the tangential block rows
         self.cuts = np.array([0, 2 * n] if n_x > 2 * n else [0])
+        #: the tangential block rows among the block rows; (0) and (2) of the pressures'
+        #: size, operands of the evaluation's bound and states (an array operand, not a
+        #: Python scalar, spares numpy's scalar conversion on every call)
+        self.tangential_blocks = self.tangential_rows - 2 * n
+        self.zeros, self.twos = np.zeros(n), np.full(n, 2)
+        for operand in (self.zeros, self.twos):
+            operand.setflags(write=False)
         self.measured = np.concatenate([np.arange(n, 2 * n), self.tangential_rows])
         self.measured_cuts = np.array([0, n] if self.tangential_rows.size else [0])
         self.factorisations = 0
@@ -161,7 +168,7 @@ class UncoupledSteps:
             n = self.n
             separated = (states == _SEPARATED).nonzero()[0]
             slipping = (states == _SLIP).nonzero()[0]
-            contact = (states != _SEPARATED).nonzero()[0]
+            contact = states.nonzero()[0]  # (not SEPARATED, 0)
             stick = n + (states == _STICK).nonzero()[0]
             found = (
                 separated, slipping, n + separated, n + slipping,
@@ -229,7 +236,7 @@ class UncoupledIncrement:
         #: whether the normal part is solved (its unknowns, F and pattern kept)
         self.frozen = False
         self._normal_size = 0.0
-        self._tangential_base = self.block_base[steps.tangential_rows - 2 * n]
+        self._tangential_base = self.block_base[steps.tangential_blocks]
 
     def begin(self, x: np.ndarray, gap: np.ndarray, states=None) -> None:
         """Start at ``x`` (owned from now on) with the problem's ``gap`` (at x = 0): F on
@@ -266,13 +273,13 @@ class UncoupledIncrement:
         augmented = p - normal_gap
         contact = self.contact = augmented > 0.0
         trial = q + r_t * slip
-        bound = self.bound = steps.friction * np.maximum(augmented, 0.0)
+        bound = self.bound = steps.friction * np.maximum(augmented, steps.zeros)
         stick = np.abs(trial) < bound
         self.direction = np.sign(trial)
         f_n = np.where(contact, normal_gap, p)
         f_t = np.where(stick, -r_t * slip, q - bound * self.direction)
         # SEPARATED 0, STICK 1, SLIP 2; stick only in contact (the bound is 0 elsewhere)
-        self.states = contact * 2 - stick
+        self.states = contact * steps.twos - stick
         self.residual = np.concatenate([f_n, f_t, blocks])
 
     def _evaluate_tangential(self) -> None:
@@ -362,7 +369,7 @@ class UncoupledIncrement:
         if self.frozen and exact:
             self._evaluate_tangential()
         else:  # (a least-squares step moves the normal part too: F afresh)
-            stepped = self.states != _SEPARATED
+            stepped = self.states.astype(bool)  # (in contact: not SEPARATED, 0)
             self.frozen = False
             self.evaluate()
             if exact and _all(self.contact == stepped):
