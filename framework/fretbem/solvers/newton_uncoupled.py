@@ -139,12 +139,16 @@ class UncoupledSteps:
         #: where the residual's measure splits: the pair rows (0, 2 n) and block rows; and,
         #: once the normal part is solved, the slip rows and the tangential block rows
         self.cuts = np.array([0, 2 * n] if n_x > 2 * n else [0])
-        #: the tangential block rows among the block rows; (0) and (2) of the pressures'
-        #: size, operands of the evaluation's bound and states (an array operand, not a
-        #: Python scalar, spares numpy's scalar conversion on every call)
+        #: the tangential block rows among the block rows; 0.0 and the states SEPARATED,
+        #: STICK and SLIP at every pair, operands of the evaluations and of the patterns'
+        #: index sets (an array operand, not a Python scalar, spares numpy's scalar
+        #: conversion on every call)
         self.tangential_blocks = self.tangential_rows - 2 * n
-        self.zeros, self.twos = np.zeros(n), np.full(n, 2)
-        for operand in (self.zeros, self.twos):
+        self.zeros = np.zeros(n)
+        self.zeros_int, self.ones, self.twos = (
+            np.full(n, state) for state in (_SEPARATED, _STICK, _SLIP)
+        )
+        for operand in (self.zeros, self.zeros_int, self.ones, self.twos):
             operand.setflags(write=False)
         self.measured = np.concatenate([np.arange(n, 2 * n), self.tangential_rows])
         self.measured_cuts = np.array([0, n] if self.tangential_rows.size else [0])
@@ -166,10 +170,10 @@ class UncoupledSteps:
         found = self._patterns.get(key)
         if found is None:
             n = self.n
-            separated = (states == _SEPARATED).nonzero()[0]
-            slipping = (states == _SLIP).nonzero()[0]
+            separated = (states == self.zeros_int).nonzero()[0]
+            slipping = (states == self.twos).nonzero()[0]
             contact = states.nonzero()[0]  # (not SEPARATED, 0)
-            stick = n + (states == _STICK).nonzero()[0]
+            stick = n + (states == self.ones).nonzero()[0]
             found = (
                 separated, slipping, n + separated, n + slipping,
                 np.concatenate([contact, self.normal_rows]),
@@ -303,8 +307,8 @@ class UncoupledIncrement:
         steps, n, x = self.steps, self.n, self.x
         r_n, r_t = steps.r_n, steps.r_t
         p, q, gap = x[:n], x[n : 2 * n], self.gap
-        contact = states != _SEPARATED
-        stick, sliding = states == _STICK, states == _SLIP
+        contact = states.astype(bool)  # (not SEPARATED, 0)
+        stick, sliding = states == steps.ones, states == steps.twos
         bound = steps.friction * (p - r_n * gap)
         self.residual = np.concatenate([
             np.where(contact, r_n * gap, p),
@@ -325,7 +329,8 @@ class UncoupledIncrement:
         """Pairs that slipped one way at the last pattern and now the other stick for the
         next step (fretbem.solvers.newton._Equations.through_stick says why)."""
         states = self.states
-        reversing = ((before_states == _SLIP) & (states == _SLIP)
+        twos = self.steps.twos  # (SLIP)
+        reversing = ((before_states == twos) & (states == twos)
                      & (before_direction * self.direction < 0))  # fmt: skip
         if reversing.any():
             self._continue_on(np.where(reversing, _STICK, states), self.direction,
@@ -389,7 +394,7 @@ class UncoupledIncrement:
     def _freeze(self) -> None:
         n = self.n
         self.frozen = True
-        self._contact_states = self.contact * 2
+        self._contact_states = self.contact * self.steps.twos
         size = np.abs(self.residual)
         self._normal_size = _largest(size[:n])
         self._block_size = _largest(size[self.steps.normal_rows])
