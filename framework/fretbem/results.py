@@ -18,16 +18,39 @@ from fretbem.views.run import run_dataset
 
 
 def _frozen(values) -> np.ndarray:
-    """A read-only copy: a result reports what was computed, and cannot be edited in place."""
+    """A read-only copy: a result reports what was computed, and cannot be edited in place
+    (an array already frozen here, read-only float64 owning its numbers, is taken as it is:
+    a step shares its last increment's arrays and a run's steps their positions)."""
+    if _owned_read_only(values, np.float64):
+        return values
     out = np.array(values, dtype=float)
     out.setflags(write=False)
     return out
 
 
 def _frozen_states(values) -> np.ndarray:
+    if _owned_read_only(values, None):
+        return values
     out = np.array(values)
     out.setflags(write=False)
     return out
+
+
+def _owned_read_only(values, dtype) -> bool:
+    """Whether ``values`` is an ndarray (of ``dtype``, if given) that owns its numbers and
+    cannot be written: one of :func:`_frozen`'s own."""
+    return (
+        type(values) is np.ndarray
+        and values.base is None
+        and not values.flags.writeable
+        and (dtype is None or values.dtype == dtype)
+    )
+
+
+def pair_x(problem) -> np.ndarray:
+    """The pairs' positions along x (the lower body's), read-only: the same for every step
+    of a run on ``problem`` (:meth:`StepResult.build` takes them once)."""
+    return _frozen(problem.pairing.points[:, 0])
 
 
 class _Mapping:
@@ -126,8 +149,8 @@ def _gross_sliding(reference, history) -> bool:
     closed forms then no longer apply (unless the reference follows sliding)."""
     if getattr(reference, "slides", False):
         return False
-    limit = reference.friction * reference.hertz.load
-    return bool(np.any(np.abs(np.asarray(history, float)) >= limit * (1.0 - 1e-9)))
+    limit = reference.friction * reference.hertz.load * (1.0 - 1e-9)
+    return any(abs(value) >= limit for value in np.asarray(history, float).tolist())
 
 
 @attrs.frozen(eq=False)
@@ -325,17 +348,22 @@ class StepResult:
     @classmethod
     def build(
         cls, simulation, problem, load, state, iterations, residuals, seconds, history, *,
-        last: IncrementRecord | None = None, increments: tuple = (), checks=None,
+        last: IncrementRecord | None = None, increments: tuple = (), checks=None, x=None,
     ):  # fmt: skip
         """Collect a step's pair results, resultants and errors against the reference.
 
         ``last``, the record of the step's last increment (the same state), gives the
-        block's measured approach, delta, moment and rotation without measuring again;
-        ``increments``, every increment's record, are kept as they are; ``checks(step)``
-        gives the record's :attr:`checks` (None: none)."""
-        x = _frozen(problem.pairing.points[:, 0])
-        unknowns = problem.unknowns(state.x)
-        p, q = _frozen(unknowns.pressure), _frozen(unknowns.shear)
+        block's measured approach, delta, moment and rotation without measuring again, and
+        its tractions, slip and states; ``increments``, every increment's record, are kept
+        as they are; ``checks(step)`` gives the record's :attr:`checks` (None: none);
+        ``x``, :func:`pair_x` of ``problem``, taken once for a run's steps."""
+        x = pair_x(problem) if x is None else x
+        if last is not None:
+            p, q, slip, states = last.pressure, last.shear, last.slip, last.states
+        else:
+            unknowns = problem.unknowns(state.x)
+            p, q = _frozen(unknowns.pressure), _frozen(unknowns.shear)
+            slip, states = state.slip, state.states
         force = problem.lower_force_map @ state.x  # contact force on the lower body
         normal, tangent = simulation.frame()
         resultant = (float(-force @ normal), float(force @ tangent))
@@ -362,8 +390,8 @@ class StepResult:
             pressure=p,
             shear=q,
             normal_displacement=problem.relative_normal(state.x, problem.amplitudes(state.loads)),
-            tangential_displacement=state.slip,
-            states=state.states,
+            tangential_displacement=slip,
+            states=states,
             iterations=iterations,
             residuals=tuple(residuals),
             seconds=seconds,

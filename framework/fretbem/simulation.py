@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import contextlib
 import contextvars
+import functools
 import math
 import numbers
 import time
@@ -36,10 +37,10 @@ from fretbem.numerics.memory import KEPT_MEMORY_DOFS, kept_memory
 from fretbem.solvers.newton import IncrementResult, SemiSmoothNewton, Solver, SolverConvergenceError
 from fretbem.solvers.step_memo import Reached, StepMemo
 from fretbem.solvers.warm_start import WarmStart
-from fretbem.verification.checks import check_step, step_names
+from fretbem.verification.checks import check_step, pair_positions, step_names
 from fretbem.verification.closed_forms import MindlinDeresiewicz
 
-from .results import IncrementRecord, SimulationResult, StepResult
+from .results import IncrementRecord, SimulationResult, StepResult, pair_x
 from .validators import as_scalar, count_field, number_field, real_number
 
 
@@ -220,10 +221,10 @@ class LoadStep:
     @property
     def controls(self) -> Controls:
         """Which directions this step drives by displacement (and the rotation by moment)."""
-        return Controls(
-            normal="force" if self.approach is None else "displacement",
-            tangential="force" if self.delta is None else "displacement",
-            rotation="rotation" if self.moment is None else "moment",
+        return _controls(
+            "force" if self.approach is None else "displacement",
+            "force" if self.delta is None else "displacement",
+            "rotation" if self.moment is None else "moment",
         )
 
     @property
@@ -347,7 +348,7 @@ class Simulation:
         """Whether the pad block's rotation is an unknown: a rotational rig spring, or a
         step that gives a moment or a rotation. Otherwise the block does not rotate and the
         problem is exactly that of a non-rotating block."""
-        return bool(np.isfinite(self.rig.rotational)) or any(s.turns for s in self.steps)
+        return math.isfinite(self.rig.rotational) or any(s.turns for s in self.steps)
 
     def frame(self, side: str | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Mean normal and tangent of the pair: loads act along these; in the axes of the
@@ -548,6 +549,13 @@ class Simulation:
         return state, iterations, residuals
 
 
+@functools.cache
+def _controls(normal: str, tangential: str, rotation: str) -> Controls:
+    """The (frozen) Controls of these three choices, made once: every increment of a step
+    asks its step for them."""
+    return Controls(normal=normal, tangential=tangential, rotation=rotation)
+
+
 def _turning(problem: CondensedContact) -> bool:
     """Whether ``problem`` carries the pad block's rotation among its unknowns."""
     return problem.rotation is not None and problem.rotation.in_unknowns
@@ -704,7 +712,9 @@ def _run(simulation, start, progress, check, memo, warm) -> SimulationResult:
     if simulation.rotates:
         check_balance(simulation, problem)
     friction = getattr(simulation.law, "friction", float("nan"))
-    checks = (lambda step: check_step(step, friction)) if check else None
+    along = pair_x(problem)  # the pairs' positions and what the checks read of them, once
+    positions = pair_positions(along) if check else None
+    checks = (lambda step: check_step(step, friction, positions=positions)) if check else None
     state = ContactState.initial(problem)
     history: list[float] = []
     steps = []
@@ -735,7 +745,7 @@ def _run(simulation, start, progress, check, memo, warm) -> SimulationResult:
         history.append(load.tangential if load.delta is None else state.tangential)
         step = StepResult.build(
             simulation, problem, load, state, iterations, residuals, seconds, tuple(history),
-            last=increments[-1], increments=tuple(increments), checks=checks,
+            last=increments[-1], increments=tuple(increments), checks=checks, x=along,
         )  # fmt: skip
         steps.append(step)
         if progress is not None:

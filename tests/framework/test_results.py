@@ -39,3 +39,44 @@ def test_no_reference_no_errors():
     simulation = attrs.evolve(scenes.cattaneo_mindlin(pairs=21), reference=None)
     step = run(simulation).steps[0]
     assert step.errors is None and step.exact is None
+
+
+def test_a_step_built_from_its_last_increment_is_the_step_built_afresh():
+    """StepResult.build with the last increment's record (and the run's positions, as run()
+    gives them) has the fields it has without: the record's tractions, slip and states are
+    the state's; frozen arrays are shared, never copied, and every array stays read-only."""
+    from fretbem.results import IncrementRecord, StepResult, _frozen, pair_x
+
+    simulation = scenes.cattaneo_mindlin(pairs=21, models={"upper": "half-plane",
+                                                           "lower": "half-plane"})  # fmt: skip
+    result = run(simulation)
+    problem = simulation.prepare()
+    for load, step in zip(simulation.steps, result.steps, strict=True):
+        state = attrs.evolve(simulation_state(step), normal=step.normal, tangential=step.tangential)
+        last = IncrementRecord.of(problem, state, simulation.rig)
+        args = (simulation, problem, load, state, step.iterations, step.residuals, 0.0, (0.0,))
+        shared = StepResult.build(*args, last=last, x=pair_x(problem))
+        fresh = StepResult.build(*args)
+        for name in ("x", "pressure", "shear", "normal_displacement",
+                     "tangential_displacement", "states", "unknowns"):  # fmt: skip
+            ours, theirs = getattr(shared, name), getattr(fresh, name)
+            assert np.array_equal(ours, theirs) and ours.dtype == theirs.dtype
+            assert not ours.flags.writeable and not theirs.flags.writeable
+        assert shared.pressure is last.pressure and shared.states is last.states
+        assert (shared.approach, shared.delta, shared.moment) == (fresh.approach, fresh.delta,
+                                                                   fresh.moment)  # fmt: skip
+    frozen = _frozen([1.0, 2.0])
+    assert _frozen(frozen) is frozen
+    writable = np.array([1.0, 2.0])
+    assert _frozen(writable) is not writable and not _frozen(writable).flags.writeable
+    view = frozen[:1]  # read-only but not its own numbers: copied
+    assert _frozen(view) is not view and _frozen(frozen.astype(np.float32)).dtype == float
+
+
+def simulation_state(step):
+    """The ContactState a step ended in (its unknowns, states and slip)."""
+    from fretbem.contact.law import ContactState
+
+    return ContactState(np.array(step.unknowns), np.array(step.states),
+                        np.array(step.tangential_displacement), loads=dict(step.loads),
+                        virgin=False)  # fmt: skip

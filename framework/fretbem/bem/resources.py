@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 import os
+import time
 
 import attrs
 
@@ -110,7 +111,36 @@ def available_memory() -> float | None:
 
     Read as bytes in one system call (its third line): a text file's reader and line
     iteration cost 2-5x the read itself inside a run (40-100 us against 20 us; a scene
-    build and its run read it once each)."""
+    build and its run read it once each). The reading is kept for :func:`_available_for`."""
+    found = _read_available()
+    _RECENT.update(time=time.monotonic(), available=found)
+    return found
+
+
+#: a reading of the available memory at most this old (s) serves again an estimate of at
+#: most RECENT_SHARE of it: the scene build and its run each ask within milliseconds, and
+#: the read costs 20-90 us of a 61-pair half-plane run (more than its step checks) when it
+#: follows the build's allocations; a second does not take nine tenths of it unseen
+RECENT_SECONDS = 1.0
+RECENT_SHARE = 0.1
+_RECENT: dict = {"time": -math.inf, "available": None}
+
+
+def _available_for(memory: float) -> float | None:
+    """The available memory to check an estimate of ``memory`` bytes against: the last
+    reading if recent and ``memory`` small against it, else a new one."""
+    last = _RECENT["available"]
+    if (
+        last is not None
+        and memory <= RECENT_SHARE * last
+        and time.monotonic() - _RECENT["time"] <= RECENT_SECONDS
+    ):
+        return last
+    return available_memory()
+
+
+def _read_available() -> float | None:
+    """:func:`available_memory`'s reading."""
     try:
         handle = os.open("/proc/meminfo", os.O_RDONLY)
         try:
@@ -152,19 +182,22 @@ def estimate_resources(
     ``compiled``: the run's assembly loads numba's compiled loops; ``image_dofs``: those of
     a body whose H and G are never formed (:func:`run_size`).
 
-    ``available`` overrides the machine's free memory (bytes; None for unknown).
+    ``available`` overrides the machine's free memory (bytes; None for unknown), else read
+    (:func:`available_memory`; a reading of the last second serves an estimate of at most
+    a tenth of it, :data:`RECENT_SECONDS`).
     """
     n, face = float(dofs - half_plane_dofs), float(half_plane_dofs)
-    if available is not None and math.isnan(available):
-        available = available_memory()
     per_dof2 = BYTES_PER_DOF2 + (KEPT_BYTES_PER_DOF2 if n <= 2 * KEEP_MAX_ROWS else 0)
     memory = BASE_BYTES + BYTES_PER_DOF * n + per_dof2 * n * n
     memory -= IMAGE_BYTES_PER_DOF2 * float(image_dofs) ** 2
     memory += HALF_PLANE_BYTES_PER_DOF * face + HALF_PLANE_BYTES_PER_DOF2 * face * face
+    memory += COMPILED_BYTES if compiled else 0
+    if available is not None and math.isnan(available):
+        available = _available_for(memory)
     n = float(dofs)
     return Estimate(
         dofs=int(dofs),
-        memory=memory + (COMPILED_BYTES if compiled else 0),
+        memory=memory,
         seconds=SECONDS_PER_DOF2 * n * n + SECONDS_PER_DOF3 * n**3,
         available=available,
     )

@@ -29,6 +29,7 @@ solver takes it unchanged.
 
 from __future__ import annotations
 
+import math
 import weakref
 
 import attrs
@@ -229,10 +230,11 @@ def measure(
     approach, delta = _motion_rows(problem) @ x
     normal, tangential = float(-force @ n), float(force @ t)
     c_n, c_t = rig.compliances
-    moment, tilt = _moment(problem, x, beta, rig), 0.0
+    moment, tilt = _moment(problem, x, beta, rig, base), 0.0
     if pad_rotation.PAD in problem.layout.rotations:
         tilt = float(x[problem.layout.rotation(pad_rotation.PAD)])
-    rotation = tilt + (moment * rig.rotational_compliance if np.isfinite(rig.rotational) else 0.0)
+    turns = math.isfinite(rig.rotational)
+    rotation = tilt + (moment * rig.rotational_compliance if turns else 0.0)
     return {
         "normal": normal,
         "tangential": tangential,
@@ -244,15 +246,31 @@ def measure(
     }
 
 
-def _moment(problem: CondensedContact, x, beta, rig: Rig) -> float:
-    """The pad block's moment about the pivot (NaN without a rotation record)."""
+def _moment(problem: CondensedContact, x, beta, rig: Rig, base=None) -> float:
+    """The pad block's moment about the pivot (NaN without a rotation record); ``base``:
+    the resultant rows' base at beta, where the caller has it."""
     record = problem.rotation
     if record is None:
         return float("nan")
     if not record.in_unknowns:
-        target = pad_rotation.pivot(problem, rig.pivot_height)
-        return pad_rotation.moment_about(problem, x, beta, target)
+        target = _pivot(problem, rig.pivot_height)
+        return pad_rotation.moment_about(problem, x, beta, target, base=base)
     return record.moment(x, beta)
+
+
+def _pivot(problem: CondensedContact, height: float | None) -> np.ndarray:
+    """``pad_rotation.pivot(problem, height)``, kept per problem and height (every
+    increment's record reads it)."""
+    kept = _PIVOTS.get(problem)
+    if kept is None or kept[0] != height:
+        point = pad_rotation.pivot(problem, height)
+        point.setflags(write=False)
+        kept = _PIVOTS[problem] = (height, point)
+    return kept[1]
+
+
+#: :func:`_pivot` of each condensed problem, with its height (weakly, as _MOTION_ROWS)
+_PIVOTS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def controlled(problem: CondensedContact, controls: Controls, rig: Rig = RIGID) -> CondensedContact:

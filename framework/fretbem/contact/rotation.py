@@ -223,14 +223,16 @@ def _moved(problem: CondensedContact, target: np.ndarray) -> dict:
     }
 
 
-def moment_about(problem: CondensedContact, x, beta, target) -> float:
+def moment_about(problem: CondensedContact, x, beta, target, *, base=None) -> float:
     """The block's moment about ``target`` at x (a problem not yet rotating): the moment
-    about the record's centre plus (C - P) x F, F the block's force."""
+    about the record's centre plus (C - P) x F, F the block's force. ``base``: the
+    resultant rows' base at beta (``problem.base_at("resultant", beta)``), if at hand."""
     rotation = _rotation(problem)
     beta = np.asarray(beta, float)
     offset = rotation.centre - np.asarray(target, float)
     start = 2 * problem.layout.blocks.index(PAD)
-    base = problem.base_at("resultant", beta)
+    if base is None:
+        base = problem.base_at("resultant", beta)
     force = base[start : start + 2] + problem.resultant_map[start : start + 2] @ x
     return rotation.moment(x, beta) + float(offset[0] * force[1] - offset[1] * force[0])
 

@@ -83,6 +83,10 @@ def _largest(values: np.ndarray) -> float:
     return np.maximum.reduce(values, initial=0.0)
 
 
+#: (a ufunc reduction called directly)
+_any = np.logical_or.reduce
+
+
 class SolverConvergenceError(ComputationError):
     """A solver did not converge on an increment; the Simulation may then sub-step.
 
@@ -406,7 +410,8 @@ class SemiSmoothNewton(Solver):
             history.append(float(norm))
             states = increment.states
             state_history.append(states)
-            if n and force_scale > 1e-300 and not np.logical_or.reduce(states):  # all SEPARATED
+            # (a solved normal part keeps the contact set it was solved with: checked then)
+            if n and force_scale > 1e-300 and not (increment.frozen or _any(states)):
                 raise _all_separated(iteration, history, n)
             if norm <= self.tolerance:
                 return IncrementResult(increment.x, states, iteration, tuple(history))
@@ -416,7 +421,7 @@ class SemiSmoothNewton(Solver):
             guarded = guarded or (len(history) > 1 and history[-1] > history[-2] * STALL)
             if guarded:
                 increment.through_stick(before_states, before_direction)
-            if _seen_before(seen, increment.states, increment.direction):
+            if _seen(seen, increment.pattern()):
                 r_n *= CYCLE_SOFTENING
                 steps = _newton_linear(self._linear, problem, law, r_n, r_t)
                 increment.thaw(steps)
@@ -426,7 +431,11 @@ class SemiSmoothNewton(Solver):
 def _seen_before(seen: set, states: np.ndarray, direction: np.ndarray) -> bool:
     """Whether the pattern (the states and the slipping pairs' slip directions: F's affine
     piece) was met before in the increment, which then starts a new set; else it is added."""
-    pattern = (states.tobytes(), direction[states == _SLIP].tobytes())
+    return _seen(seen, (states.tobytes(), direction[states == _SLIP].tobytes()))
+
+
+def _seen(seen: set, pattern: tuple) -> bool:
+    """:func:`_seen_before` of a pattern given as its key (states, slipping directions)."""
     if pattern in seen:
         seen.clear()
         return True

@@ -48,12 +48,22 @@ _SEPARATED, _STICK, _SLIP = 0, 1, 2
 KEPT_FACTORS = 32
 #: ufunc reductions called directly (an ndarray method's own frame costs as much here)
 _largest_of, _any, _all = np.maximum.reduce, np.logical_or.reduce, np.logical_and.reduce
+_largest_at = np.maximum.reduceat
 _getrs = sla.lapack.dgetrs
 
 
 def _largest(values: np.ndarray) -> float:
     """The largest of ``values`` (0 for none)."""
     return _largest_of(values, initial=0.0)
+
+
+def _largest_of_each(values: np.ndarray, cuts: tuple) -> tuple:
+    """:func:`_largest` of ``values[:cut]`` and ``values[cut:]`` (``cuts`` = [0, cut], or
+    [0] where the second is empty), of non-negative ``values``: the same numbers from one
+    reduction."""
+    if len(cuts) == 1:
+        return _largest(values), 0.0
+    return _largest_at(values, cuts)
 
 
 def lean_part(normal_map, tangential_map, resultant_map) -> tuple | None:
@@ -126,6 +136,22 @@ class UncoupledSteps:
             [tangential_map, resultant_map[self.tangential_rows - 2 * n]]
         )
         self.normal_map, self.tangential_map = normal_map, tangential_map
+        #: where the residual's measure splits: the pair rows (0, 2 n) and block rows; and,
+        #: once the normal part is solved, the slip rows and the tangential block rows
+        self.cuts = np.array([0, 2 * n] if n_x > 2 * n else [0])
+        #: the tangential block rows among the block rows; 0.0 and the states SEPARATED,
+        #: STICK and SLIP at every pair, operands of the evaluations and of the patterns'
+        #: index sets (an array operand, not a Python scalar, spares numpy's scalar
+        #: conversion on every call)
+        self.tangential_blocks = self.tangential_rows - 2 * n
+        self.zeros = np.zeros(n)
+        self.zeros_int, self.ones, self.twos = (
+            np.full(n, state) for state in (_SEPARATED, _STICK, _SLIP)
+        )
+        for operand in (self.zeros, self.zeros_int, self.ones, self.twos):
+            operand.setflags(write=False)
+        self.measured = np.concatenate([np.arange(n, 2 * n), self.tangential_rows])
+        self.measured_cuts = np.array([0, n] if self.tangential_rows.size else [0])
         self.factorisations = 0
         self._patterns: dict[bytes, tuple] = {}
         self._factors: dict[bytes, tuple] = {}
@@ -144,10 +170,10 @@ class UncoupledSteps:
         found = self._patterns.get(key)
         if found is None:
             n = self.n
-            separated = (states == _SEPARATED).nonzero()[0]
-            slipping = (states == _SLIP).nonzero()[0]
-            contact = (states != _SEPARATED).nonzero()[0]
-            stick = n + (states == _STICK).nonzero()[0]
+            separated = (states == self.zeros_int).nonzero()[0]
+            slipping = (states == self.twos).nonzero()[0]
+            contact = states.nonzero()[0]  # (not SEPARATED, 0)
+            stick = n + (states == self.ones).nonzero()[0]
             found = (
                 separated, slipping, n + separated, n + slipping,
                 np.concatenate([contact, self.normal_rows]),
@@ -214,7 +240,7 @@ class UncoupledIncrement:
         #: whether the normal part is solved (its unknowns, F and pattern kept)
         self.frozen = False
         self._normal_size = 0.0
-        self._tangential_base = self.block_base[steps.tangential_rows - 2 * n]
+        self._tangential_base = self.block_base[steps.tangential_blocks]
 
     def begin(self, x: np.ndarray, gap: np.ndarray, states=None) -> None:
         """Start at ``x`` (owned from now on) with the problem's ``gap`` (at x = 0): F on
@@ -223,14 +249,20 @@ class UncoupledIncrement:
         increment's pattern: its affine F, not the pattern x falls in)."""
         self.gap_base = gap + self._normal_base
         self.x = x
-        self.evaluate()
         if states is None:
+            self.evaluate()
             self.states = np.full(self.n, _STICK, dtype=int)
             return
-        states = np.asarray(states)
-        q = x[self.n : 2 * self.n]
-        direction = np.where(q != 0.0, np.sign(q), self.direction)
-        self._continue_on(states, direction)
+        # F on the pattern alone: the gap, slip and block rows at x and the trial
+        # tractions' directions (evaluate's numbers; its pattern would be replaced)
+        steps, n = self.steps, self.n
+        products = steps.together @ x
+        self.gap = self.gap_base + products[:n]
+        slip = self.slip = self.slip_base + products[n : 2 * n]
+        q = x[n : 2 * n]
+        trial = np.sign(q + steps.r_t * slip)
+        direction = np.where(q != 0.0, np.sign(q), trial)
+        self._continue_on(np.asarray(states), direction, self.block_base + products[2 * n :])
 
     def evaluate(self) -> None:
         """F at x and its pattern (CoulombFriction.evaluate's arithmetic)."""
@@ -243,15 +275,15 @@ class UncoupledIncrement:
         p, q = x[:n], x[n : 2 * n]
         normal_gap = r_n * gap
         augmented = p - normal_gap
-        contact = self.contact = augmented > 0
+        contact = self.contact = augmented > 0.0
         trial = q + r_t * slip
-        bound = self.bound = steps.friction * np.maximum(augmented, 0.0)
+        bound = self.bound = steps.friction * np.maximum(augmented, steps.zeros)
         stick = np.abs(trial) < bound
         self.direction = np.sign(trial)
         f_n = np.where(contact, normal_gap, p)
         f_t = np.where(stick, -r_t * slip, q - bound * self.direction)
         # SEPARATED 0, STICK 1, SLIP 2; stick only in contact (the bound is 0 elsewhere)
-        self.states = contact * 2 - stick
+        self.states = contact * steps.twos - stick
         self.residual = np.concatenate([f_n, f_t, blocks])
 
     def _evaluate_tangential(self) -> None:
@@ -269,30 +301,40 @@ class UncoupledIncrement:
         residual[steps.tangential_rows] = self._tangential_base + products[n:]
         self.states = self._contact_states - stick
 
-    def _continue_on(self, states: np.ndarray, direction: np.ndarray) -> None:
-        """F continued on the pattern (states, direction) at x
-        (CoulombFriction.evaluate_on's arithmetic)."""
+    def _continue_on(self, states: np.ndarray, direction: np.ndarray, blocks) -> None:
+        """F continued on the pattern (states, direction) at x, with the block rows
+        ``blocks`` (CoulombFriction.evaluate_on's arithmetic)."""
         steps, n, x = self.steps, self.n, self.x
         r_n, r_t = steps.r_n, steps.r_t
         p, q, gap = x[:n], x[n : 2 * n], self.gap
-        contact = states != _SEPARATED
-        stick, sliding = states == _STICK, states == _SLIP
+        contact = states.astype(bool)  # (not SEPARATED, 0)
+        stick, sliding = states == steps.ones, states == steps.twos
         bound = steps.friction * (p - r_n * gap)
-        residual = self.residual = self.residual.copy()
-        residual[:n] = np.where(contact, r_n * gap, p)
-        residual[n : 2 * n] = np.where(
-            stick, -r_t * self.slip, np.where(sliding, q - bound * direction, q)
-        )
+        self.residual = np.concatenate([
+            np.where(contact, r_n * gap, p),
+            np.where(stick, -r_t * self.slip, np.where(sliding, q - bound * direction, q)),
+            blocks,
+        ])  # fmt: skip
         self.states, self.direction = states, np.asarray(direction, float)
+
+    def pattern(self) -> tuple[bytes, bytes]:
+        """The current pattern's key (the states and the slipping pairs' slip directions:
+        F's affine piece), as fretbem.solvers.newton._seen_before forms it; the pattern's
+        index sets are kept for the next step."""
+        states = self.states
+        slipping = self.steps.indices(states)[1]
+        return states.tobytes(), self.direction[slipping].tobytes()
 
     def through_stick(self, before_states: np.ndarray, before_direction: np.ndarray) -> None:
         """Pairs that slipped one way at the last pattern and now the other stick for the
         next step (fretbem.solvers.newton._Equations.through_stick says why)."""
         states = self.states
-        reversing = ((before_states == _SLIP) & (states == _SLIP)
+        twos = self.steps.twos  # (SLIP)
+        reversing = ((before_states == twos) & (states == twos)
                      & (before_direction * self.direction < 0))  # fmt: skip
         if reversing.any():
-            self._continue_on(np.where(reversing, _STICK, states), self.direction)
+            self._continue_on(np.where(reversing, _STICK, states), self.direction,
+                              self.residual[2 * self.n :])  # fmt: skip
 
     def step(self) -> np.ndarray:
         """dx with J dx = -F on the current pattern (the normal part's 0 once solved);
@@ -332,27 +374,27 @@ class UncoupledIncrement:
         if self.frozen and exact:
             self._evaluate_tangential()
         else:  # (a least-squares step moves the normal part too: F afresh)
-            stepped = self.states != _SEPARATED
+            stepped = self.states.astype(bool)  # (in contact: not SEPARATED, 0)
             self.frozen = False
             self.evaluate()
             if exact and _all(self.contact == stepped):
                 self._freeze()
-        x, residual = self.x, self.residual
-        size = np.abs(residual)
-        if self.frozen:
+        x, steps = self.x, self.steps
+        size = np.abs(self.residual)
+        if self.frozen:  # (the slip rows' and the tangential block rows' largest in one)
             traction = max(self._pressure_scale, _largest(np.abs(x[n : 2 * n])))
-            pairs = max(self._normal_size, _largest(size[n : 2 * n]))
-            blocks = max(self._block_size, _largest(size[self.steps.tangential_rows]))
+            pairs, blocks = _largest_of_each(size.take(steps.measured), steps.measured_cuts)
+            pairs, blocks = max(self._normal_size, pairs), max(self._block_size, blocks)
         else:
             traction = _largest(np.abs(x[: 2 * n]))
-            pairs, blocks = _largest(size[: 2 * n]), _largest(size[2 * n :])
+            pairs, blocks = _largest_of_each(size, steps.cuts)
         traction = max(traction, 1e-300)
         return max(pairs / traction, blocks / force_scale)
 
     def _freeze(self) -> None:
         n = self.n
         self.frozen = True
-        self._contact_states = self.contact * 2
+        self._contact_states = self.contact * self.steps.twos
         size = np.abs(self.residual)
         self._normal_size = _largest(size[:n])
         self._block_size = _largest(size[self.steps.normal_rows])

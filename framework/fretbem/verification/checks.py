@@ -82,6 +82,23 @@ def _span(x: np.ndarray) -> float:
     return float(np.maximum.reduce(x) - np.minimum.reduce(x))
 
 
+@attrs.frozen(eq=False)
+class PairPositions:
+    """What the result checks read of the pair positions alone, taken once for the steps
+    of a run (its pairs do not move): the typical spacing and the outermost pairs."""
+
+    spacing: float
+    #: the indices of the first and the last pair along x (argsort's ends)
+    ends: np.ndarray
+
+
+def pair_positions(x: np.ndarray) -> PairPositions:
+    """The :class:`PairPositions` of the pair positions ``x``."""
+    x = np.asarray(x, float)
+    ends = np.argsort(x)[[0, -1]] if len(x) else np.zeros(0, dtype=int)
+    return PairPositions(_spacing(x), ends)
+
+
 def _spacing(x: np.ndarray) -> float:
     """Typical pair spacing: the median distance between neighbouring pairs (np.median's
     number, the middle one or the mean of the middle two, without its ~50 us of checks)."""
@@ -167,18 +184,19 @@ def zone_edge(
     step: str = "",
     raise_error: bool = True,
     hint: str = "",
+    positions: PairPositions | None = None,
 ) -> CheckRecord:
     """The outermost pair at each end of the candidate zone must be separated.
 
     If it is in contact, the true contact may extend beyond the zone and the pressure there
     is an artefact of the truncation. The residual is the number of in-contact end pairs.
-    Raises :class:`ContactZoneError` naming ``zone``.
+    Raises :class:`ContactZoneError` naming ``zone``. ``positions``: :func:`pair_positions`
+    of ``x``, taken once for a run's steps.
     """
     x, states = np.asarray(x, float), np.asarray(states)
     if len(states) == 0:
         return CheckRecord("zone_edge", 0.0, 0.0, True)
-    order = np.argsort(x)
-    ends = order[[0, -1]]
+    ends = (positions or pair_positions(x)).ends
     touching = [int(k) for k in ends if states[k] != SEPARATED]
     record = CheckRecord("zone_edge", float(len(set(touching))), 0.0, not touching)
     if raise_error and not record.passed:
@@ -228,6 +246,7 @@ def tangential_hold(
     step: str = "",
     raise_error: bool = True,
     held: bool = False,
+    positions: PairPositions | None = None,
 ) -> CheckRecord:
     """Something must hold the loaded body tangentially: a stick pair and a bounded block move.
 
@@ -239,20 +258,22 @@ def tangential_hold(
     tangential position is then undetermined and Newton may return an arbitrary (e.g. 1e9 mm)
     block displacement. The residual is the block displacement in contact-zone widths.
     Raises :class:`TangentialIndeterminacyError` with the stick-zone width and the fixes.
+    ``positions``: :func:`pair_positions` of ``x``, taken once for a run's steps.
     """
     if held:
         return CheckRecord("tangential_hold", 0.0, RUNAWAY_FACTOR, True)
     x, states = np.asarray(x, float), np.asarray(states)
     in_contact = states != SEPARATED
     stick = states == STICK
-    spacing = _spacing(x)
-    width = _span(x[in_contact]) if np.count_nonzero(in_contact) > 1 else spacing
+    spacing = _spacing(x) if positions is None else positions.spacing
+    touching, sticking = np.count_nonzero(in_contact), np.count_nonzero(stick)
+    width = _span(x[in_contact]) if touching > 1 else spacing
     width = width if width > 0 else (spacing if math.isfinite(spacing) else 1.0)
     runaway = abs(float(block_displacement)) / width
     if not math.isfinite(runaway):
         runaway = math.inf
-    stick_width = _span(x[stick]) if np.count_nonzero(stick) > 1 else 0.0
-    no_stick = bool(np.any(in_contact)) and not np.any(stick)
+    stick_width = _span(x[stick]) if sticking > 1 else 0.0
+    no_stick = touching > 0 and sticking == 0
     singular = condition is not None and not (condition <= MAX_CONDITION)
     ok = not no_stick and runaway <= RUNAWAY_FACTOR and not singular
     record = CheckRecord("tangential_hold", runaway, RUNAWAY_FACTOR, ok)
@@ -421,19 +442,23 @@ def _turning_hint(step) -> str:
     )
 
 
-def check_step(step, friction: float, *, raise_error: bool = True) -> dict[str, CheckRecord]:
+def check_step(
+    step, friction: float, *, raise_error: bool = True, positions: PairPositions | None = None
+) -> dict[str, CheckRecord]:
     """Every result check of one StepResult: equilibrium, zone edge, tangential hold.
 
     The tangential hold is checked first: a body nothing holds tangentially has a block
     displacement and tractions set by round-off, whose equilibrium residual then depends on
-    the assembly's last bits; its own message names the cause (near gross sliding)."""
-    blocks = np.concatenate([np.zeros(0), *step.pair_unknowns.blocks.values()])
-    block = float(np.max(np.abs(blocks))) if blocks.size else 0.0
+    the assembly's last bits; its own message names the cause (near gross sliding).
+    ``positions``: :func:`pair_positions` of the step's ``x``, taken once for a run's steps."""
+    blocks = _block_displacements(step)
+    block = float(np.maximum.reduce(np.abs(blocks))) if blocks.size else 0.0
     hint = _turning_hint(step)
     hold = tangential_hold(
         step.x, step.states, step.normal, step.tangential, friction,
         block_displacement=block, step=step.name, raise_error=raise_error,
         held=getattr(getattr(step, "controls", None), "tangential", "force") != "force",
+        positions=positions,
     )  # fmt: skip
     return {
         "equilibrium": equilibrium(
@@ -442,7 +467,18 @@ def check_step(step, friction: float, *, raise_error: bool = True) -> dict[str, 
         ),
         "zone_edge": zone_edge(
             step.x, step.states, step.pressure, step=step.name, raise_error=raise_error,
-            hint=hint,
+            hint=hint, positions=positions,
         ),
         "tangential_hold": hold,
     }  # fmt: skip
+
+
+def _block_displacements(step) -> np.ndarray:
+    """Every block displacement of ``step``'s unknowns, in layout order (the slice of x the
+    layout puts them in, where x fits the layout; else through ``pair_unknowns``, which
+    names the mismatch)."""
+    layout, x = step.layout, step.unknowns
+    if layout is not None and np.shape(x) == (layout.size,):
+        start = 2 * layout.n_pairs
+        return np.asarray(x, float)[start : start + 2 * len(layout.blocks)]
+    return np.concatenate([np.zeros(0), *step.pair_unknowns.blocks.values()])

@@ -174,3 +174,28 @@ def test_available_memory_is_the_meminfo_line():
     text = float(line.split()[1]) * 1024
     # the machine's memory moves between the two reads: within 1 % of it
     assert available_memory() == pytest.approx(text, rel=1e-2)
+
+
+def test_a_recent_reading_serves_a_small_estimate_and_no_other(monkeypatch):
+    """The available memory read in the last second serves an estimate of at most a tenth
+    of it; a larger estimate, an older reading or an unknown one is read again."""
+    from fretbem.bem import resources
+
+    readings, clock = [], [100.0]
+    monkeypatch.setattr(resources, "_read_available", lambda: readings.append(1) or 8 * 2**30)
+    monkeypatch.setattr(resources.time, "monotonic", lambda: clock[0])
+    monkeypatch.setattr(resources, "_RECENT", {"time": -float("inf"), "available": None})
+    small = estimate_resources(500)  # about 80 MiB: under a tenth of 8 GiB
+    assert len(readings) == 1 and small.available == 8 * 2**30
+    clock[0] += 0.9
+    assert estimate_resources(500).available == 8 * 2**30 and len(readings) == 1
+    large = estimate_resources(10_000)  # 1.6 GB: read again
+    assert large.memory > 0.1 * 8 * 2**30 and len(readings) == 2
+    clock[0] += 1.1
+    estimate_resources(500)
+    assert len(readings) == 3
+    monkeypatch.setattr(resources, "_read_available", lambda: readings.append(1) or None)
+    clock[0] += 2.0
+    assert estimate_resources(500).available is None and len(readings) == 4
+    assert estimate_resources(500).available is None and len(readings) == 5
+    assert estimate_resources(500, available=None).available is None and len(readings) == 5

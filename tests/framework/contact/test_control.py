@@ -222,3 +222,22 @@ def test_rig_table_in_the_scene_file():
         scene_from_dict({**_scene(P=100.0), "rig": {"stiffness_y": 0.0}})
     with pytest.raises(SceneFileError, match=r"unknown key \['rotation'\] in \[rig\]"):
         scene_from_dict({**_scene(P=100.0), "rig": {"rotation": 1.0}})
+
+
+@pytest.mark.parametrize("model", ["bem", "half-plane"])
+def test_measured_moment_is_the_moment_about_the_rig_s_pivot(model):
+    """measure's M (the pivot kept per problem and height, the resultant base shared) is
+    rotation.moment_about's at rotation.pivot, for two pivot heights in turn."""
+    from fretbem.contact import control
+    from fretbem.contact import rotation as pad_rotation
+
+    problem = simulation(model, "nurbs", 31).prepare()
+    state = run(simulation(model, "nurbs", 31)).steps[-1]
+    x, beta = np.asarray(state.unknowns), problem.amplitudes(state.loads)
+    for height in (None, 2.0, None):
+        rig = Rig(pivot_height=height)
+        target = pad_rotation.pivot(problem, height)
+        expected = pad_rotation.moment_about(problem, x, beta, target)
+        assert control.measure(problem, x, beta, rig)["moment"] == expected
+        assert np.array_equal(control._pivot(problem, height), target)
+    assert np.isfinite(expected)

@@ -240,3 +240,60 @@ def test_softened_augmentation_restarts_from_the_same_point():
     assert not increment.frozen
     assert np.array_equal(increment.residual, fresh.residual)
     assert np.array_equal(increment.states, fresh.states)
+
+
+def test_begin_on_a_pattern_is_the_evaluation_continued_on_it():
+    """begin(x, gap, states) gives F, states and directions bit for bit as evaluating F at x
+    and continuing it on the pattern (the directions of the shears at x, else of the trial
+    tractions); the pattern's key is newton._seen_before's."""
+    from fretbem.solvers.newton import _seen_before
+
+    simulation = cattaneo_mindlin(pairs=21, models=HALF_PLANES)
+    problem = simulation.prepare()
+    maps = problem.normal_map, problem.tangential_map, problem.resultant_map
+    steps = UncoupledSteps(*maps, newton_linear_part(maps), 0.3, 2.0, 3.0)
+    end = run(simulation).steps[1]
+    forces = simulation.forces(end.normal, end.tangential)
+    rng = np.random.default_rng(3)
+    for x in (np.array(end.unknowns), np.zeros(problem.layout.size)):
+        states = rng.integers(0, 3, problem.n_pairs)
+        bases = problem.bases(problem.amplitudes(end.loads))
+        ours = steps.increment(bases, forces, np.array(end.tangential_displacement))
+        ours.begin(x.copy(), problem.gap, states)
+        theirs = steps.increment(bases, forces, np.array(end.tangential_displacement))
+        theirs.begin(x.copy(), problem.gap)  # F at x, then continued on the pattern
+        q = x[problem.n_pairs : 2 * problem.n_pairs]
+        direction = np.where(q != 0.0, np.sign(q), theirs.direction)
+        theirs._continue_on(states, direction, theirs.residual[2 * problem.n_pairs :])
+        assert ours.residual.tobytes() == theirs.residual.tobytes()
+        assert ours.direction.tobytes() == theirs.direction.tobytes()
+        assert np.array_equal(ours.states, theirs.states)
+        seen = set()
+        _seen_before(seen, ours.states, ours.direction)
+        assert seen == {ours.pattern()}
+
+
+def newton_linear_part(maps):
+    """The lean iteration's blocks of ``maps`` (a problem it takes)."""
+    part = newton_uncoupled.lean_part(*maps)
+    assert part is not None
+    return part
+
+
+def test_largest_of_each_is_the_largest_of_both_parts():
+    """One reduction over a split gives _largest of each part (NaN, zeros, an empty part)."""
+    from fretbem.solvers.newton_uncoupled import _largest, _largest_of_each
+
+    rng = np.random.default_rng(4)
+    for size in (1, 2, 7, 40):
+        values = np.abs(rng.standard_normal(size))
+        for cut in range(size + 1):
+            if cut == 0:
+                continue
+            cuts = np.array([0, cut] if cut < size else [0])
+            expected = (_largest(values[:cut]), _largest(values[cut:]))
+            assert tuple(_largest_of_each(values, cuts)) == expected
+        values[-1] = np.nan
+        both = _largest_of_each(values, np.array([0, size // 2] if size > 1 else [0]))
+        assert np.isnan(both[1] if size > 1 else both[0])
+    assert tuple(_largest_of_each(np.zeros(3), np.array([0, 1]))) == (0.0, 0.0)

@@ -240,3 +240,29 @@ def test_spacing_is_numpy_s_median_of_the_neighbour_distances():
             x = np.round(x, 2)
         assert _spacing(x) == float(np.median(np.diff(np.sort(x))))
     assert math.isnan(_spacing(np.array([1.0])))
+
+
+def test_checks_with_the_run_s_pair_positions_are_the_checks_without(reference):
+    """check_step with :func:`checks.pair_positions` taken once (as run() does) gives the
+    records it gives without them, for every step and for steps whose states would fail
+    the zone-edge and hold checks; the block displacements read from the layout's slice
+    are those pair_unknowns names."""
+    import attrs
+
+    positions = checks.pair_positions(reference.steps[0].x)
+    assert positions.spacing == checks._spacing(reference.steps[0].x)
+    assert positions.ends.tolist() == np.argsort(reference.steps[0].x)[[0, -1]].tolist()
+    for step in reference.steps:
+        assert checks.check_step(step, 0.3, positions=positions) == checks.check_step(step, 0.3)
+        named = np.concatenate(list(step.pair_unknowns.blocks.values()))
+        assert np.array_equal(checks._block_displacements(step), named)
+        touching = np.ones_like(step.states)  # every pair sticking: the zone's ends too
+        slipping = np.where(step.states == 0, 0, 2)  # no pair sticking
+        for states in (touching, slipping):
+            edited = attrs.evolve(step, states=states)
+            both = [checks.check_step(edited, 0.3, raise_error=False, positions=given)
+                    for given in (positions, None)]  # fmt: skip
+            assert both[0] == both[1] and not all(r.passed for r in both[0].values())
+    with pytest.raises(checks.ContactZoneError, match="outermost pair"):
+        checks.zone_edge(step.x, touching, positions=positions)
+    assert checks.pair_positions(np.zeros(0)).ends.size == 0
