@@ -29,20 +29,24 @@ from .integration import LOOP_CHOICE
 #: COMPILED_BYTES fitted to the peak resident memory of the reference cycle, each run in a
 #: fresh process (benchmarks/memory_estimate.py: 61-961 pairs, nurbs and lagrange2; and
 #: benchmarks/large_problems.py at 3,841 pairs, 15,676 DOFs, 3,599 MiB with the freed arrays
-#: kept on the heap, :mod:`fretbem.numerics.memory`): the estimate is 1.04-1.28x the peak
+#: kept on the heap, :mod:`fretbem.numerics.memory`): the estimate is 1.05-1.26x the peak
 #: from 244 to 4,408 DOFs and 1.03x at 15,676 (it was 0.72x at 481 nurbs pairs while the
 #: numba its assembly loaded went uncounted, and up to 1.49x for the small runs, whose
 #: interpreter it counted as 100 MB).
 BYTES_PER_DOF2 = 14
 #: and while both bodies are small enough for the first one's H and G to be kept for its
 #: point image (:data:`~fretbem.bem.image_matrices.KEEP_MAX_ROWS` rows each), those too:
-#: 2 x 8 bytes x (dofs / 2)^2 (at 241 pairs the estimate was 0.99-1.00x the peak without)
-KEPT_BYTES_PER_DOF2 = 4
+#: 2 x 8 bytes x (dofs / 2)^2 once (at 241 pairs the estimate was 0.99-1.00x the peak
+#: without); half that since a pad the mirror split solves keeps only its general parameter
+#: columns for its image and the image forms its contact columns only when asked (the peaks
+#: fell by 1.5-5 MiB at 241 pairs, 10-29 MiB at 481; with 4 the estimate read 1.37x the
+#: peak at 481 lagrange2 pairs, with 2 and IMAGE_BYTES_PER_DOF2 16 it reads 1.05-1.26x)
+KEPT_BYTES_PER_DOF2 = 2
 #: less, per squared DOF of a body whose H and G are never formed (the point image of the
-#: other, :func:`fretbem.bem.system._permuted_parameters`): its own H and G would take 16;
-#: the peak fell by 5-19 MiB at 241-481 pairs (benchmarks/memory_estimate.py, both
-#: families), 12 leaves the estimate 1.04-1.28x the peaks there
-IMAGE_BYTES_PER_DOF2 = 12
+#: other, :func:`fretbem.bem.system._permuted_parameters`): its own H and G, 2 x 8 bytes
+#: (12 while the image still formed its contact columns; benchmarks/memory_estimate.py,
+#: both families)
+IMAGE_BYTES_PER_DOF2 = 16
 #: bytes per DOF: the assembly's and the steps' transients that grow with the boundary
 BYTES_PER_DOF = 18_000
 #: memory of the interpreter with numpy, scipy and fretbem imported: 63 MiB measured, with

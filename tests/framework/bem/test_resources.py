@@ -150,7 +150,9 @@ def test_the_estimate_covers_a_small_run_within_the_limit(pairs, basis, model):
 @pytest.mark.parametrize(("pairs", "model"), [(241, "bem"), (481, "bem"), (961, "bem"),
                                               (961, "half-plane")])  # fmt: skip
 def test_the_estimate_covers_larger_runs_within_the_limit(pairs, basis, model):
-    """Measured 1.04-1.28 (benchmarks/memory_estimate.py; 481 lagrange2 pairs 1.39 before the
+    """Measured 1.05-1.26 (benchmarks/memory_estimate.py; 481 lagrange2 pairs 1.37 when the
+    point image's contact columns and the pad's kept contact columns went unformed while
+    still counted, 1.39 before the
     image's never-formed H and G were counted, image_dofs). 481 nurbs pairs read 0.72 while
     the compiled loops its assembly loaded went uncounted, and 1.74 once the specimen took
     the pad's H and G permuted (no longer loading them) while still counted; 241 pairs read
