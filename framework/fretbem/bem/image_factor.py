@@ -174,12 +174,10 @@ def solve_as_image(
     same = np.zeros(parameters.shape[1], bool)
     if kept.parameters.shape == parameters.shape:  # columns solved already
         same = _same_columns(parameters, _full(kept.parameters), rows)
-    rest = np.flatnonzero(~same)
-    solved = None
-    if rest.size:
-        solved = _kept_solve(kept, parameters, rest, rows)
-        if solved is None:
-            return None
+    found = _kept_solve(kept, parameters, same, rows)
+    if found is None:
+        return None
+    rest, solved = found
     clear()
     # the solution goes into the parameters' buffer (read for the last time above): a fresh
     # face-sized array's first writes cost page faults, 2-17 ms at 481 pairs on a busy machine
@@ -237,12 +235,10 @@ def solve_permuted(
     # the general columns of the parameters: [z0, block x, block y] first, loads last
     where = np.r_[0:3, 3 + contacts : kept.parameters.shape[1]]
     same = _same_columns(general, _general(kept.parameters, where), rows)
-    rest = np.flatnonzero(~same)
-    solved = None
-    if rest.size:
-        solved = _kept_solve(kept, general, rest, rows)
-        if solved is None:
-            return None
+    found = _kept_solve(kept, general, same, rows)
+    if found is None:
+        return None
+    rest, solved = found
     clear()
     result = np.empty(general.shape, order="F")
     for own, other in columns:
@@ -268,14 +264,19 @@ class PermutedRows:
         return out
 
 
-def _kept_solve(kept, parameters: np.ndarray, rest: np.ndarray, rows) -> np.ndarray | None:
-    """The kept factors' solution of ``parameters``' columns ``rest``, their rows permuted
-    segment by segment into the kept body's order (``rows``: own and kept row slices);
-    None where the kept factors are gone."""
+def _kept_solve(kept, parameters: np.ndarray, same: np.ndarray, rows) -> tuple | None:
+    """(the columns ``rest`` of ``parameters`` not ``same`` as the kept ones, the kept
+    factors' solution of them or None if there are none), their rows permuted segment by
+    segment into the kept body's order (``rows``: own and kept row slices); None where the
+    kept factors are gone."""
+    rest = np.flatnonzero(~same)
+    if not rest.size:
+        return rest, None
     permuted = np.empty((len(parameters), rest.size), order="F")  # [kept row, column]
     for own, other in rows:
         permuted[other] = parameters[own][:, rest]
-    return kept.solve(permuted)
+    solved = kept.solve(permuted)
+    return None if solved is None else (rest, solved)
 
 
 def _close(block: np.ndarray, kept: np.ndarray) -> bool:
