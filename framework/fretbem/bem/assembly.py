@@ -516,7 +516,7 @@ def assemble(
         BLOCKS.assembled(segments, lent=n > REUSE_MAX_FUNCTIONS)
     # rigid-body identity: subtract phi_a(s) * (row sum of the non-singular part of H)
     # (a mirrored body: the integrated rows' sums only, each row's sum the same arithmetic)
-    row_sums = _rigid_row_sums(loops, h, n, None if integrated is None else integrated)
+    row_sums = _rigid_row_sums(loops, h, n, integrated)
     for k, basis, rows, values, *_ in jobs:
         if integrated is not None:  # the other rows of a mirrored body: filled below
             on = integrated[rows]
