@@ -92,13 +92,15 @@ def test_displacement_controlled_cycles_match_the_general_path(basis, delta, inc
     """The pad driven by delta: partial slip; and gross slip over 3 increments, whose
     unloading increments start on an all-slip pattern that keeps its residual (0.6 four
     or five times over): the general path guards reversals once round-off reads a
-    residual an ulp larger, the lean one from the first equal value. Measured at 61 pairs:
-    53 iterations through the general path, 49 lean (nurbs); 53 and 50 (lagrange2)."""
+    residual an ulp larger, the lean one from the first equal value, so the lean path
+    never takes more iterations. How many fewer depends on the CPU's round-off: at 61
+    pairs 53 general against 49 lean (nurbs), 53 and 50 (lagrange2) on the host it was written on;
+    49 and 49, 50 and 50 on an AMD EPYC host, where no residual reads an ulp larger."""
     simulation = cattaneo_mindlin(pairs=61, basis=basis, models=HALF_PLANES)
     lean, general = _same(_displaced(simulation, delta, increments), monkeypatch,
                           stalls=increments > 1)  # fmt: skip
     total = sum(s.iterations for s in lean.steps)
-    assert total < sum(s.iterations for s in general.steps) or increments == 1
+    assert total <= sum(s.iterations for s in general.steps)
 
 
 @pytest.mark.parametrize(
