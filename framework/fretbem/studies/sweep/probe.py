@@ -32,8 +32,9 @@ def queued_work(queue: Sequence[Any], scene: Any = None) -> tuple[int, int]:
 @attrs.define
 class WorkProbe:
     """Serial CPU seconds the sweep's unsolved cases would take, from the rows solved so
-    far: the median solve of the last ``PROBE_WINDOW`` cases times the cases left, plus the
-    median group assembly for every further group. ``peak`` keeps the largest estimate
+    far: the median case (its whole CPU where measured, else its solve) of the last
+    ``PROBE_WINDOW`` cases times the cases left, plus the median group assembly for every
+    further group. ``peak`` keeps the largest estimate
     made and the cases solved when it was made (for the summary's note)."""
 
     solves: deque = attrs.field(factory=lambda: deque(maxlen=PROBE_WINDOW))
