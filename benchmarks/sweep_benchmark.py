@@ -21,7 +21,8 @@ every process would compile fretbem again), the two engines alternate which runs
 the ratios are medians of per-round ratios. Each process reports its own CPU and its
 workers': on a loaded machine two workers do not get two cores, so besides the wall
 speed-up the table gives the speed-up on two free cores from the CPU times (the sweep's
-process in full plus half its workers', ``two_free_cores``).
+process alone before and after its workers, half its workers' and its own while they ran,
+``two_free_cores``).
 
 1. Reuse: on the reference scene (61 pairs) the assembly + condensation of one geometry
    against the solve of one load case on it, and a case built and solved from scratch.
@@ -253,25 +254,37 @@ TARGET_SWEEPS = (
 )  # fmt: skip
 
 
-#: a ``fretbem sweep`` process that reports its own CPU and its workers' (RUSAGE_CHILDREN:
-#: the forked workers it has waited for) on its last line of stderr
+#: a ``fretbem sweep`` process that reports its own CPU, its workers' (RUSAGE_CHILDREN: the
+#: forked workers it has waited for) and its own while its forked workers ran (``_run_pool``)
+#: on its last line of stderr
 SWEEP_CHILD = r"""
-import json, resource, sys
+import json, resource, sys, time
+import fretbem.studies.sweep.run as engine
 from fretbem.app.cli import main
+pool = [0.0, 0.0]
+run_pool = getattr(engine, "_run_pool", None)
+if run_pool is not None:
+    def timed_pool(*args, **kwargs):
+        pool[0] = time.process_time()
+        try:
+            return run_pool(*args, **kwargs)
+        finally:
+            pool[1] = time.process_time()
+    engine._run_pool = timed_pool
 try:
     code = main(["sweep", *sys.argv[1:]])
 finally:
     own = resource.getrusage(resource.RUSAGE_SELF)
     workers = resource.getrusage(resource.RUSAGE_CHILDREN)
-    cpu = [own.ru_utime + own.ru_stime, workers.ru_utime + workers.ru_stime]
+    cpu = [own.ru_utime + own.ru_stime, workers.ru_utime + workers.ru_stime, pool[1] - pool[0]]
     sys.stderr.write("\nCPU " + json.dumps(cpu) + "\n")
 raise SystemExit(code)
 """
 
 
 def _sweep_process(tree: Path, sweep_file: Path, out: Path, *flags: str) -> dict[str, float]:
-    """Wall and CPU (the whole process tree; the sweep's own process; its workers) of one
-    ``fretbem sweep`` process."""
+    """Wall and CPU (the whole process tree; the sweep's own process; its workers; its own
+    while its forked workers ran) of one ``fretbem sweep`` process."""
     import resource
     import shutil
     import subprocess
@@ -289,15 +302,19 @@ def _sweep_process(tree: Path, sweep_file: Path, out: Path, *flags: str) -> dict
     if done.returncode != 0:
         raise RuntimeError(f"{' '.join(command)} failed:\n{done.stderr}")
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    own, workers = json.loads(done.stderr.strip().splitlines()[-1].removeprefix("CPU "))
-    return {"wall": wall, "cpu": cpu, "own_cpu": own, "workers_cpu": workers}
+    own, workers, pool = json.loads(done.stderr.strip().splitlines()[-1].removeprefix("CPU "))
+    return {"wall": wall, "cpu": cpu, "own_cpu": own, "workers_cpu": workers, "pool_cpu": pool}
 
 
 def two_free_cores(run: dict[str, float], workers: int = 2) -> float:
     """The wall time of a run on ``workers`` free cores, from its CPU times: the sweep's own
-    process in full (its start, the cases before forking, the store) plus its workers'
-    share, as if balanced. A loaded machine stretches wall times, not these."""
-    return run["own_cpu"] + run["workers_cpu"] / workers
+    process in full before its workers start and after they stop (its start, the cases
+    before forking, the table), and its workers' CPU with its own meanwhile (storing their
+    rows) shared by the cores, as if balanced. A loaded machine stretches wall times, not
+    these (nor does it give a sweep's processes more of the cores than one process: the
+    kernel shares them between sessions, /proc/sys/kernel/sched_autogroup_enabled)."""
+    pool = run.get("pool_cpu", 0.0)
+    return run["own_cpu"] - pool + (pool + run["workers_cpu"]) / workers
 
 
 def targets(trees: dict[str, Path], rounds: int, work: Path, big: bool = True) -> dict:
@@ -323,7 +340,7 @@ def targets(trees: dict[str, Path], rounds: int, work: Path, big: bool = True) -
                     one[f"load10k_default_{key}"] = value
             runs[label].append(one)
             shown = {n: v for n, v in one.items() if n.endswith(("_wall", "_cpu"))
-                     and "own" not in n and "workers" not in n}  # fmt: skip
+                     and not any(w in n for w in ("own", "workers", "pool"))}  # fmt: skip
             print(f"round {k + 1} {label}: " + ", ".join(f"{n} {v:.1f}" for n, v in shown.items()),
                   f"(load {os.getloadavg()[0]:.1f})", flush=True)  # fmt: skip
     medians = {label: {n: statistics.median(r[n] for r in rs) for n in rs[0]}
@@ -366,7 +383,8 @@ def targets(trees: dict[str, Path], rounds: int, work: Path, big: bool = True) -
 
 def _run(one: dict, prefix: str) -> dict[str, float]:
     """The timings of one process of a round (``<prefix>_wall``, ``_own_cpu``...)."""
-    return {key: one[f"{prefix}_{key}"] for key in ("wall", "cpu", "own_cpu", "workers_cpu")}
+    keys = ("wall", "cpu", "own_cpu", "workers_cpu", "pool_cpu")
+    return {key: one[f"{prefix}_{key}"] for key in keys}
 
 
 def main(argv=None) -> int:

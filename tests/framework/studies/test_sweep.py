@@ -590,7 +590,7 @@ def test_default_engine_stays_serial_when_the_work_is_small_next_to_a_parallel_s
     pd = pytest.importorskip("pandas")
     from fretbem.studies.sweep import run as sweep_run
     from fretbem.studies.sweep.cases import build_simulation
-    from fretbem.studies.sweep.probe import WorkProbe, queued_work
+    from fretbem.studies.sweep.probe import PROBE_CASES, WorkProbe, queued_work
     from fretbem.studies.sweep.run import sweep
 
     # above this sweep's work on any machine, however loaded (it is about 1 s)
@@ -609,19 +609,29 @@ def test_default_engine_stays_serial_when_the_work_is_small_next_to_a_parallel_s
     assert auto.summary.engine_note in str(auto.summary)
     assert serial.summary.engine_note == ""  # asked for: nothing to explain
     # the estimate: median solve x queued cases + one assembly per further queued group
-    rows = [{"solve_seconds": 0.01, "assembly_seconds": a} for a in (2.0, 0.0, 0.0)]
+    rows = [{"solve_seconds": 0.01, "assembly_seconds": a}
+            for a in (2.0, *[0.0] * (PROBE_CASES - 1))]  # fmt: skip
     first = sweep_run.Task({"a": 1}, ((0, {}, {}),) * 100)
     queue = [first, sweep_run.Task({"b": 2}, ((1, {}, {}),)), sweep_run.Task(first.scene, ())]
     assert queued_work(queue, first.scene) == (101, 1)
     assert queued_work(queue) == (101, 2)
     probe = WorkProbe()
-    for row in rows[:2]:
+    for row in rows[:-1]:
         probe.add(row)
     assert probe.remaining(101, 1) is None  # too few cases yet
-    probe.add(rows[2])
+    probe.add(rows[-1])
     assert probe.remaining(101, 1) == pytest.approx(0.01 * 101 + 2.0)
-    assert probe.peak == (pytest.approx(3.01), 3)
+    assert probe.peak == (pytest.approx(3.01), PROBE_CASES)
     probe.add({"status": "refused"})  # no solve: no change
     assert probe.remaining(50, 0) == pytest.approx(0.5) and probe.peak[0] == pytest.approx(3.01)
+    # the whole case's CPU where measured (its columns and outputs), less its assembly
+    whole = WorkProbe()
+    for row in rows:
+        whole.add(row, cpu=2.03 if row["assembly_seconds"] else 0.03)
+    assert whole.remaining(10, 0) == pytest.approx(0.3)
+    whole.add({"solve_seconds": 0.01, "solve_cpu_seconds": 0.02}, cpu=0.001)  # never below
+    assert list(whole.solves)[-1] == 0.02
     split = sweep_run._split(queue, workers=2)
     assert sum(len(t.cases) for t in split) == 101 and len(split) >= 2 * sweep_run.TASKS_PER_WORKER
+    sizes = [len(t.cases) for t in split]  # the last tasks smaller: the workers end together
+    assert sizes == sorted(sizes, reverse=True) and sizes[0] == 7 and sizes[-3:] == [1, 1, 1]

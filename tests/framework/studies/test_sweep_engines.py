@@ -205,7 +205,9 @@ def test_default_engine_without_fork_starts_a_local_cluster_and_says_why(tmp_pat
     """Where processes cannot be forked, the default engine's parallel start is a Dask
     LocalCluster, once the estimate passes its threshold; the summary names it and why."""
     pytest.importorskip("distributed")
-    parameters = {"load.Q": {"values": [0.0, 6.0, 12.0, 18.0], "pattern": CYCLE}}
+    # more cases than the estimate needs (PROBE_CASES), one left to hand over
+    values = [3.0 * k for k in range(sweep_run.PROBE_CASES + 1)]
+    parameters = {"load.Q": {"values": values, "pattern": CYCLE}}
     serial = sweep_run.sweep(SCENE, parameters, out=tmp_path / "serial", serial=True)
     monkeypatch.setattr(sweep_run, "fork_available", lambda: False)
     monkeypatch.setattr(sweep_run, "machine_cores", lambda: 2)
@@ -214,6 +216,6 @@ def test_default_engine_without_fork_starts_a_local_cluster_and_says_why(tmp_pat
     note = auto.summary.engine_note
     assert note.startswith("engine auto: a Dask LocalCluster: the work left, estimated at")
     assert "(PARALLEL_MIN_STARTS x CLUSTER_START_SECONDS)" in note
-    assert auto.summary.mode == "dask" and auto.summary.stored == 4
+    assert auto.summary.mode == "dask" and auto.summary.stored == len(values)
     pd.testing.assert_frame_equal(_results(auto.table), _results(serial.table))
     sweep_cases._GROUPS.clear()

@@ -16,7 +16,7 @@ from typing import Any
 import attrs
 
 #: cases solved in this process before the remaining work is estimated
-PROBE_CASES = 3
+PROBE_CASES = 5
 #: the recent cases the per-case estimate is taken over
 PROBE_WINDOW = 25
 
@@ -32,8 +32,9 @@ def queued_work(queue: Sequence[Any], scene: Any = None) -> tuple[int, int]:
 @attrs.define
 class WorkProbe:
     """Serial CPU seconds the sweep's unsolved cases would take, from the rows solved so
-    far: the median solve of the last ``PROBE_WINDOW`` cases times the cases left, plus the
-    median group assembly for every further group. ``peak`` keeps the largest estimate
+    far: the median case (its whole CPU where measured, else its solve) of the last
+    ``PROBE_WINDOW`` cases times the cases left, plus the median group assembly for every
+    further group. ``peak`` keeps the largest estimate
     made and the cases solved when it was made (for the summary's note)."""
 
     solves: deque = attrs.field(factory=lambda: deque(maxlen=PROBE_WINDOW))
@@ -41,14 +42,20 @@ class WorkProbe:
     solved: int = 0
     peak: tuple[float, int] | None = None
 
-    def add(self, row: Mapping[str, Any]) -> None:
-        """Take one solved case's row (refused and failed cases carry no solve time)."""
+    def add(self, row: Mapping[str, Any], cpu: float | None = None) -> None:
+        """Take one solved case's row (refused and failed cases carry no solve time) and,
+        where the caller measured it, the CPU seconds of the whole case: its loading, output
+        columns and functions (a stress column costs half the solve) besides the solve."""
+        assembly = float(row.get("assembly_seconds") or 0.0)
         if "solve_seconds" in row:
             # CPU seconds where recorded: a busy machine stretches every process's wall time
-            self.solves.append(float(row.get("solve_cpu_seconds", row["solve_seconds"])))
+            solve = float(row.get("solve_cpu_seconds", row["solve_seconds"]))
+            if cpu is not None:  # the group's assembly is counted per group, not per case
+                solve = max(solve, cpu - assembly)
+            self.solves.append(solve)
             self.solved += 1
-        if row.get("assembly_seconds"):
-            self.assemblies.append(float(row["assembly_seconds"]))
+        if assembly:
+            self.assemblies.append(assembly)
 
     def remaining(self, cases: int, groups: int) -> float | None:
         """Seconds for ``cases`` more cases in ``groups`` more groups (None: too few solved

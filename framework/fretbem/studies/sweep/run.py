@@ -90,13 +90,14 @@ PARALLEL_MIN_STARTS = 3.0
 #: per-task cost (scheduling, one Parquet chunk) stays below 1 % of the solves
 TASKS_PER_WORKER = 8
 
-#: serial seconds of remaining work above which the default engine hands the rest to a pool
-#: of forked processes. Forking costs milliseconds (the workers inherit this process's
-#: prepared groups, nothing is assembled or pickled again); the pool's own cost, measured on
-#: the 144-case example map (1.3-2 s of solves, by the load), is 0.3 CPU seconds on a calm
-#: machine and up to 3 on a loaded one (pages the workers copy on writing, twice the store
-#: chunks, output columns): the example stays in this process, ten times it forks
-POOL_MIN_SECONDS = 5.0
+#: serial CPU seconds of remaining work (whole cases: solve, columns, output functions)
+#: above which the default engine hands the rest to a pool of forked processes. Forking
+#: costs milliseconds (the workers inherit this process's prepared groups, nothing is
+#: assembled or pickled again); forked after its first cases, the 144-case example map
+#: (about 0.5 s of work left then) took 1.76 CPU s against 1.53 serially and no less
+#: wall on two free cores, so it stays in this process (estimated at 0.6-0.8 s), ten
+#: times it (estimated at 6.5-10.6 s) forks
+POOL_MIN_SECONDS = 2.5
 
 
 class SweepError(ComputationError):
@@ -318,17 +319,28 @@ def _cluster_threads(client) -> int:
 
 
 def _split(queue: list[Task], workers: int) -> list[Task]:
-    """The queued tasks cut to ``TASKS_PER_WORKER`` tasks per worker (at most MAX_BATCH)."""
-    cases = sum(len(t.cases) for t in queue)
-    size = max(1, min(MAX_BATCH, math.ceil(cases / (TASKS_PER_WORKER * max(1, workers)))))
-    return [
-        Task(t.scene, t.cases[k : k + size]) for t in queue for k in range(0, len(t.cases), size)
-    ]
+    """The queued tasks cut to about ``TASKS_PER_WORKER`` tasks per worker (at most
+    MAX_BATCH cases), the last ones smaller so the workers finish together: a task takes at
+    most the cases left over twice the workers, down to an eighth of the first tasks' size
+    (the workers take the tasks in this order)."""
+    workers = max(1, workers)
+    left = sum(len(t.cases) for t in queue)
+    size = max(1, min(MAX_BATCH, math.ceil(left / (TASKS_PER_WORKER * workers))))
+    smallest = math.ceil(size / 8)
+    tasks = []
+    for task in queue:
+        k = 0
+        while k < len(task.cases):
+            n = max(smallest, min(size, math.ceil(left / (2 * workers))))
+            tasks.append(Task(task.scene, task.cases[k : k + n]))
+            k, left = k + n, left - min(n, len(task.cases) - k)
+    return tasks
 
 
 def _solve_here(queue, builder, outputs, extras, on_rows, stop, max_tasks) -> int:
-    """Solve queued tasks in this process until ``stop(row, cases, groups)`` after a case
-    (the cases and further groups left, this task's unsolved cases included) or
+    """Solve queued tasks in this process until ``stop(row, cases, groups, cpu)`` after a
+    case (the cases and further groups left, this task's unsolved cases included; the CPU
+    seconds since the previous case: the case's loading, solve and columns) or
     ``max_tasks`` tasks (None: no limit); returns the tasks finished. A task is one batch,
     its group looked up and its resource block entered once, as ``--serial`` does; a task
     cut short goes back to the front of the queue with its unsolved cases (and counts as
@@ -338,10 +350,12 @@ def _solve_here(queue, builder, outputs, extras, on_rows, stop, max_tasks) -> in
         task, rows, stopped = queue.pop(0), [], False
         cases, groups = queued_work(queue, task.scene)
         batch = batch_rows(task.scene, task.cases, builder, outputs, extras)
+        cpu = time.process_time()
         try:
             for row in batch:
                 rows.append(row)
-                if stop(row, cases + len(task.cases) - len(rows), groups):
+                spent, cpu = time.process_time() - cpu, time.process_time()
+                if stop(row, cases + len(task.cases) - len(rows), groups, spent):
                     stopped = True
                     break
         finally:
@@ -467,14 +481,14 @@ def _run_engine(
     if engine == "auto":
         probe, threshold = WorkProbe(), auto_threshold(workers, forked)
 
-        def worth_it(row, cases, groups):
+        def worth_it(row, cases, groups, cpu):
             nonlocal chose
-            probe.add(row)
+            probe.add(row, cpu)
             remaining = probe.remaining(cases, groups)
             chose = remaining is not None and remaining > threshold
             return chose
 
-        def never(row, cases, groups):  # one core: the serial engine, no estimate
+        def never(row, cases, groups, cpu):  # one core: the serial engine, no estimate
             return False
 
         stop = never if math.isinf(threshold) else worth_it
@@ -511,7 +525,7 @@ def _run_engine(
         with concurrent.futures.ThreadPoolExecutor(1) as pool:
             starting = pool.submit(_connect, scheduler, workers)
 
-            def started(row, cases, groups):
+            def started(row, cases, groups, cpu):
                 return starting.done()
 
             # case by case, so the cluster never waits for this process to finish a task
@@ -559,7 +573,7 @@ def _run_engine(
     return n_workers, stopped, lost, "dask", note
 
 
-def _always(row, cases, groups) -> bool:
+def _always(row, cases, groups, cpu) -> bool:
     return True
 
 

@@ -50,6 +50,8 @@ class SweepStore:
         is refused rather than mixed with this sweep's cases.
         """
         self.directory = Path(directory)
+        #: the chunks this store wrote, as read back (the table's frames; see ``write``)
+        self.written: dict[Path, Any] = {}
         path = self.directory / MANIFEST
         if self.directory.exists() and not path.exists():
             if not self.directory.is_dir() or any(self.directory.iterdir()):
@@ -100,7 +102,10 @@ class SweepStore:
         return done
 
     def write(self, rows: Sequence[dict[str, Any]]) -> Path:
-        """Store one batch of rows atomically with its checksum; returns the chunk path."""
+        """Store one batch of rows atomically with its checksum; returns the chunk path.
+
+        The chunk is read back at once for :meth:`table`: a parallel engine's workers are
+        still solving then, so the table at the end reads only the chunks of earlier runs."""
         import pandas as pd
 
         cases = sorted(int(r["case"]) for r in rows)
@@ -116,11 +121,12 @@ class SweepStore:
             _atomic_write(_sum_path(path), lambda t: t.write_text(text))
 
         _atomic_write(path, write)  # the checksum first: a chunk never lacks one
+        self.written[path] = _read_chunk(path)
         return path
 
     def table(self):
         """Every stored case, one row each, sorted by case number (a pandas DataFrame)."""
-        return read_table(self.directory)
+        return read_table(self.directory, self.written)
 
 
 def _sum_path(chunk: Path) -> Path:
@@ -167,8 +173,11 @@ def _read_chunk(chunk: Path, columns=None):
         ) from None
 
 
-def read_table(directory: str | Path):
-    """The table of a sweep store (pandas DataFrame, one row per case, by case number)."""
+def read_table(directory: str | Path, frames: dict[Path, Any] | None = None):
+    """The table of a sweep store (pandas DataFrame, one row per case, by case number).
+
+    ``frames``: chunks already read (by path), taken instead of reading them again; every
+    chunk's checksum is verified all the same."""
     import pandas as pd
 
     directory = Path(directory)
@@ -178,7 +187,8 @@ def read_table(directory: str | Path):
     chunks = sorted(directory.glob("cases-*.parquet"))
     for chunk in chunks:
         verify_chunk(chunk, fingerprint)
-    frames = [_read_chunk(c) for c in chunks]
+    read = frames or {}
+    frames = [read[c] if c in read else _read_chunk(c) for c in chunks]
     frames = [f for f in frames if len(f)]
     if not frames:
         return pd.DataFrame({"case": pd.Series([], dtype="int64")})
