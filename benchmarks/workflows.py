@@ -15,7 +15,10 @@ while numpy, scipy and matplotlib load their bytecode). Workflows:
   9-step cycle, against its projection floor (every (step, point, plane) of the 5 x 10
   degree grid, 325 planes in 3D, in one float32 product per chunk), in-plane and 3D; the
   compiled search where the tree has it (``PlaneSearch(compiled=True)``, after a warm-up:
-  numba's load is the rig's), and the numpy search beside it;
+  numba's load is the rig's), and the numpy search beside it; the floor into buffers
+  allocated once, and the process with glibc's heap kept (``STEADY_HEAP``): before
+  2026-11-27 the heap's state gave one side or the other fresh pages in about half the
+  processes (the floor ~700 page faults a call, 2.45 ms against 1.40 ms in-plane);
 - ``halfplane``: the half-plane body model's cycle (scene built cold, five steps) against the
   BEM bodies of the same scene and against a numpy Toeplitz influence-coefficient peer
   (``benchmarks/halfplane_peer.py``) on the same nodes, at 61 and 481 pairs, and the BEM
@@ -99,10 +102,16 @@ for in_plane in (True, False):
     # grid since issue 28 has 73 planes, checked against it: fatigue_3d_grid_study.py)
     th, ps = plane_grid(in_plane_only=in_plane, theta_step_deg=5.0, psi_step_deg=10.0)
     coef = projection(th, ps).astype(np.float32).transpose(2, 0, 1).reshape(4, -1)
+    # into buffers allocated once: a fresh float32 copy and product per call read glibc's
+    # heap state, not the product (fresh pages in half the processes: ~700 page faults a
+    # call, the in-plane floor 2.45 ms against 1.40 ms; benchmarks/fatigue_phases.py)
+    s32 = np.empty(stress.shape, dtype=np.float32)
+    prod = np.empty((stress.shape[0], search.chunk_points, coef.shape[1]), dtype=np.float32)
     def floor():
-        s32 = stress.astype(np.float32)
+        np.copyto(s32, stress, casting="same_kind")
         for a in range(0, s32.shape[1], search.chunk_points):
-            s32[:, a:a + search.chunk_points] @ coef
+            part = s32[:, a:a + search.chunk_points]
+            np.matmul(part, coef, out=prod[:, :part.shape[1]])
     def full(path):
         # the four critical-plane parameters (METHODS[:4]: the same in trees without
         # stress_life and strain_life, so before/after time the same work)
@@ -207,13 +216,27 @@ def _env(tree: Path) -> dict:
     return env
 
 
-def _process(args: list[str], tree: Path, cwd: Path) -> tuple[float, float, str]:
-    """(wall s, CPU s of the process and its children, stdout) of one fresh process."""
+#: glibc's allocator for the fatigue child: freed memory kept (no trim), arrays under 32 MiB
+#: from the heap. With its defaults the heap's state decided whether a side's arrays came back
+#: on fresh pages: measured in fresh processes (load 6-8), the floor's float32 copy and
+#: products ~700 page faults a call in 4 of 8 processes (in-plane 2.45 ms against 1.40 ms),
+#: and with the floor's buffers allocated once, the search's outputs 358-496 faults a call in
+#: 5 of 6 (10.3-11.3 ms against 9.4-9.6 ms); with these settings no fault on either side in
+#: any process, the state both sides read in one process (benchmarks/fatigue_phases.py)
+STEADY_HEAP = "glibc.malloc.trim_threshold=1073741824:glibc.malloc.mmap_threshold=33554432"
+
+
+def _process(
+    args: list[str], tree: Path, cwd: Path, extra: dict | None = None
+) -> tuple[float, float, str]:
+    """(wall s, CPU s of the process and its children, stdout) of one fresh process
+    (``extra``: environment variables besides the tree's)."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
     done = subprocess.run(
-        args, env=_env(tree), cwd=cwd, capture_output=True, text=True, check=False
-    )
+        args, env={**_env(tree), **(extra or {})}, cwd=cwd, capture_output=True, text=True,
+        check=False,
+    )  # fmt: skip
     wall = time.perf_counter() - start
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if done.returncode != 0:
@@ -257,7 +280,9 @@ def one_round(tree: Path, tmp: Path, which: set[str], index: int = 0, cycles: in
         out["rig"] = {"full_wall": full[0], "full_cpu": full[1],
                       "plain_wall": plain[0], "plain_cpu": plain[1]}  # fmt: skip
     if "fatigue" in which:
-        out["fatigue"] = json.loads(_process([sys.executable, "-c", FATIGUE_CHILD], tree, work)[2])
+        child = _process([sys.executable, "-c", FATIGUE_CHILD], tree, work,
+                         {"GLIBC_TUNABLES": STEADY_HEAP})  # fmt: skip
+        out["fatigue"] = json.loads(child[2])
     if "halfplane" in which:
         for pairs in (61, 481):
             text = _process([sys.executable, "-c", HALFPLANE_CHILD, str(pairs),

@@ -698,24 +698,13 @@ def _compiled_parameters(stress, criteria, search, theta_g, psi_g, E, nu) -> dic
         int(search.refine_levels),
         bool(search.in_plane_only),
     )
-    G = E / (2.0 * (1.0 + nu))
-    results = {}
-    for i, crit in enumerate(criteria):
-        # tau: for a criterion whose search needs no shear, its plane's own (for the report)
-        value, tau, smax, smin, strain = res[:, i]
-        results[crit.name] = CriterionResult(
-            method=crit.name,
-            value=value,
-            normal_angle_deg=np.rad2deg(np.mod(theta[i], np.pi)),
-            normal_tilt_deg=90.0 - np.rad2deg(psi[i]),
-            shear_stress_amplitude=tau,
-            normal_stress_max=smax,
-            normal_stress_amplitude=0.5 * (smax - smin),
-            normal_stress_mean=0.5 * (smax + smin),
-            normal_strain_amplitude=strain,
-            shear_strain_amplitude=tau / G,
-        )
-    return results
+    # tau: for a criterion whose search needs no shear, its plane's own (for the report)
+    rows = compiled.report(theta, psi, res, E / (2.0 * (1.0 + nu)))
+    names = compiled.REPORT_ROWS
+    return {
+        crit.name: CriterionResult(crit.name, **dict(zip(names, rows[:, i], strict=True)))
+        for i, crit in enumerate(criteria)
+    }
 
 
 def _plane_shear_amplitude(stress, theta, psi, E, nu) -> np.ndarray:
