@@ -116,7 +116,10 @@ class HalfPlaneSolution:
 def rotation_field(points: np.ndarray, centre) -> np.ndarray:
     """Displacement (m, 2) of ``points`` per unit rigid rotation about ``centre``: e_z x (p - c)."""
     arm = np.asarray(points, float) - np.asarray(centre, float)
-    return np.column_stack([-arm[:, 1], arm[:, 0]])
+    out = np.empty((len(arm), 2))  # np.column_stack([-arm[:, 1], arm[:, 0]]), no dispatch
+    np.negative(arm[:, 1], out=out[:, 0])
+    out[:, 1] = arm[:, 0]
+    return out
 
 
 def _face_curves(value) -> NurbsCurve | tuple[NurbsCurve, ...]:
@@ -403,9 +406,8 @@ def _moment_integrals(face, centre, samples) -> np.ndarray:
     from the face's Gauss ``samples`` (:func:`~.influence.gauss_samples`)."""
     elements, rule_weights, m = samples
     weights = np.abs(m.tangents[:, 0]) * rule_weights
-    out = np.zeros((face.n_functions, 2))
-    for j in range(2):
-        arm = (m.points[:, j] - centre[j]) * weights
-        out[:, j] = added_at(face.n_functions, face.connectivity[elements],
-                             m.values * arm[:, None])  # fmt: skip
-    return out
+    arms = (m.points - np.asarray(centre, float)) * weights[:, None]  # (points, 2)
+    # both columns in one scatter: each (function, column) sums its terms in the same order
+    terms = m.values[:, :, None] * arms[:, None, :]
+    index = (face.connectivity[elements][:, :, None], np.arange(2))
+    return added_at((face.n_functions, 2), index, terms)
