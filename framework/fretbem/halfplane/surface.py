@@ -84,8 +84,10 @@ class HalfPlaneSurface:
 
     @property
     def compliance(self) -> FlamantCompliance:
-        """The line-load constants A, B of the material."""
-        return FlamantCompliance.of(self.material)
+        """The line-load constants A, B of the material (formed once)."""
+        if "compliance" not in self._cache:
+            self._cache["compliance"] = FlamantCompliance.of(self.material)
+        return self._cache["compliance"]
 
     @property
     def points(self) -> np.ndarray:
