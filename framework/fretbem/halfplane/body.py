@@ -406,8 +406,9 @@ def _moment_integrals(face, centre, samples) -> np.ndarray:
     from the face's Gauss ``samples`` (:func:`~.influence.gauss_samples`)."""
     elements, rule_weights, m = samples
     weights = np.abs(m.tangents[:, 0]) * rule_weights
-    arms = (m.points - np.asarray(centre, float)) * weights[:, None]  # (points, 2)
-    # both columns in one scatter: each (function, column) sums its terms in the same order
-    terms = m.values[:, :, None] * arms[:, None, :]
-    index = (face.connectivity[elements][:, :, None], np.arange(2))
-    return added_at((face.n_functions, 2), index, terms)
+    out = np.zeros((face.n_functions, 2))
+    for j in range(2):
+        arm = (m.points[:, j] - centre[j]) * weights
+        out[:, j] = added_at(face.n_functions, face.connectivity[elements],
+                             m.values * arm[:, None])  # fmt: skip
+    return out
