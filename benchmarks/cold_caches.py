@@ -35,17 +35,18 @@ from fretbem.scenes import builder
 
 
 def clear_scene_caches() -> None:
-    """The builder's recent scenes, the graded breakpoints, the refinement operators, the
-    assembly's block store and the discretisations kept for point images (the last cycle's
-    segments, alive until the next cycle's simulation replaces theirs, would otherwise lend
-    it their discretisation and rules as point images), and the checks and layouts kept
-    by value (the rigid-motion answers, the mirror pair checks, the layout densities, the
-    integrated singular rows, the half-plane faces' shared checks and force weights, whose
-    last cycle's simulation is still alive while the next one builds)."""
-    for module, name in ((builder, "_built"), (basis, "_graded")):
-        cache = getattr(module, name, None)
-        if cache is not None:
-            cache.cache_clear()
+    """The builder's recent scenes and grading ratios, the graded breakpoints, the
+    refinement operators, the assembly's block store and the discretisations kept for point
+    images (the last cycle's segments, alive until the next cycle's simulation replaces
+    theirs, would otherwise lend it their discretisation and rules as point images), and
+    the checks and layouts kept by value (the rigid-motion answers, the mirror pair checks,
+    the layout densities, the integrated singular rows, the half-plane faces' shared checks
+    and force weights, whose last cycle's simulation is still alive while the next one
+    builds)."""
+    for module, name in ((builder, "_built"), (basis, "_graded"), (builder, "grading_ratio")):
+        clear = getattr(getattr(module, name, None), "cache_clear", None)
+        if clear is not None:  # (an older tree's grading_ratio keeps nothing)
+            clear()
     blocks = getattr(assembly, "BLOCKS", None)
     if blocks is not None:
         blocks.clear()

@@ -57,6 +57,14 @@ def _as_intervals(value) -> tuple[tuple[float, float], ...] | None:
     return tuple(out)
 
 
+def _as_floats(value) -> tuple[float, ...]:
+    """The numbers of ``value`` (a number or a sequence, flattened) as a tuple of floats;
+    the usual empty tuple as it is (np.ravel's call costs more than the rest)."""
+    if type(value) is tuple and not value:
+        return value
+    return tuple(float(x) for x in np.ravel(value))
+
+
 def _check_toward(instance, attribute, value) -> None:
     for lo, hi in value or ():
         if not (0.0 <= lo <= hi <= 1.0):
@@ -133,9 +141,7 @@ class Refinement:
         ),
     )
     at: tuple[float, ...] | None = attrs.field(default=None, converter=_as_breakpoints)
-    c0_at: tuple[float, ...] = attrs.field(
-        default=(), converter=lambda v: tuple(float(x) for x in np.ravel(v))
-    )
+    c0_at: tuple[float, ...] = attrs.field(default=(), converter=_as_floats)
 
     def __attrs_post_init__(self) -> None:
         if self.at is not None and self.elements != len(self.at) - 1:

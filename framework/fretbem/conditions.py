@@ -25,6 +25,8 @@ def _component(value, instance, attribute) -> Component:
     """A number (numpy's too, as a float; no True, no "3"), finite, or a callable, or None."""
     if value is None or callable(value):
         return value
+    if (type(value) is float or type(value) is int) and math.isfinite(value):
+        return float(value)  # the common case, without the number checks' ABC lookups
     value = as_scalar(value)
     where = f"{type(instance).__name__}.{attribute.name}"
     fix = "give a number, a function of the points (m, 2) -> (m,), or None to leave it free"
@@ -42,6 +44,12 @@ _COMPONENT = attrs.Converter(_component, takes_self=True, takes_field=True)
 
 def _force(value) -> tuple[float, float]:
     """The block's resultant (Fx, Fy): two finite numbers (no True, no "3")."""
+    if (
+        type(value) is tuple
+        and len(value) == 2
+        and all((type(v) is float or type(v) is int) and math.isfinite(v) for v in value)
+    ):
+        return (float(value[0]), float(value[1]))  # the common case, without ABC lookups
     fix = "give (Fx, Fy) in N/mm, e.g. (0.0, -100.0)"
     pair = tuple(value) if isinstance(value, (tuple, list, np.ndarray)) else None
     if pair is None or len(pair) != 2:

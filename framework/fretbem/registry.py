@@ -320,6 +320,13 @@ def load_group(key: str) -> dict[str, Any]:
     return {name: cls for name, cls in loaded.items() if cls is not None}
 
 
+@functools.cache
+def _base_class(key: str) -> type:
+    """The base class of group ``key``, imported once (a scene build asks for it about ten
+    times: a class passed as a plugin is checked against it)."""
+    return _group(key).base_class()
+
+
 def _group(key: str) -> Group:
     if key not in GROUPS:
         raise UnknownPluginError(f"no plugin group {key!r}; the groups are {sorted(GROUPS)}")
@@ -347,10 +354,10 @@ def get(name: str | type, group: str = "bases") -> Any:
     installed names if ``name`` is not one of them.
     """
     spec = _group(group)
-    base = spec.base.replace(":", ".")
-    if isinstance(name, type) and issubclass(name, spec.base_class()):
+    if isinstance(name, type) and issubclass(name, _base_class(group)):
         return name
     if not isinstance(name, str):
+        base = spec.base.replace(":", ".")
         raise TypeError(f"a {spec.what} is a name or a {base} subclass, not {name!r}")
     if name in _named(group):  # only this plugin is imported
         found = _plugin(group, name)

@@ -50,6 +50,8 @@ class LoadHistoryError(InputError):
 
 def _load_amplitudes(value) -> dict[str, float]:
     """Each named load's amplitude: a number (no True, no "3"), finite."""
+    if type(value) is dict and not value:  # no named load (the usual step), no ABC lookup
+        return {}
     if not isinstance(value, Mapping):
         raise InputError(
             f"LoadStep.loads must be a mapping of load name to amplitude, got {value!r}; give "

@@ -152,6 +152,15 @@ def number_field(
     """
 
     def convert(value: Any, instance: Any, field: Any) -> float | None:
+        kind = type(value)
+        if (kind is float or kind is int) and check is None:  # the common case, no frames
+            number = float(value)
+            if (
+                math.isfinite(number)
+                and (low is None or (number > low if low_open else number >= low))
+                and (high is None or number <= high)
+            ):
+                return number
         if value is None and none:
             return None
         where = f"{type(instance).__name__}.{field.name}"
@@ -182,6 +191,8 @@ def whole_number(
 ) -> int:
     """A whole number >= ``low`` given from Python as an int: numpy integers and integral
     floats (``2.0``) taken, True/False, strings and fractions (``2.5``) refused."""
+    if type(value) is int and value >= low:  # the common case (not a bool: its type differs)
+        return value
     value = as_scalar(value)
     ok = not isinstance(value, bool) and isinstance(value, numbers.Real)
     if ok and not isinstance(value, numbers.Integral):

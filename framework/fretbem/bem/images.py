@@ -128,11 +128,35 @@ def discretise(family: type[Basis], curve, refinement: Refinement) -> Basis:
             )
         else:
             image = attrs.evolve(curve, control_points=_negated(curve.control_points))
-        basis = attrs.evolve(
-            source, curve=image, geometry_coefficients=_negated(source.geometry_coefficients)
-        )
+        basis = _reflected(source, image)
         _SOURCES[basis] = weakref.ref(source)
     _DISCRETISED[own] = basis
+    return basis
+
+
+#: the fields of a plain :class:`~fretbem.basis.Basis` (a family adding none is copied
+#: field by field in :func:`_reflected`)
+_BASIS_FIELDS = tuple(field.name for field in attrs.fields(Basis))
+
+
+def _reflected(source: Basis, curve) -> Basis:
+    """``attrs.evolve(source, curve=curve, geometry_coefficients=-coefficients)``: for a
+    family with the plain Basis fields and no post-init, the checked read-only arrays of
+    ``source`` shared and only the negated coefficients new (no converter or validator runs
+    again on arrays that passed them); any other family through ``attrs.evolve``."""
+    kind = type(source)
+    coefficients = _negated(source.geometry_coefficients)
+    if (
+        tuple(field.name for field in attrs.fields(kind)) != _BASIS_FIELDS
+        or getattr(kind, "__attrs_post_init__", None) is not None
+    ):
+        return attrs.evolve(source, curve=curve, geometry_coefficients=coefficients)
+    coefficients.setflags(write=False)
+    basis = object.__new__(kind)
+    for name in _BASIS_FIELDS:
+        object.__setattr__(basis, name, getattr(source, name))
+    object.__setattr__(basis, "curve", curve)
+    object.__setattr__(basis, "geometry_coefficients", coefficients)
     return basis
 
 

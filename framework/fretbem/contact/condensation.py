@@ -313,24 +313,29 @@ def _add_blocks(blocks, step: int, sign: float, directions, frame, layout) -> No
     a term whose factor is zero at every pair (a flat face's frame) adds nothing, skipped."""
     a, b = (block[::step, ::step] for block in blocks)
     n = a.shape[0]
+    # which frame entries are non-zero somewhere, found in one reduction (not one a term)
+    frame_used = np.logical_or.reduce(frame != 0.0, axis=0).tolist()
     for target, direction in directions:
         along_x, along_y = sign * direction[:, 0, None], sign * direction[:, 1, None]
+        used_x, used_y = np.logical_or.reduce(direction != 0.0, axis=0).tolist()
         # the projected rows per traction component j at node k: x (A, -B), y (B, A)
-        rows = (_combined(along_x, a, -along_y, b), _combined(along_x, b, along_y, a))
+        rows = (
+            _combined(along_x, a, -along_y, b, used_x, used_y),
+            _combined(along_x, b, along_y, a, used_x, used_y),
+        )
         view = target[:, layout.tractions].reshape(n, 2, n)
         for s in range(2):
             for component, projected in enumerate(rows):
-                factor = frame[:, component, s]
-                if projected is not None and factor.any():
-                    view[:, s, :] += projected * factor
+                if projected is not None and frame_used[component][s]:
+                    view[:, s, :] += projected * frame[:, component, s]
 
 
-def _combined(first: np.ndarray, block: np.ndarray, second: np.ndarray, other: np.ndarray):
-    """first * block + second * other (row factors (n, 1)); a term of zero factors skipped,
-    None when both are."""
+def _combined(first, block, second, other, first_used: bool, second_used: bool):
+    """first * block + second * other (row factors (n, 1)); a term whose factors are all
+    zero (``*_used`` False) skipped, None when both are."""
     out = None
-    for factor, values in ((first, block), (second, other)):
-        if factor.any():
+    for used, factor, values in ((first_used, first, block), (second_used, second, other)):
+        if used:
             term = factor * values
             out = term if out is None else np.add(out, term, out=out)
     return out

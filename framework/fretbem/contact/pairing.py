@@ -132,6 +132,8 @@ class Pairing:
         """Face-node values along ``axis`` -> values at the pair points (W @ values)."""
         matrix = self.interpolation.get(side)
         if matrix is None:
+            if type(values) is np.ndarray:  # np.take's numbers, without its dispatch frame
+                return values.take(self.nodes(side), axis=axis)
             return np.take(values, self.nodes(side), axis=axis)
         return np.moveaxis(np.tensordot(matrix, values, axes=([1], [axis])), 0, axis)
 

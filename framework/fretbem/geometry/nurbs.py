@@ -313,7 +313,14 @@ class NurbsCurve:
         makes half a dozen)."""
         if len(control_points) != len(source.control_points):  # pragma: no cover - misuse
             raise ValueError("an exact image has as many control points as its source")
-        return cls._valid(source.degree, knots, control_points, weights)
+        curve = object.__new__(cls)  # as _valid makes it
+        object.__setattr__(curve, "degree", source.degree)
+        for name, value in (("knots", knots), ("control_points", control_points),
+                            ("weights", weights)):  # fmt: skip
+            own = getattr(source, name)
+            # an array of the source itself (read-only, its own copy) is shared, not copied
+            object.__setattr__(curve, name, own if value is own else float_array(value))
+        return curve
 
     @classmethod
     def _valid(cls, degree: int, knots, control_points, weights) -> NurbsCurve:

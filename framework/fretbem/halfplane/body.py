@@ -116,7 +116,10 @@ class HalfPlaneSolution:
 def rotation_field(points: np.ndarray, centre) -> np.ndarray:
     """Displacement (m, 2) of ``points`` per unit rigid rotation about ``centre``: e_z x (p - c)."""
     arm = np.asarray(points, float) - np.asarray(centre, float)
-    return np.column_stack([-arm[:, 1], arm[:, 0]])
+    out = np.empty((len(arm), 2))  # np.column_stack([-arm[:, 1], arm[:, 0]]), no dispatch
+    np.negative(arm[:, 1], out=out[:, 0])
+    out[:, 1] = arm[:, 0]
+    return out
 
 
 def _face_curves(value) -> NurbsCurve | tuple[NurbsCurve, ...]:

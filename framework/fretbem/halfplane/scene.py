@@ -55,7 +55,8 @@ def half_plane_model(
         material,
         side="upper" if label == "upper" else "lower",
         basis=family,
-        refinement=refinement.get(tag, Refinement()),
+        # the default made only when the face's tag has no refinement (not for every build)
+        refinement=refinement[tag] if tag in refinement else Refinement(),
         loading_block=block,
         tag=tag,
         name=label if name is None else name,

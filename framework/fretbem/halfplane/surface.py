@@ -84,8 +84,10 @@ class HalfPlaneSurface:
 
     @property
     def compliance(self) -> FlamantCompliance:
-        """The line-load constants A, B of the material."""
-        return FlamantCompliance.of(self.material)
+        """The line-load constants A, B of the material (formed once)."""
+        if "compliance" not in self._cache:
+            self._cache["compliance"] = FlamantCompliance.of(self.material)
+        return self._cache["compliance"]
 
     @property
     def points(self) -> np.ndarray:
@@ -93,7 +95,7 @@ class HalfPlaneSurface:
         if "points" not in self._cache:
             nodes = _image_nodes(self.face)
             if nodes is None:
-                elements, local = self.face.collocation()
+                elements, local = self._collocation
                 if "rule_map" not in self._cache and self._needs_rules:
                     # the rule map is wanted anyway: the nodes mapped in the same call
                     rules, mapped = rule_map_with(self.face, elements, local)
@@ -109,6 +111,14 @@ class HalfPlaneSurface:
             if _plain_collocation(self.face):  # E is these shape values, scattered
                 self._cache["node_values"] = (elements, values)
         return self._cache["points"]
+
+    @property
+    def _collocation(self) -> tuple[np.ndarray, np.ndarray]:
+        """The face's ``collocation()`` (element, local coordinate of each node), found once:
+        the nodes' map and the node integrals both read it."""
+        if "collocation" not in self._cache:
+            self._cache["collocation"] = self.face.collocation()
+        return self._cache["collocation"]
 
     @property
     def normals(self) -> np.ndarray:
@@ -199,7 +209,7 @@ class HalfPlaneSurface:
             x = self.points[:, 0]
 
             def compute() -> np.ndarray:  # at the nodes' own (element, local coordinate)
-                at = self.face.collocation()
+                at = self._collocation
                 half = mirrored_rows(self.face, x, self._rule_map)
                 if half is None:
                     return self._node_integrals(x, at)

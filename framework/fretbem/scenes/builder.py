@@ -72,11 +72,14 @@ def zone_elements(family: type[Basis], pairs: int, degree: int | None) -> int:
     return int(elements)
 
 
+@functools.lru_cache(maxsize=64)
 def grading_ratio(length: float, elements: int, smallest: float) -> float:
     """Ratio for Refinement.graded whose smallest element is about ``smallest``.
 
     Solves ln(r) / (r - 1) = smallest * elements / length (the linear density of
     Refinement.breakpoints) by bisection on ln r: the left side falls monotonically from 1.
+    Kept per arguments: the pad and the specimen of a scene usually ask the same (about 55
+    Python steps each).
     """
     target = smallest * elements / length
     if target >= 1.0:
@@ -251,7 +254,8 @@ def refinements(
     body = scene.pad if pad else scene.specimen
     face = FaceDiscretisation.of(scene, "pad" if pad else "specimen")
     degree = face.degree
-    segments = [s for s in _face(scene, zone, pad, whole) if s.tag == "contact"]
+    face_segments = _face(scene, zone, pad, whole)
+    segments = [s for s in face_segments if s.tag == "contact"]
     if face.elements is not None:
         k = face.elements
     else:
@@ -265,7 +269,7 @@ def refinements(
         except ValueError as err:
             raise SceneFileError(f"{face.where}: {err}") from None
     zone_size = 2 * zone / (k * len(segments))
-    tags = {s.tag for s in _face(scene, zone, pad, whole)} | (
+    tags = {s.tag for s in face_segments} | (
         {s.tag for s in _geometry(body.shape, "boundary", zone).segments}
         if pad and whole
         else set()
@@ -552,7 +556,6 @@ def body_model(
     an :class:`~fretbem.geometry.boundary.OpenFace` between library shapes (:func:`_whole`)."""
 
     spec = getattr(scene, role)
-    pad_face = _pad_face(scene, zone, role == "pad")
     bulk = any(scene.load.bulk)
     if role == "pad":
         conditions = [LoadingBlock("top")]
@@ -576,5 +579,5 @@ def body_model(
     elif role == "pad":
         boundary = _geometry(spec.shape, "boundary", zone)
     else:
-        boundary = _specimen_boundary(scene, pad_face, zone)
+        boundary = _specimen_boundary(scene, _pad_face(scene, zone, False), zone)
     return model.build(scene, role, boundary, spec.material, conditions, family, refinement)

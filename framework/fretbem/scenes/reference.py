@@ -145,7 +145,8 @@ def cattaneo_mindlin(
     ``solver`` replaces the default :class:`~fretbem.solvers.newton.SemiSmoothNewton`; the body
     models come from ``scene.models`` (see :func:`body_model`).
     """
-    scene = attrs.evolve(scene or CattaneoMindlinScene(), **overrides)
+    # the defaults with the overrides in one construction (not the defaults' and an evolve)
+    scene = CattaneoMindlinScene(**overrides) if scene is None else attrs.evolve(scene, **overrides)
     zone = scene.zone * scene.hertz().half_width
     if not 0 < zone < scene.width / 2:
         raise ValueError(
