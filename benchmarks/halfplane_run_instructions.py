@@ -3,7 +3,7 @@
 A count, not a time: on a machine shared with other work the CPU time of a 3 ms ``run()``
 moves by 10-20 % between runs of the same code, while the instructions it executes move by
 well under 1 %. Each tree runs two processes under valgrind's callgrind (``PYTHONPATH`` the
-tree's ``framework`` and ``plugins``, one BLAS thread): both build and prepare
+tree's ``framework`` and ``plugins``, one BLAS thread, hash seed 0): both build and prepare
 ``--cycles`` cold scenes of ``--model`` bodies (half-plane, or bem) at ``--pairs`` pairs
 after a warm-up run,
 one of them runs each too; the difference over the cycles is one ``run()``'s count. Needs
@@ -45,7 +45,8 @@ for _ in range(int(sys.argv[3])):
 def instructions(tree: Path, mode: str, cycles: int, pairs: int, model: str) -> int:
     """Instructions callgrind counts in one process of ``tree`` (``mode`` "run" or "set-up")."""
     path = f"{tree / 'framework'}{os.pathsep}{tree / 'plugins'}"
-    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", PYTHONPATH=path)
+    # (a fixed hash seed: an import's count moved by ~5 M instructions between seeds)
+    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", PYTHONHASHSEED="0", PYTHONPATH=path)
     with tempfile.TemporaryDirectory() as folder:
         out = Path(folder) / "callgrind.out"
         command = ["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}",

@@ -50,6 +50,9 @@ KEPT_FACTORS = 32
 _largest_of, _any, _all = np.maximum.reduce, np.logical_or.reduce, np.logical_and.reduce
 _largest_at = np.maximum.reduceat
 _getrs = sla.lapack.dgetrs
+#: matrix times vector: np.dot makes the same BLAS call as the @ operator (the same numbers)
+#: for about 2,000 fewer instructions a call than the matmul ufunc's dispatch
+_dot = np.dot
 
 
 def _largest(values: np.ndarray) -> float:
@@ -122,10 +125,11 @@ class UncoupledSteps:
         self.friction, self.r_n, self.r_t = float(friction), float(r_n), float(r_t)
         #: (N; T; R): F(x)'s three products in one
         self.together = np.concatenate([normal_map, tangential_map, resultant_map])
-        #: the Jacobian's contact rows (r_n N; -r_t T; R)
-        self.stacked = np.concatenate(
-            [self.r_n * normal_map, -self.r_t * tangential_map, resultant_map]
-        )
+        #: the Jacobian's contact rows (r_n N; -r_t T; R): ``together``'s rows times their
+        #: factors in one product (each entry the same product as scaling each map alone)
+        scale = np.ones((len(self.together), 1))
+        scale[:n], scale[n : 2 * n] = self.r_n, -self.r_t
+        self.stacked = self.together * scale
         blocks = np.arange(2 * n, n_x)
         rows, columns = part
         #: the block rows and columns (numbers of x) of the normal and tangential problems
@@ -256,7 +260,7 @@ class UncoupledIncrement:
         # F on the pattern alone: the gap, slip and block rows at x and the trial
         # tractions' directions (evaluate's numbers; its pattern would be replaced)
         steps, n = self.steps, self.n
-        products = steps.together @ x
+        products = _dot(steps.together, x)
         self.gap = self.gap_base + products[:n]
         slip = self.slip = self.slip_base + products[n : 2 * n]
         q = x[n : 2 * n]
@@ -268,7 +272,7 @@ class UncoupledIncrement:
         """F at x and its pattern (CoulombFriction.evaluate's arithmetic)."""
         steps, n, x = self.steps, self.n, self.x
         r_n, r_t = steps.r_n, steps.r_t
-        products = steps.together @ x
+        products = _dot(steps.together, x)
         gap = self.gap = self.gap_base + products[:n]
         slip = self.slip = self.slip_base + products[n : 2 * n]
         blocks = self.block_base + products[2 * n :]
@@ -290,7 +294,7 @@ class UncoupledIncrement:
         """F's tangential part and the pattern at x, the normal part being solved."""
         steps, n, x = self.steps, self.n, self.x
         r_t = steps.r_t
-        products = steps.tangential_maps @ x
+        products = _dot(steps.tangential_maps, x)
         slip = self.slip = self.slip_base + products[:n]
         q = x[n : 2 * n]
         trial = q + r_t * slip
@@ -350,7 +354,7 @@ class UncoupledIncrement:
             rhs = b[normal_rows]
             if separated.size:
                 y[separated] = b[separated]
-                rhs -= (stacked @ y)[normal_rows]
+                rhs -= _dot(stacked, y)[normal_rows]
             if _any(rhs):
                 y[normal_columns] = _solved(*steps.factor(normal_rows, normal_columns), rhs)
         # a separated pair's shear goes to 0, a slipping pair's follows its pressure:
@@ -358,7 +362,7 @@ class UncoupledIncrement:
         y[separated_q] = b[separated_q]
         coeff = steps.friction * self.direction[slipping]
         y[slipping_q] = b[slipping_q] + coeff * (y[slipping] - b[slipping])
-        rhs = b[tangential_rows] - (stacked @ y)[tangential_rows]
+        rhs = b[tangential_rows] - _dot(stacked, y)[tangential_rows]
         if _any(rhs):
             y[tangential_columns] = _solved(*steps.factor(tangential_rows, tangential_columns),
                                             rhs)  # fmt: skip
