@@ -364,9 +364,9 @@ class StepResult:
             unknowns = problem.unknowns(state.x)
             p, q = _frozen(unknowns.pressure), _frozen(unknowns.shear)
             slip, states = state.slip, state.states
-        force = problem.lower_force_map @ state.x  # contact force on the lower body
-        normal, tangent = simulation.frame()
-        resultant = (float(-force @ normal), float(force @ tangent))
+        force = np.dot(problem.lower_force_map, state.x)  # contact force on the lower body
+        normal, tangent = simulation.frame()  # np.dot: `@`'s numbers, with less overhead
+        resultant = (float(-np.dot(force, normal)), float(np.dot(force, tangent)))
         errors = exact = None
         if simulation.reference is not None and not _gross_sliding(simulation.reference, history):
             errors = exact = _Deferred(simulation.reference, x, p, q, history)
@@ -376,6 +376,8 @@ class StepResult:
             rig = getattr(simulation, "rig", control.RIGID)
             measured = control.measure(problem, state.x, problem.amplitudes(state.loads), rig)
         controls = load.controls
+        gap = problem.relative_normal(state.x, problem.amplitudes(state.loads))
+        gap.setflags(write=False)  # a fresh array: frozen here, the record takes it uncopied
         step = cls(
             name=load.name,
             normal=load.normal if controls.normal == "force" else state.normal,
@@ -389,7 +391,7 @@ class StepResult:
             x=x,
             pressure=p,
             shear=q,
-            normal_displacement=problem.relative_normal(state.x, problem.amplitudes(state.loads)),
+            normal_displacement=gap,
             tangential_displacement=slip,
             states=states,
             iterations=iterations,

@@ -226,9 +226,9 @@ def measure(
     n, t = frame(problem, "upper")
     beta = np.asarray(beta, float)
     base = problem.base_at("resultant", beta)
-    force = (base + problem.resultant_map @ x)[_block_rows(problem)]
-    approach, delta = _motion_rows(problem) @ x
-    normal, tangential = float(-force @ n), float(force @ t)
+    force = (base + np.dot(problem.resultant_map, x))[_block_rows(problem)]
+    approach, delta = np.dot(_motion_rows(problem), x)  # np.dot: `@`'s numbers, less overhead
+    normal, tangential = float(-np.dot(force, n)), float(np.dot(force, t))
     c_n, c_t = rig.compliances
     moment, tilt = _moment(problem, x, beta, rig, base), 0.0
     if pad_rotation.PAD in problem.layout.rotations:

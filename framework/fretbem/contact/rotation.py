@@ -233,7 +233,7 @@ def moment_about(problem: CondensedContact, x, beta, target, *, base=None) -> fl
     start = 2 * problem.layout.blocks.index(PAD)
     if base is None:
         base = problem.base_at("resultant", beta)
-    force = base[start : start + 2] + problem.resultant_map[start : start + 2] @ x
+    force = base[start : start + 2] + np.dot(problem.resultant_map[start : start + 2], x)
     return rotation.moment(x, beta) + float(offset[0] * force[1] - offset[1] * force[0])
 
 

@@ -94,7 +94,9 @@ def lean_part(normal_map, tangential_map, resultant_map) -> tuple | None:
     seen[n : 2 * n] = True
     seen[blocks[~columns]] = True
     rows = ~resultant[:, seen].any(axis=1)
-    if normal[:, seen].any() or rows.sum() != columns.sum():
+    # no gap row sees a tangential column: the shear ones read as a slice, not a gathered copy
+    hit = normal[:, n : 2 * n].any() or normal[:, blocks[~columns]].any()
+    if hit or rows.sum() != columns.sum():
         return None
     return rows, columns
 
