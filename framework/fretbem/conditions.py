@@ -16,7 +16,7 @@ import attrs
 import numpy as np
 
 from .errors import InputError
-from .validators import as_scalar
+from .validators import as_float, as_scalar, shown
 
 Component = Union[float, Callable[[np.ndarray], np.ndarray], None]  # noqa: UP007
 
@@ -25,16 +25,15 @@ def _component(value, instance, attribute) -> Component:
     """A number (numpy's too, as a float; no True, no "3"), finite, or a callable, or None."""
     if value is None or callable(value):
         return value
-    if (type(value) is float or type(value) is int) and math.isfinite(value):
-        return float(value)  # the common case, without the number checks' ABC lookups
+    if type(value) is float and math.isfinite(value):
+        return value  # the common case, without the number checks' ABC lookups
     value = as_scalar(value)
     where = f"{type(instance).__name__}.{attribute.name}"
     fix = "give a number, a function of the points (m, 2) -> (m,), or None to leave it free"
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
-        shown = f'the string "{value}"' if isinstance(value, str) else repr(value)
-        raise InputError(f"{where} must be a number, got {shown}; {fix}")
-    if not math.isfinite(value):
-        raise InputError(f"{where} must be finite, got {value!r}; {fix}")
+        raise InputError(f"{where} must be a number, got {shown(value)}; {fix}")
+    if not math.isfinite(as_float(value)):
+        raise InputError(f"{where} must be finite, got {shown(value)}; {fix}")
     return float(value)
 
 
@@ -47,7 +46,7 @@ def _force(value) -> tuple[float, float]:
     if (
         type(value) is tuple
         and len(value) == 2
-        and all((type(v) is float or type(v) is int) and math.isfinite(v) for v in value)
+        and all(type(v) is float and math.isfinite(v) for v in value)
     ):
         return (float(value[0]), float(value[1]))  # the common case, without ABC lookups
     fix = "give (Fx, Fy) in N/mm, e.g. (0.0, -100.0)"
@@ -57,10 +56,9 @@ def _force(value) -> tuple[float, float]:
     pair = tuple(as_scalar(v) for v in pair)
     for name, v in zip(("Fx", "Fy"), pair, strict=True):
         if isinstance(v, (bool, np.bool_)) or not isinstance(v, numbers.Real):
-            shown = f'the string "{v}"' if isinstance(v, str) else repr(v)
-            raise InputError(f"LoadingBlock.force {name} must be a number, got {shown}; {fix}")
-        if not math.isfinite(v):
-            raise InputError(f"LoadingBlock.force {name} must be finite, got {v!r}; {fix}")
+            raise InputError(f"LoadingBlock.force {name} must be a number, got {shown(v)}; {fix}")
+        if not math.isfinite(as_float(v)):
+            raise InputError(f"LoadingBlock.force {name} must be finite, got {shown(v)}; {fix}")
     return tuple(float(v) for v in pair)
 
 

@@ -4,17 +4,7 @@ from __future__ import annotations
 
 import attrs
 
-from .errors import InputError
-from .validators import flag_field, number_field
-
-
-def _poisson(where: str, value: float) -> None:
-    """A Poisson's ratio in (-1, 0.5), NaN refused, in the words of the kernels' check."""
-    if not (-1.0 < value < 0.5):
-        raise InputError(
-            f"{where}: Poisson's ratio nu must lie in (-1, 0.5) for a stable isotropic "
-            f"material, got {value!r}; give e.g. 0.3 for a metal"
-        )
+from .validators import flag_field, number_field, poisson_ratio
 
 
 @attrs.frozen
@@ -35,7 +25,7 @@ class Material:
         converter=number_field("Young's modulus, MPa", "give E in MPa", low=0.0, low_open=True)
     )
     nu: float = attrs.field(
-        converter=number_field("Poisson's ratio", "give nu in (-1, 0.5)", check=_poisson)
+        converter=number_field("Poisson's ratio", "give nu in (-1, 0.5)", check=poisson_ratio)
     )
     plane_stress: bool = attrs.field(
         default=False,

@@ -12,17 +12,32 @@ import numpy as np
 
 from .errors import InputError
 
+#: the largest whole number a count may take: a 64-bit integer's (numpy's, a TOML file's)
+WHOLE_MAX = 2**63 - 1
+
+
+def as_float(value: Any) -> float:
+    """``float(value)``, an int too large for a float read as +-infinity (refused as such)
+    instead of Python's OverflowError."""
+    try:
+        return float(value)
+    except OverflowError:
+        return math.inf if value > 0 else -math.inf
+
 
 def finite(instance: Any, attribute: Any, value: Any) -> None:
-    """Reject NaN and infinite numbers, naming the field."""
+    """Reject NaN and infinite numbers (and ints too large for a float), naming the field."""
     if type(value) is float:  # the common scalar, without numpy's per-call cost
         ok = math.isfinite(value)
     else:
         # (the reduction called directly: ndarray.all's frame costs as much on a few numbers)
-        ok = np.logical_and.reduce(np.isfinite(np.asarray(value, dtype=float)), axis=None)
+        try:
+            ok = np.logical_and.reduce(np.isfinite(np.asarray(value, dtype=float)), axis=None)
+        except OverflowError:
+            ok = False
     if not ok:
         raise ValueError(
-            f"{type(instance).__name__}.{attribute.name} must be finite, got {value!r}"
+            f"{type(instance).__name__}.{attribute.name} must be finite, got {shown(value)}"
         )
 
 
@@ -80,19 +95,33 @@ def poisson(instance: Any, attribute: Any, value: Any) -> None:
         )
 
 
+def poisson_ratio(where: str, value: float) -> None:
+    """A number field's check (:func:`number_field`): a Poisson's ratio in (-1, 0.5), NaN
+    refused, in the words of :func:`poisson`."""
+    if not (-1.0 < value < 0.5):
+        raise InputError(
+            f"{where}: Poisson's ratio nu must lie in (-1, 0.5) for a stable isotropic "
+            f"material, got {value!r}; give e.g. 0.3 for a metal"
+        )
+
+
 def check_positive(name: str, value: float) -> float:
     """``value`` as a float; ValueError naming ``name`` unless finite and > 0 (plain calls)."""
-    value = float(value)
+    value = as_float(value)
     if not (math.isfinite(value) and value > 0.0):
         raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
     return value
 
 
 def check_poisson(name: str, value: float) -> float:
-    """``value`` as a float; ValueError naming ``name`` unless a Poisson's ratio in (-1, 0.5)."""
-    value = float(value)
+    """``value`` as a float; InputError (a ValueError) naming ``name`` unless a Poisson's ratio
+    in (-1, 0.5)."""
+    value = as_float(value)
     if not (math.isfinite(value) and -1.0 < value < 0.5):
-        raise ValueError(f"{name} must be a Poisson's ratio in (-1, 0.5), got {value!r}")
+        raise InputError(
+            f"{name} must be a Poisson's ratio in (-1, 0.5), got {value!r}; "
+            "give e.g. 0.3 for a metal"
+        )
     return value
 
 
@@ -112,15 +141,20 @@ def real_number(
     ``fix`` what to give instead; every message names all three.
     """
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        shown = repr(value) if not isinstance(value, str) else f'"{value}" (a string)'
-        raise error(f"{where} must be a number ({what}), got {shown}; {fix}")
-    value = float(value)
-    if math.isnan(value) or (math.isinf(value) and not infinite):
-        raise error(f"{where} must be a finite number ({what}), got {value!r}; {fix}")
-    return value
+        text = repr(value) if not isinstance(value, str) else f'"{value}" (a string)'
+        raise error(f"{where} must be a number ({what}), got {text}; {fix}")
+    number = as_float(value)
+    if math.isnan(number) or (math.isinf(number) and not infinite):
+        raise error(f"{where} must be a finite number ({what}), got {shown(value)}; {fix}")
+    return number
 
 
-def _shown(value: Any) -> str:
+def shown(value: Any) -> str:
+    """A user's value as a message shows it: a string quoted, a huge int by its size."""
+    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 64:
+        # (repr of a huge int is hundreds of digits, and past 4300 digits Python refuses it)
+        digits = int(value.bit_length() * math.log10(2))
+        return f"an integer of about 10^{digits}"
     return f'the string "{value}"' if isinstance(value, str) else repr(value)
 
 
@@ -154,7 +188,7 @@ def number_field(
     def convert(value: Any, instance: Any, field: Any) -> float | None:
         kind = type(value)
         if (kind is float or kind is int) and check is None:  # the common case, no frames
-            number = float(value)
+            number = as_float(value)
             if (
                 math.isfinite(number)
                 and (low is None or (number > low if low_open else number >= low))
@@ -164,19 +198,21 @@ def number_field(
         if value is None and none:
             return None
         where = f"{type(instance).__name__}.{field.name}"
-        value = as_scalar(value)
+        given = value = as_scalar(value)
 
         def refuse(want: str) -> Exception:
-            return error(f"{where} must be {want}, got {_shown(value)} ({what}); {fix}")
+            huge = isinstance(given, numbers.Integral) and value in (math.inf, -math.inf)
+            text = shown(given if huge else value)
+            return error(f"{where} must be {want}, got {text} ({what}); {fix}")
 
         if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
             raise refuse("a number")
-        value = float(value)
+        value = as_float(value)
+        if not math.isfinite(value) and (check is None or isinstance(given, numbers.Integral)):
+            raise refuse("finite")  # (an int past a float's range too, before any check)
         if check is not None:
             check(where, value)
             return value
-        if not math.isfinite(value):
-            raise refuse("finite")
         if low is not None and (value <= low if low_open else value < low):
             raise refuse(f"{'>' if low_open else '>='} {low:g}")
         if high is not None and value > high:
@@ -190,15 +226,18 @@ def whole_number(
     where: str, value: Any, *, low: int, fix: str, error: type[Exception] = InputError
 ) -> int:
     """A whole number >= ``low`` given from Python as an int: numpy integers and integral
-    floats (``2.0``) taken, True/False, strings and fractions (``2.5``) refused."""
-    if type(value) is int and value >= low:  # the common case (not a bool: its type differs)
+    floats (``2.0``) taken, True/False, strings and fractions (``2.5``) refused, and counts
+    past a 64-bit integer (what numpy and a scene file can hold) too."""
+    if type(value) is int and low <= value <= WHOLE_MAX:  # the common case (a bool's type differs)
         return value
     value = as_scalar(value)
     ok = not isinstance(value, bool) and isinstance(value, numbers.Real)
     if ok and not isinstance(value, numbers.Integral):
-        ok = math.isfinite(float(value)) and float(value).is_integer()
+        ok = math.isfinite(as_float(value)) and float(value).is_integer()
     if not ok or int(value) < low:
-        raise error(f"{where} must be a whole number >= {low}, got {_shown(value)}; {fix}")
+        raise error(f"{where} must be a whole number >= {low}, got {shown(value)}; {fix}")
+    if int(value) > WHOLE_MAX:
+        raise error(f"{where} must be below 2^63 (a 64-bit count), got {shown(value)}; {fix}")
     return int(value)
 
 

@@ -1,7 +1,8 @@
 """Every number of the public records a user builds from Python for a run is checked as the
-scene reader checks it: True, "3", NaN, infinity and None (where a number is required) are
-refused with one InputError naming ``Record.field``, its cause and a fix; numpy scalars
-and ints are taken as before (the record stores a plain float or int)."""
+scene reader checks it: True, "3", NaN, infinity, an int too large for a float or a count
+(10**400) and None (where a number is required) are refused with one InputError naming
+``Record.field``, its cause and a fix; numpy scalars and ints are taken as before (the
+record stores a plain float or int)."""
 
 from __future__ import annotations
 
@@ -10,12 +11,13 @@ import math
 import numpy as np
 import pytest
 
-from fretbem import LoadStep, Material, Refinement
+from fretbem import KelvinKernel, LoadStep, Material, Refinement, SemiSmoothNewton
 from fretbem.conditions import Displacement, LoadingBlock, Traction
 from fretbem.contact.control import Rig
 from fretbem.contact.law import CoulombFriction
 from fretbem.errors import InputError
 from fretbem.fretting import Waveform
+from fretbem.geometry.nurbs import NurbsCurve
 from fretbem.geometry.shapes import (
     CylinderPad,
     CylinderSpecimen,
@@ -23,10 +25,18 @@ from fretbem.geometry.shapes import (
     GrooveSpecimen,
     RoundedFlatPad,
 )
+from fretbem.halfplane.body import HalfPlaneBody
+from fretbem.scenes.reference import CattaneoMindlinScene
+from fretbem.verification.closed_forms import HertzLineContact, MindlinDeresiewicz
+from fretbem.verification.dissimilar import DissimilarCylinders
+from fretbem.verification.nowell_hills import NowellHills
+from fretbem.verification.rounded_flat import RoundedFlatPunch
+from fretbem.verification.tilted_contact import TiltedContact
 from fretbem.wear import ArchardWear, EnergyWear
 from fretbem.wear.jump import JumpControl
 from fretbem.wear.run import WearSimulation
 
+_HERTZ = HertzLineContact(100.0, 70.0, 40000.0)
 #: (record, valid keyword arguments): each builds a valid record
 RECORDS = {
     "LoadStep": (LoadStep, {"name": "A", "normal": 100.0, "tangential": 5.0}),
@@ -73,6 +83,65 @@ RECORDS = {
     "Refinement": (Refinement, {"elements": 8, "degree": 2, "toward": [(0.0, 0.0)], "ratio": 4.0}),
     "LoadStep-ints": (LoadStep, {"name": "A", "normal": 100.0, "increments": 2, "cycle": 1}),
     "Waveform-ints": (Waveform, {"amplitude": 1e-3, "normal": 100.0, "cycles": 2}),
+    "CattaneoMindlinScene": (
+        CattaneoMindlinScene,
+        {
+            "pairs": 21,
+            "zone": 1.5,
+            "radius": 70.0,
+            "width": 6.5,
+            "height": 16.25,
+            "E_upper": 73400.0,
+            "nu_upper": 0.33,
+            "E_lower": 110000.0,
+            "nu_lower": 0.3,
+            "friction": 0.3,
+            "normal": 100.0,
+            "increments": 2,
+            "flank_elements": 16,
+            "side_elements": 12,
+            "top_elements": 12,
+        },
+    ),
+    "SemiSmoothNewton": (
+        SemiSmoothNewton,
+        {"tolerance": 1e-9, "max_iterations": 30, "max_substeps": 2},
+    ),
+    "KelvinKernel": (KelvinKernel, {"shear_modulus": 27600.0, "nu": 0.33}),
+    "HalfPlaneBody": (
+        HalfPlaneBody,
+        {
+            "face": NurbsCurve.line([-1.0, 0.0], [1.0, 0.0]),
+            "material": Material(73400.0, 0.33),
+            "datum": 5.0,
+            "bulk_origin": 1.0,
+        },
+    ),
+    "HertzLineContact": (
+        HertzLineContact,
+        {"load": 100.0, "effective_radius": 70.0, "effective_modulus": 40000.0},
+    ),
+    "MindlinDeresiewicz": (MindlinDeresiewicz, {"hertz": _HERTZ, "friction": 0.6}),
+    "NowellHills": (NowellHills, {"hertz": _HERTZ, "friction": 0.6, "shift": -1.0}),
+    "RoundedFlatPunch": (
+        RoundedFlatPunch,
+        {"flat": 2.0, "edge_radius": 5.0, "effective_modulus": 40000.0, "friction": 0.3},
+    ),
+    "TiltedContact": (
+        TiltedContact,
+        {"slope": np.sin, "effective_modulus": 40000.0, "friction": 0.3},
+    ),
+    "DissimilarCylinders": (
+        DissimilarCylinders,
+        {
+            "radius": 70.0,
+            "E_upper": 110000.0,
+            "nu_upper": 0.3,
+            "E_lower": 73400.0,
+            "nu_lower": 0.33,
+            "friction": 0.5,
+        },
+    ),
 }
 #: the fields where None is a valid value (it then means something)
 NONE_ALLOWED = {
@@ -83,6 +152,7 @@ NONE_ALLOWED |= {(record, axis) for record in ("Displacement", "Traction") for a
 #: the fields where infinity is valid (a rigid rig)
 INFINITY_ALLOWED = {("Rig", "tangential"), ("Rig", "normal"), ("Rig", "rotational")}
 BAD = {"True": True, "string": "3", "nan": math.nan, "inf": math.inf, "None": None}
+BAD["huge"] = 10**400  # beyond a float and a 64-bit count: Python's float() overflows
 
 
 def _cases():
@@ -96,8 +166,8 @@ def _cases():
             for bad_label, bad in BAD.items():
                 if bad is None and (name, field) in NONE_ALLOWED:
                     continue
-                if bad == math.inf and (name, field) in INFINITY_ALLOWED:
-                    continue
+                if bad_label in ("inf", "huge") and (name, field) in INFINITY_ALLOWED:
+                    continue  # (an int past a float's range reads as infinity there)
                 yield pytest.param(record, valid, field, bad, id=f"{label}.{field}={bad_label}")
 
 
@@ -109,7 +179,7 @@ def test_a_bad_number_is_refused_naming_the_field(record, valid, field, bad):
     assert field in message, message
     assert "\n" not in message
     # cause and fix: what was given is shown, and a way out is offered
-    shown = "3" if isinstance(bad, str) else repr(bad)
+    shown = "3" if isinstance(bad, str) else "10^400" if bad == 10**400 else repr(bad)
     assert shown in message, message
     assert any(word in message for word in ("give", "0: the body does not wear")), message
 
@@ -169,6 +239,19 @@ def test_whole_numbers_as_integral_floats_still_count():
         # the scene file's bound, from Python too (a percentage typed for a coefficient)
         (lambda: CoulombFriction(30), r"CoulombFriction\.friction must be <= 10, got 30"),
         (lambda: Material(73400.0, 0.5), r"Material\.nu: Poisson's ratio nu must lie in"),
+        (
+            lambda: CattaneoMindlinScene(tangential=(0.0, "18", 0.0, -18.0, 0.0)),
+            r"CattaneoMindlinScene\.tangential\[1\] must be a number",
+        ),
+        (
+            lambda: CattaneoMindlinScene(tangential=(0.0, 18.0, 0.0, -(10**400), 0.0)),
+            r"CattaneoMindlinScene\.tangential\[3\] must be a finite number .* 10\^400",
+        ),
+        (
+            lambda: DissimilarCylinders(70.0, 1e5, 0.7, 7e4, 0.3, 0.5),
+            r"DissimilarCylinders\.nu_upper: Poisson's ratio nu must lie in",
+        ),
+        (lambda: KelvinKernel(1.0, 0.5), r"KelvinKernel\.nu: Poisson's ratio nu must lie in"),
     ],
 )  # fmt: skip
 def test_other_bad_inputs_are_named(build, message):

@@ -12,7 +12,7 @@ from __future__ import annotations
 import attrs
 import numpy as np
 
-from fretbem.validators import poisson, positive
+from fretbem.validators import number_field, poisson_ratio
 
 IDENTITY = np.eye(2)
 
@@ -93,8 +93,12 @@ class KelvinKernel:
         Plane stress: the plane-strain formulas with nu / (1 + nu).
     """
 
-    shear_modulus: float = attrs.field(converter=float, validator=positive)
-    nu: float = attrs.field(converter=float, validator=poisson)
+    shear_modulus: float = attrs.field(
+        converter=number_field("mu, MPa", "give mu = E / (2 (1 + nu))", low=0.0, low_open=True)
+    )
+    nu: float = attrs.field(
+        converter=number_field("Poisson's ratio", "give nu in (-1, 0.5)", check=poisson_ratio)
+    )
     plane_stress: bool = False
 
     @classmethod

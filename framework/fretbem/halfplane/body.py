@@ -22,7 +22,7 @@ from fretbem.conditions import LoadingBlock
 from fretbem.geometry.nurbs import NurbsCurve
 from fretbem.material import Material
 from fretbem.numerics.scatter import added_at
-from fretbem.validators import positive
+from fretbem.validators import number_field
 
 from .influence import DEFAULT_DATUM, HalfPlaneFaceError
 from .joined import JoinedFace
@@ -173,8 +173,21 @@ class HalfPlaneBody(Body):
     basis: str | type[Basis] = "nurbs"
     refinement: Refinement = attrs.field(factory=Refinement)
     loading_block: LoadingBlock | None = None
-    datum: float = attrs.field(default=DEFAULT_DATUM, converter=float, validator=positive)
-    bulk_origin: float = attrs.field(default=0.0, converter=float)
+    datum: float = attrs.field(
+        default=DEFAULT_DATUM,
+        converter=number_field(
+            "the distance of zero ln r displacement, mm",
+            "give a distance > 0 in mm (10 by default, about the specimen's thickness)",
+            low=0.0,
+            low_open=True,
+        ),
+    )
+    bulk_origin: float = attrs.field(
+        default=0.0,
+        converter=number_field(
+            "x where the bulk-stress displacement is zero, mm", "give x in mm (0 by default)"
+        ),
+    )
     tag: str = "contact"
     name: str = "half-plane"
     _cache: dict = attrs.field(init=False, factory=dict, repr=False)

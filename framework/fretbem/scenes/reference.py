@@ -9,22 +9,45 @@ builder, :func:`fretbem.scenes.builder.build`, like any scene file.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
+from typing import Any
 
 import attrs
 
 from fretbem.basis import Basis
+from fretbem.errors import InputError
 from fretbem.geometry.shapes import CylinderPad, CylinderSpecimen, FlatSpecimen
 from fretbem.material import Material
 from fretbem.simulation import Simulation
 from fretbem.solvers.newton import Solver
-from fretbem.validators import count, finite, non_negative, poisson, positive
+from fretbem.validators import as_scalar, count_field, number_field, poisson_ratio, real_number
 from fretbem.verification.closed_forms import HertzLineContact, MindlinDeresiewicz, dundurs_beta
 
 from .builder import build, zone_elements
 from .spec import BodySpec, ContactSpec, LoadSpec, MeshSpec, Scene
 
 REFERENCE_STEPS = ("A", "B", "C", "D", "E")
+
+
+def _positive(unit: str, fix: str) -> attrs.Converter:
+    return number_field(unit, fix, low=0.0, low_open=True)
+
+
+def _loads(values: Any) -> tuple[float, ...]:
+    """The tangential loads Q per step: finite numbers (True, strings refused), as floats."""
+    where = "CattaneoMindlinScene.tangential"
+    if isinstance(values, (str, bytes)) or not isinstance(values, Iterable):
+        raise InputError(
+            f"{where} must be a sequence of Q per step, got {values!r}; give Q in N/mm per step"
+        )
+    fix = "give Q in N/mm per step, e.g. (0, 18, 0, -18, 0)"
+    return tuple(
+        real_number(f"{where}[{k}]", as_scalar(q), what="Q, N/mm", fix=fix, error=InputError)
+        for k, q in enumerate(values)
+    )
+
+
+_POISSON = number_field("Poisson's ratio", "give nu in (-1, 0.5)", check=poisson_ratio)
 
 
 @attrs.frozen
@@ -61,27 +84,30 @@ class CattaneoMindlinScene:
     """
 
     basis: str | type[Basis] = "nurbs"
-    pairs: int = attrs.field(default=61, validator=count)
-    zone: float = attrs.field(default=1.5, validator=positive)
+    pairs: int = attrs.field(default=61, converter=count_field("give e.g. 61 (the default)"))
+    zone: float = attrs.field(default=1.5, converter=_positive("mm", "give e.g. 1.5"))
     degree: int | None = None
-    radius: float = attrs.field(default=70.0, validator=positive)
-    width: float = attrs.field(default=6.5, validator=positive)
-    height: float = attrs.field(default=16.25, validator=positive)
+    radius: float = attrs.field(default=70.0, converter=_positive("mm", "give e.g. 70"))
+    width: float = attrs.field(default=6.5, converter=_positive("mm", "give e.g. 6.5"))
+    height: float = attrs.field(default=16.25, converter=_positive("mm", "give e.g. 16.25"))
     lower: str = attrs.field(default="arc", validator=attrs.validators.in_(("arc", "flat")))
-    E_upper: float = attrs.field(default=73400.0, validator=positive)
-    nu_upper: float = attrs.field(default=0.33, validator=poisson)
-    E_lower: float = attrs.field(default=73400.0, validator=positive)
-    nu_lower: float = attrs.field(default=0.33, validator=poisson)
-    friction: float = attrs.field(default=0.3, validator=non_negative)
-    normal: float = attrs.field(default=100.0, validator=positive)
+    E_upper: float = attrs.field(default=73400.0, converter=_positive("MPa", "give E in MPa"))
+    nu_upper: float = attrs.field(default=0.33, converter=_POISSON)
+    E_lower: float = attrs.field(default=73400.0, converter=_positive("MPa", "give E in MPa"))
+    nu_lower: float = attrs.field(default=0.33, converter=_POISSON)
+    friction: float = attrs.field(
+        default=0.3,
+        converter=number_field("the Coulomb coefficient f", "give f >= 0, e.g. 0.3", low=0.0),
+    )
+    normal: float = attrs.field(default=100.0, converter=_positive("N/mm", "give P in N/mm"))
     tangential: Sequence[float] = attrs.field(
-        default=(0.0, 18.0, 0.0, -18.0, 0.0), converter=tuple, validator=finite
+        default=(0.0, 18.0, 0.0, -18.0, 0.0), converter=_loads
     )
     names: Sequence[str] = attrs.field(default=REFERENCE_STEPS, converter=tuple)
-    increments: int = attrs.field(default=1, validator=count)
-    flank_elements: int = attrs.field(default=16, validator=count)
-    side_elements: int = attrs.field(default=12, validator=count)
-    top_elements: int = attrs.field(default=12, validator=count)
+    increments: int = attrs.field(default=1, converter=count_field("give e.g. 1 (the default)"))
+    flank_elements: int = attrs.field(default=16, converter=count_field("give e.g. 16"))
+    side_elements: int = attrs.field(default=12, converter=count_field("give e.g. 12"))
+    top_elements: int = attrs.field(default=12, converter=count_field("give e.g. 12"))
     models: Mapping[str, str] = attrs.field(factory=dict, converter=lambda m: dict(m), hash=False)
 
     def __attrs_post_init__(self) -> None:

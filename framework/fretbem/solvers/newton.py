@@ -33,6 +33,7 @@ from fretbem.contact.law import (
 )
 from fretbem.errors import ComputationError, SolverSettingsError
 from fretbem.numerics.blas import one_blas_thread
+from fretbem.validators import count_field, number_field
 
 from . import newton_uncoupled
 from .newton_linear import NewtonLinear
@@ -178,34 +179,12 @@ class Solver(ABC):
         """
 
 
-def _tolerance(instance, attribute, value) -> None:
+def _tolerance(where: str, value: float) -> None:
     if not (0.0 < value <= 1e-3):
         raise SolverSettingsError(
-            f"{type(instance).__name__}.tolerance must lie in (0, 1e-3] (a relative residual; "
-            f"the default 1e-10 reproduces the published numbers), got {value!r}"
+            f"{where} must lie in (0, 1e-3] (a relative residual; the default 1e-10 "
+            f"reproduces the published numbers), got {value!r}; give e.g. 1e-10"
         )
-
-
-def _whole(value):
-    """A count given as a whole number (2.0 is 2; 2.5 or True is refused by the validator)."""
-    if isinstance(value, bool):
-        return value
-    try:
-        as_float = float(value)
-    except (TypeError, ValueError):
-        return value
-    return int(as_float) if as_float.is_integer() else value
-
-
-def _at_least(minimum: int):
-    def check(instance, attribute, value) -> None:
-        if isinstance(value, bool) or not isinstance(value, int) or not value >= minimum:
-            raise SolverSettingsError(
-                f"{type(instance).__name__}.{attribute.name} must be a whole number >= "
-                f"{minimum}, got {value!r}"
-            )
-
-    return check
 
 
 def _restore(cls, settings: dict):
@@ -227,9 +206,22 @@ class SemiSmoothNewton(Solver):
         Times a failing increment may be halved automatically (0 disables sub-stepping).
     """
 
-    tolerance: float = attrs.field(default=1e-10, converter=float, validator=_tolerance)
-    max_iterations: int = attrs.field(default=50, converter=_whole, validator=_at_least(1))
-    max_substeps: int = attrs.field(default=4, converter=_whole, validator=_at_least(0))
+    tolerance: float = attrs.field(
+        default=1e-10,
+        converter=number_field(
+            "the relative residual", "give e.g. 1e-10", check=_tolerance, error=SolverSettingsError
+        ),
+    )
+    max_iterations: int = attrs.field(
+        default=50,
+        converter=count_field("give e.g. 50 (the default)", low=1, error=SolverSettingsError),
+    )
+    max_substeps: int = attrs.field(
+        default=4,
+        converter=count_field(
+            "give e.g. 4 (the default; 0: no sub-stepping)", low=0, error=SolverSettingsError
+        ),
+    )
     #: the reduced Newton linear solver kept per condensed problem (weakly: a dropped
     #: problem frees it); the solver's own state, not the process's
     _linear: weakref.WeakKeyDictionary = attrs.field(

@@ -27,7 +27,7 @@ from collections.abc import Sequence
 import attrs
 import numpy as np
 
-from fretbem.validators import check_poisson, check_positive
+from fretbem.validators import number_field, poisson_ratio
 
 from .closed_forms import HertzLineContact, dundurs_beta, effective_modulus
 from .nowell_hills import NotApplicableError
@@ -92,6 +92,14 @@ def _influence(x: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
     return log, sign
 
 
+def _positive(what: str, fix: str) -> attrs.Converter:
+    return number_field(what, fix, low=0.0, low_open=True)
+
+
+def _poisson(what: str) -> attrs.Converter:
+    return number_field(what, "give nu in (-1, 0.5)", check=poisson_ratio)
+
+
 @attrs.frozen
 class DissimilarCylinders:
     """Two elastically dissimilar half-planes with a Hertzian gap, loaded by (P, Q) paths.
@@ -108,19 +116,17 @@ class DissimilarCylinders:
         Plane stress instead of plane strain.
     """
 
-    radius: float = attrs.field(converter=float)
-    E_upper: float = attrs.field(converter=float)
-    nu_upper: float = attrs.field(converter=float)
-    E_lower: float = attrs.field(converter=float)
-    nu_lower: float = attrs.field(converter=float)
-    friction: float = attrs.field(converter=float)
+    radius: float = attrs.field(converter=_positive("R_eff, mm", "give 1 / (1/R1 + 1/R2) in mm"))
+    E_upper: float = attrs.field(converter=_positive("the pad's Young's modulus, MPa", "give E"))
+    nu_upper: float = attrs.field(converter=_poisson("the pad's Poisson's ratio"))
+    E_lower: float = attrs.field(
+        converter=_positive("the specimen's Young's modulus, MPa", "give E")
+    )
+    nu_lower: float = attrs.field(converter=_poisson("the specimen's Poisson's ratio"))
+    friction: float = attrs.field(
+        converter=_positive("the Coulomb coefficient f", "give f > 0 (e.g. 0.3 to 1.5)")
+    )
     plane_stress: bool = False
-
-    def __attrs_post_init__(self) -> None:
-        for name in ("radius", "E_upper", "E_lower", "friction"):
-            check_positive(name, getattr(self, name))
-        check_poisson("nu_upper", self.nu_upper)
-        check_poisson("nu_lower", self.nu_lower)
 
     # ---------------------------------------------------------------- elastic constants
     def _constants(self, E: float, nu: float) -> tuple[float, float]:

@@ -23,6 +23,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from fretbem.errors import InputError
+from fretbem.validators import number_field
 
 from .closed_forms import HertzLineContact, MindlinDeresiewicz, _ellipse
 
@@ -54,8 +55,15 @@ class NowellHills:
     """
 
     hertz: HertzLineContact = attrs.field(validator=attrs.validators.instance_of(HertzLineContact))
-    friction: float = attrs.field(converter=float)
-    shift: float = attrs.field(default=1.0, converter=float)
+    friction: float = attrs.field(
+        converter=number_field(
+            "the Coulomb coefficient f", "give f > 0 (e.g. 0.3 to 1.5)", low=0.0, low_open=True
+        )
+    )
+    shift: float = attrs.field(
+        default=1.0,
+        converter=number_field("the stick zone's offset direction", "give +1 or -1"),
+    )
 
     def __attrs_post_init__(self) -> None:
         if not (self.friction > 0 and math.isfinite(self.friction)):

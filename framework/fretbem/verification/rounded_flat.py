@@ -26,13 +26,13 @@ import attrs
 import numpy as np
 from numpy.typing import ArrayLike
 
-from fretbem.validators import check_positive
+from fretbem.validators import number_field
 
 __all__ = ["RoundedFlatPunch"]
 
 
-def _positive(instance: object, attribute: attrs.Attribute, value: float) -> None:
-    check_positive(attribute.name, value)
+def _positive(what: str, fix: str) -> attrs.Converter:
+    return number_field(what, fix, low=0.0, low_open=True)
 
 
 @attrs.frozen
@@ -51,10 +51,16 @@ class RoundedFlatPunch:
         Coulomb coefficient f (used by the shear only).
     """
 
-    flat: float = attrs.field(converter=float, validator=_positive)
-    edge_radius: float = attrs.field(converter=float, validator=_positive)
-    effective_modulus: float = attrs.field(converter=float, validator=_positive)
-    friction: float = attrs.field(default=0.3, converter=float, validator=_positive)
+    flat: float = attrs.field(converter=_positive("the flat's half-width b, mm", "give b in mm"))
+    edge_radius: float = attrs.field(
+        converter=_positive("the fillets' radius R, mm", "give R in mm")
+    )
+    effective_modulus: float = attrs.field(
+        converter=_positive("the contact modulus E*, MPa", "give E* from effective_modulus()")
+    )
+    friction: float = attrs.field(
+        default=0.3, converter=_positive("the Coulomb coefficient f", "give f > 0 (e.g. 0.3)")
+    )
 
     def load(self, half_width: float) -> float:
         """Normal load P(a) per unit thickness at contact half-width a >= b (0 at a = b)."""

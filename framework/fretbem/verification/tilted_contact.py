@@ -26,6 +26,8 @@ import attrs
 import numpy as np
 import scipy.optimize
 
+from fretbem.validators import number_field
+
 #: Gauss-Chebyshev points of the integrals (the profile's kinks converge slowly: at 4000
 #: points the rounded flat's pressure moves by < 1e-5 of its peak against 8000)
 POINTS = 4000
@@ -45,8 +47,20 @@ class TiltedContact:
     """
 
     slope: Callable[[np.ndarray], np.ndarray]
-    effective_modulus: float = attrs.field(converter=float)
-    friction: float = attrs.field(default=0.3, converter=float)
+    effective_modulus: float = attrs.field(
+        converter=number_field(
+            "the contact modulus E*, MPa",
+            "give E* from effective_modulus()",
+            low=0.0,
+            low_open=True,
+        )
+    )
+    friction: float = attrs.field(
+        default=0.3,
+        converter=number_field(
+            "the Coulomb coefficient f", "give f > 0 (e.g. 0.3)", low=0.0, low_open=True
+        ),
+    )
 
     def _gap_slope(self, x, tilt: float) -> np.ndarray:
         return self.slope(np.asarray(x, float)) + tilt

@@ -32,7 +32,7 @@ import attrs
 import numpy as np
 
 from fretbem.contact.condensation import CondensedContact
-from fretbem.validators import as_scalar, whole_number
+from fretbem.validators import as_float, as_scalar, shown, whole_number
 
 from .cycle import CycleWear
 from .law import WearInputError
@@ -50,10 +50,10 @@ def _positive(value, field) -> float | None:
         return None
     value = as_scalar(value)
     number = isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
-    if not (number and math.isfinite(value) and value > 0):
+    if not (number and math.isfinite(as_float(value)) and value > 0):
         fix = "give a number > 0" + (", or None" if field.name == "max_change" else "")
         raise WearInputError(
-            f"[wear] {field.name} must be a finite number > 0, got {value!r}; {fix}"
+            f"[wear] {field.name} must be a finite number > 0, got {shown(value)}; {fix}"
         )
     return float(value)
 

@@ -17,6 +17,7 @@ import attrs
 import numpy as np
 
 from fretbem.errors import InputError, ResultCheckError
+from fretbem.validators import as_float, shown
 
 __all__ = ["JOULE", "ArchardWear", "EnergyWear", "ScarEdgeError", "WearInputError", "WearLaw"]
 
@@ -40,9 +41,10 @@ def _coefficient(name: str):
 
     def convert(value) -> float:
         ok = isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
-        if not (ok and math.isfinite(value) and value >= 0):
+        if not (ok and math.isfinite(as_float(value)) and value >= 0):
             raise WearInputError(
-                f"{name} must be a finite number >= 0 (0: the body does not wear), got {value!r}"
+                f"{name} must be a finite number >= 0 (0: the body does not wear), "
+                f"got {shown(value)}"
             )
         return float(value)
 
