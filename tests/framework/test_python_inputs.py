@@ -12,10 +12,15 @@ import numpy as np
 import pytest
 
 from fretbem import KelvinKernel, LoadStep, Material, Refinement, SemiSmoothNewton
+from fretbem.accuracy.adaptive import AdaptiveSettings
+from fretbem.accuracy.modes import Accuracy
+from fretbem.bem.integration import IntegrationSettings
+from fretbem.bem.stresses import StressSettings
 from fretbem.conditions import Displacement, LoadingBlock, Traction
 from fretbem.contact.control import Rig
 from fretbem.contact.law import CoulombFriction
 from fretbem.errors import InputError
+from fretbem.fatigue import PlaneSearch
 from fretbem.fretting import Waveform
 from fretbem.geometry.nurbs import NurbsCurve
 from fretbem.geometry.shapes import (
@@ -27,6 +32,9 @@ from fretbem.geometry.shapes import (
 )
 from fretbem.halfplane.body import HalfPlaneBody
 from fretbem.scenes.reference import CattaneoMindlinScene
+from fretbem.scenes.spec import ContactSpec, LoadSpec, MeshSpec, SceneFileError
+from fretbem.solvers.fallback import FallbackSolver
+from fretbem.solvers.pivoting import LemkeSolver
 from fretbem.verification.closed_forms import HertzLineContact, MindlinDeresiewicz
 from fretbem.verification.dissimilar import DissimilarCylinders
 from fretbem.verification.nowell_hills import NowellHills
@@ -107,6 +115,57 @@ RECORDS = {
         SemiSmoothNewton,
         {"tolerance": 1e-9, "max_iterations": 30, "max_substeps": 2},
     ),
+    "FallbackSolver": (FallbackSolver, {"max_substeps": 2}),
+    "LemkeSolver": (LemkeSolver, {"max_substeps": 2, "max_pivots": 500}),
+    "Accuracy": (Accuracy, {"mesh": "adaptive", "tolerance": 0.01, "budget": 41}),
+    "AdaptiveSettings": (
+        AdaptiveSettings,
+        {
+            "tolerance": 0.01,
+            "budget": 81,
+            "first": 21,
+            "ratio": 12.0,
+            "max_levels": 3,
+            "grading": 0.1,
+            "edge_peak": 0.8,
+            "edge_tolerance": 0.02,
+            "edge_iterations": 2,
+            "coarse_iterations": 2,
+            "coarse_tolerance": 0.02,
+        },
+    ),
+    "StressSettings": (
+        StressSettings,
+        {
+            "far_points": 6,
+            "near_factor": 0.5,
+            "graded_points": 4,
+            "graded_ratio": 0.3,
+            "subtract_factor": 3.0,
+            "boundary_tolerance": 1e-6,
+            "outside_tolerance": 1e-4,
+            "chunk": 128,
+            "coarse_factor": 5.0,
+            "far_factor": 20.0,
+        },
+    ),
+    "IntegrationSettings": (
+        IntegrationSettings,
+        {
+            "far_ratio": 3.0,
+            "far_points": 4,
+            "near_ratio": 0.4,
+            "mid_points": 12,
+            "graded_points": 8,
+            "graded_ratio": 0.4,
+            "singular_points": 12,
+            "log_points": 6,
+        },
+    ),
+    "PlaneSearch": (
+        PlaneSearch,
+        {"theta_step_deg": 10.0, "psi_step_deg": 30.0, "refine_levels": 2, "chunk_points": 100},
+    ),
     "KelvinKernel": (KelvinKernel, {"shear_modulus": 27600.0, "nu": 0.33}),
     "HalfPlaneBody": (
         HalfPlaneBody,
@@ -148,6 +207,8 @@ NONE_ALLOWED = {
     ("LoadStep", name) for name in ("normal", "approach", "delta", "moment", "rotation")
 } | {("Rig", "pivot_height"), ("Waveform", "moment"), ("Refinement", "degree")}
 NONE_ALLOWED |= {("JumpControl", "max_change"), ("JumpControl", "max_jump")}
+NONE_ALLOWED |= {("LemkeSolver", "max_pivots")}
+NONE_ALLOWED |= {("AdaptiveSettings", "ratio"), ("AdaptiveSettings", "edge_peak")}
 NONE_ALLOWED |= {(record, axis) for record in ("Displacement", "Traction") for axis in "xy"}
 #: the fields where infinity is valid (a rigid rig)
 INFINITY_ALLOWED = {("Rig", "tangential"), ("Rig", "normal"), ("Rig", "rotational")}
@@ -275,3 +336,54 @@ def test_valid_records_keep_their_values():
     assert type(step.normal) is float and type(step.increments) is int
     with pytest.raises(InputError, match=r"LoadStep\.tangential must be a number"):
         LoadStep("A", 100.0, np.array([1.0, 2.0]))
+
+
+@pytest.mark.parametrize(
+    ("build", "message"),
+    [
+        (lambda: ContactSpec(pairs="61"), r'\[contact\] pairs must be an integer, got the str'),
+        (lambda: ContactSpec(pairs=True), r"\[contact\] pairs must be an integer, got True"),
+        (lambda: ContactSpec(pairs=10**400), r"\[contact\] pairs must fit a 64-bit .*10\^400"),
+        (lambda: ContactSpec(pairs=0), r"\[contact\] pairs must be >= 1, got 0"),
+        (lambda: ContactSpec(friction="0.5"), r"\[contact\] friction must be an integer or a"),
+        (lambda: ContactSpec(friction=math.nan), r"\[contact\] friction must be a finite number"),
+        (lambda: ContactSpec(friction=30.0), r"\[contact\] friction is a Coulomb coefficient"),
+        (lambda: ContactSpec(zone=True), r"\[contact\] zone must be an integer or a number"),
+        (lambda: ContactSpec(degree=9), r"\[contact\] degree must be between 1 and 8"),
+        (lambda: ContactSpec(tolerance="0.02"), r"\[contact\] tolerance must be an integer or a"),
+        (lambda: ContactSpec(budget=3), r"\[contact\] budget must be >= 5 pairs"),
+        (lambda: ContactSpec(sliding="yes"), r"\[contact\] sliding must be true or false"),
+        (lambda: MeshSpec(flank_elements="16"), r"\[mesh\] flank_elements must be an integer"),
+        (lambda: MeshSpec(top_elements=0), r"\[mesh\] top_elements must be >= 1"),
+        (
+            lambda: LoadSpec(("A",), ("100",), (0.0,), (0.0,), (1,)),
+            r'\[load\] P\[0\] must be an integer or a number, got the string "100"',
+        ),
+        (
+            lambda: LoadSpec(("A",), (100.0,), (10**400,), (0.0,), (1,)),
+            r"\[load\] Q\[0\] must fit a 64-bit integer",
+        ),
+        (
+            lambda: LoadSpec(("A",), (100.0,), (0.0,), (math.inf,), (1,)),
+            r"\[load\] bulk\[0\] must be a finite number",
+        ),
+        (
+            lambda: LoadSpec(("A",), (100.0,), (0.0,), (0.0,), (2.0,)),
+            r"\[load\] increments\[0\] must be an integer",
+        ),
+    ],
+)  # fmt: skip
+def test_scene_records_from_python_are_checked_as_the_file_is(build, message):
+    """A Scene built from Python (its ContactSpec, MeshSpec, LoadSpec) meets the reader's
+    checks of the same keys, in the file's words: no traceback later, no coercion."""
+    with pytest.raises(SceneFileError, match=message) as error:
+        build()
+    assert "\n" not in str(error.value)
+
+
+def test_scene_records_from_python_keep_valid_values():
+    assert type(ContactSpec(pairs=np.int64(31)).pairs) is int
+    assert ContactSpec(friction=1, zone=2).zone == 2
+    assert MeshSpec(8, 6, 6).side_elements == 6
+    load = LoadSpec(("A", "B"), (None, None), (0.0, 0.0), (0.0, 0.0), (1, 1), approach=(1e-3, 2e-3))
+    assert load.approach == (1e-3, 2e-3)

@@ -20,6 +20,7 @@ import numpy as np
 from fretbem.contact.pairs import NodeToNodePair
 from fretbem.simulation import run
 from fretbem.solvers.warm_start import WarmStart
+from fretbem.validators import count_field, number_field
 
 from . import estimate
 from .knots import (
@@ -64,11 +65,12 @@ __all__ = [
 ]
 
 
-def _budget(instance, attribute, value) -> None:
-    if isinstance(value, bool) or int(value) != value or value < 5:
-        raise AdaptiveError(
-            f"AdaptiveSettings.{attribute.name} must be a whole number of pairs >= 5, got {value!r}"
-        )
+def _pairs(fix: str) -> attrs.Converter:
+    return count_field(f"{fix} (pairs)", low=5, error=AdaptiveError)
+
+
+def _number(what: str, fix: str, **bounds) -> attrs.Converter:
+    return number_field(what, fix, error=AdaptiveError, **bounds)
 
 
 #: (ratio, edge_peak) by whether the family is interpolatory (C0 at every element boundary:
@@ -121,17 +123,50 @@ class AdaptiveSettings:
         to 241 it read 0.15 to 0.65 of the error, now 2 to 4 times it).
     """
 
-    tolerance: float = attrs.field(default=0.02, converter=float)
-    budget: int = attrs.field(default=61, validator=_budget)
-    first: int = attrs.field(default=31, validator=_budget)
-    ratio: float | None = attrs.field(default=None, converter=attrs.converters.optional(float))
-    max_levels: int = attrs.field(default=4, converter=int)
-    grading: float = attrs.field(default=0.06, converter=float)
-    edge_peak: float | None = attrs.field(default=None, converter=attrs.converters.optional(float))
-    edge_tolerance: float = attrs.field(default=0.03, converter=float)
-    edge_iterations: int = attrs.field(default=4, converter=int)
-    coarse_iterations: int = attrs.field(default=1, converter=int)
-    coarse_tolerance: float = attrs.field(default=0.01, converter=float)
+    tolerance: float = attrs.field(
+        default=0.02, converter=_number("a fraction of p0", "give e.g. 0.02 for 2 %")
+    )
+    budget: int = attrs.field(default=61, converter=_pairs("give e.g. 61"))
+    first: int = attrs.field(default=31, converter=_pairs("give e.g. 31"))
+    ratio: float | None = attrs.field(
+        default=None,
+        converter=_number(
+            "largest over smallest element", "give e.g. 10, or None for the family's", none=True
+        ),
+    )
+    max_levels: int = attrs.field(
+        default=4,
+        converter=count_field(
+            "give e.g. 4 (two aligned levels give the estimate)", low=2, error=AdaptiveError
+        ),
+    )
+    grading: float = attrs.field(
+        default=0.06, converter=_number("a fraction of the face's parameter", "give e.g. 0.06")
+    )
+    edge_peak: float | None = attrs.field(
+        default=None,
+        converter=_number(
+            "a relative element density", "give e.g. 1.0, or None for the family's", none=True
+        ),
+    )
+    edge_tolerance: float = attrs.field(
+        default=0.03,
+        converter=_number(
+            "a fraction of the point spacing", "give e.g. 0.03", low=0.0, low_open=True
+        ),
+    )
+    edge_iterations: int = attrs.field(
+        default=4, converter=count_field("give e.g. 4", low=0, error=AdaptiveError)
+    )
+    coarse_iterations: int = attrs.field(
+        default=1, converter=count_field("give e.g. 1", low=0, error=AdaptiveError)
+    )
+    coarse_tolerance: float = attrs.field(
+        default=0.01,
+        converter=_number(
+            "a fraction of the contact half-width", "give e.g. 0.01", low=0.0, low_open=True
+        ),
+    )
 
     def for_family(self, family) -> AdaptiveSettings:
         """These settings with ``ratio`` and ``edge_peak`` filled in for a basis family."""

@@ -30,6 +30,7 @@ from fretbem.errors import InputError
 from fretbem.results import AccuracyRecord, Estimate
 from fretbem.scenes.builder import build
 from fretbem.simulation import run
+from fretbem.validators import count_field, flag_field, number_field
 
 __all__ = [
     "MESHES",
@@ -60,19 +61,11 @@ class AccuracyError(InputError):
     """A mesh mode or its settings that cannot work for this run."""
 
 
-def _fraction(instance, attribute, value) -> None:
-    if not (isinstance(value, float) and 0.0 < value < 1.0):
+def _fraction(where: str, value: float) -> None:
+    if not 0.0 < value < 1.0:
         raise AccuracyError(
-            f"tolerance is a fraction of p0 and f p0, 0 < tolerance < 1; got {value!r} "
-            "(e.g. 0.02 for 2 %)"
-        )
-
-
-def _budget(instance, attribute, value) -> None:
-    if isinstance(value, bool) or not isinstance(value, int) or value < MIN_COMPANION:
-        raise AccuracyError(
-            f"budget is the most pairs of the adaptive mode, a whole number >= {MIN_COMPANION}; "
-            f"got {value!r}"
+            f"{where}: tolerance is a fraction of p0 and f p0, 0 < tolerance < 1; got "
+            f"{value!r}; give e.g. 0.02 for 2 %"
         )
 
 
@@ -95,9 +88,23 @@ class Accuracy:
     """
 
     mesh: str = attrs.field(default="fixed")
-    estimate: bool = True
-    tolerance: float = attrs.field(default=0.02, converter=float, validator=_fraction)
-    budget: int = attrs.field(default=61, validator=_budget)
+    estimate: bool = attrs.field(
+        default=True, converter=flag_field("give True or False", error=AccuracyError)
+    )
+    tolerance: float = attrs.field(
+        default=0.02,
+        converter=number_field(
+            "a fraction of p0", "give e.g. 0.02 for 2 %", check=_fraction, error=AccuracyError
+        ),
+    )
+    budget: int = attrs.field(
+        default=61,
+        converter=count_field(
+            "give the most pairs of the adaptive mode, e.g. 61",
+            low=MIN_COMPANION,
+            error=AccuracyError,
+        ),
+    )
 
     @mesh.validator
     def _mesh(self, attribute, value) -> None:

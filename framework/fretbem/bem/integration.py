@@ -41,9 +41,18 @@ import numpy as np
 
 from fretbem.basis import Basis
 from fretbem.errors import ComputationError
+from fretbem.validators import count_field, number_field
 
 from . import assembly, images, numpy_loops
 from .kernels import KelvinKernel
+
+
+def _ratio(default: float) -> attrs.Converter:
+    return number_field("a distance ratio", f"give e.g. {default:g}", low=0.0, low_open=True)
+
+
+def _points(default: int) -> attrs.Converter:
+    return count_field(f"give e.g. {default} (Gauss points)")
 
 
 @attrs.frozen(cache_hash=True)
@@ -57,14 +66,14 @@ class IntegrationSettings:
     by problem size (``COMPILED_MIN_PAIRS``); the two give the same H and G to round-off.
     """
 
-    far_ratio: float = 4.0
-    far_points: int = 6
-    near_ratio: float = 0.5
-    mid_points: int = 16
-    graded_points: int = 10
-    graded_ratio: float = 0.5
-    singular_points: int = 16
-    log_points: int = 8
+    far_ratio: float = attrs.field(default=4.0, converter=_ratio(4.0))
+    far_points: int = attrs.field(default=6, converter=_points(6))
+    near_ratio: float = attrs.field(default=0.5, converter=_ratio(0.5))
+    mid_points: int = attrs.field(default=16, converter=_points(16))
+    graded_points: int = attrs.field(default=10, converter=_points(10))
+    graded_ratio: float = attrs.field(default=0.5, converter=_ratio(0.5))
+    singular_points: int = attrs.field(default=16, converter=_points(16))
+    log_points: int = attrs.field(default=8, converter=_points(8))
     compiled: bool | None = attrs.field(
         default=None, validator=attrs.validators.optional(attrs.validators.instance_of(bool))
     )

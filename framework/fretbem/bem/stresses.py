@@ -31,6 +31,7 @@ from fretbem.basis import Basis
 from fretbem.errors import StressInputError
 from fretbem.numerics.graded import graded_rule
 from fretbem.numerics.quadrature import QuadratureRule
+from fretbem.validators import count_field, flag_field, number_field
 
 from .boundary_state import boundary_state
 from .stress_kernels import stress_kernels
@@ -40,6 +41,17 @@ from .stress_kernels import stress_kernels
 COARSE_POINTS = 4
 
 __all__ = ["StressOperator", "StressSettings", "somigliana_operator"]
+
+
+def _lengths(default: float, *, low_open: bool = True) -> attrs.Converter:
+    """A distance in element lengths, > 0 (or >= 0 where ``low_open`` is False)."""
+    return number_field(
+        "element lengths",
+        f"give e.g. {default:g}",
+        low=0.0,
+        low_open=low_open,
+        error=StressInputError,
+    )
 
 
 @attrs.frozen
@@ -74,17 +86,34 @@ class StressSettings:
         Use the numba far-field loop when numba is installed.
     """
 
-    far_points: int = attrs.field(default=8, validator=attrs.validators.ge(2))
-    near_factor: float = attrs.field(default=0.7, validator=attrs.validators.gt(0))
-    graded_points: int = attrs.field(default=6, validator=attrs.validators.ge(2))
-    graded_ratio: float = attrs.field(default=0.35, validator=[attrs.validators.gt(0)])
-    subtract_factor: float = attrs.field(default=4.0, validator=attrs.validators.ge(0))
-    boundary_tolerance: float = attrs.field(default=1e-5, validator=attrs.validators.ge(0))
-    outside_tolerance: float = attrs.field(default=1e-3, validator=attrs.validators.ge(0))
-    chunk: int = attrs.field(default=256, validator=attrs.validators.ge(1))
-    coarse_factor: float = attrs.field(default=4.0, validator=attrs.validators.gt(0))
-    far_factor: float = attrs.field(default=30.0, validator=attrs.validators.gt(0))
-    compiled: bool = True
+    far_points: int = attrs.field(
+        default=8, converter=count_field("give e.g. 8", low=2, error=StressInputError)
+    )
+    near_factor: float = attrs.field(default=0.7, converter=_lengths(0.7))
+    graded_points: int = attrs.field(
+        default=6, converter=count_field("give e.g. 6", low=2, error=StressInputError)
+    )
+    graded_ratio: float = attrs.field(
+        default=0.35,
+        converter=number_field(
+            "a geometric ratio",
+            "give e.g. 0.35",
+            low=0.0,
+            low_open=True,
+            error=StressInputError,
+        ),
+    )
+    subtract_factor: float = attrs.field(default=4.0, converter=_lengths(4.0, low_open=False))
+    boundary_tolerance: float = attrs.field(default=1e-5, converter=_lengths(1e-5, low_open=False))
+    outside_tolerance: float = attrs.field(default=1e-3, converter=_lengths(1e-3, low_open=False))
+    chunk: int = attrs.field(
+        default=256, converter=count_field("give e.g. 256", error=StressInputError)
+    )
+    coarse_factor: float = attrs.field(default=4.0, converter=_lengths(4.0))
+    far_factor: float = attrs.field(default=30.0, converter=_lengths(30.0))
+    compiled: bool = attrs.field(
+        default=True, converter=flag_field("give True or False", error=StressInputError)
+    )
 
 
 @attrs.frozen(eq=False)

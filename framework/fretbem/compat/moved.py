@@ -13,6 +13,7 @@ from __future__ import annotations
 import importlib
 import importlib.abc
 import importlib.machinery
+import importlib.util
 import sys
 import warnings
 
@@ -82,6 +83,19 @@ class _Alias(importlib.abc.Loader):
 
     def exec_module(self, module) -> None:
         """The module at the new path is executed already."""
+
+    def get_code(self, fullname: str):
+        """The new module's code, for ``python -m <old path>`` (runpy runs it as __main__)."""
+        warnings.warn(
+            f"{fullname} moved to {self.new}; the old path goes in the next release",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return importlib.util.find_spec(self.new).loader.get_code(self.new)
+
+    def is_package(self, fullname: str) -> bool:
+        """An old path names a module (runpy asks before running it)."""
+        return False
 
 
 class _MovedFinder(importlib.abc.MetaPathFinder):

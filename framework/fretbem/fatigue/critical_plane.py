@@ -27,6 +27,8 @@ from collections.abc import Sequence
 import attrs
 import numpy as np
 
+from fretbem.validators import count_field, flag_field, number_field
+
 from .errors import FatigueInputError
 from .mcc import _HALF_SQRT2, circle_bounds_xy, minimum_circumscribed_circle_xy
 from .mean_stress import MeanStressCorrection
@@ -51,6 +53,17 @@ DEFAULT_METHODS = METHODS[:4]
 
 #: relative tolerance for "equal shear amplitude" when MWCM breaks ties by the normal stress
 MWCM_TIE_TOLERANCE = 1e-10
+
+
+def _step(default: float) -> attrs.Converter:
+    return number_field(
+        "degrees",
+        f"give e.g. {default:g}, in (0, 90]",
+        low=0.0,
+        low_open=True,
+        high=90.0,
+        error=FatigueInputError,
+    )
 
 
 @attrs.frozen
@@ -79,13 +92,20 @@ class PlaneSearch:
         numba (:func:`use_compiled`). Both find the same planes and values to round-off.
     """
 
-    in_plane_only: bool = False
-    theta_step_deg: float = 5.0
-    psi_step_deg: float = 45.0
-    refine_levels: int = attrs.field(
-        default=attrs.Factory(lambda self: 5 if self.in_plane_only else 3, takes_self=True)
+    in_plane_only: bool = attrs.field(
+        default=False, converter=flag_field("give True or False", error=FatigueInputError)
     )
-    chunk_points: int = 400
+    theta_step_deg: float = attrs.field(default=5.0, converter=_step(5.0))
+    psi_step_deg: float = attrs.field(default=45.0, converter=_step(45.0))
+    refine_levels: int = attrs.field(
+        default=attrs.Factory(lambda self: 5 if self.in_plane_only else 3, takes_self=True),
+        converter=count_field(
+            "give e.g. 3 (0: the coarse grid's planes only)", low=0, error=FatigueInputError
+        ),
+    )
+    chunk_points: int = attrs.field(
+        default=400, converter=count_field("give e.g. 400", error=FatigueInputError)
+    )
     compiled: bool | None = attrs.field(
         default=None, validator=attrs.validators.optional(attrs.validators.instance_of(bool))
     )

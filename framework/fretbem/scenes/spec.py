@@ -15,6 +15,7 @@ from collections.abc import Mapping
 from typing import Any
 
 import attrs
+import numpy as np
 
 from fretbem import registry
 from fretbem.contact.control import STIFFNESS_UNITS, check_pivot_height, check_stiffness
@@ -32,7 +33,7 @@ from fretbem.geometry.shapes import (
     RoundedFlatPad,
 )
 from fretbem.material import Material
-from fretbem.validators import file_string
+from fretbem.validators import WHOLE_MAX, file_string, shown
 from fretbem.views.display import scene_html, scene_repr
 
 from .errors import SceneFileError
@@ -493,6 +494,9 @@ class ContactSpec:
     budget: int = 61
     estimate: bool = True
 
+    def __attrs_post_init__(self) -> None:
+        _check_numbers(self, "contact")
+
     @property
     def sliding_frame(self) -> str:
         """The pair frame of finite sliding along an arc: ``frame``, by default ``"local"``."""
@@ -506,6 +510,9 @@ class MeshSpec:
     flank_elements: int = 16
     side_elements: int = 12
     top_elements: int = 12
+
+    def __attrs_post_init__(self) -> None:
+        _check_numbers(self, "mesh")
 
 
 @attrs.frozen
@@ -536,6 +543,18 @@ class LoadSpec:
                     f"[load] {name} has {len(getattr(self, name))} values for {n} steps; give "
                     "one value per step (or a single number for all)"
                 )
+        for name in ("P", "Q", "bulk", "delta", "approach", "moment", "rotation", "increments",
+                     "cycle"):  # fmt: skip
+            whole = name in ("increments", "cycle")
+            for k, value in enumerate(getattr(self, name) or ()):
+                if value is not None or name not in (
+                    "P",
+                    "delta",
+                    "approach",
+                    "moment",
+                    "rotation",
+                ):
+                    _check(f"[load] {name}[{k}]", value, (int,) if whole else NUMBER)
         seen = set()
         for name in self.steps:
             if name in seen:
@@ -604,10 +623,58 @@ def _type_name(kind) -> str:
 
 def _check(where: str, value: Any, kind: tuple[type, ...]) -> Any:
     if (isinstance(value, bool) and bool not in kind) or not isinstance(value, kind):
-        raise SceneFileError(f"{where} must be {_type_name(kind)}, got {value!r}")
+        raise SceneFileError(f"{where} must be {_type_name(kind)}, got {shown(value)}")
     if isinstance(value, float) and not math.isfinite(value):
         raise SceneFileError(f"{where} must be a finite number, got {value!r}")
+    if type(value) is int and abs(value) > WHOLE_MAX:  # (only from Python: TOML's are 64-bit)
+        raise SceneFileError(f"{where} must fit a 64-bit integer, got {shown(value)}")
     return value
+
+
+def _check_range(where: str, name: str, value: Any) -> None:
+    """The range of a [contact] or [mesh] number whose type :func:`_check` accepted."""
+    if name in ("pairs", "flank_elements", "side_elements", "top_elements") and value < 1:
+        raise SceneFileError(f"{where} must be >= 1, got {value}")
+    if name in ("zone", "zone_width", "track_width") and not value > 0:
+        raise SceneFileError(f"{where} must be > 0, got {value}")
+    if name == "friction" and value > MAX_FRICTION:
+        raise SceneFileError(
+            f"{where} is a Coulomb coefficient, 0 < f <= {MAX_FRICTION:g} (metals "
+            f"in fretting: about 0.3 to 1.5), got {value}"
+        )
+    if name == "friction" and not value > 0:
+        raise SceneFileError(
+            f"{where} must be > 0 (a frictionless contact cannot hold the pad "
+            f"under a tangential force), got {value}"
+        )
+    if name == "degree" and not 1 <= value <= MAX_DEGREE:
+        raise SceneFileError(f"{where} must be between 1 and {MAX_DEGREE}, got {value}")
+    if name == "tolerance" and not 0.0 < value < 1.0:
+        raise SceneFileError(
+            f"{where} is a fraction of p0 and f p0, 0 < tolerance < 1; got "
+            f"{value!r} (e.g. 0.02 for 2 %)"
+        )
+    if name == "budget" and value < 5:
+        raise SceneFileError(f"{where} must be >= 5 pairs, got {value}")
+
+
+def _check_numbers(spec: Any, table: str) -> None:
+    """A spec record built from Python: its numbers and flags as the scene reader checks them
+    (type, finite, range; a key's consistency with the others is the reader's and the
+    builder's), so ``ContactSpec(pairs="61")`` is refused as ``[contact] pairs = "61"`` is."""
+    keys = _keys(table)
+    for field in attrs.fields(type(spec)):
+        key = keys.get(field.name)
+        value = getattr(spec, field.name)
+        if key is None or str in key.kind or (value is None and field.default is None):
+            continue
+        where = f"[{table}] {field.name}"
+        if isinstance(value, np.generic) and not isinstance(value, np.bool_):
+            value = value.item()  # a numpy scalar from Python: stored as its number
+            object.__setattr__(spec, field.name, value)
+        _check(where, value, key.kind)
+        if bool not in key.kind:
+            _check_range(where, field.name, value)
 
 
 def _unknown(where: str, keys, known) -> None:
@@ -1108,26 +1175,10 @@ def scene_from_dict(data: Mapping) -> Scene:
             "[contact] zone and zone_width both set the candidate zone (zone in Hertz "
             "half-widths, zone_width in mm); keep one of them"
         )
-    if "degree" in contact and not 1 <= contact["degree"] <= MAX_DEGREE:
-        raise SceneFileError(
-            f"[contact] degree must be between 1 and {MAX_DEGREE}, got {contact['degree']}"
-        )
     for name, value in {**contact, **mesh}.items():
-        table = "[contact]" if name in contact else "[mesh]"
-        if name in ("pairs", "flank_elements", "side_elements", "top_elements") and value < 1:
-            raise SceneFileError(f"{table} {name} must be >= 1, got {value}")
-        if name in ("zone", "zone_width") and not value > 0:
-            raise SceneFileError(f"[contact] {name} must be > 0, got {value}")
-        if name == "friction" and value > MAX_FRICTION:
-            raise SceneFileError(
-                f"[contact] friction is a Coulomb coefficient, 0 < f <= {MAX_FRICTION:g} (metals "
-                f"in fretting: about 0.3 to 1.5), got {value}"
-            )
-        if name == "friction" and not value > 0:
-            raise SceneFileError(
-                f"[contact] friction must be > 0 (a frictionless contact cannot hold the pad "
-                f"under a tangential force), got {value}"
-            )
+        if name in ("pairs", "flank_elements", "side_elements", "top_elements", "zone",
+                    "zone_width", "friction", "degree"):  # fmt: skip
+            _check_range(f"{'[contact]' if name in contact else '[mesh]'} {name}", name, value)
     extras = {name: data[name] for name in EXTRA_TABLES if name in data}
     pad, specimen = _body(data, "pad", PAD_SHAPES), _body(data, "specimen", SPECIMEN_SHAPES)
     if isinstance(specimen.shape, GrooveSpecimen):

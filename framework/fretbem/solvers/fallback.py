@@ -7,6 +7,8 @@ import numpy as np
 
 from fretbem.contact.condensation import CondensedContact
 from fretbem.contact.law import ContactLaw, ContactState
+from fretbem.errors import SolverSettingsError
+from fretbem.validators import count_field
 
 from .newton import IncrementResult, SemiSmoothNewton, Solver, SolverConvergenceError
 from .pivoting import LemkeSolver
@@ -34,7 +36,10 @@ class FallbackSolver(Solver):
     fallback: Solver = attrs.field(
         factory=LemkeSolver, validator=attrs.validators.instance_of(Solver)
     )
-    max_substeps: int = attrs.field(default=0, validator=attrs.validators.ge(0))
+    max_substeps: int = attrs.field(
+        default=0,
+        converter=count_field("give e.g. 0 (the default)", low=0, error=SolverSettingsError),
+    )
 
     @property
     def displacement_control(self) -> bool:

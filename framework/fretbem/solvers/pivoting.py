@@ -7,6 +7,8 @@ two, and a user whose Newton iteration fails may choose this one instead.
 
 from __future__ import annotations
 
+from typing import Any
+
 import attrs
 import numpy as np
 
@@ -14,6 +16,7 @@ from fretbem.contact.condensation import CondensedContact
 from fretbem.contact.law import ContactLaw, ContactState
 from fretbem.errors import InputError
 from fretbem.numerics.blas import one_blas_thread
+from fretbem.validators import count_field, whole_number
 
 from .complementarity import CondensedArrays, solve_lcp_increment
 from .lemke import LemkeError
@@ -28,19 +31,12 @@ class UnsupportedLawError(InputError):
     """A contact law the pivoting solver has no LCP form for."""
 
 
-def _pivots(instance, attribute, value) -> None:
-    if value is not None and not (isinstance(value, int) and value >= 1):
-        raise SolverSettingsError(
-            f"LemkeSolver.max_pivots must be None (50 x the LCP size) or a whole number >= 1, "
-            f"got {value!r}"
-        )
-
-
-def _substeps(instance, attribute, value) -> None:
-    if not (isinstance(value, int) and value >= 0):
-        raise SolverSettingsError(
-            f"LemkeSolver.max_substeps must be a whole number >= 0, got {value!r}"
-        )
+def _pivots(value: Any) -> int | None:
+    """None (50 x the LCP size) or a whole number >= 1 (numpy's too; True, "5", 2.5 refused)."""
+    if value is None:
+        return None
+    fix = "give e.g. 1000, or None (50 x the LCP size)"
+    return whole_number("LemkeSolver.max_pivots", value, low=1, fix=fix, error=SolverSettingsError)
 
 
 @attrs.frozen
@@ -61,8 +57,11 @@ class LemkeSolver(Solver):
     #: the LCP form keeps the blocks' force balance rows: force control only
     displacement_control = False
 
-    max_pivots: int | None = attrs.field(default=None, validator=_pivots)
-    max_substeps: int = attrs.field(default=0, validator=_substeps)
+    max_pivots: int | None = attrs.field(default=None, converter=_pivots)
+    max_substeps: int = attrs.field(
+        default=0,
+        converter=count_field("give e.g. 0 (the default)", low=0, error=SolverSettingsError),
+    )
 
     def solve_increment(
         self,
