@@ -10,6 +10,7 @@ and the Python records use the same names as the file's keys.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Mapping
 from typing import Any
@@ -515,6 +516,10 @@ class MeshSpec:
         _check_numbers(self, "mesh")
 
 
+#: the [load] entries that may be None in a step (P under an approach, a free rotation)
+_OPTIONAL_LOADS = ("P", "delta", "approach", "moment", "rotation")
+
+
 @attrs.frozen
 class LoadSpec:
     """The load history: one entry per step in every tuple."""
@@ -546,14 +551,13 @@ class LoadSpec:
         for name in ("P", "Q", "bulk", "delta", "approach", "moment", "rotation", "increments",
                      "cycle"):  # fmt: skip
             whole = name in ("increments", "cycle")
+            plain = int if whole else float
             for k, value in enumerate(getattr(self, name) or ()):
-                if value is not None or name not in (
-                    "P",
-                    "delta",
-                    "approach",
-                    "moment",
-                    "rotation",
+                if type(value) is plain and (
+                    abs(value) <= WHOLE_MAX if whole else value - value == 0
                 ):
+                    continue  # the common entry, without _check's isinstance chain
+                if value is not None or name not in _OPTIONAL_LOADS:
                     _check(f"[load] {name}[{k}]", value, (int,) if whole else NUMBER)
         seen = set()
         for name in self.steps:
@@ -662,19 +666,30 @@ def _check_numbers(spec: Any, table: str) -> None:
     """A spec record built from Python: its numbers and flags as the scene reader checks them
     (type, finite, range; a key's consistency with the others is the reader's and the
     builder's), so ``ContactSpec(pairs="61")`` is refused as ``[contact] pairs = "61"`` is."""
-    keys = _keys(table)
-    for field in attrs.fields(type(spec)):
-        key = keys.get(field.name)
-        value = getattr(spec, field.name)
-        if key is None or str in key.kind or (value is None and field.default is None):
+    for name, kind, default in _numeric_fields(type(spec), table):
+        value = getattr(spec, name)
+        if value is default or (type(value) is type(default) and value == default):
+            continue  # the default (valid), without the checks' cost (a scene build makes several)
+        if value is None and default is None:
             continue
-        where = f"[{table}] {field.name}"
+        where = f"[{table}] {name}"
         if isinstance(value, np.generic) and not isinstance(value, np.bool_):
             value = value.item()  # a numpy scalar from Python: stored as its number
-            object.__setattr__(spec, field.name, value)
-        _check(where, value, key.kind)
-        if bool not in key.kind:
-            _check_range(where, field.name, value)
+            object.__setattr__(spec, name, value)
+        _check(where, value, kind)
+        if bool not in kind:
+            _check_range(where, name, value)
+
+
+@functools.cache
+def _numeric_fields(cls: type, table: str) -> tuple[tuple[str, tuple[type, ...], Any], ...]:
+    """(name, kinds, default) of the number and flag fields of a spec record (not strings)."""
+    keys = _keys(table)
+    return tuple(
+        (field.name, keys[field.name].kind, field.default)
+        for field in attrs.fields(cls)
+        if field.name in keys and str not in keys[field.name].kind
+    )
 
 
 def _unknown(where: str, keys, known) -> None:
