@@ -41,7 +41,7 @@ from fretbem.verification.checks import check_step, pair_positions, step_names
 from fretbem.verification.closed_forms import MindlinDeresiewicz
 
 from .results import IncrementRecord, SimulationResult, StepResult, pair_x
-from .validators import as_scalar, count_field, number_field, real_number
+from .validators import as_scalar, count_field, flag, number_field, real_number
 
 
 class LoadHistoryError(InputError):
@@ -673,6 +673,7 @@ def run(
     """
 
     start = time.perf_counter()
+    check = flag("run check", check)
     with run_resources(simulation):
         return _run(simulation, start, progress, check, memo, warm)
 

@@ -251,6 +251,17 @@ def count_field(fix: str, *, low: int = 1, error: type[Exception] = InputError) 
     return attrs.Converter(convert, takes_self=True, takes_field=True)
 
 
+def flag(where: str, value: Any, *, none: bool = False, error: type[Exception] = InputError) -> Any:
+    """A yes/no argument given from Python: True or False (numpy's too; None where ``none``),
+    nothing else: ``overwrite="no"`` would be true and overwrite."""
+    if value is None and none:
+        return None
+    if not isinstance(value, (bool, np.bool_)):
+        also = ", or None" if none else ""
+        raise error(f"{where} must be True or False{also}, got {shown(value)}")
+    return bool(value)
+
+
 def flag_field(fix: str, *, error: type[Exception] = InputError) -> attrs.Converter:
     """Converter of a record's yes/no field: True or False (numpy's too), nothing else
     (``"no"`` would be true)."""

@@ -7,6 +7,8 @@ record stores a plain float or int)."""
 from __future__ import annotations
 
 import math
+import re
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -31,6 +33,7 @@ from fretbem.geometry.shapes import (
     RoundedFlatPad,
 )
 from fretbem.halfplane.body import HalfPlaneBody
+from fretbem.output import write_results
 from fretbem.scenes.reference import CattaneoMindlinScene
 from fretbem.scenes.spec import ContactSpec, LoadSpec, MeshSpec, SceneFileError
 from fretbem.solvers.fallback import FallbackSolver
@@ -387,3 +390,50 @@ def test_scene_records_from_python_keep_valid_values():
     assert MeshSpec(8, 6, 6).side_elements == 6
     load = LoadSpec(("A", "B"), (None, None), (0.0, 0.0), (0.0, 0.0), (1, 1), approach=(1e-3, 2e-3))
     assert load.approach == (1e-3, 2e-3)
+
+
+@pytest.fixture(scope="module")
+def small_run():
+    from fretbem.scenes.reference import cattaneo_mindlin
+    from fretbem.simulation import run
+
+    return run(cattaneo_mindlin(pairs=21))
+
+
+@pytest.mark.parametrize(
+    ("call", "message"),
+    [
+        (lambda r, d: write_results(r, d, overwrite="no"), r"overwrite must be True or Fal"),
+        (lambda r, d: write_results(r, d, overwrite=1), r"overwrite must be True or False, got 1"),
+        (lambda r, d: write_results(r, d, check="no"), r"check must be True or False"),
+        (lambda r, d: write_results(r, d, figures="no"), r"figures must be True or False, or None"),
+        (lambda r, d: write_results(r, d, vtk=0), r"vtk must be True or False, or None"),
+        (lambda r, d: write_results(r, d, writers="csv"), r"writers must be a list of writer"),
+    ],
+)  # fmt: skip
+def test_a_yes_no_argument_of_the_writers_is_true_or_false(small_run, tmp_path, call, message):
+    """``overwrite="no"`` was true: it overwrote the directory it was meant to keep."""
+    target = tmp_path / "kept"
+    target.mkdir()
+    (target / "mine.txt").write_text("the user's file")
+    with pytest.raises(InputError, match=message):
+        call(small_run, target)
+    assert [p.name for p in target.iterdir()] == ["mine.txt"]
+
+
+def test_run_and_run_sliding_check_their_arguments():
+    from fretbem.scenes.builder import build
+    from fretbem.scenes.file import load_scene
+    from fretbem.simulation import run
+    from fretbem.sliding import run_sliding
+    from fretbem.sliding.slide import SlidingError
+
+    examples = Path(__file__).parents[2] / "examples"
+    with pytest.raises(InputError, match=r"run check must be True or False"):
+        run(build(load_scene(examples / "cattaneo_mindlin.toml"))[0], check="no")
+    sliding, _ = build(load_scene(examples / "gross_sliding.toml"))
+    for every, words in (("1", "a number"), (10**400, "10^400"), (math.nan, "a finite number")):
+        with pytest.raises(SlidingError, match=rf"every must be {re.escape(words)}|10\^400"):
+            run_sliding(sliding, every=every, note=None)
+    with pytest.raises(SlidingError, match=r"check must be True or False"):
+        run_sliding(sliding, check="yes", note=None)

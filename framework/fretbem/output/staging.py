@@ -22,6 +22,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from fretbem.errors import OutputError
+from fretbem.validators import flag
 
 __all__ = [
     "MARKER",
@@ -95,6 +96,7 @@ def prepare_output(directory: str | os.PathLike, *, overwrite: bool = False) -> 
     Refuses (OutputExistsError / OutputError) a file, a non-empty directory without the
     fretbem marker (unless ``overwrite``), a protected directory, and an unwritable parent.
     """
+    overwrite = flag("overwrite", overwrite)  # ("no" would be true, and overwrite)
     raw = os.fspath(directory)
     if not raw or "\0" in raw:
         raise OutputError(f"output directory {raw!r} is not a valid path")

@@ -32,6 +32,7 @@ from fretbem.output import fretting as fretting_
 from fretbem.output import vtk as vtk_
 from fretbem.output.labelled import write_netcdf_files
 from fretbem.output.report import write_report
+from fretbem.validators import flag
 from fretbem.verification.checks import check_steps
 
 from .staging import (  # noqa: F401 - re-exported: the output API of one release
@@ -424,6 +425,16 @@ def write_results(
     go to summary.json's ``phases`` with each writer's time ("write <name>");
     ``progress(description, total)`` makes the bars of long writers (the stresses).
     """
+    check, figures, vtk = (
+        flag("check", check),
+        flag("figures", figures, none=True),
+        flag("vtk", vtk, none=True),
+    )
+    if isinstance(writers, str):
+        raise InputError(
+            f"writers must be a list of writer names, got the string {writers!r}; give "
+            f"[{writers!r}]"
+        )
     target = prepare_output(directory, overwrite=overwrite)
     records = check_steps(result) if check else None  # a failed check writes nothing
     context = WriteContext(result, records, tuple(compare), steps, stress, fatigue, wear=wear)

@@ -53,6 +53,7 @@ from fretbem.simulation import (
     run_resources,
 )
 from fretbem.solvers.newton import SolverConvergenceError
+from fretbem.validators import flag, real_number
 from fretbem.verification.checks import check_step
 
 from .track import Track, TrackError
@@ -250,8 +251,16 @@ def run_sliding(
             f"run_sliding frame must be one of {FRAMES}, got {frame!r}; give 'local' (each "
             "pair its own frame along an arc) or 'shared' (the pad's turned frame)"
         )
+    every = real_number(
+        "every",
+        every,
+        what="pair spacings the pad may move before its faces are re-paired",
+        fix="give e.g. 1.0 (0: re-pair before every increment that moves the pad)",
+        error=SlidingError,
+    )
     if not every >= 0.0:
         raise SlidingError(f"every must be a number of pair spacings >= 0, got {every!r}")
+    check = flag("check", check, error=SlidingError)
     pair = simulation.pair
     if not isinstance(pair, NodeToSegmentPair):
         raise SlidingError(
