@@ -17,6 +17,8 @@ from collections.abc import Callable
 import attrs
 import numpy as np
 
+from fretbem.validators import real_number
+
 from .errors import FatigueInputError
 
 __all__ = [
@@ -36,6 +38,13 @@ def critical_distance_from_threshold(
     threshold_sif_range: float, fatigue_limit_range: float
 ) -> float:
     """L in mm from Delta K_th (MPa sqrt(m)) and the plain fatigue limit RANGE (MPa)."""
+    threshold_sif_range, fatigue_limit_range = (
+        real_number(name, value, what=unit, fix=f"give {name} > 0", error=FatigueInputError)
+        for name, value, unit in (
+            ("threshold_sif_range", threshold_sif_range, "Delta K_th, MPa sqrt(m)"),
+            ("fatigue_limit_range", fatigue_limit_range, "Delta sigma_0, MPa"),
+        )
+    )
     if not (threshold_sif_range > 0 and fatigue_limit_range > 0):
         raise FatigueInputError(
             "the critical distance needs Delta K_th > 0 (MPa sqrt(m)) and Delta sigma_0 > 0 (MPa), "
@@ -98,6 +107,10 @@ def critical_distance_values(
     ``direction`` ([x, depth], into the body) is the critical direction: straight down by
     default, or e.g. along the critical plane's trace.
     """
+    critical_distance = real_number(
+        "critical_distance", critical_distance, what="L, mm", fix="give L > 0 in mm",
+        error=FatigueInputError,
+    )  # fmt: skip
     if not critical_distance > 0:
         raise FatigueInputError(f"the critical distance L must be > 0 mm, got {critical_distance}")
     h = np.asarray(hot_spot, dtype=float)

@@ -12,14 +12,29 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from fretbem.validators import shown, whole_number
+
 from .errors import FatigueInputError
 
 __all__ = ["last_full_reversal", "select_cycle", "turning_points"]
 
 
+def _history(driver) -> np.ndarray:
+    """A load history as floats, finite (strings and NaN refused, naming the driver)."""
+    try:
+        values = np.asarray(driver, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        raise FatigueInputError(
+            f"the cycle driver must be a 1D load history of numbers, got {shown(driver)}"
+        ) from None
+    if not np.isfinite(values).all():
+        raise FatigueInputError("the cycle driver has NaN or infinite loads; give finite loads")
+    return values
+
+
 def turning_points(driver: np.ndarray) -> np.ndarray:
     """Indices of the local extrema of a load history, end points included; plateaus merged."""
-    values = np.asarray(driver, dtype=float)
+    values = _history(driver)
     if values.ndim != 1 or values.size == 0:
         raise FatigueInputError(
             f"the cycle driver must be a non-empty 1D load history, got shape {values.shape}"
@@ -63,8 +78,16 @@ def select_cycle(
     ``steps`` (explicit, checked against ``n_steps``) wins; otherwise the last full reversal of
     ``driver``; with neither, every step.
     """
+    n_steps = whole_number("select_cycle n_steps", n_steps, low=1, fix="give the history's steps",
+                           error=FatigueInputError)  # fmt: skip
     if steps is not None:
-        chosen = np.asarray(list(steps), dtype=int)
+        if isinstance(steps, (str, bytes)):
+            raise FatigueInputError(f"cycle steps must list step indices, got {steps!r}")
+        chosen = np.asarray(
+            [whole_number(f"cycle steps[{k}]", s, low=0, fix="give step indices from 0",
+                          error=FatigueInputError) for k, s in enumerate(steps)],
+            dtype=int,
+        )  # fmt: skip
         if chosen.ndim != 1 or chosen.size < 2:
             raise FatigueInputError(f"cycle steps must list at least two steps, got {steps!r}")
         if np.any(chosen < 0) or np.any(chosen >= n_steps):
@@ -73,7 +96,7 @@ def select_cycle(
             )
         return chosen
     if driver is not None:
-        driver = np.asarray(driver, dtype=float)
+        driver = _history(driver)
         if driver.shape != (n_steps,):
             raise FatigueInputError(
                 f"the cycle driver has {driver.shape} values for a history of {n_steps} steps"

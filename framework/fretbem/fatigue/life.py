@@ -15,8 +15,11 @@ message, never a huge finite number.
 from __future__ import annotations
 
 import math
+import numbers
 
 import attrs
+
+from fretbem.validators import as_float, shown
 
 from .errors import FatigueInputError
 from .material import FatigueMaterial
@@ -161,6 +164,14 @@ def _strain_life(amplitude, mean, correction, material, runout_cycles) -> LifeEs
     return attrs.evolve(life, message=f"{life.message} (morrow, sigma_m = {mean:.4g} MPa)")
 
 
+def _number(where: str, value) -> float:
+    """A number argument as a float (True, strings refused; an int past a float's range is
+    infinite, which the checks below refuse in their words)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise FatigueInputError(f"{where} must be a number, got {shown(value)}")
+    return as_float(value)
+
+
 def estimate_life(
     method: str,
     parameter: float,
@@ -181,6 +192,10 @@ def estimate_life(
     Raises :class:`~fretbem.fatigue.errors.MissingFatigueDataError` naming the missing
     constants.
     """
+    parameter = _number("estimate_life parameter", parameter)
+    runout_cycles = _number("runout_cycles", runout_cycles)
+    rho = None if rho is None else _number("rho", rho)
+    mean_stress = None if mean_stress is None else _number("mean_stress", mean_stress)
     if not runout_cycles > 1:
         raise FatigueInputError(f"runout_cycles must be > 1, got {runout_cycles}")
     if method in CORRECTIONS_OF:
@@ -201,6 +216,10 @@ def estimate_life(
             )
         life = _stress_life if method == "stress_life" else _strain_life
         return life(float(parameter), mean, correction, material, runout_cycles)
+    if not math.isfinite(parameter) or (rho is not None and not math.isfinite(rho)):
+        raise FatigueInputError(
+            f"the {method} life needs a finite parameter (and rho), got {parameter}, {rho}"
+        )
     if correction != "none":
         raise FatigueInputError(
             f"the {method} parameter carries the mean stress itself; mean-stress corrections "
