@@ -16,6 +16,7 @@ import numpy as np
 
 from fretbem.bem.stresses import StressSettings
 from fretbem.sliding.result import step_solutions
+from fretbem.validators import shown
 
 from .errors import StressInputError
 
@@ -26,9 +27,13 @@ BODIES = ("lower", "upper")
 
 def _step_index(result, step) -> int:
     names = [s.name for s in result.steps]
+    if isinstance(step, (bool, np.bool_)):
+        raise StressInputError(f"step must be a step's name or index, got {step!r}; give e.g. 'B'")
     if isinstance(step, (int, np.integer)):
         if not -len(names) <= int(step) < len(names):
-            raise StressInputError(f"step {step} out of range: the result has {len(names)} steps")
+            raise StressInputError(
+                f"step {shown(step)} out of range: the result has {len(names)} steps"
+            )
         return int(step) % len(names)
     if step not in names:
         raise StressInputError(f"no step {step!r}; the steps are {names}")
@@ -36,7 +41,13 @@ def _step_index(result, step) -> int:
 
 
 def _points(points) -> np.ndarray:
-    points = np.asarray(points, dtype=float)
+    try:
+        points = np.asarray(points, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        raise StressInputError(
+            "points must be a finite array of shape (m, 2) [x, y] of numbers, got "
+            + (shown(points) if isinstance(points, str) else "entries that are not floats")
+        ) from None
     if points.ndim == 1 and points.size == 2:
         points = points[None]
     if points.ndim != 2 or points.shape[1] != 2 or not np.all(np.isfinite(points)):
