@@ -299,8 +299,8 @@ def file_number(
     """
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise _kind_error(error, where, "a number", value)
-    if not math.isfinite(value):
-        raise error(f"{where} must be a finite number, got {value!r}")
+    if not math.isfinite(as_float(value)):  # (an int past a float's range: only from Python)
+        raise error(f"{where} must be a finite number, got {shown(value)}")
     bad_low = low is not None and (value <= low if low_open else value < low)
     bad_high = high is not None and (value >= high if high_open else value > high)
     if bad_low or bad_high:
@@ -326,6 +326,8 @@ def file_integer(
     """A whole number from a file (2.0, 2.7, true and "2" refused), within [low, high]."""
     if isinstance(value, bool) or not isinstance(value, int):
         raise _kind_error(error, where, "a whole number (no decimal point)", value)
+    if abs(value) > WHOLE_MAX:  # (only from Python: a TOML file's integers are 64-bit)
+        raise error(f"{where} must fit a 64-bit integer, got {shown(value)}")
     if (low is not None and value < low) or (high is not None and value > high):
         span = " and ".join(
             p for p in (f">= {low}" if low is not None else "", f"<= {high}" if high else "") if p

@@ -22,7 +22,7 @@ from fretbem.conditions import Displacement, LoadingBlock, Traction
 from fretbem.contact.control import Rig
 from fretbem.contact.law import CoulombFriction
 from fretbem.errors import InputError
-from fretbem.fatigue import PlaneSearch
+from fretbem.fatigue import PlaneSearch, fatigue_request_from_dict
 from fretbem.fretting import Waveform
 from fretbem.geometry.nurbs import NurbsCurve
 from fretbem.geometry.shapes import (
@@ -38,6 +38,7 @@ from fretbem.scenes.reference import CattaneoMindlinScene
 from fretbem.scenes.spec import ContactSpec, LoadSpec, MeshSpec, SceneFileError
 from fretbem.solvers.fallback import FallbackSolver
 from fretbem.solvers.pivoting import LemkeSolver
+from fretbem.stress import stress_request_from_dict
 from fretbem.verification.closed_forms import HertzLineContact, MindlinDeresiewicz
 from fretbem.verification.dissimilar import DissimilarCylinders
 from fretbem.verification.nowell_hills import NowellHills
@@ -437,3 +438,24 @@ def test_run_and_run_sliding_check_their_arguments():
             run_sliding(sliding, every=every, note=None)
     with pytest.raises(SlidingError, match=r"check must be True or False"):
         run_sliding(sliding, check="yes", note=None)
+
+
+_TI = {"material": "Ti-6Al-4V"}
+_GRID = {"x": [0, 1], "depth": 1.0, "nx": 3, "ny": 3}
+REQUESTS = [
+    (fatigue_request_from_dict, {**_TI, "critical_distance": 10**400}, r"critical_dist.*10\^400"),
+    (fatigue_request_from_dict, {**_TI, "runout_cycles": 10**400}, r"runout_cycles must be a fin"),
+    (fatigue_request_from_dict, {**_TI, "cycle_steps": [0, 10**400]}, r"cycle_steps\[1\] must fit"),
+    (stress_request_from_dict, {"points": [[10**400, -0.5]]}, r"\[stress\] points must be a lis"),
+    (stress_request_from_dict, {"points": [["trailing-edge", "0.5"]]}, r"points y must be a num"),
+    (stress_request_from_dict, {"grid": {**_GRID, "x": [0, 10**400]}}, r"x\[1\] must be a finite"),
+    (stress_request_from_dict, {"grid": {**_GRID, "nx": 10**400}}, r"nx must fit a 64-bit int"),
+]
+
+
+@pytest.mark.parametrize(("read", "table", "message"), REQUESTS)
+def test_requests_from_python_dicts_refuse_what_a_file_cannot_hold(read, table, message):
+    """A TOML file's numbers are 64-bit; a dict from Python can hold 10**400 (it ended in an
+    OverflowError) or text where a number goes (a y of "0.5" was taken)."""
+    with pytest.raises(InputError, match=message):
+        read(table)

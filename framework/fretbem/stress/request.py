@@ -163,11 +163,23 @@ class StressRequest:
             raise StressRequestError(f"[stress] body must be 'lower' or 'upper', got {self.body!r}")
         if self.points is not None and self.symbolic_points:
             where = "[stress] points"
-            rows = [(parse_position(p[0], where), float(p[1])) for p in self.points]
+            rows = [
+                (
+                    parse_position(p[0], where),
+                    file_number(f"{where} y", p[1], error=StressRequestError),
+                )
+                for p in self.points
+            ]
             object.__setattr__(self, "points", tuple(rows))
             return
         if self.points is not None:
-            pts = np.asarray(self.points, float)
+            try:
+                pts = np.asarray(self.points, float)
+            except (TypeError, ValueError, OverflowError):  # text, an int past a float's range
+                raise StressRequestError(
+                    "[stress] points must be a list of [x, y] pairs of finite numbers, got "
+                    "entries that are not numbers"
+                ) from None
             if pts.ndim != 2 or pts.shape[1] != 2 or not np.all(np.isfinite(pts)):
                 raise StressRequestError(
                     "[stress] points must be a list of [x, y] pairs of finite numbers, got "
