@@ -201,16 +201,18 @@ class IncrementRecord:
     @classmethod
     def of(cls, problem, state, rig=control.RIGID) -> IncrementRecord:
         """The record of ``state`` (a ContactState) of the condensed ``problem``."""
-        measured = control.measure(problem, state.x, problem.amplitudes(state.loads), rig)
-        unknowns = problem.unknowns(state.x)
+        x, layout = state.x, problem.layout
+        if np.shape(x) != (layout.size,):  # (the layout's own error names the mismatch)
+            problem.unknowns(x)
+        measured = control.measure(problem, x, problem.amplitudes(state.loads), rig)
         return cls(
             normal=measured["normal"],
             tangential=measured["tangential"],
             approach=measured["approach"],
             delta=measured["delta"],
             slip=state.slip,
-            pressure=unknowns.pressure,
-            shear=unknowns.shear,
+            pressure=x[layout.pressure],  # (PairUnknowns.from_vector's views, without it)
+            shear=x[layout.shear],
             states=state.states,
             loads=dict(state.loads),
             moment=measured["moment"],
