@@ -19,8 +19,9 @@ from fretbem.views.run import run_dataset
 
 def _frozen(values) -> np.ndarray:
     """A read-only copy: a result reports what was computed, and cannot be edited in place
-    (an array already frozen here, read-only float64 owning its numbers, is taken as it is:
-    a step shares its last increment's arrays and a run's steps their positions)."""
+    (an array already frozen, read-only float64 owning its numbers or a read-only view of
+    such an array, is taken as it is: a step shares its last increment's arrays, a run's
+    steps their positions, and a record the run's frozen pair unknowns and their slices)."""
     if _owned_read_only(values, np.float64):
         return values
     out = np.array(values, dtype=float)
@@ -37,13 +38,16 @@ def _frozen_states(values) -> np.ndarray:
 
 
 def _owned_read_only(values, dtype) -> bool:
-    """Whether ``values`` is an ndarray (of ``dtype``, if given) that owns its numbers and
-    cannot be written: one of :func:`_frozen`'s own."""
-    return (
-        type(values) is np.ndarray
-        and values.base is None
-        and not values.flags.writeable
-        and (dtype is None or values.dtype == dtype)
+    """Whether ``values`` is an ndarray (of ``dtype``, if given) that cannot be written and
+    owns its numbers, or views those of one that owns them and cannot be written (no
+    writable array shares them: neither can be made writable again from the view)."""
+    if type(values) is not np.ndarray or values.flags.writeable:
+        return False
+    if dtype is not None and values.dtype != dtype:
+        return False
+    base = values.base
+    return base is None or (
+        type(base) is np.ndarray and base.base is None and not base.flags.writeable
     )
 
 
@@ -197,16 +201,18 @@ class IncrementRecord:
     @classmethod
     def of(cls, problem, state, rig=control.RIGID) -> IncrementRecord:
         """The record of ``state`` (a ContactState) of the condensed ``problem``."""
-        measured = control.measure(problem, state.x, problem.amplitudes(state.loads), rig)
-        unknowns = problem.unknowns(state.x)
+        x, layout = state.x, problem.layout
+        if np.shape(x) != (layout.size,):  # (the layout's own error names the mismatch)
+            problem.unknowns(x)
+        measured = control.measure(problem, x, problem.amplitudes(state.loads), rig)
         return cls(
             normal=measured["normal"],
             tangential=measured["tangential"],
             approach=measured["approach"],
             delta=measured["delta"],
             slip=state.slip,
-            pressure=unknowns.pressure,
-            shear=unknowns.shear,
+            pressure=x[layout.pressure],  # (PairUnknowns.from_vector's views, without it)
+            shear=x[layout.shear],
             states=state.states,
             loads=dict(state.loads),
             moment=measured["moment"],
@@ -370,8 +376,9 @@ class StepResult:
         errors = exact = None
         if simulation.reference is not None and not _gross_sliding(simulation.reference, history):
             errors = exact = _Deferred(simulation.reference, x, p, q, history)
-        if last is not None:
-            measured = attrs.asdict(last, recurse=False)
+        if last is not None:  # (its fields read directly: attrs.asdict walks all twelve)
+            measured = {"approach": last.approach, "delta": last.delta, "moment": last.moment,
+                        "rotation": last.rotation, "tilt": last.tilt}  # fmt: skip
         else:
             rig = getattr(simulation, "rig", control.RIGID)
             measured = control.measure(problem, state.x, problem.amplitudes(state.loads), rig)

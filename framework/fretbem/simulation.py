@@ -293,8 +293,14 @@ class Simulation:
     _controlled: dict = attrs.field(init=False, factory=dict, repr=False)
     #: the rotating problem of each condensed pair (a private cache)
     _rotating: dict = attrs.field(init=False, factory=dict, repr=False)
+    #: :attr:`rotates`, found once (a run asks it at every increment)
+    _rotates: bool = attrs.field(init=False, default=False, repr=False)
 
     def __attrs_post_init__(self) -> None:
+        object.__setattr__(
+            self, "_rotates",
+            math.isfinite(self.rig.rotational) or any(s.turns for s in self.steps),
+        )  # fmt: skip
         if self.pair.upper.loading_block is None:
             raise LoadHistoryError(
                 f"the load history drives the upper body's loading block, but body "
@@ -350,7 +356,7 @@ class Simulation:
         """Whether the pad block's rotation is an unknown: a rotational rig spring, or a
         step that gives a moment or a rotation. Otherwise the block does not rotate and the
         problem is exactly that of a non-rotating block."""
-        return math.isfinite(self.rig.rotational) or any(s.turns for s in self.steps)
+        return self._rotates
 
     def frame(self, side: str | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Mean normal and tangent of the pair: loads act along these; in the axes of the
@@ -501,6 +507,9 @@ class Simulation:
         )
 
     def _advance(self, problem, result: IncrementResult, normal, tangential, loads, controls=None):
+        """The state ``result`` reached. Its unknowns, states and slip are the solver's own
+        arrays, which nothing writes again: frozen here (not copied), the increment and step
+        records take them, and their slices, as they are."""
         beta = problem.amplitudes(loads)
         slip = problem.relative_tangential(result.x, beta)
         if controls is not None and not controls.by_force:
@@ -509,9 +518,10 @@ class Simulation:
                 normal = measured["normal"]
             if controls.tangential != "force":
                 tangential = measured["tangential"]
-        return ContactState(
-            result.x, result.states, slip, normal, tangential, dict(loads), virgin=False
-        )
+        x, states = result.x, result.states
+        for values in (x, states, slip):
+            values.setflags(write=False)
+        return ContactState(x, states, slip, normal, tangential, dict(loads), virgin=False)
 
     def step(
         self, problem: CondensedContact, state: ContactState, load: LoadStep, record=None,

@@ -6,6 +6,7 @@ import pickle
 
 import attrs
 import numpy as np
+import pytest
 
 from fretbem.results import _Deferred
 from fretbem.scenes import reference as scenes
@@ -69,8 +70,45 @@ def test_a_step_built_from_its_last_increment_is_the_step_built_afresh():
     assert _frozen(frozen) is frozen
     writable = np.array([1.0, 2.0])
     assert _frozen(writable) is not writable and not _frozen(writable).flags.writeable
-    view = frozen[:1]  # read-only but not its own numbers: copied
-    assert _frozen(view) is not view and _frozen(frozen.astype(np.float32)).dtype == float
+    view = frozen[:1]  # a view of a frozen array's numbers, which nothing can write: taken
+    assert _frozen(view) is view and _frozen(frozen.astype(np.float32)).dtype == float
+    shared = writable[:1]  # read-only, but its numbers are a writable array's: copied
+    shared.setflags(write=False)
+    assert _frozen(shared) is not shared and not _frozen(shared).flags.writeable
+    buffered = np.frombuffer(bytearray(16))  # numbers owned by a writable buffer: copied
+    assert _frozen(buffered) is not buffered
+
+
+def test_run_records_share_the_solver_arrays_frozen_and_nothing_writes_them():
+    """The arrays of every step and increment record (the solver's own unknowns, states
+    and slip, taken uncopied) cannot be written by the user, nor made writable again from
+    the records' views, and keep the numbers they had when their step was reported."""
+    simulation = scenes.cattaneo_mindlin(pairs=21, increments=2, models={
+        "upper": "half-plane", "lower": "half-plane"})  # fmt: skip
+    names = ("x", "pressure", "shear", "normal_displacement", "tangential_displacement",
+             "states", "unknowns")  # fmt: skip
+    seen = []
+
+    def arrays(step):
+        out = [getattr(step, name) for name in names]
+        for record in step.increments:
+            out += [record.slip, record.pressure, record.shear, record.states]
+        return out
+
+    def keep(k, n, step):
+        seen.append([(a, a.copy()) for a in arrays(step)])
+
+    result = run(simulation, progress=keep)
+    assert result.steps[-1].pressure.base is result.steps[-1].unknowns  # shared, not copied
+    for step, kept in zip(result.steps, seen, strict=True):
+        for array, (same, numbers) in zip(arrays(step), kept, strict=True):
+            assert array is same and np.array_equal(array, numbers)
+            assert not array.flags.writeable
+            with pytest.raises(ValueError):
+                array[0] = 1.0
+            if array.base is not None:
+                with pytest.raises(ValueError):
+                    array.setflags(write=True)
 
 
 def simulation_state(step):

@@ -91,9 +91,9 @@ class PadRotation:
 
     def moment(self, x: np.ndarray, beta: np.ndarray = ()) -> float:
         """M (about ``centre``) at pair unknowns x (theta in x once rotating)."""
-        beta = np.asarray(beta, float)
-        value = self.moment_base + self.moment_map @ x
-        return float(value + (self.moment_load @ beta if beta.size else 0.0))
+        beta = np.asarray(beta, float)  # (np.dot: `@`'s numbers for 1-D operands, cheaper)
+        value = self.moment_base + np.dot(self.moment_map, x)
+        return float(value + (np.dot(self.moment_load, beta) if beta.size else 0.0))
 
     def contact_moment(self, x: np.ndarray) -> float:
         """Moment of the contact tractions on the pad about ``centre`` (balances M)."""
