@@ -105,6 +105,37 @@ def test_the_collector_is_handed_back_when_a_sweep_ends(tmp_path, monkeypatch):
         gc.unfreeze()
 
 
+@needs_fork
+def test_forked_workers_build_other_groups_stress_operators(tmp_path):
+    """Workers forked after this process ran numba's parallel stress loop run it again for
+    their own groups (a fork-safe threading layer; GNU OpenMP terminated them): the table
+    is the serial one. In a fresh process, as `fretbem sweep` runs: numba's threads start
+    once per process."""
+    import subprocess
+    import sys
+
+    write_scene(tmp_path / "scene.toml")
+    sweep_file = tmp_path / "s.toml"
+    sweep_file.write_text(
+        '[sweep]\nscene = "scene.toml"\n'
+        'outputs = ["fretbem.studies.sweep.outputs:surface_stress"]\n[parameters]\n'
+        '"geometry.radius" = [60.0, 70.0, 80.0]\n'
+        '"load.Q" = {values = [0.0, 10.0], pattern = [0, 1, 0, -1, 0]}\n'
+    )
+    tables = {}
+    for name, flags in (("serial", ["--serial"]), ("forked", ["--engine", "processes",
+                                                                "--workers", "2"])):  # fmt: skip
+        command = [sys.executable, "-m", "fretbem.app.cli", "sweep", str(sweep_file), "--out",
+                   str(tmp_path / name), "--no-figures", "--quiet", *flags]  # fmt: skip
+        done = subprocess.run(command, capture_output=True, text=True, cwd=tmp_path)
+        assert done.returncode == 0, done.stderr
+        assert "OpenMP" not in done.stderr
+        tables[name] = sweep_run.read_table(tmp_path / name)
+    assert (tables["forked"]["status"] == "ok").all()
+    assert tables["forked"]["sxx_max"].notna().all()
+    pd.testing.assert_frame_equal(_results(tables["forked"]), _results(tables["serial"]))
+
+
 def test_default_engine_on_one_core_stays_in_this_process(tmp_path, monkeypatch):
     monkeypatch.setattr(sweep_run, "POOL_MIN_SECONDS", 0.0)
     monkeypatch.setattr(sweep_run, "machine_cores", lambda: 1)

@@ -375,6 +375,19 @@ def fork_available() -> bool:
     return sys.platform.startswith("linux") and "fork" in multiprocessing.get_all_start_methods()
 
 
+def fork_safe_threads() -> None:
+    """Have numba start its threads in a layer a forked worker may use (tbb or workqueue,
+    ``"forksafe"``), unless the user chose one or they already run: GNU OpenMP, its default
+    here, terminates a forked process that runs a parallel loop after its parent did (a
+    worker building another group's stress operator: a sweep of several groups with a
+    stress column stopped "interrupted"). The loops' results do not depend on the layer."""
+    numba = sys.modules.get("numba")
+    if numba is None:  # read when numba loads (a sweep without compiled loops never does)
+        os.environ.setdefault("NUMBA_THREADING_LAYER", "forksafe")
+    elif numba.config.THREADING_LAYER == "default":  # read when its threads start
+        numba.config.THREADING_LAYER = "forksafe"
+
+
 class _Collector:
     """The cyclic garbage collector's full passes kept off what the sweep has made so far.
 
@@ -808,6 +821,8 @@ def run_sweep(
     check_maps(spec, sweep_columns(spec, outputs))  # a map typo fails before any solve
     #: post-processing tables of the sweep file, handed to the output functions with the scene
     extras = {k: v for k, v in spec.options.items() if k in POST_TABLES}
+    if engine in ("auto", "processes") and fork_available():
+        fork_safe_threads()  # before this process runs a case's parallel loops
     start = time.perf_counter()
     collector = _Collector()
     try:
@@ -1051,6 +1066,7 @@ __all__ = [
     "check_size",
     "choose_engine",
     "fork_available",
+    "fork_safe_threads",
     "machine_cores",
     "plan",
     "run_command",
