@@ -22,6 +22,7 @@ from fretbem.studies.sweep.spec import (
     SweepSpec,
     SweepSpecError,
     changes_condensation,
+    copy_tree,
     load_sweep,
     set_path,
     split_path,
@@ -82,6 +83,29 @@ def test_paths_split_set_and_classify():
             split_path(bad)
     with pytest.raises(SweepSpecError, match="no item"):
         set_path(scene, "load.Q[9]", 1.0)
+
+
+def test_case_scenes_are_independent_copies_of_the_scene():
+    """Planning copies the scene as a tree: each case's tables and lists its own (what
+    copy.deepcopy gave), anything but plain TOML values deep-copied; a parsed path is the
+    caller's to change."""
+    spec = SweepSpec.from_mapping(SCENE, {"load.Q": {"values": [5.0, 6.0], "pattern": CYCLE}})
+    first, second = (case.scene for case in spec.cases())
+    assert first == {
+        **copy.deepcopy(SCENE),
+        "load": {**SCENE["load"], "Q": [5.0 * w for w in CYCLE]},
+    }
+    first["material"]["E"] = -1.0
+    first["load"]["P"] = -1.0
+    assert second["material"] == SCENE["material"] and second["load"]["P"] == SCENE["load"]["P"]
+    assert spec.scene == SCENE
+    odd = {"points": (np.array([1.0, 2.0]), [1, {"a": "b"}]), "flag": None, "n": 3, "on": True}
+    copied = copy_tree(odd)
+    assert copied["points"][0] is not odd["points"][0] and copied["points"][1] == [1, {"a": "b"}]
+    assert copied["points"][1] is not odd["points"][1] and copied["flag"] is None
+    parts = split_path("load.Q[1]")
+    parts.append("x")
+    assert split_path("load.Q[1]") == ["load", "Q", 1]
 
 
 def test_values_ranges_patterns_product_and_zip():

@@ -66,6 +66,76 @@ def test_default_engine_forks_once_the_work_pays_and_workers_do_not_assemble(tmp
     pd.testing.assert_frame_equal(_results(table), _results(serial.table))
 
 
+def test_the_collector_is_handed_back_when_a_sweep_ends(tmp_path, monkeypatch):
+    """The sweep freezes its long-lived objects out of the collector's passes while it runs
+    (after planning, after its first chunk) and releases them at its end, forked or not, or
+    when it fails; a caller's own frozen objects stay frozen."""
+    import gc
+
+    seen = []
+    real = sweep_run.run_batch
+
+    def batch(*args, **kwargs):
+        seen.append(gc.get_freeze_count())
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(sweep_run, "run_batch", batch)
+    parameters = {"load.Q": {"values": [0.0, 6.0, 12.0, 18.0], "pattern": CYCLE}}
+    assert gc.get_freeze_count() == 0
+    sweep_run.sweep(SCENE, parameters, out=tmp_path / "serial", serial=True, batch=2)
+    assert seen and min(seen) > 0 and gc.get_freeze_count() == 0
+    if sweep_run.fork_available():
+        sweep_run.sweep(SCENE, parameters, out=tmp_path / "p", engine="processes", workers=2)
+        assert gc.get_freeze_count() == 0
+
+    def failing(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(sweep_run, "run_batch", failing)
+    with pytest.raises(KeyboardInterrupt):
+        sweep_run.sweep(SCENE, parameters, out=tmp_path / "stopped", serial=True)
+    assert gc.get_freeze_count() == 0
+    monkeypatch.setattr(sweep_run, "run_batch", real)
+    gc.freeze()
+    try:
+        frozen = gc.get_freeze_count()
+        sweep_run.sweep(SCENE, parameters, out=tmp_path / "theirs", serial=True)
+        assert gc.get_freeze_count() > frozen // 2  # not unfrozen (refcounting frees some)
+    finally:
+        gc.unfreeze()
+
+
+@needs_fork
+def test_forked_workers_build_other_groups_stress_operators(tmp_path):
+    """Workers forked after this process ran numba's parallel stress loop run it again for
+    their own groups (a fork-safe threading layer; GNU OpenMP terminated them): the table
+    is the serial one. In a fresh process, as `fretbem sweep` runs: numba's threads start
+    once per process."""
+    import subprocess
+    import sys
+
+    write_scene(tmp_path / "scene.toml")
+    sweep_file = tmp_path / "s.toml"
+    sweep_file.write_text(
+        '[sweep]\nscene = "scene.toml"\n'
+        'outputs = ["fretbem.studies.sweep.outputs:surface_stress"]\n[parameters]\n'
+        '"geometry.radius" = [60.0, 70.0, 80.0]\n'
+        '"load.Q" = {values = [0.0, 10.0], pattern = [0, 1, 0, -1, 0]}\n'
+    )
+    tables = {}
+    for name, flags in (("serial", ["--serial"]), ("forked", ["--engine", "processes",
+                                                                "--workers", "2"])):  # fmt: skip
+        command = [sys.executable, "-m", "fretbem.app.cli", "sweep", str(sweep_file), "--out",
+                   str(tmp_path / name), "--no-figures", "--quiet", *flags]  # fmt: skip
+        done = subprocess.run(command, capture_output=True, text=True, cwd=tmp_path)
+        assert done.returncode == 0, done.stderr
+        assert "OpenMP" not in done.stderr
+        tables[name] = sweep_run.read_table(tmp_path / name)
+    assert (tables["forked"]["status"] == "ok").all()
+    assert tables["forked"]["sxx_max"].notna().all()
+    pd.testing.assert_frame_equal(_results(tables["forked"]), _results(tables["serial"]))
+
+
 def test_default_engine_on_one_core_stays_in_this_process(tmp_path, monkeypatch):
     monkeypatch.setattr(sweep_run, "POOL_MIN_SECONDS", 0.0)
     monkeypatch.setattr(sweep_run, "machine_cores", lambda: 1)

