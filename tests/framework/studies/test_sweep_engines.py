@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from test_sweep import CYCLE, SCENE, write_scene
 
+from fretbem.errors import InputError
 from fretbem.studies.sweep import cases as sweep_cases
 from fretbem.studies.sweep import run as sweep_run
 from fretbem.studies.sweep.cases import TIMING_COLUMNS, build_simulation, representative
@@ -184,6 +185,28 @@ def test_engine_options_that_clash_are_refused_naming_the_fix():
         choose("processes", False, None, "tcp://h:8786", None)
     with pytest.raises(sweep_run.SweepError, match="drop the client/scheduler"):
         choose(None, True, None, "tcp://h:8786", None)
+
+
+@pytest.mark.parametrize(
+    ("options", "message"),
+    [
+        ({"workers": 0}, r"workers must be a whole number >= 1, got 0"),
+        ({"workers": "2"}, r'workers must be a whole number >= 1, got the string "2"'),
+        ({"workers": True}, r"workers must be a whole number >= 1, got True"),
+        ({"workers": 10**400}, r"workers must be below 2\^63"),
+        ({"workers": 5000}, r"workers = 5000 would start that many processes .* give at most"),
+        ({"limit": "3"}, r"limit \(tasks to run before stopping\) must be a whole number"),
+        ({"batch": 2.5}, r"batch size must be a whole number >= 1, got 2.5"),
+        ({"serial": "no"}, r"serial must be True or False"),
+        ({"progress": "no"}, r"progress must be True or False"),
+    ],
+)
+def test_bad_run_options_are_refused_before_anything_starts(tmp_path, options, message):
+    """5,000 forked workers once stalled a 2-core machine; "no" was a true serial."""
+    spec = SweepSpec.from_mapping(SCENE, {"load.P": [90.0, 110.0]})
+    with pytest.raises((sweep_run.SweepError, InputError), match=message):
+        sweep_run.run_sweep(spec, tmp_path / "store", **options)
+    assert not (tmp_path / "store").exists()
 
 
 def test_the_command_takes_an_engine(tmp_path, capsys):

@@ -39,6 +39,7 @@ from fretbem.output.staging import output_lock
 from fretbem.pipeline import requests
 from fretbem.scenes.file import scene_from_data
 from fretbem.studies.sweep_options import ENGINES, add_arguments
+from fretbem.validators import flag, whole_number
 
 from . import cases as sweep_cases
 from .cases import (
@@ -761,6 +762,28 @@ def sweep_columns(spec: SweepSpec, outputs: Sequence[str]) -> set[str] | None:
     return base | per_step | set(spec.paths) | declared
 
 
+#: local worker processes a sweep may start per core (CPU-bound cases: past the cores a worker
+#: only waits, and each is a process of its own: 5,000 forked workers stalled the machine)
+MAX_WORKERS_PER_CORE = 4
+
+
+def _count(where: str, value: Any, fix: str) -> int:
+    """A whole number >= 1 of the sweep's options (True, "2", 2.5 and 10**400 refused)."""
+    return whole_number(where, value, low=1, fix=fix, error=SweepError)
+
+
+def _check_local_workers(workers: int | None) -> None:
+    """Refuse more local workers than :data:`MAX_WORKERS_PER_CORE` per core."""
+    cores = machine_cores()
+    if workers is not None and workers > MAX_WORKERS_PER_CORE * cores:
+        raise SweepError(
+            f"workers = {workers} would start that many processes on this machine's {cores} "
+            f"cores (the cases are CPU-bound: past the cores a worker only waits); give at "
+            f"most {MAX_WORKERS_PER_CORE * cores} (leave it out for one per core), or run on a "
+            "Dask cluster (--scheduler)"
+        )
+
+
 def choose_engine(engine, serial, client, scheduler, workers) -> str:
     """The engine of a sweep's options, or a SweepError naming the clash and the fix.
 
@@ -807,11 +830,16 @@ def run_sweep(
     builder: Callable[[Mapping], Any] | None = None,
 ) -> SweepResult:
     """Run (or complete) ``spec`` into the store at ``out``; see ``sweep`` for the options."""
-    if workers is not None and (isinstance(workers, bool) or workers < 1):
-        raise SweepError(f"workers must be >= 1, got {workers!r}")
+    serial, progress = flag("serial", serial, error=SweepError), flag("progress", progress)
+    if workers is not None:
+        workers = _count("workers", workers, "give the worker processes, e.g. 2")
     engine = choose_engine(engine, serial, client, scheduler, workers)
-    if limit is not None and limit < 1:
-        raise SweepError(f"limit (tasks to run before stopping) must be >= 1, got {limit!r}")
+    if client is None and scheduler is None:  # (a cluster's workers are its own)
+        _check_local_workers(workers)
+    if limit is not None:
+        limit = _count("limit (tasks to run before stopping)", limit, "give e.g. 10")
+    if batch is not None:
+        batch = _count("batch size", batch, "give the cases per task, or leave it out")
     outputs = spec.options.get("outputs", ())
     outputs = (outputs,) if isinstance(outputs, str) else tuple(outputs)
     resolve_all(outputs)  # a bad name fails here, not on every case
