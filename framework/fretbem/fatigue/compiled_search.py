@@ -749,6 +749,32 @@ def _coarse_in_plane(m, h, xy, tr, p0, nb, nu, c2, s2, codes, par, E, best, foun
             found[6, i] = g_val[(arg[b] + 1 if arg[b] < n_g - 1 else 0) * nb + b]
 
 
+@numba.njit(inline="always", **_JIT)
+def _values_3d(code, k, sy, shear_modulus, kind, limit, E, o32, t, n, v):
+    """:func:`_value_at` of the grid planes ``0:n`` from the summaries ``o32`` and shear
+    amplitudes ``t`` into ``v``, the criterion's test outside the loops so that each loop
+    vectorises (the same expressions: the same numbers)."""
+    if code == SWT:
+        for g in range(n):
+            v[g] = o32[0, g] * (0.5 * (o32[2, g] - o32[3, g]) / E)
+    elif code == STRAIN_LIFE:
+        for g in range(n):
+            v[g] = 0.5 * (o32[2, g] - o32[3, g]) / E
+    elif code == STRESS_LIFE:
+        for g in range(n):
+            v[g] = _value_at(code, k, sy, shear_modulus, kind, limit, E, o32[0, g], o32[1, g],
+                             o32[2, g], o32[3, g], t[g])  # fmt: skip
+    elif code == FINDLEY:
+        for g in range(n):
+            v[g] = t[g] + k * o32[0, g]
+    elif code == FATEMI_SOCIE:
+        for g in range(n):
+            v[g] = (t[g] / shear_modulus) * (1.0 + k * o32[0, g] / sy)
+    else:  # MWCM
+        for g in range(n):
+            v[g] = t[g]
+
+
 @numba.njit(**_JIT)  # the search's flags: its summaries' float32 round-off, its choices
 def _coarse_3d(data, nb, grid, axes, rank, codes, par, nu, E, work, scratch, best, found, sup,
                select=True):  # fmt: skip
@@ -757,8 +783,8 @@ def _coarse_3d(data, nb, grid, axes, rank, codes, par, nu, E, work, scratch, bes
     normal strain amplitude) into ``found`` (5+, C nb), at ``ci nb + b``; the grid circles as
     the module docstring says. ``select`` False: the summaries alone (a benchmark's phase).
 
-    Point by point, every array made before the points' loop and the per-plane values by
-    scalars (:func:`_value_at`): a view made per point and criterion (the rows of the
+    Point by point, every array made before the points' loop, the per-plane values by loops
+    that make no view (:func:`_values_3d`): a view made per point and criterion (the rows of the
     summaries, ``par[ci]``) was a reference count and its release each, ~35 % of the 3D
     search in ``NRT_incref``/``NRT_decref`` (perf)."""
     m, h, xy, zz, tr, x, y = data
@@ -768,7 +794,6 @@ def _coarse_3d(data, nb, grid, axes, rank, codes, par, nu, E, work, scratch, bes
     ee_t, te_t, d_hi, d_lo, te_hi, te_lo = s32[0], s32[1], s32[2], s32[3], s32[4], s32[5]
     c2, s2, sp, cp = grid[0], grid[1], grid[2], grid[3]
     n_g, n_c = grid.shape[1], codes.size
-    last = n_g - 1
     flat = True  # every criterion convex in the tilt: the in-plane row and psi = 0
     shear = False
     for ci in range(n_c):
@@ -802,21 +827,19 @@ def _coarse_3d(data, nb, grid, axes, rank, codes, par, nu, E, work, scratch, bes
             if code == STRAIN_LIFE or (code == STRESS_LIFE and kind == NO_CORRECTION):
                 # convex in the tilt (:func:`_convex_in_tilt`): its maximum is on the in-plane
                 # row (sin psi = 1) or the plane normal to z (docs/explanation/fatigue.md)
-                for g in range(n_g):
-                    value[g] = _value_at(code, k, sy, shear_modulus, kind, limit, E, o32[0, g],
-                                         o32[1, g], o32[2, g], o32[3, g], tau[g]) \
-                        if g < n_row or g == last else -np.inf  # fmt: skip
+                _values_3d(code, k, sy, shear_modulus, kind, limit, E, o32, tau, n_g, value)
+                for g in range(n_row, n_g - 1):
+                    value[g] = -np.inf
             elif n_open_grid and _needs_shear(code):
                 # exact circles in decreasing order of the value's upper bound, while it can
                 # win; ``value`` at ``tau``: the lower bound, or the circle another criterion
                 # took; ``vhi`` the larger of the values at the bounds
+                _values_3d(code, k, sy, shear_modulus, kind, limit, E, o32, tau, n_g, value)
+                _values_3d(code, k, sy, shear_modulus, kind, limit, E, o32, hi, n_g, vhi)
                 top = -np.inf  # the best lower bound
                 for g in range(n_g):
-                    v = _value_at(code, k, sy, shear_modulus, kind, limit, E, o32[0, g],
-                                  o32[1, g], o32[2, g], o32[3, g], tau[g])  # fmt: skip
-                    w = _value_at(code, k, sy, shear_modulus, kind, limit, E, o32[0, g],
-                                  o32[1, g], o32[2, g], o32[3, g], hi[g])  # fmt: skip
-                    value[g], vhi[g] = v, max(v, w)
+                    v, w = value[g], vhi[g]
+                    vhi[g] = max(v, w)
                     top = max(top, min(v, w))
                 slack = _TIE * abs(top) if code == MWCM else 0.0
                 # the planes whose bound reaches the best lower bound, open ones first
@@ -846,9 +869,7 @@ def _coarse_3d(data, nb, grid, axes, rank, codes, par, nu, E, work, scratch, bes
                                            tau[arg])  # fmt: skip
                     top = max(top, value[arg])
             else:
-                for g in range(n_g):
-                    value[g] = _value_at(code, k, sy, shear_modulus, kind, limit, E, o32[0, g],
-                                         o32[1, g], o32[2, g], o32[3, g], tau[g])  # fmt: skip
+                _values_3d(code, k, sy, shear_modulus, kind, limit, E, o32, tau, n_g, value)
             # exact ties (infinite stress_life values, symmetric states) go to the plane that
             # comes first in the numpy search's grid order, ``rank``: the largest value first,
             # then the first plane that has it (MWCM: of those within the tolerance, the
