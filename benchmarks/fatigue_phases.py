@@ -70,10 +70,12 @@ def stress_cycle() -> np.ndarray:
 
 @numba.njit
 def _coarse_phase(stress, grid, axes, rank, codes, par, nu, E, in_plane, whole):
-    """The coarse grid over every point: its summaries alone, or (``whole``) all of it."""
+    """The coarse grid over every point: its summaries alone, or (``whole``) all of it; by
+    blocks of points as the search (in-plane summaries alone: point by point)."""
     n_t, n_p, n_g = stress.shape[0], stress.shape[1], grid.shape[1]
-    rows = np.empty((5, n_t, 1))
-    m, h, xy, zz, tr = rows[0], rows[1], rows[2], rows[3], rows[4]
+    nb_max = min(cs.BLOCK, n_p)
+    block = np.empty((5, n_t, nb_max))
+    m, h, xy, zz, tr = block[0], block[1], block[2], block[3], block[4]
     data = (m, h, xy, zz, tr, np.empty(n_t), np.empty(n_t))
     size = max(n_g, 1)
     work = (np.empty((12, size)), np.empty(size), np.empty(size), np.empty(size),
@@ -83,42 +85,31 @@ def _coarse_phase(stress, grid, axes, rank, codes, par, nu, E, in_plane, whole):
                np.empty((12, size), dtype=np.float32))  # fmt: skip
     axes = (axes[0].astype(np.float32), axes[1].astype(np.float32),
             axes[2].astype(np.float32), axes[3].astype(np.float32))  # fmt: skip
-    best = np.empty(codes.size, dtype=np.int64)
-    found = np.empty((7, codes.size))
+    best = np.empty(codes.size * nb_max, dtype=np.int64)
+    found = np.empty((7, codes.size * nb_max))
     sup = np.empty(3, dtype=np.int64)
     total = 0.0
-    if in_plane and whole:  # by blocks of points, as the search (cs._coarse_in_plane)
-        nb_max = min(cs.BLOCK, n_p)
-        block = np.empty((5, n_t, nb_max))
-        m, h, xy, zz, tr = block[0], block[1], block[2], block[3], block[4]
-        best = np.empty(codes.size * nb_max, dtype=np.int64)
-        found = np.empty((7, codes.size * nb_max))
-        for p0 in range(0, n_p, nb_max):
-            nb = min(nb_max, n_p - p0)
-            for t in range(n_t):
-                for b in range(nb):
-                    sxx, syy = stress[t, p0 + b, 0], stress[t, p0 + b, 1]
-                    m[t, b], h[t, b] = 0.5 * (sxx + syy), 0.5 * (sxx - syy)
-                    xy[t, b], zz[t, b] = stress[t, p0 + b, 2], stress[t, p0 + b, 3]
-                    tr[t, b] = 2.0 * m[t, b] + zz[t, b]
+    for p0 in range(0, n_p, nb_max):
+        nb = min(nb_max, n_p - p0)
+        for t in range(n_t):
+            for b in range(nb):
+                sxx, syy = stress[t, p0 + b, 0], stress[t, p0 + b, 1]
+                m[t, b], h[t, b] = 0.5 * (sxx + syy), 0.5 * (sxx - syy)
+                xy[t, b], zz[t, b] = stress[t, p0 + b, 2], stress[t, p0 + b, 3]
+                tr[t, b] = 2.0 * m[t, b] + zz[t, b]
+        if in_plane and whole:  # cs._coarse_in_plane
             cs._coarse_in_plane(m, h, xy, tr, 0, nb, nu, grid[0], grid[1], codes, par, E,
                                 best, found)  # fmt: skip
             total += found[0, 0]
-        return total
-    for p in range(n_p):
-        for t in range(n_t):
-            sxx, syy = stress[t, p, 0], stress[t, p, 1]
-            m[t, 0], h[t, 0] = 0.5 * (sxx + syy), 0.5 * (sxx - syy)
-            xy[t, 0], zz[t, 0] = stress[t, p, 2], stress[t, p, 3]
-            tr[t, 0] = 2.0 * m[t, 0] + zz[t, 0]
-        if whole:
-            cs._coarse(data, 0, grid, axes, rank, codes, par, nu, E, in_plane, work, scratch,
-                       best, found, sup)  # fmt: skip
-            total += found[0, 0]
-        else:
-            cs._grid_summaries(m, h, xy, zz, tr, 0, nu, grid[0], grid[1], axes, in_plane,
-                               work[0], scratch)  # fmt: skip
-            total += work[0][0, 0]
+        elif in_plane:
+            for b in range(nb):
+                cs._grid_summaries(m, h, xy, zz, tr, b, nu, grid[0], grid[1], axes, in_plane,
+                                   work[0], scratch)  # fmt: skip
+                total += work[0][0, 0]
+        else:  # cs._coarse_3d, its summaries alone unless whole
+            cs._coarse_3d(data, nb, grid, axes, rank, codes, par, nu, E, work, scratch, best,
+                          found, sup, whole)  # fmt: skip
+            total += found[0, 0] if whole else scratch[1][0, 0]
     return total
 
 

@@ -232,7 +232,7 @@ def _reset(out, start, stop):
             hi[g], lo[g] = -np.inf, np.inf
 
 
-@numba.njit(inline="always", **_LOOPS)  # in 3D called per point: as :func:`_coarse`
+@numba.njit(inline="always", **_LOOPS)  # called per point (3D: :func:`_coarse_3d`)
 def _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratch, rows=-1):
     """Running max / min over the steps of every grid plane at point ``p`` into ``out``
     (12, G): sigma_n, E eps_n and the shear extents (in-plane tau_e; 3D tau_1, tau_2, their
@@ -274,13 +274,25 @@ def _grid_summaries(m, h, xy, zz, tr, p, nu, c2, s2, axes, in_plane, out, scratc
                 o4[g] = te if te > o4[g] else o4[g]
                 o5[g] = te if te < o5[g] else o5[g]
         return
-    tc2, ts2, psp, pcp = axes  # single precision, as ``scratch``
     s32, o32 = scratch
+    _summaries_3d(m, h, xy, zz, tr, p, nu, axes[0], axes[1], axes[2], axes[3], s32[0], s32[1],
+                  s32[2], s32[3], s32[4], s32[5], o32, rows)  # fmt: skip
+
+
+@numba.njit(inline="always", **_JIT)  # per point: arrays made outside the points' loop
+def _summaries_3d(m, h, xy, zz, tr, p, nu, tc2, ts2, psp, pcp, ee_t, te_t, d_hi, d_lo, te_hi,
+                  te_lo, o32, rows):  # fmt: skip
+    """The 3D branch of :func:`_grid_summaries` (its docstring) into ``o32`` (12, G), the
+    axes and scratch rows passed one by one: no array view is made here (a view made per
+    point is a reference count and its release, measured ~35 % of the 3D search)."""
+    a = 1.0 + nu
+    n_t = m.shape[0]
     n_th, n_ps = tc2.size, psp.size
     n_g = n_th * n_ps + 1
-    _reset(o32, 0, n_g)
-    ee_t, te_t = s32[0], s32[1]
-    d_hi, d_lo, te_hi, te_lo = s32[2], s32[3], s32[4], s32[5]
+    for r in range(12):
+        v = -np.inf if r % 2 == 0 else np.inf
+        for g in range(n_g):
+            o32[r, g] = v
     for i in range(n_th):
         d_hi[i], te_hi[i] = -np.inf, -np.inf
         d_lo[i], te_lo[i] = np.inf, np.inf
@@ -562,26 +574,6 @@ def _largest(value, n):
     return top
 
 
-@numba.njit(inline="always", **_JIT)  # a call per point would pass ~30 arrays (measured 8 %)
-def _coarse(data, p, grid, axes, rank, codes, par, nu, E, in_plane, work, scratch, best, found,
-            sup):  # fmt: skip
-    """Index of the best grid plane of every criterion at point ``p`` of the step data, into
-    ``best``, and its quantities (value, tau, sigma_n max and min, normal strain amplitude)
-    into ``found`` (5, C); the grid circles as the module docstring says."""
-    m, h, xy, zz, tr = data[0], data[1], data[2], data[3], data[4]
-    out = work[0]
-    if in_plane:
-        _coarse_in_plane(m, h, xy, tr, p, 1, nu, grid[0], grid[1], codes, par, E, best, found)
-        return
-    flat = True  # every criterion convex in the tilt: the in-plane row and psi = 0
-    for ci in range(codes.size):
-        flat = flat and _convex_in_tilt(codes[ci], par[ci])
-    _grid_summaries(m, h, xy, zz, tr, p, nu, grid[0], grid[1], axes, in_plane, out, scratch,
-                    1 if flat else -1)  # fmt: skip
-    # the single precision summaries (:func:`_grid_summaries`)
-    _grid_best(scratch[1], data, p, grid, rank, codes, par, E, in_plane, work, best, found, sup)
-
-
 @numba.njit(inline="always", **_LOOPS)
 def _value_at(code, k, sy, shear_modulus, kind, limit, E, s_hi, s_lo, e_hi, e_lo, tau):
     """:func:`_values` of one plane from its summaries and the criterion's constants (``par``
@@ -632,7 +624,7 @@ def _grid_values(code, k, sy, shear_modulus, kind, limit, E, n, s_hi, s_lo, e_rn
 
 @numba.njit(**_LOOPS)
 def _coarse_in_plane(m, h, xy, tr, p0, nb, nu, c2, s2, codes, par, E, best, found):
-    """:func:`_coarse` of the in-plane grid for points ``p0:p0 + nb`` of the step data, into
+    """:func:`_coarse_3d` of the in-plane grid for points ``p0:p0 + nb`` of the step data, into
     ``best`` (C nb) and ``found`` (7, C nb) at ``ci nb + b``: the summaries, each criterion's
     best plane (no circles: the shear paths are straight) and its grid neighbours' values.
 
@@ -757,81 +749,153 @@ def _coarse_in_plane(m, h, xy, tr, p0, nb, nu, c2, s2, codes, par, E, best, foun
             found[6, i] = g_val[(arg[b] + 1 if arg[b] < n_g - 1 else 0) * nb + b]
 
 
-@numba.njit(inline="always", **_JIT)  # a call would pass ~20 arrays per point
-def _grid_best(out, data, p, grid, rank, codes, par, E, in_plane, work, best, found, sup):
-    """:func:`_coarse` from the grid's summaries ``out`` (12, G), double or single precision."""
-    m, h, xy, zz, _, x, y = data
+@numba.njit(inline="always", **_JIT)
+def _values_3d(code, k, sy, shear_modulus, kind, limit, E, o32, t, n, v):
+    """:func:`_value_at` of the grid planes ``0:n`` from the summaries ``o32`` and shear
+    amplitudes ``t`` into ``v``, the criterion's test outside the loops so that each loop
+    vectorises (the same expressions: the same numbers)."""
+    if code == SWT:
+        for g in range(n):
+            v[g] = o32[0, g] * (0.5 * (o32[2, g] - o32[3, g]) / E)
+    elif code == STRAIN_LIFE:
+        for g in range(n):
+            v[g] = 0.5 * (o32[2, g] - o32[3, g]) / E
+    elif code == STRESS_LIFE:
+        for g in range(n):
+            v[g] = _value_at(code, k, sy, shear_modulus, kind, limit, E, o32[0, g], o32[1, g],
+                             o32[2, g], o32[3, g], t[g])  # fmt: skip
+    elif code == FINDLEY:
+        for g in range(n):
+            v[g] = t[g] + k * o32[0, g]
+    elif code == FATEMI_SOCIE:
+        for g in range(n):
+            v[g] = (t[g] / shear_modulus) * (1.0 + k * o32[0, g] / sy)
+    else:  # MWCM
+        for g in range(n):
+            v[g] = t[g]
+
+
+@numba.njit(**_JIT)  # the search's flags: its summaries' float32 round-off, its choices
+def _coarse_3d(data, nb, grid, axes, rank, codes, par, nu, E, work, scratch, best, found, sup,
+               select=True):  # fmt: skip
+    """The best 3D grid plane of every criterion at each point b of a block of ``nb`` points of
+    the step data, into ``best`` (C nb) and its quantities (value, tau, sigma_n max and min,
+    normal strain amplitude) into ``found`` (5+, C nb), at ``ci nb + b``; the grid circles as
+    the module docstring says. ``select`` False: the summaries alone (a benchmark's phase).
+
+    Point by point, every array made before the points' loop, the per-plane values by loops
+    that make no view (:func:`_values_3d`): a view made per point and criterion (the rows of the
+    summaries, ``par[ci]``) was a reference count and its release each, ~35 % of the 3D
+    search in ``NRT_incref``/``NRT_decref`` (perf)."""
+    m, h, xy, zz, tr, x, y = data
     _, lo, hi, tau, value, _, vhi, done, order = work
-    n_g = grid.shape[1]
+    tc2, ts2, psp, pcp = axes  # single precision (:func:`_grid_summaries`)
+    s32, o32 = scratch
+    ee_t, te_t, d_hi, d_lo, te_hi, te_lo = s32[0], s32[1], s32[2], s32[3], s32[4], s32[5]
     c2, s2, sp, cp = grid[0], grid[1], grid[2], grid[3]
+    n_g, n_c = grid.shape[1], codes.size
+    flat = True  # every criterion convex in the tilt: the in-plane row and psi = 0
     shear = False
-    for code in codes:
-        shear = shear or _needs_shear(code)
-    n_open_grid = 0  # planes whose circle is open (bounds apart): none, no circle to rank
-    if shear:
-        _shear_bounds(out, 0, n_g, in_plane, lo, hi)
-        for g in range(n_g):
-            tau[g] = lo[g]
-            done[g] = in_plane or not hi[g] > lo[g] * (1.0 + 1e-12)
-            n_open_grid += 0 if done[g] else 1
-    for ci in range(codes.size):
-        code = codes[ci]
-        if not in_plane and _convex_in_tilt(code, par[ci]):
-            # its maximum is on the in-plane row (sin psi = 1) or the plane normal to z
-            # (docs/explanation/fatigue.md): the tilted planes are not candidates
-            n_row = 1
-            while n_row < n_g - 1 and sp[n_row] == sp[0]:
-                n_row += 1
-            _values(code, par[ci], E, out, tau, 0, n_row, value)
-            _values(code, par[ci], E, out, tau, n_g - 1, n_g, value)
-            for g in range(n_row, n_g - 1):
-                value[g] = -np.inf
-        elif n_open_grid and _needs_shear(code):
-            # exact circles in decreasing order of the value's upper bound, while it can win;
-            # ``value`` at ``tau``: the lower bound, or the circle another criterion took
-            _values(code, par[ci], E, out, tau, 0, n_g, value)
-            _values(code, par[ci], E, out, hi, 0, n_g, vhi)
-            top = _bounds_top(value, vhi, n_g)
-            slack = _TIE * abs(top) if code == MWCM else 0.0
-            # the planes whose bound reaches the best lower bound, open ones first
-            n_open = _reaching(vhi, done, top - slack, n_g, order)
-            while n_open:
-                pick = 0
-                for i in range(1, n_open):
-                    if vhi[order[i]] > vhi[order[pick]]:
-                        pick = i
-                arg = order[pick]
+    for ci in range(n_c):
+        flat = flat and _convex_in_tilt(codes[ci], par[ci])
+        shear = shear or _needs_shear(codes[ci])
+    rows = 1 if flat else -1
+    n_row = 1  # the first row of psi (sin psi = 1): a convex criterion's candidates
+    while n_row < n_g - 1 and sp[n_row] == sp[0]:
+        n_row += 1
+    for b in range(nb):
+        _summaries_3d(m, h, xy, zz, tr, b, nu, tc2, ts2, psp, pcp, ee_t, te_t, d_hi, d_lo,
+                      te_hi, te_lo, o32, rows)  # fmt: skip
+        if not select:
+            continue
+        n_open_grid = 0  # planes whose circle is open (bounds apart): none, no circle to rank
+        if shear:  # :func:`_shear_bounds`, float32 ranges as there
+            for g in range(n_g):
+                rx = o32[4, g] - o32[5, g]
+                ry = o32[6, g] - o32[7, g]
+                ru = (o32[8, g] - o32[9, g]) * _HALF_SQRT2
+                rv = (o32[10, g] - o32[11, g]) * _HALF_SQRT2
+                lo[g] = 0.5 * max(max(rx, ry), max(ru, rv))
+                hi[g] = 0.5 * math.sqrt(min(rx * rx + ry * ry, ru * ru + rv * rv))
+                tau[g] = lo[g]
+                done[g] = not hi[g] > lo[g] * (1.0 + 1e-12)
+                n_open_grid += 0 if done[g] else 1
+        for ci in range(n_c):
+            code = codes[ci]
+            k, sy, shear_modulus, kind, limit = par[ci, 0], par[ci, 1], par[ci, 2], \
+                par[ci, 3], par[ci, 4]  # fmt: skip
+            if code == STRAIN_LIFE or (code == STRESS_LIFE and kind == NO_CORRECTION):
+                # convex in the tilt (:func:`_convex_in_tilt`): its maximum is on the in-plane
+                # row (sin psi = 1) or the plane normal to z (docs/explanation/fatigue.md)
+                _values_3d(code, k, sy, shear_modulus, kind, limit, E, o32, tau, n_g, value)
+                for g in range(n_row, n_g - 1):
+                    value[g] = -np.inf
+            elif n_open_grid and _needs_shear(code):
+                # exact circles in decreasing order of the value's upper bound, while it can
+                # win; ``value`` at ``tau``: the lower bound, or the circle another criterion
+                # took; ``vhi`` the larger of the values at the bounds
+                _values_3d(code, k, sy, shear_modulus, kind, limit, E, o32, tau, n_g, value)
+                _values_3d(code, k, sy, shear_modulus, kind, limit, E, o32, hi, n_g, vhi)
+                top = -np.inf  # the best lower bound
+                for g in range(n_g):
+                    v, w = value[g], vhi[g]
+                    vhi[g] = max(v, w)
+                    top = max(top, min(v, w))
                 slack = _TIE * abs(top) if code == MWCM else 0.0
-                if not vhi[arg] >= top - slack:
-                    break
-                n_open -= 1
-                order[pick] = order[n_open]
-                sup[0] = -1
-                tau[arg] = _exact_tau(
-                    m, h, xy, zz, p, c2[arg], s2[arg], sp[arg], cp[arg], x, y, sup
-                )
-                done[arg] = True
-                _values(code, par[ci], E, out, tau, arg, arg + 1, value)
-                top = max(top, value[arg])
-        else:
-            _values(code, par[ci], E, out, tau, 0, n_g, value)
-        # exact ties (infinite stress_life values, symmetric states) go to the plane that
-        # comes first in the numpy search's grid order, ``rank``: the largest value first
-        # (a reduction LLVM vectorises), then the first plane that has it
-        top = _largest(value, n_g)
-        if code == MWCM:  # ties within the tolerance: the largest normal stress
-            arg = _best_tied(value, top - _TIE * max(abs(top), 1e-300), out[0], rank, n_g)
-        else:
-            arg = _first_at(value, top, rank, n_g)
-        best[ci] = arg
-        found[0, ci] = value[arg]
-        found[1, ci] = tau[arg] if _needs_shear(code) else 0.0
-        found[2, ci] = out[0, arg]
-        found[3, ci] = out[1, arg]
-        found[4, ci] = 0.5 * (out[2, arg] - out[3, arg]) / E
-        # the values of its grid neighbours (the in-plane golden-section bracket's ends)
-        found[5, ci] = value[(arg - 1) % n_g]
-        found[6, ci] = value[(arg + 1) % n_g]
+                # the planes whose bound reaches the best lower bound, open ones first
+                n_open = 0
+                for g in range(n_g):
+                    if not done[g] and vhi[g] >= top - slack:
+                        order[n_open] = g
+                        n_open += 1
+                while n_open:
+                    pick = 0
+                    for i in range(1, n_open):
+                        if vhi[order[i]] > vhi[order[pick]]:
+                            pick = i
+                    arg = order[pick]
+                    slack = _TIE * abs(top) if code == MWCM else 0.0
+                    if not vhi[arg] >= top - slack:
+                        break
+                    n_open -= 1
+                    order[pick] = order[n_open]
+                    sup[0] = -1
+                    tau[arg] = _exact_tau(
+                        m, h, xy, zz, b, c2[arg], s2[arg], sp[arg], cp[arg], x, y, sup
+                    )
+                    done[arg] = True
+                    value[arg] = _value_at(code, k, sy, shear_modulus, kind, limit, E,
+                                           o32[0, arg], o32[1, arg], o32[2, arg], o32[3, arg],
+                                           tau[arg])  # fmt: skip
+                    top = max(top, value[arg])
+            else:
+                _values_3d(code, k, sy, shear_modulus, kind, limit, E, o32, tau, n_g, value)
+            # exact ties (infinite stress_life values, symmetric states) go to the plane that
+            # comes first in the numpy search's grid order, ``rank``: the largest value first,
+            # then the first plane that has it (MWCM: of those within the tolerance, the
+            # largest normal stress, then the first)
+            top = -np.inf
+            for g in range(n_g):
+                top = max(top, value[g])
+            arg = 0
+            if code == MWCM:
+                low, high, first = top - _TIE * max(abs(top), 1e-300), -np.inf, n_g
+                for g in range(n_g):
+                    s_hi = o32[0, g]
+                    if value[g] >= low and (s_hi > high or (s_hi == high and rank[g] < first)):
+                        arg, high, first = g, s_hi, rank[g]
+            else:
+                first = n_g
+                for g in range(n_g):
+                    if value[g] == top and rank[g] < first:
+                        arg, first = g, rank[g]
+            i = ci * nb + b
+            best[i] = arg
+            found[0, i] = value[arg]
+            found[1, i] = tau[arg] if _needs_shear(code) else 0.0
+            found[2, i] = o32[0, arg]
+            found[3, i] = o32[1, arg]
+            found[4, i] = 0.5 * (o32[2, arg] - o32[3, arg]) / E
 
 
 # --------------------------------------------------------------------------- refinement
@@ -1419,7 +1483,6 @@ def search(
         np.full((n_q, 3), -1, dtype=np.int64),
     )
     cand_angles = (cand_rows[4, :n_q], cand_rows[5, :n_q])
-    best = np.empty(n_c, dtype=np.int64)
     exact = np.empty(n_q, dtype=np.bool_)  # the refinement's planes whose tau is exact
     bracket = np.empty((12, n_cur + _PAD))  # the golden search's scratch
     ends = np.empty((2, n_cur + _PAD))
@@ -1433,7 +1496,6 @@ def search(
         np.empty((6, axes[0].size + _PAD), dtype=np.float32),
         np.empty((12, n_g + _PAD), dtype=np.float32),
     )
-    found = np.empty((7, n_c))
     best_block = np.empty(n_cur, dtype=np.int64)
     found_block = np.empty((7, n_cur))
     cres = np.empty((5, n_cur + _PAD))
@@ -1464,14 +1526,13 @@ def search(
                 ends[0, i], ends[1, i] = found_block[5, i], found_block[6, i]
                 th[i], ps[i] = grid_theta[g], grid_psi[g]
                 c2[i], s2[i], sp[i], cp[i] = grid[0, g], grid[1, g], grid[2, g], grid[3, g]
-        for b in range(nb if not in_plane else 0):
-            _coarse(data, b, grid, axes32, rank, codes, par, nu, E, in_plane, work, scratch,
-                    best, found, sup)  # fmt: skip
-            for ci in range(n_c):
-                g, i = best[ci], ci * nb + b
+        else:  # the block's points in one call (:func:`_coarse_3d`)
+            _coarse_3d(data, nb, grid, axes32, rank, codes, par, nu, E, work, scratch,
+                       best_block, found_block, sup)  # fmt: skip
+            for i in range(n_c * nb):
+                g = best_block[i]
                 for r in range(5):
-                    cres[r, i] = found[r, ci]
-                ends[0, i], ends[1, i] = found[5, ci], found[6, ci]
+                    cres[r, i] = found_block[r, i]
                 th[i], ps[i] = grid_theta[g], grid_psi[g]
                 c2[i], s2[i], sp[i], cp[i] = grid[0, g], grid[1, g], grid[2, g], grid[3, g]
         if not in_plane:
