@@ -27,7 +27,7 @@ from collections.abc import Sequence
 import attrs
 import numpy as np
 
-from fretbem.validators import count_field, flag_field, number_field
+from fretbem.validators import count_field, flag_field, number_field, real_number, shown
 
 from .errors import FatigueInputError
 from .mcc import _HALF_SQRT2, circle_bounds_xy, minimum_circumscribed_circle_xy
@@ -767,6 +767,29 @@ def critical_plane_parameters(
     ``{method: CriterionResult}``.
     """
     stress = _validate_stress(stress)
+    E, nu = (
+        real_number(name, value, what=what, fix=f"give {name}", error=FatigueInputError)
+        for name, value, what in (("E", E, "MPa"), ("nu", nu, "Poisson's ratio"))
+    )
+    findley_k, fatemi_socie_k, yield_strength = (
+        None
+        if value is None
+        else real_number(
+            name, value, what=what, fix=f"give {name}, or None", error=FatigueInputError
+        )
+        for name, value, what in (
+            ("findley_k", findley_k, "the Findley normal-stress factor"),
+            ("fatemi_socie_k", fatemi_socie_k, "the Fatemi-Socie factor"),
+            ("yield_strength", yield_strength, "MPa"),
+        )
+    )
+    if isinstance(methods, str):
+        raise FatigueInputError(
+            f"methods must be a list of method names, got the string {methods!r}; give "
+            f"[{methods!r}]"
+        )
+    if search is not None and not isinstance(search, PlaneSearch):
+        raise FatigueInputError(f"search must be a PlaneSearch or None, got {shown(search)}")
     if not (E > 0 and -1.0 < nu < 0.5):
         raise FatigueInputError(
             f"elastic constants must have E > 0 and -1 < nu < 0.5, got {E}, {nu}"

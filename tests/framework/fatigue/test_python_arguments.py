@@ -6,10 +6,12 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 from fretbem.fatigue import (
     critical_distance_from_threshold,
+    critical_plane_parameters,
     estimate_life,
     load_material,
     select_cycle,
@@ -19,6 +21,9 @@ from fretbem.fatigue.critical_distance import critical_distance_values
 from fretbem.fatigue.errors import FatigueInputError
 
 TI = load_material("Ti-6Al-4V")
+#: a small stress history (5 steps, 10 points): sxx cycling
+STRESS = np.zeros((5, 10, 4))
+STRESS[:, :, 0] = np.linspace(-100.0, 100.0, 5)[:, None]
 
 
 @pytest.mark.parametrize(
@@ -41,6 +46,15 @@ TI = load_material("Ti-6Al-4V")
         (lambda: select_cycle(4, steps=[1.5, 2]), r"cycle steps\[0\] must be a whole number"),
         (lambda: select_cycle(4, steps="12"), r"cycle steps must list step indices"),
         (lambda: turning_points(["a", "b"]), r"cycle driver must be a 1D load history of numbers"),
+        (lambda: critical_plane_parameters(STRESS, E=10**400, nu=0.3), r"E must be a finite"),
+        (lambda: critical_plane_parameters(STRESS, E="7e4", nu=0.3), r"E must be a number"),
+        (lambda: critical_plane_parameters(STRESS, E=7e4, nu=True), r"nu must be a number"),
+        (lambda: critical_plane_parameters(STRESS, E=7e4, nu=0.3, methods=("findley",),
+                                           findley_k="0.3"), r"findley_k must be a number"),
+        (lambda: critical_plane_parameters(STRESS, E=7e4, nu=0.3, methods="swt"),
+         r"methods must be a list of method names, got the string 'swt'"),
+        (lambda: critical_plane_parameters(STRESS, E=7e4, nu=0.3, search={"compiled": True}),
+         r"search must be a PlaneSearch or None"),
         (lambda: turning_points([0.0, math.nan, 1.0]), r"cycle driver has NaN or infinite"),
     ],
 )  # fmt: skip
