@@ -1295,9 +1295,13 @@ def _golden_in_plane(m, h, xy, tr, nb, codes, par, nu, E, step, levels, c2, s2, 
             q2[i], qs2[i] = c2[i] * tc - s2[i] * ts, s2[i] * tc + c2[i] * ts
         far = False  # a test of every plane first (vectorised), the branches only if needed
         for i in range(n):
-            q2[i] = c2[i] if qx[i] == 0.0 else q2[i]
-            qs2[i] = s2[i] if qx[i] == 0.0 else qs2[i]
             far = far | (abs(2.0 * qx[i]) >= 0.1)
+        # conditional stores, here and below: a select of two arrays' elements became a load
+        # through a selected pointer, which LLVM does not vectorise (the update took ~60 % of
+        # this function, scalar); masked stores keep it vectorised, the same numbers
+        for i in range(n):
+            if qx[i] == 0.0:
+                q2[i], qs2[i] = c2[i], s2[i]
         for i in range(n if far else 0):
             if abs(2.0 * qx[i]) >= 0.1:
                 tc, ts = math.cos(2.0 * qx[i]), math.sin(2.0 * qx[i])
@@ -1313,27 +1317,28 @@ def _golden_in_plane(m, h, xy, tr, nb, codes, par, nu, E, step, levels, c2, s2, 
             tied = (v > cv + tol) | ((v >= cv - tol) & (s_hi[i] > second[i]))
             up[i] = tied if is_mwcm[i] else v > cv
         if not last:
+            # r: the larger side is above. The end on the side of the turn takes the
+            # current value where the plane moves (u), the new one where not: lo's where
+            # u == r, hi's where u != r (every value loaded, then selected: vectorised)
             for i in range(n):
-                x, v, cv, u = qx[i], value[i], cvalue[i], up[i]
-                r = hi[i] > -lo[i]
-                ur, u_r, _ur, _u_r = u & r, u & ~r, ~u & r, ~u & ~r
-                l0, h0 = lo[i], hi[i]
-                lo[i] = -x if ur else (l0 - x if u_r else (x if _u_r else l0))
-                hi[i] = h0 - x if ur else (-x if u_r else (x if _ur else h0))
-                f_lo[i] = cv if ur else (v if _u_r else f_lo[i])
-                f_hi[i] = cv if u_r else (v if _ur else f_hi[i])
+                x, u, v, cv = qx[i], up[i], value[i], cvalue[i]
+                l0, h0, fl, fh = lo[i], hi[i], f_lo[i], f_hi[i]
+                r = h0 > -l0
+                nv = cv if u else v
+                lo[i] = (-x if r else l0 - x) if u else (l0 if r else x)
+                hi[i] = (h0 - x if r else -x) if u else (x if r else h0)
+                f_lo[i] = nv if u == r else fl
+                f_hi[i] = fh if u == r else nv
         for i in range(n):
-            u = up[i]
-            th[i] = th[i] + qx[i] if u else th[i]
-            c2[i] = q2[i] if u else c2[i]
-            s2[i] = qs2[i] if u else s2[i]
+            if up[i]:
+                th[i] = th[i] + qx[i]
+                c2[i], s2[i] = q2[i], qs2[i]
         for i in range(n):
-            u = up[i]
-            cvalue[i] = value[i] if u else cvalue[i]
-            second[i] = s_hi[i] if u else second[i]
-            ctau[i] = tau[i] if u else ctau[i]
-            amp = 0.5 * (e_hi[i] - e_lo[i]) / E  # read where the criterion's value is
-            camp[i] = amp if u and is_strain[i] else camp[i]
+            if up[i]:
+                cvalue[i], second[i], ctau[i] = value[i], s_hi[i], tau[i]
+        for i in range(n):
+            if up[i] and is_strain[i]:  # read where the criterion's value is
+                camp[i] = 0.5 * (e_hi[i] - e_lo[i]) / E
     # the critical planes' quantities: those of their winning iteration, sigma_n's minimum
     # and (where the value does not read it) the strain's range once on the final planes
     for ci in range(n_c):
