@@ -469,35 +469,6 @@ def _values(code, par, E, out, tau, start, stop, value):
             v[g] = t[g]
 
 
-@numba.njit(inline="always", **_LOOPS)  # inlined: as :func:`_shear_bounds`
-def _in_plane_values(code, par, E, out, start, stop, tau, value):
-    """:func:`_shear_bounds` and :func:`_values` of in-plane planes ``start:stop``: the shear
-    amplitude is half the range of tau_e (a straight path). Rows of ``out`` taken as views
-    indexed from 0 (as :func:`_values`), one branch-free loop each, so that LLVM vectorises
-    them with contiguous loads and stores."""
-    t, v = tau[start:stop], value[start:stop]
-    n = v.size
-    if not _needs_shear(code):
-        for g in range(n):
-            t[g] = 0.0
-        _values(code, par, E, out, tau, start, stop, value)
-        return
-    t_hi, t_lo, s_hi = out[4, start:stop], out[5, start:stop], out[0, start:stop]
-    for g in range(n):
-        t[g] = 0.5 * (t_hi[g] - t_lo[g])
-    if code == FINDLEY:
-        k = par[0]
-        for g in range(n):
-            v[g] = t[g] + k * s_hi[g]
-    elif code == FATEMI_SOCIE:
-        k, sy, shear_modulus = par[0], par[1], par[2]
-        for g in range(n):
-            v[g] = (t[g] / shear_modulus) * (1.0 + k * s_hi[g] / sy)
-    else:  # MWCM
-        for g in range(n):
-            v[g] = t[g]
-
-
 @numba.njit(**_JIT)
 def _needs_shear(code):
     return code == FINDLEY or code == FATEMI_SOCIE or code == MWCM
@@ -1180,76 +1151,10 @@ def _extreme_normal(m, h, xy, nb, c2, s2, start, o, upper):
 
 
 @numba.njit(inline="always", **_LOOPS)
-def _extreme_strain(m, h, xy, tr, nb, nu, c2, s2, start, o, upper):
-    """:func:`_extreme_normal` of E eps_n = (1 + nu) sigma_n - nu tr."""
-    a = 1.0 + nu
-    o, c2, s2 = o[start : start + nb], c2[start : start + nb], s2[start : start + nb]
-    for b in range(nb):
-        o[b] = -np.inf if upper else np.inf
-    if upper:  # the test outside the loops: LLVM does not unswitch every loop
-        for t in range(m.shape[0]):
-            for b in range(nb):
-                en = a * (m[t, b] + h[t, b] * c2[b] + xy[t, b] * s2[b]) - nu * tr[t, b]
-                o[b] = en if en > o[b] else o[b]
-        return
-    for t in range(m.shape[0]):
-        for b in range(nb):
-            en = a * (m[t, b] + h[t, b] * c2[b] + xy[t, b] * s2[b]) - nu * tr[t, b]
-            o[b] = en if en < o[b] else o[b]
-
-
-@numba.njit(inline="always", **_LOOPS)
-def _extreme_shear(m, h, xy, nb, c2, s2, start, o, upper):
-    """:func:`_extreme_normal` of tau_e."""
-    o, c2, s2 = o[start : start + nb], c2[start : start + nb], s2[start : start + nb]
-    for b in range(nb):
-        o[b] = -np.inf if upper else np.inf
-    if upper:  # the test outside the loops: LLVM does not unswitch every loop
-        for t in range(m.shape[0]):
-            for b in range(nb):
-                te = xy[t, b] * c2[b] - h[t, b] * s2[b]
-                o[b] = te if te > o[b] else o[b]
-        return
-    for t in range(m.shape[0]):
-        for b in range(nb):
-            te = xy[t, b] * c2[b] - h[t, b] * s2[b]
-            o[b] = te if te < o[b] else o[b]
-
-
-@numba.njit(inline="always", **_LOOPS)
-def _fused_extremes(m, h, xy, tr, nb, nu, c2, s2, start, out, strain):
-    """sigma_n's maximum and (``strain``) E eps_n's or (not) tau_e's maximum and minimum on
-    planes ``start:start + nb`` (plane ``start + b`` of point b) in one loop over the steps
-    and points: the step data and planes read once (measured faster than a loop per
-    extreme), the same numbers."""
-    a = 1.0 + nu
-    stop = start + nb
-    o0, c2, s2 = out[0, start:stop], c2[start:stop], s2[start:stop]
-    o_hi, o_lo = (out[2, start:stop], out[3, start:stop]) if strain else \
-        (out[4, start:stop], out[5, start:stop])  # fmt: skip
-    for b in range(nb):
-        o0[b], o_hi[b], o_lo[b] = -np.inf, -np.inf, np.inf
-    if strain:  # the test outside the loops: LLVM does not unswitch every loop
-        for t in range(m.shape[0]):
-            for b in range(nb):
-                ee = m[t, b] + h[t, b] * c2[b] + xy[t, b] * s2[b]
-                en = a * (m[t, b] + h[t, b] * c2[b] + xy[t, b] * s2[b]) - nu * tr[t, b]
-                o0[b] = max(o0[b], ee)
-                o_hi[b], o_lo[b] = max(o_hi[b], en), min(o_lo[b], en)
-        return
-    for t in range(m.shape[0]):
-        for b in range(nb):
-            ee = m[t, b] + h[t, b] * c2[b] + xy[t, b] * s2[b]
-            te = xy[t, b] * c2[b] - h[t, b] * s2[b]
-            o0[b] = max(o0[b], ee)
-            o_hi[b], o_lo[b] = max(o_hi[b], te), min(o_lo[b], te)
-
-
-@numba.njit(inline="always", **_LOOPS)
 def _final_extremes(m, h, xy, tr, nb, nu, c2, s2, start, out):
     """sigma_n's minimum and E eps_n's maximum and minimum on planes ``start:start + nb``
     into rows 1-3 of ``out`` in one loop over the steps and points (the expressions and
-    selects of :func:`_extreme_normal` and :func:`_extreme_strain`: the same numbers, the step
+    selects of :func:`_extreme_normal` and E eps_n's likewise: the same numbers, the step
     data read once)."""
     a = 1.0 + nu
     stop = start + nb
@@ -1266,32 +1171,87 @@ def _final_extremes(m, h, xy, tr, nb, nu, c2, s2, start, out):
             e_lo[b] = en if en < e_lo[b] else e_lo[b]
 
 
-@numba.njit(inline="always", **_LOOPS)  # inlined: as :func:`_shear_bounds`
-def _in_plane_summaries(m, h, xy, tr, nb, nu, codes, par, c2, s2, out, whole):
-    """The summaries (rows of :func:`_grid_summaries`) of plane ``ci nb + b`` of every
-    criterion ci and point b, by the steps outside: those its value reads (sigma_n max;
-    sigma_n min for stress life; the strain's range for SWT and strain life; tau_e's for the
-    shear criteria), or (``whole``) all six."""
+@numba.njit(inline="always", **_LOOPS)
+def _golden_pass(m, h, xy, tr, nb, nu, codes, par, E, q2, qs2, so, tau, value):
+    """The summaries the criteria's values read (sigma_n max; its min for stress life; the
+    range of E eps_n for SWT and strain life, of tau_e for the shear criteria: a straight
+    path) and the values (:func:`_values`) of plane (ci, b) of every criterion ci and point b:
+    ``q2``, ``qs2``, ``tau``, ``value`` (C, nb), ``so`` (6, C, nb) the rows of
+    :func:`_grid_summaries`, indexed, not sliced (a view per criterion and iteration was an
+    atomic reference count and its release); the same expressions, the same numbers."""
+    a = 1.0 + nu
     for ci in range(codes.size):
-        code, start = codes[ci], ci * nb
+        code = codes[ci]
         strain = code == SWT or code == STRAIN_LIFE
-        if not whole and (strain or _needs_shear(code)):
-            _fused_extremes(m, h, xy, tr, nb, nu, c2, s2, start, out, strain)
-            continue
-        _extreme_normal(m, h, xy, nb, c2, s2, start, out[0], True)
-        if whole or code == STRESS_LIFE:
-            _extreme_normal(m, h, xy, nb, c2, s2, start, out[1], False)
-        if whole or strain:
-            _extreme_strain(m, h, xy, tr, nb, nu, c2, s2, start, out[2], True)
-            _extreme_strain(m, h, xy, tr, nb, nu, c2, s2, start, out[3], False)
-        if whole or _needs_shear(code):
-            _extreme_shear(m, h, xy, nb, c2, s2, start, out[4], True)
-            _extreme_shear(m, h, xy, nb, c2, s2, start, out[5], False)
+        if strain:
+            for b in range(nb):
+                so[0, ci, b], so[2, ci, b], so[3, ci, b] = -np.inf, -np.inf, np.inf
+            for t in range(m.shape[0]):
+                for b in range(nb):
+                    c, s = q2[ci, b], qs2[ci, b]
+                    ee = m[t, b] + h[t, b] * c + xy[t, b] * s
+                    en = a * (m[t, b] + h[t, b] * c + xy[t, b] * s) - nu * tr[t, b]
+                    so[0, ci, b] = max(so[0, ci, b], ee)
+                    so[2, ci, b], so[3, ci, b] = max(so[2, ci, b], en), min(so[3, ci, b], en)
+        elif _needs_shear(code):
+            for b in range(nb):
+                so[0, ci, b], so[4, ci, b], so[5, ci, b] = -np.inf, -np.inf, np.inf
+            for t in range(m.shape[0]):
+                for b in range(nb):
+                    c, s = q2[ci, b], qs2[ci, b]
+                    ee = m[t, b] + h[t, b] * c + xy[t, b] * s
+                    te = xy[t, b] * c - h[t, b] * s
+                    so[0, ci, b] = max(so[0, ci, b], ee)
+                    so[4, ci, b], so[5, ci, b] = max(so[4, ci, b], te), min(so[5, ci, b], te)
+        else:  # stress life: sigma_n's maximum and minimum (:func:`_extreme_normal`)
+            for b in range(nb):
+                so[0, ci, b], so[1, ci, b] = -np.inf, np.inf
+            for t in range(m.shape[0]):
+                for b in range(nb):
+                    ee = m[t, b] + h[t, b] * q2[ci, b] + xy[t, b] * qs2[ci, b]
+                    so[0, ci, b] = ee if ee > so[0, ci, b] else so[0, ci, b]
+            for t in range(m.shape[0]):
+                for b in range(nb):
+                    ee = m[t, b] + h[t, b] * q2[ci, b] + xy[t, b] * qs2[ci, b]
+                    so[1, ci, b] = ee if ee < so[1, ci, b] else so[1, ci, b]
+        k, sy, shear_modulus, kind, limit = par[ci, 0], par[ci, 1], par[ci, 2], par[ci, 3], \
+            par[ci, 4]  # fmt: skip
+        if code == SWT:
+            for b in range(nb):
+                tau[ci, b] = 0.0
+                value[ci, b] = so[0, ci, b] * (0.5 * (so[2, ci, b] - so[3, ci, b]) / E)
+        elif code == STRAIN_LIFE:
+            for b in range(nb):
+                tau[ci, b] = 0.0
+                value[ci, b] = 0.5 * (so[2, ci, b] - so[3, ci, b]) / E
+        elif code == STRESS_LIFE:
+            for b in range(nb):
+                tau[ci, b] = 0.0
+                s_hi, s_lo = so[0, ci, b], so[1, ci, b]
+                amp, mean = 0.5 * (s_hi - s_lo), 0.5 * (s_hi + s_lo)
+                if kind == NO_CORRECTION:
+                    value[ci, b] = amp + 0.0 * mean
+                    continue
+                ratio = mean / limit
+                factor = 1.0 - ratio * ratio if kind == GERBER else 1.0 - ratio
+                value[ci, b] = amp / factor if factor > 0.0 else np.inf
+        else:
+            for b in range(nb):
+                tau[ci, b] = 0.5 * (so[4, ci, b] - so[5, ci, b])
+            if code == FINDLEY:
+                for b in range(nb):
+                    value[ci, b] = tau[ci, b] + k * so[0, ci, b]
+            elif code == FATEMI_SOCIE:
+                for b in range(nb):
+                    value[ci, b] = (tau[ci, b] / shear_modulus) * (1.0 + k * so[0, ci, b] / sy)
+            else:  # MWCM
+                for b in range(nb):
+                    value[ci, b] = tau[ci, b]
 
 
 @numba.njit(**_JIT)
 def _golden_in_plane(m, h, xy, tr, nb, codes, par, nu, E, step, levels, c2, s2, th, cres, ends,
-                     gw, out, tau, value):  # fmt: skip
+                     gw, out):  # fmt: skip
     """The numpy search's ``_golden`` (in-plane) for a block of points, all criteria's planes
     of an iteration in one pass over the steps (the steps outside, the planes ``ci nb + b``,
     criterion ci and point b, inside: vectorised), the bracket's update by selects (its four
@@ -1300,14 +1260,20 @@ def _golden_in_plane(m, h, xy, tr, nb, codes, par, nu, E, step, levels, c2, s2, 
     ``c2``, ``s2``, ``th`` (C nb): the grid's planes in, the critical ones out; ``cres``
     (5, C nb): their quantities, likewise; ``ends`` (2, C nb): the values of the grid
     neighbours, or empty (evaluated here). ``gw`` (12, C nb) scratch; ``out`` (12, C nb),
-    ``tau``, ``value`` (C nb): the summaries and values of the evaluated planes. An iteration
+    the critical planes' summaries. An iteration
     evaluates only the summaries the criteria's values read, the others on the critical
     planes once at the end (the same numbers: the same planes, the same sums)."""
     n_c = codes.size
     n = n_c * nb
     lo, hi, f_lo, f_hi = gw[0, :n], gw[1, :n], gw[2, :n], gw[3, :n]
     cvalue, second, cscale, qx = gw[4, :n], gw[5, :n], gw[6, :n], gw[7, :n]
-    q2, qs2, ctau, camp = gw[8, :n], gw[9, :n], gw[10, :n], gw[11, :n]
+    ctau, camp = gw[10, :n], gw[11, :n]
+    # the evaluated planes (cos, sin 2theta), their shear amplitudes, values and summaries:
+    # indexed (ci, b) in :func:`_golden_pass`, rows of C nb in the update (views made once)
+    ev = np.empty((10, n_c, nb))
+    q2d, qs2d, tau2, val2, so = ev[0], ev[1], ev[2], ev[3], ev[4:]
+    q2, qs2, tau, value = q2d.reshape(n), qs2d.reshape(n), tau2.reshape(n), val2.reshape(n)
+    s_hi, e_hi, e_lo = so[0].reshape(n), so[2].reshape(n), so[3].reshape(n)
     for i in range(n):
         cvalue[i], second[i] = cres[0, i], cres[2, i]
         ctau[i], camp[i] = cres[1, i], cres[4, i]
@@ -1321,15 +1287,12 @@ def _golden_in_plane(m, h, xy, tr, nb, codes, par, nu, E, step, levels, c2, s2, 
             tc, ts = _cos_sin(-2.0 * step if j == 0 else 2.0 * step)
             for i in range(n):
                 q2[i], qs2[i] = c2[i] * tc - s2[i] * ts, s2[i] * tc + c2[i] * ts
-            _in_plane_summaries(m, h, xy, tr, nb, nu, codes, par, q2, qs2, out, False)
-            for ci in range(n_c):
-                _in_plane_values(codes[ci], par[ci], E, out, ci * nb, (ci + 1) * nb, tau, value)
+            _golden_pass(m, h, xy, tr, nb, nu, codes, par, E, q2d, qs2d, so, tau2, val2)
             for i in range(n):
                 if j == 0:
                     f_lo[i] = value[i]
                 else:
                     f_hi[i] = value[i]
-    s_hi, e_hi, e_lo = out[0], out[2], out[3]
     # per plane: its criterion is MWCM, reads the strain; it moves at this iteration
     flags = np.empty((3, n), dtype=np.bool_)
     is_mwcm, is_strain, up = flags[0], flags[1], flags[2]
@@ -1359,16 +1322,18 @@ def _golden_in_plane(m, h, xy, tr, nb, codes, par, nu, E, step, levels, c2, s2, 
             q2[i], qs2[i] = c2[i] * tc - s2[i] * ts, s2[i] * tc + c2[i] * ts
         far = False  # a test of every plane first (vectorised), the branches only if needed
         for i in range(n):
-            q2[i] = c2[i] if qx[i] == 0.0 else q2[i]
-            qs2[i] = s2[i] if qx[i] == 0.0 else qs2[i]
             far = far | (abs(2.0 * qx[i]) >= 0.1)
+        # conditional stores, here and below: a select of two arrays' elements became a load
+        # through a selected pointer, which LLVM does not vectorise (the update took ~60 % of
+        # this function, scalar); masked stores keep it vectorised, the same numbers
+        for i in range(n):
+            if qx[i] == 0.0:
+                q2[i], qs2[i] = c2[i], s2[i]
         for i in range(n if far else 0):
             if abs(2.0 * qx[i]) >= 0.1:
                 tc, ts = math.cos(2.0 * qx[i]), math.sin(2.0 * qx[i])
                 q2[i], qs2[i] = c2[i] * tc - s2[i] * ts, s2[i] * tc + c2[i] * ts
-        _in_plane_summaries(m, h, xy, tr, nb, nu, codes, par, q2, qs2, out, False)
-        for ci in range(n_c):
-            _in_plane_values(codes[ci], par[ci], E, out, ci * nb, (ci + 1) * nb, tau, value)
+        _golden_pass(m, h, xy, tr, nb, nu, codes, par, E, q2d, qs2d, so, tau2, val2)
         # the update, every criterion's planes in loops indexed from 0 (an index ci nb + b
         # may be negative for numba: gathers and scatters), each writing few arrays
         for i in range(n):
@@ -1377,27 +1342,28 @@ def _golden_in_plane(m, h, xy, tr, nb, codes, par, nu, E, step, levels, c2, s2, 
             tied = (v > cv + tol) | ((v >= cv - tol) & (s_hi[i] > second[i]))
             up[i] = tied if is_mwcm[i] else v > cv
         if not last:
+            # r: the larger side is above. The end on the side of the turn takes the
+            # current value where the plane moves (u), the new one where not: lo's where
+            # u == r, hi's where u != r (every value loaded, then selected: vectorised)
             for i in range(n):
-                x, v, cv, u = qx[i], value[i], cvalue[i], up[i]
-                r = hi[i] > -lo[i]
-                ur, u_r, _ur, _u_r = u & r, u & ~r, ~u & r, ~u & ~r
-                l0, h0 = lo[i], hi[i]
-                lo[i] = -x if ur else (l0 - x if u_r else (x if _u_r else l0))
-                hi[i] = h0 - x if ur else (-x if u_r else (x if _ur else h0))
-                f_lo[i] = cv if ur else (v if _u_r else f_lo[i])
-                f_hi[i] = cv if u_r else (v if _ur else f_hi[i])
+                x, u, v, cv = qx[i], up[i], value[i], cvalue[i]
+                l0, h0, fl, fh = lo[i], hi[i], f_lo[i], f_hi[i]
+                r = h0 > -l0
+                nv = cv if u else v
+                lo[i] = (-x if r else l0 - x) if u else (l0 if r else x)
+                hi[i] = (h0 - x if r else -x) if u else (x if r else h0)
+                f_lo[i] = nv if u == r else fl
+                f_hi[i] = fh if u == r else nv
         for i in range(n):
-            u = up[i]
-            th[i] = th[i] + qx[i] if u else th[i]
-            c2[i] = q2[i] if u else c2[i]
-            s2[i] = qs2[i] if u else s2[i]
+            if up[i]:
+                th[i] = th[i] + qx[i]
+                c2[i], s2[i] = q2[i], qs2[i]
         for i in range(n):
-            u = up[i]
-            cvalue[i] = value[i] if u else cvalue[i]
-            second[i] = s_hi[i] if u else second[i]
-            ctau[i] = tau[i] if u else ctau[i]
-            amp = 0.5 * (e_hi[i] - e_lo[i]) / E  # read where the criterion's value is
-            camp[i] = amp if u and is_strain[i] else camp[i]
+            if up[i]:
+                cvalue[i], second[i], ctau[i] = value[i], s_hi[i], tau[i]
+        for i in range(n):
+            if up[i] and is_strain[i]:  # read where the criterion's value is
+                camp[i] = 0.5 * (e_hi[i] - e_lo[i]) / E
     # the critical planes' quantities: those of their winning iteration, sigma_n's minimum
     # and (where the value does not read it) the strain's range once on the final planes
     for ci in range(n_c):
@@ -1545,8 +1511,7 @@ def search(
                 _keep(cres, i, work[4], work[3], work[0], i, E)
         if in_plane:
             _golden_in_plane(m, h, xy, tr, nb, codes, par, nu, E, steps[0], levels, c2, s2, th,
-                             cres, ends if wraps else ends[:, :0], bracket, work[0], work[3],
-                             work[4])  # fmt: skip
+                             cres, ends if wraps else ends[:, :0], bracket, work[0])  # fmt: skip
         else:
             _refine_block(data, nb, cur_planes, cur_angles, cur, cres, cand, cand_angles,
                           codes, par, nu, E, steps, levels, work, exact)  # fmt: skip
