@@ -48,13 +48,6 @@ def positive(instance: Any, attribute: Any, value: Any) -> None:
         raise ValueError(f"{type(instance).__name__}.{attribute.name} must be > 0, got {value!r}")
 
 
-def non_negative(instance: Any, attribute: Any, value: Any) -> None:
-    """Require every entry to be finite and >= 0."""
-    finite(instance, attribute, value)
-    if not np.all(np.asarray(value, dtype=float) >= 0):
-        raise ValueError(f"{type(instance).__name__}.{attribute.name} must be >= 0, got {value!r}")
-
-
 def shape(*dims: int | None):
     """Validator requiring an array of the given shape (None matches any length)."""
 
@@ -80,24 +73,9 @@ def float_array(value: Any) -> np.ndarray:
     return arr
 
 
-def count(instance: Any, attribute: Any, value: Any) -> None:
-    """Require a whole number >= 1 (booleans rejected)."""
-    if isinstance(value, bool) or int(value) != value or value < 1:
-        raise ValueError(f"{attribute.name} must be a whole number >= 1, got {value!r}")
-
-
-def poisson(instance: Any, attribute: Any, value: Any) -> None:
-    """Require a Poisson's ratio in (-1, 0.5), the range of a stable isotropic material."""
-    if not (-1.0 < value < 0.5):
-        raise ValueError(
-            f"Poisson's ratio {attribute.name} must lie in (-1, 0.5) for a stable isotropic "
-            f"material, got {value!r}"
-        )
-
-
 def poisson_ratio(where: str, value: float) -> None:
     """A number field's check (:func:`number_field`): a Poisson's ratio in (-1, 0.5), NaN
-    refused, in the words of :func:`poisson`."""
+    refused."""
     if not (-1.0 < value < 0.5):
         raise InputError(
             f"{where}: Poisson's ratio nu must lie in (-1, 0.5) for a stable isotropic "
