@@ -200,6 +200,11 @@ def number_field(
     return attrs.Converter(convert, takes_self=True, takes_field=True)
 
 
+def positive_field(what: str, fix: str, *, error: type[Exception] = InputError) -> attrs.Converter:
+    """:func:`number_field` of a finite number > 0 (a length, a load, a modulus)."""
+    return number_field(what, fix, low=0.0, low_open=True, error=error)
+
+
 def whole_number(
     where: str, value: Any, *, low: int, fix: str, error: type[Exception] = InputError
 ) -> int:

@@ -12,7 +12,7 @@ from __future__ import annotations
 import attrs
 import numpy as np
 
-from fretbem.validators import number_field, poisson_ratio
+from fretbem.validators import number_field, poisson_ratio, positive_field
 
 IDENTITY = np.eye(2)
 
@@ -94,7 +94,7 @@ class KelvinKernel:
     """
 
     shear_modulus: float = attrs.field(
-        converter=number_field("mu, MPa", "give mu = E / (2 (1 + nu))", low=0.0, low_open=True)
+        converter=positive_field("mu, MPa", "give mu = E / (2 (1 + nu))")
     )
     nu: float = attrs.field(
         converter=number_field("Poisson's ratio", "give nu in (-1, 0.5)", check=poisson_ratio)

@@ -20,17 +20,20 @@ from fretbem.geometry.shapes import CylinderPad, CylinderSpecimen, FlatSpecimen
 from fretbem.material import Material
 from fretbem.simulation import Simulation
 from fretbem.solvers.newton import Solver
-from fretbem.validators import as_scalar, count_field, number_field, poisson_ratio, real_number
+from fretbem.validators import (
+    as_scalar,
+    count_field,
+    number_field,
+    poisson_ratio,
+    positive_field,
+    real_number,
+)
 from fretbem.verification.closed_forms import HertzLineContact, MindlinDeresiewicz, dundurs_beta
 
 from .builder import build, zone_elements
 from .spec import BodySpec, ContactSpec, LoadSpec, MeshSpec, Scene
 
 REFERENCE_STEPS = ("A", "B", "C", "D", "E")
-
-
-def _positive(unit: str, fix: str) -> attrs.Converter:
-    return number_field(unit, fix, low=0.0, low_open=True)
 
 
 def _loads(values: Any) -> tuple[float, ...]:
@@ -85,21 +88,21 @@ class CattaneoMindlinScene:
 
     basis: str | type[Basis] = "nurbs"
     pairs: int = attrs.field(default=61, converter=count_field("give e.g. 61 (the default)"))
-    zone: float = attrs.field(default=1.5, converter=_positive("mm", "give e.g. 1.5"))
+    zone: float = attrs.field(default=1.5, converter=positive_field("mm", "give e.g. 1.5"))
     degree: int | None = None
-    radius: float = attrs.field(default=70.0, converter=_positive("mm", "give e.g. 70"))
-    width: float = attrs.field(default=6.5, converter=_positive("mm", "give e.g. 6.5"))
-    height: float = attrs.field(default=16.25, converter=_positive("mm", "give e.g. 16.25"))
+    radius: float = attrs.field(default=70.0, converter=positive_field("mm", "give e.g. 70"))
+    width: float = attrs.field(default=6.5, converter=positive_field("mm", "give e.g. 6.5"))
+    height: float = attrs.field(default=16.25, converter=positive_field("mm", "give e.g. 16.25"))
     lower: str = attrs.field(default="arc", validator=attrs.validators.in_(("arc", "flat")))
-    E_upper: float = attrs.field(default=73400.0, converter=_positive("MPa", "give E in MPa"))
+    E_upper: float = attrs.field(default=73400.0, converter=positive_field("MPa", "give E in MPa"))
     nu_upper: float = attrs.field(default=0.33, converter=_POISSON)
-    E_lower: float = attrs.field(default=73400.0, converter=_positive("MPa", "give E in MPa"))
+    E_lower: float = attrs.field(default=73400.0, converter=positive_field("MPa", "give E in MPa"))
     nu_lower: float = attrs.field(default=0.33, converter=_POISSON)
     friction: float = attrs.field(
         default=0.3,
         converter=number_field("the Coulomb coefficient f", "give f >= 0, e.g. 0.3", low=0.0),
     )
-    normal: float = attrs.field(default=100.0, converter=_positive("N/mm", "give P in N/mm"))
+    normal: float = attrs.field(default=100.0, converter=positive_field("N/mm", "give P in N/mm"))
     tangential: Sequence[float] = attrs.field(
         default=(0.0, 18.0, 0.0, -18.0, 0.0), converter=_loads
     )

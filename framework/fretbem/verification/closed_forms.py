@@ -18,7 +18,7 @@ import attrs
 import numpy as np
 from numpy.typing import ArrayLike
 
-from fretbem.validators import check_poisson, check_positive, number_field
+from fretbem.validators import check_poisson, check_positive, positive_field
 
 __all__ = [
     "HertzLineContact",
@@ -29,11 +29,6 @@ __all__ = [
 
 
 # --------------------------------------------------------------------------- validation
-
-
-def _positive(what: str, fix: str) -> attrs.Converter:
-    """Converter of a finite, strictly positive number (True, strings, NaN refused)."""
-    return number_field(what, fix, low=0.0, low_open=True)
 
 
 # --------------------------------------------------------------------------- elastic constants
@@ -96,12 +91,14 @@ class HertzLineContact:
         Contact modulus E*, see :func:`effective_modulus`.
     """
 
-    load: float = attrs.field(converter=_positive("the normal load P, N/mm", "give P > 0 in N/mm"))
+    load: float = attrs.field(
+        converter=positive_field("the normal load P, N/mm", "give P > 0 in N/mm")
+    )
     effective_radius: float = attrs.field(
-        converter=_positive("R_eff, mm", "give 1 / (1/R1 + 1/R2) in mm")
+        converter=positive_field("R_eff, mm", "give 1 / (1/R1 + 1/R2) in mm")
     )
     effective_modulus: float = attrs.field(
-        converter=_positive("the contact modulus E*, MPa", "give E* from effective_modulus()")
+        converter=positive_field("the contact modulus E*, MPa", "give E* from effective_modulus()")
     )
 
     @classmethod
@@ -169,7 +166,7 @@ class MindlinDeresiewicz:
 
     hertz: HertzLineContact = attrs.field(validator=attrs.validators.instance_of(HertzLineContact))
     friction: float = attrs.field(
-        converter=_positive("the Coulomb coefficient f", "give f > 0 (e.g. 0.3 to 1.5)")
+        converter=positive_field("the Coulomb coefficient f", "give f > 0 (e.g. 0.3 to 1.5)")
     )
 
     @property

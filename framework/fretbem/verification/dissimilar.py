@@ -27,7 +27,7 @@ from collections.abc import Sequence
 import attrs
 import numpy as np
 
-from fretbem.validators import number_field, poisson_ratio
+from fretbem.validators import number_field, poisson_ratio, positive_field
 
 from .closed_forms import HertzLineContact, dundurs_beta, effective_modulus
 from .nowell_hills import NotApplicableError
@@ -92,10 +92,6 @@ def _influence(x: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
     return log, sign
 
 
-def _positive(what: str, fix: str) -> attrs.Converter:
-    return number_field(what, fix, low=0.0, low_open=True)
-
-
 def _poisson(what: str) -> attrs.Converter:
     return number_field(what, "give nu in (-1, 0.5)", check=poisson_ratio)
 
@@ -116,15 +112,19 @@ class DissimilarCylinders:
         Plane stress instead of plane strain.
     """
 
-    radius: float = attrs.field(converter=_positive("R_eff, mm", "give 1 / (1/R1 + 1/R2) in mm"))
-    E_upper: float = attrs.field(converter=_positive("the pad's Young's modulus, MPa", "give E"))
+    radius: float = attrs.field(
+        converter=positive_field("R_eff, mm", "give 1 / (1/R1 + 1/R2) in mm")
+    )
+    E_upper: float = attrs.field(
+        converter=positive_field("the pad's Young's modulus, MPa", "give E")
+    )
     nu_upper: float = attrs.field(converter=_poisson("the pad's Poisson's ratio"))
     E_lower: float = attrs.field(
-        converter=_positive("the specimen's Young's modulus, MPa", "give E")
+        converter=positive_field("the specimen's Young's modulus, MPa", "give E")
     )
     nu_lower: float = attrs.field(converter=_poisson("the specimen's Poisson's ratio"))
     friction: float = attrs.field(
-        converter=_positive("the Coulomb coefficient f", "give f > 0 (e.g. 0.3 to 1.5)")
+        converter=positive_field("the Coulomb coefficient f", "give f > 0 (e.g. 0.3 to 1.5)")
     )
     plane_stress: bool = False
 

@@ -23,7 +23,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from fretbem.errors import InputError
-from fretbem.validators import number_field
+from fretbem.validators import number_field, positive_field
 
 from .closed_forms import HertzLineContact, MindlinDeresiewicz, _ellipse
 
@@ -56,9 +56,7 @@ class NowellHills:
 
     hertz: HertzLineContact = attrs.field(validator=attrs.validators.instance_of(HertzLineContact))
     friction: float = attrs.field(
-        converter=number_field(
-            "the Coulomb coefficient f", "give f > 0 (e.g. 0.3 to 1.5)", low=0.0, low_open=True
-        )
+        converter=positive_field("the Coulomb coefficient f", "give f > 0 (e.g. 0.3 to 1.5)")
     )
     shift: float = attrs.field(
         default=1.0,

@@ -26,13 +26,9 @@ import attrs
 import numpy as np
 from numpy.typing import ArrayLike
 
-from fretbem.validators import number_field
+from fretbem.validators import positive_field
 
 __all__ = ["RoundedFlatPunch"]
-
-
-def _positive(what: str, fix: str) -> attrs.Converter:
-    return number_field(what, fix, low=0.0, low_open=True)
 
 
 @attrs.frozen
@@ -51,15 +47,17 @@ class RoundedFlatPunch:
         Coulomb coefficient f (used by the shear only).
     """
 
-    flat: float = attrs.field(converter=_positive("the flat's half-width b, mm", "give b in mm"))
+    flat: float = attrs.field(
+        converter=positive_field("the flat's half-width b, mm", "give b in mm")
+    )
     edge_radius: float = attrs.field(
-        converter=_positive("the fillets' radius R, mm", "give R in mm")
+        converter=positive_field("the fillets' radius R, mm", "give R in mm")
     )
     effective_modulus: float = attrs.field(
-        converter=_positive("the contact modulus E*, MPa", "give E* from effective_modulus()")
+        converter=positive_field("the contact modulus E*, MPa", "give E* from effective_modulus()")
     )
     friction: float = attrs.field(
-        default=0.3, converter=_positive("the Coulomb coefficient f", "give f > 0 (e.g. 0.3)")
+        default=0.3, converter=positive_field("the Coulomb coefficient f", "give f > 0 (e.g. 0.3)")
     )
 
     def load(self, half_width: float) -> float:

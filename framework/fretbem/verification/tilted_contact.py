@@ -26,7 +26,7 @@ import attrs
 import numpy as np
 import scipy.optimize
 
-from fretbem.validators import number_field
+from fretbem.validators import positive_field
 
 #: Gauss-Chebyshev points of the integrals (the profile's kinks converge slowly: at 4000
 #: points the rounded flat's pressure moves by < 1e-5 of its peak against 8000)
@@ -48,18 +48,10 @@ class TiltedContact:
 
     slope: Callable[[np.ndarray], np.ndarray]
     effective_modulus: float = attrs.field(
-        converter=number_field(
-            "the contact modulus E*, MPa",
-            "give E* from effective_modulus()",
-            low=0.0,
-            low_open=True,
-        )
+        converter=positive_field("the contact modulus E*, MPa", "give E* from effective_modulus()")
     )
     friction: float = attrs.field(
-        default=0.3,
-        converter=number_field(
-            "the Coulomb coefficient f", "give f > 0 (e.g. 0.3)", low=0.0, low_open=True
-        ),
+        default=0.3, converter=positive_field("the Coulomb coefficient f", "give f > 0 (e.g. 0.3)")
     )
 
     def _gap_slope(self, x, tilt: float) -> np.ndarray:
