@@ -234,14 +234,22 @@ def count_field(fix: str, *, low: int = 1, error: type[Exception] = InputError) 
     return attrs.Converter(convert, takes_self=True, takes_field=True)
 
 
-def flag(where: str, value: Any, *, none: bool = False, error: type[Exception] = InputError) -> Any:
+def flag(
+    where: str,
+    value: Any,
+    *,
+    none: bool = False,
+    fix: str = "",
+    error: type[Exception] = InputError,
+) -> Any:
     """A yes/no argument given from Python: True or False (numpy's too; None where ``none``),
     nothing else: ``overwrite="no"`` would be true and overwrite."""
     if value is None and none:
         return None
     if not isinstance(value, (bool, np.bool_)):
         also = ", or None" if none else ""
-        raise error(f"{where} must be True or False{also}, got {shown(value)}")
+        fix = f"; {fix}" if fix else ""
+        raise error(f"{where} must be True or False{also}, got {value!r}{fix}")
     return bool(value)
 
 
@@ -250,10 +258,9 @@ def flag_field(fix: str, *, error: type[Exception] = InputError) -> attrs.Conver
     (``"no"`` would be true)."""
 
     def convert(value: Any, instance: Any, field: Any) -> bool:
-        if not isinstance(value, (bool, np.bool_)):
-            where = f"{type(instance).__name__}.{field.name}"
-            raise error(f"{where} must be True or False, got {value!r}; {fix}")
-        return bool(value)
+        if type(value) is bool:  # the common case, without the message's frame
+            return value
+        return flag(f"{type(instance).__name__}.{field.name}", value, fix=fix, error=error)
 
     return attrs.Converter(convert, takes_self=True, takes_field=True)
 
