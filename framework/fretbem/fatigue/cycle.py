@@ -90,7 +90,7 @@ def select_cycle(
         )  # fmt: skip
         if chosen.ndim != 1 or chosen.size < 2:
             raise FatigueInputError(f"cycle steps must list at least two steps, got {steps!r}")
-        if np.any(chosen < 0) or np.any(chosen >= n_steps):
+        if np.any(chosen >= n_steps):  # (negatives refused above, as whole numbers >= 0)
             raise FatigueInputError(
                 f"cycle steps {chosen.tolist()} outside the history's 0..{n_steps - 1}"
             )
