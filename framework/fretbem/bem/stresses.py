@@ -443,20 +443,22 @@ def somigliana_operator(
 
     # far pairs: the same rule on every element
     skip = near_mask | ~integrate[:, None]
-    far = _far_field_compiled() if settings.compiled else None
-    if far is not None:
-        far(
-            points, elements.x, elements.n, elements.jw, elements.phi, *elements.coarse,
-            *elements.farthest, elements.centre,
-            elements.radius + settings.coarse_factor * elements.length,
-            elements.radius + settings.far_factor * elements.length,
-            elements.columns, skip, sub_index, closest, knu, mu, full, mom_dn, mom_s, mom_sy,
-        )  # fmt: skip
-    else:
-        _far_field_numpy(
-            points, elements, skip, sub_index, closest, knu, mu, mt, mu_,
-            (mom_dn, mom_s, mom_sy), settings.chunk,
-        )  # fmt: skip
+    # boundary points only (a surface scan) have no far pair: numba is not even loaded
+    if not skip.all():
+        far = _far_field_compiled() if settings.compiled else None
+        if far is not None:
+            far(
+                points, elements.x, elements.n, elements.jw, elements.phi, *elements.coarse,
+                *elements.farthest, elements.centre,
+                elements.radius + settings.coarse_factor * elements.length,
+                elements.radius + settings.far_factor * elements.length,
+                elements.columns, skip, sub_index, closest, knu, mu, full, mom_dn, mom_s, mom_sy,
+            )  # fmt: skip
+        else:
+            _far_field_numpy(
+                points, elements, skip, sub_index, closest, knu, mu, mt, mu_,
+                (mom_dn, mom_s, mom_sy), settings.chunk,
+            )  # fmt: skip
 
     # near pairs: graded composite rule toward the closest point of the element
     keep = near & integrate[p_idx]

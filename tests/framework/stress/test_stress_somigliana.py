@@ -195,6 +195,30 @@ def test_point_on_the_boundary_gets_the_boundary_stress_and_approach_is_continuo
     assert slope.max() < 1.5 * slope.min()
 
 
+def test_boundary_points_only_need_no_compiled_loop(monkeypatch):
+    """A surface scan (every point on the boundary) has no far pair: the compiled loop is not
+    loaded for it (numba's start-up was 0.3 s of a sweep with a surface-stress column), and
+    the operator is the one the numpy path gives; an interior point still takes the loop."""
+    import fretbem.bem.stresses as stresses
+
+    body, solution = _lame("nurbs")
+    theta = np.linspace(0.1, 1.4, 7)
+    surface = np.column_stack([A * np.cos(theta), A * np.sin(theta)])
+    settings = dict(shear_modulus=body.material.shear_modulus, nu=NU)
+    numpy_op = somigliana_operator(body.segments, surface, **settings,
+                                   settings=StressSettings(compiled=False))  # fmt: skip
+    loads = []
+    compiled = stresses._far_field_compiled
+    monkeypatch.setattr(stresses, "_far_field_compiled", lambda: loads.append(1) or compiled())
+    op = somigliana_operator(body.segments, surface, **settings)
+    assert op.on_boundary.all() and not loads
+    args = (solution.traction_coefficients, solution.displacement_coefficients)
+    assert np.array_equal(op.apply(*args), numpy_op.apply(*args))
+    inside = np.vstack([surface, [[1.5 * np.cos(0.7), 1.5 * np.sin(0.7)]]])
+    somigliana_operator(body.segments, inside, **settings)
+    assert loads == [1]
+
+
 def test_points_outside_the_body_are_refused():
     segments = _patch_segments("nurbs", 2)
     with pytest.raises(StressInputError, match="outside the body"):
