@@ -412,6 +412,28 @@ def test_serial_sweep_store_and_resume(tmp_path):
     assert manifest["paths"] == list(PARAMETERS)
 
 
+def test_store_frames_equal_the_chunks_read_again(tmp_path):
+    """The table made from the frames kept at writing equals the one read from the files
+    (values and dtypes), for the kinds of value a row holds: numbers, whole numbers with a
+    gap, text with a gap, an all-empty column, flags, numpy scalars and lists."""
+    from fretbem.studies.sweep.store import SweepStore, read_table
+
+    store = SweepStore(tmp_path / "s", {"fingerprint": "f", "paths": ["load.Q"]})
+    chunks = [
+        [{"case": 0, "load.Q": 1.0, "status": "ok", "error": None, "n": 3, "flag": True,
+          "x": np.float32(0.5), "u": np.int64(7), "v": [1.0, 2.0]},
+         {"case": 1, "load.Q": float("nan"), "status": "error", "error": "diverged",
+          "n": None, "flag": False, "x": np.float32(1.5), "u": np.int64(8), "v": []}],
+        [{"case": 2, "load.Q": 2.0, "status": "ok", "error": None, "n": 4, "flag": True,
+          "x": np.float32(2.5), "u": np.int64(9), "v": [3.0]}],
+    ]  # fmt: skip
+    for rows in chunks:
+        store.write(rows)
+    kept, read = store.table(), read_table(tmp_path / "s")
+    pd.testing.assert_frame_equal(kept, read, check_exact=True)
+    assert list(kept["case"]) == [0, 1, 2] and kept["n"].isna().tolist() == [False, True, False]
+
+
 def test_resume_after_the_process_is_killed(tmp_path):
     """SIGKILL a running sweep after two stored chunks; the re-run completes the same table."""
     import os
