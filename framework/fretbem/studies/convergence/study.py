@@ -30,13 +30,24 @@ from __future__ import annotations
 import json
 import os
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
+from typing import Any
 
 import attrs
 
+from fretbem import registry as bases
+from fretbem.errors import InputError
 from fretbem.scenes.reference import cattaneo_mindlin
 from fretbem.simulation import run
+from fretbem.validators import (
+    count_field,
+    flag_field,
+    positive_field,
+    real_number,
+    shown,
+    whole_number,
+)
 
 from .adaptive import (
     ADAPTIVE_COLUMNS,
@@ -88,6 +99,93 @@ QUICK_PAIRS = (15, 31)
 CSV_NAME, META_NAME = "convergence.csv", "study.json"
 
 
+def _sequence(where: str, value: Any, what: str, fix: str) -> list:
+    """A plan's list or tuple (or numpy array) as a list; text, a mapping or a number is
+    refused (``pairs=61`` or ``pairs="61"`` is not a tuple of pair counts)."""
+    if isinstance(value, (str, bytes, Mapping)) or not isinstance(value, Iterable):
+        raise InputError(f"{where} must be a tuple of {what}, got {shown(value)}; {fix}")
+    return list(value)
+
+
+def _counts_field() -> attrs.Converter:
+    """A tuple of pair counts: whole numbers >= 1 (each family's rule is checked after)."""
+    fix = "give a tuple of pair counts, e.g. (15, 31, 61)"
+
+    def convert(value: Any, instance: Any, field: Any) -> tuple[int, ...]:
+        where = f"StudyPlan.{field.name}"
+        items = _sequence(where, value, "pair counts", fix)
+        return tuple(whole_number(f"{where}[{k}]", v, low=1, fix=fix) for k, v in enumerate(items))
+
+    return attrs.Converter(convert, takes_self=True, takes_field=True)
+
+
+def _factors_field() -> attrs.Converter:
+    """A tuple of factors > 0 on the element counts of the rest of the boundary."""
+    fix = "give a tuple of factors > 0, e.g. (0.5, 2.0)"
+
+    def convert(value: Any, instance: Any, field: Any) -> tuple[float, ...]:
+        where = f"StudyPlan.{field.name}"
+        out = []
+        for k, v in enumerate(_sequence(where, value, "factors", fix)):
+            number = real_number(f"{where}[{k}]", v, what="a factor on element counts",
+                                 fix=fix, error=InputError)  # fmt: skip
+            if number <= 0:
+                raise InputError(f"{where}[{k}] must be > 0, got {shown(v)}; {fix}")
+            out.append(number)
+        return tuple(out)
+
+    return attrs.Converter(convert, takes_self=True, takes_field=True)
+
+
+_DEGREE_FIX = "give a whole degree >= 1, or None for the family's default"
+
+
+def _families_field(none: bool = False) -> attrs.Converter:
+    """A tuple of (family, degree): an installed basis family's name and a whole degree
+    >= 1, or None for its default (``none``: None for the whole field too)."""
+    fix = 'give a tuple of (family, degree) pairs, e.g. (("nurbs", 2), ("lagrange2", None))'
+
+    def convert(value: Any, instance: Any, field: Any):
+        where = f"StudyPlan.{field.name}"
+        if value is None and none:
+            return None
+        out = []
+        for k, entry in enumerate(_sequence(where, value, "(family, degree) pairs", fix)):
+            here = f"{where}[{k}]"
+            pair = not isinstance(entry, (str, bytes)) and isinstance(entry, Iterable)
+            entry = list(entry) if pair else entry
+            if not pair or len(entry) != 2 or not isinstance(entry[0], str):
+                raise InputError(f"{here} must be a (family name, degree) pair, got "
+                                 f"{shown(entry)}; {fix}")  # fmt: skip
+            name, degree = entry
+            if name not in bases.available():
+                raise InputError(
+                    f"{here}: unknown basis family {name!r}; give one of the installed "
+                    f"families: {', '.join(map(repr, bases.available()))}"
+                )
+            if degree is not None:
+                degree = whole_number(f"{here} degree", degree, low=1, fix=_DEGREE_FIX)
+            out.append((name, degree))
+        return tuple(out)
+
+    return attrs.Converter(convert, takes_self=True, takes_field=True)
+
+
+def _span_field(value: Any) -> tuple[int, ...]:
+    """The sawtooth's (first, last) pair counts, first <= last, or () for none."""
+    fix = "give (first, last) pair counts, e.g. (31, 121), or () for no sawtooth"
+    items = _sequence("StudyPlan.sawtooth", value, "two pair counts", fix)
+    if not items:
+        return ()
+    if len(items) != 2:
+        raise InputError(f"StudyPlan.sawtooth must be (first, last), got {shown(value)}; {fix}")
+    first, last = (whole_number(f"StudyPlan.sawtooth[{k}]", v, low=1, fix=fix)
+                   for k, v in enumerate(items))  # fmt: skip
+    if first > last:
+        raise InputError(f"StudyPlan.sawtooth must have first <= last, got {value!r}; {fix}")
+    return (first, last)
+
+
 @attrs.frozen
 class StudyPlan:
     """Which runs make the study.
@@ -120,18 +218,42 @@ class StudyPlan:
         every run).
     """
 
-    families: tuple[tuple[str, int | None], ...] = FAMILIES
-    pairs: tuple[int, ...] = FULL_PAIRS
-    large_pairs: tuple[int, ...] = FULL_PAIRS
-    rest_pairs: tuple[int, ...] = (61, 481)
-    rest_factors: tuple[float, ...] = (0.5, 2.0, 4.0)
-    check_families: tuple[tuple[str, int | None], ...] | None = None
-    repeats: int = 3
-    memory: bool = True
-    adaptive_families: tuple[tuple[str, int | None], ...] = ADAPTIVE_FAMILIES
-    budgets: tuple[int, ...] = FULL_BUDGETS
-    sawtooth: tuple[int, ...] = FULL_SAWTOOTH
-    tolerance: float = TOLERANCE
+    families: tuple[tuple[str, int | None], ...] = attrs.field(
+        default=FAMILIES, converter=_families_field()
+    )
+    pairs: tuple[int, ...] = attrs.field(default=FULL_PAIRS, converter=_counts_field())
+    large_pairs: tuple[int, ...] = attrs.field(default=FULL_PAIRS, converter=_counts_field())
+    rest_pairs: tuple[int, ...] = attrs.field(default=(61, 481), converter=_counts_field())
+    rest_factors: tuple[float, ...] = attrs.field(
+        default=(0.5, 2.0, 4.0), converter=_factors_field()
+    )
+    check_families: tuple[tuple[str, int | None], ...] | None = attrs.field(
+        default=None, converter=_families_field(none=True)
+    )
+    repeats: int = attrs.field(default=3, converter=count_field("give e.g. 3 (the default)"))
+    memory: bool = attrs.field(default=True, converter=flag_field("give True or False"))
+    adaptive_families: tuple[tuple[str, int | None], ...] = attrs.field(
+        default=ADAPTIVE_FAMILIES, converter=_families_field()
+    )
+    budgets: tuple[int, ...] = attrs.field(default=FULL_BUDGETS, converter=_counts_field())
+    sawtooth: tuple[int, ...] = attrs.field(default=FULL_SAWTOOTH, converter=_span_field)
+    tolerance: float = attrs.field(
+        default=TOLERANCE,
+        converter=positive_field("the adaptive runs' tolerance", f"give e.g. {TOLERANCE:g}"),
+    )
+
+    def __attrs_post_init__(self) -> None:
+        """Every run is built as a scene record now, so a pair count a family cannot place
+        or a degree it does not have is refused before the first of hours of runs."""
+        for case in [*self.cases(), *self.adaptive_cases()]:
+            try:
+                case.scene().zone_elements(bases.get(case.family))
+                if isinstance(case, AdaptiveCase):
+                    case.settings(self.tolerance)
+            except (InputError, ValueError) as err:
+                raise InputError(
+                    f"StudyPlan: the run {case.label()!r} cannot be built: {err}"
+                ) from None
 
     @classmethod
     def full(cls) -> StudyPlan:
