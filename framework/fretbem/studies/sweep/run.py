@@ -96,8 +96,8 @@ TASKS_PER_WORKER = 8
 #: costs milliseconds (the workers inherit this process's prepared groups, nothing is
 #: assembled or pickled again); forked after its first cases, the 144-case example map
 #: (about 0.5 s of work left then) took 1.76 CPU s against 1.53 serially and no less
-#: wall on two free cores, so it stays in this process (estimated at 0.6-0.8 s), ten
-#: times it (estimated at 6.5-10.6 s) forks
+#: wall on two free cores, so it stays in this process (estimated at 0.6-0.8 s; 0.46 s on
+#: the 2-core host of 2026-11), ten times it (estimated at 6.5-10.6 s; 4.25 s there) forks
 POOL_MIN_SECONDS = 2.5
 
 
