@@ -236,6 +236,29 @@ class _Elements:
         return [np.concatenate(p) for p in zip(*parts, strict=True)]
 
 
+#: the quadrature data of the latest segment tuples (by identity, the tuple kept so its id
+#: is not reused): a run's stress grid, lines and fatigue points build several operators on
+#: one body's segments (13 in examples/fretting_rig.toml), which the data do not depend on
+_ELEMENTS: dict[tuple[int, int], tuple[Sequence[Basis], _Elements]] = {}
+_ELEMENTS_KEPT = 8
+
+
+def _elements_of(segments: Sequence[Basis], far_points: int) -> _Elements:
+    """``_Elements.of(segments, far_points)``, made once per segment tuple (read only after);
+    a list, which its caller may change in place, is not kept."""
+    if not isinstance(segments, tuple):
+        return _Elements.of(segments, far_points)
+    key = (id(segments), far_points)
+    kept = _ELEMENTS.get(key)
+    if kept is not None and kept[0] is segments:
+        return kept[1]
+    elements = _Elements.of(segments, far_points)
+    if len(_ELEMENTS) >= _ELEMENTS_KEPT:
+        _ELEMENTS.pop(next(iter(_ELEMENTS)))
+    _ELEMENTS[key] = (segments, elements)
+    return elements
+
+
 def _closest_local(basis: Basis, elements, points, iterations: int = 4):
     """Local coordinate on each element closest to each point (samples, then Newton)."""
     samples = np.linspace(-1.0, 1.0, 9)
@@ -384,7 +407,7 @@ def somigliana_operator(
         raise StressInputError(f"points must be a finite (m, 2) array, got shape {points.shape}")
     knu = nu / (1.0 + nu) if plane_stress else float(nu)
     mu = float(shear_modulus)
-    elements = _Elements.of(segments, settings.far_points)
+    elements = _elements_of(segments, settings.far_points)
     offsets = np.concatenate([[0], np.cumsum([b.n_functions for b in segments])])
     n_fun = int(offsets[-1])
     m, n_el = len(points), len(elements.length)

@@ -219,6 +219,30 @@ def test_boundary_points_only_need_no_compiled_loop(monkeypatch):
     assert loads == [1]
 
 
+def test_operators_on_one_segment_tuple_share_its_quadrature_data(monkeypatch):
+    """A run builds several operators on one body (grid, lines, fatigue points): the
+    quadrature data are made once per segment tuple, and each operator equals one made
+    from fresh data; a list of segments (its caller may change it) is not kept."""
+    import fretbem.bem.stresses as stresses
+
+    body, solution = _lame("nurbs")
+    made = []
+    of = stresses._Elements.of
+    monkeypatch.setattr(stresses._Elements, "of", lambda s, q: made.append(q) or of(s, q))
+    monkeypatch.setattr(stresses, "_ELEMENTS", {})
+    args = (solution.traction_coefficients, solution.displacement_coefficients)
+    settings = dict(shear_modulus=body.material.shear_modulus, nu=NU)
+    inside = [np.array([[1.3 * np.cos(t), 1.3 * np.sin(t)]]) for t in (0.3, 0.9, 1.2)]
+    kept = [somigliana_operator(body.segments, p, **settings).apply(*args) for p in inside]
+    assert made == [StressSettings().far_points]
+    fresh = [somigliana_operator(list(body.segments), p, **settings).apply(*args)
+             for p in inside]  # fmt: skip
+    assert len(made) == 4 and all(np.array_equal(a, b) for a, b in zip(kept, fresh, strict=True))
+    somigliana_operator(body.segments, inside[0], **settings,
+                        settings=StressSettings(far_points=made[0] + 2))  # fmt: skip
+    assert made[-1] == made[0] + 2 and len(made) == 5
+
+
 def test_points_outside_the_body_are_refused():
     segments = _patch_segments("nurbs", 2)
     with pytest.raises(StressInputError, match="outside the body"):
