@@ -108,8 +108,8 @@ class SweepStore:
         (the file stores its schema, so reading the file gives the same frame): a parallel
         engine's workers are still solving then, so the table at the end reads only the
         chunks of earlier runs. Arrow directly, not ``DataFrame.to_parquet`` and a read-back:
-        the same file and frame in a third of the time, which the parent of a forked pool
-        takes from its workers' cores (25 chunks of the 1,440-case map)."""
+        the same file and frame in about 30 % less time (5.4 against 7.9 ms at 250 rows),
+        which the parent of a forked pool takes from its workers' cores."""
         import pandas as pd
         import pyarrow as pa
         import pyarrow.parquet as pq
