@@ -319,7 +319,8 @@ class Body(ABC):
         highest boundary crossing of the vertical line for the lower body (``side`` "lower"),
         the lowest for the upper body; +-inf where the line misses the body."""
         x = np.asarray(x, float)
-        flat = x.ravel()
+        # each abscissa once: a map's grid or a depth line repeats its x for every depth
+        flat, inverse = np.unique(x.ravel(), return_inverse=True)
         best = np.full(flat.shape, -np.inf if side == "lower" else np.inf)
         t = np.linspace(0.0, 1.0, 401)
         for basis in self.segments:
@@ -344,7 +345,7 @@ class Body(ABC):
                 np.maximum.at(best, ix, y)
             else:
                 np.minimum.at(best, ix, y)
-        return best.reshape(x.shape)
+        return best[inverse].reshape(x.shape)
 
     def stress_operator(self, points: np.ndarray, settings: Any = None) -> Any:
         """Stresses at interior ``points`` (m, 2) as an object with ``evaluate(solution)``

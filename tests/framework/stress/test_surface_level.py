@@ -36,3 +36,14 @@ def test_surface_level_matches_a_dense_sampling_of_the_curves(side):
     assert np.allclose(level, sign * (70.0 - np.sqrt(70.0**2 - x**2)), rtol=0, atol=1e-9)
     far = body.surface_level(np.array([[100.0, 0.0]]), side)  # any shape; off the body
     assert far.shape == (1, 2) and far[0, 0] == (-np.inf if side == "lower" else np.inf)
+
+
+def test_a_repeated_abscissa_is_found_once_with_the_same_level():
+    """A map's grid repeats each x for every depth: the level is found per distinct x and
+    equals the level of that x asked alone, bit for bit, in the grid's shape."""
+    body = cattaneo_mindlin(pairs=21).pair.side("lower")[0]
+    xs = np.array([-1.1, 0.0, 0.37, 100.0])
+    grid = np.tile(xs, (5, 1))  # (depth, x)
+    level = body.surface_level(grid, "lower")
+    alone = np.array([body.surface_level(np.array([x]), "lower")[0] for x in xs])
+    assert level.shape == grid.shape and np.array_equal(level, np.tile(alone, (5, 1)))
