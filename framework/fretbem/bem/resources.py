@@ -114,8 +114,8 @@ def available_memory() -> float | None:
     """Bytes of memory available now: MemAvailable of /proc/meminfo (None where unreadable).
 
     Read as bytes in one system call (its third line): a text file's reader and line
-    iteration cost 2-5x the read itself inside a run (40-100 us against 20 us; a scene
-    build and its run read it once each). The reading is kept for :func:`_available_for`."""
+    iteration cost 2-5x the read itself inside a run (40-100 us against 20 us). The reading
+    is kept for :func:`_available_for`, through which a scene build's check and a run ask."""
     found = _read_available()
     _RECENT.update(time=time.monotonic(), available=found)
     return found

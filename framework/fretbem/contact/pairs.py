@@ -155,13 +155,16 @@ class NodeToNodePair(ContactPair):
                 "discretise both contact segments alike (same family, degree and number of "
                 "elements, mirrored parameters) so their points face each other"
             )
-        # facing = same position along the mean tangent (the direction the surfaces share)
-        mean_normal = normals.mean(axis=0)
-        mean_normal = mean_normal / np.linalg.norm(mean_normal)
+        # facing = same position along the mean tangent (the direction the surfaces share);
+        # np.mean's, np.linalg.norm's and np.diff's numbers, by the ufuncs they call
+        mean_normal = np.add.reduce(normals, axis=0) / len(normals)
+        mean_normal = mean_normal / np.sqrt(np.dot(mean_normal, mean_normal))
         mean_tangent = np.array([mean_normal[1], -mean_normal[0]])
         partner, miss = _facing(low_points, up_points, mean_tangent)
-        spacing = np.min(np.linalg.norm(np.diff(low_points, axis=0), axis=1))
-        bad = np.flatnonzero(miss > 1e-3 * spacing)
+        step = low_points[1:] - low_points[:-1]
+        step *= step
+        spacing = np.minimum.reduce(np.sqrt(np.add.reduce(step, axis=1)))
+        bad = (miss > 1e-3 * spacing).nonzero()[0]  # np.flatnonzero's, without its frames
         # partners are upper node indices: a node taken twice counts above one
         if bad.size or (partner.size and np.bincount(partner).max() > 1):
             k = int(bad[0]) if bad.size else int(np.argmax(np.bincount(partner)))
@@ -173,7 +176,10 @@ class NodeToNodePair(ContactPair):
                 "on both contact segments, with facing parameters"
             )
         along_x = low_points[:, 0]
-        order = np.argsort(along_x if along_x.max() > along_x.min() else low_points[:, 1])
+        along = (
+            along_x if np.maximum.reduce(along_x) > np.minimum.reduce(along_x) else low_points[:, 1]
+        )
+        order = along.argsort()
         low, up = order, partner[order]
         # the faces must look at each other: the upper face's outward normal points back
         # toward the lower face (a segment on the far side of the upper body would
@@ -207,17 +213,19 @@ def _facing(low_points: np.ndarray, up_points: np.ndarray, tangent: np.ndarray):
     distances are computed as the offsets' were.
     """
     along_up = up_points @ tangent
-    order = np.argsort(along_up, kind="stable")
+    order = along_up.argsort(kind="stable")  # (the methods: the functions' numbers, no frames)
     ranked = along_up[order]
-    right = np.minimum(np.searchsorted(ranked, low_points @ tangent), len(ranked) - 1)
+    right = np.minimum(ranked.searchsorted(low_points @ tangent), len(ranked) - 1)
     # the left neighbour's group of equal positions starts where its first member stands
-    left = np.searchsorted(ranked, ranked[np.maximum(right - 1, 0)])
-    candidates = order[np.stack([left, right], axis=1)]
+    left = ranked.searchsorted(ranked[np.maximum(right - 1, 0)])
+    neighbours = np.empty((len(left), 2), dtype=left.dtype)  # np.stack([left, right], axis=1)
+    neighbours[:, 0], neighbours[:, 1] = left, right
+    candidates = order[neighbours]
     offsets = up_points[candidates] - low_points[:, None, :]
     along = np.abs(offsets @ tangent)
     # the nearer candidate; on equal distances the one first in upper order, as argmin
     pick = (along[:, 1] < along[:, 0]) | (
         (along[:, 1] == along[:, 0]) & (candidates[:, 1] < candidates[:, 0])
     )
-    rows = np.arange(len(low_points))
-    return candidates[rows, pick.astype(int)], along[rows, pick.astype(int)]
+    at = (np.arange(len(low_points)), pick.astype(int))
+    return candidates[at], along[at]

@@ -92,8 +92,12 @@ def estimate_scene(scene, *, available: float | None = math.nan) -> SceneEstimat
 def check_scene(scene, *, max_seconds: float = MAX_SECONDS, available: float | None = math.nan):
     """The scene's estimate, or ResourceLimitError naming the key that makes it hopeless."""
     if available is not None and math.isnan(available):
-        available = resources.available_memory()
-    estimate = estimate_scene(scene, available=available)
+        # the estimate does not depend on the reading: a reading of the last second serves
+        # a small one (resources.RECENT_SECONDS; a sweep's or a study's next build)
+        estimate = estimate_scene(scene, available=None)
+        available = resources._available_for(estimate.memory)
+    else:
+        estimate = estimate_scene(scene, available=available)
     if available is not None and estimate.memory > MEMORY_FRACTION * available:
         if estimate.results > estimate.memory / 2:
             cause = (

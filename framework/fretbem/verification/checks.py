@@ -272,12 +272,12 @@ def tangential_hold(
     runaway = abs(float(block_displacement)) / width
     if not math.isfinite(runaway):
         runaway = math.inf
-    stick_width = _span(x[stick]) if sticking > 1 else 0.0
     no_stick = touching > 0 and sticking == 0
     singular = condition is not None and not (condition <= MAX_CONDITION)
     ok = not no_stick and runaway <= RUNAWAY_FACTOR and not singular
     record = CheckRecord("tangential_hold", runaway, RUNAWAY_FACTOR, ok)
-    if raise_error and not ok:
+    if raise_error and not ok:  # (the stick zone's width is the message's alone)
+        stick_width = _span(x[stick]) if sticking > 1 else 0.0
         ratio = abs(tangential) / (friction * normal) if friction * normal > 0 else math.inf
         cause = (
             "no pair sticks"
