@@ -21,6 +21,10 @@ from .providers import SurfaceHistory
 
 __all__ = ["SimulationStressHistory"]
 
+#: point sets whose stresses a provider keeps (each at most a map's grid: 0.3 MB for the
+#: rig's 1,891 points over five steps)
+KEPT_POINT_SETS = 16
+
 
 @attrs.frozen(eq=False)
 class SimulationStressHistory:
@@ -87,13 +91,23 @@ class SimulationStressHistory:
         return np.stack([x, level + sign * depth], axis=1)
 
     def stress_at(self, points: np.ndarray) -> np.ndarray:
-        """Stress (n_steps, n, 4) at points (n, 2) = [x, depth], global frame."""
+        """Stress (n_steps, n, 4) at points (n, 2) = [x, depth], global frame.
+
+        The latest point sets' stresses are kept (a copy is returned): the fatigue search asks
+        the same points for each criterion whose hot spot is the same (its fine scan, the hot
+        spot, the critical-distance points and the depth profile)."""
 
         pts = np.asarray(points, dtype=float).reshape(-1, 2)
         if np.any(pts[:, 1] < 0):
             raise FatigueInputError("depth must be >= 0 (below the contact surface)")
-        evaluator = StressEvaluator(self.result, self._global(pts), self.body)
-        return evaluator.steps()
+        key = ("stress_at", pts.tobytes())
+        kept = self._cache.get(key)
+        if kept is None:
+            kept = StressEvaluator(self.result, self._global(pts), self.body).steps()
+            if len(self._cache) >= KEPT_POINT_SETS:
+                self._cache.pop(next(iter(self._cache)))
+            self._cache[key] = kept
+        return kept.copy()
 
     def surface_history(self, x: np.ndarray) -> SurfaceHistory:
         """Contact shear, surface sigma_xx and accumulated slip at surface abscissae x."""

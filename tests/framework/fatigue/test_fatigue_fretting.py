@@ -226,3 +226,33 @@ def test_strains_use_the_bodys_elastic_constants_when_the_material_has_none():
     )
     other = run_fatigue(_WithElastic(rig(), (2 * E, NU)), small_request(methods=["swt"]))
     assert any("differ from the stressed body" in n for n in other.notes)
+
+
+def test_a_simulation_provider_evaluates_a_point_set_once(monkeypatch):
+    """The fatigue search asks the same points again (criteria sharing a hot spot, the surface
+    history after the scan): the provider keeps the latest point sets' stresses and returns
+    a copy, so a caller's change to one result does not reach the next."""
+    import fretbem.fatigue.from_simulation as provider_module
+    from fretbem.fatigue.from_simulation import SimulationStressHistory
+    from fretbem.scenes.reference import cattaneo_mindlin
+    from fretbem.simulation import run
+
+    result = run(cattaneo_mindlin(basis="nurbs", pairs=21))
+    built = []
+    steps = provider_module.StressEvaluator.steps
+
+    def counted(evaluator):
+        built.append(len(evaluator.points))
+        return steps(evaluator)
+
+    monkeypatch.setattr(provider_module.StressEvaluator, "steps", counted)
+    provider = SimulationStressHistory(result)
+    pts = np.array([[-0.1, 0.05], [0.0, 0.1], [0.2, 0.02]])
+    first = provider.stress_at(pts)
+    first[:] = np.nan
+    again = provider.stress_at(pts.tolist())
+    assert built == [3] and np.isfinite(again).all()
+    fresh = SimulationStressHistory(result).stress_at(pts)
+    assert np.array_equal(again, fresh) and built == [3, 3]
+    provider.stress_at(pts[:2])
+    assert built == [3, 3, 2]
